@@ -1,0 +1,33 @@
+# Finds glint's Debian 12 dependencies, working around the packaging quirks recorded in
+# ../shared/notes (OCIO's misplaced CMake config, OIIO's stray OpenCV include path).
+find_package(embree 3 REQUIRED)
+find_package(TBB REQUIRED)
+find_package(OpenEXR REQUIRED)
+find_package(OpenImageIO REQUIRED)
+find_package(TinyGLTF REQUIRED)
+find_package(nlohmann_json 3 REQUIRED)
+find_package(fmt REQUIRED)
+find_package(CLI11 REQUIRED)
+find_package(PkgConfig REQUIRED)
+
+# Debian installs OpenColorIOConfig.cmake where find_package does not look, and with a hint it
+# computes a wrong include path; pkg-config is reliable.
+pkg_check_modules(OCIO REQUIRED IMPORTED_TARGET OpenColorIO)
+
+# Debian's OpenImageIO target lists /usr/include/opencv4 although OpenCV is not a dependency;
+# CMake refuses to generate when that folder is missing. Drop the entry.
+foreach(prop INTERFACE_INCLUDE_DIRECTORIES INTERFACE_SYSTEM_INCLUDE_DIRECTORIES)
+  get_target_property(dirs OpenImageIO::OpenImageIO ${prop})
+  if(dirs)
+    list(FILTER dirs EXCLUDE REGEX "opencv4")
+    set_target_properties(OpenImageIO::OpenImageIO PROPERTIES ${prop} "${dirs}")
+  endif()
+endforeach()
+
+if(GLINT_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+  include(GoogleTest)
+endif()
+if(GLINT_BUILD_BENCHMARKS)
+  find_package(benchmark REQUIRED)
+endif()

@@ -1,0 +1,29 @@
+// glint — Film: the rendered image as per-pixel mean, variance and optional AOVs.
+//
+// Every pixel is estimated from its own samples only (the filter is importance-sampled), so
+// the renderer writes each pixel once with its final statistics; no splatting between pixels.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "geometry/math.h"
+
+namespace glint {
+
+struct Film {
+  int width = 0, height = 0;
+  std::vector<Rgb> color;      // mean scene-linear radiance
+  std::vector<Rgb> variance;   // variance of the mean (sample variance / n), per channel
+  std::vector<float> alpha;    // fraction of samples whose camera ray hit geometry
+  bool hasAovs = false;
+  std::vector<Rgb> albedo;     // AOVs (filled when hasAovs): mean first-hit albedo,
+  std::vector<Vec3f> normal;   // mean world shading normal,
+  std::vector<float> depth;    // mean camera-ray distance (0 where nothing was hit)
+
+  Film() = default;
+  Film(int w, int h, bool aovs);
+  size_t index(int x, int y) const { return size_t(y) * size_t(width) + size_t(x); }
+};
+
+}  // namespace glint

@@ -1,0 +1,39 @@
+// glint — writing a Film to disk: scene-linear EXR, or display-referred PNG/JPEG/TIFF through
+// exposure, tone mapping and an OpenColorIO display/view transform. Writes are atomic.
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+
+#include "renderer/film.h"
+#include "renderer/settings.h"
+
+namespace glint {
+
+struct ImageMetadata {
+  std::string scene;      // the scene file
+  int spp = 0;
+  uint64_t seed = 0;
+  double renderSeconds = 0;
+  std::string accel;
+  std::string integrator;
+};
+
+// A failure to write an image (disk full, unwritable folder): exit code 1.
+class OutputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// True when `path` has an extension glint can write (.exr, .png, .jpg/.jpeg, .tif/.tiff);
+// otherwise sets *why. Checked before rendering so a typo costs nothing.
+bool isSupportedOutput(const std::string& path, std::string* why);
+
+// Writes `film` to `path` (format by extension). The data goes to a temporary file in the same
+// folder that is renamed over `path` only when complete: a failed write never leaves a
+// half-written file or destroys a previous good image. Throws OutputError.
+void writeImage(const std::string& path, const Film& film, const RenderSettings& settings,
+                const ImageMetadata& meta);
+
+}  // namespace glint

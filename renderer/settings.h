@@ -1,0 +1,51 @@
+// glint — render settings: what the sidecar's "render" block and the command line control.
+//
+// Precedence: these defaults, then the sidecar (or glint .json scene), then command-line
+// options. Loaders fill these fields; the renderer only reads them.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "geometry/math.h"
+
+namespace glint {
+
+// Pixel reconstruction filter. Samples are drawn from the filter's distribution (filter
+// importance sampling, as pbrt-v4 does), so every sample belongs to exactly one pixel: tiles
+// stay independent and images are identical for any thread count.
+struct FilterSettings {
+  std::string type = "gaussian";  // "box" | "tent" | "gaussian"
+  float radius = 1.5f;            // in pixels; box and tent use it as half-width
+};
+
+// Display transform for PNG/JPEG/TIFF output (EXR stays scene-linear).
+struct ToneMapSettings {
+  float exposure = 0;             // stops: scene-linear values are multiplied by 2^exposure
+  std::string op = "none";        // "none" (clip in the display transform) | "ward"
+  // Ward (1994) contrast-based scale factor. Scene-linear 1.0 is taken as
+  // `sceneLuminance` cd/m^2; the display's maximum is `displayMax` cd/m^2.
+  float wardDisplayMax = 100.0f;
+  float wardSceneLuminance = 100.0f;
+  std::string display;            // OCIO display; empty = the config's default
+  std::string view;               // OCIO view; empty = the display's default
+};
+
+struct RenderSettings {
+  std::optional<int> width, height;  // unset: 640 wide, height from the camera's aspect
+  int spp = 16;
+  uint64_t seed = 0;
+  int threads = 0;                   // 0 = all hardware threads
+  std::string accel = "embree";
+  std::string camera;                // camera name; empty = the first camera
+  std::string integrator = "whitted";
+  int maxDepth = 8;                  // recursion depth for mirror/glass (Whitted)
+  FilterSettings filter;
+  ToneMapSettings tonemap;
+  Rgb background{0, 0, 0};           // radiance of rays that leave the scene
+  bool exrHalf = false;              // write EXR as half instead of float
+  bool aovs = false;                 // add albedo, normal and depth channels to EXR output
+};
+
+}  // namespace glint

@@ -1,0 +1,126 @@
+// glint — SceneDescription: plain structs holding what the scene files say.
+//
+// Loaders (glTF, sidecar JSON) fill these and record where every item came from; they never
+// touch Embree or the renderer. scenes/build turns a validated description into render-time
+// objects. Indices between items are plain ints into the vectors below (-1 = none).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "geometry/math.h"
+#include "renderer/settings.h"
+#include "scenes/errors.h"
+
+namespace glint {
+
+// Decoded image pixels, as stored in the file (not yet linearized): `channels` floats per
+// pixel in [0, 1], rows top to bottom.
+struct ImageDesc {
+  std::string name;  // the URI, or "image N" for embedded images
+  int width = 0, height = 0, channels = 0;
+  std::vector<float> pixels;
+  SourceLocation where;
+};
+
+enum class WrapMode { Repeat, ClampToEdge, MirroredRepeat };
+
+struct TextureDesc {
+  int image = -1;
+  WrapMode wrapS = WrapMode::Repeat, wrapT = WrapMode::Repeat;
+  bool nearest = false;  // glTF magFilter NEAREST; otherwise bilinear
+  SourceLocation where;
+};
+
+enum class MaterialType {
+  Pbr,       // glTF pbrMetallicRoughness; shaded as Lambert (base colour) until issue 5
+  Eyelight,  // colour x |cos(normal, view)|, no lights: the course's first shader
+  Lambert,
+  Phong,     // energy-normalized Phong: diffuse + specular lobe
+};
+
+struct MaterialDesc {
+  std::string name;
+  MaterialType type = MaterialType::Pbr;
+  Rgb baseColor{1, 1, 1};     // diffuse colour / glTF baseColorFactor.rgb (linear)
+  float opacity = 1;          // glTF baseColorFactor.a
+  int baseColorTexture = -1;  // sRGB-encoded, multiplied with baseColor
+  float metallic = 1, roughness = 1;
+  Rgb emissive{0, 0, 0};      // emitted radiance (linear), multiplied by emissiveTexture
+  int emissiveTexture = -1;   // sRGB-encoded
+  Rgb specular{0, 0, 0};      // Phong specular colour
+  float shininess = 0;        // Phong exponent
+  bool doubleSided = false;
+  SourceLocation where;
+};
+
+// One triangle primitive. A glTF mesh with several primitives becomes several MeshDescs.
+struct MeshDesc {
+  std::string name;
+  std::vector<Vec3f> positions;
+  std::vector<Vec3f> normals;     // empty, or one unit normal per position
+  std::vector<Vec2f> uvs;         // TEXCOORD_0: empty or one per position
+  std::vector<Vec4f> colors;      // COLOR_0 (linear RGBA): empty or one per position
+  std::vector<uint32_t> indices;  // 3 per triangle; generated 0..n-1 when the file has none
+  int material = -1;              // -1 = the default material (white Lambert)
+  SourceLocation where;
+};
+
+enum class CameraType { Perspective, Orthographic };
+
+struct CameraDesc {
+  std::string name;
+  CameraType type = CameraType::Perspective;
+  float yfov = 0.8f;         // radians (perspective)
+  float aspectRatio = 0;     // width / height; 0 = not given (use the image's)
+  float znear = 0, zfar = kInfinity;
+  float xmag = 1, ymag = 1;  // half extents (orthographic)
+  Transform worldFromCamera; // camera at the origin looking down -Z, +Y up (glTF)
+  SourceLocation where;
+};
+
+enum class LightType { Point, Spot, Directional };
+
+// Units follow KHR_lights_punctual: point and spot intensity in candela (W/sr here),
+// directional in lux (W/m^2 here). glint is RGB, so photometric units are used as radiometric.
+struct LightDesc {
+  std::string name;
+  LightType type = LightType::Point;
+  Rgb color{1, 1, 1};
+  float intensity = 1;
+  float range = 0;  // 0 = infinite
+  float innerConeAngle = 0, outerConeAngle = kPi / 4;  // spot, radians
+  Transform worldFromLight;  // light at the origin, shining down -Z
+  bool castsShadows = true;
+  SourceLocation where;
+};
+
+// A placement of a mesh in the world. A mesh used by several nodes appears in several
+// instances and is built once.
+struct InstanceDesc {
+  int mesh = -1;
+  Transform worldFromObject;
+  std::string node;  // name of the glTF node, for messages
+  SourceLocation where;
+};
+
+struct SceneDescription {
+  std::string file;  // the scene file the user named
+  std::vector<ImageDesc> images;
+  std::vector<TextureDesc> textures;
+  std::vector<MaterialDesc> materials;
+  std::vector<MeshDesc> meshes;
+  std::vector<InstanceDesc> instances;
+  std::vector<CameraDesc> cameras;
+  std::vector<LightDesc> lights;
+  RenderSettings render;
+  // Things loaders accepted but did not use (e.g. glTF point or line primitives), one line
+  // each with its location; `glint render` and `glint info` print them.
+  std::vector<std::string> warnings;
+};
+
+// World-space bounds of all instances.
+Bounds3f sceneBounds(const SceneDescription& scene);
+
+}  // namespace glint

@@ -1,0 +1,40 @@
+// glint — SceneError formatting.
+#include "scenes/errors.h"
+
+namespace glint {
+
+namespace {
+// RFC 6901: '~' becomes "~0" and '/' becomes "~1" inside a reference token.
+std::string escapePointerToken(const std::string& key) {
+  std::string out;
+  for (char c : key) {
+    if (c == '~')
+      out += "~0";
+    else if (c == '/')
+      out += "~1";
+    else
+      out += c;
+  }
+  return out;
+}
+}  // namespace
+
+SourceLocation SourceLocation::child(const std::string& key) const {
+  return {file, pointer + "/" + escapePointerToken(key)};
+}
+
+SourceLocation SourceLocation::child(size_t index) const {
+  return {file, pointer + "/" + std::to_string(index)};
+}
+
+std::string SourceLocation::str() const {
+  if (pointer.empty()) return file;
+  return file + ": " + pointer;
+}
+
+SceneError::SceneError(SourceLocation where, const std::string& message)
+    : std::runtime_error(where.str() + ": " + message),
+      where_(std::move(where)),
+      message_(message) {}
+
+}  // namespace glint

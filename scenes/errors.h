@@ -1,0 +1,34 @@
+// glint — errors in user input, carried with their source location until main prints them.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace glint {
+
+// Where a value came from: a file and a JSON pointer into it ("/meshes/0/primitives/1").
+// For files that are not JSON (or errors about the whole file) the pointer is empty.
+struct SourceLocation {
+  std::string file;
+  std::string pointer;
+
+  SourceLocation child(const std::string& key) const;  // pointer + "/" + escaped key
+  SourceLocation child(size_t index) const;
+  std::string str() const;  // "file: /pointer" or "file"
+};
+
+// A problem with the user's input. what() is the one-line message main prints:
+// "scene.json: /objects/3/radius: must be > 0". Loaders throw it; main catches it once and
+// exits with code 2. Never thrown through an Embree callback.
+class SceneError : public std::runtime_error {
+ public:
+  SceneError(SourceLocation where, const std::string& message);
+  const SourceLocation& where() const { return where_; }
+  const std::string& message() const { return message_; }
+
+ private:
+  SourceLocation where_;
+  std::string message_;
+};
+
+}  // namespace glint

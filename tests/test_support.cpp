@@ -1,0 +1,54 @@
+// glint tests — shared helpers.
+#include "test_support.h"
+
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace glint::test {
+
+std::string dataDir() { return GLINT_TEST_DATA; }
+
+std::string assetsDir() {
+  if (const char* env = std::getenv("GLINT_ASSETS"); env && *env) return env;
+  return GLINT_DEFAULT_ASSETS;
+}
+
+std::string scratchDir(const std::string& name) {
+  const char* root = std::getenv("GLINT_TEST_OUTPUT");
+  std::filesystem::path dir = std::filesystem::path(root && *root ? root : "test_output") / name;
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir.string();
+}
+
+namespace {
+std::string slurp(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+}  // namespace
+
+CommandResult runGlint(const std::string& args) {
+  static int counter = 0;
+  std::string base = std::filesystem::temp_directory_path() /
+                     ("glint_cmd_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+  std::string cmd = std::string("'") + GLINT_EXECUTABLE + "' " + args + " >'" + base +
+                    ".out' 2>'" + base + ".err' </dev/null";
+  int status = std::system(cmd.c_str());
+  CommandResult r;
+  r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = slurp(base + ".out");
+  r.err = slurp(base + ".err");
+  std::filesystem::remove(base + ".out");
+  std::filesystem::remove(base + ".err");
+  return r;
+}
+
+}  // namespace glint::test
