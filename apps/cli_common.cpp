@@ -1,0 +1,49 @@
+// glint — shared subcommand pieces.
+#include "apps/cli_common.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "geometry/accel/accelerator.h"
+
+namespace glint::app {
+
+void SceneOverrides::addOptions(CLI::App* cmd) {
+  cmd->add_option("--width", width, "image width in pixels")->check(CLI::PositiveNumber);
+  cmd->add_option("--height", height, "image height in pixels")->check(CLI::PositiveNumber);
+  cmd->add_option("--spp", spp, "samples per pixel")->check(CLI::PositiveNumber);
+  cmd->add_option("--seed", seed, "random seed");
+  cmd->add_option("--threads", threads, "worker threads (0 = all cores)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--accel", accel, "acceleration structure")
+      ->check(CLI::IsMember(acceleratorNames()));
+  cmd->add_option("--camera", camera, "camera name");
+}
+
+void SceneOverrides::apply(SceneDescription* desc) const {
+  RenderSettings& r = desc->render;
+  if (width) r.width = *width;
+  if (height) r.height = *height;
+  if (spp) r.spp = *spp;
+  if (seed) r.seed = *seed;
+  if (threads) r.threads = *threads;
+  if (accel) r.accel = *accel;
+  if (camera) {
+    bool known = std::any_of(desc->cameras.begin(), desc->cameras.end(),
+                             [&](const CameraDesc& c) { return c.name == *camera; });
+    if (!known) {
+      std::string names;
+      for (const CameraDesc& c : desc->cameras) names += (names.empty() ? "'" : ", '") + c.name + "'";
+      throw SceneError({"command line", "--camera"},
+                       "no camera named '" + *camera + "' in " + desc->file +
+                           (names.empty() ? " (it has no cameras)" : " (cameras: " + names + ")"));
+    }
+    r.camera = *camera;
+  }
+}
+
+void printError(const std::string& message) {
+  std::fprintf(stderr, "glint: %s\n", message.c_str());
+}
+
+}  // namespace glint::app

@@ -1,0 +1,29 @@
+// glint — pieces shared by the subcommands: scene options, overrides, error reporting.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "scenes/description.h"
+
+namespace glint::app {
+
+// Options that change how a scene is rendered; the command line wins over the sidecar.
+struct SceneOverrides {
+  std::optional<int> width, height, spp, threads;
+  std::optional<uint64_t> seed;
+  std::optional<std::string> accel, camera;
+
+  // Registers --width --height --spp --seed --threads --accel --camera on `cmd`.
+  void addOptions(CLI::App* cmd);
+  // Applies the given options to desc->render; throws SceneError (location "command line")
+  // for values that cannot work, e.g. an unknown camera name.
+  void apply(SceneDescription* desc) const;
+};
+
+// Prints "glint: MESSAGE" to stderr.
+void printError(const std::string& message);
+
+}  // namespace glint::app

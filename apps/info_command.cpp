@@ -1,0 +1,118 @@
+// glint — `glint info`: what a scene holds and which effects it calls for.
+#include <cstdio>
+
+#include "apps/cli_common.h"
+#include "apps/commands.h"
+#include "scenes/build.h"
+#include "scenes/load.h"
+
+namespace glint::app {
+
+namespace {
+
+struct InfoArgs {
+  std::string scene;
+  std::optional<std::string> sidecar;
+  SceneOverrides overrides;
+};
+
+const char* materialTypeName(MaterialType t) {
+  switch (t) {
+    case MaterialType::Pbr: return "pbr";
+    case MaterialType::Eyelight: return "eyelight";
+    case MaterialType::Lambert: return "lambert";
+    case MaterialType::Phong: return "phong";
+  }
+  return "?";
+}
+
+const char* lightTypeName(LightType t) {
+  switch (t) {
+    case LightType::Point: return "point";
+    case LightType::Spot: return "spot";
+    case LightType::Directional: return "directional";
+  }
+  return "?";
+}
+
+// "a, b, c" of up to `limit` names, then "... (N more)".
+template <class T, class F>
+std::string listNames(const std::vector<T>& items, F name, size_t limit = 8) {
+  std::string s;
+  for (size_t i = 0; i < items.size() && i < limit; ++i) s += (i ? ", " : "") + name(items[i]);
+  if (items.size() > limit) s += ", ... (" + std::to_string(items.size() - limit) + " more)";
+  return s;
+}
+
+int runInfo(const InfoArgs& args) {
+  SceneDescription desc;
+  RenderScene scene;
+  try {
+    desc = loadScene(args.scene, args.sidecar);
+    args.overrides.apply(&desc);
+    scene = buildRenderScene(desc);
+  } catch (const SceneError& e) {
+    printError(e.what());
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    printError(args.scene + ": " + e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    printError(args.scene + ": cannot build the scene: " + std::string(e.what()));
+    return 1;
+  }
+  for (const std::string& w : desc.warnings) std::printf("warning: %s\n", w.c_str());
+
+  size_t triangles = 0;
+  for (const MeshDesc& m : desc.meshes) triangles += m.indices.size() / 3;
+  Bounds3f b = scene.geometry.bounds();
+  std::printf("scene:      %s\n", desc.file.c_str());
+  std::printf("meshes:     %zu (%zu triangles stored, %zu placed in the world)\n",
+              desc.meshes.size(), triangles, scene.geometry.instancedTriangleCount());
+  std::printf("instances:  %zu\n", desc.instances.size());
+  std::printf("materials:  %zu%s%s\n", desc.materials.size(), desc.materials.empty() ? "" : ": ",
+              listNames(desc.materials, [](const MaterialDesc& m) {
+                return (m.name.empty() ? std::string("(unnamed)") : m.name) + " (" +
+                       materialTypeName(m.type) + ")";
+              }).c_str());
+  std::printf("textures:   %zu (%zu images)\n", desc.textures.size(), desc.images.size());
+  std::printf("cameras:    %zu%s%s; rendering with '%s'\n", desc.cameras.size(),
+              desc.cameras.empty() ? "" : ": ",
+              listNames(desc.cameras, [](const CameraDesc& c) {
+                return c.name + (c.type == CameraType::Perspective ? " (perspective)"
+                                                                   : " (orthographic)");
+              }).c_str(),
+              scene.cameraName.c_str());
+  std::printf("lights:     %zu%s%s\n", desc.lights.size(), desc.lights.empty() ? "" : ": ",
+              listNames(desc.lights, [](const LightDesc& l) {
+                return (l.name.empty() ? std::string("(unnamed)") : l.name) + " (" +
+                       lightTypeName(l.type) + ")";
+              }).c_str());
+  if (b.empty())
+    std::printf("bounds:     empty\n");
+  else
+    std::printf("bounds:     (%g, %g, %g) to (%g, %g, %g)\n", b.lower.x, b.lower.y, b.lower.z,
+                b.upper.x, b.upper.y, b.upper.z);
+  std::printf("image:      %dx%d, %d spp, seed %llu, accel %s, integrator %s\n",
+              scene.camera.width(), scene.camera.height(), desc.render.spp,
+              (unsigned long long)desc.render.seed, desc.render.accel.c_str(),
+              desc.render.integrator.c_str());
+  std::vector<std::string> effects = scene.features.names();
+  std::printf("effects:    %s\n",
+              effects.empty() ? "none"
+                              : listNames(effects, [](const std::string& s) { return s; }, 64).c_str());
+  return 0;
+}
+
+}  // namespace
+
+void addInfoCommand(CLI::App& app, int* exitCode) {
+  auto args = std::make_shared<InfoArgs>();
+  CLI::App* cmd = app.add_subcommand("info", "print what a scene holds and the effects it calls for");
+  cmd->add_option("scene", args->scene, "a .gltf/.glb scene or a glint .json scene")->required();
+  cmd->add_option("--sidecar", args->sidecar, "sidecar JSON (default: NAME.glint.json beside the glTF)");
+  args->overrides.addOptions(cmd);
+  cmd->callback([args, exitCode] { *exitCode = runInfo(*args); });
+}
+
+}  // namespace glint::app

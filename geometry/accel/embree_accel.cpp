@@ -1,0 +1,136 @@
+// glint — Intel Embree 3 backend.
+#include "geometry/accel/embree_accel.h"
+
+#include <cstring>
+#include <stdexcept>
+
+namespace glint {
+
+void embreeErrorCallback(void* user, RTCError code, const char* message) {
+  // Runs inside Embree: record, never throw.
+  auto* self = static_cast<EmbreeAccelerator*>(user);
+  std::lock_guard<std::mutex> lock(self->errorMutex_);
+  if (self->firstError_.empty())
+    self->firstError_ = "Embree error " + std::to_string(int(code)) + ": " +
+                        (message ? message : "(no message)");
+}
+
+EmbreeAccelerator::EmbreeAccelerator(const GeometryScene& geometry) {
+  device_ = rtcNewDevice(nullptr);
+  if (!device_) throw std::runtime_error("cannot create an Embree device");
+  rtcSetDeviceErrorFunction(device_, embreeErrorCallback, this);
+
+  // How often each mesh is placed decides direct attachment versus instancing.
+  std::vector<uint32_t> uses(geometry.meshes.size(), 0);
+  for (const Instance& inst : geometry.instances) ++uses[inst.mesh];
+  meshScenes_.assign(geometry.meshes.size(), nullptr);
+
+  scene_ = rtcNewScene(device_);
+  for (uint32_t i = 0; i < geometry.instances.size(); ++i) {
+    const Instance& inst = geometry.instances[i];
+    const TriangleMesh& mesh = geometry.meshes[inst.mesh];
+    if (mesh.triangleCount() == 0) continue;
+    RTCGeometry geom;
+    if (uses[inst.mesh] == 1 && inst.worldFromObject.isIdentity()) {
+      geom = makeTriangleGeometry(mesh);
+    } else {
+      RTCScene& meshScene = meshScenes_[inst.mesh];
+      if (!meshScene) {
+        meshScene = rtcNewScene(device_);
+        RTCGeometry tri = makeTriangleGeometry(mesh);
+        rtcAttachGeometry(meshScene, tri);
+        rtcReleaseGeometry(tri);
+        rtcCommitScene(meshScene);
+      }
+      geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
+      rtcSetGeometryInstancedScene(geom, meshScene);
+      float m[12];  // 3x4 column-major
+      const auto& a = inst.worldFromObject.matrix().m;
+      for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 3; ++r) m[c * 3 + r] = a[r][c];
+      rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, m);
+      rtcCommitGeometry(geom);
+    }
+    unsigned id = rtcAttachGeometry(scene_, geom);
+    rtcReleaseGeometry(geom);
+    if (instanceOfGeom_.size() <= id) instanceOfGeom_.resize(id + 1, Hit::kInvalid);
+    instanceOfGeom_[id] = i;
+  }
+  rtcCommitScene(scene_);
+  checkError("building the Embree scene");
+}
+
+EmbreeAccelerator::~EmbreeAccelerator() {
+  if (scene_) rtcReleaseScene(scene_);
+  for (RTCScene s : meshScenes_)
+    if (s) rtcReleaseScene(s);
+  if (device_) rtcReleaseDevice(device_);
+}
+
+RTCGeometry EmbreeAccelerator::makeTriangleGeometry(const TriangleMesh& mesh) {
+  RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+  // Copied into Embree-owned buffers: Embree needs padding after the last vertex that our
+  // tightly packed vectors do not have.
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+      geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(Vec3f), mesh.positions.size()));
+  auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+      geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
+      mesh.triangleCount()));
+  if (!v || !idx) {
+    rtcReleaseGeometry(geom);
+    checkError("allocating Embree buffers");
+    throw std::runtime_error("cannot allocate Embree buffers");
+  }
+  std::memcpy(v, mesh.positions.data(), mesh.positions.size() * sizeof(Vec3f));
+  std::memcpy(idx, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t));
+  rtcCommitGeometry(geom);
+  return geom;
+}
+
+void EmbreeAccelerator::checkError(const char* what) {
+  std::lock_guard<std::mutex> lock(errorMutex_);
+  if (!firstError_.empty()) throw std::runtime_error(std::string(what) + ": " + firstError_);
+}
+
+bool EmbreeAccelerator::closestHit(const Ray& ray, Hit* hit) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh;
+  rh.ray.org_x = ray.o.x, rh.ray.org_y = ray.o.y, rh.ray.org_z = ray.o.z;
+  rh.ray.dir_x = ray.d.x, rh.ray.dir_y = ray.d.y, rh.ray.dir_z = ray.d.z;
+  rh.ray.tnear = ray.tMin;
+  rh.ray.tfar = ray.tMax;
+  rh.ray.time = ray.time;
+  rh.ray.mask = ~0u;
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(scene_, &context, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  unsigned top = rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID ? rh.hit.instID[0] : rh.hit.geomID;
+  hit->t = rh.ray.tfar;
+  hit->instance = instanceOfGeom_[top];
+  hit->prim = rh.hit.primID;
+  hit->u = rh.hit.u;
+  hit->v = rh.hit.v;
+  return true;
+}
+
+bool EmbreeAccelerator::anyHit(const Ray& ray) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay r;
+  r.org_x = ray.o.x, r.org_y = ray.o.y, r.org_z = ray.o.z;
+  r.dir_x = ray.d.x, r.dir_y = ray.d.y, r.dir_z = ray.d.z;
+  r.tnear = ray.tMin;
+  r.tfar = ray.tMax;
+  r.time = ray.time;
+  r.mask = ~0u;
+  r.id = 0;
+  r.flags = 0;
+  rtcOccluded1(scene_, &context, &r);
+  return r.tfar < 0;  // Embree sets tfar to -inf on a hit
+}
+
+}  // namespace glint

@@ -1,0 +1,49 @@
+// glint — Intel Embree 3 backend of the Accelerator interface.
+#pragma once
+
+#include <embree3/rtcore.h>
+
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "geometry/accel/accelerator.h"
+
+namespace glint {
+
+// Owns an Embree device and scene. Meshes placed exactly once with an identity transform (the
+// scene builder bakes single placements into world space) are attached to the top-level scene
+// directly; meshes placed several times are built once as their own scene and instanced, so
+// their triangles are stored once. Embree's device errors are recorded by the error callback
+// (which must not throw) and raised as std::runtime_error after the call that caused them.
+class EmbreeAccelerator final : public Accelerator {
+ public:
+  explicit EmbreeAccelerator(const GeometryScene& scene);
+  ~EmbreeAccelerator() override;
+  EmbreeAccelerator(const EmbreeAccelerator&) = delete;
+  EmbreeAccelerator& operator=(const EmbreeAccelerator&) = delete;
+
+  std::string name() const override { return "embree"; }
+  bool closestHit(const Ray& ray, Hit* hit) const override;
+  bool anyHit(const Ray& ray) const override;
+
+  // The raw top-level scene, for benchmarks that measure Embree alone.
+  RTCScene rtcScene() const { return scene_; }
+  // Maps a top-level geometry ID (of a direct mesh or an instance) to the instance index.
+  uint32_t instanceOfGeometry(unsigned geomID) const { return instanceOfGeom_[geomID]; }
+
+ private:
+  RTCGeometry makeTriangleGeometry(const TriangleMesh& mesh);
+  void checkError(const char* what);
+
+  RTCDevice device_ = nullptr;
+  RTCScene scene_ = nullptr;
+  std::vector<RTCScene> meshScenes_;      // per mesh, only for instanced meshes
+  std::vector<uint32_t> instanceOfGeom_;  // top-level geomID -> instance index
+
+  std::mutex errorMutex_;
+  std::string firstError_;
+  friend void embreeErrorCallback(void*, RTCError, const char*);
+};
+
+}  // namespace glint

@@ -1,0 +1,42 @@
+// glint — SurfaceInteraction: everything about a ray's final hit that shading needs.
+#pragma once
+
+#include "geometry/accel/accelerator.h"
+#include "geometry/mesh.h"
+#include "geometry/ray.h"
+
+namespace glint {
+
+// Which optional attributes to interpolate; a scene without textures or vertex colours does
+// not pay for them (see SceneFeatures).
+struct SurfaceNeeds {
+  bool uvs = true;
+  bool colors = true;
+};
+
+struct SurfaceInteraction {
+  Vec3f p;          // world-space hit point,
+  Vec3f pError;     // with a conservative bound on its absolute rounding error
+  Vec3f ng;         // unit geometric normal (world), on the side the ray came from
+  Vec3f ns;         // unit shading normal (world), in ng's hemisphere
+  Vec3f wo;         // unit direction back along the ray
+  Vec2f uv;         // TEXCOORD_0 (or barycentrics when the mesh has none)
+  Vec4f color{1, 1, 1, 1};  // COLOR_0, white when absent
+  float t = 0;
+  uint32_t instance = 0, mesh = 0, prim = 0;
+
+  // A ray leaving this point in direction d (origin offset past the point's error bound).
+  Ray spawnRay(Vec3f d, float time) const { return glint::spawnRay(p, pError, ng, d, time); }
+  // A shadow ray towards a point: t in [0, 1) covers the segment.
+  Ray spawnRayTo(Vec3f target, float time) const {
+    return glint::spawnRayTo(p, pError, ng, target, time);
+  }
+};
+
+// Computes the surface details of `hit` (found for `ray` in `scene`): the hit point is
+// re-evaluated from the triangle's vertices and barycentrics, which is far more accurate than
+// o + t d, with its error bound propagated through the instance transform.
+SurfaceInteraction computeSurfaceInteraction(const GeometryScene& scene, const Ray& ray,
+                                             const Hit& hit, SurfaceNeeds needs = {});
+
+}  // namespace glint

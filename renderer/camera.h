@@ -1,0 +1,41 @@
+// glint — cameras: generate the ray through a point on the film.
+//
+// Camera space follows glTF: the camera looks down -Z with +Y up and +X right. Film
+// coordinates are continuous pixels with (0,0) at the top-left corner of the image.
+#pragma once
+
+#include "geometry/ray.h"
+
+namespace glint {
+
+class Camera {
+ public:
+  enum class Projection { Perspective, Orthographic };
+
+  // yfov in radians; the horizontal extent follows the image aspect (no stretching).
+  static Camera perspective(const Transform& worldFromCamera, float yfov, int width, int height,
+                            float znear, float zfar);
+  // ymag = half the film height in world units; the width follows the image aspect.
+  static Camera orthographic(const Transform& worldFromCamera, float ymag, int width, int height,
+                             float znear, float zfar);
+
+  // The world-space ray through film point `pFilm` at `time`, clipped to [znear, zfar] along
+  // the view axis. Perspective rays have unit directions.
+  Ray generateRay(Vec2f pFilm, float time) const;
+
+  Projection projection() const { return projection_; }
+  Vec3f position() const { return worldFromCamera_.point({0, 0, 0}); }
+  Vec3f forward() const { return normalize(worldFromCamera_.vector({0, 0, -1})); }
+  const Transform& worldFromCamera() const { return worldFromCamera_; }
+  int width() const { return width_; }
+  int height() const { return height_; }
+
+ private:
+  Projection projection_ = Projection::Perspective;
+  Transform worldFromCamera_;
+  int width_ = 0, height_ = 0;
+  float halfHeight_ = 1, halfWidth_ = 1;  // film half extents at distance 1 (or world, ortho)
+  float znear_ = 0, zfar_ = kInfinity;
+};
+
+}  // namespace glint

@@ -1,0 +1,30 @@
+// glint — feature names.
+#include "renderer/features.h"
+
+namespace glint {
+
+const char* featureName(Feature f) {
+  switch (f) {
+    case Feature::Shadows: return "shadows";
+    case Feature::Textures: return "textures";
+    case Feature::VertexColors: return "vertex colors";
+    case Feature::Emission: return "emission";
+    case Feature::Instancing: return "instancing";
+    case Feature::Headlight: return "headlight";
+    case Feature::Transparency: return "transparency";
+    case Feature::Lens: return "lens";
+    case Feature::MotionBlur: return "motion blur";
+    case Feature::Volumes: return "volumes";
+    case Feature::Count: break;
+  }
+  return "?";
+}
+
+std::vector<std::string> SceneFeatures::names() const {
+  std::vector<std::string> out;
+  for (uint32_t i = 0; i < uint32_t(Feature::Count); ++i)
+    if (has(Feature(i))) out.push_back(featureName(Feature(i)));
+  return out;
+}
+
+}  // namespace glint

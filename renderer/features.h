@@ -1,0 +1,46 @@
+// glint — SceneFeatures: the effects a scene calls for.
+//
+// Computed once from the built scene; it is the only switch for optional work (which surface
+// attributes are interpolated, whether shadow rays are traced, later: lens sampling, motion
+// time steps, media). `glint info` prints it and `--stats` records it. A scene without an
+// effect pays nothing for it. Later issues add flags; keep names short and user-facing.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace glint {
+
+enum class Feature : uint32_t {
+  Shadows,       // some light casts shadows onto lit (non-eyelight) surfaces
+  Textures,      // some material reads an image texture (UVs are interpolated)
+  VertexColors,  // some material reads COLOR_0
+  Emission,      // some material emits light
+  Instancing,    // some mesh is placed more than once
+  Headlight,     // the scene had no lights; a headlight was added
+  Transparency,  // reserved: alpha / transmission (issue 5)
+  Lens,          // reserved: thin-lens depth of field (issue 6)
+  MotionBlur,    // reserved: anything moves during the shutter (issue 6)
+  Volumes,       // reserved: participating media (issue 7)
+  Count
+};
+
+class SceneFeatures {
+ public:
+  void set(Feature f, bool on = true) {
+    uint32_t bit = 1u << uint32_t(f);
+    bits_ = on ? bits_ | bit : bits_ & ~bit;
+  }
+  bool has(Feature f) const { return bits_ & (1u << uint32_t(f)); }
+  // Names of the enabled features, in declaration order ("shadows", "textures", ...).
+  std::vector<std::string> names() const;
+
+ private:
+  uint32_t bits_ = 0;
+};
+
+// The user-facing name of a feature ("motion blur").
+const char* featureName(Feature f);
+
+}  // namespace glint

@@ -1,0 +1,35 @@
+// glint — a terminal progress bar with ETA, safe to advance from worker threads.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <mutex>
+#include <string>
+
+namespace glint {
+
+class ProgressBar {
+ public:
+  // Draws on `out` only when `enabled` (callers pass: stderr is a TTY and not --quiet).
+  ProgressBar(std::string label, uint64_t total, bool enabled, std::FILE* out = stderr);
+  ~ProgressBar();
+  void advance(uint64_t n = 1);
+  void finish();  // draws 100% and ends the line
+
+ private:
+  void draw(uint64_t done, bool final);
+  std::string label_;
+  uint64_t total_;
+  bool enabled_;
+  std::FILE* out_;
+  std::atomic<uint64_t> done_{0};
+  std::mutex drawMutex_;
+  std::chrono::steady_clock::time_point start_, lastDraw_;
+  bool finished_ = false;
+};
+
+// True when the stream is attached to a terminal.
+bool isTerminal(std::FILE* stream);
+
+}  // namespace glint

@@ -1,0 +1,131 @@
+// glint — tiled, multithreaded rendering.
+#include "renderer/render.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+#include "renderer/filter.h"
+#include "renderer/progress.h"
+
+namespace glint {
+
+namespace {
+
+// Per-thread tallies, merged at the end.
+struct ThreadTally {
+  RayCounters rays;
+  uint64_t nonfinite = 0;
+};
+
+// Running mean and sum of squared deviations (Welford), per channel, in double.
+struct Welford {
+  double n = 0, mean[3] = {0, 0, 0}, m2[3] = {0, 0, 0};
+  void add(Rgb v) {
+    n += 1;
+    for (int c = 0; c < 3; ++c) {
+      double d = double(v[c]) - mean[c];
+      mean[c] += d / n;
+      m2[c] += d * (double(v[c]) - mean[c]);
+    }
+  }
+  Rgb meanRgb() const { return {float(mean[0]), float(mean[1]), float(mean[2])}; }
+  Rgb varianceOfMean() const {
+    if (n < 2) return {};
+    double k = 1.0 / ((n - 1) * n);
+    return {float(m2[0] * k), float(m2[1] * k), float(m2[2] * k)};
+  }
+};
+
+}  // namespace
+
+Film render(const RenderScene& scene, const Integrator& integrator,
+            const RenderSettings& settings, const RenderOptions& options, RenderStats* stats) {
+  const int width = scene.camera.width(), height = scene.camera.height();
+  const uint32_t spp = uint32_t(settings.spp);
+  const bool aovs = settings.aovs;
+  Film film(width, height, aovs);
+  PixelFilter filter(settings.filter);
+
+  const int tile = options.tileSize;
+  const int tilesX = (width + tile - 1) / tile, tilesY = (height + tile - 1) / tile;
+  int threads = options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency());
+  if (threads <= 0) threads = 1;
+
+  ProgressBar progress("rendering", uint64_t(tilesX) * uint64_t(tilesY), options.progress);
+  tbb::enumerable_thread_specific<ThreadTally> tallies;
+  auto start = std::chrono::steady_clock::now();
+
+  auto renderTile = [&](int tileIndex) {
+    ThreadTally& tally = tallies.local();
+    const int x0 = (tileIndex % tilesX) * tile, y0 = (tileIndex / tilesX) * tile;
+    const int x1 = std::min(x0 + tile, width), y1 = std::min(y0 + tile, height);
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) {
+        const size_t index = film.index(x, y);
+        Welford acc;
+        double hits = 0, depth = 0;
+        Rgb albedo, normal;
+        for (uint32_t s = 0; s < spp; ++s) {
+          Sampler sampler(index, s, spp, settings.seed);
+          Vec2f offset = filter.sampleOffset(sampler.get2D());
+          Ray ray = scene.camera.generateRay({float(x) + 0.5f + offset.x,
+                                              float(y) + 0.5f + offset.y}, 0.0f);
+          PathAovs pathAovs;
+          pathAovs.wanted = aovs;
+          Rgb L = integrator.Li(ray, sampler, tally.rays, pathAovs);
+          if (!isFinite(L)) {
+            ++tally.nonfinite;
+            L = {};
+          }
+          acc.add(L);
+          if (pathAovs.hit) {
+            hits += 1;
+            if (aovs) {
+              albedo += pathAovs.albedo;
+              normal += pathAovs.normal;
+              depth += pathAovs.depth;
+            }
+          }
+        }
+        film.color[index] = acc.meanRgb();
+        film.variance[index] = acc.varianceOfMean();
+        film.alpha[index] = float(hits / spp);
+        if (aovs) {
+          film.albedo[index] = albedo / float(spp);
+          film.normal[index] = normal / float(spp);
+          film.depth[index] = hits > 0 ? float(depth / hits) : 0.0f;
+        }
+      }
+    progress.advance();
+  };
+
+  tbb::task_arena arena(threads);
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY, 1),
+                      [&](const tbb::blocked_range<int>& r) {
+                        for (int t = r.begin(); t != r.end(); ++t) renderTile(t);
+                      });
+  });
+  progress.finish();
+
+  if (stats) {
+    stats->renderSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    stats->threads = threads;
+    stats->rays = {};
+    stats->nonfiniteSamples = 0;
+    for (const ThreadTally& t : tallies) {
+      stats->rays += t.rays;
+      stats->nonfiniteSamples += t.nonfinite;
+    }
+  }
+  return film;
+}
+
+}  // namespace glint

@@ -1,0 +1,25 @@
+// glint — feature detection over a built scene.
+#include "renderer/scene.h"
+
+namespace glint {
+
+SceneFeatures detectFeatures(const RenderScene& scene) {
+  SceneFeatures f;
+  std::vector<uint32_t> uses(scene.geometry.meshes.size(), 0);
+  for (const Instance& inst : scene.geometry.instances) ++uses[inst.mesh];
+  bool anyLit = false;
+  for (size_t m = 0; m < scene.geometry.meshes.size(); ++m) {
+    if (uses[m] == 0) continue;
+    if (uses[m] > 1) f.set(Feature::Instancing);
+    const Material& mat = scene.materialOf(uint32_t(m));
+    if (mat.usesTextures()) f.set(Feature::Textures);
+    if (mat.usesVertexColors()) f.set(Feature::VertexColors);
+    if (mat.emits()) f.set(Feature::Emission);
+    if (!(mat.flags() & kBsdfUnlit)) anyLit = true;
+  }
+  for (const auto& light : scene.lights)
+    if (light->castsShadows() && anyLit) f.set(Feature::Shadows);
+  return f;
+}
+
+}  // namespace glint

@@ -1,0 +1,26 @@
+// glint — Whitted-style ray tracing: direct light from every light with hard shadows, the
+// eyelight shortcut, emission; mirror and glass recursion arrive with those shaders.
+#pragma once
+
+#include "renderer/integrator.h"
+
+namespace glint {
+
+class WhittedIntegrator final : public Integrator {
+ public:
+  WhittedIntegrator(const RenderScene& scene, int maxDepth);
+  Rgb Li(const Ray& ray, Sampler& sampler, RayCounters& counters,
+         PathAovs& aovs) const override;
+
+ private:
+  // Direct light at a lit surface point: sum over all lights, shadow rays when enabled.
+  Rgb directLight(const SurfaceInteraction& si, const Material& material, float time,
+                  Sampler& sampler, RayCounters& counters) const;
+
+  const RenderScene& scene_;
+  int maxDepth_;
+  SurfaceNeeds needs_;  // from the scene's features
+  bool shadows_;
+};
+
+}  // namespace glint

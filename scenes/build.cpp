@@ -1,0 +1,242 @@
+// glint — SceneDescription -> RenderScene.
+#include "scenes/build.h"
+
+#include <chrono>
+#include <cmath>
+#include <map>
+
+#include "materials/basic_materials.h"
+
+namespace glint {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+SourceLocation commandLineOr(const SceneDescription& desc, const char* pointer) {
+  return {desc.file, pointer};
+}
+
+// The camera the settings select: by name, else the first one; nullptr when there is none.
+const CameraDesc* selectCamera(const SceneDescription& desc) {
+  const std::string& name = desc.render.camera;
+  if (name.empty()) return desc.cameras.empty() ? nullptr : &desc.cameras.front();
+  for (const CameraDesc& c : desc.cameras)
+    if (c.name == name) return &c;
+  std::string known;
+  for (const CameraDesc& c : desc.cameras) known += (known.empty() ? "'" : ", '") + c.name + "'";
+  throw SceneError(commandLineOr(desc, "/render/camera"),
+                   "no camera named '" + name + "'" +
+                       (known.empty() ? " (the scene has no cameras)" : " (cameras: " + known + ")"));
+}
+
+// A perspective camera that frames the scene bounds, looking from the front and a little above.
+CameraDesc framingCamera(const Bounds3f& bounds) {
+  CameraDesc c;
+  c.name = "default";
+  c.yfov = 40.0f * kPi / 180.0f;
+  Vec3f center = bounds.empty() ? Vec3f{} : bounds.center();
+  float radius = bounds.empty() ? 1.0f : 0.5f * length(bounds.diagonal());
+  if (!(radius > 0)) radius = 1;
+  float dist = radius / std::sin(c.yfov / 2) * 1.1f;
+  Vec3f eye = center + normalize(Vec3f{0.35f, 0.45f, 1.0f}) * dist;
+  c.worldFromCamera = Transform::lookAt(eye, center, {0, 1, 0});
+  c.znear = 0;
+  return c;
+}
+
+TextureWrap toWrap(WrapMode m) {
+  switch (m) {
+    case WrapMode::ClampToEdge: return TextureWrap::Clamp;
+    case WrapMode::MirroredRepeat: return TextureWrap::Mirror;
+    case WrapMode::Repeat:
+    default: return TextureWrap::Repeat;
+  }
+}
+
+// Creates textures on demand, one per (texture, encoding), sharing decoded images.
+class TextureCache {
+ public:
+  TextureCache(const SceneDescription& desc, RenderScene* scene) : desc_(desc), scene_(scene) {}
+  const Texture* get(int texture, bool srgb) {
+    if (texture < 0) return nullptr;
+    auto key = std::make_pair(texture, srgb);
+    if (auto it = textures_.find(key); it != textures_.end()) return it->second;
+    const TextureDesc& td = desc_.textures[size_t(texture)];
+    const ImageDesc& img = desc_.images[size_t(td.image)];
+    auto& data = images_[{td.image, srgb}];
+    if (!data)
+      data = std::make_shared<ImageData>(
+          makeImageData(img.width, img.height, img.channels, img.pixels, srgb));
+    scene_->textures.push_back(
+        std::make_unique<ImageTexture>(data, toWrap(td.wrapS), toWrap(td.wrapT), td.nearest));
+    return textures_[key] = scene_->textures.back().get();
+  }
+
+ private:
+  const SceneDescription& desc_;
+  RenderScene* scene_;
+  std::map<std::pair<int, bool>, const Texture*> textures_;
+  std::map<std::pair<int, bool>, std::shared_ptr<const ImageData>> images_;
+};
+
+std::unique_ptr<Material> makeMaterial(const MaterialDesc& m, bool vertexColors,
+                                       TextureCache& textures) {
+  ColorParam base{m.baseColor, textures.get(m.baseColorTexture, true), vertexColors};
+  ColorParam emission{m.emissive, textures.get(m.emissiveTexture, true), false};
+  switch (m.type) {
+    case MaterialType::Eyelight: return std::make_unique<EyelightMaterial>(base);
+    case MaterialType::Phong:
+      for (int c = 0; c < 3; ++c)
+        if (m.baseColor[c] + m.specular[c] > 1.0f + 1e-6f)
+          throw SceneError(m.where, "Phong diffuse + specular exceeds 1 in a channel; the "
+                                    "material would reflect more light than it receives");
+      return std::make_unique<PhongMaterial>(base, m.specular, m.shininess, emission);
+    case MaterialType::Lambert:
+    case MaterialType::Pbr:  // until the microfacet BSDF lands (issue 5): its base colour
+    default: return std::make_unique<LambertMaterial>(base, emission);
+  }
+}
+
+void addLights(const SceneDescription& desc, RenderScene* scene) {
+  for (const LightDesc& l : desc.lights) {
+    Rgb power = l.color * l.intensity;
+    Vec3f position = l.worldFromLight.point({0, 0, 0});
+    Vec3f direction = normalize(l.worldFromLight.vector({0, 0, -1}));
+    switch (l.type) {
+      case LightType::Point:
+        scene->lights.push_back(
+            std::make_unique<PointLight>(position, power, l.range, l.castsShadows));
+        break;
+      case LightType::Spot:
+        scene->lights.push_back(std::make_unique<SpotLight>(position, direction, power,
+                                                            l.innerConeAngle, l.outerConeAngle,
+                                                            l.range, l.castsShadows));
+        break;
+      case LightType::Directional:
+        scene->lights.push_back(
+            std::make_unique<DirectionalLight>(direction, power, l.castsShadows));
+        break;
+    }
+  }
+}
+
+}  // namespace
+
+void resolveImageSize(const SceneDescription& desc, const CameraDesc* camera, int* width,
+                      int* height) {
+  float aspect = 4.0f / 3.0f;
+  if (camera) {
+    if (camera->aspectRatio > 0)
+      aspect = camera->aspectRatio;
+    else if (camera->type == CameraType::Orthographic && camera->ymag > 0)
+      aspect = camera->xmag / camera->ymag;
+  }
+  const RenderSettings& r = desc.render;
+  if (r.width && r.height) {
+    *width = *r.width, *height = *r.height;
+  } else if (r.width) {
+    *width = *r.width, *height = std::max(1, int(std::lround(float(*r.width) / aspect)));
+  } else if (r.height) {
+    *height = *r.height, *width = std::max(1, int(std::lround(float(*r.height) * aspect)));
+  } else {
+    *width = 640, *height = std::max(1, int(std::lround(640.0f / aspect)));
+  }
+}
+
+RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings) {
+  auto start = Clock::now();
+  RenderScene scene;
+  scene.background = desc.render.background;
+
+  // --- Geometry: bake single placements into world space; keep shared meshes instanced.
+  std::vector<uint32_t> uses(desc.meshes.size(), 0);
+  for (const InstanceDesc& inst : desc.instances) ++uses[size_t(inst.mesh)];
+  std::vector<int> meshIndex(desc.meshes.size(), -1);
+  std::vector<bool> meshHasColors;
+  for (const InstanceDesc& inst : desc.instances) {
+    const MeshDesc& md = desc.meshes[size_t(inst.mesh)];
+    bool bake = uses[size_t(inst.mesh)] == 1;
+    if (!bake && meshIndex[size_t(inst.mesh)] >= 0) {
+      scene.geometry.instances.push_back(
+          {uint32_t(meshIndex[size_t(inst.mesh)]), inst.worldFromObject});
+      continue;
+    }
+    TriangleMesh mesh;
+    mesh.positions = md.positions;
+    mesh.normals = md.normals;
+    mesh.uvs = md.uvs;
+    mesh.colors = md.colors;
+    mesh.indices = md.indices;
+    Transform placement = inst.worldFromObject;
+    if (bake && !placement.isIdentity()) {
+      for (Vec3f& p : mesh.positions) p = placement.point(p);
+      for (Vec3f& n : mesh.normals) n = normalize(placement.normal(n));
+      placement = Transform();
+    }
+    meshIndex[size_t(inst.mesh)] = int(scene.geometry.meshes.size());
+    meshHasColors.push_back(!md.colors.empty());
+    scene.geometry.meshes.push_back(std::move(mesh));
+    scene.geometry.instances.push_back(
+        {uint32_t(scene.geometry.meshes.size() - 1), placement});
+  }
+
+  // --- Materials: one per description material (and per vertex-colour use), plus a default.
+  TextureCache textures(desc, &scene);
+  std::map<std::pair<int, bool>, uint32_t> materialIndex;
+  auto materialFor = [&](int material, bool colors) -> uint32_t {
+    auto key = std::make_pair(material, colors);
+    if (auto it = materialIndex.find(key); it != materialIndex.end()) return it->second;
+    MaterialDesc fallback;
+    fallback.name = "default";
+    fallback.type = MaterialType::Lambert;
+    fallback.baseColor = {0.8f, 0.8f, 0.8f};
+    const MaterialDesc& md = material >= 0 ? desc.materials[size_t(material)] : fallback;
+    scene.materials.push_back(makeMaterial(md, colors, textures));
+    return materialIndex[key] = uint32_t(scene.materials.size() - 1);
+  };
+  scene.meshMaterial.resize(scene.geometry.meshes.size());
+  for (size_t m = 0; m < desc.meshes.size(); ++m)
+    if (meshIndex[m] >= 0)
+      scene.meshMaterial[size_t(meshIndex[m])] =
+          materialFor(desc.meshes[m].material, meshHasColors[size_t(meshIndex[m])]);
+
+  // --- Camera and image size.
+  const CameraDesc* selected = selectCamera(desc);
+  CameraDesc framing;
+  if (!selected) {
+    framing = framingCamera(scene.geometry.bounds());
+    selected = &framing;
+  }
+  int width = 0, height = 0;
+  resolveImageSize(desc, selected, &width, &height);
+  scene.cameraName = selected->name;
+  if (selected->type == CameraType::Perspective)
+    scene.camera = Camera::perspective(selected->worldFromCamera, selected->yfov, width, height,
+                                       selected->znear, selected->zfar);
+  else
+    scene.camera = Camera::orthographic(selected->worldFromCamera, selected->ymag, width, height,
+                                        selected->znear, selected->zfar);
+
+  // --- Lights; a headlight when there are none, so a scene is never black.
+  addLights(desc, &scene);
+  bool headlight = scene.lights.empty();
+  if (headlight)
+    // Irradiance pi: a white Lambert surface facing the camera has radiance 1.
+    scene.lights.push_back(std::make_unique<DirectionalLight>(
+        scene.camera.forward(), Rgb{kPi, kPi, kPi}, /*castsShadows=*/false));
+
+  scene.features = detectFeatures(scene);
+  scene.features.set(Feature::Headlight, headlight);
+
+  auto accelStart = Clock::now();
+  scene.accel = makeAccelerator(desc.render.accel, scene.geometry);
+  auto end = Clock::now();
+  if (timings) {
+    timings->acceleratorSeconds = std::chrono::duration<double>(end - accelStart).count();
+    timings->totalSeconds = std::chrono::duration<double>(end - start).count();
+  }
+  return scene;
+}
+
+}  // namespace glint

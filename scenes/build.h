@@ -1,0 +1,26 @@
+// glint — building the render scene from a validated description.
+#pragma once
+
+#include "renderer/scene.h"
+#include "scenes/description.h"
+
+namespace glint {
+
+struct BuildTimings {
+  double acceleratorSeconds = 0;  // Embree (or kd-tree) build
+  double totalSeconds = 0;        // everything, including the accelerator
+};
+
+// Resolves the image size and camera, bakes single placements into world space (meshes placed
+// several times stay instanced), creates materials, textures and lights (a headlight when the
+// scene has none, a camera framing the bounds when it has no camera), computes SceneFeatures
+// and builds the accelerator named in desc.render.accel. Throws SceneError for problems only
+// visible now (unknown camera name, inconsistent sizes).
+RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings = nullptr);
+
+// The image size the description asks for: explicit width/height, else derived from the
+// selected camera's aspect (640 wide by default).
+void resolveImageSize(const SceneDescription& desc, const CameraDesc* camera, int* width,
+                      int* height);
+
+}  // namespace glint

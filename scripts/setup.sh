@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages glint needs that are missing; quiet and fast when all are
+# present (one dpkg-query, no apt-get). Safe to run again. Uses sudo when not root.
+set -euo pipefail
+
+PACKAGES=(
+  build-essential cmake ninja-build pkg-config
+  libembree-dev libtbb-dev
+  libopenimageio-dev openimageio-tools libopenexr-dev python3-imath
+  libopencolorio-dev
+  libtinygltf-dev nlohmann-json3-dev
+  libcli11-dev libfmt-dev
+  libgtest-dev libbenchmark-dev
+  python3
+)
+
+# One dpkg-query for all packages; anything not reported as installed is missing.
+installed=$(dpkg-query -W -f='${Package} ${db:Status-Status}\n' "${PACKAGES[@]}" 2>/dev/null |
+            awk '$2 == "installed" { print $1 }' || true)
+missing=()
+for pkg in "${PACKAGES[@]}"; do
+  grep -qx "$pkg" <<<"$installed" || missing+=("$pkg")
+done
+
+if ((${#missing[@]} == 0)); then
+  exit 0
+fi
+
+echo "glint setup: installing ${missing[*]}" >&2
+SUDO=""
+if [[ $(id -u) -ne 0 ]]; then
+  command -v sudo >/dev/null || { echo "glint setup: need root or sudo to install packages" >&2; exit 1; }
+  SUDO="sudo"
+fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

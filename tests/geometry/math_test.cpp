@@ -1,0 +1,126 @@
+// Tests for geometry/math.h: transforms, inverses, normals, error bounds.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "geometry/math.h"
+
+namespace glint {
+namespace {
+
+void expectNear(Vec3f a, Vec3f b, float tol) {
+  EXPECT_NEAR(a.x, b.x, tol);
+  EXPECT_NEAR(a.y, b.y, tol);
+  EXPECT_NEAR(a.z, b.z, tol);
+}
+
+TEST(Transform, ComposesDestinationFromSource) {
+  Transform worldFromObject = Transform::translate({1, 2, 3}) * Transform::scale({2, 2, 2});
+  expectNear(worldFromObject.point({1, 0, 0}), {3, 2, 3}, 1e-6f);
+  expectNear(worldFromObject.vector({1, 0, 0}), {2, 0, 0}, 1e-6f);
+  expectNear(worldFromObject.inverse().point({3, 2, 3}), {1, 0, 0}, 1e-6f);
+}
+
+TEST(Transform, InverseOfRandomAffineMatricesRoundTrips) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-2, 2);
+  for (int i = 0; i < 100; ++i) {
+    Mat4 m;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) m.m[r][c] = u(rng);
+    Mat4 inv;
+    if (!invert(m, &inv)) continue;
+    Transform t(m);
+    Vec3f p{u(rng), u(rng), u(rng)};
+    Vec3f back = t.inverse().point(t.point(p));
+    // Tolerance scales with the conditioning; random matrices are usually tame.
+    expectNear(back, p, 1e-3f);
+  }
+}
+
+TEST(Transform, SingularMatrixIsReported) {
+  Mat4 m;
+  m.m[1][1] = 0;
+  Mat4 inv;
+  EXPECT_FALSE(invert(m, &inv));
+  m.m[1][1] = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_FALSE(invert(m, &inv));
+}
+
+TEST(Transform, NormalsStayPerpendicularUnderShearAndNonUniformScale) {
+  Mat4 shear;
+  shear.m[0][1] = 0.7f;  // x += 0.7 y
+  Transform t = Transform(shear) * Transform::scale({3, 0.5f, 2});
+  Vec3f a{1, 0, 0}, b{0, 0, 1};  // tangents of the plane y = 0
+  Vec3f n = cross(a, b);
+  Vec3f tn = t.normal(n);
+  EXPECT_NEAR(dot(tn, t.vector(a)), 0, 1e-5f);
+  EXPECT_NEAR(dot(tn, t.vector(b)), 0, 1e-5f);
+}
+
+TEST(Transform, QuaternionRotationMatchesAxisAngle) {
+  // 90 degrees about +Y maps +X to -Z.
+  Transform r = Transform::rotate(90, {0, 1, 0});
+  expectNear(r.vector({1, 0, 0}), {0, 0, -1}, 1e-6f);
+  Transform q = Transform::rotateQuaternion({0, std::sqrt(0.5f), 0, std::sqrt(0.5f)});
+  expectNear(q.vector({1, 0, 0}), {0, 0, -1}, 1e-6f);
+  EXPECT_FALSE(q.swapsHandedness());
+  EXPECT_TRUE(Transform::scale({-1, 1, 1}).swapsHandedness());
+}
+
+TEST(Transform, LookAtLooksDownMinusZ) {
+  Transform c = Transform::lookAt({0, 0, 5}, {0, 0, 0}, {0, 1, 0});
+  expectNear(c.point({0, 0, 0}), {0, 0, 5}, 1e-6f);
+  expectNear(c.vector({0, 0, -1}), {0, 0, -1}, 1e-6f);
+  expectNear(c.vector({0, 1, 0}), {0, 1, 0}, 1e-6f);
+  // Up parallel to the view direction still gives an orthonormal frame.
+  Transform d = Transform::lookAt({0, 10, 0}, {0, 0, 0}, {0, 1, 0});
+  expectNear(d.vector({0, 0, -1}), {0, -1, 0}, 1e-6f);
+  EXPECT_NEAR(dot(d.vector({1, 0, 0}), d.vector({0, 1, 0})), 0, 1e-6f);
+}
+
+TEST(Transform, PointErrorBoundCoversDoublePrecisionResult) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(-1000, 1000);
+  for (int i = 0; i < 1000; ++i) {
+    Transform t = Transform::translate({u(rng), u(rng), u(rng)}) *
+                  Transform::rotate(u(rng), {u(rng), u(rng), u(rng) + 2000}) *
+                  Transform::scale({1.5f, 0.25f, 3});
+    Vec3f p{u(rng), u(rng), u(rng)};
+    Vec3f err;
+    Vec3f q = t.point(p, &err);
+    const auto& m = t.matrix().m;
+    for (int r = 0; r < 3; ++r) {
+      double exact = double(m[r][0]) * p.x + double(m[r][1]) * p.y + double(m[r][2]) * p.z +
+                     double(m[r][3]);
+      EXPECT_LE(std::abs(exact - double(q[r])), double(err[r])) << "row " << r;
+    }
+  }
+}
+
+TEST(Frame, IsOrthonormalForAnyNormal) {
+  std::mt19937 rng(11);
+  std::normal_distribution<float> g;
+  for (int i = 0; i < 1000; ++i) {
+    Vec3f n = normalize(Vec3f{g(rng), g(rng), g(rng)});
+    if (i == 0) n = {0, 0, -1};
+    if (i == 1) n = {0, 0, 1};
+    Frame f = Frame::fromZ(n);
+    EXPECT_NEAR(length(f.s), 1, 1e-5f);
+    EXPECT_NEAR(length(f.t), 1, 1e-5f);
+    EXPECT_NEAR(dot(f.s, f.t), 0, 1e-5f);
+    EXPECT_NEAR(dot(f.s, n), 0, 1e-5f);
+    EXPECT_NEAR(dot(f.t, n), 0, 1e-5f);
+  }
+}
+
+TEST(FloatRounding, NextFloatStepsOneUlp) {
+  EXPECT_GT(nextFloatUp(1.0f), 1.0f);
+  EXPECT_EQ(nextFloatDown(nextFloatUp(1.0f)), 1.0f);
+  EXPECT_GT(nextFloatUp(-0.0f), 0.0f);
+  EXPECT_LT(nextFloatDown(0.0f), 0.0f);
+  EXPECT_EQ(nextFloatUp(kInfinity), kInfinity);
+}
+
+}  // namespace
+}  // namespace glint

@@ -1,0 +1,63 @@
+// Tests for importance-sampled pixel filters: support and moments.
+#include <gtest/gtest.h>
+
+#include "renderer/filter.h"
+#include "renderer/sampler.h"
+
+namespace glint {
+namespace {
+
+// Mean and variance of the offsets over a stratified set of samples.
+void moments(const PixelFilter& f, double* mean, double* var, float* maxAbs) {
+  const uint32_t n = 4096;
+  double s = 0, s2 = 0;
+  *maxAbs = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    Vec2f o = f.sampleOffset(cmjSample(i, n, 17));
+    s += o.x, s2 += double(o.x) * o.x;
+    *maxAbs = std::max(*maxAbs, std::max(std::abs(o.x), std::abs(o.y)));
+  }
+  *mean = s / n;
+  *var = s2 / n - *mean * *mean;
+}
+
+TEST(PixelFilter, BoxIsUniformOverItsRadius) {
+  PixelFilter f({"box", 0.5f});
+  double mean, var;
+  float maxAbs;
+  moments(f, &mean, &var, &maxAbs);
+  EXPECT_NEAR(mean, 0, 1e-3);
+  EXPECT_NEAR(var, 0.25 / 3, 1e-3);  // (2r)^2 / 12
+  EXPECT_LE(maxAbs, 0.5f);
+}
+
+TEST(PixelFilter, TentHasTheTriangleVariance) {
+  PixelFilter f({"tent", 1.0f});
+  double mean, var;
+  float maxAbs;
+  moments(f, &mean, &var, &maxAbs);
+  EXPECT_NEAR(mean, 0, 1e-3);
+  EXPECT_NEAR(var, 1.0 / 6, 2e-3);  // r^2 / 6
+  EXPECT_LE(maxAbs, 1.0f);
+}
+
+TEST(PixelFilter, GaussianStaysWithinRadiusWithSigmaNearRadiusOverThree) {
+  PixelFilter f({"gaussian", 1.5f});
+  double mean, var;
+  float maxAbs;
+  moments(f, &mean, &var, &maxAbs);
+  EXPECT_NEAR(mean, 0, 2e-3);
+  EXPECT_LE(maxAbs, 1.5f);
+  // The truncated, shifted Gaussian is a little narrower than sigma = 0.5.
+  EXPECT_GT(std::sqrt(var), 0.40);
+  EXPECT_LT(std::sqrt(var), 0.50);
+}
+
+TEST(PixelFilter, RejectsUnknownTypesAndBadRadii) {
+  EXPECT_THROW(PixelFilter({"mitchel", 1.0f}), std::invalid_argument);
+  EXPECT_THROW(PixelFilter({"box", 0.0f}), std::invalid_argument);
+  EXPECT_THROW(PixelFilter({"box", -1.0f}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace glint
