@@ -1,6 +1,7 @@
 // glint — `glint render`: load, build, render, write images and statistics.
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -9,9 +10,11 @@
 
 #include "apps/cli_common.h"
 #include "apps/commands.h"
+#include "renderer/color.h"
 #include "renderer/output.h"
 #include "renderer/progress.h"
 #include "renderer/render.h"
+#include "renderer/tonemap.h"
 #include "scenes/build.h"
 #include "scenes/load.h"
 
@@ -111,6 +114,20 @@ int runRender(const RenderArgs& args) {
   } catch (const std::exception& e) {
     printError(args.scene + ": cannot build the scene: " + std::string(e.what()));
     return 1;
+  }
+  // Display settings are only used when writing, after the render: check them now.
+  bool displayReferred = std::any_of(outputs.begin(), outputs.end(), [](const std::string& o) {
+    return std::filesystem::path(o).extension() != ".exr";
+  });
+  if (displayReferred) {
+    try {
+      if (!isKnownToneMapOperator(desc.render.tonemap.op))
+        throw ColorError("unknown tone mapping operator '" + desc.render.tonemap.op + "'");
+      resolveDisplayView(desc.render.tonemap.display, desc.render.tonemap.view);
+    } catch (const ColorError& e) {
+      printError(desc.file + ": /render/tonemap: " + e.what());
+      return 2;
+    }
   }
   if (!args.quiet)
     for (const std::string& w : desc.warnings) std::fprintf(stderr, "glint: warning: %s\n", w.c_str());

@@ -26,6 +26,13 @@ nlohmann::json parseJson(std::string_view text, const std::string& file) {
     std::string detail = colon == std::string::npos ? what : what.substr(colon + 2);
     throw SceneError({file + ":" + std::to_string(line) + ":" + std::to_string(column), ""},
                      "JSON syntax error: " + detail);
+  } catch (const nlohmann::json::out_of_range& e) {
+    // A number too large even for a double ("number overflow parsing '1e400'"): nlohmann gives
+    // no position, but its message names the number.
+    std::string what = e.what();
+    size_t bracket = what.find("] ");
+    throw SceneError({file, ""}, "JSON number out of range: " +
+                                     (bracket == std::string::npos ? what : what.substr(bracket + 2)));
   }
 }
 

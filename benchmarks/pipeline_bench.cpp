@@ -1,0 +1,194 @@
+// glint benchmark — is the pipeline around Embree thin?
+//
+// Renders the Stanford dragon (202,520 triangles) with the eyelight shader at 800x600, 16 spp,
+// and compares the ray rate with a bare rtcIntersect1 loop over exactly the same camera rays,
+// in the same process, on the same threads. Target: glint reaches >= 80% of the bare rate.
+// Usage: pipeline_bench [--out results.json] [google benchmark flags]
+// The dragon is read from $GLINT_ASSETS/stanford/dragon_vrip_res2.glb.
+#include <benchmark/benchmark.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+#include <tbb/task_arena.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <thread>
+
+#include "geometry/accel/embree_accel.h"
+#include "renderer/filter.h"
+#include "renderer/render.h"
+#include "scenes/build.h"
+#include "scenes/load.h"
+
+namespace glint {
+namespace {
+
+constexpr int kWidth = 800, kHeight = 600, kSpp = 16;
+
+std::string assetsDir() {
+  if (const char* env = std::getenv("GLINT_ASSETS"); env && *env) return env;
+  return GLINT_DEFAULT_ASSETS;
+}
+
+// The scene and its camera rays, built once and shared by both benchmarks.
+struct Fixture {
+  SceneDescription desc;
+  RenderScene scene;
+  std::vector<Ray> rays;  // every camera ray the render traces, in the same order
+  int threads = int(std::thread::hardware_concurrency());
+
+  Fixture() {
+    std::string path = assetsDir() + "/stanford/dragon_vrip_res2.glb";
+    if (!std::filesystem::exists(path)) {
+      std::fprintf(stderr,
+                   "pipeline_bench: %s not found; set GLINT_ASSETS (see benchmarks/get_assets.sh)\n",
+                   path.c_str());
+      std::exit(2);
+    }
+    desc = loadScene(path);
+    MaterialDesc eyelight;
+    eyelight.name = "eyelight";
+    eyelight.type = MaterialType::Eyelight;
+    for (MaterialDesc& m : desc.materials) m.type = MaterialType::Eyelight;
+    desc.materials.push_back(eyelight);
+    for (MeshDesc& m : desc.meshes)
+      if (m.material < 0) m.material = int(desc.materials.size() - 1);
+    desc.render.width = kWidth;
+    desc.render.height = kHeight;
+    desc.render.spp = kSpp;
+    scene = buildRenderScene(desc);
+
+    // Same sample addressing, filter and camera as renderer/render.cpp.
+    PixelFilter filter(desc.render.filter);
+    rays.resize(size_t(kWidth) * kHeight * kSpp);
+    tbb::parallel_for(0, kHeight, [&](int y) {
+      for (int x = 0; x < kWidth; ++x) {
+        size_t pixel = size_t(y) * kWidth + size_t(x);
+        for (int s = 0; s < kSpp; ++s) {
+          Sampler sampler(pixel, uint32_t(s), kSpp, desc.render.seed);
+          Vec2f o = filter.sampleOffset(sampler.get2D());
+          rays[pixel * kSpp + size_t(s)] =
+              scene.camera.generateRay({float(x) + 0.5f + o.x, float(y) + 0.5f + o.y}, 0);
+        }
+      }
+    });
+  }
+};
+
+Fixture& fixture() {
+  static Fixture f;
+  return f;
+}
+
+// A bare loop: RTCRayHit setup + rtcIntersect1 for each precomputed ray, nothing else.
+uint64_t bareEmbreePass(const Fixture& f) {
+  RTCScene rtc = static_cast<const EmbreeAccelerator&>(*f.scene.accel).rtcScene();
+  tbb::task_arena arena(f.threads);
+  uint64_t hits = 0;
+  arena.execute([&] {
+    hits = tbb::parallel_reduce(
+        tbb::blocked_range<size_t>(0, f.rays.size(), 4096), uint64_t(0),
+        [&](const tbb::blocked_range<size_t>& r, uint64_t count) {
+          RTCIntersectContext context;
+          rtcInitIntersectContext(&context);
+          for (size_t i = r.begin(); i != r.end(); ++i) {
+            const Ray& ray = f.rays[i];
+            RTCRayHit rh;
+            rh.ray.org_x = ray.o.x, rh.ray.org_y = ray.o.y, rh.ray.org_z = ray.o.z;
+            rh.ray.dir_x = ray.d.x, rh.ray.dir_y = ray.d.y, rh.ray.dir_z = ray.d.z;
+            rh.ray.tnear = ray.tMin, rh.ray.tfar = ray.tMax, rh.ray.time = 0;
+            rh.ray.mask = ~0u, rh.ray.id = 0, rh.ray.flags = 0;
+            rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+            rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+            rtcIntersect1(rtc, &context, &rh);
+            count += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+          }
+          return count;
+        },
+        std::plus<uint64_t>());
+  });
+  return hits;
+}
+
+void BM_BareEmbreeIntersect1(benchmark::State& state) {
+  Fixture& f = fixture();
+  uint64_t hits = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(hits = bareEmbreePass(f));
+  state.counters["Mrays/s"] = benchmark::Counter(double(f.rays.size()) * 1e-6,
+                                                 benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["hit_fraction"] = double(hits) / double(f.rays.size());
+}
+
+void BM_GlintEyelightRender(benchmark::State& state) {
+  Fixture& f = fixture();
+  auto integrator = makeIntegrator("whitted", f.scene, f.desc.render);
+  RenderOptions options;
+  options.threads = f.threads;
+  RenderStats stats;
+  for (auto _ : state) {
+    Film film = render(f.scene, *integrator, f.desc.render, options, &stats);
+    benchmark::DoNotOptimize(film.color.data());
+  }
+  state.counters["Mrays/s"] = benchmark::Counter(double(stats.rays.total()) * 1e-6,
+                                                 benchmark::Counter::kIsIterationInvariantRate);
+}
+
+BENCHMARK(BM_BareEmbreeIntersect1)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
+BENCHMARK(BM_GlintEyelightRender)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
+
+// Keeps each benchmark's ray rate for the ratio.
+class RateReporter : public benchmark::ConsoleReporter {
+ public:
+  std::map<std::string, double> rates;
+  void ReportRuns(const std::vector<Run>& runs) override {
+    for (const Run& run : runs) {
+      auto it = run.counters.find("Mrays/s");
+      if (it != run.counters.end() && run.run_type == Run::RT_Iteration)
+        rates[run.run_name.function_name] = double(it->second);
+    }
+    ConsoleReporter::ReportRuns(runs);
+  }
+};
+
+}  // namespace
+}  // namespace glint
+
+int main(int argc, char** argv) {
+  std::string out;
+  std::vector<char*> args;
+  for (int i = 0; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--out") == 0 && i + 1 < argc)
+      out = argv[++i];
+    else
+      args.push_back(argv[i]);
+  }
+  int n = int(args.size());
+  benchmark::Initialize(&n, args.data());
+  glint::RateReporter reporter;
+  benchmark::RunSpecifiedBenchmarks(&reporter);
+  double bare = reporter.rates["BM_BareEmbreeIntersect1"];
+  double glint = reporter.rates["BM_GlintEyelightRender"];
+  if (bare <= 0 || glint <= 0) {
+    std::fprintf(stderr, "pipeline_bench: missing results\n");
+    return 1;
+  }
+  double ratio = glint / bare;
+  std::printf("\nbare rtcIntersect1: %.2f Mrays/s\nglint eyelight:     %.2f Mrays/s\n"
+              "ratio:              %.3f (target >= 0.80) %s\n",
+              bare, glint, ratio, ratio >= 0.8 ? "PASS" : "FAIL");
+  if (!out.empty()) {
+    std::ofstream f(out);
+    f << "{\n  \"scene\": \"stanford/dragon_vrip_res2.glb\",\n  \"width\": " << glint::kWidth
+      << ",\n  \"height\": " << glint::kHeight << ",\n  \"spp\": " << glint::kSpp
+      << ",\n  \"threads\": " << glint::fixture().threads
+      << ",\n  \"bare_embree_mrays_per_second\": " << bare
+      << ",\n  \"glint_eyelight_mrays_per_second\": " << glint << ",\n  \"ratio\": " << ratio
+      << ",\n  \"target\": 0.8\n}\n";
+  }
+  return ratio >= 0.8 ? 0 : 1;
+}

@@ -1,0 +1,72 @@
+// glint — exposure and Ward (1994) contrast-based tone mapping.
+#include "renderer/tonemap.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "renderer/color.h"
+
+namespace glint {
+
+bool isKnownToneMapOperator(const std::string& op) { return op == "none" || op == "ward"; }
+
+float exposureScale(float stops) { return std::exp2(stops); }
+
+// ---- statistics ------------------------------------------------------------------------------
+
+void LogLuminanceStats::add(std::span<const Rgb> sceneLinear, const ToneMapSettings& settings) {
+  const double toWorld = double(exposureScale(settings.exposure)) * settings.wardSceneLuminance;
+  for (const Rgb& c : sceneLinear) {
+    double lw = double(luminance(c)) * toWorld;
+    // Negative or NaN luminance (a bad sample) counts as black rather than poisoning the mean.
+    if (!(lw > 0)) lw = 0;
+    if (std::isinf(lw)) continue;
+    sumLog += std::log(kWardLogDelta + lw);
+    ++count;
+  }
+}
+
+void LogLuminanceStats::merge(const LogLuminanceStats& other) {
+  sumLog += other.sumLog;
+  count += other.count;
+}
+
+double LogLuminanceStats::logAverage() const {
+  return count == 0 ? kWardLogDelta : std::exp(sumLog / double(count));
+}
+
+// ---- applying a scale ------------------------------------------------------------------------
+
+double wardScaleFactor(double logAverageLuminance, double displayMax) {
+  // Ward's fit to Blackwell's threshold-versus-intensity data: just-noticeable differences in
+  // the world map to just-noticeable differences on a display adapted to half its maximum.
+  double num = 1.219 + std::pow(displayMax / 2.0, 0.4);
+  double den = 1.219 + std::pow(logAverageLuminance, 0.4);
+  return std::pow(num / den, 2.5);
+}
+
+double toneMapScale(const ToneMapSettings& settings, double logAverageLuminance) {
+  double exposure = exposureScale(settings.exposure);
+  if (settings.op == "none") return exposure;
+  if (settings.op == "ward") {
+    double m = wardScaleFactor(logAverageLuminance, settings.wardDisplayMax);
+    return exposure * settings.wardSceneLuminance * m / settings.wardDisplayMax;
+  }
+  throw ColorError(
+      fmt::format("unknown tone-map operator '{}'; available: 'none', 'ward'", settings.op));
+}
+
+void applyToneMap(std::span<Rgb> pixels, const ToneMapSettings& settings,
+                  double logAverageLuminance) {
+  float k = float(toneMapScale(settings, logAverageLuminance));
+  for (Rgb& c : pixels) c = Rgb{c.x * k, c.y * k, c.z * k};
+}
+
+void toneMap(std::span<Rgb> pixels, const ToneMapSettings& settings) {
+  LogLuminanceStats stats;
+  if (settings.op == "ward") stats.add(pixels, settings);
+  applyToneMap(pixels, settings, stats.logAverage());
+}
+
+}  // namespace glint

@@ -1,0 +1,715 @@
+// glint — glTF JSON → validated structs (the loader's first pass).
+#include "scenes/gltf_document.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "scenes/json_util.h"
+
+namespace glint::gltf {
+
+using nlohmann::json;
+
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Typed field access: every failure names the pointer of the bad value
+// ---------------------------------------------------------------------------------------------
+
+// A JSON object with its location. Reading a key checks its type; unknown keys are ignored.
+class Object {
+ public:
+  Object(const json& value, SourceLocation where) : value_(value), where_(std::move(where)) {
+    if (!value_.is_object())
+      throw SceneError(where_, "expected an object, got " + jsonTypeName(value_));
+  }
+
+  const SourceLocation& where() const { return where_; }
+  SourceLocation at(const std::string& key) const { return where_.child(key); }
+  bool has(const std::string& key) const { return value_.contains(key); }
+  const json& raw(const std::string& key) const { return value_.at(key); }
+
+  void require(const std::string& key) const {
+    if (!has(key)) throw SceneError(where_, "missing required property '" + key + "'");
+  }
+
+  Object object(const std::string& key) const { return Object(raw(key), at(key)); }
+
+  // A non-negative integer (an integral JSON number such as 3.0 is accepted too).
+  size_t size(const std::string& key, size_t fallback) const {
+    if (!has(key)) return fallback;
+    return sizeValue(raw(key), at(key));
+  }
+  size_t requiredSize(const std::string& key) const {
+    require(key);
+    return sizeValue(raw(key), at(key));
+  }
+
+  // An index into an array of `count` items called `what` ("accessor"), or -1 when absent.
+  int index(const std::string& key, size_t count, const char* what, bool required = false) const {
+    if (required) require(key);
+    if (!has(key)) return -1;
+    return indexValue(raw(key), at(key), count, what);
+  }
+
+  double number(const std::string& key, double fallback) const {
+    if (!has(key)) return fallback;
+    return numberValue(raw(key), at(key));
+  }
+  double requiredNumber(const std::string& key) const {
+    require(key);
+    return numberValue(raw(key), at(key));
+  }
+
+  std::string string(const std::string& key, const std::string& fallback = "") const {
+    if (!has(key)) return fallback;
+    const json& v = raw(key);
+    if (!v.is_string()) throw SceneError(at(key), "expected a string, got " + jsonTypeName(v));
+    return v.get<std::string>();
+  }
+
+  bool boolean(const std::string& key, bool fallback) const {
+    if (!has(key)) return fallback;
+    const json& v = raw(key);
+    if (!v.is_boolean()) throw SceneError(at(key), "expected a boolean, got " + jsonTypeName(v));
+    return v.get<bool>();
+  }
+
+  // An array of exactly `n` finite numbers.
+  std::vector<double> numbers(const std::string& key, size_t n) const {
+    const json& v = raw(key);
+    SourceLocation loc = at(key);
+    if (!v.is_array() || v.size() != n)
+      throw SceneError(loc, "expected an array of " + std::to_string(n) + " numbers");
+    std::vector<double> out;
+    for (size_t i = 0; i < n; ++i) out.push_back(numberValue(v[i], loc.child(i)));
+    return out;
+  }
+
+  // The elements of an array property (empty when absent), each with its location.
+  std::vector<std::pair<const json*, SourceLocation>> array(const std::string& key) const {
+    std::vector<std::pair<const json*, SourceLocation>> out;
+    if (!has(key)) return out;
+    const json& v = raw(key);
+    if (!v.is_array()) throw SceneError(at(key), "expected an array, got " + jsonTypeName(v));
+    for (size_t i = 0; i < v.size(); ++i) out.emplace_back(&v[i], at(key).child(i));
+    return out;
+  }
+
+  static size_t sizeValue(const json& v, const SourceLocation& loc) {
+    if (v.is_number_unsigned()) return v.get<size_t>();
+    if (v.is_number_integer())
+      throw SceneError(loc, "must not be negative (got " + std::to_string(v.get<int64_t>()) + ")");
+    if (v.is_number_float()) {
+      double d = v.get<double>();
+      if (d >= 0 && d == std::floor(d) && d < 9e15) return size_t(d);
+    }
+    throw SceneError(loc, "expected a non-negative integer, got " + describe(v));
+  }
+
+  static int indexValue(const json& v, const SourceLocation& loc, size_t count, const char* what) {
+    size_t i = sizeValue(v, loc);
+    if (i >= count)
+      throw SceneError(loc, std::string(what) + " " + std::to_string(i) + " does not exist (" +
+                                std::to_string(count) + " " + what + (count == 1 ? "" : "s") +
+                                " in the file)");
+    return int(i);
+  }
+
+  static double numberValue(const json& v, const SourceLocation& loc) {
+    if (!v.is_number()) throw SceneError(loc, "expected a number, got " + jsonTypeName(v));
+    double d = v.get<double>();
+    // Values beyond float range would become infinities downstream.
+    if (!std::isfinite(float(d))) throw SceneError(loc, "number out of range");
+    return d;
+  }
+
+  static std::string describe(const json& v) {
+    if (v.is_number()) return "number " + v.dump();
+    if (v.is_string()) return "string " + v.dump();
+    return jsonTypeName(v);
+  }
+
+ private:
+  const json& value_;
+  SourceLocation where_;
+};
+
+// The elements of a top-level array that must all be objects.
+std::vector<Object> objects(const Object& parent, const std::string& key) {
+  std::vector<Object> out;
+  for (auto& [value, loc] : parent.array(key)) out.emplace_back(*value, loc);
+  return out;
+}
+
+std::string plural(size_t n, const std::string& word) {
+  return std::to_string(n) + " " + word + (n == 1 ? "" : "s");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Buffers, buffer views, accessors
+// ---------------------------------------------------------------------------------------------
+
+int componentsOf(const std::string& type) {
+  if (type == "SCALAR") return 1;
+  if (type == "VEC2") return 2;
+  if (type == "VEC3") return 3;
+  if (type == "VEC4" || type == "MAT2") return 4;
+  if (type == "MAT3") return 9;
+  if (type == "MAT4") return 16;
+  return 0;
+}
+
+bool isComponentType(int t) {
+  return t == kByte || t == kUnsignedByte || t == kShort || t == kUnsignedShort ||
+         t == kUnsignedInt || t == kFloat;
+}
+
+void readBuffers(const Object& root, Document* doc) {
+  for (const Object& o : objects(root, "buffers")) {
+    Buffer b;
+    b.where = o.where();
+    b.byteLength = o.requiredSize("byteLength");
+    b.uri = o.string("uri");
+    if (o.has("uri") && b.uri.empty()) throw SceneError(o.at("uri"), "empty URI");
+    doc->buffers.push_back(b);
+  }
+}
+
+void readBufferViews(const Object& root, Document* doc) {
+  for (const Object& o : objects(root, "bufferViews")) {
+    BufferView v;
+    v.where = o.where();
+    v.buffer = o.index("buffer", doc->buffers.size(), "buffer", true);
+    v.byteOffset = o.size("byteOffset", 0);
+    v.byteLength = o.requiredSize("byteLength");
+    v.byteStride = o.size("byteStride", 0);
+    if (o.has("byteStride") && (v.byteStride < 4 || v.byteStride > 252 || v.byteStride % 4))
+      throw SceneError(o.at("byteStride"), "must be a multiple of 4 between 4 and 252 (got " +
+                                               std::to_string(v.byteStride) + ")");
+    size_t bufferLength = doc->buffers[size_t(v.buffer)].byteLength;
+    if (v.byteOffset > bufferLength || v.byteLength > bufferLength - v.byteOffset)
+      throw SceneError(v.where, "bytes " + std::to_string(v.byteOffset) + ".." +
+                                    std::to_string(v.byteOffset + v.byteLength) +
+                                    " lie outside buffer " + std::to_string(v.buffer) + " (" +
+                                    plural(bufferLength, "byte") + ")");
+    doc->bufferViews.push_back(v);
+  }
+}
+
+// Checks that `count` elements of `elemSize` bytes, `stride` apart, starting at `offset`, fit
+// in buffer view `view`; `what` names the data in the message.
+void checkRange(const Document& doc, int view, size_t offset, size_t stride, size_t count,
+                size_t elemSize, const SourceLocation& where, const std::string& what) {
+  const BufferView& v = doc.bufferViews[size_t(view)];
+  // Sizes come from the file: guard the arithmetic against overflow before comparing.
+  constexpr size_t kLimit = size_t(1) << 48;
+  if (count == 0 || stride > kLimit || count > kLimit / std::max<size_t>(stride, 1)) {
+    if (count == 0) return;
+    throw SceneError(where, what + " is implausibly large");
+  }
+  size_t end = offset + stride * (count - 1) + elemSize;
+  if (end > v.byteLength)
+    throw SceneError(where, what + " needs bytes " + std::to_string(offset) + ".." +
+                                std::to_string(end) + " but bufferView " + std::to_string(view) +
+                                " has only " + plural(v.byteLength, "byte"));
+}
+
+void readAccessors(const Object& root, Document* doc) {
+  size_t index = 0;
+  for (const Object& o : objects(root, "accessors")) {
+    Accessor a;
+    a.where = o.where();
+    a.bufferView = o.index("bufferView", doc->bufferViews.size(), "bufferView");
+    a.byteOffset = o.size("byteOffset", 0);
+    o.require("componentType");
+    a.componentType = int(std::min<size_t>(
+        Object::sizeValue(o.raw("componentType"), o.at("componentType")), 1u << 30));
+    if (!isComponentType(a.componentType))
+      throw SceneError(o.at("componentType"),
+                       "unknown componentType " + std::to_string(a.componentType));
+    a.normalized = o.boolean("normalized", false);
+    a.count = o.requiredSize("count");
+    if (a.count == 0) throw SceneError(o.at("count"), "must be at least 1");
+    // Without a bufferView the count is not backed by data; cap it so that a typo cannot ask
+    // for gigabytes of zeros.
+    constexpr size_t kMaxVirtualCount = size_t(1) << 24;
+    if (a.bufferView < 0 && a.count > kMaxVirtualCount)
+      throw SceneError(o.at("count"), "count " + std::to_string(a.count) +
+                                          " without a bufferView exceeds glint's limit of " +
+                                          std::to_string(kMaxVirtualCount));
+    o.require("type");
+    a.type = o.string("type");
+    a.components = componentsOf(a.type);
+    if (a.components == 0) throw SceneError(o.at("type"), "unknown accessor type '" + a.type + "'");
+    if (o.has("bufferView") && o.has("byteOffset") && a.byteOffset % componentSize(a.componentType))
+      throw SceneError(o.at("byteOffset"), "must be a multiple of the component size (" +
+                                               std::to_string(componentSize(a.componentType)) +
+                                               ")");
+    if (a.bufferView >= 0) {
+      const BufferView& v = doc->bufferViews[size_t(a.bufferView)];
+      size_t elem = elementSize(a);
+      size_t stride = v.byteStride ? v.byteStride : elem;
+      if (v.byteStride && v.byteStride < elem)
+        throw SceneError(a.where, "byteStride " + std::to_string(v.byteStride) + " of bufferView " +
+                                      std::to_string(a.bufferView) + " is smaller than one " +
+                                      a.type + " element (" + plural(elem, "byte") + ")");
+      checkRange(*doc, a.bufferView, a.byteOffset, stride, a.count, elem, a.where,
+                 "accessor " + std::to_string(index) + " (" + std::to_string(a.count) + " " +
+                     a.type + " elements of " + componentTypeName(a.componentType) + ")");
+    }
+    if (o.has("sparse")) {
+      Object so = o.object("sparse");
+      Sparse s;
+      s.where = so.where();
+      s.count = so.requiredSize("count");
+      if (s.count == 0 || s.count > a.count)
+        throw SceneError(so.at("count"), "must be between 1 and the accessor's count (" +
+                                             std::to_string(a.count) + ")");
+      so.require("indices");
+      Object io = so.object("indices");
+      s.indicesView = io.index("bufferView", doc->bufferViews.size(), "bufferView", true);
+      s.indicesOffset = io.size("byteOffset", 0);
+      io.require("componentType");
+      s.indicesComponentType = int(std::min<size_t>(
+          Object::sizeValue(io.raw("componentType"), io.at("componentType")), 1u << 30));
+      if (s.indicesComponentType != kUnsignedByte && s.indicesComponentType != kUnsignedShort &&
+          s.indicesComponentType != kUnsignedInt)
+        throw SceneError(io.at("componentType"), "sparse indices must be UNSIGNED_BYTE, "
+                                                 "UNSIGNED_SHORT or UNSIGNED_INT");
+      size_t indexSize = componentSize(s.indicesComponentType);
+      checkRange(*doc, s.indicesView, s.indicesOffset, indexSize, s.count, indexSize, io.where(),
+                 "sparse indices");
+      so.require("values");
+      Object vo = so.object("values");
+      s.valuesView = vo.index("bufferView", doc->bufferViews.size(), "bufferView", true);
+      s.valuesOffset = vo.size("byteOffset", 0);
+      size_t elem = elementSize(a);
+      checkRange(*doc, s.valuesView, s.valuesOffset, elem, s.count, elem, vo.where(),
+                 "sparse values");
+      a.sparse = s;
+    }
+    doc->accessors.push_back(a);
+    ++index;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Images, samplers, textures, materials
+// ---------------------------------------------------------------------------------------------
+
+void readImages(const Object& root, Document* doc) {
+  for (const Object& o : objects(root, "images")) {
+    Image im;
+    im.where = o.where();
+    im.uri = o.string("uri");
+    im.bufferView = o.index("bufferView", doc->bufferViews.size(), "bufferView");
+    if (o.has("uri") && im.uri.empty()) throw SceneError(o.at("uri"), "empty URI");
+    if (im.uri.empty() == (im.bufferView < 0))
+      throw SceneError(im.where, "needs exactly one of 'uri' and 'bufferView'");
+    if (im.bufferView >= 0) o.string("mimeType");  // type check only; the bytes say what they are
+    doc->images.push_back(im);
+  }
+}
+
+WrapMode wrapMode(const Object& o, const std::string& key) {
+  size_t v = o.size(key, 10497);
+  switch (v) {
+    case 10497: return WrapMode::Repeat;
+    case 33071: return WrapMode::ClampToEdge;
+    case 33648: return WrapMode::MirroredRepeat;
+    default: throw SceneError(o.at(key), "unknown wrap mode " + std::to_string(v));
+  }
+}
+
+void readSamplers(const Object& root, Document* doc) {
+  for (const Object& o : objects(root, "samplers")) {
+    Sampler s;
+    size_t mag = o.size("magFilter", 9729);
+    if (mag != 9728 && mag != 9729)
+      throw SceneError(o.at("magFilter"), "unknown magFilter " + std::to_string(mag));
+    s.magFilter = int(mag);
+    o.size("minFilter", 0);
+    s.wrapS = wrapMode(o, "wrapS");
+    s.wrapT = wrapMode(o, "wrapT");
+    doc->samplers.push_back(s);
+  }
+}
+
+void readTextures(const Object& root, Document* doc) {
+  for (const Object& o : objects(root, "textures")) {
+    Texture t;
+    t.where = o.where();
+    t.sampler = o.index("sampler", doc->samplers.size(), "sampler");
+    t.source = o.index("source", doc->images.size(), "image");
+    if (t.source < 0)
+      throw SceneError(t.where, "no 'source' image (textures that only an extension defines are "
+                                "not supported)");
+    doc->textures.push_back(t);
+  }
+}
+
+TextureRef textureRef(const Object& parent, const std::string& key, const Document& doc) {
+  TextureRef r;
+  if (!parent.has(key)) return r;
+  Object o = parent.object(key);
+  r.where = o.where();
+  r.index = o.index("index", doc.textures.size(), "texture", true);
+  r.texCoord = int(std::min<size_t>(o.size("texCoord", 0), 1000));
+  return r;
+}
+
+float nonNegative(const Object& o, const std::string& key, double fallback, double upper) {
+  double v = o.number(key, fallback);
+  if (v < 0) throw SceneError(o.at(key), "must not be negative");
+  if (v > upper) throw SceneError(o.at(key), "must be between 0 and 1");
+  return float(v);
+}
+
+void readMaterials(const Object& root, Document* doc) {
+  size_t index = 0;
+  for (const Object& o : objects(root, "materials")) {
+    Material m;
+    m.where = o.where();
+    m.name = o.string("name", "material " + std::to_string(index++));
+    if (o.has("pbrMetallicRoughness")) {
+      Object pbr = o.object("pbrMetallicRoughness");
+      if (pbr.has("baseColorFactor")) {
+        auto f = pbr.numbers("baseColorFactor", 4);
+        for (int i = 0; i < 4; ++i)
+          if (f[size_t(i)] < 0 || f[size_t(i)] > 1)
+            throw SceneError(pbr.at("baseColorFactor").child(size_t(i)), "must be between 0 and 1");
+        m.baseColorFactor = {float(f[0]), float(f[1]), float(f[2]), float(f[3])};
+      }
+      m.baseColorTexture = textureRef(pbr, "baseColorTexture", *doc);
+      textureRef(pbr, "metallicRoughnessTexture", *doc);
+      m.metallic = nonNegative(pbr, "metallicFactor", 1, 1);
+      m.roughness = nonNegative(pbr, "roughnessFactor", 1, 1);
+    }
+    textureRef(o, "normalTexture", *doc);
+    textureRef(o, "occlusionTexture", *doc);
+    m.emissiveTexture = textureRef(o, "emissiveTexture", *doc);
+    if (o.has("emissiveFactor")) {
+      auto f = o.numbers("emissiveFactor", 3);
+      for (int i = 0; i < 3; ++i)
+        if (f[size_t(i)] < 0 || f[size_t(i)] > 1)
+          throw SceneError(o.at("emissiveFactor").child(size_t(i)), "must be between 0 and 1");
+      m.emissiveFactor = {float(f[0]), float(f[1]), float(f[2])};
+    }
+    m.doubleSided = o.boolean("doubleSided", false);
+    if (o.has("extensions")) {
+      Object ext = o.object("extensions");
+      if (ext.has("KHR_materials_emissive_strength"))
+        m.emissiveStrength = nonNegative(ext.object("KHR_materials_emissive_strength"),
+                                         "emissiveStrength", 1, kInfinity);
+    }
+    for (const TextureRef* r : {&m.baseColorTexture, &m.emissiveTexture})
+      if (r->index >= 0 && r->texCoord != 0)
+        doc->warnings.push_back(r->where.child("texCoord").str() + ": texCoord " +
+                                std::to_string(r->texCoord) +
+                                " is not supported; TEXCOORD_0 is used instead");
+    doc->materials.push_back(m);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Meshes
+// ---------------------------------------------------------------------------------------------
+
+void readMeshes(const Object& root, Document* doc) {
+  size_t meshIndex = 0;
+  for (const Object& o : objects(root, "meshes")) {
+    Mesh mesh;
+    mesh.where = o.where();
+    mesh.name = o.string("name", "mesh " + std::to_string(meshIndex++));
+    o.require("primitives");
+    for (const Object& po : objects(o, "primitives")) {
+      Primitive p;
+      p.where = po.where();
+      po.require("attributes");
+      Object attributes = po.object("attributes");
+      size_t accessors = doc->accessors.size();
+      p.position = attributes.index("POSITION", accessors, "accessor");
+      p.normal = attributes.index("NORMAL", accessors, "accessor");
+      p.texcoord0 = attributes.index("TEXCOORD_0", accessors, "accessor");
+      p.color0 = attributes.index("COLOR_0", accessors, "accessor");
+      p.indices = po.index("indices", accessors, "accessor");
+      p.material = po.index("material", doc->materials.size(), "material");
+      size_t mode = po.size("mode", kTriangles);
+      if (mode > kTriangleFan) throw SceneError(po.at("mode"), "unknown mode " + std::to_string(mode));
+      p.mode = int(mode);
+      if (p.position < 0) throw SceneError(attributes.where(), "missing POSITION");
+      mesh.primitives.push_back(p);
+    }
+    if (mesh.primitives.empty()) throw SceneError(o.at("primitives"), "must not be empty");
+    doc->meshes.push_back(mesh);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Cameras and lights
+// ---------------------------------------------------------------------------------------------
+
+void readCameras(const Object& root, Document* doc) {
+  for (const Object& o : objects(root, "cameras")) {
+    CameraDesc c;
+    c.where = o.where();
+    c.name = o.string("name");
+    o.require("type");
+    std::string type = o.string("type");
+    if (type == "perspective") {
+      o.require("perspective");
+      Object p = o.object("perspective");
+      c.type = CameraType::Perspective;
+      c.yfov = float(p.requiredNumber("yfov"));
+      if (c.yfov <= 0 || c.yfov >= kPi) throw SceneError(p.at("yfov"), "must be between 0 and pi");
+      c.aspectRatio = float(p.number("aspectRatio", 0));
+      if (p.has("aspectRatio") && c.aspectRatio <= 0)
+        throw SceneError(p.at("aspectRatio"), "must be greater than 0");
+      c.znear = float(p.requiredNumber("znear"));
+      if (c.znear <= 0) throw SceneError(p.at("znear"), "must be greater than 0");
+      c.zfar = float(p.number("zfar", kInfinity));
+      if (p.has("zfar") && c.zfar <= c.znear)
+        throw SceneError(p.at("zfar"), "must be greater than znear");
+    } else if (type == "orthographic") {
+      o.require("orthographic");
+      Object p = o.object("orthographic");
+      c.type = CameraType::Orthographic;
+      c.xmag = float(p.requiredNumber("xmag"));
+      if (c.xmag == 0) throw SceneError(p.at("xmag"), "must not be zero");
+      c.ymag = float(p.requiredNumber("ymag"));
+      if (c.ymag == 0) throw SceneError(p.at("ymag"), "must not be zero");
+      c.znear = float(p.requiredNumber("znear"));
+      if (c.znear < 0) throw SceneError(p.at("znear"), "must not be negative");
+      c.zfar = float(p.requiredNumber("zfar"));
+      if (c.zfar <= c.znear) throw SceneError(p.at("zfar"), "must be greater than znear");
+    } else {
+      throw SceneError(o.at("type"), "unknown camera type '" + type +
+                                         "' (expected 'perspective' or 'orthographic')");
+    }
+    doc->cameras.push_back(c);
+  }
+}
+
+void readLights(const Object& root, Document* doc) {
+  if (!root.has("extensions")) return;
+  Object ext = root.object("extensions");
+  if (!ext.has("KHR_lights_punctual")) return;
+  Object punctual = ext.object("KHR_lights_punctual");
+  for (const Object& o : objects(punctual, "lights")) {
+    LightDesc l;
+    l.where = o.where();
+    l.name = o.string("name");
+    o.require("type");
+    std::string type = o.string("type");
+    if (type == "point") {
+      l.type = LightType::Point;
+    } else if (type == "spot") {
+      l.type = LightType::Spot;
+    } else if (type == "directional") {
+      l.type = LightType::Directional;
+    } else {
+      throw SceneError(o.at("type"), "unknown light type '" + type +
+                                         "' (expected 'point', 'spot' or 'directional')");
+    }
+    if (o.has("color")) {
+      auto c = o.numbers("color", 3);
+      for (int i = 0; i < 3; ++i)
+        if (c[size_t(i)] < 0)
+          throw SceneError(o.at("color").child(size_t(i)), "must not be negative");
+      l.color = {float(c[0]), float(c[1]), float(c[2])};
+    }
+    l.intensity = nonNegative(o, "intensity", 1, kInfinity);
+    l.range = float(o.number("range", 0));
+    if (o.has("range") && l.range <= 0) throw SceneError(o.at("range"), "must be greater than 0");
+    if (l.type == LightType::Spot) {
+      o.require("spot");
+      Object s = o.object("spot");
+      l.innerConeAngle = float(s.number("innerConeAngle", 0));
+      l.outerConeAngle = float(s.number("outerConeAngle", kPi / 4));
+      if (l.outerConeAngle <= 0 || l.outerConeAngle > kPi / 2)
+        throw SceneError(s.at("outerConeAngle"), "must be in (0, pi/2]");
+      if (l.innerConeAngle < 0 || l.innerConeAngle >= l.outerConeAngle)
+        throw SceneError(s.at("innerConeAngle"), "must be at least 0 and less than outerConeAngle");
+    }
+    doc->lights.push_back(l);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Nodes and scenes
+// ---------------------------------------------------------------------------------------------
+
+Transform nodeTransform(const Object& o) {
+  bool trs = o.has("translation") || o.has("rotation") || o.has("scale");
+  if (o.has("matrix")) {
+    if (trs)
+      throw SceneError(o.where(), "has both 'matrix' and translation/rotation/scale");
+    auto v = o.numbers("matrix", 16);
+    float f[16];
+    for (int i = 0; i < 16; ++i) f[i] = float(v[size_t(i)]);
+    Mat4 m = Mat4::fromColumnMajor(f), inv;
+    if (!invert(m, &inv)) throw SceneError(o.at("matrix"), "matrix is not invertible");
+    return Transform(m, inv);
+  }
+  Transform xf;
+  if (o.has("translation")) {
+    auto t = o.numbers("translation", 3);
+    xf = Transform::translate({float(t[0]), float(t[1]), float(t[2])});
+  }
+  if (o.has("rotation")) {
+    auto q = o.numbers("rotation", 4);
+    if (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3] < 1e-12)
+      throw SceneError(o.at("rotation"), "quaternion has zero length");
+    xf = xf * Transform::rotateQuaternion({float(q[0]), float(q[1]), float(q[2]), float(q[3])});
+  }
+  if (o.has("scale")) {
+    auto s = o.numbers("scale", 3);
+    if (s[0] == 0 || s[1] == 0 || s[2] == 0)
+      throw SceneError(o.at("scale"), "a zero scale makes the node matrix not invertible");
+    xf = xf * Transform::scale({float(s[0]), float(s[1]), float(s[2])});
+  }
+  return xf;
+}
+
+void readNodes(const Object& root, Document* doc) {
+  std::vector<Object> nodes = objects(root, "nodes");
+  size_t n = nodes.size();
+  for (const Object& o : nodes) {
+    Node node;
+    node.where = o.where();
+    node.name = o.string("name");
+    node.mesh = o.index("mesh", doc->meshes.size(), "mesh");
+    node.camera = o.index("camera", doc->cameras.size(), "camera");
+    if (o.has("extensions")) {
+      Object ext = o.object("extensions");
+      if (ext.has("KHR_lights_punctual"))
+        node.light = ext.object("KHR_lights_punctual").index("light", doc->lights.size(), "light", true);
+    }
+    for (auto& [value, loc] : o.array("children"))
+      node.children.push_back(Object::indexValue(*value, loc, n, "node"));
+    node.local = nodeTransform(o);
+    doc->nodes.push_back(node);
+  }
+
+  // glTF node graphs are disjoint trees: one parent per node, no cycles.
+  std::vector<int> parent(n, -1);
+  for (size_t i = 0; i < n; ++i)
+    for (size_t k = 0; k < doc->nodes[i].children.size(); ++k) {
+      int c = doc->nodes[i].children[k];
+      SourceLocation loc = doc->nodes[i].where.child("children").child(k);
+      if (size_t(c) == i) throw SceneError(loc, "node " + std::to_string(c) + " is its own child (cycle in the node graph)");
+      if (parent[size_t(c)] >= 0)
+        throw SceneError(loc, "node " + std::to_string(c) + " already has parent node " +
+                                  std::to_string(parent[size_t(c)]) +
+                                  " (the node graph must be a set of trees)");
+      parent[size_t(c)] = int(i);
+    }
+  // With one parent each, a cycle is a parent chain that comes back to where it started.
+  for (size_t i = 0; i < n; ++i) {
+    int p = parent[i];
+    for (size_t steps = 0; p >= 0 && steps <= n; ++steps) {
+      if (size_t(p) == i) {
+        const Node& parentNode = doc->nodes[size_t(parent[i])];
+        size_t k = size_t(std::find(parentNode.children.begin(), parentNode.children.end(), int(i)) -
+                          parentNode.children.begin());
+        throw SceneError(parentNode.where.child("children").child(k),
+                         "node " + std::to_string(i) + " is an ancestor of node " +
+                             std::to_string(parent[i]) + " (cycle in the node graph)");
+      }
+      p = parent[size_t(p)];
+    }
+  }
+
+  for (const Object& o : objects(root, "scenes")) {
+    Scene s;
+    s.where = o.where();
+    for (auto& [value, loc] : o.array("nodes")) {
+      int node = Object::indexValue(*value, loc, n, "node");
+      if (parent[size_t(node)] >= 0)
+        throw SceneError(loc, "node " + std::to_string(node) + " is not a root node (its parent is node " +
+                                  std::to_string(parent[size_t(node)]) + ")");
+      s.nodes.push_back(node);
+    }
+    doc->scenes.push_back(s);
+  }
+  doc->scene = root.index("scene", doc->scenes.size(), "scene");
+}
+
+// Extensions glint implements; any other extension in extensionsRequired is an error.
+const char* const kSupportedExtensions[] = {"KHR_lights_punctual",
+                                            "KHR_materials_emissive_strength"};
+
+void checkRequiredExtensions(const Object& root) {
+  for (auto& [value, loc] : root.array("extensionsRequired")) {
+    if (!value->is_string()) throw SceneError(loc, "expected a string, got " + jsonTypeName(*value));
+    std::string name = value->get<std::string>();
+    if (std::find(std::begin(kSupportedExtensions), std::end(kSupportedExtensions), name) ==
+        std::end(kSupportedExtensions))
+      throw SceneError(loc, "unsupported extension '" + name + "'");
+  }
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Public
+// ---------------------------------------------------------------------------------------------
+
+size_t componentSize(int componentType) {
+  switch (componentType) {
+    case kByte:
+    case kUnsignedByte: return 1;
+    case kShort:
+    case kUnsignedShort: return 2;
+    default: return 4;
+  }
+}
+
+std::string componentTypeName(int componentType) {
+  switch (componentType) {
+    case kByte: return "BYTE";
+    case kUnsignedByte: return "UNSIGNED_BYTE";
+    case kShort: return "SHORT";
+    case kUnsignedShort: return "UNSIGNED_SHORT";
+    case kUnsignedInt: return "UNSIGNED_INT";
+    case kFloat: return "FLOAT";
+    default: return "componentType " + std::to_string(componentType);
+  }
+}
+
+size_t elementSize(const Accessor& accessor) {
+  size_t c = componentSize(accessor.componentType);
+  // Matrix columns start on 4-byte boundaries (glTF 2.0, "Data Alignment").
+  if (accessor.type == "MAT2" && c == 1) return 8;
+  if (accessor.type == "MAT3" && c <= 2) return 3 * ((3 * c + 3) / 4 * 4);
+  return c * size_t(accessor.components);
+}
+
+Document readDocument(const json& rootValue, const std::string& file) {
+  Object root(rootValue, SourceLocation{file, ""});
+  Document doc;
+  doc.file = file;
+  root.require("asset");
+  Object asset = root.object("asset");
+  asset.require("version");
+  std::string version = asset.string("version");
+  if (version.rfind("2.", 0) != 0)
+    throw SceneError(asset.at("version"), "unsupported glTF version '" + version + "' (glint reads 2.x)");
+  checkRequiredExtensions(root);
+  readBuffers(root, &doc);
+  readBufferViews(root, &doc);
+  readAccessors(root, &doc);
+  readImages(root, &doc);
+  readSamplers(root, &doc);
+  readTextures(root, &doc);
+  readMaterials(root, &doc);
+  readMeshes(root, &doc);
+  readCameras(root, &doc);
+  readLights(root, &doc);
+  readNodes(root, &doc);
+  return doc;
+}
+
+}  // namespace glint::gltf

@@ -1,0 +1,152 @@
+// glint — the glTF JSON read into small validated structs, every item with its JSON pointer.
+//
+// This is the loader's first pass: it runs before tinygltf sees the file, so that type errors,
+// dangling indices and out-of-range byte ranges are reported with the exact pointer instead
+// of tinygltf's pointer-less messages. It reads only what glint uses (plus what it must check
+// for safety); unknown keys, extras and optional extensions are ignored, as glTF allows.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "scenes/description.h"
+
+namespace glint::gltf {
+
+// glTF componentType values.
+inline constexpr int kByte = 5120, kUnsignedByte = 5121, kShort = 5122, kUnsignedShort = 5123,
+                     kUnsignedInt = 5125, kFloat = 5126;
+
+struct Buffer {
+  size_t byteLength = 0;
+  std::string uri;  // empty: the GLB BIN chunk
+  SourceLocation where;
+};
+
+struct BufferView {
+  int buffer = -1;
+  size_t byteOffset = 0, byteLength = 0;
+  size_t byteStride = 0;  // 0 = not given (tightly packed)
+  SourceLocation where;
+};
+
+struct Sparse {
+  size_t count = 0;
+  int indicesView = -1;
+  size_t indicesOffset = 0;
+  int indicesComponentType = 0;
+  int valuesView = -1;
+  size_t valuesOffset = 0;
+  SourceLocation where;  // .../sparse
+};
+
+struct Accessor {
+  int bufferView = -1;  // -1: all zeros (then usually sparse)
+  size_t byteOffset = 0;
+  int componentType = 0;
+  bool normalized = false;
+  size_t count = 0;
+  std::string type;    // "SCALAR", "VEC2", ...
+  int components = 1;  // 1, 2, 3, 4, 4 (MAT2), 9, 16
+  std::optional<Sparse> sparse;
+  SourceLocation where;
+};
+
+struct Image {
+  std::string uri;      // empty when stored in a bufferView
+  int bufferView = -1;
+  SourceLocation where;
+};
+
+struct Sampler {
+  int magFilter = -1;
+  WrapMode wrapS = WrapMode::Repeat, wrapT = WrapMode::Repeat;
+};
+
+struct Texture {
+  int sampler = -1;
+  int source = -1;
+  SourceLocation where;
+};
+
+struct TextureRef {
+  int index = -1;
+  int texCoord = 0;
+  SourceLocation where;
+};
+
+struct Material {
+  std::string name;
+  Vec4f baseColorFactor{1, 1, 1, 1};
+  TextureRef baseColorTexture;
+  float metallic = 1, roughness = 1;
+  Rgb emissiveFactor{0, 0, 0};
+  float emissiveStrength = 1;  // KHR_materials_emissive_strength
+  TextureRef emissiveTexture;
+  bool doubleSided = false;
+  SourceLocation where;
+};
+
+enum Mode { kPoints = 0, kLines, kLineLoop, kLineStrip, kTriangles, kTriangleStrip, kTriangleFan };
+
+struct Primitive {
+  // Accessor indices of the attributes glint reads (-1 = absent).
+  int position = -1, normal = -1, texcoord0 = -1, color0 = -1;
+  int indices = -1;
+  int material = -1;
+  int mode = kTriangles;
+  SourceLocation where;
+};
+
+struct Mesh {
+  std::string name;
+  std::vector<Primitive> primitives;
+  SourceLocation where;
+};
+
+struct Node {
+  std::string name;
+  Transform local;
+  std::vector<int> children;
+  int mesh = -1, camera = -1, light = -1;
+  SourceLocation where;
+};
+
+struct Scene {
+  std::vector<int> nodes;
+  SourceLocation where;
+};
+
+struct Document {
+  std::string file;
+  std::vector<Buffer> buffers;
+  std::vector<BufferView> bufferViews;
+  std::vector<Accessor> accessors;
+  std::vector<Image> images;
+  std::vector<Sampler> samplers;
+  std::vector<Texture> textures;
+  std::vector<Material> materials;
+  std::vector<Mesh> meshes;
+  std::vector<Node> nodes;
+  std::vector<Scene> scenes;
+  std::vector<CameraDesc> cameras;  // everything but worldFromCamera
+  std::vector<LightDesc> lights;    // KHR_lights_punctual, everything but worldFromLight
+  int scene = -1;                   // the "scene" property
+  std::vector<std::string> warnings;
+};
+
+// Reads and validates `root` (the parsed JSON of `file`): types, required fields, index
+// ranges, byte ranges of buffer views and accessors against the declared byte lengths, the
+// node graph (trees, no cycles), camera and light parameters and extensionsRequired.
+// Throws SceneError at the offending pointer.
+Document readDocument(const nlohmann::json& root, const std::string& file);
+
+// Bytes one element of `accessor` occupies, including the column padding glTF requires for
+// byte and short matrices.
+size_t elementSize(const Accessor& accessor);
+size_t componentSize(int componentType);
+std::string componentTypeName(int componentType);
+
+}  // namespace glint::gltf

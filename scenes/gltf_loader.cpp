@@ -1,0 +1,711 @@
+// glint — glTF 2.0 loading: GLB container, URI checks, tinygltf decoding, accessors, and the
+// walk over the node tree that fills the SceneDescription.
+//
+// Three passes: (1) the JSON is parsed with nlohmann and read into validated structs
+// (gltf_document.h) so every error carries a JSON pointer; (2) URIs are checked against the
+// scene folder and tinygltf decodes buffers, data URIs and images, reading files only through
+// callbacks that refuse to leave the folder; (3) accessor data is read with bounds checks and
+// the default scene is instanced.
+#include "scenes/gltf_loader.h"
+
+#include <tiny_gltf.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <system_error>
+
+#include "scenes/gltf_document.h"
+#include "scenes/json_util.h"
+
+namespace glint {
+
+namespace fs = std::filesystem;
+using gltf::Accessor;
+using gltf::Document;
+
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// GLB container
+// ---------------------------------------------------------------------------------------------
+
+constexpr uint32_t kGlbMagic = 0x46546C67;      // "glTF"
+constexpr uint32_t kChunkJson = 0x4E4F534A;     // "JSON"
+constexpr uint32_t kChunkBin = 0x004E4942;      // "BIN\0"
+
+uint32_t readU32(const std::string& bytes, size_t offset) {
+  uint32_t v;
+  std::memcpy(&v, bytes.data() + offset, 4);  // GLB is little-endian, as is every target
+  return v;
+}
+
+bool hasGlbMagic(const std::string& bytes) {
+  return bytes.size() >= 4 && readU32(bytes, 0) == kGlbMagic;
+}
+
+struct GlbChunks {
+  std::string json;
+  size_t binSize = 0;  // 0 = no BIN chunk
+};
+
+// Checks the 12-byte header and the chunk headers; tinygltf re-parses the container later but
+// would report these problems without saying what is wrong.
+GlbChunks parseGlb(const std::string& bytes, const std::string& file) {
+  SourceLocation where{file, ""};
+  size_t size = bytes.size();
+  if (size < 12)
+    throw SceneError(where, "truncated GLB: file has " + std::to_string(size) +
+                                " bytes, less than the 12-byte header");
+  if (readU32(bytes, 0) != kGlbMagic)
+    throw SceneError(where, "not a binary glTF file (the first 4 bytes are not 'glTF')");
+  uint32_t version = readU32(bytes, 4), length = readU32(bytes, 8);
+  if (version != 2)
+    throw SceneError(where, "unsupported GLB version " + std::to_string(version) +
+                                " (glint reads version 2)");
+  if (length > size)
+    throw SceneError(where, "truncated GLB: header says " + std::to_string(length) +
+                                " bytes, file has " + std::to_string(size));
+  if (length < size)
+    throw SceneError(where, "GLB header says " + std::to_string(length) + " bytes, file has " +
+                                std::to_string(size) + " (trailing data)");
+  if (length < 20) throw SceneError(where, "truncated GLB: no JSON chunk");
+  uint32_t jsonLength = readU32(bytes, 12), jsonType = readU32(bytes, 16);
+  if (jsonType != kChunkJson) throw SceneError(where, "the first GLB chunk is not JSON");
+  if (jsonLength > length - 20)
+    throw SceneError(where, "truncated GLB: JSON chunk says " + std::to_string(jsonLength) +
+                                " bytes, only " + std::to_string(length - 20) + " follow");
+  GlbChunks chunks;
+  chunks.json = bytes.substr(20, jsonLength);
+  // The chunk is padded with spaces; tolerate NUL padding written by some exporters.
+  while (!chunks.json.empty() && chunks.json.back() == '\0') chunks.json.pop_back();
+  size_t offset = 20 + size_t(jsonLength);
+  // Chunks start on 4-byte boundaries; unknown chunk types are skipped, as glTF requires.
+  while (offset < length) {
+    if (length - offset < 8)
+      throw SceneError(where, "truncated GLB: incomplete chunk header at byte " +
+                                  std::to_string(offset));
+    uint32_t chunkLength = readU32(bytes, offset), chunkType = readU32(bytes, offset + 4);
+    if (chunkLength > length - offset - 8)
+      throw SceneError(where, "truncated GLB: chunk at byte " + std::to_string(offset) +
+                                  " says " + std::to_string(chunkLength) + " bytes, only " +
+                                  std::to_string(length - offset - 8) + " follow");
+    if (chunkType == kChunkBin) {
+      if (offset != 20 + size_t(jsonLength))
+        throw SceneError(where, "the BIN chunk must directly follow the JSON chunk");
+      chunks.binSize = chunkLength;
+    }
+    offset += 8 + size_t(chunkLength);
+  }
+  return chunks;
+}
+
+// ---------------------------------------------------------------------------------------------
+// URIs: stay inside the scene folder
+// ---------------------------------------------------------------------------------------------
+
+bool isDataUri(const std::string& uri) { return uri.rfind("data:", 0) == 0; }
+
+std::string percentDecode(const std::string& s) {
+  std::string out;
+  for (size_t i = 0; i < s.size(); ++i) {
+    if (s[i] == '%' && i + 2 < s.size() && std::isxdigit(uint8_t(s[i + 1])) &&
+        std::isxdigit(uint8_t(s[i + 2]))) {
+      out += char(std::stoi(s.substr(i + 1, 2), nullptr, 16));
+      i += 2;
+    } else {
+      out += s[i];
+    }
+  }
+  return out;
+}
+
+bool isInside(const fs::path& path, const fs::path& folder) {
+  fs::path rel = path.lexically_relative(folder);
+  return !rel.empty() && *rel.begin() != ".." && !rel.is_absolute();
+}
+
+fs::path canonicalOrSelf(const fs::path& p) {
+  std::error_code ec;
+  fs::path c = fs::weakly_canonical(p, ec);
+  return ec ? p.lexically_normal() : c;
+}
+
+// The file a relative URI names, after checking that it stays inside `folder` (canonical) and
+// can be read. Throws at `where` (the "uri" property) otherwise.
+fs::path resolveUri(const std::string& uri, const fs::path& folder, const SourceLocation& where) {
+  std::string decoded = percentDecode(uri);
+  size_t colon = decoded.find(':'), slash = decoded.find('/');
+  if (colon != std::string::npos && (slash == std::string::npos || colon < slash))
+    throw SceneError(where, "unsupported URI scheme in '" + uri + "' (only relative paths and "
+                            "data URIs are read)");
+  fs::path rel(decoded);
+  if (rel.is_absolute() || !isInside(canonicalOrSelf(folder / rel), folder))
+    throw SceneError(where, "'" + uri + "' leaves the scene folder");
+  fs::path path = canonicalOrSelf(folder / rel);
+  std::error_code ec;
+  std::ifstream probe(path, std::ios::binary);
+  if (!fs::is_regular_file(path, ec) || !probe) throw SceneError(where, "cannot read '" + uri + "'");
+  return path;
+}
+
+// Checks every buffer and image source before tinygltf reads them.
+void checkSources(const Document& doc, const fs::path& folder, const GlbChunks* glb) {
+  for (size_t i = 0; i < doc.buffers.size(); ++i) {
+    const gltf::Buffer& b = doc.buffers[i];
+    SourceLocation uriLoc = b.where.child("uri");
+    if (b.uri.empty()) {
+      if (!glb || i != 0)
+        throw SceneError(b.where, glb ? "only buffer 0 may refer to the GLB BIN chunk"
+                                      : "missing 'uri' (only a .glb file may omit it)");
+      if (glb->binSize < b.byteLength)
+        throw SceneError(b.where.child("byteLength"),
+                         "byteLength is " + std::to_string(b.byteLength) +
+                             " but the GLB BIN chunk has " + std::to_string(glb->binSize) + " bytes");
+    } else if (isDataUri(b.uri)) {
+      std::vector<unsigned char> data;
+      std::string mime;
+      if (!tinygltf::DecodeDataURI(&data, mime, b.uri, 0, false))
+        throw SceneError(uriLoc, "cannot decode the data URI (base64 with type "
+                                 "application/octet-stream or application/gltf-buffer expected)");
+      if (data.size() != b.byteLength)
+        throw SceneError(b.where.child("byteLength"),
+                         "byteLength is " + std::to_string(b.byteLength) + " but the data URI holds " +
+                             std::to_string(data.size()) + " bytes");
+    } else {
+      fs::path path = resolveUri(b.uri, folder, uriLoc);
+      std::error_code ec;
+      uintmax_t size = fs::file_size(path, ec);
+      if (ec) throw SceneError(uriLoc, "cannot read '" + b.uri + "'");
+      // tinygltf insists on an exact match; say so before it does.
+      if (size != b.byteLength)
+        throw SceneError(b.where.child("byteLength"),
+                         "byteLength is " + std::to_string(b.byteLength) + " but '" + b.uri +
+                             "' has " + std::to_string(size) + " bytes");
+    }
+  }
+  for (const gltf::Image& im : doc.images) {
+    if (im.uri.empty()) continue;
+    if (isDataUri(im.uri)) {
+      std::vector<unsigned char> data;
+      std::string mime;
+      if (!tinygltf::DecodeDataURI(&data, mime, im.uri, 0, false))
+        throw SceneError(im.where.child("uri"), "cannot decode the data URI");
+    } else {
+      resolveUri(im.uri, folder, im.where.child("uri"));
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// tinygltf with file access confined to the scene folder (the second line of defence)
+// ---------------------------------------------------------------------------------------------
+
+struct FolderGuard {
+  fs::path folder;  // canonical
+};
+
+bool guardedPath(const std::string& path, void* user, fs::path* out) {
+  const FolderGuard& guard = *static_cast<const FolderGuard*>(user);
+  fs::path p = canonicalOrSelf(fs::absolute(fs::path(path)));
+  if (!isInside(p, guard.folder)) return false;
+  *out = p;
+  return true;
+}
+
+bool guardedFileExists(const std::string& path, void* user) {
+  fs::path p;
+  std::error_code ec;
+  return guardedPath(path, user, &p) && fs::is_regular_file(p, ec);
+}
+
+std::string guardedExpandFilePath(const std::string& path, void*) { return path; }
+
+bool guardedReadWholeFile(std::vector<unsigned char>* out, std::string* err,
+                          const std::string& path, void* user) {
+  fs::path p;
+  if (!guardedPath(path, user, &p)) {
+    if (err) *err += "refusing to read '" + path + "' outside the scene folder\n";
+    return false;
+  }
+  std::ifstream in(p, std::ios::binary);
+  if (!in) {
+    if (err) *err += "cannot read '" + path + "'\n";
+    return false;
+  }
+  out->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  return !in.bad();
+}
+
+bool refuseWrite(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+  if (err) *err += "glint never writes glTF files\n";
+  return false;
+}
+
+tinygltf::Model decode(const std::string& bytes, bool binary, const fs::path& folder,
+                       const std::string& file) {
+  FolderGuard guard{folder};
+  tinygltf::TinyGLTF loader;
+  loader.SetFsCallbacks({&guardedFileExists, &guardedExpandFilePath, &guardedReadWholeFile,
+                         &refuseWrite, &guard});
+  loader.SetPreserveImageChannels(true);
+  tinygltf::Model model;
+  std::string err, warn;
+  auto data = reinterpret_cast<const unsigned char*>(bytes.data());
+  // Section checks are off: the first pass has already checked what glint needs.
+  bool ok = false;
+  try {
+    ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, data, unsigned(bytes.size()),
+                                              folder.string(), 0)
+                : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(),
+                                             unsigned(bytes.size()), folder.string(), 0);
+  } catch (const std::exception& e) {
+    err = e.what();  // tinygltf's JSON library may throw on input the first pass let through
+  }
+  if (!ok) {
+    while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
+    throw SceneError({file, ""}, "cannot decode glTF: " + (err.empty() ? std::string("unknown error") : err));
+  }
+  return model;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Accessors
+// ---------------------------------------------------------------------------------------------
+
+double readComponent(const uint8_t* p, int componentType, bool normalized) {
+  switch (componentType) {
+    case gltf::kByte: {
+      int8_t v;
+      std::memcpy(&v, p, 1);
+      return normalized ? std::max(v / 127.0, -1.0) : v;
+    }
+    case gltf::kUnsignedByte: return normalized ? *p / 255.0 : *p;
+    case gltf::kShort: {
+      int16_t v;
+      std::memcpy(&v, p, 2);
+      return normalized ? std::max(v / 32767.0, -1.0) : v;
+    }
+    case gltf::kUnsignedShort: {
+      uint16_t v;
+      std::memcpy(&v, p, 2);
+      return normalized ? v / 65535.0 : v;
+    }
+    case gltf::kUnsignedInt: {
+      uint32_t v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    default: {
+      float v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+  }
+}
+
+class AccessorReader {
+ public:
+  AccessorReader(const Document& doc, const tinygltf::Model& model) : doc_(doc), model_(model) {}
+
+  // The accessor's elements as `components` doubles each (normalized integers mapped to
+  // [0, 1] or [-1, 1]), with sparse substitution applied. Byte ranges were checked against the
+  // declared lengths in the first pass; here they are checked against the decoded data.
+  std::vector<double> read(int index) const {
+    const Accessor& a = doc_.accessors[size_t(index)];
+    size_t n = size_t(a.components);
+    std::vector<double> out(a.count * n, 0.0);
+    size_t elem = gltf::elementSize(a);
+    if (a.bufferView >= 0) {
+      size_t stride = doc_.bufferViews[size_t(a.bufferView)].byteStride;
+      if (stride == 0) stride = elem;
+      const uint8_t* base = viewData(a.bufferView, a.byteOffset, stride * (a.count - 1) + elem, a.where);
+      for (size_t i = 0; i < a.count; ++i) readElement(a, base + i * stride, &out[i * n]);
+    }
+    if (a.sparse) {
+      const gltf::Sparse& s = *a.sparse;
+      size_t indexSize = gltf::componentSize(s.indicesComponentType);
+      const uint8_t* indices = viewData(s.indicesView, s.indicesOffset, indexSize * s.count, s.where);
+      const uint8_t* values = viewData(s.valuesView, s.valuesOffset, elem * s.count, s.where);
+      double previous = -1;
+      for (size_t k = 0; k < s.count; ++k) {
+        double i = readComponent(indices + k * indexSize, s.indicesComponentType, false);
+        if (i <= previous || i >= double(a.count))
+          throw SceneError(s.where.child("indices"),
+                           "sparse index " + std::to_string(uint64_t(i)) + " at position " +
+                               std::to_string(k) + (i >= double(a.count)
+                                                        ? " is out of range (count " + std::to_string(a.count) + ")"
+                                                        : " is not greater than the previous one"));
+        previous = i;
+        readElement(a, values + k * elem, &out[size_t(i) * n]);
+      }
+    }
+    return out;
+  }
+
+ private:
+  void readElement(const Accessor& a, const uint8_t* p, double* out) const {
+    size_t c = gltf::componentSize(a.componentType);
+    int rows = a.type == "MAT2" ? 2 : a.type == "MAT3" ? 3 : a.type == "MAT4" ? 4 : a.components;
+    int columns = a.components / rows;
+    size_t columnBytes = a.components == rows ? 0 : (rows * c + 3) / 4 * 4;
+    for (int col = 0; col < columns; ++col)
+      for (int r = 0; r < rows; ++r)
+        out[col * rows + r] = readComponent(p + col * columnBytes + size_t(r) * c, a.componentType, a.normalized);
+  }
+
+  const uint8_t* viewData(int view, size_t offset, size_t bytes, const SourceLocation& where) const {
+    const gltf::BufferView& v = doc_.bufferViews[size_t(view)];
+    const std::vector<unsigned char>& data = model_.buffers[size_t(v.buffer)].data;
+    if (v.byteOffset + offset + bytes > data.size())
+      throw SceneError(where, "data of bufferView " + std::to_string(view) +
+                                  " lies outside the decoded buffer " + std::to_string(v.buffer) +
+                                  " (" + std::to_string(data.size()) + " bytes)");
+    return data.data() + v.byteOffset + offset;
+  }
+
+  const Document& doc_;
+  const tinygltf::Model& model_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Images, textures, materials
+// ---------------------------------------------------------------------------------------------
+
+ImageDesc convertImage(const gltf::Image& im, const tinygltf::Image& decoded, size_t index) {
+  if (decoded.width < 1 || decoded.height < 1 || decoded.component < 1 ||
+      (decoded.bits != 8 && decoded.bits != 16))
+    throw SceneError(im.where, "cannot decode the image (PNG or JPEG expected)");
+  ImageDesc d;
+  d.name = im.uri.empty() || isDataUri(im.uri) ? "image " + std::to_string(index) : im.uri;
+  d.width = decoded.width, d.height = decoded.height, d.channels = decoded.component;
+  size_t n = size_t(d.width) * size_t(d.height) * size_t(d.channels);
+  size_t bytesPer = decoded.bits == 16 ? 2 : 1;
+  if (decoded.image.size() < n * bytesPer)
+    throw SceneError(im.where, "decoded image is smaller than its size says");
+  d.pixels.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    if (bytesPer == 1) {
+      d.pixels[i] = decoded.image[i] / 255.0f;
+    } else {
+      uint16_t v;  // stb_image returns 16-bit samples in native byte order
+      std::memcpy(&v, decoded.image.data() + 2 * i, 2);
+      d.pixels[i] = v / 65535.0f;
+    }
+  }
+  d.where = im.where;
+  return d;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The loader
+// ---------------------------------------------------------------------------------------------
+
+const char* modeName(int mode) {
+  static const char* names[] = {"POINTS", "LINES", "LINE_LOOP", "LINE_STRIP",
+                                "TRIANGLES", "TRIANGLE_STRIP", "TRIANGLE_FAN"};
+  return names[mode];
+}
+
+class Loader {
+ public:
+  Loader(const Document& doc, const tinygltf::Model& model, SceneDescription* scene)
+      : doc_(doc), model_(model), reader_(doc, model), scene_(scene) {
+    imageBase_ = int(scene->images.size());
+    textureBase_ = int(scene->textures.size());
+    materialBase_ = int(scene->materials.size());
+  }
+
+  void run(const Transform& rootTransform) {
+    for (const std::string& w : doc_.warnings) scene_->warnings.push_back(w);
+    for (size_t i = 0; i < doc_.images.size(); ++i)
+      scene_->images.push_back(convertImage(doc_.images[i], model_.images.at(i), i));
+    for (const gltf::Texture& t : doc_.textures) {
+      TextureDesc d;
+      d.image = imageBase_ + t.source;
+      if (t.sampler >= 0) {
+        const gltf::Sampler& s = doc_.samplers[size_t(t.sampler)];
+        d.wrapS = s.wrapS, d.wrapT = s.wrapT;
+        d.nearest = s.magFilter == 9728;
+      }
+      d.where = t.where;
+      scene_->textures.push_back(d);
+    }
+    for (const gltf::Material& m : doc_.materials) {
+      MaterialDesc d;
+      d.name = m.name;
+      d.type = MaterialType::Pbr;
+      d.baseColor = {m.baseColorFactor.x, m.baseColorFactor.y, m.baseColorFactor.z};
+      d.opacity = m.baseColorFactor.w;
+      d.baseColorTexture = m.baseColorTexture.index < 0 ? -1 : textureBase_ + m.baseColorTexture.index;
+      d.metallic = m.metallic, d.roughness = m.roughness;
+      d.emissive = m.emissiveFactor * m.emissiveStrength;
+      d.emissiveTexture = m.emissiveTexture.index < 0 ? -1 : textureBase_ + m.emissiveTexture.index;
+      d.doubleSided = m.doubleSided;
+      d.where = m.where;
+      scene_->materials.push_back(d);
+    }
+
+    std::vector<int> roots;
+    if (doc_.scene >= 0) {
+      roots = doc_.scenes[size_t(doc_.scene)].nodes;
+    } else if (!doc_.scenes.empty()) {
+      roots = doc_.scenes[0].nodes;
+    } else {
+      // No scenes: every node without a parent is a root.
+      std::vector<bool> isChild(doc_.nodes.size(), false);
+      for (const gltf::Node& n : doc_.nodes)
+        for (int c : n.children) isChild[size_t(c)] = true;
+      for (size_t i = 0; i < doc_.nodes.size(); ++i)
+        if (!isChild[i]) roots.push_back(int(i));
+    }
+    for (int r : roots) visit(r, rootTransform);
+  }
+
+ private:
+  // The node graph was checked to be a forest, so recursion terminates.
+  void visit(int index, const Transform& parent) {
+    const gltf::Node& node = doc_.nodes[size_t(index)];
+    Transform world = parent * node.local;
+    std::string nodeName = node.name.empty() ? "node " + std::to_string(index) : node.name;
+    if (node.mesh >= 0) {
+      const std::vector<int>& meshes = meshDescs(node.mesh);
+      for (int m : meshes) {
+        if (m < 0) continue;
+        InstanceDesc inst;
+        inst.mesh = m;
+        inst.worldFromObject = world;
+        inst.node = nodeName;
+        inst.where = node.where;
+        scene_->instances.push_back(inst);
+      }
+    }
+    if (node.camera >= 0) {
+      CameraDesc c = doc_.cameras[size_t(node.camera)];
+      if (c.name.empty()) c.name = node.name.empty() ? "camera " + std::to_string(node.camera) : node.name;
+      c.worldFromCamera = world;
+      scene_->cameras.push_back(c);
+    }
+    if (node.light >= 0) {
+      LightDesc l = doc_.lights[size_t(node.light)];
+      if (l.name.empty()) l.name = node.name.empty() ? "light " + std::to_string(node.light) : node.name;
+      l.worldFromLight = world;
+      scene_->lights.push_back(l);
+    }
+    for (int c : node.children) visit(c, world);
+  }
+
+  // The MeshDesc indices of glTF mesh `m`'s primitives (-1 for skipped ones), converted on
+  // first use so that every node using the mesh shares them.
+  const std::vector<int>& meshDescs(int m) {
+    auto it = converted_.find(m);
+    if (it != converted_.end()) return it->second;
+    const gltf::Mesh& mesh = doc_.meshes[size_t(m)];
+    std::vector<int> ids;
+    for (size_t p = 0; p < mesh.primitives.size(); ++p) {
+      std::string name = mesh.name;
+      if (mesh.primitives.size() > 1) name += " (primitive " + std::to_string(p) + ")";
+      ids.push_back(convertPrimitive(mesh.primitives[p], name));
+    }
+    return converted_[m] = ids;
+  }
+
+  // Checks that accessor `index`, used as `attribute` of a primitive, has an allowed layout.
+  const Accessor& attribute(int index, const gltf::Primitive& p, const std::string& attribute,
+                            std::initializer_list<const char*> types, bool allowNormalized) const {
+    const Accessor& a = doc_.accessors[size_t(index)];
+    bool typeOk = false;
+    for (const char* t : types) typeOk |= a.type == t;
+    bool componentOk = a.componentType == gltf::kFloat ||
+                       (allowNormalized && a.normalized &&
+                        (a.componentType == gltf::kUnsignedByte || a.componentType == gltf::kUnsignedShort));
+    if (!typeOk || !componentOk) {
+      std::string want;
+      for (const char* t : types) want += std::string(want.empty() ? "" : " or ") + t;
+      throw SceneError(p.where.child("attributes").child(attribute),
+                       "accessor " + std::to_string(index) + " is " + a.type + " of " +
+                           (a.normalized ? "normalized " : "") + gltf::componentTypeName(a.componentType) +
+                           "; " + attribute + " must be " + want + " of FLOAT" +
+                           (allowNormalized ? " or normalized UNSIGNED_BYTE/UNSIGNED_SHORT" : ""));
+    }
+    return a;
+  }
+
+  int convertPrimitive(const gltf::Primitive& p, const std::string& name) {
+    if (p.mode < gltf::kTriangles) {
+      scene_->warnings.push_back(p.where.str() + ": " + modeName(p.mode) +
+                                 " primitive skipped (only triangles are rendered)");
+      return -1;
+    }
+    MeshDesc mesh;
+    mesh.name = name;
+    mesh.where = p.where;
+
+    const Accessor& pa = attribute(p.position, p, "POSITION", {"VEC3"}, false);
+    std::vector<double> pos = reader_.read(p.position);
+    size_t n = pa.count;
+    mesh.positions.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+      Vec3f v{float(pos[3 * i]), float(pos[3 * i + 1]), float(pos[3 * i + 2])};
+      if (!isFinite(v))
+        throw SceneError(pa.where, "position " + std::to_string(i) + " is not finite");
+      mesh.positions[i] = v;
+    }
+    auto sameCount = [&](int index, const char* what) {
+      const Accessor& a = doc_.accessors[size_t(index)];
+      if (a.count != n)
+        throw SceneError(p.where.child("attributes").child(what),
+                         "accessor " + std::to_string(index) + " has " + std::to_string(a.count) +
+                             " elements but POSITION has " + std::to_string(n));
+    };
+    if (p.normal >= 0) {
+      const Accessor& na = attribute(p.normal, p, "NORMAL", {"VEC3"}, false);
+      sameCount(p.normal, "NORMAL");
+      std::vector<double> v = reader_.read(p.normal);
+      mesh.normals.resize(n);
+      for (size_t i = 0; i < n; ++i) {
+        Vec3f nv{float(v[3 * i]), float(v[3 * i + 1]), float(v[3 * i + 2])};
+        if (!isFinite(nv)) throw SceneError(na.where, "normal " + std::to_string(i) + " is not finite");
+        float len = length(nv);
+        if (!(len > 0) || !std::isfinite(len))
+          throw SceneError(na.where, "normal " + std::to_string(i) + " has zero length");
+        mesh.normals[i] = nv / len;
+      }
+    }
+    if (p.texcoord0 >= 0) {
+      const Accessor& ta = attribute(p.texcoord0, p, "TEXCOORD_0", {"VEC2"}, true);
+      sameCount(p.texcoord0, "TEXCOORD_0");
+      std::vector<double> v = reader_.read(p.texcoord0);
+      mesh.uvs.resize(n);
+      for (size_t i = 0; i < n; ++i) {
+        Vec2f uv{float(v[2 * i]), float(v[2 * i + 1])};
+        if (!std::isfinite(uv.x) || !std::isfinite(uv.y))
+          throw SceneError(ta.where, "texture coordinate " + std::to_string(i) + " is not finite");
+        mesh.uvs[i] = uv;
+      }
+    }
+    if (p.color0 >= 0) {
+      const Accessor& ca = attribute(p.color0, p, "COLOR_0", {"VEC3", "VEC4"}, true);
+      sameCount(p.color0, "COLOR_0");
+      std::vector<double> v = reader_.read(p.color0);
+      size_t c = size_t(ca.components);
+      mesh.colors.resize(n);
+      for (size_t i = 0; i < n; ++i) {
+        Vec4f col{float(v[c * i]), float(v[c * i + 1]), float(v[c * i + 2]),
+                  c == 4 ? float(v[c * i + 3]) : 1.0f};
+        if (!std::isfinite(col.x) || !std::isfinite(col.y) || !std::isfinite(col.z) ||
+            !std::isfinite(col.w))
+          throw SceneError(ca.where, "color " + std::to_string(i) + " is not finite");
+        mesh.colors[i] = col;
+      }
+    }
+
+    // Vertex order: the index accessor, or 0..n-1 when there is none.
+    std::vector<uint32_t> order;
+    if (p.indices >= 0) {
+      const Accessor& ia = doc_.accessors[size_t(p.indices)];
+      if (ia.type != "SCALAR" || ia.normalized ||
+          (ia.componentType != gltf::kUnsignedByte && ia.componentType != gltf::kUnsignedShort &&
+           ia.componentType != gltf::kUnsignedInt))
+        throw SceneError(p.where.child("indices"),
+                         "accessor " + std::to_string(p.indices) + " is " + ia.type + " of " +
+                             gltf::componentTypeName(ia.componentType) +
+                             "; indices must be SCALAR of UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT");
+      std::vector<double> v = reader_.read(p.indices);
+      order.resize(v.size());
+      for (size_t i = 0; i < v.size(); ++i) {
+        if (v[i] >= double(n))
+          throw SceneError(p.where.child("indices"),
+                           "index " + std::to_string(uint64_t(v[i])) + " out of range (" +
+                               std::to_string(n) + " vertices)");
+        order[i] = uint32_t(v[i]);
+      }
+    } else {
+      order.resize(n);
+      for (size_t i = 0; i < n; ++i) order[i] = uint32_t(i);
+    }
+
+    size_t m = order.size();
+    if (p.mode == gltf::kTriangles) {
+      if (m % 3)
+        throw SceneError(p.where, "TRIANGLES primitive has " + std::to_string(m) +
+                                      " vertices, not a multiple of 3");
+      mesh.indices = std::move(order);
+    } else if (p.mode == gltf::kTriangleStrip) {
+      // glTF 2.0 §3.7.2.1: triangle i is (i, i+1+i%2, i+2-i%2), keeping the winding.
+      for (size_t i = 0; i + 2 < m; ++i)
+        mesh.indices.insert(mesh.indices.end(),
+                            {order[i], order[i + 1 + i % 2], order[i + 2 - i % 2]});
+    } else {  // TRIANGLE_FAN: triangle i is (i+1, i+2, 0).
+      for (size_t i = 0; i + 2 < m; ++i)
+        mesh.indices.insert(mesh.indices.end(), {order[i + 1], order[i + 2], order[0]});
+    }
+    if (mesh.indices.empty()) {
+      scene_->warnings.push_back(p.where.str() + ": " + modeName(p.mode) +
+                                 " primitive with fewer than 3 vertices skipped");
+      return -1;
+    }
+    if (p.material >= 0) mesh.material = materialBase_ + p.material;
+    scene_->meshes.push_back(std::move(mesh));
+    return int(scene_->meshes.size()) - 1;
+  }
+
+  const Document& doc_;
+  const tinygltf::Model& model_;
+  AccessorReader reader_;
+  SceneDescription* scene_;
+  int imageBase_ = 0, textureBase_ = 0, materialBase_ = 0;
+  std::map<int, std::vector<int>> converted_;
+};
+
+}  // namespace
+
+void loadGltf(const std::string& path, SceneDescription* scene, const Transform& rootTransform) {
+  std::string bytes = readTextFile(path);  // a missing file is a SceneError naming it
+  std::string ext = fs::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(uint8_t(c)));
+  bool binary = ext == ".glb" || hasGlbMagic(bytes);
+
+  GlbChunks glb;
+  if (binary) glb = parseGlb(bytes, path);
+  nlohmann::json json;
+  try {
+    json = parseJson(binary ? glb.json : bytes, path);
+  } catch (const nlohmann::json::out_of_range& e) {
+    // parseJson turns syntax errors into SceneErrors; a number too large for a double
+    // ("1e999") arrives as out_of_range instead.
+    throw SceneError({path, ""}, std::string("JSON number out of range: ") + e.what());
+  }
+  Document doc = gltf::readDocument(json, path);
+
+  std::error_code ec;
+  fs::path folder = canonicalOrSelf(fs::absolute(fs::path(path), ec).parent_path());
+  checkSources(doc, folder, binary ? &glb : nullptr);
+
+  tinygltf::Model model = decode(bytes, binary, folder, path);
+  if (model.buffers.size() != doc.buffers.size() || model.images.size() != doc.images.size())
+    throw SceneError({path, ""}, "tinygltf decoded a different number of buffers or images");
+
+  if (scene->file.empty()) scene->file = path;
+  // On error leave `scene` as it was, so a caller that recovers sees no half-loaded file.
+  size_t sizes[] = {scene->images.size(), scene->textures.size(), scene->materials.size(),
+                    scene->meshes.size(), scene->instances.size(), scene->cameras.size(),
+                    scene->lights.size(), scene->warnings.size()};
+  try {
+    Loader(doc, model, scene).run(rootTransform);
+  } catch (...) {
+    scene->images.resize(sizes[0]);
+    scene->textures.resize(sizes[1]);
+    scene->materials.resize(sizes[2]);
+    scene->meshes.resize(sizes[3]);
+    scene->instances.resize(sizes[4]);
+    scene->cameras.resize(sizes[5]);
+    scene->lights.resize(sizes[6]);
+    scene->warnings.resize(sizes[7]);
+    throw;
+  }
+}
+
+}  // namespace glint

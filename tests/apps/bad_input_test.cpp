@@ -1,0 +1,182 @@
+// Bad input through the `glint` command line: every malformed file or option exits with code 2,
+// prints one line naming the file (and JSON pointer where there is one), does not crash, and
+// never writes or replaces an output image.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "test_support.h"
+
+namespace glint {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+size_t lineCount(const std::string& s) {
+  size_t n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+
+// Runs `glint render ARGS -o OUT` over a pre-existing "good" OUT and checks the contract.
+void expectRejected(const std::string& name, const std::string& args,
+                    const std::vector<std::string>& mustMention) {
+  std::string dir = test::scratchDir("bad_input_" + name);
+  std::string out = dir + "/out.png";
+  const std::string good = "a previous good image";
+  std::ofstream(out) << good;
+  test::CommandResult r = test::runGlint("render " + args + " -o '" + out + "'");
+  EXPECT_EQ(r.exitCode, 2) << name << ": stderr: " << r.err;
+  EXPECT_EQ(lineCount(r.err), 1u) << name << ": expected a one-line message, got: " << r.err;
+  EXPECT_EQ(r.err.rfind("glint: ", 0), 0u) << name << ": " << r.err;
+  for (const std::string& m : mustMention)
+    EXPECT_NE(r.err.find(m), std::string::npos) << name << ": message lacks '" << m << "': " << r.err;
+  EXPECT_EQ(readFile(out), good) << name << ": the previous output was touched";
+  // No temporary files left behind either.
+  size_t files = 0;
+  for (const auto& e : fs::directory_iterator(dir)) files += e.is_regular_file();
+  EXPECT_EQ(files, 1u) << name;
+}
+
+std::string shellQuote(const std::string& s) { return "'" + s + "'"; }
+
+// Each malformed glTF in tests/data/bad, with the JSON pointer (or phrase) its message names.
+struct BadFile {
+  const char* file;
+  const char* mention;
+};
+
+class BadGltfFile : public testing::TestWithParam<BadFile> {};
+
+TEST_P(BadGltfFile, IsRejectedWithExitCode2AndNoOutput) {
+  const BadFile& c = GetParam();
+  std::string path = test::dataDir() + "/bad/" + c.file;
+  ASSERT_TRUE(fs::exists(path)) << path;
+  expectRejected(fs::path(c.file).stem().string(), shellQuote(path), {c.file, c.mention});
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cli, BadGltfFile,
+    testing::Values(BadFile{"truncated.glb", "truncated"},
+                    BadFile{"accessor_out_of_bounds.gltf", "/accessors/"},
+                    BadFile{"buffer_view_out_of_bounds.gltf", "/bufferViews/"},
+                    BadFile{"missing_bin.gltf", "/buffers/0/uri"},
+                    BadFile{"index_out_of_range.gltf", "/meshes/0/primitives/0/indices"},
+                    BadFile{"nan_positions.gltf", "/accessors/"},
+                    BadFile{"inf_positions.gltf", "/accessors/"},
+                    BadFile{"zero_length_normals.gltf", "/accessors/"},
+                    BadFile{"camera_znear_ge_zfar.gltf", "/cameras/0/perspective/zfar"},
+                    BadFile{"buffer_uri_outside_folder.gltf", "/buffers/0/uri"},
+                    BadFile{"absolute_uri.gltf", "/buffers/0/uri"},
+                    BadFile{"json_syntax_error.gltf", "syntax error"},
+                    BadFile{"wrong_type.gltf", "wrong_type.gltf"},
+                    BadFile{"unsupported_required_extension.gltf", "/extensionsRequired/0"},
+                    BadFile{"material_index_out_of_range.gltf", "/meshes/0/primitives/0/material"},
+                    BadFile{"node_cycle.gltf", "/nodes/"},
+                    BadFile{"singular_matrix.gltf", "/nodes/0/matrix"},
+                    BadFile{"bin_too_short.gltf", "/buffers/0"}),
+    [](const testing::TestParamInfo<BadFile>& p) {
+      std::string n = fs::path(p.param.file).stem().string();
+      for (char& ch : n)
+        if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+      return n;
+    });
+
+TEST(CliBadInput, MissingSceneFile) {
+  std::string path = test::dataDir() + "/bad/does_not_exist.gltf";
+  expectRejected("missing_file", shellQuote(path), {"does_not_exist.gltf"});
+}
+
+// A sidecar next to a copy of a good scene, with one problem each.
+void expectBadSidecar(const std::string& name, const std::string& sidecar,
+                      const std::vector<std::string>& mention) {
+  std::string dir = test::scratchDir("bad_sidecar_" + name);
+  fs::copy_file(test::dataDir() + "/scenes/lambert_plane.gltf", dir + "/scene.gltf");
+  std::ofstream(dir + "/scene.glint.json") << sidecar;
+  std::vector<std::string> all = mention;
+  all.push_back("scene.glint.json");
+  expectRejected(name, shellQuote(dir + "/scene.gltf"), all);
+}
+
+TEST(CliBadInput, SidecarJsonSyntaxErrorReportsLineAndColumn) {
+  expectBadSidecar("syntax", "{\n  \"render\": {\"spp\": 4,,}\n}\n", {":2:"});
+}
+
+TEST(CliBadInput, SidecarWrongType) {
+  expectBadSidecar("wrong_type", R"({"render": {"spp": "many"}})", {"/render/spp"});
+}
+
+TEST(CliBadInput, SidecarUnknownKey) {
+  expectBadSidecar("unknown_key", R"({"render": {"spq": 4}})", {"/render/spq"});
+}
+
+TEST(CliBadInput, SidecarNegativeSpp) {
+  expectBadSidecar("negative_spp", R"({"render": {"spp": -4}})", {"/render/spp"});
+}
+
+TEST(CliBadInput, SidecarZeroResolution) {
+  expectBadSidecar("zero_width", R"({"render": {"width": 0}})", {"/render/width"});
+}
+
+TEST(CliBadInput, SidecarNegativeLightIntensity) {
+  expectBadSidecar("negative_intensity",
+                   R"({"lights": [{"type": "point", "position": [0, 1, 0], "intensity": -1}]})",
+                   {"/lights/0/intensity"});
+}
+
+class BadOption : public testing::TestWithParam<std::pair<const char*, const char*>> {};
+
+TEST_P(BadOption, IsAUsageErrorWithExitCode2) {
+  std::string scene = shellQuote(test::dataDir() + "/scenes/lambert_plane.gltf");
+  std::string dir = test::scratchDir("bad_option");
+  std::string out = dir + "/out.exr";
+  test::CommandResult r =
+      test::runGlint("render " + scene + " " + GetParam().first + " -o '" + out + "'");
+  EXPECT_EQ(r.exitCode, 2) << r.err;
+  EXPECT_NE(r.err.find(GetParam().second), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cli, BadOption,
+    testing::Values(std::make_pair("--spp -1", "--spp"), std::make_pair("--spp 0", "--spp"),
+                    std::make_pair("--width 0", "--width"),
+                    std::make_pair("--height -5", "--height"),
+                    std::make_pair("--threads -1", "--threads"),
+                    std::make_pair("--accel octree", "--accel"),
+                    std::make_pair("--camera Nowhere", "Nowhere"),
+                    std::make_pair("--frobnicate", "frobnicate")),
+    [](const auto& p) {
+      std::string n = p.param.first;
+      std::string out;
+      for (char ch : n)
+        if (std::isalnum(static_cast<unsigned char>(ch))) out += ch;
+      return out;
+    });
+
+TEST(CliBadInput, UnsupportedOutputExtension) {
+  std::string scene = shellQuote(test::dataDir() + "/scenes/lambert_plane.gltf");
+  std::string out = test::scratchDir("bad_ext") + "/out.bmpx";
+  test::CommandResult r = test::runGlint("render " + scene + " -o '" + out + "'");
+  EXPECT_EQ(r.exitCode, 2) << r.err;
+  EXPECT_NE(r.err.find("out.bmpx"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(CliBadInput, InfoRejectsBadFilesToo) {
+  test::CommandResult r = test::runGlint("info " + shellQuote(test::dataDir() + "/bad/truncated.glb"));
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("truncated.glb"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace glint

@@ -1,0 +1,102 @@
+// Tests for `glint diff`: exit codes 0 (pass) / 1 (fail) / 2 (bad input) and --json output.
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <vector>
+
+#include "test_support.h"
+
+namespace glint {
+namespace {
+
+void writeRgb(const std::string& path, int w, int h, const std::vector<float>& pixels) {
+  OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::FLOAT);
+  auto out = OIIO::ImageOutput::create(path);
+  ASSERT_TRUE(out) << OIIO::geterror();
+  ASSERT_TRUE(out->open(path, spec)) << out->geterror();
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
+  ASSERT_TRUE(out->close());
+}
+
+struct Images {
+  std::string dir, ref, same, off, small;
+};
+
+// ref: 4×4 grey 0.5; same: a copy; off: pixel (3, 0) red +0.5; small: 2×2.
+Images makeImages(const std::string& name) {
+  Images im;
+  im.dir = test::scratchDir(name);
+  std::vector<float> grey(16 * 3, 0.5f), off = grey;
+  off[3 * 3] = 1.0f;
+  im.ref = im.dir + "/ref.exr";
+  im.same = im.dir + "/same.exr";
+  im.off = im.dir + "/off.exr";
+  im.small = im.dir + "/small.exr";
+  writeRgb(im.ref, 4, 4, grey);
+  writeRgb(im.same, 4, 4, grey);
+  writeRgb(im.off, 4, 4, off);
+  writeRgb(im.small, 2, 2, std::vector<float>(12, 0.5f));
+  return im;
+}
+
+std::string q(const std::string& s) { return "'" + s + "'"; }
+
+TEST(DiffCommand, ExitCodesPassFailBadInput) {
+  Images im = makeImages("DiffCommand.ExitCodesPassFailBadInput");
+  test::CommandResult r = test::runGlint("diff " + q(im.same) + " " + q(im.ref));
+  EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("PASS"), std::string::npos) << r.out;
+
+  r = test::runGlint("diff " + q(im.off) + " " + q(im.ref));
+  EXPECT_EQ(r.exitCode, 1) << r.out << r.err;
+  EXPECT_NE(r.out.find("FAILURE"), std::string::npos) << r.out;
+
+  r = test::runGlint("diff " + q(im.small) + " " + q(im.ref));
+  EXPECT_EQ(r.exitCode, 1) << r.out << r.err;
+
+  r = test::runGlint("diff " + q(im.ref) + " " + q(im.dir + "/missing.exr"));
+  EXPECT_EQ(r.exitCode, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find("missing.exr"), std::string::npos) << r.err;
+
+  r = test::runGlint("diff " + q(im.ref));  // usage error: B missing
+  EXPECT_EQ(r.exitCode, 2) << r.out << r.err;
+}
+
+TEST(DiffCommand, PercentThresholdsSwitchTheExitCode) {
+  Images im = makeImages("DiffCommand.PercentThresholdsSwitchTheExitCode");
+  // 1 of 16 pixels (6.25 %) is off by 0.5.
+  EXPECT_EQ(test::runGlint("diff --failpercent 10 " + q(im.off) + " " + q(im.ref)).exitCode, 0);
+  EXPECT_EQ(test::runGlint("diff --failpercent 5 " + q(im.off) + " " + q(im.ref)).exitCode, 1);
+  EXPECT_EQ(test::runGlint("diff --fail 0.6 --warn 0.6 " + q(im.off) + " " + q(im.ref)).exitCode,
+            0);
+  test::CommandResult r = test::runGlint("diff --failpercent 10 " + q(im.off) + " " + q(im.ref));
+  EXPECT_NE(r.out.find("WARNING"), std::string::npos) << r.out;  // warn threshold still 0 %
+}
+
+TEST(DiffCommand, JsonReportsTheMetrics) {
+  Images im = makeImages("DiffCommand.JsonReportsTheMetrics");
+  test::CommandResult r = test::runGlint("diff --json " + q(im.off) + " " + q(im.ref));
+  EXPECT_EQ(r.exitCode, 1) << r.err;
+  nlohmann::json j = nlohmann::json::parse(r.out, nullptr, /*allow_exceptions=*/false);
+  ASSERT_FALSE(j.is_discarded()) << r.out;
+  EXPECT_EQ(j["verdict"], "fail");
+  EXPECT_EQ(j["pass"], false);
+  EXPECT_EQ(j["fail_pixels"], 1);
+  EXPECT_NEAR(j["fail_pixel_percent"].get<double>(), 6.25, 1e-9);
+  EXPECT_NEAR(j["rmse"].get<double>(), std::sqrt(0.25 / 48), 1e-6);
+  EXPECT_NEAR(j["max_error"].get<double>(), 0.5, 1e-6);
+  EXPECT_EQ(j["max_pixel"], nlohmann::json::array({3, 0}));
+  EXPECT_EQ(j["max_channel"], "R");
+
+  r = test::runGlint("diff --json " + q(im.same) + " " + q(im.ref));
+  EXPECT_EQ(r.exitCode, 0);
+  j = nlohmann::json::parse(r.out, nullptr, false);
+  ASSERT_FALSE(j.is_discarded()) << r.out;
+  EXPECT_EQ(j["rmse"], 0.0);
+  EXPECT_TRUE(j["psnr"].is_null());  // +inf has no JSON spelling
+}
+
+}  // namespace
+}  // namespace glint

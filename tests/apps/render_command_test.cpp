@@ -1,0 +1,123 @@
+// `glint render` and `glint info` end to end: determinism across thread counts, statistics,
+// command-line precedence, quiet output, and what `info` reports.
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imagebuf.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "test_support.h"
+
+namespace glint {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string lambertPlane() { return "'" + test::dataDir() + "/scenes/lambert_plane.gltf'"; }
+
+std::vector<float> readPixels(const std::string& path, OIIO::ImageSpec* spec = nullptr) {
+  OIIO::ImageBuf buf(path);
+  EXPECT_TRUE(buf.read(0, 0, true, OIIO::TypeDesc::FLOAT)) << path << ": " << buf.geterror();
+  std::vector<float> pixels(size_t(buf.spec().image_pixels()) * size_t(buf.nchannels()));
+  buf.get_pixels(buf.roi(), OIIO::TypeDesc::FLOAT, pixels.data());
+  if (spec) *spec = buf.spec();
+  return pixels;
+}
+
+TEST(CliRender, ExrIsIdenticalForOneAndTwoThreads) {
+  std::string dir = test::scratchDir("cli_determinism");
+  for (int threads : {1, 2}) {
+    test::CommandResult r = test::runGlint("render " + lambertPlane() + " --quiet --spp 8 --threads " +
+                                           std::to_string(threads) + " -o " + dir + "/t" +
+                                           std::to_string(threads) + ".exr");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+  }
+  std::vector<float> a = readPixels(dir + "/t1.exr"), b = readPixels(dir + "/t2.exr");
+  ASSERT_EQ(a.size(), b.size());
+  ASSERT_FALSE(a.empty());
+  EXPECT_TRUE(a == b) << "1-thread and 2-thread renders differ";
+}
+
+TEST(CliRender, StatsJsonHasEveryField) {
+  std::string dir = test::scratchDir("cli_stats");
+  test::CommandResult r = test::runGlint("render " + lambertPlane() + " --quiet --spp 4 -o " + dir +
+                                         "/img.exr --stats " + dir + "/stats.json");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  std::ifstream in(dir + "/stats.json");
+  nlohmann::json j = nlohmann::json::parse(in);
+  for (const char* key : {"accel", "width", "height", "spp", "threads", "triangles", "primitives",
+                          "build_seconds", "render_seconds", "rays", "mrays_per_second",
+                          "effects", "nonfinite_samples"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_EQ(j["accel"], "embree");
+  EXPECT_EQ(j["spp"], 4);
+  EXPECT_EQ(j["triangles"], 2);
+  EXPECT_EQ(j["width"], 64);
+  EXPECT_EQ(j["rays"]["camera"], 64 * 64 * 4);
+  // Every pixel sees the plane, lit by the bulb: one shadow ray per camera ray.
+  EXPECT_EQ(j["rays"]["shadow"], 64 * 64 * 4);
+  EXPECT_EQ(j["nonfinite_samples"], 0);
+  EXPECT_EQ(j["effects"], nlohmann::json::array({"shadows"}));
+  EXPECT_GT(j["mrays_per_second"].get<double>(), 0.0);
+}
+
+TEST(CliRender, CommandLineOverridesTheSidecar) {
+  std::string dir = test::scratchDir("cli_override");
+  test::CommandResult r = test::runGlint("render " + lambertPlane() +
+                                         " --quiet --spp 3 --width 20 --height 10 --seed 9 -o " +
+                                         dir + "/img.exr");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  OIIO::ImageSpec spec;
+  readPixels(dir + "/img.exr", &spec);
+  EXPECT_EQ(spec.width, 20);
+  EXPECT_EQ(spec.height, 10);
+  EXPECT_EQ(spec.get_int_attribute("glint:spp"), 3);
+  EXPECT_EQ(spec.get_string_attribute("glint:seed"), "9");
+}
+
+TEST(CliRender, WritesSeveralFormatsFromOneRender) {
+  std::string dir = test::scratchDir("cli_formats");
+  test::CommandResult r = test::runGlint("render " + lambertPlane() + " --quiet --spp 2 -o " + dir +
+                                         "/a.exr -o " + dir + "/a.png");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir + "/a.exr"));
+  EXPECT_TRUE(fs::exists(dir + "/a.png"));
+}
+
+TEST(CliRender, QuietPrintsNothingAndNonTerminalGetsNoProgressBar) {
+  std::string dir = test::scratchDir("cli_quiet");
+  test::CommandResult quiet =
+      test::runGlint("render " + lambertPlane() + " --quiet --spp 1 -o " + dir + "/q.exr");
+  ASSERT_EQ(quiet.exitCode, 0);
+  EXPECT_EQ(quiet.err, "");
+  EXPECT_EQ(quiet.out, "");
+  test::CommandResult normal =
+      test::runGlint("render " + lambertPlane() + " --spp 1 -o " + dir + "/n.exr");
+  ASSERT_EQ(normal.exitCode, 0);
+  // stderr is a file here, not a terminal: a one-line summary, no carriage-return redraws.
+  EXPECT_EQ(normal.err.find('\r'), std::string::npos) << normal.err;
+  EXPECT_NE(normal.err.find("wrote"), std::string::npos) << normal.err;
+}
+
+TEST(CliInfo, ListsContentsAndEffects) {
+  test::CommandResult r = test::runGlint("info " + lambertPlane());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("2 triangles"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Bulb (point)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Top (orthographic)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("effects:    shadows\n"), std::string::npos) << r.out;
+}
+
+TEST(CliInfo, SceneWithoutLightsReportsTheHeadlightAndNoShadows) {
+  test::CommandResult r =
+      test::runGlint("info '" + test::dataDir() + "/scenes/two_instances.gltf'");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("headlight"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("instancing"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("shadows"), std::string::npos) << r.out;
+}
+
+}  // namespace
+}  // namespace glint

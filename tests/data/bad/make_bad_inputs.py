@@ -1,0 +1,178 @@
+#!/usr/bin/env python3
+"""Regenerates the malformed glTF inputs in this folder (see README.md for what each tests).
+
+Every file is a one-triangle scene with exactly one thing wrong. Run from anywhere:
+    python3 tests/data/bad/make_bad_inputs.py
+"""
+import base64
+import json
+import math
+import os
+import struct
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def triangle_buffer(positions=None, normals=None, indices=(0, 1, 2)):
+    """Bytes of: u16 indices (padded to 4) | f32 VEC3 positions | f32 VEC3 normals."""
+    positions = positions or [(0, 0, 0), (1, 0, 0), (0, 1, 0)]
+    data = struct.pack("<%dH" % len(indices), *indices)
+    data += b"\0" * (-len(data) % 4)
+    pos_offset = len(data)
+    for p in positions:
+        data += struct.pack("<3f", *p)
+    nrm_offset = len(data)
+    for n in normals or []:
+        data += struct.pack("<3f", *n)
+    return data, pos_offset, nrm_offset
+
+
+def triangle_gltf(positions=None, normals=None, indices=(0, 1, 2), uri=None):
+    """A valid one-triangle glTF (dict) and its buffer bytes; the buffer is embedded unless
+    `uri` is given."""
+    data, pos_offset, nrm_offset = triangle_buffer(positions, normals, indices)
+    n = len(positions or [0, 0, 0])
+    accessors = [
+        {"bufferView": 0, "componentType": 5123, "count": len(indices), "type": "SCALAR"},
+        {"bufferView": 1, "componentType": 5126, "count": n, "type": "VEC3"},
+    ]
+    views = [
+        {"buffer": 0, "byteOffset": 0, "byteLength": 2 * len(indices)},
+        {"buffer": 0, "byteOffset": pos_offset, "byteLength": 12 * n},
+    ]
+    attributes = {"POSITION": 1}
+    if normals:
+        accessors.append({"bufferView": 2, "componentType": 5126, "count": n, "type": "VEC3"})
+        views.append({"buffer": 0, "byteOffset": nrm_offset, "byteLength": 12 * n})
+        attributes["NORMAL"] = 2
+    buffer = {"byteLength": len(data)}
+    buffer["uri"] = uri if uri else (
+        "data:application/octet-stream;base64," + base64.b64encode(data).decode())
+    doc = {
+        "asset": {"version": "2.0", "generator": "glint make_bad_inputs.py"},
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": attributes, "indices": 0}]}],
+        "accessors": accessors,
+        "bufferViews": views,
+        "buffers": [buffer],
+    }
+    return doc, data
+
+
+def write_json(name, doc):
+    with open(os.path.join(HERE, name), "w") as f:
+        json.dump(doc, f, indent=2)
+        f.write("\n")
+
+
+def write_bytes(name, data):
+    with open(os.path.join(HERE, name), "wb") as f:
+        f.write(data)
+
+
+def glb(doc, bin_data):
+    """A GLB container: header, JSON chunk (space padded), BIN chunk (zero padded)."""
+    js = json.dumps(doc).encode()
+    js += b" " * (-len(js) % 4)
+    bin_data += b"\0" * (-len(bin_data) % 4)
+    length = 12 + 8 + len(js) + 8 + len(bin_data)
+    return (struct.pack("<III", 0x46546C67, 2, length) +
+            struct.pack("<II", len(js), 0x4E4F534A) + js +
+            struct.pack("<II", len(bin_data), 0x004E4942) + bin_data)
+
+
+def main():
+    # truncated.glb: a valid GLB cut short; the header still claims the full length.
+    doc, data = triangle_gltf()
+    del doc["buffers"][0]["uri"]
+    whole = glb(doc, data)
+    write_bytes("truncated.glb", whole[:100])
+
+    # accessor_out_of_bounds.gltf: POSITION claims 4 vertices, its view holds 3.
+    doc, _ = triangle_gltf()
+    doc["accessors"][1]["count"] = 4
+    write_json("accessor_out_of_bounds.gltf", doc)
+
+    # buffer_view_out_of_bounds.gltf: the position view runs past the end of the buffer.
+    doc, _ = triangle_gltf()
+    doc["bufferViews"][1]["byteLength"] = 48
+    write_json("buffer_view_out_of_bounds.gltf", doc)
+
+    # missing_bin.gltf: the external buffer file does not exist.
+    doc, _ = triangle_gltf(uri="missing_bin.bin")
+    write_json("missing_bin.gltf", doc)
+
+    # bin_too_short.gltf: the external buffer file is shorter than byteLength.
+    doc, data = triangle_gltf(uri="bin_too_short.bin")
+    write_json("bin_too_short.gltf", doc)
+    write_bytes("bin_too_short.bin", data[:-4])
+
+    # index_out_of_range.gltf: index 57 into a 3-vertex primitive.
+    doc, _ = triangle_gltf(indices=(0, 57, 2))
+    write_json("index_out_of_range.gltf", doc)
+
+    # nan_positions.gltf / inf_positions.gltf: one non-finite coordinate.
+    doc, _ = triangle_gltf(positions=[(0, 0, 0), (1, 0, 0), (0, math.nan, 0)])
+    write_json("nan_positions.gltf", doc)
+    doc, _ = triangle_gltf(positions=[(0, 0, 0), (math.inf, 0, 0), (0, 1, 0)])
+    write_json("inf_positions.gltf", doc)
+
+    # zero_length_normals.gltf: normal 2 is (0, 0, 0).
+    doc, _ = triangle_gltf(normals=[(0, 0, 1), (0, 0, 1), (0, 0, 0)])
+    write_json("zero_length_normals.gltf", doc)
+
+    # camera_znear_ge_zfar.gltf: a perspective camera with znear 10 > zfar 1.
+    doc, _ = triangle_gltf()
+    doc["cameras"] = [{"type": "perspective",
+                       "perspective": {"yfov": 0.8, "znear": 10.0, "zfar": 1.0}}]
+    doc["nodes"].append({"camera": 0})
+    doc["scenes"][0]["nodes"].append(1)
+    write_json("camera_znear_ge_zfar.gltf", doc)
+
+    # buffer_uri_outside_folder.gltf / absolute_uri.gltf: URIs that leave this folder.
+    doc, _ = triangle_gltf(uri="../outside.bin")
+    write_json("buffer_uri_outside_folder.gltf", doc)
+    doc, _ = triangle_gltf(uri="/etc/hostname")
+    write_json("absolute_uri.gltf", doc)
+
+    # wrong_type.gltf: "count": "three".
+    doc, _ = triangle_gltf()
+    doc["accessors"][1]["count"] = "three"
+    write_json("wrong_type.gltf", doc)
+
+    # unsupported_required_extension.gltf
+    doc, _ = triangle_gltf()
+    doc["extensionsUsed"] = ["KHR_draco_mesh_compression"]
+    doc["extensionsRequired"] = ["KHR_draco_mesh_compression"]
+    write_json("unsupported_required_extension.gltf", doc)
+
+    # node_cycle.gltf: node 0 is the child of node 1 and vice versa.
+    doc, _ = triangle_gltf()
+    doc["nodes"] = [{"mesh": 0, "children": [1]}, {"children": [0]}]
+    write_json("node_cycle.gltf", doc)
+
+    # singular_matrix.gltf: a node matrix with a zero column.
+    doc, _ = triangle_gltf()
+    doc["nodes"][0]["matrix"] = [1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]
+    write_json("singular_matrix.gltf", doc)
+
+    # material_index_out_of_range.gltf: material 3 of 0.
+    doc, _ = triangle_gltf()
+    doc["meshes"][0]["primitives"][0]["material"] = 3
+    write_json("material_index_out_of_range.gltf", doc)
+
+    # json_syntax_error.gltf is written by hand (a missing comma at line 5, column 5).
+    with open(os.path.join(HERE, "json_syntax_error.gltf"), "w") as f:
+        f.write('{\n'
+                '  "asset": {"version": "2.0"},\n'
+                '  "nodes": [\n'
+                '    {"name": "a"}\n'
+                '    {"name": "b"}\n'
+                '  ]\n'
+                '}\n')
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,204 @@
+#!/usr/bin/env python3
+"""Regenerates the hand-made valid glTF files in this folder, which exercise loader features
+the Khronos samples do not: strips and fans, sparse accessors, normalized u8/u16 attributes,
+8- and 16-bit PNGs, samplers, cameras, KHR_lights_punctual, emissive strength, a non-default
+`scene`, skipped POINTS primitives, texCoord 1, a file without `scenes`, and a .glb.
+
+    python3 tests/data/gltf/make_gltf_inputs.py
+"""
+import base64
+import json
+import math
+import os
+import struct
+import zlib
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def png(width, height, color_type, bit_depth, rows):
+    """A minimal PNG; `rows` holds one bytes object per row (no filter byte)."""
+    def chunk(kind, data):
+        return (struct.pack(">I", len(data)) + kind + data +
+                struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF))
+    raw = b"".join(b"\0" + r for r in rows)
+    return (b"\x89PNG\r\n\x1a\n" +
+            chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, bit_depth, color_type, 0, 0, 0)) +
+            chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+
+
+class Builder:
+    """Appends typed data to one buffer and records views and accessors."""
+
+    def __init__(self):
+        self.data = b""
+        self.views = []
+        self.accessors = []
+
+    def view(self, payload):
+        self.data += b"\0" * (-len(self.data) % 4)
+        self.views.append({"buffer": 0, "byteOffset": len(self.data), "byteLength": len(payload)})
+        self.data += payload
+        return len(self.views) - 1
+
+    def accessor(self, fmt, values, component_type, type_, count, normalized=False, **extra):
+        view = self.view(struct.pack("<" + fmt * len(values), *values)) if values is not None else None
+        a = {"componentType": component_type, "count": count, "type": type_}
+        if view is not None:
+            a["bufferView"] = view
+        if normalized:
+            a["normalized"] = True
+        a.update(extra)
+        self.accessors.append(a)
+        return len(self.accessors) - 1
+
+
+def flat(points):
+    return [c for p in points for c in p]
+
+
+def features():
+    b = Builder()
+    # Mesh 0 "Strip": a unit quad as a 4-vertex TRIANGLE_STRIP without indices, with u16
+    # normalized UVs and u8 normalized VEC3 colours; plus a POINTS primitive (skipped).
+    strip_pos = b.accessor("f", flat([(0, 0, 0), (1, 0, 0), (0, 1, 0), (1, 1, 0)]), 5126, "VEC3", 4,
+                           min=[0, 0, 0], max=[1, 1, 0])
+    strip_uv = b.accessor("H", [0, 0, 65535, 0, 0, 65535, 65535, 65535], 5123, "VEC2", 4, True)
+    strip_col = b.accessor("B", [255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255], 5121, "VEC3", 4,
+                           True)
+    # Mesh 1 "Fan": 5 vertices, u8 indices, TRIANGLE_FAN -> 3 triangles.
+    fan_pos = b.accessor("f", flat([(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (-1, 1, 0)]), 5126,
+                         "VEC3", 5)
+    fan_idx = b.accessor("B", [0, 1, 2, 3, 4], 5121, "SCALAR", 5)
+    # Mesh 2 "Sparse": positions are zeros except vertices 1 and 2, set through `sparse`;
+    # normals are given unnormalized (length 2) to check that they are normalized.
+    sparse_idx = b.view(struct.pack("<2H", 1, 2))
+    sparse_val = b.view(struct.pack("<6f", 2, 0, 0, 0, 3, 0))
+    b.accessors.append({"componentType": 5126, "count": 3, "type": "VEC3",
+                        "sparse": {"count": 2,
+                                   "indices": {"bufferView": sparse_idx, "componentType": 5123},
+                                   "values": {"bufferView": sparse_val}}})
+    sparse_pos = len(b.accessors) - 1
+    sparse_nrm = b.accessor("f", flat([(0, 0, 2)] * 3), 5126, "VEC3", 3)
+    # Mesh 3 "Unused": only in scene 0, which is not the default scene.
+    unused_pos = b.accessor("f", flat([(0, 0, 0), (5, 0, 0), (0, 5, 0)]), 5126, "VEC3", 3)
+
+    image8 = png(2, 2, 2, 8, [bytes([255, 0, 0, 0, 255, 0]), bytes([0, 0, 255, 255, 255, 255])])
+    image16 = png(2, 1, 0, 16, [struct.pack(">2H", 0, 65535)])
+    image16_view = b.view(image16)
+
+    doc = {
+        "asset": {"version": "2.0", "generator": "glint make_gltf_inputs.py"},
+        "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_emissive_strength",
+                           "EXT_unknown_optional"],
+        "extensionsRequired": ["KHR_lights_punctual"],
+        "extensions": {"KHR_lights_punctual": {"lights": [
+            {"type": "point", "color": [1, 0.5, 0.25], "intensity": 20, "range": 10},
+            {"type": "spot", "name": "Spot", "intensity": 5,
+             "spot": {"innerConeAngle": 0.1, "outerConeAngle": 0.5}},
+            {"type": "directional", "intensity": 3},
+        ]}},
+        "scene": 1,
+        "scenes": [{"nodes": [0]}, {"nodes": [1, 4, 5, 6, 7, 8, 9, 10]}],
+        "nodes": [
+            {"name": "OnlyInScene0", "mesh": 3},
+            {"name": "Parent", "translation": [10, 0, 0], "scale": [2, 2, 2], "children": [2, 3]},
+            {"name": "StripA", "mesh": 0, "translation": [0, 1, 0]},
+            {"name": "StripB", "mesh": 0,
+             "rotation": [0, 0, math.sin(math.pi / 4), math.cos(math.pi / 4)]},
+            {"name": "CameraNode", "camera": 0, "translation": [0, 0, 5]},
+            {"name": "OrthoNode", "camera": 1},
+            {"name": "PointNode", "translation": [0, 3, 0],
+             "extensions": {"KHR_lights_punctual": {"light": 0}}},
+            {"extensions": {"KHR_lights_punctual": {"light": 1}}},
+            {"extensions": {"KHR_lights_punctual": {"light": 2}},
+             "matrix": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 1, 2, 3, 1], "extras": {"anything": 1}},
+            {"name": "SparseNode", "mesh": 2},
+            {"name": "FanNode", "mesh": 1},
+        ],
+        "cameras": [
+            {"name": "Persp", "type": "perspective",
+             "perspective": {"yfov": 0.5, "aspectRatio": 1.5, "znear": 0.1, "zfar": 100}},
+            {"type": "orthographic",
+             "orthographic": {"xmag": 2, "ymag": 1, "znear": 0, "zfar": 50}},
+        ],
+        "meshes": [
+            {"name": "Strip", "primitives": [
+                {"attributes": {"POSITION": strip_pos, "TEXCOORD_0": strip_uv, "COLOR_0": strip_col},
+                 "mode": 5, "material": 0},
+                {"attributes": {"POSITION": strip_pos}, "mode": 0},
+            ]},
+            {"name": "Fan", "primitives": [
+                {"attributes": {"POSITION": fan_pos}, "indices": fan_idx, "mode": 6}]},
+            {"name": "Sparse", "primitives": [
+                {"attributes": {"POSITION": sparse_pos, "NORMAL": sparse_nrm}, "material": 1}]},
+            {"name": "Unused", "primitives": [{"attributes": {"POSITION": unused_pos}}]},
+        ],
+        "materials": [
+            {"name": "Glowing",
+             "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.25, 1, 0.75],
+                                      "baseColorTexture": {"index": 0, "texCoord": 1},
+                                      "metallicFactor": 0.25, "roughnessFactor": 0.5},
+             "emissiveFactor": [1, 0.5, 0], "emissiveTexture": {"index": 1},
+             "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4}},
+             "doubleSided": True},
+            {},
+        ],
+        "samplers": [{"magFilter": 9728, "wrapS": 33071, "wrapT": 33648}],
+        "textures": [{"sampler": 0, "source": 0}, {"source": 1}],
+        "images": [
+            {"uri": "data:image/png;base64," + base64.b64encode(image8).decode()},
+            {"bufferView": image16_view, "mimeType": "image/png"},
+        ],
+        "accessors": b.accessors,
+        "bufferViews": b.views,
+        "buffers": [{"byteLength": len(b.data),
+                     "uri": "data:application/octet-stream;base64," +
+                            base64.b64encode(b.data).decode()}],
+    }
+    return doc
+
+
+def no_scenes():
+    """Two root nodes (one with a child) and no `scenes`: all roots are loaded."""
+    b = Builder()
+    pos = b.accessor("f", flat([(0, 0, 0), (1, 0, 0), (0, 1, 0)]), 5126, "VEC3", 3)
+    return {
+        "asset": {"version": "2.0"},
+        "nodes": [{"mesh": 0, "children": [2]}, {"mesh": 0, "translation": [0, 0, -1]},
+                  {"mesh": 0, "translation": [0, 0, 1]}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": pos}}]}],
+        "accessors": b.accessors,
+        "bufferViews": b.views,
+        "buffers": [{"byteLength": len(b.data), "uri": "no_scenes.bin"}],
+    }, b.data
+
+
+def glb(doc, bin_data):
+    js = json.dumps(doc).encode()
+    js += b" " * (-len(js) % 4)
+    bin_data += b"\0" * (-len(bin_data) % 4)
+    length = 12 + 8 + len(js) + 8 + len(bin_data)
+    return (struct.pack("<III", 0x46546C67, 2, length) +
+            struct.pack("<II", len(js), 0x4E4F534A) + js +
+            struct.pack("<II", len(bin_data), 0x004E4942) + bin_data)
+
+
+def main():
+    with open(os.path.join(HERE, "features.gltf"), "w") as f:
+        json.dump(features(), f, indent=1)
+        f.write("\n")
+    doc, data = no_scenes()
+    with open(os.path.join(HERE, "no_scenes.gltf"), "w") as f:
+        json.dump(doc, f, indent=1)
+        f.write("\n")
+    with open(os.path.join(HERE, "no_scenes.bin"), "wb") as f:
+        f.write(data)
+    # The same scene as a .glb whose buffer 0 is the BIN chunk.
+    del doc["buffers"][0]["uri"]
+    with open(os.path.join(HERE, "no_scenes.glb"), "wb") as f:
+        f.write(glb(doc, data))
+
+
+if __name__ == "__main__":
+    main()

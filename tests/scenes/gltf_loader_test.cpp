@@ -1,0 +1,582 @@
+// glint tests — glTF loading: Khronos samples in every variant, hand-made feature files, and
+// one malformed input per error the loader must report with its exact location.
+#include "scenes/gltf_loader.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include "test_support.h"
+
+namespace glint {
+namespace {
+
+namespace fs = std::filesystem;
+
+// ---------------------------------------------------------------------------------------------
+// Helpers
+// ---------------------------------------------------------------------------------------------
+
+// The shared assets are required: a missing folder fails (never skips) and says how to fix it.
+::testing::AssertionResult assetsPresent() {
+  std::string dir = test::assetsDir();
+  if (fs::is_directory(dir + "/gltf") && fs::is_directory(dir + "/stanford"))
+    return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure()
+         << "shared asset folder '" << dir << "' (with gltf/ and stanford/) not found; set "
+         << "GLINT_ASSETS to it (e.g. GLINT_ASSETS=/work/shared/assets) or configure CMake "
+            "with -DGLINT_ASSETS=<folder>";
+}
+
+std::string sample(const std::string& model, const std::string& variant) {
+  std::string file = model + (variant == "glTF-Binary" ? ".glb" : ".gltf");
+  return test::assetsDir() + "/gltf/" + model + "/" + variant + "/" + file;
+}
+
+SceneDescription load(const std::string& path, const Transform& root = Transform()) {
+  SceneDescription scene;
+  loadGltf(path, &scene, root);
+  return scene;
+}
+
+size_t triangleCount(const SceneDescription& s) {
+  size_t n = 0;
+  for (const MeshDesc& m : s.meshes) n += m.indices.size() / 3;
+  return n;
+}
+
+size_t vertexCount(const SceneDescription& s) {
+  size_t n = 0;
+  for (const MeshDesc& m : s.meshes) n += m.positions.size();
+  return n;
+}
+
+void expectNear(Vec3f actual, Vec3f expected, float tolerance = 1e-6f) {
+  EXPECT_NEAR(actual.x, expected.x, tolerance);
+  EXPECT_NEAR(actual.y, expected.y, tolerance);
+  EXPECT_NEAR(actual.z, expected.z, tolerance);
+}
+
+void expectBounds(const SceneDescription& s, Vec3f lower, Vec3f upper) {
+  Bounds3f b = sceneBounds(s);
+  expectNear(b.lower, lower);
+  expectNear(b.upper, upper);
+}
+
+// Everything but file names and source locations, which differ between variants by design.
+void expectSameDescription(const SceneDescription& a, const SceneDescription& b) {
+  ASSERT_EQ(a.meshes.size(), b.meshes.size());
+  for (size_t i = 0; i < a.meshes.size(); ++i) {
+    const MeshDesc &x = a.meshes[i], &y = b.meshes[i];
+    EXPECT_EQ(x.name, y.name);
+    ASSERT_EQ(x.positions.size(), y.positions.size());
+    for (size_t k = 0; k < x.positions.size(); ++k) EXPECT_EQ(x.positions[k], y.positions[k]);
+    ASSERT_EQ(x.normals.size(), y.normals.size());
+    for (size_t k = 0; k < x.normals.size(); ++k) EXPECT_EQ(x.normals[k], y.normals[k]);
+    ASSERT_EQ(x.uvs.size(), y.uvs.size());
+    for (size_t k = 0; k < x.uvs.size(); ++k) EXPECT_EQ(x.uvs[k], y.uvs[k]);
+    EXPECT_EQ(x.colors.size(), y.colors.size());
+    EXPECT_EQ(x.indices, y.indices);
+    EXPECT_EQ(x.material, y.material);
+  }
+  ASSERT_EQ(a.instances.size(), b.instances.size());
+  for (size_t i = 0; i < a.instances.size(); ++i) {
+    EXPECT_EQ(a.instances[i].mesh, b.instances[i].mesh);
+    EXPECT_EQ(a.instances[i].worldFromObject, b.instances[i].worldFromObject);
+  }
+  ASSERT_EQ(a.materials.size(), b.materials.size());
+  for (size_t i = 0; i < a.materials.size(); ++i) {
+    const MaterialDesc &x = a.materials[i], &y = b.materials[i];
+    EXPECT_EQ(x.name, y.name);
+    EXPECT_EQ(x.baseColor, y.baseColor);
+    EXPECT_EQ(x.opacity, y.opacity);
+    EXPECT_EQ(x.baseColorTexture, y.baseColorTexture);
+    EXPECT_EQ(x.metallic, y.metallic);
+    EXPECT_EQ(x.roughness, y.roughness);
+    EXPECT_EQ(x.emissive, y.emissive);
+    EXPECT_EQ(x.doubleSided, y.doubleSided);
+  }
+  ASSERT_EQ(a.textures.size(), b.textures.size());
+  for (size_t i = 0; i < a.textures.size(); ++i) {
+    EXPECT_EQ(a.textures[i].image, b.textures[i].image);
+    EXPECT_EQ(a.textures[i].wrapS, b.textures[i].wrapS);
+    EXPECT_EQ(a.textures[i].nearest, b.textures[i].nearest);
+  }
+  ASSERT_EQ(a.images.size(), b.images.size());
+  for (size_t i = 0; i < a.images.size(); ++i) {
+    EXPECT_EQ(a.images[i].width, b.images[i].width);
+    EXPECT_EQ(a.images[i].height, b.images[i].height);
+    EXPECT_EQ(a.images[i].channels, b.images[i].channels);
+    EXPECT_TRUE(a.images[i].pixels == b.images[i].pixels) << "image " << i;
+  }
+  EXPECT_EQ(a.cameras.size(), b.cameras.size());
+  EXPECT_EQ(a.lights.size(), b.lights.size());
+}
+
+// Loads every variant of `model`, checks they agree, and returns the first.
+SceneDescription loadAllVariants(const std::string& model, std::vector<std::string> variants) {
+  SceneDescription first = load(sample(model, variants[0]));
+  for (size_t i = 1; i < variants.size(); ++i) {
+    SCOPED_TRACE(model + " " + variants[i] + " vs " + variants[0]);
+    SceneDescription other = load(sample(model, variants[i]));
+    expectSameDescription(first, other);
+  }
+  return first;
+}
+
+const std::vector<std::string> kAllThree = {"glTF", "glTF-Embedded", "glTF-Binary"};
+const std::vector<std::string> kTwo = {"glTF", "glTF-Embedded"};
+
+// The Box samples' node 0 matrix (column-major [1,0,0,0, 0,0,-1,0, 0,1,0,0, 0,0,0,1]) maps
+// (x, y, z) to (x, z, -y): the POSITION accessor's min/max of -0.5/0.5 stay a ±0.5 cube.
+Mat4 boxRootMatrix() {
+  const float m[16] = {1, 0, 0, 0, 0, 0, -1, 0, 0, 1, 0, 0, 0, 0, 0, 1};
+  return Mat4::fromColumnMajor(m);
+}
+
+void expectBox(const SceneDescription& s) {
+  ASSERT_EQ(s.meshes.size(), 1u);
+  EXPECT_EQ(triangleCount(s), 12u);  // indices accessor count 36
+  EXPECT_EQ(vertexCount(s), 24u);    // POSITION accessor count 24
+  EXPECT_EQ(s.meshes[0].normals.size(), 24u);
+  EXPECT_EQ(s.meshes[0].name, "Mesh");
+  EXPECT_EQ(s.meshes[0].material, 0);
+  ASSERT_EQ(s.instances.size(), 1u);
+  EXPECT_EQ(s.instances[0].worldFromObject.matrix(), boxRootMatrix());
+  ASSERT_EQ(s.materials.size(), 1u);
+  // baseColorFactor [0.8, 0, 0, 1]
+  expectNear(s.materials[0].baseColor, {0.8f, 0, 0});
+  EXPECT_EQ(s.materials[0].opacity, 1.0f);
+  EXPECT_EQ(s.materials[0].type, MaterialType::Pbr);
+  for (Vec3f n : s.meshes[0].normals) EXPECT_NEAR(length(n), 1.0f, 1e-6f);
+  expectBounds(s, {-0.5f, -0.5f, -0.5f}, {0.5f, 0.5f, 0.5f});
+}
+
+// ---------------------------------------------------------------------------------------------
+// Khronos samples
+// ---------------------------------------------------------------------------------------------
+
+TEST(GltfLoader, LoadsBoxInAllVariants) {
+  ASSERT_TRUE(assetsPresent());
+  SceneDescription s = loadAllVariants("Box", kAllThree);
+  expectBox(s);
+  EXPECT_EQ(s.materials[0].name, "Red");
+  EXPECT_EQ(s.materials[0].metallic, 0.0f);  // metallicFactor 0
+  EXPECT_EQ(s.materials[0].roughness, 1.0f);  // default
+  EXPECT_TRUE(s.textures.empty());
+  EXPECT_TRUE(s.images.empty());
+  EXPECT_TRUE(s.warnings.empty());
+  EXPECT_EQ(s.meshes[0].where.pointer, "/meshes/0/primitives/0");
+  EXPECT_EQ(s.instances[0].where.pointer, "/nodes/1");
+}
+
+TEST(GltfLoader, LoadsBoxInterleavedInAllVariants) {
+  ASSERT_TRUE(assetsPresent());
+  SceneDescription s = loadAllVariants("BoxInterleaved", kAllThree);
+  expectBox(s);
+  // Interleaved (byteStride 24) must read the same geometry as the planar Box.
+  SceneDescription box = load(sample("Box", "glTF"));
+  for (size_t i = 0; i < 24; ++i) {
+    EXPECT_EQ(s.meshes[0].positions[i], box.meshes[0].positions[i]) << i;
+    EXPECT_EQ(s.meshes[0].normals[i], box.meshes[0].normals[i]) << i;
+  }
+  EXPECT_EQ(s.meshes[0].indices, box.meshes[0].indices);
+}
+
+TEST(GltfLoader, LoadsBoxTexturedInAllVariants) {
+  ASSERT_TRUE(assetsPresent());
+  SceneDescription s = loadAllVariants("BoxTextured", kAllThree);
+  ASSERT_EQ(s.meshes.size(), 1u);
+  EXPECT_EQ(triangleCount(s), 12u);
+  EXPECT_EQ(s.meshes[0].uvs.size(), 24u);  // TEXCOORD_0 accessor count 24, max (6, 1)
+  ASSERT_EQ(s.materials.size(), 1u);
+  EXPECT_EQ(s.materials[0].baseColorTexture, 0);
+  ASSERT_EQ(s.textures.size(), 1u);
+  EXPECT_EQ(s.textures[0].image, 0);
+  EXPECT_EQ(s.textures[0].wrapS, WrapMode::Repeat);  // sampler wrapS 10497
+  EXPECT_FALSE(s.textures[0].nearest);               // magFilter 9729 (LINEAR)
+  ASSERT_EQ(s.images.size(), 1u);
+  // CesiumLogoFlat.png: 256x256 RGBA, 8 bits (PNG IHDR).
+  EXPECT_EQ(s.images[0].width, 256);
+  EXPECT_EQ(s.images[0].height, 256);
+  EXPECT_EQ(s.images[0].channels, 4);
+  EXPECT_EQ(s.images[0].name, "CesiumLogoFlat.png");
+  for (float v : s.images[0].pixels) ASSERT_TRUE(v >= 0 && v <= 1);
+  expectBounds(s, {-0.5f, -0.5f, -0.5f}, {0.5f, 0.5f, 0.5f});
+  EXPECT_EQ(load(sample("BoxTextured", "glTF-Embedded")).images[0].name, "image 0");
+}
+
+TEST(GltfLoader, LoadsSimpleMeshesAsTwoInstancesOfOneMesh) {
+  ASSERT_TRUE(assetsPresent());
+  SceneDescription s = loadAllVariants("SimpleMeshes", kTwo);
+  ASSERT_EQ(s.meshes.size(), 1u);  // built once ...
+  EXPECT_EQ(triangleCount(s), 1u);
+  EXPECT_EQ(s.meshes[0].material, -1);  // no material: the default
+  ASSERT_EQ(s.instances.size(), 2u);    // ... placed twice
+  EXPECT_EQ(s.instances[0].mesh, 0);
+  EXPECT_EQ(s.instances[1].mesh, 0);
+  EXPECT_TRUE(s.materials.empty());
+  // POSITION min (0,0,0) max (1,1,0); node 1 is translated by (1,0,0).
+  expectBounds(s, {0, 0, 0}, {2, 1, 0});
+}
+
+TEST(GltfLoader, LoadsTriangleInAllVariants) {
+  ASSERT_TRUE(assetsPresent());
+  SceneDescription s = loadAllVariants("Triangle", kTwo);
+  ASSERT_EQ(s.meshes.size(), 1u);
+  EXPECT_EQ(s.meshes[0].indices, (std::vector<uint32_t>{0, 1, 2}));
+  EXPECT_EQ(s.instances.size(), 1u);
+  EXPECT_TRUE(s.meshes[0].normals.empty());
+  expectBounds(s, {0, 0, 0}, {1, 1, 0});  // POSITION min/max
+}
+
+TEST(GltfLoader, GeneratesIndicesForTriangleWithoutIndices) {
+  ASSERT_TRUE(assetsPresent());
+  SceneDescription s = loadAllVariants("TriangleWithoutIndices", kTwo);
+  ASSERT_EQ(s.meshes.size(), 1u);
+  EXPECT_EQ(s.meshes[0].indices, (std::vector<uint32_t>{0, 1, 2}));
+  expectBounds(s, {0, 0, 0}, {1, 1, 0});
+  SceneDescription indexed = load(sample("Triangle", "glTF"));
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(s.meshes[0].positions[i], indexed.meshes[0].positions[i]);
+}
+
+TEST(GltfLoader, LoadsTextureCoordinateTestInAllVariants) {
+  ASSERT_TRUE(assetsPresent());
+  SceneDescription s = loadAllVariants("TextureCoordinateTest", kTwo);
+  EXPECT_EQ(s.meshes.size(), 5u);
+  EXPECT_EQ(triangleCount(s), 10u);  // 5 index accessors of count 6
+  EXPECT_EQ(vertexCount(s), 20u);
+  EXPECT_EQ(s.instances.size(), 5u);
+  EXPECT_EQ(s.materials.size(), 5u);
+  EXPECT_EQ(s.textures.size(), 1u);
+  ASSERT_EQ(s.images.size(), 1u);
+  EXPECT_EQ(s.images[0].width, 512);  // TextureCoordinateTemplate.png, 512x512 RGBA
+  EXPECT_EQ(s.images[0].channels, 4);
+  EXPECT_EQ(s.instances[0].node, "TopLeftNode");  // RootNode's children are [5, 4, 3, 2, 1]
+  EXPECT_TRUE(s.materials[0].doubleSided);
+  expectNear(s.materials[1].baseColor, {0, 1, 0});  // BottomRightMaterial
+  // Union of the POSITION accessors' min/max; all nodes have identity transforms.
+  Bounds3f b = sceneBounds(s);
+  expectNear(b.lower, {-1.200000047683716f, -1.200000047683716f, -4.3491399992490187e-07f});
+  expectNear(b.upper, {1.200000047683716f, 1.200000047683716f, 0.05259101837873459f});
+}
+
+TEST(GltfLoader, LoadsStanfordBunnyGlb) {
+  ASSERT_TRUE(assetsPresent());
+  SceneDescription s = load(test::assetsDir() + "/stanford/bun_zipper.glb");
+  EXPECT_EQ(triangleCount(s), 69451u);  // index accessor count 208353 / 3
+  EXPECT_EQ(vertexCount(s), 34834u);
+  EXPECT_EQ(s.instances.size(), 1u);
+  ASSERT_EQ(s.materials.size(), 1u);
+  EXPECT_TRUE(s.materials[0].doubleSided);
+  // POSITION accessor min/max.
+  Bounds3f b = sceneBounds(s);
+  expectNear(b.lower, {-0.09468989819288254f, 0.03298740088939667f, -0.061873599886894226f});
+  expectNear(b.upper, {0.06100910156965256f, 0.1873210072517395f, 0.05879969894886017f});
+}
+
+TEST(GltfLoader, AppliesRootTransformAndAppendsToExistingScene) {
+  ASSERT_TRUE(assetsPresent());
+  SceneDescription s;
+  loadGltf(sample("Box", "glTF"), &s);
+  loadGltf(sample("Box", "glTF-Binary"), &s, Transform::translate({10, 0, 0}));
+  ASSERT_EQ(s.meshes.size(), 2u);
+  EXPECT_EQ(s.materials.size(), 2u);
+  EXPECT_EQ(s.meshes[1].material, 1);  // offset by the materials already there
+  ASSERT_EQ(s.instances.size(), 2u);
+  EXPECT_EQ(s.instances[1].mesh, 1);
+  expectBounds(s, {-0.5f, -0.5f, -0.5f}, {10.5f, 0.5f, 0.5f});
+}
+
+// ---------------------------------------------------------------------------------------------
+// Hand-made feature files (tests/data/gltf, regenerated by make_gltf_inputs.py)
+// ---------------------------------------------------------------------------------------------
+
+std::string goodFile(const std::string& name) { return test::dataDir() + "/gltf/" + name; }
+
+TEST(GltfLoader, UsesDefaultSceneAndConvertsOnlyMeshesItUses) {
+  SceneDescription s = load(goodFile("features.gltf"));
+  // Scene 1: Strip (primitive 0; its POINTS primitive is skipped), Sparse, Fan. "Unused" is
+  // only in scene 0.
+  ASSERT_EQ(s.meshes.size(), 3u);
+  EXPECT_EQ(s.meshes[0].name, "Strip (primitive 0)");
+  EXPECT_EQ(s.meshes[1].name, "Sparse");
+  EXPECT_EQ(s.meshes[2].name, "Fan");
+  ASSERT_EQ(s.instances.size(), 4u);
+  EXPECT_EQ(s.instances[0].node, "StripA");
+  EXPECT_EQ(s.instances[1].node, "StripB");
+  EXPECT_EQ(s.instances[0].mesh, 0);
+  EXPECT_EQ(s.instances[1].mesh, 0);
+}
+
+TEST(GltfLoader, TriangulatesStripsAndFans) {
+  SceneDescription s = load(goodFile("features.gltf"));
+  ASSERT_EQ(s.meshes.size(), 3u);
+  // Strip of 4: (0,1,2), then (1,3,2) to keep the winding.
+  EXPECT_EQ(s.meshes[0].indices, (std::vector<uint32_t>{0, 1, 2, 1, 3, 2}));
+  // Fan of 5: (i+1, i+2, 0).
+  EXPECT_EQ(s.meshes[2].indices, (std::vector<uint32_t>{1, 2, 0, 2, 3, 0, 3, 4, 0}));
+}
+
+TEST(GltfLoader, ReadsNormalizedAttributesAndSparseAccessors) {
+  SceneDescription s = load(goodFile("features.gltf"));
+  ASSERT_EQ(s.meshes.size(), 3u);
+  const MeshDesc& strip = s.meshes[0];
+  ASSERT_EQ(strip.uvs.size(), 4u);  // normalized UNSIGNED_SHORT
+  EXPECT_EQ(strip.uvs[1], (Vec2f{1, 0}));
+  EXPECT_EQ(strip.uvs[2], (Vec2f{0, 1}));
+  ASSERT_EQ(strip.colors.size(), 4u);  // normalized UNSIGNED_BYTE VEC3: alpha 1
+  EXPECT_EQ(strip.colors[0].x, 1.0f);
+  EXPECT_EQ(strip.colors[0].y, 0.0f);
+  EXPECT_EQ(strip.colors[2].z, 1.0f);
+  EXPECT_EQ(strip.colors[1].w, 1.0f);
+  const MeshDesc& sparse = s.meshes[1];
+  ASSERT_EQ(sparse.positions.size(), 3u);  // zeros, with vertices 1 and 2 from `sparse`
+  EXPECT_EQ(sparse.positions[0], (Vec3f{0, 0, 0}));
+  EXPECT_EQ(sparse.positions[1], (Vec3f{2, 0, 0}));
+  EXPECT_EQ(sparse.positions[2], (Vec3f{0, 3, 0}));
+  ASSERT_EQ(sparse.normals.size(), 3u);  // stored with length 2, normalized on load
+  EXPECT_EQ(sparse.normals[0], (Vec3f{0, 0, 1}));
+}
+
+TEST(GltfLoader, ComposesNodeTransforms) {
+  SceneDescription s = load(goodFile("features.gltf"));
+  ASSERT_EQ(s.instances.size(), 4u);
+  // Parent: T(10,0,0) S(2); StripA: T(0,1,0); StripB: 90 degrees about +Z.
+  expectNear(s.instances[0].worldFromObject.point({0, 0, 0}), {10, 2, 0});
+  expectNear(s.instances[0].worldFromObject.point({1, 1, 0}), {12, 4, 0});
+  expectNear(s.instances[1].worldFromObject.point({1, 0, 0}), {10, 2, 0});
+  expectNear(s.instances[1].worldFromObject.point({0, 1, 0}), {8, 0, 0});
+}
+
+TEST(GltfLoader, ReadsCamerasAndPunctualLights) {
+  SceneDescription s = load(goodFile("features.gltf"));
+  ASSERT_EQ(s.cameras.size(), 2u);
+  const CameraDesc& p = s.cameras[0];
+  EXPECT_EQ(p.name, "Persp");
+  EXPECT_EQ(p.type, CameraType::Perspective);
+  EXPECT_FLOAT_EQ(p.yfov, 0.5f);
+  EXPECT_FLOAT_EQ(p.aspectRatio, 1.5f);
+  EXPECT_FLOAT_EQ(p.znear, 0.1f);
+  EXPECT_FLOAT_EQ(p.zfar, 100.0f);
+  expectNear(p.worldFromCamera.point({0, 0, 0}), {0, 0, 5});
+  EXPECT_EQ(p.where.pointer, "/cameras/0");
+  const CameraDesc& o = s.cameras[1];
+  EXPECT_EQ(o.name, "OrthoNode");  // unnamed camera: the node's name
+  EXPECT_EQ(o.type, CameraType::Orthographic);
+  EXPECT_FLOAT_EQ(o.xmag, 2.0f);
+  EXPECT_FLOAT_EQ(o.ymag, 1.0f);
+  EXPECT_FLOAT_EQ(o.zfar, 50.0f);
+
+  ASSERT_EQ(s.lights.size(), 3u);
+  const LightDesc& point = s.lights[0];
+  EXPECT_EQ(point.type, LightType::Point);
+  EXPECT_EQ(point.name, "PointNode");
+  expectNear(point.color, {1, 0.5f, 0.25f});
+  EXPECT_FLOAT_EQ(point.intensity, 20.0f);
+  EXPECT_FLOAT_EQ(point.range, 10.0f);
+  expectNear(point.worldFromLight.point({0, 0, 0}), {0, 3, 0});
+  const LightDesc& spot = s.lights[1];
+  EXPECT_EQ(spot.type, LightType::Spot);
+  EXPECT_EQ(spot.name, "Spot");
+  EXPECT_FLOAT_EQ(spot.innerConeAngle, 0.1f);
+  EXPECT_FLOAT_EQ(spot.outerConeAngle, 0.5f);
+  const LightDesc& sun = s.lights[2];
+  EXPECT_EQ(sun.type, LightType::Directional);
+  EXPECT_EQ(sun.name, "light 2");  // neither the light nor its node is named
+  EXPECT_FLOAT_EQ(sun.range, 0.0f);
+  expectNear(sun.worldFromLight.point({0, 0, 0}), {1, 2, 3});  // node matrix translation
+  EXPECT_EQ(sun.where.pointer, "/extensions/KHR_lights_punctual/lights/2");
+}
+
+TEST(GltfLoader, ReadsMaterialsTexturesSamplersAndImages) {
+  SceneDescription s = load(goodFile("features.gltf"));
+  ASSERT_EQ(s.materials.size(), 2u);
+  const MaterialDesc& m = s.materials[0];
+  EXPECT_EQ(m.name, "Glowing");
+  expectNear(m.baseColor, {0.5f, 0.25f, 1});
+  EXPECT_FLOAT_EQ(m.opacity, 0.75f);
+  EXPECT_EQ(m.baseColorTexture, 0);
+  EXPECT_FLOAT_EQ(m.metallic, 0.25f);
+  EXPECT_FLOAT_EQ(m.roughness, 0.5f);
+  expectNear(m.emissive, {4, 2, 0});  // emissiveFactor x emissiveStrength 4
+  EXPECT_EQ(m.emissiveTexture, 1);
+  EXPECT_TRUE(m.doubleSided);
+  EXPECT_EQ(s.meshes[0].material, 0);
+  EXPECT_EQ(s.meshes[1].material, 1);
+  const MaterialDesc& d = s.materials[1];  // "{}": glTF defaults
+  expectNear(d.baseColor, {1, 1, 1});
+  EXPECT_EQ(d.metallic, 1.0f);
+  EXPECT_EQ(d.roughness, 1.0f);
+  EXPECT_EQ(d.baseColorTexture, -1);
+  EXPECT_FALSE(d.doubleSided);
+
+  ASSERT_EQ(s.textures.size(), 2u);
+  EXPECT_TRUE(s.textures[0].nearest);
+  EXPECT_EQ(s.textures[0].wrapS, WrapMode::ClampToEdge);
+  EXPECT_EQ(s.textures[0].wrapT, WrapMode::MirroredRepeat);
+  EXPECT_EQ(s.textures[1].wrapS, WrapMode::Repeat);  // no sampler
+  EXPECT_FALSE(s.textures[1].nearest);
+  EXPECT_EQ(s.textures[1].image, 1);
+
+  ASSERT_EQ(s.images.size(), 2u);
+  const ImageDesc& rgb8 = s.images[0];  // 2x2 RGB, 8 bits, from a data URI
+  EXPECT_EQ(rgb8.width, 2);
+  EXPECT_EQ(rgb8.height, 2);
+  EXPECT_EQ(rgb8.channels, 3);
+  EXPECT_EQ(rgb8.pixels, (std::vector<float>{1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 1}));
+  EXPECT_EQ(rgb8.name, "image 0");
+  const ImageDesc& gray16 = s.images[1];  // 2x1 grey, 16 bits, from a bufferView
+  EXPECT_EQ(gray16.width, 2);
+  EXPECT_EQ(gray16.height, 1);
+  EXPECT_EQ(gray16.channels, 1);
+  EXPECT_EQ(gray16.pixels, (std::vector<float>{0, 1}));
+}
+
+TEST(GltfLoader, WarnsAboutSkippedPrimitivesAndOtherTexCoordSets) {
+  SceneDescription s = load(goodFile("features.gltf"));
+  ASSERT_EQ(s.warnings.size(), 2u);
+  std::string all = s.warnings[0] + "\n" + s.warnings[1];
+  EXPECT_NE(all.find("/materials/0/pbrMetallicRoughness/baseColorTexture/texCoord: texCoord 1"),
+            std::string::npos)
+      << all;
+  EXPECT_NE(all.find("/meshes/0/primitives/1: POINTS primitive skipped"), std::string::npos)
+      << all;
+}
+
+TEST(GltfLoader, LoadsAllRootNodesWhenThereAreNoScenes) {
+  for (const char* name : {"no_scenes.gltf", "no_scenes.glb"}) {
+    SCOPED_TRACE(name);
+    SceneDescription s = load(goodFile(name));
+    EXPECT_EQ(s.meshes.size(), 1u);
+    EXPECT_EQ(s.instances.size(), 3u);  // roots 0 and 1, and node 2 under node 0
+    expectBounds(s, {0, 0, -1}, {1, 1, 1});
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Malformed inputs (tests/data/bad, see its README.md)
+// ---------------------------------------------------------------------------------------------
+
+std::string badFile(const std::string& name) { return test::dataDir() + "/bad/" + name; }
+
+// Loads `file`, expecting a SceneError at `pointer` of `file` whose message contains `phrase`.
+void expectError(const std::string& file, const std::string& pointer, const std::string& phrase,
+                 const std::string& reportedFile = "") {
+  SceneDescription scene;
+  try {
+    loadGltf(file, &scene);
+    ADD_FAILURE() << file << " loaded without error";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.where().file, reportedFile.empty() ? file : reportedFile) << e.what();
+    EXPECT_EQ(e.where().pointer, pointer) << e.what();
+    EXPECT_NE(e.message().find(phrase), std::string::npos)
+        << "message '" << e.message() << "' lacks '" << phrase << "'";
+  }
+}
+
+TEST(GltfBadInput, MissingFileIsRejected) {
+  expectError(badFile("does_not_exist.gltf"), "", "cannot open file");
+}
+
+TEST(GltfBadInput, TruncatedGlbIsRejected) {
+  // make_bad_inputs.py cuts a 592-byte GLB to 100 bytes.
+  expectError(badFile("truncated.glb"), "", "truncated GLB: header says 592 bytes, file has 100");
+}
+
+TEST(GltfBadInput, AccessorOutOfBoundsIsRejected) {
+  expectError(badFile("accessor_out_of_bounds.gltf"), "/accessors/1",
+              "needs bytes 0..48 but bufferView 1 has only 36 bytes");
+}
+
+TEST(GltfBadInput, BufferViewOutOfBoundsIsRejected) {
+  expectError(badFile("buffer_view_out_of_bounds.gltf"), "/bufferViews/1",
+              "bytes 8..56 lie outside buffer 0 (44 bytes)");
+}
+
+TEST(GltfBadInput, MissingBinIsRejected) {
+  expectError(badFile("missing_bin.gltf"), "/buffers/0/uri", "cannot read 'missing_bin.bin'");
+}
+
+TEST(GltfBadInput, ShortBinIsRejected) {
+  expectError(badFile("bin_too_short.gltf"), "/buffers/0/byteLength",
+              "byteLength is 44 but 'bin_too_short.bin' has 40 bytes");
+}
+
+TEST(GltfBadInput, IndexOutOfRangeIsRejected) {
+  expectError(badFile("index_out_of_range.gltf"), "/meshes/0/primitives/0/indices",
+              "index 57 out of range (3 vertices)");
+}
+
+TEST(GltfBadInput, NanPositionsAreRejected) {
+  expectError(badFile("nan_positions.gltf"), "/accessors/1", "position 2 is not finite");
+}
+
+TEST(GltfBadInput, InfPositionsAreRejected) {
+  expectError(badFile("inf_positions.gltf"), "/accessors/1", "position 1 is not finite");
+}
+
+TEST(GltfBadInput, ZeroLengthNormalsAreRejected) {
+  expectError(badFile("zero_length_normals.gltf"), "/accessors/2", "normal 2 has zero length");
+}
+
+TEST(GltfBadInput, CameraZnearNotBelowZfarIsRejected) {
+  expectError(badFile("camera_znear_ge_zfar.gltf"), "/cameras/0/perspective/zfar",
+              "must be greater than znear");
+}
+
+TEST(GltfBadInput, BufferUriOutsideSceneFolderIsRejected) {
+  expectError(badFile("buffer_uri_outside_folder.gltf"), "/buffers/0/uri",
+              "'../outside.bin' leaves the scene folder");
+}
+
+TEST(GltfBadInput, AbsoluteBufferUriIsRejected) {
+  expectError(badFile("absolute_uri.gltf"), "/buffers/0/uri",
+              "'/etc/hostname' leaves the scene folder");
+}
+
+TEST(GltfBadInput, JsonSyntaxErrorReportsLineAndColumn) {
+  // The second node object on line 5 starts at column 5 without a comma before it.
+  std::string file = badFile("json_syntax_error.gltf");
+  expectError(file, "", "JSON syntax error", file + ":5:5");
+}
+
+TEST(GltfBadInput, WrongTypeIsRejected) {
+  expectError(badFile("wrong_type.gltf"), "/accessors/1/count",
+              "expected a non-negative integer, got string \"three\"");
+}
+
+TEST(GltfBadInput, UnsupportedRequiredExtensionIsRejected) {
+  expectError(badFile("unsupported_required_extension.gltf"), "/extensionsRequired/0",
+              "unsupported extension 'KHR_draco_mesh_compression'");
+}
+
+TEST(GltfBadInput, NodeCycleIsRejected) {
+  expectError(badFile("node_cycle.gltf"), "/nodes/1/children/0",
+              "node 0 is an ancestor of node 1 (cycle in the node graph)");
+}
+
+TEST(GltfBadInput, SingularNodeMatrixIsRejected) {
+  expectError(badFile("singular_matrix.gltf"), "/nodes/0/matrix", "matrix is not invertible");
+}
+
+TEST(GltfBadInput, MaterialIndexOutOfRangeIsRejected) {
+  expectError(badFile("material_index_out_of_range.gltf"), "/meshes/0/primitives/0/material",
+              "material 3 does not exist (0 materials in the file)");
+}
+
+TEST(GltfBadInput, FailedLoadLeavesSceneUntouched) {
+  SceneDescription scene;
+  loadGltf(goodFile("no_scenes.gltf"), &scene);
+  size_t meshes = scene.meshes.size(), instances = scene.instances.size();
+  // The index check runs while meshes are being converted, after instancing has begun.
+  EXPECT_THROW(loadGltf(badFile("index_out_of_range.gltf"), &scene), SceneError);
+  EXPECT_EQ(scene.meshes.size(), meshes);
+  EXPECT_EQ(scene.instances.size(), instances);
+  EXPECT_TRUE(scene.warnings.empty());
+}
+
+}  // namespace
+}  // namespace glint
