@@ -65,12 +65,13 @@ struct Fixture {
 
     // Same sample addressing, filter and camera as renderer/render.cpp.
     PixelFilter filter(desc.render.filter);
+
     rays.resize(size_t(kWidth) * kHeight * kSpp);
     tbb::parallel_for(0, kHeight, [&](int y) {
       for (int x = 0; x < kWidth; ++x) {
         size_t pixel = size_t(y) * kWidth + size_t(x);
         for (int s = 0; s < kSpp; ++s) {
-          Sampler sampler(pixel, uint32_t(s), kSpp, desc.render.seed);
+          Sampler sampler(pixelSampleKey(desc.render.seed, pixel), uint32_t(s));
           Vec2f o = filter.sampleOffset(sampler.get2D());
           rays[pixel * kSpp + size_t(s)] =
               scene.camera.generateRay({float(x) + 0.5f + o.x, float(y) + 0.5f + o.y}, 0);

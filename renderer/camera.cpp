@@ -14,6 +14,9 @@ Camera Camera::perspective(const Transform& worldFromCamera, float yfov, int wid
   c.halfHeight_ = std::tan(yfov / 2);
   c.halfWidth_ = c.halfHeight_ * float(width) / float(height);
   c.znear_ = znear, c.zfar_ = zfar;
+  c.filmToScreenX_ = 2.0f / float(width), c.filmToScreenY_ = 2.0f / float(height);
+  c.origin_ = worldFromCamera.point({0, 0, 0});
+  c.forward_ = normalize(worldFromCamera.vector({0, 0, -1}));
   return c;
 }
 
@@ -26,25 +29,29 @@ Camera Camera::orthographic(const Transform& worldFromCamera, float ymag, int wi
   c.halfHeight_ = ymag;
   c.halfWidth_ = ymag * float(width) / float(height);
   c.znear_ = znear, c.zfar_ = zfar;
+  c.filmToScreenX_ = 2.0f / float(width), c.filmToScreenY_ = 2.0f / float(height);
+  c.origin_ = worldFromCamera.point({0, 0, 0});
+  c.forward_ = normalize(worldFromCamera.vector({0, 0, -1}));
   return c;
 }
 
 Ray Camera::generateRay(Vec2f pFilm, float time) const {
-  float sx = (2 * pFilm.x / float(width_) - 1) * halfWidth_;
-  float sy = (1 - 2 * pFilm.y / float(height_)) * halfHeight_;
+  float sx = (pFilm.x * filmToScreenX_ - 1) * halfWidth_;
+  float sy = (1 - pFilm.y * filmToScreenY_) * halfHeight_;
   Ray r;
   r.time = time;
   if (projection_ == Projection::Perspective) {
-    Vec3f d = normalize(Vec3f{sx, sy, -1});
-    float invDepth = 1 / -d.z;  // distance along the ray per unit of view depth
-    r.o = worldFromCamera_.point({0, 0, 0});
-    r.d = normalize(worldFromCamera_.vector(d));
-    // Any scale in the camera transform is removed by normalizing; depths are in world units.
-    r.tMin = znear_ * invDepth;
-    r.tMax = std::isinf(zfar_) ? kInfinity : zfar_ * invDepth;
+    // The direction through the film point at view depth 1; its world length converts view
+    // depth to distance along the unit ray (znear/zfar are depths in camera space).
+    Vec3f d = worldFromCamera_.vector({sx, sy, -1});
+    float len = length(d);
+    r.o = origin_;
+    r.d = d / len;
+    r.tMin = znear_ * len;
+    r.tMax = std::isinf(zfar_) ? kInfinity : zfar_ * len;
   } else {
     r.o = worldFromCamera_.point({sx, sy, 0});
-    r.d = normalize(worldFromCamera_.vector({0, 0, -1}));
+    r.d = forward_;
     r.tMin = znear_;
     r.tMax = zfar_;
   }

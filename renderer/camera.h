@@ -24,8 +24,8 @@ class Camera {
   Ray generateRay(Vec2f pFilm, float time) const;
 
   Projection projection() const { return projection_; }
-  Vec3f position() const { return worldFromCamera_.point({0, 0, 0}); }
-  Vec3f forward() const { return normalize(worldFromCamera_.vector({0, 0, -1})); }
+  Vec3f position() const { return origin_; }
+  Vec3f forward() const { return forward_; }
   const Transform& worldFromCamera() const { return worldFromCamera_; }
   int width() const { return width_; }
   int height() const { return height_; }
@@ -36,6 +36,8 @@ class Camera {
   int width_ = 0, height_ = 0;
   float halfHeight_ = 1, halfWidth_ = 1;  // film half extents at distance 1 (or world, ortho)
   float znear_ = 0, zfar_ = kInfinity;
+  float filmToScreenX_ = 1, filmToScreenY_ = 1;  // 2 / width, 2 / height
+  Vec3f origin_, forward_{0, 0, -1};  // world-space eye point and view direction
 };
 
 }  // namespace glint

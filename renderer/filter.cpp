@@ -8,7 +8,10 @@
 namespace glint {
 
 namespace {
-constexpr int kGaussianTableSize = 256;
+// The Gaussian's CDF is tabulated finely, then inverted onto a table indexed by u, so a sample
+// costs one lookup and a lerp (no search: this runs twice per camera sample).
+constexpr int kCdfSize = 4096;
+constexpr int kInverseSize = 1024;
 }
 
 PixelFilter::PixelFilter(const FilterSettings& s) : radius_(s.radius) {
@@ -21,19 +24,25 @@ PixelFilter::PixelFilter(const FilterSettings& s) : radius_(s.radius) {
   } else if (s.type == "gaussian") {
     kind_ = Kind::Gaussian;
     // Gaussian with sigma = radius / 3, minus its value at the radius so it reaches zero there
-    // (as pbrt does); tabulated CDF, inverted by linear interpolation.
+    // (as pbrt does).
     double sigma = radius_ / 3.0;
     auto g = [&](double x) { return std::exp(-x * x / (2 * sigma * sigma)); };
     double edge = g(radius_);
-    cdf_.resize(kGaussianTableSize + 1);
-    cdf_[0] = 0;
-    double sum = 0;
-    for (int i = 0; i < kGaussianTableSize; ++i) {
-      double x = -radius_ + (i + 0.5) * 2.0 * radius_ / kGaussianTableSize;
-      sum += std::max(0.0, g(x) - edge);
-      cdf_[size_t(i) + 1] = float(sum);
+    std::vector<double> cdf(kCdfSize + 1, 0.0);
+    for (int i = 0; i < kCdfSize; ++i) {
+      double x = -radius_ + (i + 0.5) * 2.0 * radius_ / kCdfSize;
+      cdf[size_t(i) + 1] = cdf[size_t(i)] + std::max(0.0, g(x) - edge);
     }
-    for (float& c : cdf_) c = float(c / sum);
+    for (double& c : cdf) c /= cdf.back();
+    inverseCdf_.resize(kInverseSize + 1);
+    size_t k = 0;
+    for (int i = 0; i <= kInverseSize; ++i) {
+      double u = double(i) / kInverseSize;
+      while (k + 1 < size_t(kCdfSize) && cdf[k + 1] < u) ++k;
+      double c0 = cdf[k], c1 = cdf[k + 1];
+      double t = c1 > c0 ? std::clamp((u - c0) / (c1 - c0), 0.0, 1.0) : 0.5;
+      inverseCdf_[size_t(i)] = float((2 * (double(k) + t) / kCdfSize - 1) * radius_);
+    }
   } else {
     throw std::invalid_argument("unknown filter '" + s.type + "' (box, tent, gaussian)");
   }
@@ -46,12 +55,10 @@ float PixelFilter::sample1D(float u) const {
       return u < 0.5f ? radius_ * (std::sqrt(2 * u) - 1) : radius_ * (1 - std::sqrt(2 - 2 * u));
     case Kind::Gaussian:
     default: {
-      auto it = std::upper_bound(cdf_.begin(), cdf_.end(), u);
-      size_t i = size_t(std::clamp<std::ptrdiff_t>(it - cdf_.begin() - 1, 0, kGaussianTableSize - 1));
-      float c0 = cdf_[i], c1 = cdf_[i + 1];
-      float t = c1 > c0 ? (u - c0) / (c1 - c0) : 0.5f;
-      float x = (float(i) + t) / kGaussianTableSize;  // in [0, 1]
-      return (2 * x - 1) * radius_;
+      float x = u * kInverseSize;
+      int i = std::min(int(x), kInverseSize - 1);
+      float t = x - float(i);
+      return inverseCdf_[size_t(i)] + t * (inverseCdf_[size_t(i) + 1] - inverseCdf_[size_t(i)]);
     }
   }
 }

@@ -25,7 +25,7 @@ class PixelFilter {
   float sample1D(float u) const;
   enum class Kind { Box, Tent, Gaussian } kind_;
   float radius_;
-  std::vector<float> cdf_;  // Gaussian: tabulated CDF over [-radius, radius]
+  std::vector<float> inverseCdf_;  // Gaussian: x(u) in [-radius, radius] at uniform u steps
 };
 
 }  // namespace glint

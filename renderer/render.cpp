@@ -23,22 +23,24 @@ struct ThreadTally {
   uint64_t nonfinite = 0;
 };
 
-// Running mean and sum of squared deviations (Welford), per channel, in double.
-struct Welford {
-  double n = 0, mean[3] = {0, 0, 0}, m2[3] = {0, 0, 0};
+// Per-pixel sums of radiance and squared radiance, in double: a pixel has at most a few
+// thousand samples of bounded magnitude, so sum/sum-of-squares is accurate here and cheaper
+// than Welford's update (no division per sample).
+struct PixelMoments {
+  double sum[3] = {0, 0, 0}, sumSq[3] = {0, 0, 0};
   void add(Rgb v) {
-    n += 1;
     for (int c = 0; c < 3; ++c) {
-      double d = double(v[c]) - mean[c];
-      mean[c] += d / n;
-      m2[c] += d * (double(v[c]) - mean[c]);
+      sum[c] += v[c];
+      sumSq[c] += double(v[c]) * v[c];
     }
   }
-  Rgb meanRgb() const { return {float(mean[0]), float(mean[1]), float(mean[2])}; }
-  Rgb varianceOfMean() const {
+  Rgb mean(double n) const { return {float(sum[0] / n), float(sum[1] / n), float(sum[2] / n)}; }
+  Rgb varianceOfMean(double n) const {
     if (n < 2) return {};
-    double k = 1.0 / ((n - 1) * n);
-    return {float(m2[0] * k), float(m2[1] * k), float(m2[2] * k)};
+    Rgb v;
+    for (int c = 0; c < 3; ++c)
+      v[c] = float(std::max(0.0, (sumSq[c] - sum[c] * sum[c] / n) / ((n - 1) * n)));
+    return v;
   }
 };
 
@@ -68,11 +70,12 @@ Film render(const RenderScene& scene, const Integrator& integrator,
     for (int y = y0; y < y1; ++y)
       for (int x = x0; x < x1; ++x) {
         const size_t index = film.index(x, y);
-        Welford acc;
+        const uint64_t pixelKey = pixelSampleKey(settings.seed, index);
+        PixelMoments acc;
         double hits = 0, depth = 0;
         Rgb albedo, normal;
         for (uint32_t s = 0; s < spp; ++s) {
-          Sampler sampler(index, s, spp, settings.seed);
+          Sampler sampler(pixelKey, s);
           Vec2f offset = filter.sampleOffset(sampler.get2D());
           Ray ray = scene.camera.generateRay({float(x) + 0.5f + offset.x,
                                               float(y) + 0.5f + offset.y}, 0.0f);
@@ -93,8 +96,8 @@ Film render(const RenderScene& scene, const Integrator& integrator,
             }
           }
         }
-        film.color[index] = acc.meanRgb();
-        film.variance[index] = acc.varianceOfMean();
+        film.color[index] = acc.mean(spp);
+        film.variance[index] = acc.varianceOfMean(spp);
         film.alpha[index] = float(hits / spp);
         if (aovs) {
           film.albedo[index] = albedo / float(spp);

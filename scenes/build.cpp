@@ -30,17 +30,30 @@ const CameraDesc* selectCamera(const SceneDescription& desc) {
                        (known.empty() ? " (the scene has no cameras)" : " (cameras: " + known + ")"));
 }
 
-// A perspective camera that frames the scene bounds, looking from the front and a little above.
-CameraDesc framingCamera(const Bounds3f& bounds) {
+// A perspective camera that frames the scene bounds for an image of the given aspect, looking
+// from the front and a little above: the eight corners of the bounds fit the view with a 5%
+// margin, so the scene fills the frame rather than its bounding sphere.
+CameraDesc framingCamera(const Bounds3f& bounds, float aspect) {
   CameraDesc c;
   c.name = "default";
   c.yfov = 40.0f * kPi / 180.0f;
   Vec3f center = bounds.empty() ? Vec3f{} : bounds.center();
-  float radius = bounds.empty() ? 1.0f : 0.5f * length(bounds.diagonal());
-  if (!(radius > 0)) radius = 1;
-  float dist = radius / std::sin(c.yfov / 2) * 1.1f;
-  Vec3f eye = center + normalize(Vec3f{0.35f, 0.45f, 1.0f}) * dist;
-  c.worldFromCamera = Transform::lookAt(eye, center, {0, 1, 0});
+  Vec3f back = normalize(Vec3f{0.35f, 0.45f, 1.0f});  // from the target towards the eye
+  Transform orient = Transform::lookAt(back, {0, 0, 0}, {0, 1, 0});
+  Vec3f right = orient.vector({1, 0, 0}), up = orient.vector({0, 1, 0});
+  float tanY = std::tan(c.yfov / 2) / 1.05f, tanX = tanY * aspect;
+  float dist = 0;
+  if (!bounds.empty())
+    for (int i = 0; i < 8; ++i) {
+      Vec3f corner{(i & 1) ? bounds.upper.x : bounds.lower.x,
+                   (i & 2) ? bounds.upper.y : bounds.lower.y,
+                   (i & 4) ? bounds.upper.z : bounds.lower.z};
+      Vec3f r = corner - center;
+      float z = dot(r, back);  // towards the eye
+      dist = std::max({dist, z + std::abs(dot(r, right)) / tanX, z + std::abs(dot(r, up)) / tanY});
+    }
+  if (!(dist > 0)) dist = 1;
+  c.worldFromCamera = Transform::lookAt(center + back * dist, center, {0, 1, 0});
   c.znear = 0;
   return c;
 }
@@ -203,13 +216,13 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
 
   // --- Camera and image size.
   const CameraDesc* selected = selectCamera(desc);
-  CameraDesc framing;
-  if (!selected) {
-    framing = framingCamera(scene.geometry.bounds());
-    selected = &framing;
-  }
   int width = 0, height = 0;
   resolveImageSize(desc, selected, &width, &height);
+  CameraDesc framing;
+  if (!selected) {
+    framing = framingCamera(scene.geometry.bounds(), float(width) / float(height));
+    selected = &framing;
+  }
   scene.cameraName = selected->name;
   if (selected->type == CameraType::Perspective)
     scene.camera = Camera::perspective(selected->worldFromCamera, selected->yfov, width, height,

@@ -670,14 +670,7 @@ void loadGltf(const std::string& path, SceneDescription* scene, const Transform&
 
   GlbChunks glb;
   if (binary) glb = parseGlb(bytes, path);
-  nlohmann::json json;
-  try {
-    json = parseJson(binary ? glb.json : bytes, path);
-  } catch (const nlohmann::json::out_of_range& e) {
-    // parseJson turns syntax errors into SceneErrors; a number too large for a double
-    // ("1e999") arrives as out_of_range instead.
-    throw SceneError({path, ""}, std::string("JSON number out of range: ") + e.what());
-  }
+  nlohmann::json json = parseJson(binary ? glb.json : bytes, path);
   Document doc = gltf::readDocument(json, path);
 
   std::error_code ec;

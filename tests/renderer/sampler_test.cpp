@@ -1,4 +1,4 @@
-// Tests for addressed sampling: determinism, ranges, stratification.
+// Tests for addressed sampling: determinism, ranges, (0,2)-net stratification, uniformity.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,7 +10,8 @@ namespace glint {
 namespace {
 
 TEST(Sampler, SameAddressGivesSameValues) {
-  Sampler a(1234, 7, 16, 99), b(1234, 7, 16, 99);
+  uint64_t key = pixelSampleKey(99, 1234);
+  Sampler a(key, 7), b(key, 7);
   for (int i = 0; i < 10; ++i) {
     EXPECT_EQ(a.get1D(), b.get1D());
     Vec2f pa = a.get2D(), pb = b.get2D();
@@ -21,7 +22,7 @@ TEST(Sampler, SameAddressGivesSameValues) {
 
 TEST(Sampler, SeedPixelAndSampleChangeTheValues) {
   auto first = [](uint64_t px, uint32_t s, uint64_t seed) {
-    Sampler smp(px, s, 16, seed);
+    Sampler smp(pixelSampleKey(seed, px), s);
     return smp.get2D();
   };
   Vec2f base = first(10, 3, 0);
@@ -30,55 +31,57 @@ TEST(Sampler, SeedPixelAndSampleChangeTheValues) {
   EXPECT_NE(base.x, first(10, 3, 1).x);
 }
 
-TEST(Sampler, PermuteIndexIsAPermutation) {
-  for (uint32_t n : {1u, 2u, 3u, 7u, 16u, 100u, 1000u}) {
-    for (uint32_t pattern : {0u, 1u, 0xdeadbeefu}) {
-      std::set<uint32_t> seen;
-      for (uint32_t i = 0; i < n; ++i) {
-        uint32_t p = permuteIndex(i, n, pattern);
-        ASSERT_LT(p, n);
-        seen.insert(p);
-      }
-      EXPECT_EQ(seen.size(), n);
-    }
+TEST(Sampler, SobolSecondDimensionMatchesTheBitLoop) {
+  for (uint32_t i : {0u, 1u, 2u, 3u, 77u, 1000u, 65535u, 0x12345678u, 0xffffffffu}) {
+    uint32_t r = 0, idx = i;
+    for (uint32_t v = 1u << 31; idx; idx >>= 1, v ^= v >> 1)
+      if (idx & 1) r ^= v;
+    EXPECT_EQ(sobolSecondDimension(i), r) << i;
   }
 }
 
-// Correlated multi-jittered samples are stratified in y (each of the n intervals
-// [k/n, (k+1)/n) holds exactly one sample) and in x over the m*k >= n columns of its grid
-// (at most one sample each; exactly one when n is m*k, e.g. a square), for any n.
-TEST(Sampler, TwoDimensionalSamplesAreStratifiedForAnyCount) {
-  for (uint32_t n : {1u, 2u, 5u, 16u, 17u, 64u, 100u}) {
+TEST(Sampler, OwenScrambleIsABijectionOnLowBits) {
+  // Scrambling the top 8 bits of 256 distinct fractions gives 256 distinct results.
+  std::set<uint32_t> seen;
+  for (uint32_t i = 0; i < 256; ++i) seen.insert(owenScramble(i << 24, 0xabcdef) >> 24);
+  EXPECT_EQ(seen.size(), 256u);
+}
+
+// For n = 2^b samples, every elementary interval of area 1/n (2^i x 2^(b-i) cells) holds
+// exactly one sample, in every dimension pair and every pixel: a (0,2)-net.
+TEST(Sampler, PowerOfTwoSampleCountsFormZeroTwoNets) {
+  for (uint32_t b : {0u, 2u, 4u, 6u}) {
+    const uint32_t n = 1u << b;
     for (uint64_t pixel : {0ull, 77ull, 123456ull}) {
-      uint32_t m = uint32_t(std::sqrt(double(n))), cols = m * ((n + m - 1) / m);
-      std::vector<int> xs(cols, 0), ys(n, 0);
-      for (uint32_t s = 0; s < n; ++s) {
-        Sampler smp(pixel, s, n, 5);
-        smp.get1D();  // a 1D dimension first, to exercise the dimension counter
-        Vec2f p = smp.get2D();
-        ASSERT_GE(p.x, 0.0f);
-        ASSERT_LT(p.x, 1.0f);
-        ASSERT_GE(p.y, 0.0f);
-        ASSERT_LT(p.y, 1.0f);
-        xs[std::min(cols - 1, uint32_t(p.x * float(cols)))]++;
-        ys[std::min(n - 1, uint32_t(p.y * float(n)))]++;
+      for (int pair = 0; pair < 3; ++pair) {
+        std::vector<Vec2f> pts;
+        for (uint32_t s = 0; s < n; ++s) {
+          Sampler smp(pixelSampleKey(5, pixel), s);
+          Vec2f p;
+          for (int k = 0; k <= pair; ++k) p = smp.get2D();
+          ASSERT_GE(p.x, 0.0f);
+          ASSERT_LT(p.x, 1.0f);
+          ASSERT_GE(p.y, 0.0f);
+          ASSERT_LT(p.y, 1.0f);
+          pts.push_back(p);
+        }
+        for (uint32_t i = 0; i <= b; ++i) {
+          uint32_t cx = 1u << i, cy = 1u << (b - i);
+          std::vector<int> cells(n, 0);
+          for (Vec2f p : pts) cells[uint32_t(p.y * cy) * cx + uint32_t(p.x * cx)]++;
+          for (uint32_t c = 0; c < n; ++c)
+            EXPECT_EQ(cells[c], 1) << "n=" << n << " pair " << pair << " shape " << cx << "x" << cy;
+        }
       }
-      for (uint32_t k = 0; k < cols; ++k) {
-        if (cols == n)
-          EXPECT_EQ(xs[k], 1) << "n=" << n << " x column " << k;
-        else
-          EXPECT_LE(xs[k], 1) << "n=" << n << " x column " << k;
-      }
-      for (uint32_t k = 0; k < n; ++k) EXPECT_EQ(ys[k], 1) << "n=" << n << " y stratum " << k;
     }
   }
 }
 
-TEST(Sampler, OneDimensionalSamplesAreStratified) {
-  const uint32_t n = 37;
+TEST(Sampler, OneDimensionalSamplesAreStratifiedForPowersOfTwo) {
+  const uint32_t n = 32;
   std::vector<int> strata(n, 0);
   for (uint32_t s = 0; s < n; ++s) {
-    Sampler smp(9, s, n, 0);
+    Sampler smp(pixelSampleKey(0, 9), s);
     float v = smp.get1D();
     ASSERT_GE(v, 0.0f);
     ASSERT_LT(v, 1.0f);
@@ -87,12 +90,26 @@ TEST(Sampler, OneDimensionalSamplesAreStratified) {
   for (uint32_t k = 0; k < n; ++k) EXPECT_EQ(strata[k], 1);
 }
 
+TEST(Sampler, DimensionPairsAreDecorrelated) {
+  // Correlation between the x of the first and the x of the second pair over many samples.
+  double sa = 0, sb = 0, sab = 0, saa = 0, sbb = 0;
+  const int n = 4096;
+  for (int s = 0; s < n; ++s) {
+    Sampler smp(pixelSampleKey(1, 3), uint32_t(s));
+    double a = smp.get2D().x, b = smp.get2D().x;
+    sa += a, sb += b, sab += a * b, saa += a * a, sbb += b * b;
+  }
+  double cov = sab / n - sa / n * sb / n;
+  double corr = cov / std::sqrt((saa / n - sa * sa / n / n) * (sbb / n - sb * sb / n / n));
+  EXPECT_LT(std::abs(corr), 0.05);
+}
+
 TEST(Sampler, ValuesAreUniformAcrossPixels) {
   // Mean and variance of many independent pixels' first sample match U(0,1).
   double sum = 0, sum2 = 0;
   const int count = 100000;
   for (int i = 0; i < count; ++i) {
-    Sampler smp(uint64_t(i), 0, 1, 3);
+    Sampler smp(pixelSampleKey(3, uint64_t(i)), 0);
     double v = smp.get1D();
     sum += v, sum2 += v * v;
   }
