@@ -276,8 +276,9 @@ void readAccessors(const Object& root, Document* doc) {
           Object::sizeValue(io.raw("componentType"), io.at("componentType")), 1u << 30));
       if (s.indicesComponentType != kUnsignedByte && s.indicesComponentType != kUnsignedShort &&
           s.indicesComponentType != kUnsignedInt)
-        throw SceneError(io.at("componentType"), "sparse indices must be UNSIGNED_BYTE, "
-                                                 "UNSIGNED_SHORT or UNSIGNED_INT");
+        throw SceneError(io.at("componentType"),
+                         "sparse indices must be UNSIGNED_BYTE, "
+                         "UNSIGNED_SHORT or UNSIGNED_INT");
       size_t indexSize = componentSize(s.indicesComponentType);
       checkRange(*doc, s.indicesView, s.indicesOffset, indexSize, s.count, indexSize, io.where(),
                  "sparse indices");
@@ -316,10 +317,14 @@ void readImages(const Object& root, Document* doc) {
 WrapMode wrapMode(const Object& o, const std::string& key) {
   size_t v = o.size(key, 10497);
   switch (v) {
-    case 10497: return WrapMode::Repeat;
-    case 33071: return WrapMode::ClampToEdge;
-    case 33648: return WrapMode::MirroredRepeat;
-    default: throw SceneError(o.at(key), "unknown wrap mode " + std::to_string(v));
+    case 10497:
+      return WrapMode::Repeat;
+    case 33071:
+      return WrapMode::ClampToEdge;
+    case 33648:
+      return WrapMode::MirroredRepeat;
+    default:
+      throw SceneError(o.at(key), "unknown wrap mode " + std::to_string(v));
   }
 }
 
@@ -344,8 +349,9 @@ void readTextures(const Object& root, Document* doc) {
     t.sampler = o.index("sampler", doc->samplers.size(), "sampler");
     t.source = o.index("source", doc->images.size(), "image");
     if (t.source < 0)
-      throw SceneError(t.where, "no 'source' image (textures that only an extension defines are "
-                                "not supported)");
+      throw SceneError(t.where,
+                       "no 'source' image (textures that only an extension defines are "
+                       "not supported)");
     doc->textures.push_back(t);
   }
 }
@@ -437,7 +443,8 @@ void readMeshes(const Object& root, Document* doc) {
       p.indices = po.index("indices", accessors, "accessor");
       p.material = po.index("material", doc->materials.size(), "material");
       size_t mode = po.size("mode", kTriangles);
-      if (mode > kTriangleFan) throw SceneError(po.at("mode"), "unknown mode " + std::to_string(mode));
+      if (mode > kTriangleFan)
+        throw SceneError(po.at("mode"), "unknown mode " + std::to_string(mode));
       p.mode = int(mode);
       if (p.position < 0) throw SceneError(attributes.where(), "missing POSITION");
       mesh.primitives.push_back(p);
@@ -544,8 +551,7 @@ void readLights(const Object& root, Document* doc) {
 Transform nodeTransform(const Object& o) {
   bool trs = o.has("translation") || o.has("rotation") || o.has("scale");
   if (o.has("matrix")) {
-    if (trs)
-      throw SceneError(o.where(), "has both 'matrix' and translation/rotation/scale");
+    if (trs) throw SceneError(o.where(), "has both 'matrix' and translation/rotation/scale");
     auto v = o.numbers("matrix", 16);
     float f[16];
     for (int i = 0; i < 16; ++i) f[i] = float(v[size_t(i)]);
@@ -585,7 +591,8 @@ void readNodes(const Object& root, Document* doc) {
     if (o.has("extensions")) {
       Object ext = o.object("extensions");
       if (ext.has("KHR_lights_punctual"))
-        node.light = ext.object("KHR_lights_punctual").index("light", doc->lights.size(), "light", true);
+        node.light =
+            ext.object("KHR_lights_punctual").index("light", doc->lights.size(), "light", true);
     }
     for (auto& [value, loc] : o.array("children"))
       node.children.push_back(Object::indexValue(*value, loc, n, "node"));
@@ -599,7 +606,9 @@ void readNodes(const Object& root, Document* doc) {
     for (size_t k = 0; k < doc->nodes[i].children.size(); ++k) {
       int c = doc->nodes[i].children[k];
       SourceLocation loc = doc->nodes[i].where.child("children").child(k);
-      if (size_t(c) == i) throw SceneError(loc, "node " + std::to_string(c) + " is its own child (cycle in the node graph)");
+      if (size_t(c) == i)
+        throw SceneError(
+            loc, "node " + std::to_string(c) + " is its own child (cycle in the node graph)");
       if (parent[size_t(c)] >= 0)
         throw SceneError(loc, "node " + std::to_string(c) + " already has parent node " +
                                   std::to_string(parent[size_t(c)]) +
@@ -612,8 +621,9 @@ void readNodes(const Object& root, Document* doc) {
     for (size_t steps = 0; p >= 0 && steps <= n; ++steps) {
       if (size_t(p) == i) {
         const Node& parentNode = doc->nodes[size_t(parent[i])];
-        size_t k = size_t(std::find(parentNode.children.begin(), parentNode.children.end(), int(i)) -
-                          parentNode.children.begin());
+        size_t k =
+            size_t(std::find(parentNode.children.begin(), parentNode.children.end(), int(i)) -
+                   parentNode.children.begin());
         throw SceneError(parentNode.where.child("children").child(k),
                          "node " + std::to_string(i) + " is an ancestor of node " +
                              std::to_string(parent[i]) + " (cycle in the node graph)");
@@ -628,7 +638,8 @@ void readNodes(const Object& root, Document* doc) {
     for (auto& [value, loc] : o.array("nodes")) {
       int node = Object::indexValue(*value, loc, n, "node");
       if (parent[size_t(node)] >= 0)
-        throw SceneError(loc, "node " + std::to_string(node) + " is not a root node (its parent is node " +
+        throw SceneError(loc, "node " + std::to_string(node) +
+                                  " is not a root node (its parent is node " +
                                   std::to_string(parent[size_t(node)]) + ")");
       s.nodes.push_back(node);
     }
@@ -643,7 +654,8 @@ const char* const kSupportedExtensions[] = {"KHR_lights_punctual",
 
 void checkRequiredExtensions(const Object& root) {
   for (auto& [value, loc] : root.array("extensionsRequired")) {
-    if (!value->is_string()) throw SceneError(loc, "expected a string, got " + jsonTypeName(*value));
+    if (!value->is_string())
+      throw SceneError(loc, "expected a string, got " + jsonTypeName(*value));
     std::string name = value->get<std::string>();
     if (std::find(std::begin(kSupportedExtensions), std::end(kSupportedExtensions), name) ==
         std::end(kSupportedExtensions))
@@ -660,22 +672,32 @@ void checkRequiredExtensions(const Object& root) {
 size_t componentSize(int componentType) {
   switch (componentType) {
     case kByte:
-    case kUnsignedByte: return 1;
+    case kUnsignedByte:
+      return 1;
     case kShort:
-    case kUnsignedShort: return 2;
-    default: return 4;
+    case kUnsignedShort:
+      return 2;
+    default:
+      return 4;
   }
 }
 
 std::string componentTypeName(int componentType) {
   switch (componentType) {
-    case kByte: return "BYTE";
-    case kUnsignedByte: return "UNSIGNED_BYTE";
-    case kShort: return "SHORT";
-    case kUnsignedShort: return "UNSIGNED_SHORT";
-    case kUnsignedInt: return "UNSIGNED_INT";
-    case kFloat: return "FLOAT";
-    default: return "componentType " + std::to_string(componentType);
+    case kByte:
+      return "BYTE";
+    case kUnsignedByte:
+      return "UNSIGNED_BYTE";
+    case kShort:
+      return "SHORT";
+    case kUnsignedShort:
+      return "UNSIGNED_SHORT";
+    case kUnsignedInt:
+      return "UNSIGNED_INT";
+    case kFloat:
+      return "FLOAT";
+    default:
+      return "componentType " + std::to_string(componentType);
   }
 }
 
@@ -696,7 +718,8 @@ Document readDocument(const json& rootValue, const std::string& file) {
   asset.require("version");
   std::string version = asset.string("version");
   if (version.rfind("2.", 0) != 0)
-    throw SceneError(asset.at("version"), "unsupported glTF version '" + version + "' (glint reads 2.x)");
+    throw SceneError(asset.at("version"),
+                     "unsupported glTF version '" + version + "' (glint reads 2.x)");
   checkRequiredExtensions(root);
   readBuffers(root, &doc);
   readBufferViews(root, &doc);

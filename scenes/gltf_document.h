@@ -55,7 +55,7 @@ struct Accessor {
 };
 
 struct Image {
-  std::string uri;      // empty when stored in a bufferView
+  std::string uri;  // empty when stored in a bufferView
   int bufferView = -1;
   SourceLocation where;
 };

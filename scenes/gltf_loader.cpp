@@ -32,9 +32,9 @@ namespace {
 // GLB container
 // ---------------------------------------------------------------------------------------------
 
-constexpr uint32_t kGlbMagic = 0x46546C67;      // "glTF"
-constexpr uint32_t kChunkJson = 0x4E4F534A;     // "JSON"
-constexpr uint32_t kChunkBin = 0x004E4942;      // "BIN\0"
+constexpr uint32_t kGlbMagic = 0x46546C67;   // "glTF"
+constexpr uint32_t kChunkJson = 0x4E4F534A;  // "JSON"
+constexpr uint32_t kChunkBin = 0x004E4942;   // "BIN\0"
 
 uint32_t readU32(const std::string& bytes, size_t offset) {
   uint32_t v;
@@ -63,8 +63,8 @@ GlbChunks parseGlb(const std::string& bytes, const std::string& file) {
     throw SceneError(where, "not a binary glTF file (the first 4 bytes are not 'glTF')");
   uint32_t version = readU32(bytes, 4), length = readU32(bytes, 8);
   if (version != 2)
-    throw SceneError(where, "unsupported GLB version " + std::to_string(version) +
-                                " (glint reads version 2)");
+    throw SceneError(
+        where, "unsupported GLB version " + std::to_string(version) + " (glint reads version 2)");
   if (length > size)
     throw SceneError(where, "truncated GLB: header says " + std::to_string(length) +
                                 " bytes, file has " + std::to_string(size));
@@ -85,12 +85,12 @@ GlbChunks parseGlb(const std::string& bytes, const std::string& file) {
   // Chunks start on 4-byte boundaries; unknown chunk types are skipped, as glTF requires.
   while (offset < length) {
     if (length - offset < 8)
-      throw SceneError(where, "truncated GLB: incomplete chunk header at byte " +
-                                  std::to_string(offset));
+      throw SceneError(where,
+                       "truncated GLB: incomplete chunk header at byte " + std::to_string(offset));
     uint32_t chunkLength = readU32(bytes, offset), chunkType = readU32(bytes, offset + 4);
     if (chunkLength > length - offset - 8)
-      throw SceneError(where, "truncated GLB: chunk at byte " + std::to_string(offset) +
-                                  " says " + std::to_string(chunkLength) + " bytes, only " +
+      throw SceneError(where, "truncated GLB: chunk at byte " + std::to_string(offset) + " says " +
+                                  std::to_string(chunkLength) + " bytes, only " +
                                   std::to_string(length - offset - 8) + " follow");
     if (chunkType == kChunkBin) {
       if (offset != 20 + size_t(jsonLength))
@@ -139,15 +139,17 @@ fs::path resolveUri(const std::string& uri, const fs::path& folder, const Source
   std::string decoded = percentDecode(uri);
   size_t colon = decoded.find(':'), slash = decoded.find('/');
   if (colon != std::string::npos && (slash == std::string::npos || colon < slash))
-    throw SceneError(where, "unsupported URI scheme in '" + uri + "' (only relative paths and "
-                            "data URIs are read)");
+    throw SceneError(where, "unsupported URI scheme in '" + uri +
+                                "' (only relative paths and "
+                                "data URIs are read)");
   fs::path rel(decoded);
   if (rel.is_absolute() || !isInside(canonicalOrSelf(folder / rel), folder))
     throw SceneError(where, "'" + uri + "' leaves the scene folder");
   fs::path path = canonicalOrSelf(folder / rel);
   std::error_code ec;
   std::ifstream probe(path, std::ios::binary);
-  if (!fs::is_regular_file(path, ec) || !probe) throw SceneError(where, "cannot read '" + uri + "'");
+  if (!fs::is_regular_file(path, ec) || !probe)
+    throw SceneError(where, "cannot read '" + uri + "'");
   return path;
 }
 
@@ -161,19 +163,21 @@ void checkSources(const Document& doc, const fs::path& folder, const GlbChunks* 
         throw SceneError(b.where, glb ? "only buffer 0 may refer to the GLB BIN chunk"
                                       : "missing 'uri' (only a .glb file may omit it)");
       if (glb->binSize < b.byteLength)
-        throw SceneError(b.where.child("byteLength"),
-                         "byteLength is " + std::to_string(b.byteLength) +
-                             " but the GLB BIN chunk has " + std::to_string(glb->binSize) + " bytes");
+        throw SceneError(b.where.child("byteLength"), "byteLength is " +
+                                                          std::to_string(b.byteLength) +
+                                                          " but the GLB BIN chunk has " +
+                                                          std::to_string(glb->binSize) + " bytes");
     } else if (isDataUri(b.uri)) {
       std::vector<unsigned char> data;
       std::string mime;
       if (!tinygltf::DecodeDataURI(&data, mime, b.uri, 0, false))
-        throw SceneError(uriLoc, "cannot decode the data URI (base64 with type "
-                                 "application/octet-stream or application/gltf-buffer expected)");
+        throw SceneError(uriLoc,
+                         "cannot decode the data URI (base64 with type "
+                         "application/octet-stream or application/gltf-buffer expected)");
       if (data.size() != b.byteLength)
         throw SceneError(b.where.child("byteLength"),
-                         "byteLength is " + std::to_string(b.byteLength) + " but the data URI holds " +
-                             std::to_string(data.size()) + " bytes");
+                         "byteLength is " + std::to_string(b.byteLength) +
+                             " but the data URI holds " + std::to_string(data.size()) + " bytes");
     } else {
       fs::path path = resolveUri(b.uri, folder, uriLoc);
       std::error_code ec;
@@ -248,8 +252,8 @@ tinygltf::Model decode(const std::string& bytes, bool binary, const fs::path& fo
                        const std::string& file) {
   FolderGuard guard{folder};
   tinygltf::TinyGLTF loader;
-  loader.SetFsCallbacks({&guardedFileExists, &guardedExpandFilePath, &guardedReadWholeFile,
-                         &refuseWrite, &guard});
+  loader.SetFsCallbacks(
+      {&guardedFileExists, &guardedExpandFilePath, &guardedReadWholeFile, &refuseWrite, &guard});
   loader.SetPreserveImageChannels(true);
   tinygltf::Model model;
   std::string err, warn;
@@ -266,7 +270,8 @@ tinygltf::Model decode(const std::string& bytes, bool binary, const fs::path& fo
   }
   if (!ok) {
     while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
-    throw SceneError({file, ""}, "cannot decode glTF: " + (err.empty() ? std::string("unknown error") : err));
+    throw SceneError({file, ""},
+                     "cannot decode glTF: " + (err.empty() ? std::string("unknown error") : err));
   }
   return model;
 }
@@ -282,7 +287,8 @@ double readComponent(const uint8_t* p, int componentType, bool normalized) {
       std::memcpy(&v, p, 1);
       return normalized ? std::max(v / 127.0, -1.0) : v;
     }
-    case gltf::kUnsignedByte: return normalized ? *p / 255.0 : *p;
+    case gltf::kUnsignedByte:
+      return normalized ? *p / 255.0 : *p;
     case gltf::kShort: {
       int16_t v;
       std::memcpy(&v, p, 2);
@@ -321,23 +327,25 @@ class AccessorReader {
     if (a.bufferView >= 0) {
       size_t stride = doc_.bufferViews[size_t(a.bufferView)].byteStride;
       if (stride == 0) stride = elem;
-      const uint8_t* base = viewData(a.bufferView, a.byteOffset, stride * (a.count - 1) + elem, a.where);
+      const uint8_t* base =
+          viewData(a.bufferView, a.byteOffset, stride * (a.count - 1) + elem, a.where);
       for (size_t i = 0; i < a.count; ++i) readElement(a, base + i * stride, &out[i * n]);
     }
     if (a.sparse) {
       const gltf::Sparse& s = *a.sparse;
       size_t indexSize = gltf::componentSize(s.indicesComponentType);
-      const uint8_t* indices = viewData(s.indicesView, s.indicesOffset, indexSize * s.count, s.where);
+      const uint8_t* indices =
+          viewData(s.indicesView, s.indicesOffset, indexSize * s.count, s.where);
       const uint8_t* values = viewData(s.valuesView, s.valuesOffset, elem * s.count, s.where);
       double previous = -1;
       for (size_t k = 0; k < s.count; ++k) {
         double i = readComponent(indices + k * indexSize, s.indicesComponentType, false);
         if (i <= previous || i >= double(a.count))
-          throw SceneError(s.where.child("indices"),
-                           "sparse index " + std::to_string(uint64_t(i)) + " at position " +
-                               std::to_string(k) + (i >= double(a.count)
-                                                        ? " is out of range (count " + std::to_string(a.count) + ")"
-                                                        : " is not greater than the previous one"));
+          throw SceneError(
+              s.where.child("indices"),
+              "sparse index " + std::to_string(uint64_t(i)) + " at position " + std::to_string(k) +
+                  (i >= double(a.count) ? " is out of range (count " + std::to_string(a.count) + ")"
+                                        : " is not greater than the previous one"));
         previous = i;
         readElement(a, values + k * elem, &out[size_t(i) * n]);
       }
@@ -353,10 +361,12 @@ class AccessorReader {
     size_t columnBytes = a.components == rows ? 0 : (rows * c + 3) / 4 * 4;
     for (int col = 0; col < columns; ++col)
       for (int r = 0; r < rows; ++r)
-        out[col * rows + r] = readComponent(p + col * columnBytes + size_t(r) * c, a.componentType, a.normalized);
+        out[col * rows + r] =
+            readComponent(p + col * columnBytes + size_t(r) * c, a.componentType, a.normalized);
   }
 
-  const uint8_t* viewData(int view, size_t offset, size_t bytes, const SourceLocation& where) const {
+  const uint8_t* viewData(int view, size_t offset, size_t bytes,
+                          const SourceLocation& where) const {
     const gltf::BufferView& v = doc_.bufferViews[size_t(view)];
     const std::vector<unsigned char>& data = model_.buffers[size_t(v.buffer)].data;
     if (v.byteOffset + offset + bytes > data.size())
@@ -404,7 +414,7 @@ ImageDesc convertImage(const gltf::Image& im, const tinygltf::Image& decoded, si
 // ---------------------------------------------------------------------------------------------
 
 const char* modeName(int mode) {
-  static const char* names[] = {"POINTS", "LINES", "LINE_LOOP", "LINE_STRIP",
+  static const char* names[] = {"POINTS",    "LINES",          "LINE_LOOP",   "LINE_STRIP",
                                 "TRIANGLES", "TRIANGLE_STRIP", "TRIANGLE_FAN"};
   return names[mode];
 }
@@ -439,7 +449,8 @@ class Loader {
       d.type = MaterialType::Pbr;
       d.baseColor = {m.baseColorFactor.x, m.baseColorFactor.y, m.baseColorFactor.z};
       d.opacity = m.baseColorFactor.w;
-      d.baseColorTexture = m.baseColorTexture.index < 0 ? -1 : textureBase_ + m.baseColorTexture.index;
+      d.baseColorTexture =
+          m.baseColorTexture.index < 0 ? -1 : textureBase_ + m.baseColorTexture.index;
       d.metallic = m.metallic, d.roughness = m.roughness;
       d.emissive = m.emissiveFactor * m.emissiveStrength;
       d.emissiveTexture = m.emissiveTexture.index < 0 ? -1 : textureBase_ + m.emissiveTexture.index;
@@ -484,13 +495,15 @@ class Loader {
     }
     if (node.camera >= 0) {
       CameraDesc c = doc_.cameras[size_t(node.camera)];
-      if (c.name.empty()) c.name = node.name.empty() ? "camera " + std::to_string(node.camera) : node.name;
+      if (c.name.empty())
+        c.name = node.name.empty() ? "camera " + std::to_string(node.camera) : node.name;
       c.worldFromCamera = world;
       scene_->cameras.push_back(c);
     }
     if (node.light >= 0) {
       LightDesc l = doc_.lights[size_t(node.light)];
-      if (l.name.empty()) l.name = node.name.empty() ? "light " + std::to_string(node.light) : node.name;
+      if (l.name.empty())
+        l.name = node.name.empty() ? "light " + std::to_string(node.light) : node.name;
       l.worldFromLight = world;
       scene_->lights.push_back(l);
     }
@@ -518,16 +531,18 @@ class Loader {
     const Accessor& a = doc_.accessors[size_t(index)];
     bool typeOk = false;
     for (const char* t : types) typeOk |= a.type == t;
-    bool componentOk = a.componentType == gltf::kFloat ||
-                       (allowNormalized && a.normalized &&
-                        (a.componentType == gltf::kUnsignedByte || a.componentType == gltf::kUnsignedShort));
+    bool componentOk =
+        a.componentType == gltf::kFloat ||
+        (allowNormalized && a.normalized &&
+         (a.componentType == gltf::kUnsignedByte || a.componentType == gltf::kUnsignedShort));
     if (!typeOk || !componentOk) {
       std::string want;
       for (const char* t : types) want += std::string(want.empty() ? "" : " or ") + t;
       throw SceneError(p.where.child("attributes").child(attribute),
                        "accessor " + std::to_string(index) + " is " + a.type + " of " +
-                           (a.normalized ? "normalized " : "") + gltf::componentTypeName(a.componentType) +
-                           "; " + attribute + " must be " + want + " of FLOAT" +
+                           (a.normalized ? "normalized " : "") +
+                           gltf::componentTypeName(a.componentType) + "; " + attribute +
+                           " must be " + want + " of FLOAT" +
                            (allowNormalized ? " or normalized UNSIGNED_BYTE/UNSIGNED_SHORT" : ""));
     }
     return a;
@@ -567,7 +582,8 @@ class Loader {
       mesh.normals.resize(n);
       for (size_t i = 0; i < n; ++i) {
         Vec3f nv{float(v[3 * i]), float(v[3 * i + 1]), float(v[3 * i + 2])};
-        if (!isFinite(nv)) throw SceneError(na.where, "normal " + std::to_string(i) + " is not finite");
+        if (!isFinite(nv))
+          throw SceneError(na.where, "normal " + std::to_string(i) + " is not finite");
         float len = length(nv);
         if (!(len > 0) || !std::isfinite(len))
           throw SceneError(na.where, "normal " + std::to_string(i) + " has zero length");
@@ -609,17 +625,18 @@ class Loader {
       if (ia.type != "SCALAR" || ia.normalized ||
           (ia.componentType != gltf::kUnsignedByte && ia.componentType != gltf::kUnsignedShort &&
            ia.componentType != gltf::kUnsignedInt))
-        throw SceneError(p.where.child("indices"),
-                         "accessor " + std::to_string(p.indices) + " is " + ia.type + " of " +
-                             gltf::componentTypeName(ia.componentType) +
-                             "; indices must be SCALAR of UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT");
+        throw SceneError(
+            p.where.child("indices"),
+            "accessor " + std::to_string(p.indices) + " is " + ia.type + " of " +
+                gltf::componentTypeName(ia.componentType) +
+                "; indices must be SCALAR of UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT");
       std::vector<double> v = reader_.read(p.indices);
       order.resize(v.size());
       for (size_t i = 0; i < v.size(); ++i) {
         if (v[i] >= double(n))
-          throw SceneError(p.where.child("indices"),
-                           "index " + std::to_string(uint64_t(v[i])) + " out of range (" +
-                               std::to_string(n) + " vertices)");
+          throw SceneError(p.where.child("indices"), "index " + std::to_string(uint64_t(v[i])) +
+                                                         " out of range (" + std::to_string(n) +
+                                                         " vertices)");
         order[i] = uint32_t(v[i]);
       }
     } else {
@@ -683,7 +700,7 @@ void loadGltf(const std::string& path, SceneDescription* scene, const Transform&
 
   if (scene->file.empty()) scene->file = path;
   // On error leave `scene` as it was, so a caller that recovers sees no half-loaded file.
-  size_t sizes[] = {scene->images.size(), scene->textures.size(), scene->materials.size(),
+  size_t sizes[] = {scene->images.size(), scene->textures.size(),  scene->materials.size(),
                     scene->meshes.size(), scene->instances.size(), scene->cameras.size(),
                     scene->lights.size(), scene->warnings.size()};
   try {

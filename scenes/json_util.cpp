@@ -24,6 +24,8 @@ nlohmann::json parseJson(std::string_view text, const std::string& file) {
     std::string what = e.what();
     size_t colon = what.rfind(": ");
     std::string detail = colon == std::string::npos ? what : what.substr(colon + 2);
+    // The message quotes the last token read, which can be a kilobytes-long base64 string.
+    if (detail.size() > 120) detail = detail.substr(0, 117) + "...";
     throw SceneError({file + ":" + std::to_string(line) + ":" + std::to_string(column), ""},
                      "JSON syntax error: " + detail);
   } catch (const nlohmann::json::out_of_range& e) {

@@ -163,7 +163,7 @@ TEST(GltfLoader, LoadsBoxInAllVariants) {
   SceneDescription s = loadAllVariants("Box", kAllThree);
   expectBox(s);
   EXPECT_EQ(s.materials[0].name, "Red");
-  EXPECT_EQ(s.materials[0].metallic, 0.0f);  // metallicFactor 0
+  EXPECT_EQ(s.materials[0].metallic, 0.0f);   // metallicFactor 0
   EXPECT_EQ(s.materials[0].roughness, 1.0f);  // default
   EXPECT_TRUE(s.textures.empty());
   EXPECT_TRUE(s.images.empty());
@@ -442,8 +442,7 @@ TEST(GltfLoader, WarnsAboutSkippedPrimitivesAndOtherTexCoordSets) {
   EXPECT_NE(all.find("/materials/0/pbrMetallicRoughness/baseColorTexture/texCoord: texCoord 1"),
             std::string::npos)
       << all;
-  EXPECT_NE(all.find("/meshes/0/primitives/1: POINTS primitive skipped"), std::string::npos)
-      << all;
+  EXPECT_NE(all.find("/meshes/0/primitives/1: POINTS primitive skipped"), std::string::npos) << all;
 }
 
 TEST(GltfLoader, LoadsAllRootNodesWhenThereAreNoScenes) {
