@@ -125,6 +125,20 @@ void BM_BareEmbreeIntersect1(benchmark::State& state) {
   state.counters["hit_fraction"] = double(hits) / double(f.rays.size());
 }
 
+// FNV-1a over the film's colour and alpha bits: a performance change must leave it unchanged.
+uint64_t imageChecksum(const Film& film) {
+  uint64_t h = 0xcbf29ce484222325ull;
+  auto add = [&](const void* data, size_t bytes) {
+    const auto* b = static_cast<const unsigned char*>(data);
+    for (size_t i = 0; i < bytes; ++i) h = (h ^ b[i]) * 0x100000001b3ull;
+  };
+  add(film.color.data(), film.color.size() * sizeof(film.color[0]));
+  add(film.alpha.data(), film.alpha.size() * sizeof(film.alpha[0]));
+  return h;
+}
+
+uint64_t gImageChecksum = 0;
+
 void BM_GlintEyelightRender(benchmark::State& state) {
   Fixture& f = fixture();
   auto integrator = makeIntegrator("whitted", f.scene, f.desc.render);
@@ -134,6 +148,7 @@ void BM_GlintEyelightRender(benchmark::State& state) {
   for (auto _ : state) {
     Film film = render(f.scene, *integrator, f.desc.render, options, &stats);
     benchmark::DoNotOptimize(film.color.data());
+    gImageChecksum = imageChecksum(film);
   }
   state.counters["Mrays/s"] = benchmark::Counter(double(stats.rays.total()) * 1e-6,
                                                  benchmark::Counter::kIsIterationInvariantRate);
@@ -179,9 +194,12 @@ int main(int argc, char** argv) {
     return 1;
   }
   double ratio = glint / bare;
-  std::printf("\nbare rtcIntersect1: %.2f Mrays/s\nglint eyelight:     %.2f Mrays/s\n"
-              "ratio:              %.3f (target >= 0.80) %s\n",
-              bare, glint, ratio, ratio >= 0.8 ? "PASS" : "FAIL");
+  std::printf(
+      "\nbare rtcIntersect1: %.2f Mrays/s\nglint eyelight:     %.2f Mrays/s\n"
+      "ratio:              %.3f (target >= 0.80) %s\n"
+      "image checksum:     %016llx\n",
+      bare, glint, ratio, ratio >= 0.8 ? "PASS" : "FAIL",
+      static_cast<unsigned long long>(glint::gImageChecksum));
   if (!out.empty()) {
     std::ofstream f(out);
     f << "{\n  \"scene\": \"stanford/dragon_vrip_res2.glb\",\n  \"width\": " << glint::kWidth

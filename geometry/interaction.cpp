@@ -13,16 +13,19 @@ SurfaceInteraction computeSurfaceInteraction(const GeometryScene& scene, const R
   const Vec3f p0 = mesh.positions[i0], p1 = mesh.positions[i1], p2 = mesh.positions[i2];
   const float b1 = hit.u, b2 = hit.v, b0 = 1 - b1 - b2;
 
-  // Object-space point from barycentrics; error bound as in pbrt-v4 (Triangle::InteractionFromIntersection).
-  Vec3f pObj = b0 * p0 + b1 * p1 + b2 * p2;
-  Vec3f errObj = gamma(7) * (abs(b0 * p0) + abs(b1 * p1) + abs(b2 * p2));
   const Transform& xf = inst.worldFromObject;
-  bool identity = xf.isIdentity();
-  if (identity) {
-    si.p = pObj;
-    si.pError = errObj;
-  } else {
-    si.p = xf.point(pObj, errObj, &si.pError);
+  const bool identity = xf.isIdentity();
+  if (needs.position) {
+    // Object-space point from barycentrics; error bound as in pbrt-v4
+    // (Triangle::InteractionFromIntersection).
+    Vec3f pObj = b0 * p0 + b1 * p1 + b2 * p2;
+    Vec3f errObj = gamma(7) * (abs(b0 * p0) + abs(b1 * p1) + abs(b2 * p2));
+    if (identity) {
+      si.p = pObj;
+      si.pError = errObj;
+    } else {
+      si.p = xf.point(pObj, errObj, &si.pError);
+    }
   }
 
   Vec3f nObj = cross(p1 - p0, p2 - p0);

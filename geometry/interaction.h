@@ -12,11 +12,15 @@ namespace glint {
 struct SurfaceNeeds {
   bool uvs = true;
   bool colors = true;
+  // p and pError, for spawning rays. Unlit (eyelight) shading reads only normals and wo, so
+  // it skips the hit point and its error bound.
+  bool position = true;
 };
 
 struct SurfaceInteraction {
   Vec3f p;          // world-space hit point,
-  Vec3f pError;     // with a conservative bound on its absolute rounding error
+  Vec3f pError;     // with a conservative bound on its absolute rounding error (both zero
+                    // unless SurfaceNeeds::position)
   Vec3f ng;         // unit geometric normal (world), on the side the ray came from
   Vec3f ns;         // unit shading normal (world), in ng's hemisphere
   Vec3f wo;         // unit direction back along the ray

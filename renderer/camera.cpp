@@ -35,27 +35,4 @@ Camera Camera::orthographic(const Transform& worldFromCamera, float ymag, int wi
   return c;
 }
 
-Ray Camera::generateRay(Vec2f pFilm, float time) const {
-  float sx = (pFilm.x * filmToScreenX_ - 1) * halfWidth_;
-  float sy = (1 - pFilm.y * filmToScreenY_) * halfHeight_;
-  Ray r;
-  r.time = time;
-  if (projection_ == Projection::Perspective) {
-    // The direction through the film point at view depth 1; its world length converts view
-    // depth to distance along the unit ray (znear/zfar are depths in camera space).
-    Vec3f d = worldFromCamera_.vector({sx, sy, -1});
-    float len = length(d);
-    r.o = origin_;
-    r.d = d / len;
-    r.tMin = znear_ * len;
-    r.tMax = std::isinf(zfar_) ? kInfinity : zfar_ * len;
-  } else {
-    r.o = worldFromCamera_.point({sx, sy, 0});
-    r.d = forward_;
-    r.tMin = znear_;
-    r.tMax = zfar_;
-  }
-  return r;
-}
-
 }  // namespace glint

@@ -4,6 +4,8 @@
 // coordinates are continuous pixels with (0,0) at the top-left corner of the image.
 #pragma once
 
+#include <cmath>
+
 #include "geometry/ray.h"
 
 namespace glint {
@@ -20,7 +22,7 @@ class Camera {
                              float znear, float zfar);
 
   // The world-space ray through film point `pFilm` at `time`, clipped to [znear, zfar] along
-  // the view axis. Perspective rays have unit directions.
+  // the view axis. Perspective rays have unit directions. Inline: runs once per camera sample.
   Ray generateRay(Vec2f pFilm, float time) const;
 
   Projection projection() const { return projection_; }
@@ -39,5 +41,28 @@ class Camera {
   float filmToScreenX_ = 1, filmToScreenY_ = 1;  // 2 / width, 2 / height
   Vec3f origin_, forward_{0, 0, -1};  // world-space eye point and view direction
 };
+
+inline Ray Camera::generateRay(Vec2f pFilm, float time) const {
+  float sx = (pFilm.x * filmToScreenX_ - 1) * halfWidth_;
+  float sy = (1 - pFilm.y * filmToScreenY_) * halfHeight_;
+  Ray r;
+  r.time = time;
+  if (projection_ == Projection::Perspective) {
+    // The direction through the film point at view depth 1; its world length converts view
+    // depth to distance along the unit ray (znear/zfar are depths in camera space).
+    Vec3f d = worldFromCamera_.vector({sx, sy, -1});
+    float len = length(d);
+    r.o = origin_;
+    r.d = d / len;
+    r.tMin = znear_ * len;
+    r.tMax = std::isinf(zfar_) ? kInfinity : zfar_ * len;
+  } else {
+    r.o = worldFromCamera_.point({sx, sy, 0});
+    r.d = forward_;
+    r.tMin = znear_;
+    r.tMax = zfar_;
+  }
+  return r;
+}
 
 }  // namespace glint

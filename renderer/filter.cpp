@@ -7,13 +7,6 @@
 
 namespace glint {
 
-namespace {
-// The Gaussian's CDF is tabulated finely, then inverted onto a table indexed by u, so a sample
-// costs one lookup and a lerp (no search: this runs twice per camera sample).
-constexpr int kCdfSize = 4096;
-constexpr int kInverseSize = 1024;
-}
-
 PixelFilter::PixelFilter(const FilterSettings& s) : radius_(s.radius) {
   if (!(s.radius > 0) || !std::isfinite(s.radius))
     throw std::invalid_argument("filter radius must be > 0");
@@ -45,21 +38,6 @@ PixelFilter::PixelFilter(const FilterSettings& s) : radius_(s.radius) {
     }
   } else {
     throw std::invalid_argument("unknown filter '" + s.type + "' (box, tent, gaussian)");
-  }
-}
-
-float PixelFilter::sample1D(float u) const {
-  switch (kind_) {
-    case Kind::Box: return (2 * u - 1) * radius_;
-    case Kind::Tent:
-      return u < 0.5f ? radius_ * (std::sqrt(2 * u) - 1) : radius_ * (1 - std::sqrt(2 - 2 * u));
-    case Kind::Gaussian:
-    default: {
-      float x = u * kInverseSize;
-      int i = std::min(int(x), kInverseSize - 1);
-      float t = x - float(i);
-      return inverseCdf_[size_t(i)] + t * (inverseCdf_[size_t(i) + 1] - inverseCdf_[size_t(i)]);
-    }
   }
 }
 

@@ -71,12 +71,14 @@ Film render(const RenderScene& scene, const Integrator& integrator,
       for (int x = x0; x < x1; ++x) {
         const size_t index = film.index(x, y);
         const uint64_t pixelKey = pixelSampleKey(settings.seed, index);
+        // The film position is dimensions 0-1; their seeds depend on the pixel only.
+        const DimensionSeeds filmSeeds(pixelKey, 0);
         PixelMoments acc;
         double hits = 0, depth = 0;
         Rgb albedo, normal;
         for (uint32_t s = 0; s < spp; ++s) {
-          Sampler sampler(pixelKey, s);
-          Vec2f offset = filter.sampleOffset(sampler.get2D());
+          Vec2f offset = filter.sampleOffsetFraction(sample2DFraction(s, filmSeeds));
+          Sampler sampler(pixelKey, s, 2);
           Ray ray = scene.camera.generateRay({float(x) + 0.5f + offset.x,
                                               float(y) + 0.5f + offset.y}, 0.0f);
           PathAovs pathAovs;

@@ -12,6 +12,7 @@
 // cost is on the camera-ray path of every render.
 #pragma once
 
+#include <array>
 #include <cstdint>
 
 #include "geometry/math.h"
@@ -57,18 +58,64 @@ inline uint32_t owenScramble(uint32_t v, uint32_t seed) {
   return reverseBits(laineKarrasHash(reverseBits(v), seed));
 }
 
+// Sobol's second dimension of index i, bit-reversed (least significant bit first): what the
+// Owen scramble takes, so the sample path needs no reversal. Four 256-entry lookups; the
+// table lives in sampler.cpp and stays in L1 on the camera-ray path.
+extern const std::array<std::array<uint32_t, 256>, 4> kReversedSobolSecondDimension;
+inline uint32_t reversedSobolSecondDimension(uint32_t i) {
+  return kReversedSobolSecondDimension[0][i & 0xff] ^
+         kReversedSobolSecondDimension[1][(i >> 8) & 0xff] ^
+         kReversedSobolSecondDimension[2][(i >> 16) & 0xff] ^
+         kReversedSobolSecondDimension[3][i >> 24];
+}
+
 // The second Sobol dimension of index i as a 32-bit fraction (the first is reverseBits(i)).
-uint32_t sobolSecondDimension(uint32_t i);
+inline uint32_t sobolSecondDimension(uint32_t i) {
+  return reverseBits(reversedSobolSecondDimension(i));
+}
 
 // A 32-bit fraction to a float in [0, 1).
 inline float fractionToFloat(uint32_t v) { return float(v >> 8) * 0x1p-24f; }
+
+// The scramble seeds of one dimension pair of one pixel: a function of (pixel key, dimension)
+// only, so a renderer can compute the film pair's once per pixel instead of once per sample.
+struct DimensionSeeds {
+  uint32_t index = 0, x = 0, y = 0;  // sample-index shuffle, first and second coordinate
+  DimensionSeeds() = default;
+  DimensionSeeds(uint64_t pixelKey, uint32_t dimension) {
+    uint64_t h = mixBits(pixelKey + uint64_t(dimension) * 0x9e3779b97f4a7c15ull);
+    index = uint32_t(h), x = uint32_t(h >> 32), y = uint32_t(mixBits(h));
+  }
+};
+
+// Two 32-bit fractions: a 2D sample before conversion to float.
+struct Fraction2 {
+  uint32_t x = 0, y = 0;
+  Vec2f toFloat() const { return {fractionToFloat(x), fractionToFloat(y)}; }
+};
+
+// Sample `sampleIndex` of the dimension pair with `seeds`, as fractions.
+inline Fraction2 sample2DFraction(uint32_t sampleIndex, const DimensionSeeds& seeds) {
+  uint32_t index = owenScramble(sampleIndex, seeds.index);
+  // x: Owen-scrambled first Sobol dimension, reverse(LK(reverse(reverse(index)))).
+  // y: Owen-scrambled second dimension, with its reversal folded into the table.
+  return {reverseBits(laineKarrasHash(index, seeds.x)),
+          reverseBits(laineKarrasHash(reversedSobolSecondDimension(index), seeds.y))};
+}
+
+// The same sample in [0,1)^2.
+inline Vec2f sample2D(uint32_t sampleIndex, const DimensionSeeds& seeds) {
+  return sample2DFraction(sampleIndex, seeds).toFloat();
+}
 
 // The samples of one pixel sample (one camera path). Consumes dimensions in call order, so a
 // path that asks for the same things in the same order sees the same numbers.
 class Sampler {
  public:
-  // `pixelKey` = pixelSampleKey(seed, pixel index).
-  Sampler(uint64_t pixelKey, uint32_t sampleIndex) : key_(pixelKey), sample_(sampleIndex) {}
+  // `pixelKey` = pixelSampleKey(seed, pixel index). A renderer that drew dimensions
+  // [0, firstDimension) itself (the film position, with sample2D) starts after them.
+  Sampler(uint64_t pixelKey, uint32_t sampleIndex, uint32_t firstDimension = 0)
+      : key_(pixelKey), sample_(sampleIndex), dim_(firstDimension) {}
 
   float get1D() {
     uint64_t h = dimensionHash();
@@ -78,12 +125,9 @@ class Sampler {
     return fractionToFloat(reverseBits(laineKarrasHash(index, uint32_t(h >> 32))));
   }
   Vec2f get2D() {
-    uint64_t h = dimensionHash();
+    DimensionSeeds seeds(key_, dim_);
     dim_ += 2;
-    uint32_t index = owenScramble(sample_, uint32_t(h));
-    uint32_t seedY = uint32_t(mixBits(h));
-    return {fractionToFloat(reverseBits(laineKarrasHash(index, uint32_t(h >> 32)))),
-            fractionToFloat(owenScramble(sobolSecondDimension(index), seedY))};
+    return sample2D(sample_, seeds);
   }
   uint32_t dimension() const { return dim_; }
 
@@ -91,7 +135,7 @@ class Sampler {
   uint64_t dimensionHash() const { return mixBits(key_ + uint64_t(dim_) * 0x9e3779b97f4a7c15ull); }
   uint64_t key_;
   uint32_t sample_;
-  uint32_t dim_ = 0;
+  uint32_t dim_;
 };
 
 }  // namespace glint

@@ -10,6 +10,9 @@ WhittedIntegrator::WhittedIntegrator(const RenderScene& scene, int maxDepth)
   needs_.uvs = scene.features.has(Feature::Textures);
   needs_.colors = scene.features.has(Feature::VertexColors);
   shadows_ = scene.features.has(Feature::Shadows);
+  unlit_.resize(scene.geometry.meshes.size());
+  for (size_t m = 0; m < unlit_.size() && m < scene.meshMaterial.size(); ++m)
+    unlit_[m] = (scene.materialOf(uint32_t(m)).flags() & kBsdfUnlit) != 0;
 }
 
 Rgb WhittedIntegrator::Li(const Ray& ray, Sampler& sampler, RayCounters& counters,
@@ -18,15 +21,19 @@ Rgb WhittedIntegrator::Li(const Ray& ray, Sampler& sampler, RayCounters& counter
   Hit hit;
   if (!scene_.accel->closestHit(ray, &hit)) return scene_.background;
 
-  SurfaceInteraction si = computeSurfaceInteraction(scene_.geometry, ray, hit, needs_);
-  const Material& material = scene_.materialOf(si.mesh);
+  const uint32_t mesh = scene_.geometry.instances[hit.instance].mesh;
+  const Material& material = scene_.materialOf(mesh);
+  const bool unlit = unlit_[mesh];
+  SurfaceNeeds needs = needs_;
+  needs.position = !unlit;
+  SurfaceInteraction si = computeSurfaceInteraction(scene_.geometry, ray, hit, needs);
   aovs.hit = true;
   if (aovs.wanted) {
     aovs.albedo = material.albedo(si);
     aovs.normal = si.ns;
     aovs.depth = hit.t * length(ray.d);
   }
-  if (material.flags() & kBsdfUnlit) return material.albedo(si) * std::abs(dot(si.ns, si.wo));
+  if (unlit) return material.albedo(si) * std::abs(dot(si.ns, si.wo));
 
   Rgb L = material.emitted(si);
   L += directLight(si, material, ray.time, sampler, counters);

@@ -2,6 +2,9 @@
 // eyelight shortcut, emission; mirror and glass recursion arrive with those shaders.
 #pragma once
 
+#include <cstdint>
+#include <vector>
+
 #include "renderer/integrator.h"
 
 namespace glint {
@@ -21,6 +24,7 @@ class WhittedIntegrator final : public Integrator {
   int maxDepth_;
   SurfaceNeeds needs_;  // from the scene's features
   bool shadows_;
+  std::vector<uint8_t> unlit_;  // per mesh: its material is unlit (decided once, not per hit)
 };
 
 }  // namespace glint

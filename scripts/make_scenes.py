@@ -719,7 +719,8 @@ def read_accessor(doc, buf, index):
     offset = acc.get("byteOffset", 0)
     assert (view["byteOffset"] + offset) % csize == 0, "accessor %d misaligned" % index
     assert stride % 4 == 0 and 4 <= stride <= 252 or "byteStride" not in view
-    assert offset + stride * (count - 1) + elem <= view["byteLength"], "accessor %d overflows" % index
+    assert offset + stride * (count - 1) + elem <= view["byteLength"], \
+        "accessor %d overflows its bufferView" % index
     fmt = "<%d%s" % (ncomp, {FLOAT: "f", UNSIGNED_BYTE: "B", UNSIGNED_SHORT: "H",
                              UNSIGNED_INT: "I"}[ctype])
     base = view["byteOffset"] + offset

@@ -188,5 +188,42 @@ TEST(SpawnedRays, NeverReHitTheirTriangleAtAnyScale) {
   EXPECT_EQ(reHits, 0);
 }
 
+// Unlit shading skips the hit point; everything else must be exactly what the full
+// computation gives, with and without an instance transform.
+TEST(SurfaceInteraction, WithoutPositionTheRestIsUnchanged) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-1, 1);
+  TriangleMesh m = randomSoup(rng, 200);
+  for (size_t i = 0; i < m.positions.size(); ++i)
+    m.normals.push_back(normalize(Vec3f{u(rng), u(rng), u(rng)} + Vec3f{0, 0, 2}));
+  for (const Transform& place : {Transform(), Transform::rotate(30, {1, 2, 3})}) {
+    GeometryScene scene;
+    scene.meshes.push_back(m);
+    scene.instances.push_back({0, place});
+    auto accel = makeAccelerator("embree", scene);
+    int hits = 0;
+    for (int i = 0; i < 2000; ++i) {
+      Ray r{Vec3f{u(rng), u(rng), 3}, normalize(Vec3f{u(rng) * 0.3f, u(rng) * 0.3f, -1})};
+      Hit hit;
+      if (!accel->closestHit(r, &hit)) continue;
+      ++hits;
+      SurfaceNeeds lean;
+      lean.position = false;
+      SurfaceInteraction full = computeSurfaceInteraction(scene, r, hit);
+      SurfaceInteraction si = computeSurfaceInteraction(scene, r, hit, lean);
+      for (int k = 0; k < 3; ++k) {
+        EXPECT_EQ(si.ng[k], full.ng[k]);
+        EXPECT_EQ(si.ns[k], full.ns[k]);
+        EXPECT_EQ(si.wo[k], full.wo[k]);
+      }
+      EXPECT_EQ(si.uv.x, full.uv.x);
+      EXPECT_EQ(si.uv.y, full.uv.y);
+      EXPECT_EQ(si.t, full.t);
+      EXPECT_EQ(si.mesh, full.mesh);
+    }
+    EXPECT_GT(hits, 100);
+  }
+}
+
 }  // namespace
 }  // namespace glint

@@ -59,5 +59,18 @@ TEST(PixelFilter, RejectsUnknownTypesAndBadRadii) {
   EXPECT_THROW(PixelFilter({"box", -1.0f}), std::invalid_argument);
 }
 
+TEST(PixelFilter, FractionAndFloatSamplesAgreeBitForBit) {
+  for (const char* type : {"box", "tent", "gaussian"}) {
+    PixelFilter f({type, 1.5f});
+    for (uint32_t i = 0; i < 100000; ++i) {
+      // Spread over all 32-bit fractions, including the ends of the table.
+      Fraction2 u{i * 42949u, 0xffffffffu - i * 7919u};
+      Vec2f a = f.sampleOffsetFraction(u), b = f.sampleOffset(u.toFloat());
+      ASSERT_EQ(a.x, b.x) << type << " " << u.x;
+      ASSERT_EQ(a.y, b.y) << type << " " << u.y;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace glint

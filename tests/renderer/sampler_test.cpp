@@ -118,5 +118,26 @@ TEST(Sampler, ValuesAreUniformAcrossPixels) {
   EXPECT_NEAR(var, 1.0 / 12.0, 0.002);
 }
 
+// The render loop draws the film pair from per-pixel seeds and starts the sampler after it;
+// the numbers must be those of the plain sampler.
+TEST(Sampler, PixelSeededFilmPairMatchesTheSampler) {
+  for (uint64_t pixel : {0ull, 5ull, 479999ull}) {
+    const uint64_t key = pixelSampleKey(42, pixel);
+    const DimensionSeeds film(key, 0);
+    for (uint32_t s : {0u, 1u, 15u, 1000u}) {
+      Sampler plain(key, s);
+      Vec2f a = plain.get2D(), b = sample2D(s, film);
+      EXPECT_EQ(a.x, b.x);
+      EXPECT_EQ(a.y, b.y);
+      Sampler after(key, s, 2);
+      EXPECT_EQ(after.dimension(), plain.dimension());
+      EXPECT_EQ(plain.get1D(), after.get1D());
+      Vec2f c = plain.get2D(), d = after.get2D();
+      EXPECT_EQ(c.x, d.x);
+      EXPECT_EQ(c.y, d.y);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace glint
