@@ -32,11 +32,22 @@ struct PathAovs {
 
 class Integrator {
  public:
+  explicit Integrator(const RenderScene& scene) : scene_(scene) {}
   virtual ~Integrator() = default;
-  // Radiance arriving at the camera along `ray`. Draws random numbers from `sampler` in a fixed
-  // order; counts the rays it traces; fills `aovs` from the first hit.
-  virtual Rgb Li(const Ray& ray, Sampler& sampler, RayCounters& counters,
-                 PathAovs& aovs) const = 0;
+  const RenderScene& scene() const { return scene_; }
+
+  // Radiance arriving at the camera along `ray`, whose closest hit the caller already found
+  // (`hit` is null when the ray escapes): the render loop traces a pixel's camera rays
+  // together and hands each result here. Draws random numbers from `sampler` in a fixed order;
+  // counts the further rays it traces (not the camera ray); fills `aovs` from the first hit.
+  virtual Rgb LiFromHit(const Ray& ray, const Hit* hit, Sampler& sampler,
+                        RayCounters& counters, PathAovs& aovs) const = 0;
+
+  // The same for a camera ray not yet traced: traces it, counts it, then LiFromHit.
+  Rgb Li(const Ray& ray, Sampler& sampler, RayCounters& counters, PathAovs& aovs) const;
+
+ protected:
+  const RenderScene& scene_;
 };
 
 // Builds the integrator called `name` ("whitted"). Throws std::invalid_argument otherwise.

@@ -44,6 +44,9 @@ struct PixelMoments {
   }
 };
 
+// Camera rays handed to the accelerator together: Embree's widest packet.
+constexpr uint32_t kCameraBatch = 16;
+
 }  // namespace
 
 Film render(const RenderScene& scene, const Integrator& integrator,
@@ -76,25 +79,37 @@ Film render(const RenderScene& scene, const Integrator& integrator,
         PixelMoments acc;
         double hits = 0, depth = 0;
         Rgb albedo, normal;
-        for (uint32_t s = 0; s < spp; ++s) {
-          Vec2f offset = filter.sampleOffsetFraction(sample2DFraction(s, filmSeeds));
-          Sampler sampler(pixelKey, s, 2);
-          Ray ray = scene.camera.generateRay({float(x) + 0.5f + offset.x,
-                                              float(y) + 0.5f + offset.y}, 0.0f);
-          PathAovs pathAovs;
-          pathAovs.wanted = aovs;
-          Rgb L = integrator.Li(ray, sampler, tally.rays, pathAovs);
-          if (!isFinite(L)) {
-            ++tally.nonfinite;
-            L = {};
+        // The pixel's camera rays go to the accelerator in batches, which it may trace as
+        // packets (they are coherent); each result is then shaded on its own.
+        for (uint32_t first = 0; first < spp; first += kCameraBatch) {
+          const uint32_t n = std::min(kCameraBatch, spp - first);
+          Ray rays[kCameraBatch];
+          Hit found[kCameraBatch];
+          for (uint32_t i = 0; i < n; ++i) {
+            Vec2f offset = filter.sampleOffsetFraction(sample2DFraction(first + i, filmSeeds));
+            rays[i] = scene.camera.generateRay(
+                {float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y}, 0.0f);
           }
-          acc.add(L);
-          if (pathAovs.hit) {
-            hits += 1;
-            if (aovs) {
-              albedo += pathAovs.albedo;
-              normal += pathAovs.normal;
-              depth += pathAovs.depth;
+          scene.accel->closestHits(rays, found, int(n));
+          tally.rays.camera += n;
+          for (uint32_t i = 0; i < n; ++i) {
+            Sampler sampler(pixelKey, first + i, 2);
+            PathAovs pathAovs;
+            pathAovs.wanted = aovs;
+            const Hit* hit = found[i].instance != Hit::kInvalid ? &found[i] : nullptr;
+            Rgb L = integrator.LiFromHit(rays[i], hit, sampler, tally.rays, pathAovs);
+            if (!isFinite(L)) {
+              ++tally.nonfinite;
+              L = {};
+            }
+            acc.add(L);
+            if (pathAovs.hit) {
+              hits += 1;
+              if (aovs) {
+                albedo += pathAovs.albedo;
+                normal += pathAovs.normal;
+                depth += pathAovs.depth;
+              }
             }
           }
         }

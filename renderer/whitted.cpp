@@ -6,7 +6,7 @@
 namespace glint {
 
 WhittedIntegrator::WhittedIntegrator(const RenderScene& scene, int maxDepth)
-    : scene_(scene), maxDepth_(maxDepth) {
+    : Integrator(scene), maxDepth_(maxDepth) {
   needs_.uvs = scene.features.has(Feature::Textures);
   needs_.colors = scene.features.has(Feature::VertexColors);
   shadows_ = scene.features.has(Feature::Shadows);
@@ -15,12 +15,10 @@ WhittedIntegrator::WhittedIntegrator(const RenderScene& scene, int maxDepth)
     unlit_[m] = (scene.materialOf(uint32_t(m)).flags() & kBsdfUnlit) != 0;
 }
 
-Rgb WhittedIntegrator::Li(const Ray& ray, Sampler& sampler, RayCounters& counters,
-                          PathAovs& aovs) const {
-  ++counters.camera;
-  Hit hit;
-  if (!scene_.accel->closestHit(ray, &hit)) return scene_.background;
-
+Rgb WhittedIntegrator::LiFromHit(const Ray& ray, const Hit* found, Sampler& sampler,
+                                 RayCounters& counters, PathAovs& aovs) const {
+  if (!found) return scene_.background;
+  const Hit& hit = *found;
   const uint32_t mesh = scene_.geometry.instances[hit.instance].mesh;
   const Material& material = scene_.materialOf(mesh);
   const bool unlit = unlit_[mesh];
@@ -61,12 +59,6 @@ Rgb WhittedIntegrator::directLight(const SurfaceInteraction& si, const Material&
     L += f * ls->Li * (cosTheta / ls->pdf);
   }
   return L;
-}
-
-std::unique_ptr<Integrator> makeIntegrator(const std::string& name, const RenderScene& scene,
-                                           const RenderSettings& settings) {
-  if (name == "whitted") return std::make_unique<WhittedIntegrator>(scene, settings.maxDepth);
-  throw std::invalid_argument("unknown integrator '" + name + "' (whitted)");
 }
 
 }  // namespace glint

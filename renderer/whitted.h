@@ -12,15 +12,14 @@ namespace glint {
 class WhittedIntegrator final : public Integrator {
  public:
   WhittedIntegrator(const RenderScene& scene, int maxDepth);
-  Rgb Li(const Ray& ray, Sampler& sampler, RayCounters& counters,
-         PathAovs& aovs) const override;
+  Rgb LiFromHit(const Ray& ray, const Hit* hit, Sampler& sampler, RayCounters& counters,
+                PathAovs& aovs) const override;
 
  private:
   // Direct light at a lit surface point: sum over all lights, shadow rays when enabled.
   Rgb directLight(const SurfaceInteraction& si, const Material& material, float time,
                   Sampler& sampler, RayCounters& counters) const;
 
-  const RenderScene& scene_;
   int maxDepth_;
   SurfaceNeeds needs_;  // from the scene's features
   bool shadows_;

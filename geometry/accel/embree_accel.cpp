@@ -1,6 +1,7 @@
 // glint — Intel Embree 3 backend.
 #include "geometry/accel/embree_accel.h"
 
+#include <algorithm>
 #include <cstring>
 #include <stdexcept>
 
@@ -115,6 +116,50 @@ bool EmbreeAccelerator::closestHit(const Ray& ray, Hit* hit) const {
   hit->u = rh.hit.u;
   hit->v = rh.hit.v;
   return true;
+}
+
+void EmbreeAccelerator::closestHits(const Ray* rays, Hit* hits, int count) const {
+  constexpr int kPacket = 16;
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  for (int first = 0; first < count; first += kPacket) {
+    const int n = std::min(kPacket, count - first);
+    if (n == 1) {  // a packet of one is slower than the single-ray kernel
+      if (!closestHit(rays[first], &hits[first])) hits[first] = Hit{};
+      continue;
+    }
+    alignas(64) int valid[kPacket];
+    alignas(64) RTCRayHit16 rh;
+    for (int i = 0; i < kPacket; ++i) {
+      valid[i] = i < n ? -1 : 0;
+      const Ray& ray = rays[first + std::min(i, n - 1)];
+      rh.ray.org_x[i] = ray.o.x, rh.ray.org_y[i] = ray.o.y, rh.ray.org_z[i] = ray.o.z;
+      rh.ray.dir_x[i] = ray.d.x, rh.ray.dir_y[i] = ray.d.y, rh.ray.dir_z[i] = ray.d.z;
+      rh.ray.tnear[i] = ray.tMin;
+      rh.ray.tfar[i] = ray.tMax;
+      rh.ray.time[i] = ray.time;
+      rh.ray.mask[i] = ~0u;
+      rh.ray.id[i] = unsigned(i);
+      rh.ray.flags[i] = 0;
+      rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect16(valid, scene_, &context, &rh);
+    for (int i = 0; i < n; ++i) {
+      Hit& hit = hits[first + i];
+      if (rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) {
+        hit = Hit{};
+        continue;
+      }
+      unsigned inst = rh.hit.instID[0][i];
+      hit.t = rh.ray.tfar[i];
+      hit.instance = instanceOfGeom_[inst != RTC_INVALID_GEOMETRY_ID ? inst : rh.hit.geomID[i]];
+      hit.prim = rh.hit.primID[i];
+      hit.u = rh.hit.u[i];
+      hit.v = rh.hit.v[i];
+    }
+  }
 }
 
 bool EmbreeAccelerator::anyHit(const Ray& ray) const {

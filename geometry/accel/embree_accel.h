@@ -26,6 +26,9 @@ class EmbreeAccelerator final : public Accelerator {
   std::string name() const override { return "embree"; }
   bool closestHit(const Ray& ray, Hit* hit) const override;
   bool anyHit(const Ray& ray) const override;
+  // Packets of up to 16 (rtcIntersect16 with a coherent context), so the BVH nodes a pixel's
+  // samples share are visited once per packet.
+  void closestHits(const Ray* rays, Hit* hits, int count) const override;
 
   // The raw top-level scene, for benchmarks that measure Embree alone.
   RTCScene rtcScene() const { return scene_; }
