@@ -105,6 +105,70 @@ struct InstanceDesc {
   SourceLocation where;
 };
 
+// ---------------------------------------------------------------------------------------------
+// Analytic objects (sidecar "objects"): primitives, CSG trees, fractal terrain
+// ---------------------------------------------------------------------------------------------
+
+enum class ShapeType { Sphere, Box, Cylinder, Cone, Plane, Disk, Quad };
+
+// One analytic primitive in its own object space (geometry/shapes/ documents each). Only the
+// fields of `type` are meaningful; the loader validates them (finite, sizes > 0).
+struct ShapeDesc {
+  ShapeType type = ShapeType::Sphere;
+  Vec3f center{0, 0, 0};  // sphere
+  float radius = 1;       // sphere, cylinder, cone (base), disk
+  Vec3f lower{-1, -1, -1}, upper{1, 1, 1};  // box
+  float height = 1;       // cylinder, cone: along +Y from y = 0
+  bool capped = true;     // cylinder, cone
+  Vec3f point{0, 0, 0}, normal{0, 1, 0};    // plane: the solid is the half-space behind normal
+  float uvScale = 1;      // plane: world units per texture tile
+  Vec3f corner{-0.5f, 0, 0.5f}, edgeU{1, 0, 0}, edgeV{0, 0, -1};  // quad (parallelogram)
+};
+
+enum class CsgOp { Leaf, Union, Intersection, Difference };
+
+// A node of a CSG tree: a leaf primitive, or an operator over children. Union and
+// intersection take two or more children; difference takes two or more and subtracts every
+// child after the first from the first.
+struct CsgNodeDesc {
+  CsgOp op = CsgOp::Leaf;
+  std::vector<int> children;  // indices into CsgTreeDesc::nodes
+  ShapeDesc shape;            // leaves
+  int material = -1;          // leaves: index into SceneDescription::materials, -1 = the object's
+  std::string materialName;   // as written in a .csg file; resolved to `material` by the loader
+  Transform parentFromNode;   // this node's transform within its parent (identity by default)
+  SourceLocation where;
+};
+
+struct CsgTreeDesc {
+  std::vector<CsgNodeDesc> nodes;
+  int root = -1;
+};
+
+// Fractal terrain (geometry/terrain.h): a square of `size` in the XZ plane, centred on the
+// origin, subdivided `depth` times with midpoint displacement (2 * 4^depth triangles).
+struct TerrainDesc {
+  float size = 100;
+  int depth = 7;
+  float roughness = 0.5f;  // ratio of displacement amplitude between successive levels
+  Vec2f peak{0, 0};        // (x, z) of the highest point
+  float height = 25;       // peak height
+  uint64_t seed = 1;
+};
+
+enum class ObjectKind { Shape, Csg, Terrain };
+
+struct ObjectDesc {
+  std::string name;
+  ObjectKind kind = ObjectKind::Shape;
+  ShapeDesc shape;
+  CsgTreeDesc csg;
+  TerrainDesc terrain;
+  int material = -1;  // index into materials, -1 = the default material
+  Transform worldFromObject;
+  SourceLocation where;
+};
+
 struct SceneDescription {
   std::string file;  // the scene file the user named
   std::vector<ImageDesc> images;
@@ -114,6 +178,7 @@ struct SceneDescription {
   std::vector<InstanceDesc> instances;
   std::vector<CameraDesc> cameras;
   std::vector<LightDesc> lights;
+  std::vector<ObjectDesc> objects;  // analytic objects from the sidecar
   RenderSettings render;
   // Things loaders accepted but did not use (e.g. glTF point or line primitives), one line
   // each with its location; `glint render` and `glint info` print them.

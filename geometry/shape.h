@@ -1,0 +1,126 @@
+// glint — analytic shapes: the small interface every sphere, box, cylinder, cone, plane, disk,
+// quad and CSG tree implements, and PlacedShape, a shape under an affine transform.
+//
+// Hits are two-phase (Mitsuba 3's preliminary intersection, pbrt-v4's Shape): traversal asks
+// only for t and a `part` (which face, side or cap was hit); surface details (point with its
+// rounding-error bound, normal, uv, dp/du, dp/dv) are computed once, for the final hit.
+//
+// Robustness contract (tested in tests/geometry/shapes_test.cpp): a hit is reported only when
+// its t is certainly greater than ray.tMin once t's own rounding error is accounted for, so a
+// ray spawned from a hit (origin offset past the hit point's error bound, see ray.h) never
+// re-hits the surface it leaves. There is no fixed epsilon anywhere.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include "geometry/math.h"
+#include "geometry/ray.h"
+
+namespace glint {
+
+// What traversal records about a hit on a shape.
+struct ShapeHit {
+  float t = kInfinity;
+  // Which piece of the surface was hit: shape-specific and < 8 for primitives (e.g. box face,
+  // cylinder side or cap). CSG trees encode (leaf << 3) | leaf's part.
+  uint32_t part = 0;
+};
+
+// Surface details at a hit, in the space the shape was asked in (object space for Shape,
+// world space for PlacedShape).
+struct ShapeSurface {
+  Vec3f p;       // hit point, re-projected onto the surface where that is exact
+  Vec3f pError;  // conservative bound on |p - exact point|, per axis
+  Vec3f n;       // unit geometric normal: outward for solids; for open surfaces the side
+                 // documented by the shape (the renderer shades both sides)
+  Vec2f uv;      // surface parameterisation (see each shape)
+  Vec3f dpdu, dpdv;  // partial derivatives of p with respect to uv (bump mapping)
+};
+
+// Where a ray's line crosses a solid's boundary.
+struct Crossing {
+  float t = 0;
+  float tError = 0;  // conservative bound on |t - exact t|
+  uint32_t part = 0;
+};
+
+// The part of a ray's whole line (all real t, not only [tMin, tMax]) inside a convex solid:
+// the line enters at `enter` and leaves at `exit`, enter.t <= exit.t. For unbounded solids
+// (a plane's half-space) enter.t may be -inf or exit.t +inf. CSG trees are built from these.
+struct Span {
+  Crossing enter, exit;
+};
+
+class Shape {
+ public:
+  virtual ~Shape() = default;
+  // "sphere", "box", ... for messages and `glint info`.
+  virtual const char* typeName() const = 0;
+  // Object-space bounds. Unbounded shapes (the infinite plane) have infinite components;
+  // accelerators keep such shapes out of their hierarchies and test them directly.
+  virtual Bounds3f bounds() const = 0;
+  // The closest hit with tMin < t <= tMax (t certainly > tMin given its error bound).
+  // `ray.d` need not be unit length; t is in units of |d|.
+  virtual bool intersect(const Ray& ray, ShapeHit* hit) const = 0;
+  // Whether any hit exists with tMin < t <= tMax (shadow rays).
+  virtual bool occluded(const Ray& ray) const {
+    ShapeHit hit;
+    return intersect(ray, &hit);
+  }
+  // Surface details of a hit this shape reported for `ray`.
+  virtual ShapeSurface surface(const Ray& ray, const ShapeHit& hit) const = 0;
+  // True for closed convex solids that can be CSG leaves (sphere, box, capped cylinder and
+  // cone, the plane as the half-space below it).
+  virtual bool isSolid() const { return false; }
+  // For solids: the span of the ray's line inside the solid; false when the line misses it.
+  virtual bool span(const Ray& ray, Span* out) const {
+    (void)ray, (void)out;
+    return false;
+  }
+  // Which material slot a hit part uses: 0 for primitives, the leaf index for CSG trees.
+  virtual uint32_t materialSlot(uint32_t part) const {
+    (void)part;
+    return 0;
+  }
+  // Number of material slots (CSG: one per leaf).
+  virtual uint32_t materialSlotCount() const { return 1; }
+};
+
+// True when `b` has an infinite component (an unbounded shape).
+inline bool isUnbounded(const Bounds3f& b) {
+  for (int i = 0; i < 3; ++i)
+    if (std::isinf(b.lower[i]) || std::isinf(b.upper[i])) return true;
+  return false;
+}
+
+// A shape placed by an affine transform (any invertible 3x4: translation, rotation,
+// non-uniform scale, shear). Rays are taken to object space with the rounding error of the
+// transformed origin accounted for (pbrt-v4's Transform::ApplyInverse(Ray)); t values are
+// those of the caller's ray. Surface details come back in the caller's space, normals through
+// the inverse transpose, the point's error bound grown by the transform's own error.
+class PlacedShape {
+ public:
+  // `shape` must outlive this; `placement` = destination-from-object (e.g. worldFromObject).
+  PlacedShape(const Shape* shape, const Transform& placement);
+
+  const Shape& shape() const { return *shape_; }
+  const Transform& placement() const { return placement_; }
+  // Bounds in the destination space; all-infinite when the shape is unbounded.
+  Bounds3f bounds() const;
+  bool intersect(const Ray& ray, ShapeHit* hit) const;
+  bool occluded(const Ray& ray) const;
+  ShapeSurface surface(const Ray& ray, const ShapeHit& hit) const;
+  bool span(const Ray& ray, Span* out) const;
+
+ private:
+  // `ray` in object space, with its origin moved forward past the transform's rounding error;
+  // `dt` receives the t offset to add to object-space t values.
+  Ray toObject(const Ray& ray, float* dt) const;
+
+  const Shape* shape_;
+  Transform placement_;
+  bool identity_;
+};
+
+}  // namespace glint
