@@ -18,19 +18,26 @@ struct InfoArgs {
 
 const char* materialTypeName(MaterialType t) {
   switch (t) {
-    case MaterialType::Pbr: return "pbr";
-    case MaterialType::Eyelight: return "eyelight";
-    case MaterialType::Lambert: return "lambert";
-    case MaterialType::Phong: return "phong";
+    case MaterialType::Pbr:
+      return "pbr";
+    case MaterialType::Eyelight:
+      return "eyelight";
+    case MaterialType::Lambert:
+      return "lambert";
+    case MaterialType::Phong:
+      return "phong";
   }
   return "?";
 }
 
 const char* lightTypeName(LightType t) {
   switch (t) {
-    case LightType::Point: return "point";
-    case LightType::Spot: return "spot";
-    case LightType::Directional: return "directional";
+    case LightType::Point:
+      return "point";
+    case LightType::Spot:
+      return "spot";
+    case LightType::Directional:
+      return "directional";
   }
   return "?";
 }
@@ -42,6 +49,43 @@ std::string listNames(const std::vector<T>& items, F name, size_t limit = 8) {
   for (size_t i = 0; i < items.size() && i < limit; ++i) s += (i ? ", " : "") + name(items[i]);
   if (items.size() > limit) s += ", ... (" + std::to_string(items.size() - limit) + " more)";
   return s;
+}
+
+const char* shapeTypeName(ShapeType t) {
+  switch (t) {
+    case ShapeType::Sphere:
+      return "sphere";
+    case ShapeType::Box:
+      return "box";
+    case ShapeType::Cylinder:
+      return "cylinder";
+    case ShapeType::Cone:
+      return "cone";
+    case ShapeType::Plane:
+      return "plane";
+    case ShapeType::Disk:
+      return "disk";
+    case ShapeType::Quad:
+      return "quad";
+  }
+  return "?";
+}
+
+// "ball (sphere)", "dice (csg, 7 leaves)", "mountain (terrain, 32768 triangles)".
+std::string objectSummary(const ObjectDesc& o) {
+  std::string name = o.name.empty() ? std::string("(unnamed)") : o.name;
+  switch (o.kind) {
+    case ObjectKind::Shape:
+      return name + " (" + shapeTypeName(o.shape.type) + ")";
+    case ObjectKind::Csg: {
+      size_t leaves = 0;
+      for (const CsgNodeDesc& n : o.csg.nodes) leaves += n.op == CsgOp::Leaf;
+      return name + " (csg, " + std::to_string(leaves) + " leaves)";
+    }
+    case ObjectKind::Terrain:
+      return name + " (terrain, " + std::to_string(2ull << (2 * o.terrain.depth)) + " triangles)";
+  }
+  return name;
 }
 
 int runInfo(const InfoArgs& args) {
@@ -70,6 +114,10 @@ int runInfo(const InfoArgs& args) {
   std::printf("meshes:     %zu (%zu triangles stored, %zu placed in the world)\n",
               desc.meshes.size(), triangles, scene.geometry.instancedTriangleCount());
   std::printf("instances:  %zu\n", desc.instances.size());
+  if (!desc.objects.empty())
+    std::printf(
+        "objects:    %zu: %s\n", desc.objects.size(),
+        listNames(desc.objects, [](const ObjectDesc& o) { return objectSummary(o); }).c_str());
   std::printf("materials:  %zu%s%s\n", desc.materials.size(), desc.materials.empty() ? "" : ": ",
               listNames(desc.materials, [](const MaterialDesc& m) {
                 return (m.name.empty() ? std::string("(unnamed)") : m.name) + " (" +
@@ -78,10 +126,12 @@ int runInfo(const InfoArgs& args) {
   std::printf("textures:   %zu (%zu images)\n", desc.textures.size(), desc.images.size());
   std::printf("cameras:    %zu%s%s; rendering with '%s'\n", desc.cameras.size(),
               desc.cameras.empty() ? "" : ": ",
-              listNames(desc.cameras, [](const CameraDesc& c) {
-                return c.name + (c.type == CameraType::Perspective ? " (perspective)"
-                                                                   : " (orthographic)");
-              }).c_str(),
+              listNames(desc.cameras,
+                        [](const CameraDesc& c) {
+                          return c.name + (c.type == CameraType::Perspective ? " (perspective)"
+                                                                             : " (orthographic)");
+                        })
+                  .c_str(),
               scene.cameraName.c_str());
   std::printf("lights:     %zu%s%s\n", desc.lights.size(), desc.lights.empty() ? "" : ": ",
               listNames(desc.lights, [](const LightDesc& l) {
@@ -98,9 +148,11 @@ int runInfo(const InfoArgs& args) {
               (unsigned long long)desc.render.seed, desc.render.accel.c_str(),
               desc.render.integrator.c_str());
   std::vector<std::string> effects = scene.features.names();
-  std::printf("effects:    %s\n",
-              effects.empty() ? "none"
-                              : listNames(effects, [](const std::string& s) { return s; }, 64).c_str());
+  std::printf("effects:    %s\n", effects.empty()
+                                      ? "none"
+                                      : listNames(
+                                            effects, [](const std::string& s) { return s; }, 64)
+                                            .c_str());
   return 0;
 }
 
@@ -108,9 +160,11 @@ int runInfo(const InfoArgs& args) {
 
 void addInfoCommand(CLI::App& app, int* exitCode) {
   auto args = std::make_shared<InfoArgs>();
-  CLI::App* cmd = app.add_subcommand("info", "print what a scene holds and the effects it calls for");
+  CLI::App* cmd =
+      app.add_subcommand("info", "print what a scene holds and the effects it calls for");
   cmd->add_option("scene", args->scene, "a .gltf/.glb scene or a glint .json scene")->required();
-  cmd->add_option("--sidecar", args->sidecar, "sidecar JSON (default: NAME.glint.json beside the glTF)");
+  cmd->add_option("--sidecar", args->sidecar,
+                  "sidecar JSON (default: NAME.glint.json beside the glTF)");
   args->overrides.addOptions(cmd);
   cmd->callback([args, exitCode] { *exitCode = runInfo(*args); });
 }

@@ -69,7 +69,10 @@ std::string statsJson(const RenderArgs& args, const SceneDescription& desc,
   j["threads"] = stats.threads;
   j["triangles"] = scene.geometry.instancedTriangleCount();
   j["triangles_stored"] = scene.geometry.uniqueTriangleCount();
-  j["primitives"] = scene.geometry.instancedTriangleCount();  // analytic shapes join later
+  // Everything the accelerator intersects: placed triangles plus analytic objects (a CSG tree
+  // counts as one primitive: it is one Embree user primitive).
+  j["primitives"] = scene.geometry.instancedTriangleCount() + scene.geometry.shapeInstanceCount();
+  j["analytic_objects"] = scene.geometry.shapeInstanceCount();
   j["instances"] = scene.geometry.instances.size();
   j["lights"] = scene.lights.size();
   j["build_seconds"] = build.totalSeconds;

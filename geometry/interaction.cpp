@@ -3,10 +3,37 @@
 
 namespace glint {
 
+namespace {
+
+SurfaceInteraction shapeInteraction(const GeometryScene& scene, const Ray& ray, const Hit& hit) {
+  const Instance& inst = scene.instances[hit.instance];
+  PlacedShape placed = scene.placedShape(hit.instance);
+  ShapeSurface s = placed.surface(ray, ShapeHit{hit.t, hit.prim});
+  SurfaceInteraction si;
+  si.p = s.p;
+  si.pError = s.pError;
+  si.wo = normalize(-ray.d);
+  // Shade two-sided, like meshes: the normal faces the side the ray came from.
+  Vec3f n = s.n;
+  if (dot(n, si.wo) < 0) n = -n;
+  si.ng = si.ns = n;
+  si.uv = s.uv;
+  si.dpdu = s.dpdu;
+  si.dpdv = s.dpdv;
+  si.t = hit.t;
+  si.instance = hit.instance;
+  si.prim = hit.prim;
+  si.materialSlot = scene.shapes[inst.shape]->materialSlot(hit.prim);
+  return si;
+}
+
+}  // namespace
+
 SurfaceInteraction computeSurfaceInteraction(const GeometryScene& scene, const Ray& ray,
                                              const Hit& hit, SurfaceNeeds needs) {
   SurfaceInteraction si;
   const Instance& inst = scene.instances[hit.instance];
+  if (inst.isShape()) return shapeInteraction(scene, ray, hit);
   const TriangleMesh& mesh = scene.meshes[inst.mesh];
   const uint32_t i0 = mesh.indices[3 * hit.prim], i1 = mesh.indices[3 * hit.prim + 1],
                  i2 = mesh.indices[3 * hit.prim + 2];

@@ -24,10 +24,13 @@ struct SurfaceInteraction {
   Vec3f ng;         // unit geometric normal (world), on the side the ray came from
   Vec3f ns;         // unit shading normal (world), in ng's hemisphere
   Vec3f wo;         // unit direction back along the ray
-  Vec2f uv;         // TEXCOORD_0 (or barycentrics when the mesh has none)
+  Vec2f uv;         // TEXCOORD_0 (or barycentrics when the mesh has none); a shape's own uv
+  Vec3f dpdu, dpdv; // analytic shapes: world-space partial derivatives (zero for meshes)
   Vec4f color{1, 1, 1, 1};  // COLOR_0, white when absent
   float t = 0;
-  uint32_t instance = 0, mesh = 0, prim = 0;
+  uint32_t instance = 0, prim = 0;
+  uint32_t mesh = Instance::kNone;   // the instance's mesh, or kNone for an analytic shape
+  uint32_t materialSlot = 0;         // which of the instance's materials (CSG: the leaf)
 
   // A ray leaving this point in direction d (origin offset past the point's error bound).
   Ray spawnRay(Vec3f d, float time) const { return glint::spawnRay(p, pError, ng, d, time); }
@@ -37,9 +40,10 @@ struct SurfaceInteraction {
   }
 };
 
-// Computes the surface details of `hit` (found for `ray` in `scene`): the hit point is
-// re-evaluated from the triangle's vertices and barycentrics, which is far more accurate than
-// o + t d, with its error bound propagated through the instance transform.
+// Computes the surface details of `hit` (found for `ray` in `scene`). Triangles: the hit point
+// is re-evaluated from the vertices and barycentrics, which is far more accurate than o + t d,
+// with its error bound propagated through the instance transform. Analytic shapes: their own
+// surface() (re-projected point, error bound, normal, uv, dp/du, dp/dv) in world space.
 SurfaceInteraction computeSurfaceInteraction(const GeometryScene& scene, const Ray& ray,
                                              const Hit& hit, SurfaceNeeds needs = {});
 

@@ -14,8 +14,15 @@ Bounds3f GeometryScene::bounds() const {
   meshBounds.reserve(meshes.size());
   for (const TriangleMesh& m : meshes) meshBounds.push_back(m.bounds());
   Bounds3f b;
-  for (const Instance& inst : instances)
-    b.extend(inst.worldFromObject.bounds(meshBounds[inst.mesh]));
+  for (uint32_t i = 0; i < instances.size(); ++i) {
+    const Instance& inst = instances[i];
+    if (!inst.isShape()) {
+      b.extend(inst.worldFromObject.bounds(meshBounds[inst.mesh]));
+    } else {
+      Bounds3f sb = placedShape(i).bounds();
+      if (!isUnbounded(sb)) b.extend(sb);
+    }
+  }
   return b;
 }
 
@@ -27,7 +34,14 @@ size_t GeometryScene::uniqueTriangleCount() const {
 
 size_t GeometryScene::instancedTriangleCount() const {
   size_t n = 0;
-  for (const Instance& inst : instances) n += meshes[inst.mesh].triangleCount();
+  for (const Instance& inst : instances)
+    if (!inst.isShape()) n += meshes[inst.mesh].triangleCount();
+  return n;
+}
+
+size_t GeometryScene::shapeInstanceCount() const {
+  size_t n = 0;
+  for (const Instance& inst : instances) n += inst.isShape();
   return n;
 }
 

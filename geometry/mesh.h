@@ -2,9 +2,11 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "geometry/math.h"
+#include "geometry/shape.h"
 
 namespace glint {
 
@@ -21,21 +23,36 @@ struct TriangleMesh {
   Bounds3f bounds() const;
 };
 
-// One placement of a mesh. Meshes placed several times are built once and instanced.
+// One placement of a mesh or of an analytic shape (exactly one of the two indices is set).
+// Meshes placed several times are built once and instanced.
 struct Instance {
-  uint32_t mesh = 0;
+  static constexpr uint32_t kNone = ~0u;
+  uint32_t mesh = kNone;  // index into GeometryScene::meshes
   Transform worldFromObject;
+  uint32_t shape = kNone;  // index into GeometryScene::shapes
+
+  bool isShape() const { return shape != kNone; }
 };
 
-// Everything an accelerator needs: meshes and their placements. Materials live elsewhere and
-// are looked up by mesh index: geometry knows nothing of shading.
+// Everything an accelerator needs: meshes, analytic shapes (primitives and CSG trees, each in
+// its own object space) and their placements. Materials live elsewhere and are looked up by
+// (instance, material slot): geometry knows nothing of shading.
 struct GeometryScene {
   std::vector<TriangleMesh> meshes;
+  std::vector<std::unique_ptr<Shape>> shapes;
   std::vector<Instance> instances;
+
+  // The analytic shape of instance `i` (which must be a shape instance), placed in the world.
+  PlacedShape placedShape(uint32_t i) const {
+    return PlacedShape(shapes[instances[i].shape].get(), instances[i].worldFromObject);
+  }
+  // World bounds of the bounded geometry (unbounded shapes such as infinite planes are left
+  // out: they have no finite box).
 
   Bounds3f bounds() const;
   size_t uniqueTriangleCount() const;    // triangles stored
   size_t instancedTriangleCount() const; // triangles in the world (instances counted)
+  size_t shapeInstanceCount() const;     // analytic objects in the world
 };
 
 }  // namespace glint

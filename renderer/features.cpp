@@ -11,6 +11,9 @@ const char* featureName(Feature f) {
     case Feature::Emission: return "emission";
     case Feature::Instancing: return "instancing";
     case Feature::Headlight: return "headlight";
+    case Feature::Analytic: return "analytic";
+    case Feature::Csg: return "csg";
+    case Feature::Terrain: return "terrain";
     case Feature::Transparency: return "transparency";
     case Feature::Lens: return "lens";
     case Feature::MotionBlur: return "motion blur";

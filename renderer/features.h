@@ -19,6 +19,9 @@ enum class Feature : uint32_t {
   Emission,      // some material emits light
   Instancing,    // some mesh is placed more than once
   Headlight,     // the scene had no lights; a headlight was added
+  Analytic,      // analytic primitives (Embree user geometry)
+  Csg,           // constructive solid geometry trees
+  Terrain,       // fractal terrain
   Transparency,  // reserved: alpha / transmission (issue 5)
   Lens,          // reserved: thin-lens depth of field (issue 6)
   MotionBlur,    // reserved: anything moves during the shutter (issue 6)

@@ -1,13 +1,29 @@
 // glint — feature detection over a built scene.
 #include "renderer/scene.h"
 
+#include <string>
+
 namespace glint {
 
 SceneFeatures detectFeatures(const RenderScene& scene) {
   SceneFeatures f;
   std::vector<uint32_t> uses(scene.geometry.meshes.size(), 0);
-  for (const Instance& inst : scene.geometry.instances) ++uses[inst.mesh];
   bool anyLit = false;
+  for (const Instance& inst : scene.geometry.instances) {
+    if (!inst.isShape()) {
+      ++uses[inst.mesh];
+      continue;
+    }
+    f.set(Feature::Analytic);
+    if (std::string(scene.geometry.shapes[inst.shape]->typeName()) == "csg")
+      f.set(Feature::Csg);
+    for (uint32_t m : scene.shapeMaterials[inst.shape]) {
+      const Material& mat = *scene.materials[m];
+      if (mat.usesTextures()) f.set(Feature::Textures);
+      if (mat.emits()) f.set(Feature::Emission);
+      if (!(mat.flags() & kBsdfUnlit)) anyLit = true;
+    }
+  }
   for (size_t m = 0; m < scene.geometry.meshes.size(); ++m) {
     if (uses[m] == 0) continue;
     if (uses[m] > 1) f.set(Feature::Instancing);

@@ -16,6 +16,8 @@ namespace glint {
 struct RenderScene {
   GeometryScene geometry;
   std::vector<uint32_t> meshMaterial;  // material index per mesh
+  // Per analytic shape (GeometryScene::shapes), the material index of each material slot.
+  std::vector<std::vector<uint32_t>> shapeMaterials;
   std::vector<std::unique_ptr<Material>> materials;
   std::vector<std::unique_ptr<Texture>> textures;
   std::vector<std::unique_ptr<Light>> lights;
@@ -26,6 +28,12 @@ struct RenderScene {
   std::unique_ptr<Accelerator> accel;  // built last, over `geometry`
 
   const Material& materialOf(uint32_t mesh) const { return *materials[meshMaterial[mesh]]; }
+  // The material index of a hit, on a mesh or an analytic shape.
+  uint32_t materialIndex(const Hit& hit) const {
+    const Instance& inst = geometry.instances[hit.instance];
+    if (!inst.isShape()) return meshMaterial[inst.mesh];
+    return shapeMaterials[inst.shape][geometry.shapes[inst.shape]->materialSlot(hit.prim)];
+  }
 };
 
 // Derives the features from the built scene (materials, lights, instancing). The builder calls

@@ -10,18 +10,18 @@ WhittedIntegrator::WhittedIntegrator(const RenderScene& scene, int maxDepth)
   needs_.uvs = scene.features.has(Feature::Textures);
   needs_.colors = scene.features.has(Feature::VertexColors);
   shadows_ = scene.features.has(Feature::Shadows);
-  unlit_.resize(scene.geometry.meshes.size());
-  for (size_t m = 0; m < unlit_.size() && m < scene.meshMaterial.size(); ++m)
-    unlit_[m] = (scene.materialOf(uint32_t(m)).flags() & kBsdfUnlit) != 0;
+  unlit_.resize(scene.materials.size());
+  for (size_t m = 0; m < unlit_.size(); ++m)
+    unlit_[m] = (scene.materials[m]->flags() & kBsdfUnlit) != 0;
 }
 
 Rgb WhittedIntegrator::LiFromHit(const Ray& ray, const Hit* found, Sampler& sampler,
                                  RayCounters& counters, PathAovs& aovs) const {
   if (!found) return scene_.background;
   const Hit& hit = *found;
-  const uint32_t mesh = scene_.geometry.instances[hit.instance].mesh;
-  const Material& material = scene_.materialOf(mesh);
-  const bool unlit = unlit_[mesh];
+  const uint32_t materialIndex = scene_.materialIndex(hit);
+  const Material& material = *scene_.materials[materialIndex];
+  const bool unlit = unlit_[materialIndex];
   SurfaceNeeds needs = needs_;
   needs.position = !unlit;
   SurfaceInteraction si = computeSurfaceInteraction(scene_.geometry, ray, hit, needs);

@@ -23,7 +23,7 @@ class WhittedIntegrator final : public Integrator {
   int maxDepth_;
   SurfaceNeeds needs_;  // from the scene's features
   bool shadows_;
-  std::vector<uint8_t> unlit_;  // per mesh: its material is unlit (decided once, not per hit)
+  std::vector<uint8_t> unlit_;  // per material: unlit (decided once, not per hit)
 };
 
 }  // namespace glint

@@ -5,6 +5,15 @@
 #include <cmath>
 #include <map>
 
+#include "geometry/csg.h"
+#include "geometry/shapes/box.h"
+#include "geometry/shapes/cone.h"
+#include "geometry/shapes/cylinder.h"
+#include "geometry/shapes/disk.h"
+#include "geometry/shapes/plane.h"
+#include "geometry/shapes/quad.h"
+#include "geometry/shapes/sphere.h"
+#include "geometry/terrain.h"
 #include "materials/basic_materials.h"
 
 namespace glint {
@@ -12,6 +21,68 @@ namespace glint {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// ---------------------------------------------------------------------------------------------
+// Analytic objects
+// ---------------------------------------------------------------------------------------------
+
+std::unique_ptr<Shape> makeShape(const ShapeDesc& d) {
+  switch (d.type) {
+    case ShapeType::Sphere:
+      return std::make_unique<Sphere>(d.center, d.radius);
+    case ShapeType::Box:
+      return std::make_unique<Box>(d.lower, d.upper);
+    case ShapeType::Cylinder:
+      return std::make_unique<Cylinder>(d.radius, d.height, d.capped);
+    case ShapeType::Cone:
+      return std::make_unique<Cone>(d.radius, d.height, d.capped);
+    case ShapeType::Plane:
+      return std::make_unique<Plane>(d.point, d.normal, d.uvScale);
+    case ShapeType::Disk:
+      return std::make_unique<Disk>(d.radius);
+    case ShapeType::Quad:
+    default:
+      return std::make_unique<Quad>(d.corner, d.edgeU, d.edgeV);
+  }
+}
+
+CsgOperation csgOperation(CsgOp op) {
+  switch (op) {
+    case CsgOp::Intersection:
+      return CsgOperation::Intersection;
+    case CsgOp::Difference:
+      return CsgOperation::Difference;
+    default:
+      return CsgOperation::Union;
+  }
+}
+
+// Adds `node` of `tree` (and its subtree) to `csg`, with transforms composed down to the
+// leaves; `leafMaterials` receives each leaf's material (-1 = the object's) in leaf order.
+uint32_t addCsgNode(const CsgTreeDesc& tree, int node, const Transform& treeFromParent,
+                    CsgShape* csg, std::vector<int>* leafMaterials) {
+  const CsgNodeDesc& n = tree.nodes[size_t(node)];
+  Transform treeFromNode = treeFromParent * n.parentFromNode;
+  if (n.op == CsgOp::Leaf) {
+    leafMaterials->push_back(n.material);
+    return csg->addLeaf(makeShape(n.shape), treeFromNode);
+  }
+  std::vector<uint32_t> children;
+  for (int c : n.children)
+    children.push_back(addCsgNode(tree, c, treeFromNode, csg, leafMaterials));
+  return csg->addOperation(csgOperation(n.op), std::move(children));
+}
+
+TerrainParams terrainParams(const TerrainDesc& d) {
+  TerrainParams p;
+  p.size = d.size;
+  p.depth = d.depth;
+  p.roughness = d.roughness;
+  p.peak = d.peak;
+  p.height = d.height;
+  p.seed = d.seed;
+  return p;
+}
 
 SourceLocation commandLineOr(const SceneDescription& desc, const char* pointer) {
   return {desc.file, pointer};
@@ -25,9 +96,10 @@ const CameraDesc* selectCamera(const SceneDescription& desc) {
     if (c.name == name) return &c;
   std::string known;
   for (const CameraDesc& c : desc.cameras) known += (known.empty() ? "'" : ", '") + c.name + "'";
-  throw SceneError(commandLineOr(desc, "/render/camera"),
-                   "no camera named '" + name + "'" +
-                       (known.empty() ? " (the scene has no cameras)" : " (cameras: " + known + ")"));
+  throw SceneError(
+      commandLineOr(desc, "/render/camera"),
+      "no camera named '" + name + "'" +
+          (known.empty() ? " (the scene has no cameras)" : " (cameras: " + known + ")"));
 }
 
 // A perspective camera that frames the scene bounds for an image of the given aspect, looking
@@ -60,10 +132,13 @@ CameraDesc framingCamera(const Bounds3f& bounds, float aspect) {
 
 TextureWrap toWrap(WrapMode m) {
   switch (m) {
-    case WrapMode::ClampToEdge: return TextureWrap::Clamp;
-    case WrapMode::MirroredRepeat: return TextureWrap::Mirror;
+    case WrapMode::ClampToEdge:
+      return TextureWrap::Clamp;
+    case WrapMode::MirroredRepeat:
+      return TextureWrap::Mirror;
     case WrapMode::Repeat:
-    default: return TextureWrap::Repeat;
+    default:
+      return TextureWrap::Repeat;
   }
 }
 
@@ -98,16 +173,19 @@ std::unique_ptr<Material> makeMaterial(const MaterialDesc& m, bool vertexColors,
   ColorParam base{m.baseColor, textures.get(m.baseColorTexture, true), vertexColors};
   ColorParam emission{m.emissive, textures.get(m.emissiveTexture, true), false};
   switch (m.type) {
-    case MaterialType::Eyelight: return std::make_unique<EyelightMaterial>(base);
+    case MaterialType::Eyelight:
+      return std::make_unique<EyelightMaterial>(base);
     case MaterialType::Phong:
       for (int c = 0; c < 3; ++c)
         if (m.baseColor[c] + m.specular[c] > 1.0f + 1e-6f)
-          throw SceneError(m.where, "Phong diffuse + specular exceeds 1 in a channel; the "
-                                    "material would reflect more light than it receives");
+          throw SceneError(m.where,
+                           "Phong diffuse + specular exceeds 1 in a channel; the "
+                           "material would reflect more light than it receives");
       return std::make_unique<PhongMaterial>(base, m.specular, m.shininess, emission);
     case MaterialType::Lambert:
     case MaterialType::Pbr:  // until the microfacet BSDF lands (issue 5): its base colour
-    default: return std::make_unique<LambertMaterial>(base, emission);
+    default:
+      return std::make_unique<LambertMaterial>(base, emission);
   }
 }
 
@@ -167,6 +245,7 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
   for (const InstanceDesc& inst : desc.instances) ++uses[size_t(inst.mesh)];
   std::vector<int> meshIndex(desc.meshes.size(), -1);
   std::vector<bool> meshHasColors;
+  std::vector<std::pair<uint32_t, int>> terrainMeshes;  // (geometry mesh, material)
   for (const InstanceDesc& inst : desc.instances) {
     const MeshDesc& md = desc.meshes[size_t(inst.mesh)];
     bool bake = uses[size_t(inst.mesh)] == 1;
@@ -190,8 +269,46 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
     meshIndex[size_t(inst.mesh)] = int(scene.geometry.meshes.size());
     meshHasColors.push_back(!md.colors.empty());
     scene.geometry.meshes.push_back(std::move(mesh));
-    scene.geometry.instances.push_back(
-        {uint32_t(scene.geometry.meshes.size() - 1), placement});
+    scene.geometry.instances.push_back({uint32_t(scene.geometry.meshes.size() - 1), placement});
+  }
+
+  // --- Analytic objects: shapes and CSG trees stay in object space under their transform;
+  // terrain becomes a triangle mesh, baked into world space.
+  std::vector<std::vector<int>> shapeMaterialDescs;  // per geometry shape: per slot
+  bool terrain = false;
+  for (const ObjectDesc& obj : desc.objects) {
+    if (obj.kind == ObjectKind::Terrain) {
+      TriangleMesh mesh = makeFractalTerrain(terrainParams(obj.terrain));
+      if (!obj.worldFromObject.isIdentity()) {
+        for (Vec3f& p : mesh.positions) p = obj.worldFromObject.point(p);
+        for (Vec3f& n : mesh.normals) n = normalize(obj.worldFromObject.normal(n));
+      }
+      meshHasColors.push_back(false);
+      terrainMeshes.emplace_back(uint32_t(scene.geometry.meshes.size()), obj.material);
+      scene.geometry.meshes.push_back(std::move(mesh));
+      scene.geometry.instances.push_back({uint32_t(scene.geometry.meshes.size() - 1), Transform()});
+      terrain = true;
+      continue;
+    }
+    std::vector<int> slots;
+    std::unique_ptr<Shape> shape;
+    if (obj.kind == ObjectKind::Csg) {
+      auto csg = std::make_unique<CsgShape>();
+      uint32_t root = addCsgNode(obj.csg, obj.csg.root, Transform(), csg.get(), &slots);
+      csg->finish(root);
+      for (int& m : slots)
+        if (m < 0) m = obj.material;
+      shape = std::move(csg);
+    } else {
+      shape = makeShape(obj.shape);
+      slots.push_back(obj.material);
+    }
+    Instance inst;
+    inst.shape = uint32_t(scene.geometry.shapes.size());
+    inst.worldFromObject = obj.worldFromObject;
+    scene.geometry.shapes.push_back(std::move(shape));
+    scene.geometry.instances.push_back(inst);
+    shapeMaterialDescs.push_back(std::move(slots));
   }
 
   // --- Materials: one per description material (and per vertex-colour use), plus a default.
@@ -213,6 +330,13 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
     if (meshIndex[m] >= 0)
       scene.meshMaterial[size_t(meshIndex[m])] =
           materialFor(desc.meshes[m].material, meshHasColors[size_t(meshIndex[m])]);
+  for (const auto& [mesh, material] : terrainMeshes)
+    scene.meshMaterial[mesh] = materialFor(material, false);
+  for (const std::vector<int>& slots : shapeMaterialDescs) {
+    std::vector<uint32_t> materials;
+    for (int m : slots) materials.push_back(materialFor(m, false));
+    scene.shapeMaterials.push_back(std::move(materials));
+  }
 
   // --- Camera and image size.
   const CameraDesc* selected = selectCamera(desc);
@@ -241,6 +365,7 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
 
   scene.features = detectFeatures(scene);
   scene.features.set(Feature::Headlight, headlight);
+  scene.features.set(Feature::Terrain, terrain);
 
   auto accelStart = Clock::now();
   scene.accel = makeAccelerator(desc.render.accel, scene.geometry);

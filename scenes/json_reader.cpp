@@ -140,7 +140,8 @@ Transform toMatrix(const Json& value, const SourceLocation& where) {
   return Transform(m, inverse);
 }
 
-const std::vector<std::string> kTransformOps = {"translate", "rotate", "scale", "matrix"};
+const std::vector<std::string> kTransformOps = {"translate", "rotate", "scale", "shear",
+                                                "matrix"};
 
 Transform toOperation(const Json& op, const SourceLocation& where) {
   if (!op.is_object()) wrongType(op, where, "a transform operation object");
@@ -163,6 +164,19 @@ Transform toOperation(const Json& op, const SourceLocation& where) {
     r.finish();
     if (axis == Vec3f{}) throw SceneError(r.where("axis"), "rotation axis must not be zero");
     return Transform::rotate(degrees, axis);
+  }
+  if (name == "shear") {
+    // {"xy": a, ...}: x' = x + xy * y + xz * z, y' = yx * x + y + yz * z, z' = ... (unset = 0)
+    JsonReader r(arg, at);
+    Mat4 m;
+    const char* keys[3][3] = {{nullptr, "xy", "xz"}, {"yx", nullptr, "yz"}, {"zx", "zy", nullptr}};
+    for (int row = 0; row < 3; ++row)
+      for (int col = 0; col < 3; ++col)
+        if (keys[row][col]) m.m[row][col] = r.get<float>(keys[row][col], 0.0f);
+    r.finish();
+    Mat4 inverse;
+    if (!invert(m, &inverse)) throw SceneError(at, "shear is singular (not invertible)");
+    return Transform(m, inverse);
   }
   if (name == "matrix") return toMatrix(arg, at);
   std::string message = "unknown transform operation '" + name + "'";

@@ -82,8 +82,8 @@ GLINT_JSON_READ_VALUE(Transform);
 // A 4x4 transform: 16 numbers (row-major), 4 rows of 4 numbers, or a list of operations applied
 // in order, the first one first:
 //   [{"scale": 2}, {"rotate": {"axis": [0, 1, 0], "degrees": 90}}, {"translate": [1, 0, 0]}]
-// Operations: translate [x,y,z]; rotate {axis, degrees}; scale s or [x,y,z]; matrix (either
-// matrix form). Singular, non-affine or non-finite matrices are errors at their pointer.
+// Operations: translate [x,y,z]; rotate {axis, degrees}; scale s or [x,y,z]; shear {xy, xz,
+// yx, yz, zx, zy} (x' = x + xy y + xz z, ...; unset factors 0); matrix (either matrix form). Singular, non-affine or non-finite matrices are errors at their pointer.
 Transform readTransform(const nlohmann::json& value, const SourceLocation& where);
 
 // One element of an array read through a JsonReader, with its location.

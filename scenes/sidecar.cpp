@@ -6,6 +6,7 @@
 #include "scenes/gltf_loader.h"
 #include "scenes/json_reader.h"
 #include "scenes/json_util.h"
+#include "scenes/sidecar_objects.h"
 
 namespace glint {
 
@@ -348,6 +349,7 @@ void applySceneJsonText(std::string_view text, const std::string& file, SceneJso
   readCameras(root, scene);
   readLights(root, scene);
   readMaterials(root, scene);
+  readObjects(root, file, scene);
   JsonReader* render = root.optionalObject("render");
   if (render) readRender(*render, &scene->render);
   // Unknown keys first: a misspelt section would otherwise surface as a confusing

@@ -19,8 +19,9 @@ struct Hit {
   static constexpr uint32_t kInvalid = ~0u;
   float t = kInfinity;
   uint32_t instance = kInvalid;  // index into GeometryScene::instances
-  uint32_t prim = kInvalid;      // triangle index within the instance's mesh
-  float u = 0, v = 0;            // barycentrics: p = (1-u-v) p0 + u p1 + v p2
+  uint32_t prim = kInvalid;      // triangle index within the instance's mesh, or the
+                                 // ShapeHit::part of an analytic shape
+  float u = 0, v = 0;            // triangle barycentrics: p = (1-u-v) p0 + u p1 + v p2
 };
 
 class Accelerator {

@@ -23,34 +23,44 @@ EmbreeAccelerator::EmbreeAccelerator(const GeometryScene& geometry) {
 
   // How often each mesh is placed decides direct attachment versus instancing.
   std::vector<uint32_t> uses(geometry.meshes.size(), 0);
-  for (const Instance& inst : geometry.instances) ++uses[inst.mesh];
+  for (const Instance& inst : geometry.instances)
+    if (!inst.isShape()) ++uses[inst.mesh];
   meshScenes_.assign(geometry.meshes.size(), nullptr);
+  unbounded_.build(geometry);
+  // Embree keeps pointers to the placed shapes: the vector must not reallocate.
+  placedShapes_.reserve(geometry.shapeInstanceCount());
 
   scene_ = rtcNewScene(device_);
   for (uint32_t i = 0; i < geometry.instances.size(); ++i) {
     const Instance& inst = geometry.instances[i];
-    const TriangleMesh& mesh = geometry.meshes[inst.mesh];
-    if (mesh.triangleCount() == 0) continue;
     RTCGeometry geom;
-    if (uses[inst.mesh] == 1 && inst.worldFromObject.isIdentity()) {
-      geom = makeTriangleGeometry(mesh);
+    if (inst.isShape()) {
+      if (unbounded_.contains(i)) continue;
+      placedShapes_.push_back(geometry.placedShape(i));
+      geom = makeShapeGeometry(&placedShapes_.back());
     } else {
-      RTCScene& meshScene = meshScenes_[inst.mesh];
-      if (!meshScene) {
-        meshScene = rtcNewScene(device_);
-        RTCGeometry tri = makeTriangleGeometry(mesh);
-        rtcAttachGeometry(meshScene, tri);
-        rtcReleaseGeometry(tri);
-        rtcCommitScene(meshScene);
+      const TriangleMesh& mesh = geometry.meshes[inst.mesh];
+      if (mesh.triangleCount() == 0) continue;
+      if (uses[inst.mesh] == 1 && inst.worldFromObject.isIdentity()) {
+        geom = makeTriangleGeometry(mesh);
+      } else {
+        RTCScene& meshScene = meshScenes_[inst.mesh];
+        if (!meshScene) {
+          meshScene = rtcNewScene(device_);
+          RTCGeometry tri = makeTriangleGeometry(mesh);
+          rtcAttachGeometry(meshScene, tri);
+          rtcReleaseGeometry(tri);
+          rtcCommitScene(meshScene);
+        }
+        geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
+        rtcSetGeometryInstancedScene(geom, meshScene);
+        float m[12];  // 3x4 column-major
+        const auto& a = inst.worldFromObject.matrix().m;
+        for (int c = 0; c < 4; ++c)
+          for (int r = 0; r < 3; ++r) m[c * 3 + r] = a[r][c];
+        rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, m);
+        rtcCommitGeometry(geom);
       }
-      geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
-      rtcSetGeometryInstancedScene(geom, meshScene);
-      float m[12];  // 3x4 column-major
-      const auto& a = inst.worldFromObject.matrix().m;
-      for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 3; ++r) m[c * 3 + r] = a[r][c];
-      rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, m);
-      rtcCommitGeometry(geom);
     }
     unsigned id = rtcAttachGeometry(scene_, geom);
     rtcReleaseGeometry(geom);
@@ -94,6 +104,20 @@ void EmbreeAccelerator::checkError(const char* what) {
 }
 
 bool EmbreeAccelerator::closestHit(const Ray& ray, Hit* hit) const {
+  if (!unbounded_.empty()) {
+    // The nearest plane shortens the ray Embree traces.
+    Hit plane;
+    if (!unbounded_.closestHit(ray, &plane)) return traceClosest(ray, hit);
+    Ray shorter = ray;
+    shorter.tMax = plane.t;
+    if (traceClosest(shorter, hit) && hit->t < plane.t) return true;
+    *hit = plane;
+    return true;
+  }
+  return traceClosest(ray, hit);
+}
+
+bool EmbreeAccelerator::traceClosest(const Ray& ray, Hit* hit) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rh;
@@ -123,6 +147,11 @@ void EmbreeAccelerator::closestHits(const Ray* rays, Hit* hits, int count) const
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  if (!unbounded_.empty()) {  // rare: keep the plane logic in one place
+    for (int i = 0; i < count; ++i)
+      if (!closestHit(rays[i], &hits[i])) hits[i] = Hit{};
+    return;
+  }
   for (int first = 0; first < count; first += kPacket) {
     const int n = std::min(kPacket, count - first);
     if (n == 1) {  // a packet of one is slower than the single-ray kernel
@@ -163,6 +192,7 @@ void EmbreeAccelerator::closestHits(const Ray* rays, Hit* hits, int count) const
 }
 
 bool EmbreeAccelerator::anyHit(const Ray& ray) const {
+  if (!unbounded_.empty() && unbounded_.anyHit(ray)) return true;
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRay r;

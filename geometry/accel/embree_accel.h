@@ -8,10 +8,14 @@
 #include <vector>
 
 #include "geometry/accel/accelerator.h"
+#include "geometry/accel/unbounded.h"
 
 namespace glint {
 
-// Owns an Embree device and scene. Meshes placed exactly once with an identity transform (the
+// Owns an Embree device and scene. Analytic shapes (primitives, CSG trees) are Embree user
+// geometry through one generic adaptor (embree_shapes.cpp); unbounded ones (infinite planes)
+// are kept out of the BVH, whose bounds they would ruin, and tested directly before each query
+// (see UnboundedShapes). Meshes placed exactly once with an identity transform (the
 // scene builder bakes single placements into world space) are attached to the top-level scene
 // directly; meshes placed several times are built once as their own scene and instanced, so
 // their triangles are stored once. Embree's device errors are recorded by the error callback
@@ -36,13 +40,17 @@ class EmbreeAccelerator final : public Accelerator {
   uint32_t instanceOfGeometry(unsigned geomID) const { return instanceOfGeom_[geomID]; }
 
  private:
+  bool traceClosest(const Ray& ray, Hit* hit) const;  // Embree only, no unbounded shapes
   RTCGeometry makeTriangleGeometry(const TriangleMesh& mesh);
+  RTCGeometry makeShapeGeometry(const PlacedShape* shape);
   void checkError(const char* what);
 
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
   std::vector<RTCScene> meshScenes_;      // per mesh, only for instanced meshes
   std::vector<uint32_t> instanceOfGeom_;  // top-level geomID -> instance index
+  std::vector<PlacedShape> placedShapes_;  // bounded shape instances: Embree's user data
+  UnboundedShapes unbounded_;
 
   std::mutex errorMutex_;
   std::string firstError_;

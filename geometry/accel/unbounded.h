@@ -1,0 +1,37 @@
+// glint — unbounded shapes (infinite planes, and CSG trees whose bounds are infinite), kept
+// out of acceleration hierarchies.
+//
+// An infinite plane has no finite bounding box. Giving it huge finite bounds (1e30) inside a
+// BVH or kd-tree wrecks the SAH (every node overlaps it) and the bounds' own arithmetic; so
+// every backend keeps such shapes in this short list instead and tests them directly: a
+// closest-hit query first intersects them and then asks the hierarchy only for hits nearer
+// than the nearest plane (shorter rays also traverse faster). Scenes have a handful of
+// planes at most, so a linear list is the right structure.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "geometry/accel/accelerator.h"
+#include "geometry/mesh.h"
+
+namespace glint {
+
+class UnboundedShapes {
+ public:
+  // Collects the unbounded shape instances of `scene`.
+  void build(const GeometryScene& scene);
+  bool empty() const { return shapes_.empty(); }
+  // The nearest hit with t in (tMin, tMax]: fills `hit` (instance, part as prim, t) and
+  // returns true.
+  bool closestHit(const Ray& ray, Hit* hit) const;
+  bool anyHit(const Ray& ray) const;
+  // Whether instance `i` is in the list.
+  bool contains(uint32_t instance) const;
+
+ private:
+  std::vector<PlacedShape> shapes_;
+  std::vector<uint32_t> instances_;
+};
+
+}  // namespace glint

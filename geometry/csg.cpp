@@ -1,0 +1,202 @@
+// glint — CSG trees: span lists combined by a sweep over boundary crossings.
+#include "geometry/csg.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+namespace glint {
+
+namespace {
+
+bool inside(CsgOperation op, bool a, bool b) {
+  switch (op) {
+    case CsgOperation::Union:
+      return a || b;
+    case CsgOperation::Intersection:
+      return a && b;
+    case CsgOperation::Difference:
+    default:
+      return a && !b;
+  }
+}
+
+// The k-th crossing (enter, exit, enter, ...) of a sorted span list.
+const Crossing& crossingAt(const Span* spans, size_t k) {
+  return (k & 1) ? spans[k >> 1].exit : spans[k >> 1].enter;
+}
+
+// Two crossings are one event when their t values cannot be told apart given their bounds.
+bool coincide(const Crossing& a, const Crossing& b) {
+  if (a.t == b.t) return true;  // includes equal infinities
+  return std::abs(a.t - b.t) <= a.tError + b.tError;
+}
+
+// A span whose ends coincide has no interior: a tangent ray, or a sliver below the error bound.
+bool degenerate(const Span& s) { return coincide(s.enter, s.exit); }
+
+}  // namespace
+
+void combineSpans(CsgOperation op, const Span* a, size_t na, const Span* b, size_t nb,
+                  std::vector<Span>& out) {
+  const size_t ea = 2 * na, eb = 2 * nb;  // crossing counts
+  size_t i = 0, j = 0;
+  bool inA = false, inB = false, in = false;
+  Crossing open;  // the enter crossing of the result span being built
+  while (i < ea || j < eb) {
+    // The earliest remaining crossing starts the group.
+    const Crossing* first;
+    if (j >= eb || (i < ea && crossingAt(a, i).t <= crossingAt(b, j).t))
+      first = &crossingAt(a, i);
+    else
+      first = &crossingAt(b, j);
+    // Take every crossing that coincides with it, from both lists; remember the left-most
+    // child's crossing (the tie rule's attribution).
+    const Crossing* fromA = nullptr;
+    const Crossing* fromB = nullptr;
+    while (i < ea && coincide(crossingAt(a, i), *first)) {
+      if (!fromA) fromA = &crossingAt(a, i);
+      inA = !inA;
+      ++i;
+    }
+    while (j < eb && coincide(crossingAt(b, j), *first)) {
+      if (!fromB) fromB = &crossingAt(b, j);
+      inB = !inB;
+      ++j;
+    }
+    bool now = inside(op, inA, inB);
+    if (now == in) continue;
+    const Crossing& boundary = fromA ? *fromA : *fromB;
+    if (now) {
+      open = boundary;
+    } else {
+      Span s{open, boundary};
+      if (!degenerate(s)) out.push_back(s);
+    }
+    in = now;
+  }
+}
+
+uint32_t CsgShape::addLeaf(std::unique_ptr<Shape> shape, const Transform& treeFromLeaf) {
+  assert(shape && shape->isSolid());
+  const Shape* raw = shape.get();
+  leaves_.push_back(Leaf{std::move(shape), PlacedShape(raw, treeFromLeaf), false});
+  Node node;
+  node.leaf = uint32_t(leaves_.size() - 1);
+  nodes_.push_back(std::move(node));
+  return uint32_t(nodes_.size() - 1);
+}
+
+uint32_t CsgShape::addOperation(CsgOperation op, std::vector<uint32_t> children) {
+  assert(children.size() >= 2);
+  Node node;
+  node.op = op;
+  node.children = std::move(children);
+  nodes_.push_back(std::move(node));
+  return uint32_t(nodes_.size() - 1);
+}
+
+void CsgShape::finish(uint32_t root) {
+  assert(root < nodes_.size());
+  root_ = root;
+  orient(root_, false);
+  bounds_ = nodeBounds(root_);
+}
+
+void CsgShape::orient(uint32_t node, bool flip) {
+  const Node& n = nodes_[node];
+  if (n.leaf != kNone) {
+    leaves_[n.leaf].flipNormal = flip;
+    return;
+  }
+  for (size_t c = 0; c < n.children.size(); ++c) {
+    // A subtracted solid's surfaces bound the result from the outside: their outward normals
+    // point into the result, so they flip (twice flipped under nested differences).
+    bool subtracted = n.op == CsgOperation::Difference && c > 0;
+    orient(n.children[c], flip != subtracted);
+  }
+}
+
+Bounds3f CsgShape::nodeBounds(uint32_t node) const {
+  const Node& n = nodes_[node];
+  if (n.leaf != kNone) return leaves_[n.leaf].placed.bounds();
+  Bounds3f b = nodeBounds(n.children[0]);
+  if (n.op == CsgOperation::Difference) return b;  // never larger than what is subtracted from
+  for (size_t c = 1; c < n.children.size(); ++c) {
+    Bounds3f cb = nodeBounds(n.children[c]);
+    if (n.op == CsgOperation::Union) {
+      b.extend(cb);
+    } else {
+      b.lower = max(b.lower, cb.lower);
+      b.upper = min(b.upper, cb.upper);
+    }
+  }
+  return b;
+}
+
+size_t CsgShape::evaluate(uint32_t node, const Ray& ray, std::vector<Span>& out) const {
+  const Node& n = nodes_[node];
+  if (n.leaf != kNone) {
+    Span s;
+    if (!leaves_[n.leaf].placed.span(ray, &s)) return 0;
+    uint32_t tag = n.leaf << 3;
+    s.enter.part = tag | (s.enter.part & 7);
+    s.exit.part = tag | (s.exit.part & 7);
+    if (degenerate(s)) return 0;
+    out.push_back(s);
+    return 1;
+  }
+  // The first child's spans sit at [base, base + count); each further child is evaluated after
+  // them, combined into the space after that, and the result moved down to `base`.
+  const size_t base = out.size();
+  size_t count = evaluate(n.children[0], ray, out);
+  for (size_t c = 1; c < n.children.size(); ++c) {
+    if (count == 0 && n.op != CsgOperation::Union) break;  // empty stays empty
+    size_t other = evaluate(n.children[c], ray, out);
+    // combineSpans appends at most count + other spans: reserve first so the input pointers
+    // stay valid while it does.
+    out.reserve(out.size() + count + other);
+    const size_t resultStart = out.size();
+    combineSpans(n.op, out.data() + base, count, out.data() + base + count, other, out);
+    const size_t resultCount = out.size() - resultStart;
+    std::copy(out.begin() + std::ptrdiff_t(resultStart), out.end(),
+              out.begin() + std::ptrdiff_t(base));
+    out.resize(base + resultCount);
+    count = resultCount;
+  }
+  out.resize(base + count);
+  return count;
+}
+
+std::vector<Span> CsgShape::spans(const Ray& ray) const {
+  std::vector<Span> out;
+  if (root_ != kNone) evaluate(root_, ray, out);
+  return out;
+}
+
+bool CsgShape::intersect(const Ray& ray, ShapeHit* hit) const {
+  // A per-thread arena: after the first few rays no query allocates.
+  thread_local std::vector<Span> arena;
+  arena.clear();
+  size_t n = evaluate(root_, ray, arena);
+  for (size_t k = 0; k < 2 * n; ++k) {
+    const Crossing& c = crossingAt(arena.data(), k);
+    if (c.t > ray.tMax) return false;
+    // Certainly beyond tMin given t's error bound (the Shape robustness contract).
+    if (c.t - c.tError > ray.tMin && !std::isinf(c.t)) {
+      hit->t = c.t;
+      hit->part = c.part;
+      return true;
+    }
+  }
+  return false;
+}
+
+ShapeSurface CsgShape::surface(const Ray& ray, const ShapeHit& hit) const {
+  const Leaf& leaf = leaves_[hit.part >> 3];
+  ShapeSurface s = leaf.placed.surface(ray, ShapeHit{hit.t, hit.part & 7});
+  if (leaf.flipNormal) s.n = -s.n;
+  return s;
+}
+
+}  // namespace glint

@@ -1,0 +1,85 @@
+// glint — constructive solid geometry: a tree of set operations over convex solids, hosted as
+// one analytic shape (and so as one Embree user primitive).
+//
+// Every leaf reports the span of the ray's whole line inside it (Shape::span); operators
+// combine their children's sorted span lists with a sweep over the boundary crossings. Working
+// on whole lines rather than on [tMin, tMax] makes rays that start inside a solid, nested trees
+// and any-hit queries correct by construction.
+//
+// Tie rule (coincident surfaces: A - B sharing a face, A u A, touching spheres). Crossings of
+// different children whose t values differ by no more than the sum of their error bounds are
+// one event: the operator's inside/outside state is evaluated only before and after the whole
+// group, so the result is a regularized set operation. A shared face of A - B is removed (no
+// zero-thickness skin), A u A is A, touching solids merge without an inner wall, and zero-
+// length spans (tangent rays) are dropped. When a group changes the result, the boundary is
+// attributed to the left-most child that has a crossing in the group. Because the grouping
+// tolerance is the conservative error bound of each t, rounding noise can never make the
+// decision flip from pixel to pixel; differences larger than the bound are real geometry.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "geometry/shape.h"
+
+namespace glint {
+
+enum class CsgOperation { Union, Intersection, Difference };
+
+class CsgShape final : public Shape {
+ public:
+  static constexpr uint32_t kNone = ~0u;
+
+  // ---- Building (the scene builder calls these, then finish()).
+  // A leaf: a solid (shape->isSolid()) placed in tree space. Returns the node index. Leaves
+  // are numbered in the order they are added: leaf k is material slot k.
+  uint32_t addLeaf(std::unique_ptr<Shape> shape, const Transform& treeFromLeaf);
+  // An operation over two or more nodes (difference: the first minus all the others).
+  uint32_t addOperation(CsgOperation op, std::vector<uint32_t> children);
+  // Fixes the root, computes bounds and the leaves' normal orientation. Every node must be
+  // reachable from the root exactly once (a tree, not a DAG).
+  void finish(uint32_t root);
+
+  // ---- Shape
+  const char* typeName() const override { return "csg"; }
+  Bounds3f bounds() const override { return bounds_; }
+  bool intersect(const Ray& ray, ShapeHit* hit) const override;
+  ShapeSurface surface(const Ray& ray, const ShapeHit& hit) const override;
+  uint32_t materialSlot(uint32_t part) const override { return part >> 3; }
+  uint32_t materialSlotCount() const override { return uint32_t(leaves_.size()); }
+
+  size_t leafCount() const { return leaves_.size(); }
+  // All boundary crossings of the ray's whole line with the solid, as sorted spans in tree
+  // space (for tests and nested use). Each Crossing::part is (leaf << 3) | leaf part.
+  std::vector<Span> spans(const Ray& ray) const;
+
+ private:
+  struct Leaf {
+    std::unique_ptr<Shape> shape;
+    PlacedShape placed;
+    bool flipNormal = false;  // under an odd number of difference right-hand sides
+  };
+  struct Node {
+    CsgOperation op = CsgOperation::Union;
+    std::vector<uint32_t> children;
+    uint32_t leaf = kNone;  // set for leaves
+  };
+
+  // Appends the spans of `node` to `out`; returns how many.
+  size_t evaluate(uint32_t node, const Ray& ray, std::vector<Span>& out) const;
+  Bounds3f nodeBounds(uint32_t node) const;
+  void orient(uint32_t node, bool flip);
+
+  std::vector<Leaf> leaves_;
+  std::vector<Node> nodes_;
+  uint32_t root_ = kNone;
+  Bounds3f bounds_;
+};
+
+// Combines two sorted, disjoint span lists with `op` under the tie rule above (exposed for
+// tests). `out` receives the result, sorted and disjoint.
+void combineSpans(CsgOperation op, const Span* a, size_t na, const Span* b, size_t nb,
+                  std::vector<Span>& out);
+
+}  // namespace glint

@@ -1,0 +1,142 @@
+// glint — ray/cone: the quadratic x^2 + z^2 = k^2 (h - y)^2 solved in double from the point of
+// the line closest to the apex (less cancellation for far rays), restricted to the lower
+// nappe and clipped by the y slab; one crossing per boundary event even on the base rim.
+#include "geometry/shapes/cone.h"
+
+#include <cassert>
+#include <limits>
+
+#include "geometry/shapes/primitive_math.h"
+
+namespace glint {
+
+using namespace prim;
+
+Cone::Cone(float radius, float height, bool capped)
+    : radius_(radius), height_(height), capped_(capped) {
+  assert(std::isfinite(radius) && std::isfinite(height) && radius > 0 && height > 0);
+}
+
+Bounds3f Cone::bounds() const { return {{-radius_, 0, -radius_}, {radius_, height_, radius_}}; }
+
+bool Cone::nappeSpan(const Ray& ray, Span* out, double tRoot[2]) const {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  double h = height_, k2 = (double(radius_) * radius_) / (h * h);
+  V3 o(ray.o), d(ray.d);
+  // Start from the point of the line closest to the apex.
+  V3 apex(0, h, 0);
+  double dd = dot(d, d);
+  double tc = dd > 0 ? dot(apex - o, d) / dd : 0;
+  V3 oc = o + d * tc;
+  V3 eo = (abs(o) + abs(d * tc)) * gammaD(4);
+  double w = h - oc.y, ew = eo.y + gammaD(1) * (h + std::abs(oc.y));
+  double A = d.x * d.x + d.z * d.z - k2 * d.y * d.y;
+  double B = oc.x * d.x + oc.z * d.z + k2 * w * d.y;
+  double C = oc.x * oc.x + oc.z * oc.z - k2 * w * w;
+  double eA = gammaD(6) * (d.x * d.x + d.z * d.z + k2 * d.y * d.y);
+  double eB = gammaD(8) * (std::abs(oc.x * d.x) + std::abs(oc.z * d.z) + k2 * std::abs(w * d.y)) +
+              eo.x * std::abs(d.x) + eo.z * std::abs(d.z) + k2 * ew * std::abs(d.y);
+  double eC = gammaD(8) * (oc.x * oc.x + oc.z * oc.z + k2 * w * w) +
+              (2 * std::abs(oc.x) + eo.x) * eo.x + (2 * std::abs(oc.z) + eo.z) * eo.z +
+              k2 * (2 * std::abs(w) + ew) * ew;
+  auto shifted = [&](double t, double e) { return toCrossing(t + tc, e + gammaD(1) * std::abs(t + tc), 0); };
+  const Crossing minusInf{-kInfinity, 0, 0}, plusInf{kInfinity, 0, 0};
+  if (A == 0) {
+    // Parallel to a generator: Q(t) = 2 B t + C <= 0 is a half-line.
+    if (B == 0) {
+      if (C > 0) return false;
+      *out = {minusInf, plusInf};
+      tRoot[0] = tRoot[1] = nan;
+      return true;
+    }
+    double t = -C / (2 * B);
+    double e = (eC + 2 * std::abs(t) * eB) / (2 * std::abs(B)) + gammaD(1) * std::abs(t);
+    if (B > 0)
+      *out = {minusInf, shifted(t, e)}, tRoot[0] = nan, tRoot[1] = t + tc;
+    else
+      *out = {shifted(t, e), plusInf}, tRoot[0] = t + tc, tRoot[1] = nan;
+    return true;
+  }
+  double D = B * B - A * C;
+  double eD = 2 * std::abs(B) * eB + eB * eB + std::abs(A) * eC + std::abs(C) * eA + eA * eC +
+              gammaD(3) * (B * B + std::abs(A * C));
+  if (A > 0 && D + eD < 0) return false;  // certainly misses the double cone
+  Roots r;
+  if (!solveQuadratic(A, eA, B, eB, C, eC, std::max(D, 0.0), eD, &r)) return false;
+  Crossing c0 = shifted(r.t0, r.e0), c1 = shifted(r.t1, r.e1);
+  if (A > 0) {
+    // Between the roots; both on one nappe, the slab discards the upper one.
+    *out = {c0, c1}, tRoot[0] = r.t0 + tc, tRoot[1] = r.t1 + tc;
+  } else if (d.y < 0) {
+    // Steeper than the cone, going down: the lower nappe is after the later root.
+    *out = {c1, plusInf}, tRoot[0] = r.t1 + tc, tRoot[1] = nan;
+  } else {
+    *out = {minusInf, c0}, tRoot[0] = nan, tRoot[1] = r.t0 + tc;
+  }
+  return true;
+}
+
+bool Cone::span(const Ray& ray, Span* out) const {
+  if (!capped_) return false;
+  Span side, ys;
+  double t[2];
+  if (!nappeSpan(ray, &side, t)) return false;
+  // Entering through y = height can only be at the apex: label it as the side.
+  if (!slab(ray.o.y, ray.d.y, 0, height_, 1, 0, &ys)) return false;
+  return intersectSpans(side, ys, out);
+}
+
+bool Cone::intersect(const Ray& ray, ShapeHit* hit) const {
+  if (capped_) {
+    Span s;
+    return span(ray, &s) && firstAccepted(ray, s, hit);
+  }
+  Span side;
+  double t[2];
+  if (!nappeSpan(ray, &side, t)) return false;
+  const Crossing* c[2] = {&side.enter, &side.exit};
+  for (int i = 0; i < 2; ++i) {
+    if (std::isnan(t[i])) continue;
+    double y = double(ray.o.y) + t[i] * double(ray.d.y);
+    if (y < 0 || y > height_ || !accepts(ray, *c[i])) continue;
+    hit->t = c[i]->t;
+    hit->part = 0;
+    return true;
+  }
+  return false;
+}
+
+ShapeSurface Cone::surface(const Ray& ray, const ShapeHit& hit) const {
+  V3 pd = rayPoint(ray, hit.t);
+  double r = radius_, h = height_, k = r / h;
+  ShapeSurface s;
+  if (hit.part == 0) {
+    // Re-project radially onto the cone at the (clamped) height.
+    double y = std::clamp(pd.y, 0.0, h);
+    double rho = std::sqrt(pd.x * pd.x + pd.z * pd.z), want = k * (h - y);
+    double x = rho > 0 ? pd.x * (want / rho) : 0, z = rho > 0 ? pd.z * (want / rho) : 0;
+    double slack = gammaD(8) * (r + h);
+    s.p = roundedPoint({x, y, z}, {slack, slack, slack}, &s.pError);
+    double phi = rho > 0 ? std::atan2(z, x) : 0;
+    if (phi < 0) phi += 2 * M_PI;
+    double cosPhi = std::cos(phi), sinPhi = std::sin(phi);
+    // Gradient of x^2 + z^2 - k^2 (h - y)^2, written per unit radius (finite at the apex).
+    s.n = normalized({cosPhi, k, sinPhi});
+    s.uv = {float(phi / (2 * M_PI)), float(y / h)};
+    s.dpdu = (V3(-z, 0, x) * (2 * M_PI)).toFloat();
+    s.dpdv = (V3(-k * cosPhi, 1, -k * sinPhi) * h).toFloat();
+    return s;
+  }
+  double x = pd.x, z = pd.z, rho = std::sqrt(x * x + z * z);
+  if (rho > r) x *= r / rho, z *= r / rho;
+  double slack = gammaD(8) * r;
+  s.p = roundedPoint({x, 0, z}, {slack, 0, slack}, &s.pError);
+  s.n = {0, -1, 0};
+  s.uv = {std::clamp(float(x / (2 * r) + 0.5), 0.0f, 1.0f),
+          std::clamp(float(z / (2 * r) + 0.5), 0.0f, 1.0f)};
+  s.dpdu = {2 * radius_, 0, 0};
+  s.dpdv = {0, 0, 2 * radius_};
+  return s;
+}
+
+}  // namespace glint

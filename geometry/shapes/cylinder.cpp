@@ -1,0 +1,102 @@
+// glint — ray/cylinder: the infinite cylinder's span (a 2D closest-approach quadratic, in
+// double) clipped by the y slab; one crossing per boundary event even on the cap rims.
+#include "geometry/shapes/cylinder.h"
+
+#include <cassert>
+
+#include "geometry/shapes/primitive_math.h"
+
+namespace glint {
+
+using namespace prim;
+
+Cylinder::Cylinder(float radius, float height, bool capped)
+    : radius_(radius), height_(height), capped_(capped) {
+  assert(std::isfinite(radius) && std::isfinite(height) && radius > 0 && height > 0);
+}
+
+Bounds3f Cylinder::bounds() const {
+  return {{-radius_, 0, -radius_}, {radius_, height_, radius_}};
+}
+
+bool Cylinder::sideSpan(const Ray& ray, Span* out, double* t0, double* t1) const {
+  double f[2] = {ray.o.x, ray.o.z}, ef[2] = {0, 0}, d[2] = {ray.d.x, ray.d.z};
+  if (d[0] == 0 && d[1] == 0) {
+    // Parallel to the axis: inside (rim included) for the whole line, or never.
+    if (f[0] * f[0] + f[1] * f[1] > double(radius_) * radius_) return false;
+    out->enter = {-kInfinity, 0, 0};
+    out->exit = {kInfinity, 0, 0};
+    *t0 = *t1 = 0;
+    return true;
+  }
+  Roots r;
+  if (!ballRoots(f, ef, d, 2, radius_, &r)) return false;
+  out->enter = toCrossing(r.t0, r.e0, 0);
+  out->exit = toCrossing(r.t1, r.e1, 0);
+  *t0 = r.t0, *t1 = r.t1;
+  return true;
+}
+
+bool Cylinder::span(const Ray& ray, Span* out) const {
+  if (!capped_) return false;
+  Span side, ys;
+  double t0, t1;
+  if (!sideSpan(ray, &side, &t0, &t1)) return false;
+  if (!slab(ray.o.y, ray.d.y, 0, height_, 1, 2, &ys)) return false;
+  return intersectSpans(side, ys, out);
+}
+
+bool Cylinder::intersect(const Ray& ray, ShapeHit* hit) const {
+  if (capped_) {
+    Span s;
+    return span(ray, &s) && firstAccepted(ray, s, hit);
+  }
+  // Open tube: each side root counts when its y is on the tube; both faces are hittable.
+  Span side;
+  double t[2];
+  if (!sideSpan(ray, &side, &t[0], &t[1]) || std::isinf(side.enter.t)) return false;
+  const Crossing* c[2] = {&side.enter, &side.exit};
+  for (int i = 0; i < 2; ++i) {
+    double y = double(ray.o.y) + t[i] * double(ray.d.y);
+    if (y < 0 || y > height_ || !accepts(ray, *c[i])) continue;
+    hit->t = c[i]->t;
+    hit->part = 0;
+    return true;
+  }
+  return false;
+}
+
+ShapeSurface Cylinder::surface(const Ray& ray, const ShapeHit& hit) const {
+  V3 pd = rayPoint(ray, hit.t);
+  double r = radius_, h = height_;
+  ShapeSurface s;
+  if (hit.part == 0) {
+    // Re-project radially onto the side, y clamped onto the tube.
+    double rho = std::sqrt(pd.x * pd.x + pd.z * pd.z);
+    double x = rho > 0 ? pd.x * (r / rho) : r, z = rho > 0 ? pd.z * (r / rho) : 0;
+    double y = std::clamp(pd.y, 0.0, h);
+    double slack = gammaD(8) * (r + h);
+    s.p = roundedPoint({x, y, z}, {slack, slack, slack}, &s.pError);
+    s.n = normalized({x, 0, z});
+    double phi = std::atan2(z, x);
+    if (phi < 0) phi += 2 * M_PI;
+    s.uv = {float(phi / (2 * M_PI)), float(y / h)};
+    s.dpdu = (V3(-z, 0, x) * (2 * M_PI)).toFloat();
+    s.dpdv = {0, height_, 0};
+    return s;
+  }
+  // Caps: y exact on the cap plane, (x, z) clamped into the disk.
+  double y = hit.part == 1 ? 0.0 : h;
+  double x = pd.x, z = pd.z, rho = std::sqrt(x * x + z * z);
+  if (rho > r) x *= r / rho, z *= r / rho;
+  double slack = gammaD(8) * r;
+  s.p = roundedPoint({x, y, z}, {slack, 0, slack}, &s.pError);
+  s.n = {0, hit.part == 1 ? -1.0f : 1.0f, 0};
+  s.uv = {std::clamp(float(x / (2 * r) + 0.5), 0.0f, 1.0f),
+          std::clamp(float(z / (2 * r) + 0.5), 0.0f, 1.0f)};
+  s.dpdu = {2 * radius_, 0, 0};
+  s.dpdv = {0, 0, 2 * radius_};
+  return s;
+}
+
+}  // namespace glint

@@ -1,0 +1,43 @@
+// glint — ray/disk in double.
+#include "geometry/shapes/disk.h"
+
+#include <cassert>
+
+#include "geometry/shapes/primitive_math.h"
+
+namespace glint {
+
+using namespace prim;
+
+Disk::Disk(float radius) : radius_(radius) {
+  assert(std::isfinite(radius) && radius > 0);
+}
+
+bool Disk::intersect(const Ray& ray, ShapeHit* hit) const {
+  if (ray.d.y == 0) return false;
+  double t = -double(ray.o.y) / double(ray.d.y);
+  double x = ray.o.x + t * double(ray.d.x), z = ray.o.z + t * double(ray.d.z);
+  if (x * x + z * z > double(radius_) * radius_) return false;
+  Crossing c = toCrossing(t, gammaD(1) * std::abs(t), 0);
+  if (!accepts(ray, c)) return false;
+  hit->t = c.t;
+  hit->part = 0;
+  return true;
+}
+
+ShapeSurface Disk::surface(const Ray& ray, const ShapeHit& hit) const {
+  prim::V3 pd = rayPoint(ray, hit.t);
+  double r = radius_, x = pd.x, z = pd.z, rho = std::sqrt(x * x + z * z);
+  if (rho > r) x *= r / rho, z *= r / rho;
+  ShapeSurface s;
+  double slack = gammaD(8) * r;
+  s.p = roundedPoint({x, 0, z}, {slack, 0, slack}, &s.pError);
+  s.n = {0, 1, 0};
+  s.uv = {std::clamp(float(x / (2 * r) + 0.5), 0.0f, 1.0f),
+          std::clamp(float(z / (2 * r) + 0.5), 0.0f, 1.0f)};
+  s.dpdu = {2 * radius_, 0, 0};
+  s.dpdv = {0, 0, 2 * radius_};
+  return s;
+}
+
+}  // namespace glint

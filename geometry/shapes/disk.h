@@ -1,0 +1,23 @@
+// glint — the disk primitive: radius r in the plane y = 0, centred at the origin, normal +Y.
+#pragma once
+
+#include "geometry/shape.h"
+
+namespace glint {
+
+class Disk final : public Shape {
+ public:
+  // radius > 0 and finite.
+  explicit Disk(float radius);
+
+  const char* typeName() const override { return "disk"; }
+  Bounds3f bounds() const override { return {{-radius_, 0, -radius_}, {radius_, 0, radius_}}; }
+  bool intersect(const Ray& ray, ShapeHit* hit) const override;
+  // n = +Y (both sides are hittable); uv = (x/2r + 1/2, z/2r + 1/2). Part 0.
+  ShapeSurface surface(const Ray& ray, const ShapeHit& hit) const override;
+
+ private:
+  float radius_;
+};
+
+}  // namespace glint

@@ -1,0 +1,61 @@
+// glint — ray/plane in double; the solid is dot(p - point, n) <= 0.
+#include "geometry/shapes/plane.h"
+
+#include <cassert>
+
+#include "geometry/shapes/primitive_math.h"
+
+namespace glint {
+
+using namespace prim;
+
+Plane::Plane(Vec3f point, Vec3f normal, float uvScale)
+    : point_(point), normal_(normalize(normal)), uvScale_(uvScale) {
+  assert(isFinite(point) && isFinite(normal) && lengthSquared(normal) > 0 && uvScale > 0);
+  frame_ = Frame::fromZ(normal_);
+}
+
+Bounds3f Plane::bounds() const {
+  return {{-kInfinity, -kInfinity, -kInfinity}, {kInfinity, kInfinity, kInfinity}};
+}
+
+bool Plane::span(const Ray& ray, Span* out) const {
+  V3 n(normal_), rel = V3(ray.o) - V3(point_), d(ray.d);
+  double s = dot(rel, n), es = gammaD(4) * dot(abs(rel), abs(n));
+  double dn = dot(d, n), edn = gammaD(3) * dot(abs(d), abs(n));
+  const Crossing minusInf{-kInfinity, 0, 0}, plusInf{kInfinity, 0, 0};
+  if (dn == 0) {
+    if (s > 0) return false;
+    *out = {minusInf, plusInf};
+    return true;
+  }
+  double t = -s / dn;
+  double e = (es + std::abs(t) * edn) / std::abs(dn) + gammaD(1) * std::abs(t);
+  Crossing c = toCrossing(t, e, 0);
+  // Moving along the normal means leaving the half-space.
+  *out = dn > 0 ? Span{minusInf, c} : Span{c, plusInf};
+  return true;
+}
+
+bool Plane::intersect(const Ray& ray, ShapeHit* hit) const {
+  Span s;
+  return span(ray, &s) && firstAccepted(ray, s, hit);
+}
+
+ShapeSurface Plane::surface(const Ray& ray, const ShapeHit& hit) const {
+  V3 n(normal_), q(point_);
+  V3 pd = rayPoint(ray, hit.t);
+  // Project onto the plane so only the rounding to float remains.
+  pd = pd - n * dot(pd - q, n);
+  double slack = gammaD(8) * (dot(abs(q), V3(1, 1, 1)) + dot(abs(pd), V3(1, 1, 1)));
+  ShapeSurface s;
+  s.p = roundedPoint(pd, {slack, slack, slack}, &s.pError);
+  s.n = normal_;
+  V3 rel = pd - q;
+  s.uv = {float(dot(rel, V3(frame_.s)) / uvScale_), float(dot(rel, V3(frame_.t)) / uvScale_)};
+  s.dpdu = frame_.s * uvScale_;
+  s.dpdv = frame_.t * uvScale_;
+  return s;
+}
+
+}  // namespace glint

@@ -1,0 +1,185 @@
+// glint — internal numerics shared by the analytic primitives (not a public interface).
+//
+// Why double: the primitives take float rays and float parameters, but solve in double. With
+// 29 spare mantissa bits the rounding of the solve is far below a float ULP, so the error
+// bounds below can be simple and generous (first-order terms with slack) and still come out
+// at about one float ULP of t. The final rounding to float is added to every bound exactly.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include "geometry/math.h"
+#include "geometry/ray.h"
+#include "geometry/shape.h"
+
+namespace glint::prim {
+
+inline constexpr double kEpsD = 0x1p-53;  // unit roundoff of double
+// Bound on the relative error of n double operations, doubled for first-order slack.
+constexpr double gammaD(int n) { return 2 * (n * kEpsD) / (1 - n * kEpsD); }
+
+struct V3 {
+  double x = 0, y = 0, z = 0;
+  V3() = default;
+  constexpr V3(double x_, double y_, double z_) : x(x_), y(y_), z(z_) {}
+  explicit constexpr V3(Vec3f v) : x(v.x), y(v.y), z(v.z) {}
+  constexpr double operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
+  Vec3f toFloat() const { return {float(x), float(y), float(z)}; }
+};
+constexpr V3 operator+(V3 a, V3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+constexpr V3 operator-(V3 a, V3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+constexpr V3 operator*(V3 a, double s) { return {a.x * s, a.y * s, a.z * s}; }
+constexpr double dot(V3 a, V3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline V3 abs(V3 a) { return {std::abs(a.x), std::abs(a.y), std::abs(a.z)}; }
+constexpr V3 cross(V3 a, V3 b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+
+// A double t with absolute error bound `err`, rounded to a float Crossing whose tError also
+// covers the rounding to float.
+inline Crossing toCrossing(double t, double err, uint32_t part) {
+  Crossing c;
+  c.t = float(t);
+  c.part = part;
+  if (!std::isfinite(c.t)) return c;  // beyond float range: never accepted as a hit
+  double e = err + std::abs(t - double(c.t));
+  c.tError = float(e);
+  if (double(c.tError) < e) c.tError = nextFloatUp(c.tError);
+  return c;
+}
+
+// The contract of Shape::intersect for one candidate crossing.
+inline bool accepts(const Ray& ray, const Crossing& c) {
+  return c.t - c.tError > ray.tMin && c.t <= ray.tMax && c.t < kInfinity;
+}
+
+// The first crossing of a span the ray accepts.
+inline bool firstAccepted(const Ray& ray, const Span& s, ShapeHit* hit) {
+  for (const Crossing* c : {&s.enter, &s.exit})
+    if (accepts(ray, *c)) {
+      hit->t = c->t;
+      hit->part = c->part;
+      return true;
+    }
+  return false;
+}
+
+// The error bound of a point computed in double (within `slack` per axis of the exact
+// surface point) and then rounded to float.
+inline Vec3f roundedPoint(V3 p, V3 slack, Vec3f* error) {
+  Vec3f pf = p.toFloat();
+  for (int i = 0; i < 3; ++i) {
+    double e = slack[i] + std::abs(p[i] - double(pf[i]));
+    float ef = float(e);
+    (*error)[i] = double(ef) < e ? nextFloatUp(ef) : ef;
+  }
+  return pf;
+}
+
+// Roots t0 <= t1 of A t^2 + 2 B t + C = 0, each with an absolute error bound.
+struct Roots {
+  double t0 = 0, e0 = 0, t1 = 0, e1 = 0;
+};
+
+// Solves the quadratic in the stable form (q = -(B + sign(B) sqrt(D)), t = q/A, t = C/q)
+// given the discriminant D = B^2 - AC (computed by the caller, possibly by a better-conditioned
+// formula) and absolute error bounds of every input. False when D < 0 or A == 0.
+inline bool solveQuadratic(double A, double eA, double B, double eB, double C, double eC,
+                           double D, double eD, Roots* r) {
+  if (!(D >= 0) || A == 0) return false;
+  double s = std::sqrt(D);
+  // sqrt amplifies the discriminant's error near tangency: |sqrt(D') - sqrt(D)| <= min(e/s, √e).
+  double eS = (s > 0 ? std::min(eD / s, std::sqrt(eD)) : std::sqrt(eD)) + gammaD(1) * s;
+  double q = -(B + std::copysign(s, B));
+  double eq = eB + eS + gammaD(1) * std::abs(q);
+  double ta, ea, tb, eb;
+  if (q == 0) {  // B == 0 and D == 0: the double root t = 0 (then C == 0 too)
+    ta = tb = 0;
+    ea = eb = std::sqrt((eC + eD) / std::abs(A));
+  } else {
+    ta = q / A;
+    ea = (eq + std::abs(ta) * eA) / std::abs(A) + gammaD(1) * std::abs(ta);
+    tb = C / q;
+    eb = (eC + std::abs(tb) * eq) / std::abs(q) + gammaD(1) * std::abs(tb);
+  }
+  if (ta > tb) std::swap(ta, tb), std::swap(ea, eb);
+  *r = {ta, ea, tb, eb};
+  return true;
+}
+
+// Line-vs-ball roots in n dimensions (sphere: n = 3; cylinder: n = 2 in the xz plane), with
+// the discriminant from the line's closest approach to the centre (Ray Tracing Gems, ch. 7):
+// D = A (r^2 - |f - (B/A) d|^2), well conditioned for far or tiny balls. `f` = origin - centre
+// with per-axis error `ef`. False when the line misses or A == 0.
+inline bool ballRoots(const double* f, const double* ef, const double* d, int n, double r,
+                      Roots* out) {
+  double A = 0, B = 0, C = 0, absB = 0, ff = 0, efd = 0;
+  for (int i = 0; i < n; ++i) {
+    A += d[i] * d[i];
+    B += f[i] * d[i];
+    absB += std::abs(f[i] * d[i]);
+    ff += f[i] * f[i];
+    efd += ef[i] * std::abs(d[i]);
+  }
+  if (A == 0) return false;
+  double r2 = r * r;
+  C = ff - r2;
+  double eA = gammaD(3) * A;
+  double eB = gammaD(3) * absB + efd;
+  double eC = gammaD(4) * (ff + r2);
+  for (int i = 0; i < n; ++i) eC += 2 * std::abs(f[i]) * ef[i] * (1 + gammaD(2));
+  double s = B / A;
+  double es = (eB + std::abs(s) * eA) / A + gammaD(1) * std::abs(s);
+  double l2 = 0, el2 = 0;
+  for (int i = 0; i < n; ++i) {
+    double li = f[i] - s * d[i];
+    double eli = ef[i] + es * std::abs(d[i]) + gammaD(2) * (std::abs(f[i]) + std::abs(s * d[i]));
+    l2 += li * li;
+    el2 += 2 * std::abs(li) * eli + eli * eli;
+  }
+  el2 += gammaD(3) * l2;
+  double dp = r2 - l2;
+  double edp = el2 + gammaD(2) * (r2 + l2);
+  if (dp + edp < 0) return false;  // certainly misses
+  double D = A * std::max(dp, 0.0);
+  double eD = A * edp + std::abs(dp) * eA + gammaD(1) * D;
+  return solveQuadratic(A, eA, B, eB, C, eC, D, eD, out);
+}
+
+// The slab lo <= o + t d <= hi on one axis, as crossings with the given parts; for d == 0 the
+// slab is the whole line or nothing.
+inline bool slab(double o, double d, double lo, double hi, uint32_t partLo, uint32_t partHi,
+                 Span* s) {
+  if (d == 0) {
+    if (o < lo || o > hi) return false;
+    s->enter = {-kInfinity, 0, partLo};
+    s->exit = {kInfinity, 0, partHi};
+    return true;
+  }
+  double ta = (lo - o) / d, tb = (hi - o) / d;
+  Crossing ca = toCrossing(ta, gammaD(2) * std::abs(ta), partLo);
+  Crossing cb = toCrossing(tb, gammaD(2) * std::abs(tb), partHi);
+  if (ta > tb) std::swap(ca, cb);
+  s->enter = ca;
+  s->exit = cb;
+  return true;
+}
+
+// Intersection of two spans of the same line; false when empty.
+inline bool intersectSpans(const Span& a, const Span& b, Span* out) {
+  Span r;
+  r.enter = a.enter.t >= b.enter.t ? a.enter : b.enter;
+  r.exit = a.exit.t <= b.exit.t ? a.exit : b.exit;
+  if (r.enter.t > r.exit.t) return false;
+  *out = r;
+  return true;
+}
+
+inline Vec3f toFloat(V3 v) { return v.toFloat(); }
+inline Vec3f normalized(V3 v) { return (v * (1 / std::sqrt(dot(v, v)))).toFloat(); }
+
+// Point o + t d in double (the ray is float; t the float t of the hit).
+inline V3 rayPoint(const Ray& ray, float t) { return V3(ray.o) + V3(ray.d) * double(t); }
+
+}  // namespace glint::prim

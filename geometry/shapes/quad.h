@@ -1,0 +1,27 @@
+// glint — the quad primitive: the parallelogram corner + a edgeU + b edgeV, a, b in [0, 1].
+#pragma once
+
+#include "geometry/shape.h"
+
+namespace glint {
+
+class Quad final : public Shape {
+ public:
+  // Finite, with non-parallel edges.
+  Quad(Vec3f corner, Vec3f edgeU, Vec3f edgeV);
+
+  const char* typeName() const override { return "quad"; }
+  Bounds3f bounds() const override;
+  bool intersect(const Ray& ray, ShapeHit* hit) const override;
+  // n = normalize(cross(edgeU, edgeV)) (both sides hittable); uv = (a, b); dpdu = edgeU,
+  // dpdv = edgeV. Part 0.
+  ShapeSurface surface(const Ray& ray, const ShapeHit& hit) const override;
+
+ private:
+  // (a, b) of the point `p` of the quad's plane.
+  void coordinates(const double p[3], double* a, double* b) const;
+
+  Vec3f corner_, edgeU_, edgeV_, normal_;
+};
+
+}  // namespace glint

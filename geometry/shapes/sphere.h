@@ -1,0 +1,29 @@
+// glint — the sphere primitive: a solid ball, Y as the pole axis (glTF is Y-up).
+#pragma once
+
+#include "geometry/shape.h"
+
+namespace glint {
+
+class Sphere final : public Shape {
+ public:
+  // `radius` > 0 and finite.
+  Sphere(Vec3f center, float radius);
+
+  const char* typeName() const override { return "sphere"; }
+  Bounds3f bounds() const override;
+  bool intersect(const Ray& ray, ShapeHit* hit) const override;
+  // uv: u = phi / 2pi around +Y (phi from +X towards +Z), v = theta / pi from +Y. Part 0.
+  ShapeSurface surface(const Ray& ray, const ShapeHit& hit) const override;
+  bool isSolid() const override { return true; }
+  bool span(const Ray& ray, Span* out) const override;
+
+  Vec3f center() const { return center_; }
+  float radius() const { return radius_; }
+
+ private:
+  Vec3f center_;
+  float radius_;
+};
+
+}  // namespace glint

@@ -1,0 +1,204 @@
+// glint — reading analytic objects, CSG trees and terrain from the sidecar JSON.
+#include "scenes/sidecar_objects.h"
+
+#include <filesystem>
+
+#include "scenes/csg_rpn.h"
+
+namespace glint {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::vector<std::pair<std::string, ShapeType>> kShapeTypes = {
+    {"sphere", ShapeType::Sphere}, {"box", ShapeType::Box},     {"cylinder", ShapeType::Cylinder},
+    {"cone", ShapeType::Cone},     {"plane", ShapeType::Plane}, {"disk", ShapeType::Disk},
+    {"quad", ShapeType::Quad},
+};
+
+// The index of the material called `name`, or a SceneError at `where`.
+int materialByName(const SceneDescription& scene, const std::string& name,
+                   const SourceLocation& where) {
+  for (size_t i = 0; i < scene.materials.size(); ++i)
+    if (scene.materials[i].name == name) return int(i);
+  std::vector<std::string> names;
+  for (const MaterialDesc& m : scene.materials) names.push_back(m.name);
+  std::string message = "no material named '" + name + "'";
+  if (std::string guess = closestMatch(name, names); !guess.empty())
+    message += "; did you mean '" + guess + "'?";
+  throw SceneError(where, message);
+}
+
+int readMaterialRef(JsonReader& r, const SceneDescription& scene) {
+  if (!r.has("material")) return -1;
+  return materialByName(scene, r.get<std::string>("material"), r.where("material"));
+}
+
+// The fields of one primitive (the "type" key is read by the caller).
+ShapeDesc readShape(JsonReader& r, ShapeType type) {
+  ShapeDesc s;
+  s.type = type;
+  switch (type) {
+    case ShapeType::Sphere:
+      s.center = r.get<Vec3f>("center", Vec3f{0, 0, 0});
+      s.radius = r.get<float>("radius", kPositive);
+      break;
+    case ShapeType::Box: {
+      s.lower = r.get<Vec3f>("min");
+      s.upper = r.get<Vec3f>("max");
+      for (int i = 0; i < 3; ++i)
+        if (!(s.lower[i] < s.upper[i]))
+          throw SceneError(r.where("max"), "must be greater than 'min' in every component");
+      break;
+    }
+    case ShapeType::Cylinder:
+    case ShapeType::Cone:
+      s.radius = r.get<float>("radius", kPositive);
+      s.height = r.get<float>("height", kPositive);
+      s.capped = r.get<bool>("capped", true);
+      break;
+    case ShapeType::Plane:
+      s.point = r.get<Vec3f>("point", Vec3f{0, 0, 0});
+      s.normal = r.get<Vec3f>("normal", Vec3f{0, 1, 0});
+      if (s.normal == Vec3f{}) throw SceneError(r.where("normal"), "must not be zero");
+      s.normal = normalize(s.normal);
+      s.uvScale = r.get<float>("uv_scale", 1.0f, kPositive);
+      break;
+    case ShapeType::Disk:
+      s.radius = r.get<float>("radius", kPositive);
+      break;
+    case ShapeType::Quad: {
+      s.corner = r.get<Vec3f>("corner");
+      s.edgeU = r.get<Vec3f>("edge_u");
+      s.edgeV = r.get<Vec3f>("edge_v");
+      Vec3f n = cross(s.edgeU, s.edgeV);
+      // Relative test: the edges span a parallelogram of non-zero area.
+      if (!(length(n) > 1e-6f * length(s.edgeU) * length(s.edgeV)))
+        throw SceneError(r.where("edge_v"), "must not be parallel to 'edge_u' (or zero)");
+      break;
+    }
+  }
+  return s;
+}
+
+bool isSolid(const ShapeDesc& s) {
+  switch (s.type) {
+    case ShapeType::Sphere:
+    case ShapeType::Box:
+    case ShapeType::Plane:
+      return true;
+    case ShapeType::Cylinder:
+    case ShapeType::Cone:
+      return s.capped;
+    default:
+      return false;
+  }
+}
+
+const std::vector<std::pair<std::string, CsgOp>> kCsgOps = {
+    {"union", CsgOp::Union},
+    {"intersection", CsgOp::Intersection},
+    {"difference", CsgOp::Difference},
+};
+
+// One node of a nested JSON tree: {"op": ..., "children": [...]} or a primitive with "type".
+int readCsgNode(JsonReader& r, const SceneDescription& scene, CsgTreeDesc* tree) {
+  CsgNodeDesc node;
+  node.where = r.where();
+  node.parentFromNode = r.get<Transform>("transform", Transform());
+  if (r.has("op") == r.has("type"))
+    throw SceneError(r.where(), "a CSG node has either 'op' (an operation) or 'type' (a leaf)");
+  if (r.has("type")) {
+    node.shape = readShape(r, r.oneOf<ShapeType>("type", kShapeTypes));
+    if (!isSolid(node.shape))
+      throw SceneError(r.where("type"),
+                       "CSG leaves must be solids (sphere, box, capped cylinder or cone, plane)");
+    node.material = readMaterialRef(r, scene);
+    tree->nodes.push_back(node);
+    return int(tree->nodes.size() - 1);
+  }
+  node.op = r.oneOf<CsgOp>("op", kCsgOps);
+  std::vector<JsonItem> children = r.array("children");
+  if (children.size() < 2)
+    throw SceneError(r.where("children"), "an operation needs at least two children, got " +
+                                              std::to_string(children.size()));
+  for (const JsonItem& child : children)
+    node.children.push_back(readCsgNode(r.item(child), scene, tree));
+  tree->nodes.push_back(node);
+  return int(tree->nodes.size() - 1);
+}
+
+TerrainDesc readTerrain(JsonReader& r) {
+  TerrainDesc t;
+  t.size = r.get<float>("size", t.size, kPositive);
+  // Depth 10 is 2 million triangles: beyond that a terrain is a mistake, not a wish.
+  t.depth = r.get<int>("depth", t.depth, {.ge = 0, .le = 10});
+  t.roughness = r.get<float>("roughness", t.roughness, kUnit);
+  t.peak = r.get<Vec2f>("peak", t.peak);
+  t.height = r.get<float>("height", t.height, kNonNegative);
+  t.seed = r.get<uint64_t>("seed", t.seed);
+  return t;
+}
+
+ObjectDesc readObject(JsonReader& r, const std::string& file, const SceneDescription& scene) {
+  ObjectDesc obj;
+  obj.where = r.where();
+  obj.name = r.get<std::string>("name", "");
+  obj.worldFromObject = r.get<Transform>("transform", Transform());
+  obj.material = readMaterialRef(r, scene);
+  std::string type = r.get<std::string>("type");
+  if (type == "csg") {
+    obj.kind = ObjectKind::Csg;
+    if (r.has("tree") == r.has("file"))
+      throw SceneError(r.where(), "a csg object has either 'tree' (nested JSON) or 'file' (.csg)");
+    if (r.has("tree")) {
+      obj.csg.root = readCsgNode(r.object("tree"), scene, &obj.csg);
+      if (obj.csg.nodes[size_t(obj.csg.root)].op == CsgOp::Leaf)
+        throw SceneError(r.where("tree"), "a CSG tree needs an operation at its root");
+    } else {
+      std::string relative = r.get<std::string>("file");
+      fs::path path = fs::path(relative).is_absolute() ? fs::path(relative)
+                                                       : fs::path(file).parent_path() / relative;
+      std::error_code ec;
+      if (!fs::is_regular_file(path, ec))
+        throw SceneError(r.where("file"), "file not found: " + path.string());
+      obj.csg = loadCsgRpn(path.string());
+      resolveCsgMaterials(&obj.csg, scene);
+    }
+  } else if (type == "terrain") {
+    obj.kind = ObjectKind::Terrain;
+    obj.terrain = readTerrain(r);
+  } else {
+    obj.kind = ObjectKind::Shape;
+    std::vector<std::string> names = {"csg", "terrain"};
+    for (const auto& t : kShapeTypes) names.push_back(t.first);
+    ShapeType shapeType = ShapeType::Sphere;
+    bool known = false;
+    for (const auto& t : kShapeTypes)
+      if (t.first == type) shapeType = t.second, known = true;
+    if (!known) {
+      std::string message = "unknown object type '" + type + "'";
+      if (std::string guess = closestMatch(type, names); !guess.empty())
+        message += "; did you mean '" + guess + "'?";
+      throw SceneError(r.where("type"), message);
+    }
+    obj.shape = readShape(r, shapeType);
+  }
+  return obj;
+}
+
+}  // namespace
+
+void resolveCsgMaterials(CsgTreeDesc* tree, const SceneDescription& scene) {
+  for (CsgNodeDesc& node : tree->nodes)
+    if (!node.materialName.empty())
+      node.material = materialByName(scene, node.materialName, node.where);
+}
+
+void readObjects(JsonReader& root, const std::string& file, SceneDescription* scene) {
+  for (JsonReader* r : root.objects("objects"))
+    scene->objects.push_back(readObject(*r, file, *scene));
+}
+
+}  // namespace glint

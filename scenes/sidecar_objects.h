@@ -1,0 +1,20 @@
+// glint — the sidecar's "objects" section: analytic primitives, CSG trees and fractal terrain.
+// (Internal to scenes/: sidecar.cpp calls it after the materials, which objects name.)
+#pragma once
+
+#include <string>
+
+#include "scenes/description.h"
+#include "scenes/json_reader.h"
+
+namespace glint {
+
+// Reads root["objects"] into scene->objects. `file` is the JSON file (for .csg paths, which
+// are relative to it). Material names must exist in scene->materials.
+void readObjects(JsonReader& root, const std::string& file, SceneDescription* scene);
+
+// Resolves the material names a .csg file gave its leaves (CsgNodeDesc::materialName) against
+// scene.materials; `where` locates the reference to the file for messages about it.
+void resolveCsgMaterials(CsgTreeDesc* tree, const SceneDescription& scene);
+
+}  // namespace glint

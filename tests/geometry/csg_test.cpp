@@ -1,0 +1,308 @@
+// CSG: the span sweep and its tie rule, trees of primitives, rays starting inside, nested
+// trees, normals of subtracted surfaces, bounds, and stability on coincident faces.
+#include "geometry/csg.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "geometry/shapes/box.h"
+#include "geometry/shapes/cylinder.h"
+#include "geometry/shapes/plane.h"
+#include "geometry/shapes/sphere.h"
+
+namespace glint {
+namespace {
+
+Span span(float t0, float t1, uint32_t p0 = 0, uint32_t p1 = 0, float err = 0) {
+  return Span{{t0, err, p0}, {t1, err, p1}};
+}
+
+std::vector<Span> combine(CsgOperation op, std::vector<Span> a, std::vector<Span> b) {
+  std::vector<Span> out;
+  out.reserve(a.size() + b.size());
+  combineSpans(op, a.data(), a.size(), b.data(), b.size(), out);
+  return out;
+}
+
+// --- the sweep ---------------------------------------------------------------------------------
+
+TEST(CsgSpans, UnionIntersectionDifferenceOfOverlappingSpans) {
+  auto u = combine(CsgOperation::Union, {span(0, 2, 1, 1)}, {span(1, 3, 2, 2)});
+  ASSERT_EQ(u.size(), 1u);
+  EXPECT_EQ(u[0].enter.t, 0);
+  EXPECT_EQ(u[0].exit.t, 3);
+  EXPECT_EQ(u[0].enter.part, 1u);
+  EXPECT_EQ(u[0].exit.part, 2u);
+
+  auto i = combine(CsgOperation::Intersection, {span(0, 2, 1, 1)}, {span(1, 3, 2, 2)});
+  ASSERT_EQ(i.size(), 1u);
+  EXPECT_EQ(i[0].enter.t, 1);
+  EXPECT_EQ(i[0].enter.part, 2u);
+  EXPECT_EQ(i[0].exit.t, 2);
+  EXPECT_EQ(i[0].exit.part, 1u);
+
+  auto d = combine(CsgOperation::Difference, {span(0, 2, 1, 1)}, {span(1, 3, 2, 2)});
+  ASSERT_EQ(d.size(), 1u);
+  EXPECT_EQ(d[0].enter.t, 0);
+  EXPECT_EQ(d[0].exit.t, 1);
+  EXPECT_EQ(d[0].exit.part, 2u);  // the subtracted solid's surface bounds the result
+}
+
+TEST(CsgSpans, DifferenceSplitsASpanInTwo) {
+  auto d = combine(CsgOperation::Difference, {span(0, 10)}, {span(4, 6)});
+  ASSERT_EQ(d.size(), 2u);
+  EXPECT_EQ(d[0].exit.t, 4);
+  EXPECT_EQ(d[1].enter.t, 6);
+  EXPECT_EQ(d[1].exit.t, 10);
+}
+
+TEST(CsgSpans, UnionOfASpanWithItselfIsTheSpan) {
+  auto u = combine(CsgOperation::Union, {span(1, 2, 1, 1)}, {span(1, 2, 2, 2)});
+  ASSERT_EQ(u.size(), 1u);
+  EXPECT_EQ(u[0].enter.t, 1);
+  EXPECT_EQ(u[0].exit.t, 2);
+  EXPECT_EQ(u[0].enter.part, 1u);  // tie rule: the left child's surface
+  EXPECT_EQ(u[0].exit.part, 1u);
+}
+
+TEST(CsgSpans, TouchingSolidsMergeWithoutAnInnerWall) {
+  auto u = combine(CsgOperation::Union, {span(0, 1)}, {span(1, 2)});
+  ASSERT_EQ(u.size(), 1u);
+  EXPECT_EQ(u[0].enter.t, 0);
+  EXPECT_EQ(u[0].exit.t, 2);
+}
+
+TEST(CsgSpans, SharedFaceOfADifferenceLeavesNoSkin) {
+  // A = [0, 2], B = [1, 2]: A - B is [0, 1]; the shared exit at 2 is not a surface.
+  auto d = combine(CsgOperation::Difference, {span(0, 2)}, {span(1, 2)});
+  ASSERT_EQ(d.size(), 1u);
+  EXPECT_EQ(d[0].exit.t, 1);
+  // A - A is empty, not a zero-thickness shell.
+  EXPECT_TRUE(combine(CsgOperation::Difference, {span(0, 2)}, {span(0, 2)}).empty());
+  // Touching at a point: the intersection is empty.
+  EXPECT_TRUE(combine(CsgOperation::Intersection, {span(0, 1)}, {span(1, 2)}).empty());
+}
+
+TEST(CsgSpans, CrossingsWithinTheirErrorBoundsAreOneEvent) {
+  // B's exit differs from A's by less than the summed error bounds: treated as coincident.
+  auto d = combine(CsgOperation::Difference, {span(0, 2, 0, 0, 1e-6f)},
+                   {span(1, 2 + 1.5e-6f, 0, 0, 1e-6f)});
+  ASSERT_EQ(d.size(), 1u);
+  EXPECT_EQ(d[0].exit.t, 1);
+  // The same offset with exact crossings is real geometry: a sliver remains.
+  auto sliver = combine(CsgOperation::Difference, {span(0, 2 + 1.5e-6f)}, {span(1, 2)});
+  EXPECT_EQ(sliver.size(), 2u);
+}
+
+TEST(CsgSpans, InfiniteSpansFromHalfSpaces) {
+  float inf = kInfinity;
+  auto i = combine(CsgOperation::Intersection, {span(-inf, 3)}, {span(1, 5)});
+  ASSERT_EQ(i.size(), 1u);
+  EXPECT_EQ(i[0].enter.t, 1);
+  EXPECT_EQ(i[0].exit.t, 3);
+  auto d = combine(CsgOperation::Difference, {span(-inf, inf)}, {span(1, 2)});
+  ASSERT_EQ(d.size(), 2u);
+  EXPECT_EQ(d[0].enter.t, -inf);
+  EXPECT_EQ(d[1].exit.t, inf);
+}
+
+// --- trees of shapes -------------------------------------------------------------------------
+
+std::unique_ptr<CsgShape> sphereMinusBox() {
+  // A unit sphere at the origin minus the box x > 0 (as [0, 2]^3 shifted to cover half).
+  auto csg = std::make_unique<CsgShape>();
+  uint32_t s = csg->addLeaf(std::make_unique<Sphere>(Vec3f{0, 0, 0}, 1.0f), Transform());
+  uint32_t b = csg->addLeaf(std::make_unique<Box>(Vec3f{0, -2, -2}, Vec3f{2, 2, 2}), Transform());
+  csg->finish(csg->addOperation(CsgOperation::Difference, {s, b}));
+  return csg;
+}
+
+TEST(Csg, DifferenceHitsTheCutFaceWithAnOutwardNormal) {
+  auto csg = sphereMinusBox();
+  // From +X towards the origin: the sphere's +X half is gone; the first surface is the cut at
+  // x = 0, and its normal must face +X (outward from the result, towards the viewer).
+  Ray ray{{5, 0.1f, 0.2f}, {-1, 0, 0}};
+  ShapeHit hit;
+  ASSERT_TRUE(csg->intersect(ray, &hit));
+  EXPECT_NEAR(hit.t, 5.0f, 1e-5f);
+  EXPECT_EQ(csg->materialSlot(hit.part), 1u);  // the box's leaf
+  ShapeSurface s = csg->surface(ray, hit);
+  EXPECT_NEAR(s.p.x, 0.0f, 1e-5f);
+  EXPECT_NEAR(s.n.x, 1.0f, 1e-5f);
+  // From -X: the sphere's own surface, normal -X.
+  Ray back{{-5, 0.1f, 0.2f}, {1, 0, 0}};
+  ASSERT_TRUE(csg->intersect(back, &hit));
+  EXPECT_EQ(csg->materialSlot(hit.part), 0u);
+  EXPECT_LT(csg->surface(back, hit).n.x, -0.9f);
+}
+
+TEST(Csg, RayStartingInsideFindsTheExit) {
+  auto csg = sphereMinusBox();
+  Ray ray{{-0.5f, 0, 0}, {1, 0, 0}};  // inside the remaining half-sphere
+  ShapeHit hit;
+  ASSERT_TRUE(csg->intersect(ray, &hit));
+  EXPECT_NEAR(hit.t, 0.5f, 1e-5f);  // leaves through the cut face at x = 0
+  Ray outward{{-0.5f, 0, 0}, {-1, 0, 0}};
+  ASSERT_TRUE(csg->intersect(outward, &hit));
+  EXPECT_NEAR(hit.t, 0.5f, 1e-5f);  // through the sphere at x = -1
+}
+
+TEST(Csg, RespectsTheRayInterval) {
+  auto csg = sphereMinusBox();
+  Ray ray{{-5, 0, 0}, {1, 0, 0}};
+  ray.tMax = 3.5f;  // the sphere is entered at t = 4
+  ShapeHit hit;
+  EXPECT_FALSE(csg->intersect(ray, &hit));
+  EXPECT_FALSE(csg->occluded(ray));
+  ray.tMax = kInfinity;
+  ray.tMin = 4.5f;  // past the entry: the next boundary is the cut at t = 5
+  ASSERT_TRUE(csg->intersect(ray, &hit));
+  EXPECT_NEAR(hit.t, 5.0f, 1e-5f);
+}
+
+TEST(Csg, NestedDifferenceFlipsNormalsTwice) {
+  // A - (B - C): C's surface bounds the result with C's own outward normal.
+  auto csg = std::make_unique<CsgShape>();
+  uint32_t a = csg->addLeaf(std::make_unique<Box>(Vec3f{-2, -2, -2}, Vec3f{2, 2, 2}), Transform());
+  uint32_t b = csg->addLeaf(std::make_unique<Box>(Vec3f{-1, -1, -3}, Vec3f{1, 1, 3}), Transform());
+  uint32_t c = csg->addLeaf(std::make_unique<Sphere>(Vec3f{0, 0, 0}, 0.5f), Transform());
+  uint32_t bc = csg->addOperation(CsgOperation::Difference, {b, c});
+  csg->finish(csg->addOperation(CsgOperation::Difference, {a, bc}));
+  // Down the z axis: the tunnel B is cut through A, but the ball C stays inside it.
+  Ray ray{{0, 0, 10}, {0, 0, -1}};
+  ShapeHit hit;
+  ASSERT_TRUE(csg->intersect(ray, &hit));
+  EXPECT_NEAR(hit.t, 9.5f, 1e-5f);
+  EXPECT_EQ(csg->materialSlot(hit.part), 2u);
+  EXPECT_NEAR(csg->surface(ray, hit).n.z, 1.0f, 1e-5f);
+  // Beside the ball, inside the tunnel, the ray passes through the whole object.
+  Ray beside{{0.8f, 0, 10}, {0, 0, -1}};
+  EXPECT_FALSE(csg->intersect(beside, &hit));
+}
+
+TEST(Csg, BoundsFollowTheOperations) {
+  auto make = [](CsgOperation op) {
+    auto csg = std::make_unique<CsgShape>();
+    uint32_t a = csg->addLeaf(std::make_unique<Box>(Vec3f{0, 0, 0}, Vec3f{2, 2, 2}), Transform());
+    uint32_t b = csg->addLeaf(std::make_unique<Box>(Vec3f{1, 1, 1}, Vec3f{3, 3, 3}), Transform());
+    csg->finish(csg->addOperation(op, {a, b}));
+    return csg;
+  };
+  Bounds3f u = make(CsgOperation::Union)->bounds();
+  EXPECT_EQ(u.lower.x, 0);
+  EXPECT_EQ(u.upper.x, 3);
+  Bounds3f i = make(CsgOperation::Intersection)->bounds();
+  EXPECT_EQ(i.lower.x, 1);
+  EXPECT_EQ(i.upper.x, 2);
+  Bounds3f d = make(CsgOperation::Difference)->bounds();
+  EXPECT_EQ(d.lower.x, 0);
+  EXPECT_EQ(d.upper.x, 2);
+}
+
+TEST(Csg, HalfSpaceIntersectionIsBounded) {
+  auto csg = std::make_unique<CsgShape>();
+  uint32_t s = csg->addLeaf(std::make_unique<Sphere>(Vec3f{0, 0, 0}, 1.0f), Transform());
+  uint32_t p =
+      csg->addLeaf(std::make_unique<Plane>(Vec3f{0, 0, 0}, Vec3f{0, 1, 0}, 1.0f), Transform());
+  csg->finish(csg->addOperation(CsgOperation::Intersection, {s, p}));  // lower hemisphere
+  EXPECT_FALSE(isUnbounded(csg->bounds()));
+  ShapeHit hit;
+  Ray down{{0.2f, 5, 0}, {0, -1, 0}};
+  ASSERT_TRUE(csg->intersect(down, &hit));
+  EXPECT_NEAR(hit.t, 5.0f, 1e-5f);  // the flat cut at y = 0
+  EXPECT_NEAR(csg->surface(down, hit).n.y, 1.0f, 1e-5f);
+}
+
+TEST(Csg, LeafTransformsApply) {
+  auto csg = std::make_unique<CsgShape>();
+  uint32_t a = csg->addLeaf(std::make_unique<Sphere>(Vec3f{0, 0, 0}, 1.0f),
+                            Transform::translate({-0.5f, 0, 0}));
+  uint32_t b = csg->addLeaf(std::make_unique<Sphere>(Vec3f{0, 0, 0}, 1.0f),
+                            Transform::translate({0.5f, 0, 0}) * Transform::scale({1, 2, 1}));
+  csg->finish(csg->addOperation(CsgOperation::Intersection, {a, b}));
+  ShapeHit hit;
+  Ray down{{0, 5, 0}, {0, -1, 0}};
+  ASSERT_TRUE(csg->intersect(down, &hit));
+  // At x = 0 the left sphere reaches y = sqrt(0.75); the stretched right one reaches higher.
+  EXPECT_NEAR(hit.t, 5.0f - std::sqrt(0.75f), 1e-5f);
+}
+
+// A grid of rays over a face shared by A and B in A - B and A u B: every ray must give the
+// same answer (no speckles), also after tiny transforms of B.
+TEST(Csg, CoincidentFacesGiveOneAnswerAcrossTheFace) {
+  for (float shift : {0.0f, 1e-7f, -1e-7f}) {
+    auto csg = std::make_unique<CsgShape>();
+    // A = [-1, 1]^3, B = the upper half of A shifted by `shift`: they share the top face.
+    uint32_t a =
+        csg->addLeaf(std::make_unique<Box>(Vec3f{-1, -1, -1}, Vec3f{1, 1, 1}), Transform());
+    uint32_t b = csg->addLeaf(std::make_unique<Box>(Vec3f{-1, 0, -1}, Vec3f{1, 1, 1}),
+                              Transform::translate({0, shift, 0}));
+    csg->finish(csg->addOperation(CsgOperation::Difference, {a, b}));
+    int cut = 0, other = 0;
+    for (int i = 0; i < 32; ++i)
+      for (int j = 0; j < 32; ++j) {
+        float x = -0.95f + 1.9f * float(i) / 31, z = -0.95f + 1.9f * float(j) / 31;
+        Ray ray{{x, 3, z}, {0, -1, 0}};
+        ShapeHit hit;
+        ASSERT_TRUE(csg->intersect(ray, &hit));
+        // The result's top is the cut at y = 0 (B's bottom face, flipped up).
+        if (std::abs(hit.t - 3.0f) < 1e-4f && csg->surface(ray, hit).n.y > 0.99f)
+          ++cut;
+        else
+          ++other;
+      }
+    EXPECT_EQ(other, 0) << "shift " << shift;
+    EXPECT_EQ(cut, 32 * 32);
+  }
+}
+
+TEST(Csg, RayAlongASharedFaceFollowsTheTieRule) {
+  // Two unit boxes side by side share the face x = 1; their union is one box [0, 2].
+  auto csg = std::make_unique<CsgShape>();
+  uint32_t a = csg->addLeaf(std::make_unique<Box>(Vec3f{0, 0, 0}, Vec3f{1, 1, 1}), Transform());
+  uint32_t b = csg->addLeaf(std::make_unique<Box>(Vec3f{1, 0, 0}, Vec3f{2, 1, 1}), Transform());
+  csg->finish(csg->addOperation(CsgOperation::Union, {a, b}));
+  ShapeHit hit;
+  // Across the shared face: no inner wall, the exit is at x = 2.
+  Ray across{{0.5f, 0.5f, 0.5f}, {1, 0, 0}};
+  ASSERT_TRUE(csg->intersect(across, &hit));
+  EXPECT_NEAR(hit.t, 1.5f, 1e-5f);
+  // Starting exactly on the shared face, going up inside it: the top is at y = 1.
+  Ray along{{1, 0.5f, 0.5f}, {0, 1, 0}};
+  ASSERT_TRUE(csg->intersect(along, &hit));
+  EXPECT_NEAR(hit.t, 0.5f, 1e-5f);
+  EXPECT_NEAR(csg->surface(along, hit).n.y, 1.0f, 1e-5f);
+}
+
+TEST(Csg, SpawnedRaysFromCsgSurfacesNeverReHit) {
+  auto csg = sphereMinusBox();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-1, 1);
+  int tested = 0;
+  for (int k = 0; k < 2000; ++k) {
+    Vec3f o{u(rng) * 4, u(rng) * 4, u(rng) * 4};
+    Vec3f target{u(rng) * 0.5f, u(rng) * 0.5f, u(rng) * 0.5f};
+    Ray ray{o, target - o};
+    ShapeHit hit;
+    if (!csg->intersect(ray, &hit)) continue;
+    ShapeSurface s = csg->surface(ray, hit);
+    // Leave on the side the ray came from, in a random direction of that hemisphere.
+    Vec3f n = dot(s.n, ray.d) < 0 ? s.n : -s.n;
+    Vec3f d{u(rng), u(rng), u(rng)};
+    if (dot(d, n) < 0) d = -d;
+    if (lengthSquared(d) == 0) continue;
+    Ray spawned = spawnRay(s.p, s.pError, n, d, 0);
+    ShapeHit again;
+    if (csg->intersect(spawned, &again)) {
+      // A later hit on another part of the surface is fine; the point just left is not.
+      Vec3f q = spawned.at(again.t);
+      EXPECT_GT(distance(q, s.p), 1e-4f) << "re-hit at t=" << again.t;
+    }
+    ++tested;
+  }
+  EXPECT_GT(tested, 500);
+}
+
+}  // namespace
+}  // namespace glint

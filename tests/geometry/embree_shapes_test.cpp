@@ -1,0 +1,235 @@
+// Analytic shapes inside Embree (the user-geometry adaptor): agreement with direct
+// intersection of every placed shape, packets, shadow queries, infinite planes kept out of the
+// BVH, shapes mixed with triangle meshes, and surface interactions of shape hits.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "geometry/accel/accelerator.h"
+#include "geometry/csg.h"
+#include "geometry/interaction.h"
+#include "geometry/shapes/box.h"
+#include "geometry/shapes/cone.h"
+#include "geometry/shapes/cylinder.h"
+#include "geometry/shapes/disk.h"
+#include "geometry/shapes/plane.h"
+#include "geometry/shapes/quad.h"
+#include "geometry/shapes/sphere.h"
+
+namespace glint {
+namespace {
+
+void addShape(GeometryScene* scene, std::unique_ptr<Shape> shape, const Transform& xf) {
+  Instance inst;
+  inst.shape = uint32_t(scene->shapes.size());
+  inst.worldFromObject = xf;
+  scene->shapes.push_back(std::move(shape));
+  scene->instances.push_back(inst);
+}
+
+// A field of every primitive kind under random rotations, scales and shears.
+GeometryScene randomShapes(std::mt19937& rng, int count, bool withPlane) {
+  std::uniform_real_distribution<float> u(-1, 1);
+  GeometryScene scene;
+  for (int i = 0; i < count; ++i) {
+    std::unique_ptr<Shape> s;
+    switch (i % 6) {
+      case 0:
+        s = std::make_unique<Sphere>(Vec3f{0, 0, 0}, 0.3f);
+        break;
+      case 1:
+        s = std::make_unique<Box>(Vec3f{-0.2f, -0.3f, -0.1f}, Vec3f{0.2f, 0.3f, 0.2f});
+        break;
+      case 2:
+        s = std::make_unique<Cylinder>(0.2f, 0.5f, i % 12 < 6);
+        break;
+      case 3:
+        s = std::make_unique<Cone>(0.3f, 0.5f, i % 12 < 6);
+        break;
+      case 4:
+        s = std::make_unique<Disk>(0.3f);
+        break;
+      default:
+        s = std::make_unique<Quad>(Vec3f{-0.2f, 0, -0.2f}, Vec3f{0.4f, 0, 0}, Vec3f{0, 0.1f, 0.4f});
+    }
+    Mat4 shear;
+    shear.m[0][1] = 0.3f * u(rng);
+    shear.m[1][2] = 0.3f * u(rng);
+    Mat4 shearInv;
+    EXPECT_TRUE(invert(shear, &shearInv));
+    Transform xf = Transform::translate(Vec3f{u(rng), u(rng), u(rng)} * 3.0f) *
+                   Transform::rotate(180 * u(rng), Vec3f{u(rng), u(rng), 1}) *
+                   Transform(shear, shearInv) *
+                   Transform::scale({1 + 0.5f * u(rng), 1 + 0.5f * u(rng), 1 + 0.5f * u(rng)});
+    addShape(&scene, std::move(s), xf);
+  }
+  if (withPlane)
+    addShape(&scene, std::make_unique<Plane>(Vec3f{0, -3.5f, 0}, Vec3f{0, 1, 0}, 1.0f),
+             Transform::rotate(10, {1, 0, 0}));
+  return scene;
+}
+
+// The nearest hit by testing every placed shape directly.
+bool bruteForce(const GeometryScene& scene, const Ray& ray, Hit* hit) {
+  bool found = false;
+  Ray r = ray;
+  for (uint32_t i = 0; i < scene.instances.size(); ++i) {
+    ShapeHit sh;
+    if (!scene.placedShape(i).intersect(r, &sh)) continue;
+    r.tMax = sh.t;
+    *hit = Hit{sh.t, i, sh.part, 0, 0};
+    found = true;
+  }
+  return found;
+}
+
+Ray randomRay(std::mt19937& rng) {
+  std::uniform_real_distribution<float> u(-1, 1);
+  Vec3f o{u(rng) * 6, u(rng) * 6, u(rng) * 6};
+  Vec3f target{u(rng) * 3, u(rng) * 3, u(rng) * 3};
+  return Ray{o, normalize(target - o)};
+}
+
+TEST(EmbreeShapes, ClosestHitMatchesDirectIntersection) {
+  std::mt19937 rng(11);
+  for (bool plane : {false, true}) {
+    GeometryScene scene = randomShapes(rng, 120, plane);
+    auto accel = makeAccelerator("embree", scene);
+    int hits = 0;
+    for (int i = 0; i < 4000; ++i) {
+      Ray ray = randomRay(rng);
+      Hit expected, got;
+      bool e = bruteForce(scene, ray, &expected);
+      bool g = accel->closestHit(ray, &got);
+      ASSERT_EQ(e, g) << "ray " << i;
+      if (!e) continue;
+      ++hits;
+      EXPECT_EQ(got.instance, expected.instance);
+      EXPECT_EQ(got.prim, expected.prim);
+      EXPECT_FLOAT_EQ(got.t, expected.t);
+      EXPECT_EQ(accel->anyHit(ray), true);
+    }
+    EXPECT_GT(hits, 1000);
+  }
+}
+
+TEST(EmbreeShapes, PacketsAgreeWithSingleRays) {
+  std::mt19937 rng(12);
+  GeometryScene scene = randomShapes(rng, 60, false);
+  auto accel = makeAccelerator("embree", scene);
+  for (int batch = 0; batch < 200; ++batch) {
+    Ray rays[16];
+    Hit packet[16];
+    int n = 1 + batch % 16;
+    for (int i = 0; i < n; ++i) rays[i] = randomRay(rng);
+    accel->closestHits(rays, packet, n);
+    for (int i = 0; i < n; ++i) {
+      Hit single;
+      bool found = accel->closestHit(rays[i], &single);
+      ASSERT_EQ(found, packet[i].instance != Hit::kInvalid);
+      if (found) {
+        EXPECT_EQ(packet[i].instance, single.instance);
+        EXPECT_EQ(packet[i].t, single.t);
+      }
+    }
+  }
+}
+
+TEST(EmbreeShapes, ShadowRaysRespectTheSegment) {
+  GeometryScene scene;
+  addShape(&scene, std::make_unique<Sphere>(Vec3f{0, 0, 0}, 1.0f), Transform());
+  auto accel = makeAccelerator("embree", scene);
+  Ray ray{{-5, 0, 0}, {1, 0, 0}};
+  ray.tMax = 3.9f;  // stops short of the sphere at t = 4
+  EXPECT_FALSE(accel->anyHit(ray));
+  ray.tMax = 4.1f;
+  EXPECT_TRUE(accel->anyHit(ray));
+  ray.tMin = 6.1f;  // starts beyond the far side at t = 6
+  ray.tMax = kInfinity;
+  EXPECT_FALSE(accel->anyHit(ray));
+}
+
+TEST(EmbreeShapes, InfinitePlaneStaysOutOfTheHierarchy) {
+  GeometryScene scene;
+  addShape(&scene, std::make_unique<Plane>(Vec3f{0, 0, 0}, Vec3f{0, 1, 0}, 1.0f), Transform());
+  addShape(&scene, std::make_unique<Sphere>(Vec3f{0, 1, 0}, 1.0f), Transform());
+  // Bounds ignore the plane: the scene's box is the sphere's.
+  Bounds3f b = scene.bounds();
+  EXPECT_FALSE(isUnbounded(b));
+  EXPECT_NEAR(b.upper.y, 2.0f, 1e-5f);
+  auto accel = makeAccelerator("embree", scene);
+  Hit hit;
+  // Far away on the plane, a million units out: only the plane can be hit.
+  Ray far{{1e6f, 10, 3e5f}, normalize(Vec3f{0.3f, -1, 0.1f})};
+  ASSERT_TRUE(accel->closestHit(far, &hit));
+  EXPECT_EQ(hit.instance, 0u);
+  // Straight down onto the sphere: the sphere is nearer than the plane below it.
+  Ray down{{0, 5, 0}, {0, -1, 0}};
+  ASSERT_TRUE(accel->closestHit(down, &hit));
+  EXPECT_EQ(hit.instance, 1u);
+  EXPECT_NEAR(hit.t, 3.0f, 1e-5f);
+  // Parallel to the plane, above it: a miss unless the sphere is in the way.
+  Ray parallel{{-10, 0.5f, 5}, {1, 0, 0}};
+  EXPECT_FALSE(accel->closestHit(parallel, &hit));
+  EXPECT_TRUE(accel->anyHit(down));
+}
+
+TEST(EmbreeShapes, ShapesAndMeshesShareOneScene) {
+  GeometryScene scene;
+  TriangleMesh tri;
+  tri.positions = {{-1, -1, 0}, {1, -1, 0}, {0, 1, 0}};
+  tri.indices = {0, 1, 2};
+  scene.meshes.push_back(tri);
+  scene.instances.push_back({0, Transform()});
+  addShape(&scene, std::make_unique<Sphere>(Vec3f{0, 0, 2}, 0.5f), Transform());
+  auto accel = makeAccelerator("embree", scene);
+  Hit hit;
+  ASSERT_TRUE(accel->closestHit(Ray{{0, 0, 5}, {0, 0, -1}}, &hit));
+  EXPECT_EQ(hit.instance, 1u);  // the sphere, in front of the triangle
+  EXPECT_NEAR(hit.t, 2.5f, 1e-5f);
+  ASSERT_TRUE(accel->closestHit(Ray{{0.9f, -0.8f, 5}, {0, 0, -1}}, &hit));
+  EXPECT_EQ(hit.instance, 0u);  // beside the sphere: the triangle
+  EXPECT_EQ(scene.shapeInstanceCount(), 1u);
+  EXPECT_EQ(scene.instancedTriangleCount(), 1u);
+}
+
+TEST(EmbreeShapes, SurfaceInteractionOfAShapeHit) {
+  GeometryScene scene;
+  // A sphere stretched along x and moved: the normal must come through the inverse transpose.
+  Transform xf = Transform::translate({1, 2, 3}) * Transform::scale({2, 1, 1});
+  addShape(&scene, std::make_unique<Sphere>(Vec3f{0, 0, 0}, 1.0f), xf);
+  auto accel = makeAccelerator("embree", scene);
+  Vec3f target{1 + 2 * std::sqrt(0.5f), 2 + std::sqrt(0.5f), 3};  // on the ellipsoid
+  Ray ray{target + Vec3f{3, 3, 0}, normalize(Vec3f{-3, -3, 0})};
+  Hit hit;
+  ASSERT_TRUE(accel->closestHit(ray, &hit));
+  SurfaceInteraction si = computeSurfaceInteraction(scene, ray, hit);
+  EXPECT_LT(distance(si.p, target), 1e-4f);
+  // Gradient of (x/2)^2 + y^2 + z^2 at the object point (sqrt .5, sqrt .5, 0) -> (x/4, y, z).
+  Vec3f expected = normalize(Vec3f{std::sqrt(0.5f) / 2, std::sqrt(0.5f), 0});
+  EXPECT_NEAR(dot(si.ng, expected), 1.0f, 1e-5f);
+  EXPECT_EQ(si.mesh, Instance::kNone);
+  EXPECT_EQ(si.materialSlot, 0u);
+  EXPECT_GT(lengthSquared(si.dpdu), 0.0f);
+}
+
+TEST(EmbreeShapes, CsgMaterialSlotsReachTheInteraction) {
+  GeometryScene scene;
+  auto csg = std::make_unique<CsgShape>();
+  uint32_t a = csg->addLeaf(std::make_unique<Box>(Vec3f{-1, -1, -1}, Vec3f{1, 1, 1}), Transform());
+  uint32_t b = csg->addLeaf(std::make_unique<Sphere>(Vec3f{0, 0, 1}, 0.5f), Transform());
+  csg->finish(csg->addOperation(CsgOperation::Difference, {a, b}));
+  addShape(&scene, std::move(csg), Transform());
+  auto accel = makeAccelerator("embree", scene);
+  Hit hit;
+  Ray centre{{0, 0, 5}, {0, 0, -1}};  // into the dimple the sphere leaves
+  ASSERT_TRUE(accel->closestHit(centre, &hit));
+  EXPECT_NEAR(hit.t, 4.5f, 1e-5f);
+  EXPECT_EQ(computeSurfaceInteraction(scene, centre, hit).materialSlot, 1u);
+  Ray edge{{0.8f, 0.8f, 5}, {0, 0, -1}};  // beside it: the box's face
+  ASSERT_TRUE(accel->closestHit(edge, &hit));
+  EXPECT_EQ(computeSurfaceInteraction(scene, edge, hit).materialSlot, 0u);
+}
+
+}  // namespace
+}  // namespace glint
