@@ -28,20 +28,53 @@ Bounds3f PlacedShape::bounds() const {
 }
 
 Ray PlacedShape::toObject(const Ray& ray, float* dt) const {
-  Transform objectFromPlacement = placement_.inverse();
-  Vec3f oError;
-  Vec3f o = objectFromPlacement.point(ray.o, &oError);
-  Vec3f d = objectFromPlacement.vector(ray.d);
-  *dt = 0;
-  float l2 = lengthSquared(d);
-  if (l2 > 0) {
-    // Move the origin to the far end of its error box along d: the object-space ray then
-    // never starts behind the caller's origin, and t values shift by dt.
-    *dt = dot(abs(d), oError) / l2;
-    o += d * *dt;
+  // Solved in double from the float matrix as given (not its rounded inverse), origin taken
+  // relative to the translation first: no cancellation against a large translation, and the
+  // origin's error is essentially its final rounding to float.
+  const auto& m = placement_.matrix().m;
+  double a[3][3], cof[3][3];
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) a[r][c] = m[r][c];
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) {
+      int r1 = (r + 1) % 3, r2 = (r + 2) % 3, c1 = (c + 1) % 3, c2 = (c + 2) % 3;
+      cof[r][c] = a[r1][c1] * a[r2][c2] - a[r1][c2] * a[r2][c1];  // exact products of floats
+    }
+  double det = 0, absDet = 0;
+  for (int c = 0; c < 3; ++c) det += a[0][c] * cof[0][c], absDet += std::abs(a[0][c] * cof[0][c]);
+  // Relative error of each inverse entry (cofactor rounding, det's rounding and division).
+  double rel = 0x1p-50 * (2 + absDet / std::abs(det));
+  double x[3], dw[3];
+  for (int i = 0; i < 3; ++i) x[i] = double(ray.o[i]) - m[i][3], dw[i] = ray.d[i];
+  double od[3], dd[3], err[3];
+  for (int r = 0; r < 3; ++r) {
+    od[r] = dd[r] = err[r] = 0;
+    for (int c = 0; c < 3; ++c) {
+      double inv = cof[c][r] / det;  // inverse = adjugate / det
+      od[r] += inv * x[c];
+      dd[r] += inv * dw[c];
+      err[r] += std::abs(inv * x[c]);
+    }
+    // Inverse entries, x's own rounding (o - translation) and the dot product's sums.
+    err[r] *= rel + 0x1p-49;
   }
-  // tMin stays: a hit counts only when it is certainly past the (uncertain) origin, which is
-  // the caller's tMin shifted by dt and widened by the same dt of uncertainty.
+  Vec3f d{float(dd[0]), float(dd[1]), float(dd[2])};
+  *dt = 0;
+  double l2 = dd[0] * dd[0] + dd[1] * dd[1] + dd[2] * dd[2];
+  if (l2 > 0) {
+    // Move the origin to the far end of its error box along d (the rounding to float
+    // included): the object-space ray never starts behind the caller's origin; t values
+    // shift by dt, and dt is also their uncertainty.
+    double along = 0;
+    for (int i = 0; i < 3; ++i)
+      along += std::abs(dd[i]) * (err[i] + kMachineEpsilon * 1.0001 * std::abs(od[i]));
+    double t = along / l2;
+    *dt = float(t);
+    if (double(*dt) < t) *dt = nextFloatUp(*dt);
+    for (int i = 0; i < 3; ++i) od[i] += dd[i] * double(*dt);
+  }
+  Vec3f o{float(od[0]), float(od[1]), float(od[2])};
+  // tMin stays: a hit counts only when certainly past the (uncertain) origin.
   return Ray{o, d, ray.tMin, ray.tMax - *dt, ray.time};
 }
 

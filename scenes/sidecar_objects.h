@@ -14,7 +14,7 @@ namespace glint {
 void readObjects(JsonReader& root, const std::string& file, SceneDescription* scene);
 
 // Resolves the material names a .csg file gave its leaves (CsgNodeDesc::materialName) against
-// scene.materials; `where` locates the reference to the file for messages about it.
+// scene.materials (errors are located at the leaf's file:line).
 void resolveCsgMaterials(CsgTreeDesc* tree, const SceneDescription& scene);
 
 }  // namespace glint

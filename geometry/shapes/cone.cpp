@@ -5,12 +5,17 @@
 
 #include <cassert>
 #include <limits>
+#include <numbers>
 
 #include "geometry/shapes/primitive_math.h"
 
 namespace glint {
 
 using namespace prim;
+
+namespace {
+constexpr double kPiD = std::numbers::pi;
+}  // namespace
 
 Cone::Cone(float radius, float height, bool capped)
     : radius_(radius), height_(height), capped_(capped) {
@@ -39,7 +44,9 @@ bool Cone::nappeSpan(const Ray& ray, Span* out, double tRoot[2]) const {
   double eC = gammaD(8) * (oc.x * oc.x + oc.z * oc.z + k2 * w * w) +
               (2 * std::abs(oc.x) + eo.x) * eo.x + (2 * std::abs(oc.z) + eo.z) * eo.z +
               k2 * (2 * std::abs(w) + ew) * ew;
-  auto shifted = [&](double t, double e) { return toCrossing(t + tc, e + gammaD(1) * std::abs(t + tc), 0); };
+  auto shifted = [&](double t, double e) {
+    return toCrossing(t + tc, e + gammaD(1) * std::abs(t + tc), 0);
+  };
   const Crossing minusInf{-kInfinity, 0, 0}, plusInf{kInfinity, 0, 0};
   if (A == 0) {
     // Parallel to a generator: Q(t) = 2 B t + C <= 0 is a half-line.
@@ -111,26 +118,42 @@ ShapeSurface Cone::surface(const Ray& ray, const ShapeHit& hit) const {
   double r = radius_, h = height_, k = r / h;
   ShapeSurface s;
   if (hit.part == 0) {
-    // Re-project radially onto the cone at the (clamped) height.
-    double y = std::clamp(pd.y, 0.0, h);
-    double rho = std::sqrt(pd.x * pd.x + pd.z * pd.z), want = k * (h - y);
-    double x = rho > 0 ? pd.x * (want / rho) : 0, z = rho > 0 ? pd.z * (want / rho) : 0;
-    double slack = gammaD(8) * (r + h);
-    s.p = roundedPoint({x, y, z}, {slack, slack, slack}, &s.pError);
-    double phi = rho > 0 ? std::atan2(z, x) : 0;
-    if (phi < 0) phi += 2 * M_PI;
+    double rho = std::sqrt(pd.x * pd.x + pd.z * pd.z);
+    double phi = rho > 0 ? std::atan2(pd.z, pd.x) : 0;
+    if (phi < 0) phi += 2 * kPiD;
     double cosPhi = std::cos(phi), sinPhi = std::sin(phi);
     // Gradient of x^2 + z^2 - k^2 (h - y)^2, written per unit radius (finite at the apex).
     s.n = normalized({cosPhi, k, sinPhi});
-    s.uv = {float(phi / (2 * M_PI)), float(y / h)};
-    s.dpdu = (V3(-z, 0, x) * (2 * M_PI)).toFloat();
+    // The point on the cone at height y, re-projected radially.
+    auto place = [&](double y) {
+      double want = k * (h - y);
+      double slack = gammaD(8) * (r + h);
+      s.p = roundedPoint({want * cosPhi, y, want * sinPhi}, {slack, slack, slack}, &s.pError);
+      return V3(want * cosPhi, y, want * sinPhi);
+    };
+    double y = std::clamp(pd.y, 0.0, h);
+    V3 q = place(y);
+    // The side meets the base (and itself at the apex) at acute angles: a ray spawned from
+    // within its offset of those edges along -n would leave through the other face. Such
+    // points move along the surface just far enough (the hit is that uncertain anyway).
+    double offset =
+        std::abs(s.n.x) * s.pError.x + std::abs(s.n.y) * s.pError.y + std::abs(s.n.z) * s.pError.z;
+    double norm = std::sqrt(1 + k * k);
+    double yMin = 4 * offset * k / norm + 2 * s.pError.y;
+    double wMin = 4 * offset * std::max(0.0, 1 - k * k) / (2 * k * norm) + 2 * s.pError.y;
+    if (y < yMin && yMin < h / 2)
+      q = place(yMin);
+    else if (h - y < wMin && wMin < h / 2)
+      q = place(h - wMin);
+    s.uv = {float(phi / (2 * kPiD)), float(q.y / h)};
+    s.dpdu = (V3(-q.z, 0, q.x) * (2 * kPiD)).toFloat();
     s.dpdv = (V3(-k * cosPhi, 1, -k * sinPhi) * h).toFloat();
     return s;
   }
   double x = pd.x, z = pd.z, rho = std::sqrt(x * x + z * z);
   if (rho > r) x *= r / rho, z *= r / rho;
   double slack = gammaD(8) * r;
-  s.p = roundedPoint({x, 0, z}, {slack, 0, slack}, &s.pError);
+  s.p = roundedDiskPoint(x, 0, z, r, slack, &s.pError);
   s.n = {0, -1, 0};
   s.uv = {std::clamp(float(x / (2 * r) + 0.5), 0.0f, 1.0f),
           std::clamp(float(z / (2 * r) + 0.5), 0.0f, 1.0f)};

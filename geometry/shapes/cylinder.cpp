@@ -3,6 +3,7 @@
 #include "geometry/shapes/cylinder.h"
 
 #include <cassert>
+#include <numbers>
 
 #include "geometry/shapes/primitive_math.h"
 
@@ -10,14 +11,16 @@ namespace glint {
 
 using namespace prim;
 
+namespace {
+constexpr double kPiD = std::numbers::pi;
+}  // namespace
+
 Cylinder::Cylinder(float radius, float height, bool capped)
     : radius_(radius), height_(height), capped_(capped) {
   assert(std::isfinite(radius) && std::isfinite(height) && radius > 0 && height > 0);
 }
 
-Bounds3f Cylinder::bounds() const {
-  return {{-radius_, 0, -radius_}, {radius_, height_, radius_}};
-}
+Bounds3f Cylinder::bounds() const { return {{-radius_, 0, -radius_}, {radius_, height_, radius_}}; }
 
 bool Cylinder::sideSpan(const Ray& ray, Span* out, double* t0, double* t1) const {
   double f[2] = {ray.o.x, ray.o.z}, ef[2] = {0, 0}, d[2] = {ray.d.x, ray.d.z};
@@ -54,7 +57,7 @@ bool Cylinder::intersect(const Ray& ray, ShapeHit* hit) const {
   // Open tube: each side root counts when its y is on the tube; both faces are hittable.
   Span side;
   double t[2];
-  if (!sideSpan(ray, &side, &t[0], &t[1]) || std::isinf(side.enter.t)) return false;
+  if (!sideSpan(ray, &side, &t[0], &t[1])) return false;  // infinite crossings never accepted
   const Crossing* c[2] = {&side.enter, &side.exit};
   for (int i = 0; i < 2; ++i) {
     double y = double(ray.o.y) + t[i] * double(ray.d.y);
@@ -79,9 +82,9 @@ ShapeSurface Cylinder::surface(const Ray& ray, const ShapeHit& hit) const {
     s.p = roundedPoint({x, y, z}, {slack, slack, slack}, &s.pError);
     s.n = normalized({x, 0, z});
     double phi = std::atan2(z, x);
-    if (phi < 0) phi += 2 * M_PI;
-    s.uv = {float(phi / (2 * M_PI)), float(y / h)};
-    s.dpdu = (V3(-z, 0, x) * (2 * M_PI)).toFloat();
+    if (phi < 0) phi += 2 * kPiD;
+    s.uv = {float(phi / (2 * kPiD)), float(y / h)};
+    s.dpdu = (V3(-z, 0, x) * (2 * kPiD)).toFloat();
     s.dpdv = {0, height_, 0};
     return s;
   }
@@ -90,7 +93,7 @@ ShapeSurface Cylinder::surface(const Ray& ray, const ShapeHit& hit) const {
   double x = pd.x, z = pd.z, rho = std::sqrt(x * x + z * z);
   if (rho > r) x *= r / rho, z *= r / rho;
   double slack = gammaD(8) * r;
-  s.p = roundedPoint({x, y, z}, {slack, 0, slack}, &s.pError);
+  s.p = roundedDiskPoint(x, y, z, r, slack, &s.pError);
   s.n = {0, hit.part == 1 ? -1.0f : 1.0f, 0};
   s.uv = {std::clamp(float(x / (2 * r) + 0.5), 0.0f, 1.0f),
           std::clamp(float(z / (2 * r) + 0.5), 0.0f, 1.0f)};

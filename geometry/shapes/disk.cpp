@@ -9,9 +9,7 @@ namespace glint {
 
 using namespace prim;
 
-Disk::Disk(float radius) : radius_(radius) {
-  assert(std::isfinite(radius) && radius > 0);
-}
+Disk::Disk(float radius) : radius_(radius) { assert(std::isfinite(radius) && radius > 0); }
 
 bool Disk::intersect(const Ray& ray, ShapeHit* hit) const {
   if (ray.d.y == 0) return false;
@@ -31,7 +29,7 @@ ShapeSurface Disk::surface(const Ray& ray, const ShapeHit& hit) const {
   if (rho > r) x *= r / rho, z *= r / rho;
   ShapeSurface s;
   double slack = gammaD(8) * r;
-  s.p = roundedPoint({x, 0, z}, {slack, 0, slack}, &s.pError);
+  s.p = roundedDiskPoint(x, 0, z, r, slack, &s.pError);
   s.n = {0, 1, 0};
   s.uv = {std::clamp(float(x / (2 * r) + 0.5), 0.0f, 1.0f),
           std::clamp(float(z / (2 * r) + 0.5), 0.0f, 1.0f)};

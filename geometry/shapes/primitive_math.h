@@ -77,6 +77,20 @@ inline Vec3f roundedPoint(V3 p, V3 slack, Vec3f* error) {
   return pf;
 }
 
+// A point of a disk (cap) of radius r in a plane y = const, rounded to float and then nudged
+// towards the axis until the float point is inside the disk: a cap hit on a rim never lies
+// outside the side wall, so rays spawned from it into the solid do not re-enter at the rim.
+inline Vec3f roundedDiskPoint(double x, double y, double z, double r, double slack, Vec3f* error) {
+  Vec3f p = roundedPoint({x, y, z}, {slack, 0, slack}, error);
+  for (int i = 0; i < 4 && double(p.x) * p.x + double(p.z) * p.z > r * r; ++i) {
+    p.x = p.x > 0 ? nextFloatDown(p.x) : (p.x < 0 ? nextFloatUp(p.x) : p.x);
+    p.z = p.z > 0 ? nextFloatDown(p.z) : (p.z < 0 ? nextFloatUp(p.z) : p.z);
+  }
+  error->x = nextFloatUp(error->x + std::abs(p.x - float(x)));
+  error->z = nextFloatUp(error->z + std::abs(p.z - float(z)));
+  return p;
+}
+
 // Roots t0 <= t1 of A t^2 + 2 B t + C = 0, each with an absolute error bound.
 struct Roots {
   double t0 = 0, e0 = 0, t1 = 0, e1 = 0;
@@ -85,8 +99,8 @@ struct Roots {
 // Solves the quadratic in the stable form (q = -(B + sign(B) sqrt(D)), t = q/A, t = C/q)
 // given the discriminant D = B^2 - AC (computed by the caller, possibly by a better-conditioned
 // formula) and absolute error bounds of every input. False when D < 0 or A == 0.
-inline bool solveQuadratic(double A, double eA, double B, double eB, double C, double eC,
-                           double D, double eD, Roots* r) {
+inline bool solveQuadratic(double A, double eA, double B, double eB, double C, double eC, double D,
+                           double eD, Roots* r) {
   if (!(D >= 0) || A == 0) return false;
   double s = std::sqrt(D);
   // sqrt amplifies the discriminant's error near tangency: |sqrt(D') - sqrt(D)| <= min(e/s, √e).

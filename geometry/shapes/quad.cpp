@@ -9,8 +9,7 @@ namespace glint {
 
 using namespace prim;
 
-Quad::Quad(Vec3f corner, Vec3f edgeU, Vec3f edgeV)
-    : corner_(corner), edgeU_(edgeU), edgeV_(edgeV) {
+Quad::Quad(Vec3f corner, Vec3f edgeU, Vec3f edgeV) : corner_(corner), edgeU_(edgeU), edgeV_(edgeV) {
   assert(isFinite(corner) && isFinite(edgeU) && isFinite(edgeV));
   V3 n = cross(V3(edgeU), V3(edgeV));
   assert(dot(n, n) > 0);
@@ -73,8 +72,8 @@ ShapeSurface Quad::surface(const Ray& ray, const ShapeHit& hit) const {
   // Rebuilt from (a, b): on the plane up to double rounding.
   V3 c(corner_), u(edgeU_), v(edgeV_);
   V3 p = c + u * a + v * b;
-  double slack = gammaD(8) * (dot(abs(c), V3(1, 1, 1)) + dot(abs(u), V3(1, 1, 1)) +
-                              dot(abs(v), V3(1, 1, 1)));
+  double slack =
+      gammaD(8) * (dot(abs(c), V3(1, 1, 1)) + dot(abs(u), V3(1, 1, 1)) + dot(abs(v), V3(1, 1, 1)));
   ShapeSurface s;
   s.p = roundedPoint(p, {slack, slack, slack}, &s.pError);
   s.n = normal_;

@@ -3,12 +3,17 @@
 #include "geometry/shapes/sphere.h"
 
 #include <cassert>
+#include <numbers>
 
 #include "geometry/shapes/primitive_math.h"
 
 namespace glint {
 
 using namespace prim;
+
+namespace {
+constexpr double kPiD = std::numbers::pi;
+}  // namespace
 
 Sphere::Sphere(Vec3f center, float radius) : center_(center), radius_(radius) {
   assert(isFinite(center) && std::isfinite(radius) && radius > 0);
@@ -56,13 +61,13 @@ ShapeSurface Sphere::surface(const Ray& ray, const ShapeHit& hit) const {
   double cosTheta = std::clamp(rel.y / radius_, -1.0, 1.0);
   double theta = std::acos(cosTheta);
   double phi = std::atan2(rel.z, rel.x);
-  if (phi < 0) phi += 2 * M_PI;
-  s.uv = {float(phi / (2 * M_PI)), float(theta / M_PI)};
+  if (phi < 0) phi += 2 * kPiD;
+  s.uv = {float(phi / (2 * kPiD)), float(theta / kPiD)};
   // p(u, v) = c + r (sin(theta) cos(phi), cos(theta), sin(theta) sin(phi)).
   double sinTheta = std::sqrt(std::max(0.0, 1 - cosTheta * cosTheta));
   double cosPhi = std::cos(phi), sinPhi = std::sin(phi);
-  s.dpdu = (V3(-rel.z, 0, rel.x) * (2 * M_PI)).toFloat();
-  s.dpdv = (V3(cosTheta * cosPhi, -sinTheta, cosTheta * sinPhi) * (M_PI * radius_)).toFloat();
+  s.dpdu = (V3(-rel.z, 0, rel.x) * (2 * kPiD)).toFloat();
+  s.dpdv = (V3(cosTheta * cosPhi, -sinTheta, cosTheta * sinPhi) * (kPiD * radius_)).toFloat();
   return s;
 }
 

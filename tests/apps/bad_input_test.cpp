@@ -39,7 +39,8 @@ void expectRejected(const std::string& name, const std::string& args,
   EXPECT_EQ(lineCount(r.err), 1u) << name << ": expected a one-line message, got: " << r.err;
   EXPECT_EQ(r.err.rfind("glint: ", 0), 0u) << name << ": " << r.err;
   for (const std::string& m : mustMention)
-    EXPECT_NE(r.err.find(m), std::string::npos) << name << ": message lacks '" << m << "': " << r.err;
+    EXPECT_NE(r.err.find(m), std::string::npos)
+        << name << ": message lacks '" << m << "': " << r.err;
   EXPECT_EQ(readFile(out), good) << name << ": the previous output was touched";
   // No temporary files left behind either.
   size_t files = 0;
@@ -111,6 +112,32 @@ TEST(CliBadInput, SidecarJsonSyntaxErrorReportsLineAndColumn) {
   expectBadSidecar("syntax", "{\n  \"render\": {\"spp\": 4,,}\n}\n", {":2:"});
 }
 
+TEST(CliBadInput, ObjectWithNegativeRadius) {
+  expectBadSidecar("negative_radius", R"({"objects": [{"type": "sphere", "radius": -1}]})",
+                   {"/objects/0/radius", "must be > 0"});
+}
+
+TEST(CliBadInput, ObjectWithNonFiniteSize) {
+  expectBadSidecar("nonfinite_radius", R"({"objects": [{"type": "cone", "radius": 1e39,
+                   "height": 1}]})",
+                   {"/objects/0/radius", "finite"});
+}
+
+TEST(CliBadInput, ObjectWithSingularTransform) {
+  expectBadSidecar("singular_object", R"({"objects": [{"type": "box", "min": [0, 0, 0],
+                   "max": [1, 1, 1], "transform": [{"shear": {"xy": 2, "yx": 0.5}}]}]})",
+                   {"/objects/0/transform/0/shear", "singular"});
+}
+
+TEST(CliBadInput, CsgFileWithStackUnderflow) {
+  std::string dir = test::scratchDir("bad_csg_file");
+  fs::copy_file(test::dataDir() + "/scenes/lambert_plane.gltf", dir + "/scene.gltf");
+  std::ofstream(dir + "/tree.csg") << "sphere center 0 0 0 radius 1\ndifference\n";
+  std::ofstream(dir + "/scene.glint.json")
+      << R"({"objects": [{"type": "csg", "file": "tree.csg"}]})";
+  expectRejected("csg_underflow", shellQuote(dir + "/scene.gltf"), {"tree.csg:2", "underflow"});
+}
+
 TEST(CliBadInput, SidecarWrongType) {
   expectBadSidecar("wrong_type", R"({"render": {"spp": "many"}})", {"/render/spp"});
 }
@@ -146,22 +173,22 @@ TEST_P(BadOption, IsAUsageErrorWithExitCode2) {
   EXPECT_FALSE(fs::exists(out));
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Cli, BadOption,
-    testing::Values(std::make_pair("--spp -1", "--spp"), std::make_pair("--spp 0", "--spp"),
-                    std::make_pair("--width 0", "--width"),
-                    std::make_pair("--height -5", "--height"),
-                    std::make_pair("--threads -1", "--threads"),
-                    std::make_pair("--accel octree", "--accel"),
-                    std::make_pair("--camera Nowhere", "Nowhere"),
-                    std::make_pair("--frobnicate", "frobnicate")),
-    [](const auto& p) {
-      std::string n = p.param.first;
-      std::string out;
-      for (char ch : n)
-        if (std::isalnum(static_cast<unsigned char>(ch))) out += ch;
-      return out;
-    });
+INSTANTIATE_TEST_SUITE_P(Cli, BadOption,
+                         testing::Values(std::make_pair("--spp -1", "--spp"),
+                                         std::make_pair("--spp 0", "--spp"),
+                                         std::make_pair("--width 0", "--width"),
+                                         std::make_pair("--height -5", "--height"),
+                                         std::make_pair("--threads -1", "--threads"),
+                                         std::make_pair("--accel octree", "--accel"),
+                                         std::make_pair("--camera Nowhere", "Nowhere"),
+                                         std::make_pair("--frobnicate", "frobnicate")),
+                         [](const auto& p) {
+                           std::string n = p.param.first;
+                           std::string out;
+                           for (char ch : n)
+                             if (std::isalnum(static_cast<unsigned char>(ch))) out += ch;
+                           return out;
+                         });
 
 TEST(CliBadInput, UnsupportedOutputExtension) {
   std::string scene = shellQuote(test::dataDir() + "/scenes/lambert_plane.gltf");
@@ -173,7 +200,8 @@ TEST(CliBadInput, UnsupportedOutputExtension) {
 }
 
 TEST(CliBadInput, InfoRejectsBadFilesToo) {
-  test::CommandResult r = test::runGlint("info " + shellQuote(test::dataDir() + "/bad/truncated.glb"));
+  test::CommandResult r =
+      test::runGlint("info " + shellQuote(test::dataDir() + "/bad/truncated.glb"));
   EXPECT_EQ(r.exitCode, 2);
   EXPECT_NE(r.err.find("truncated.glb"), std::string::npos) << r.err;
 }
