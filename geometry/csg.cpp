@@ -35,6 +35,29 @@ bool coincide(const Crossing& a, const Crossing& b) {
 // A span whose ends coincide has no interior: a tangent ray, or a sliver below the error bound.
 bool degenerate(const Span& s) { return coincide(s.enter, s.exit); }
 
+// True when the ray's whole line (every real t) certainly misses the box. Conservative: the
+// slab distances are widened by their rounding error (pbrt-v4's gamma(3) idea), so a line that
+// grazes the box is never culled. Unbounded boxes are never culled.
+bool lineMissesBox(const Ray& ray, const Bounds3f& b) {
+  if (isUnbounded(b) || b.empty()) return b.empty();
+  float tNear = -kInfinity, tFar = kInfinity;
+  for (int i = 0; i < 3; ++i) {
+    if (ray.d[i] == 0) {
+      if (ray.o[i] < b.lower[i] || ray.o[i] > b.upper[i]) return true;
+      continue;
+    }
+    float inv = 1 / ray.d[i];
+    float t0 = (b.lower[i] - ray.o[i]) * inv, t1 = (b.upper[i] - ray.o[i]) * inv;
+    if (t0 > t1) std::swap(t0, t1);
+    constexpr float w = 2 * gamma(3);
+    t0 = t0 > 0 ? t0 * (1 - w) : t0 * (1 + w);  // moved down
+    t1 = t1 > 0 ? t1 * (1 + w) : t1 * (1 - w);  // moved up
+    tNear = std::max(tNear, t0);
+    tFar = std::min(tFar, t1);
+  }
+  return tNear > tFar;
+}
+
 }  // namespace
 
 void combineSpans(CsgOperation op, const Span* a, size_t na, const Span* b, size_t nb,
@@ -100,7 +123,9 @@ void CsgShape::finish(uint32_t root) {
   assert(root < nodes_.size());
   root_ = root;
   orient(root_, false);
-  bounds_ = nodeBounds(root_);
+  nodeBounds_.resize(nodes_.size());
+  for (uint32_t n = 0; n < nodes_.size(); ++n) nodeBounds_[n] = nodeBounds(n);
+  bounds_ = nodeBounds_[root_];
 }
 
 void CsgShape::orient(uint32_t node, bool flip) {
@@ -136,6 +161,9 @@ Bounds3f CsgShape::nodeBounds(uint32_t node) const {
 
 size_t CsgShape::evaluate(uint32_t node, const Ray& ray, std::vector<Span>& out) const {
   const Node& n = nodes_[node];
+  // A subtree whose box the line misses contributes no spans (for a difference's first child
+  // or an intersection's child that empties the whole node).
+  if (lineMissesBox(ray, nodeBounds_[node])) return 0;
   if (n.leaf != kNone) {
     Span s;
     if (!leaves_[n.leaf].placed.span(ray, &s)) return 0;
@@ -153,6 +181,18 @@ size_t CsgShape::evaluate(uint32_t node, const Ray& ray, std::vector<Span>& out)
   for (size_t c = 1; c < n.children.size(); ++c) {
     if (count == 0 && n.op != CsgOperation::Union) break;  // empty stays empty
     size_t other = evaluate(n.children[c], ray, out);
+    if (other == 0) {  // an empty child leaves a union or difference as it was
+      if (n.op == CsgOperation::Intersection) count = 0;
+      out.resize(base + count);
+      continue;
+    }
+    if (count == 0) {  // union with nothing so far: the child's spans, moved down
+      std::copy(out.begin() + std::ptrdiff_t(base + count), out.end(),
+                out.begin() + std::ptrdiff_t(base));
+      count = other;
+      out.resize(base + count);
+      continue;
+    }
     // combineSpans appends at most count + other spans: reserve first so the input pointers
     // stay valid while it does.
     out.reserve(out.size() + count + other);

@@ -73,6 +73,7 @@ class CsgShape final : public Shape {
 
   std::vector<Leaf> leaves_;
   std::vector<Node> nodes_;
+  std::vector<Bounds3f> nodeBounds_;  // per node, for culling subtrees the ray's line misses
   uint32_t root_ = kNone;
   Bounds3f bounds_;
 };

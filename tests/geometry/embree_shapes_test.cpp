@@ -1,11 +1,13 @@
 // Analytic shapes inside Embree (the user-geometry adaptor): agreement with direct
 // intersection of every placed shape, packets, shadow queries, infinite planes kept out of the
 // BVH, shapes mixed with triangle meshes, and surface interactions of shape hits.
+#include <embree3/rtcore.h>
 #include <gtest/gtest.h>
 
 #include <random>
 
 #include "geometry/accel/accelerator.h"
+#include "geometry/accel/embree_accel.h"
 #include "geometry/csg.h"
 #include "geometry/interaction.h"
 #include "geometry/shapes/box.h"
@@ -229,6 +231,41 @@ TEST(EmbreeShapes, CsgMaterialSlotsReachTheInteraction) {
   Ray edge{{0.8f, 0.8f, 5}, {0, 0, -1}};  // beside it: the box's face
   ASSERT_TRUE(accel->closestHit(edge, &hit));
   EXPECT_EQ(computeSurfaceInteraction(scene, edge, hit).materialSlot, 0u);
+}
+
+// Rejects every candidate: the adaptor must consult it and keep looking.
+void rejectAll(const RTCFilterFunctionNArguments* args) {
+  for (unsigned i = 0; i < args->N; ++i) args->valid[i] = 0;
+}
+
+TEST(EmbreeShapes, TheAdaptorCallsTheGeometryFilters) {
+  GeometryScene scene;
+  addShape(&scene, std::make_unique<Sphere>(Vec3f{0, 0, 0}, 1.0f), Transform());   // near
+  addShape(&scene, std::make_unique<Sphere>(Vec3f{0, 0, -5}, 1.0f), Transform());  // far
+  auto accel = makeAccelerator("embree", scene);
+  auto& embree = static_cast<EmbreeAccelerator&>(*accel);
+  Ray ray{{0, 0, 5}, {0, 0, -1}};
+  Hit hit;
+  ASSERT_TRUE(accel->closestHit(ray, &hit));
+  EXPECT_EQ(hit.instance, 0u);
+  // A filter on the near sphere that rejects everything: the far sphere must be found.
+  RTCGeometry near = rtcGetGeometry(embree.rtcScene(), 0);
+  rtcSetGeometryIntersectFilterFunction(near, rejectAll);
+  rtcSetGeometryOccludedFilterFunction(near, rejectAll);
+  rtcCommitGeometry(near);
+  rtcCommitScene(embree.rtcScene());
+  ASSERT_TRUE(accel->closestHit(ray, &hit));
+  EXPECT_EQ(hit.instance, 1u);
+  EXPECT_NEAR(hit.t, 9.0f, 1e-5f);
+  Ray rays[4] = {ray, ray, ray, ray};
+  Hit hits[4];
+  accel->closestHits(rays, hits, 4);  // the packet path (rtcIntersect16 with N = 16 lanes)
+  for (const Hit& h : hits) EXPECT_EQ(h.instance, 1u);
+  Ray shadow = ray;
+  shadow.tMax = 7;  // reaches only the (filtered) near sphere
+  EXPECT_FALSE(accel->anyHit(shadow));
+  shadow.tMax = 9.5f;
+  EXPECT_TRUE(accel->anyHit(shadow));
 }
 
 }  // namespace
