@@ -100,6 +100,21 @@ void BM_AnalyticSphere(benchmark::State& state) {
   state.counters["max_error"] = 0;  // exact up to rounding
 }
 
+// The same ball as a unit sphere under a rotation and non-uniform scale (object-space rays).
+void BM_AnalyticSphereTransformed(benchmark::State& state) {
+  GeometryScene scene;
+  Instance inst;
+  inst.shape = 0;
+  inst.worldFromObject = Transform::rotate(30, {1, 1, 0}) * Transform::scale({1, 1, 1});
+  scene.shapes.push_back(std::make_unique<Sphere>(Vec3f{0, 0, 0}, 1.0f));
+  scene.instances.push_back(inst);
+  auto accel = makeAccelerator("embree", scene);
+  std::vector<Ray> rays = gridRays();
+  uint64_t hits = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(hits = traceAll(*accel, rays));
+  reportPerRay(state, rays.size(), hits);
+}
+
 void BM_TessellatedSphere(benchmark::State& state) {
   const int rings = int(state.range(0));
   GeometryScene scene;
@@ -154,6 +169,7 @@ void BM_CsgSceneRender(benchmark::State& state) {
 }
 
 BENCHMARK(BM_AnalyticSphere)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_AnalyticSphereTransformed)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_TessellatedSphere)->Arg(8)->Arg(32)->Arg(128)->Arg(512)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CsgLeaves)->Arg(2)->Arg(4)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CsgSceneRender)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);

@@ -5,7 +5,25 @@
 namespace glint {
 
 PlacedShape::PlacedShape(const Shape* shape, const Transform& placement)
-    : shape_(shape), placement_(placement), identity_(placement.isIdentity()) {}
+    : shape_(shape), placement_(placement), identity_(placement.isIdentity()) {
+  // The inverse of the float matrix as given (not its rounded float inverse), in double, once:
+  // the adjugate's entries are exact products of floats, then one division each.
+  const auto& m = placement_.matrix().m;
+  double a[3][3], cof[3][3];
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) a[r][c] = m[r][c];
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) {
+      int r1 = (r + 1) % 3, r2 = (r + 2) % 3, c1 = (c + 1) % 3, c2 = (c + 2) % 3;
+      cof[r][c] = a[r1][c1] * a[r2][c2] - a[r1][c2] * a[r2][c1];  // exact products of floats
+    }
+  double det = 0, absDet = 0;
+  for (int c = 0; c < 3; ++c) det += a[0][c] * cof[0][c], absDet += std::abs(a[0][c] * cof[0][c]);
+  // Relative error of each inverse entry (cofactor rounding, det's rounding and division).
+  inverseRelError_ = 0x1p-50 * (2 + absDet / std::abs(det));
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) inverse_[r][c] = cof[c][r] / det;  // adjugate / det
+}
 
 Bounds3f PlacedShape::bounds() const {
   Bounds3f b = shape_->bounds();
@@ -32,25 +50,14 @@ Ray PlacedShape::toObject(const Ray& ray, float* dt) const {
   // relative to the translation first: no cancellation against a large translation, and the
   // origin's error is essentially its final rounding to float.
   const auto& m = placement_.matrix().m;
-  double a[3][3], cof[3][3];
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) a[r][c] = m[r][c];
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) {
-      int r1 = (r + 1) % 3, r2 = (r + 2) % 3, c1 = (c + 1) % 3, c2 = (c + 2) % 3;
-      cof[r][c] = a[r1][c1] * a[r2][c2] - a[r1][c2] * a[r2][c1];  // exact products of floats
-    }
-  double det = 0, absDet = 0;
-  for (int c = 0; c < 3; ++c) det += a[0][c] * cof[0][c], absDet += std::abs(a[0][c] * cof[0][c]);
-  // Relative error of each inverse entry (cofactor rounding, det's rounding and division).
-  double rel = 0x1p-50 * (2 + absDet / std::abs(det));
+  const double rel = inverseRelError_;
   double x[3], dw[3];
   for (int i = 0; i < 3; ++i) x[i] = double(ray.o[i]) - m[i][3], dw[i] = ray.d[i];
   double od[3], dd[3], err[3];
   for (int r = 0; r < 3; ++r) {
     od[r] = dd[r] = err[r] = 0;
     for (int c = 0; c < 3; ++c) {
-      double inv = cof[c][r] / det;  // inverse = adjugate / det
+      double inv = inverse_[r][c];
       od[r] += inv * x[c];
       dd[r] += inv * dw[c];
       err[r] += std::abs(inv * x[c]);

@@ -30,11 +30,11 @@ struct ShapeHit {
 // Surface details at a hit, in the space the shape was asked in (object space for Shape,
 // world space for PlacedShape).
 struct ShapeSurface {
-  Vec3f p;       // hit point, re-projected onto the surface where that is exact
-  Vec3f pError;  // conservative bound on |p - exact point|, per axis
-  Vec3f n;       // unit geometric normal: outward for solids; for open surfaces the side
-                 // documented by the shape (the renderer shades both sides)
-  Vec2f uv;      // surface parameterisation (see each shape)
+  Vec3f p;           // hit point, re-projected onto the surface where that is exact
+  Vec3f pError;      // conservative bound on |p - exact point|, per axis
+  Vec3f n;           // unit geometric normal: outward for solids; for open surfaces the side
+                     // documented by the shape (the renderer shades both sides)
+  Vec2f uv;          // surface parameterisation (see each shape)
   Vec3f dpdu, dpdv;  // partial derivatives of p with respect to uv (bump mapping)
 };
 
@@ -121,6 +121,8 @@ class PlacedShape {
   const Shape* shape_;
   Transform placement_;
   bool identity_;
+  double inverse_[3][3];    // of placement_'s 3x3 part, in double (see the constructor)
+  double inverseRelError_;  // relative error bound of each inverse_ entry
 };
 
 }  // namespace glint
