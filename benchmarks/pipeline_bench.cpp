@@ -21,6 +21,7 @@
 #include <string>
 #include <thread>
 
+#include "bench_support.h"
 #include "geometry/accel/embree_accel.h"
 #include "renderer/filter.h"
 #include "renderer/render.h"
@@ -47,9 +48,9 @@ struct Fixture {
   Fixture() {
     std::string path = assetsDir() + "/stanford/dragon_vrip_res2.glb";
     if (!std::filesystem::exists(path)) {
-      std::fprintf(stderr,
-                   "pipeline_bench: %s not found; set GLINT_ASSETS (see benchmarks/get_assets.sh)\n",
-                   path.c_str());
+      std::fprintf(
+          stderr, "pipeline_bench: %s not found; set GLINT_ASSETS (see benchmarks/get_assets.sh)\n",
+          path.c_str());
       std::exit(2);
     }
     desc = loadScene(path);
@@ -236,16 +237,7 @@ class RateReporter : public benchmark::ConsoleReporter {
 }  // namespace glint
 
 int main(int argc, char** argv) {
-  std::string out;
-  std::vector<char*> args;
-  for (int i = 0; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--out") == 0 && i + 1 < argc)
-      out = argv[++i];
-    else
-      args.push_back(argv[i]);
-  }
-  int n = int(args.size());
-  benchmark::Initialize(&n, args.data());
+  std::string out = glint::bench::initialize(argc, argv);
   glint::RateReporter reporter;
   benchmark::RunSpecifiedBenchmarks(&reporter);
   double bare = reporter.rates["BM_BareEmbreeIntersect1"];
@@ -271,8 +263,8 @@ int main(int argc, char** argv) {
       << ",\n  \"bare_embree_mrays_per_second\": " << bare
       << ",\n  \"bare_embree_packet16_mrays_per_second\": " << packet
       << ",\n  \"glint_eyelight_mrays_per_second\": " << glint << ",\n  \"ratio\": " << ratio
-      << ",\n  \"ratio_to_packet16\": " << (packet > 0 ? glint / packet : 0.0)
-      << ",\n  \"cpu\": \"" << glint::cpuModel() << "\""
+      << ",\n  \"ratio_to_packet16\": " << (packet > 0 ? glint / packet : 0.0) << ",\n  \"cpu\": \""
+      << glint::cpuModel() << "\""
       << ",\n  \"target\": 0.8\n}\n";
   }
   return ratio >= 0.8 ? 0 : 1;

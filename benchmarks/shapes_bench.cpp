@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_support.h"
 #include "geometry/accel/accelerator.h"
 #include "geometry/csg.h"
 #include "geometry/shapes/box.h"
@@ -193,16 +194,7 @@ class JsonCollector : public benchmark::ConsoleReporter {
 }  // namespace glint
 
 int main(int argc, char** argv) {
-  std::string out;
-  std::vector<char*> args;
-  for (int i = 0; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--out") == 0 && i + 1 < argc)
-      out = argv[++i];
-    else
-      args.push_back(argv[i]);
-  }
-  int n = int(args.size());
-  benchmark::Initialize(&n, args.data());
+  std::string out = glint::bench::initialize(argc, argv);
   glint::JsonCollector collector;
   benchmark::RunSpecifiedBenchmarks(&collector);
   if (!out.empty()) {

@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include "geometry/accel/embree_accel.h"
 
@@ -40,6 +41,50 @@ struct alignas(64) HitPacket {
   RTCHitN* get() { return reinterpret_cast<RTCHitN*>(&storage); }
 };
 
+// Writes lane i of a hit packet for a shape hit: glint computes normals and uvs later
+// (two-phase hits), so only the ids and the instance stack matter.
+void writeHit(RTCHitN* hits, unsigned N, unsigned i, const ShapeHit& sh, unsigned geomID,
+              const RTCIntersectContext* context) {
+  RTCHitN_Ng_x(hits, N, i) = 0;
+  RTCHitN_Ng_y(hits, N, i) = 0;
+  RTCHitN_Ng_z(hits, N, i) = 0;
+  RTCHitN_u(hits, N, i) = 0;
+  RTCHitN_v(hits, N, i) = 0;
+  RTCHitN_primID(hits, N, i) = sh.part;
+  RTCHitN_geomID(hits, N, i) = geomID;
+  for (unsigned l = 0; l < RTC_MAX_INSTANCE_LEVEL_COUNT; ++l)
+    RTCHitN_instID(hits, N, i, l) = context->instID[l];
+}
+
+// Runs the candidate hit of lane i through the filters (intersection or occlusion, per
+// `Args`): as a hit packet with only that lane valid, with the ray's tfar set to the candidate
+// distance (Embree's contract for filters). Returns true when the hit is accepted; on
+// rejection the ray's tfar is restored, so it keeps its previous closest hit.
+template <class Args>
+bool acceptedByFilters(const Args* args, RTCRayN* rays, unsigned i, const ShapeHit& sh) {
+  const unsigned N = args->N;
+  HitPacket packet;
+  writeHit(packet.get(), N, i, sh, args->geomID, args->context);
+  int mask[16] = {};
+  mask[i] = -1;
+  const float oldTfar = RTCRayN_tfar(rays, N, i);
+  RTCRayN_tfar(rays, N, i) = sh.t;
+  RTCFilterFunctionNArguments filter;
+  filter.valid = mask;
+  filter.geometryUserPtr = args->geometryUserPtr;
+  filter.context = args->context;
+  filter.ray = rays;
+  filter.hit = packet.get();
+  filter.N = N;
+  if constexpr (std::is_same_v<Args, RTCIntersectFunctionNArguments>)
+    rtcFilterIntersection(args, &filter);
+  else
+    rtcFilterOcclusion(args, &filter);
+  if (mask[i] != 0) return true;
+  RTCRayN_tfar(rays, N, i) = oldTfar;
+  return false;
+}
+
 void intersectCallback(const RTCIntersectFunctionNArguments* args) {
   const auto* shape = static_cast<const PlacedShape*>(args->geometryUserPtr);
   const unsigned N = args->N;
@@ -47,49 +92,17 @@ void intersectCallback(const RTCIntersectFunctionNArguments* args) {
   RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, N);
   for (unsigned i = 0; i < N; ++i) {
     if (args->valid[i] == 0) continue;
+    // A filter may reject a hit (an alpha test, say): then the shape's next crossing along the
+    // ray is offered, and so on (t - tError > tMin never returns the rejected one again).
     Ray ray = rayFromEmbree(rays, N, i);
     ShapeHit sh;
-    if (!shape->intersect(ray, &sh)) continue;
-
-    // The candidate, as a hit packet with only lane i valid, goes through the filter with the
-    // ray's tfar set to the candidate distance (Embree's contract for filters).
-    HitPacket packet;
-    RTCHitN* candidate = packet.get();
-    RTCHitN_Ng_x(candidate, N, i) = 0;  // glint computes normals later (two-phase hits)
-    RTCHitN_Ng_y(candidate, N, i) = 0;
-    RTCHitN_Ng_z(candidate, N, i) = 0;
-    RTCHitN_u(candidate, N, i) = 0;
-    RTCHitN_v(candidate, N, i) = 0;
-    RTCHitN_primID(candidate, N, i) = sh.part;
-    RTCHitN_geomID(candidate, N, i) = args->geomID;
-    for (unsigned l = 0; l < RTC_MAX_INSTANCE_LEVEL_COUNT; ++l)
-      RTCHitN_instID(candidate, N, i, l) = args->context->instID[l];
-
-    int mask[16] = {};
-    mask[i] = -1;
-    const float oldTfar = RTCRayN_tfar(rays, N, i);
-    RTCRayN_tfar(rays, N, i) = sh.t;
-    RTCFilterFunctionNArguments filter;
-    filter.valid = mask;
-    filter.geometryUserPtr = args->geometryUserPtr;
-    filter.context = args->context;
-    filter.ray = rays;
-    filter.hit = candidate;
-    filter.N = N;
-    rtcFilterIntersection(args, &filter);
-    if (mask[i] == 0) {  // rejected: the ray keeps its previous closest hit
-      RTCRayN_tfar(rays, N, i) = oldTfar;
-      continue;
+    while (shape->intersect(ray, &sh)) {
+      if (acceptedByFilters(args, rays, i, sh)) {
+        writeHit(hits, N, i, sh, args->geomID, args->context);
+        break;
+      }
+      ray.tMin = sh.t;
     }
-    RTCHitN_Ng_x(hits, N, i) = 0;
-    RTCHitN_Ng_y(hits, N, i) = 0;
-    RTCHitN_Ng_z(hits, N, i) = 0;
-    RTCHitN_u(hits, N, i) = 0;
-    RTCHitN_v(hits, N, i) = 0;
-    RTCHitN_primID(hits, N, i) = sh.part;
-    RTCHitN_geomID(hits, N, i) = args->geomID;
-    for (unsigned l = 0; l < RTC_MAX_INSTANCE_LEVEL_COUNT; ++l)
-      RTCHitN_instID(hits, N, i, l) = args->context->instID[l];
   }
 }
 
@@ -99,41 +112,16 @@ void occludedCallback(const RTCOccludedFunctionNArguments* args) {
   RTCRayN* rays = args->ray;
   for (unsigned i = 0; i < N; ++i) {
     if (args->valid[i] == 0) continue;
+    // Crossings in order until the filters accept one, as for closest hits.
     Ray ray = rayFromEmbree(rays, N, i);
     ShapeHit sh;
-    // A filter may reject the nearest hit and want a farther one, so with a filter present
-    // the exact hit is needed; without one any hit will do. Both use intersect's distance.
-    if (!shape->intersect(ray, &sh)) continue;
-
-    HitPacket packet;
-    RTCHitN* candidate = packet.get();
-    RTCHitN_Ng_x(candidate, N, i) = 0;
-    RTCHitN_Ng_y(candidate, N, i) = 0;
-    RTCHitN_Ng_z(candidate, N, i) = 0;
-    RTCHitN_u(candidate, N, i) = 0;
-    RTCHitN_v(candidate, N, i) = 0;
-    RTCHitN_primID(candidate, N, i) = sh.part;
-    RTCHitN_geomID(candidate, N, i) = args->geomID;
-    for (unsigned l = 0; l < RTC_MAX_INSTANCE_LEVEL_COUNT; ++l)
-      RTCHitN_instID(candidate, N, i, l) = args->context->instID[l];
-
-    int mask[16] = {};
-    mask[i] = -1;
-    const float oldTfar = RTCRayN_tfar(rays, N, i);
-    RTCRayN_tfar(rays, N, i) = sh.t;
-    RTCFilterFunctionNArguments filter;
-    filter.valid = mask;
-    filter.geometryUserPtr = args->geometryUserPtr;
-    filter.context = args->context;
-    filter.ray = rays;
-    filter.hit = candidate;
-    filter.N = N;
-    rtcFilterOcclusion(args, &filter);
-    if (mask[i] == 0) {
-      RTCRayN_tfar(rays, N, i) = oldTfar;
-      continue;
+    while (shape->intersect(ray, &sh)) {
+      if (acceptedByFilters(args, rays, i, sh)) {
+        RTCRayN_tfar(rays, N, i) = -std::numeric_limits<float>::infinity();  // "occluded"
+        break;
+      }
+      ray.tMin = sh.t;
     }
-    RTCRayN_tfar(rays, N, i) = -std::numeric_limits<float>::infinity();  // Embree's "occluded"
   }
 }
 

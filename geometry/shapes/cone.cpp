@@ -13,10 +13,6 @@ namespace glint {
 
 using namespace prim;
 
-namespace {
-constexpr double kPiD = std::numbers::pi;
-}  // namespace
-
 Cone::Cone(float radius, float height, bool capped)
     : radius_(radius), height_(height), capped_(capped) {
   assert(std::isfinite(radius) && std::isfinite(height) && radius > 0 && height > 0);

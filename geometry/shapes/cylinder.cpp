@@ -11,10 +11,6 @@ namespace glint {
 
 using namespace prim;
 
-namespace {
-constexpr double kPiD = std::numbers::pi;
-}  // namespace
-
 Cylinder::Cylinder(float radius, float height, bool capped)
     : radius_(radius), height_(height), capped_(capped) {
   assert(std::isfinite(radius) && std::isfinite(height) && radius > 0 && height > 0);

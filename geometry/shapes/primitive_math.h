@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 
 #include "geometry/math.h"
 #include "geometry/ray.h"
@@ -15,6 +16,7 @@
 
 namespace glint::prim {
 
+inline constexpr double kPiD = std::numbers::pi;
 inline constexpr double kEpsD = 0x1p-53;  // unit roundoff of double
 // Bound on the relative error of n double operations, doubled for first-order slack.
 constexpr double gammaD(int n) { return 2 * (n * kEpsD) / (1 - n * kEpsD); }

@@ -11,10 +11,6 @@ namespace glint {
 
 using namespace prim;
 
-namespace {
-constexpr double kPiD = std::numbers::pi;
-}  // namespace
-
 Sphere::Sphere(Vec3f center, float radius) : center_(center), radius_(radius) {
   assert(isFinite(center) && std::isfinite(radius) && radius > 0);
 }

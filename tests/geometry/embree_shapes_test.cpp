@@ -238,6 +238,32 @@ void rejectAll(const RTCFilterFunctionNArguments* args) {
   for (unsigned i = 0; i < args->N; ++i) args->valid[i] = 0;
 }
 
+// Rejects candidates nearer than t = 5 (an alpha test, say).
+void rejectNearerThanFive(const RTCFilterFunctionNArguments* args) {
+  for (unsigned i = 0; i < args->N; ++i)
+    if (args->valid[i] != 0 && RTCRayN_tfar(args->ray, args->N, i) < 5) args->valid[i] = 0;
+}
+
+TEST(EmbreeShapes, ARejectedCrossingOffersTheNextOne) {
+  GeometryScene scene;
+  addShape(&scene, std::make_unique<Sphere>(Vec3f{0, 0, 0}, 1.0f), Transform());
+  auto accel = makeAccelerator("embree", scene);
+  auto& embree = static_cast<EmbreeAccelerator&>(*accel);
+  RTCGeometry geom = rtcGetGeometry(embree.rtcScene(), 0);
+  rtcSetGeometryIntersectFilterFunction(geom, rejectNearerThanFive);
+  rtcSetGeometryOccludedFilterFunction(geom, rejectNearerThanFive);
+  rtcCommitGeometry(geom);
+  rtcCommitScene(embree.rtcScene());
+  Ray ray{{0, 0, 5}, {0, 0, -1}};  // enters at t = 4 (rejected), leaves at t = 6
+  Hit hit;
+  ASSERT_TRUE(accel->closestHit(ray, &hit));
+  EXPECT_NEAR(hit.t, 6.0f, 1e-5f);
+  ray.tMax = 5.5f;
+  EXPECT_FALSE(accel->anyHit(ray));
+  ray.tMax = 6.5f;
+  EXPECT_TRUE(accel->anyHit(ray));
+}
+
 TEST(EmbreeShapes, TheAdaptorCallsTheGeometryFilters) {
   GeometryScene scene;
   addShape(&scene, std::make_unique<Sphere>(Vec3f{0, 0, 0}, 1.0f), Transform());   // near

@@ -9,10 +9,13 @@
 #include <set>
 #include <string>
 
+#include "scene_error_support.h"
 #include "test_support.h"
 
 namespace glint {
 namespace {
+
+using test::errorFrom;
 
 // ---------------------------------------------------------------------------------------------
 // Helpers
@@ -21,17 +24,6 @@ namespace {
 constexpr const char* kFile = "tree.csg";
 
 CsgTreeDesc parse(const std::string& text) { return parseCsgRpn(text, kFile); }
-
-// The SceneError `f` throws (a test failure when it throws nothing).
-SceneError errorFrom(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const SceneError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "expected a SceneError";
-  return SceneError({"<none>", ""}, "<no error>");
-}
 
 SceneError parseError(const std::string& text) {
   return errorFrom([&] { parse(text); });

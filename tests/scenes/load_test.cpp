@@ -9,32 +9,17 @@
 #include <functional>
 #include <string>
 
+#include "scene_error_support.h"
 #include "test_support.h"
 
 namespace glint {
 namespace {
 
+using test::errorFrom;
+
 namespace fs = std::filesystem;
 
 std::string data(const std::string& name) { return test::dataDir() + "/sidecar/" + name; }
-
-SceneError errorFrom(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const SceneError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "expected a SceneError";
-  return SceneError({"<none>", ""}, "<no error>");
-}
-
-#define EXPECT_SCENE_ERROR(error, expectedFile, expectedPointer, phrase)  \
-  do {                                                                    \
-    const SceneError& e_ = (error);                                       \
-    EXPECT_EQ(e_.where().file, expectedFile) << e_.what();                \
-    EXPECT_EQ(e_.where().pointer, expectedPointer) << e_.what();          \
-    EXPECT_NE(e_.message().find(phrase), std::string::npos) << e_.what(); \
-  } while (0)
 
 void writeFile(const std::string& path, const std::string& text) {
   std::ofstream out(path);

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <functional>
 
+#include "scene_error_support.h"
 #include "scenes/build.h"
 #include "scenes/sidecar.h"
 #include "test_support.h"
@@ -13,23 +14,7 @@
 namespace glint {
 namespace {
 
-SceneError errorFrom(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const SceneError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "expected a SceneError";
-  return SceneError({"<none>", ""}, "<no error>");
-}
-
-#define EXPECT_SCENE_ERROR(error, expectedFile, expectedPointer, phrase)  \
-  do {                                                                    \
-    const SceneError& e_ = (error);                                       \
-    EXPECT_EQ(e_.where().file, expectedFile) << e_.what();                \
-    EXPECT_EQ(e_.where().pointer, expectedPointer) << e_.what();          \
-    EXPECT_NE(e_.message().find(phrase), std::string::npos) << e_.what(); \
-  } while (0)
+using test::errorFrom;
 
 constexpr const char* kFile = "objects.json";
 const std::string kMaterials =

@@ -8,36 +8,20 @@
 #include <limits>
 #include <string>
 
+#include "scene_error_support.h"
 #include "scenes/json_reader.h"
 #include "scenes/json_util.h"
 
 namespace glint {
 namespace {
 
+using test::errorFrom;
+
 using nlohmann::json;
 
 // ---------------------------------------------------------------------------------------------
 // Helpers
 // ---------------------------------------------------------------------------------------------
-
-// The SceneError `f` throws (a test failure when it throws nothing).
-SceneError errorFrom(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const SceneError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "expected a SceneError";
-  return SceneError({"<none>", ""}, "<no error>");
-}
-
-#define EXPECT_SCENE_ERROR(error, expectedFile, expectedPointer, phrase)  \
-  do {                                                                    \
-    const SceneError& e_ = (error);                                       \
-    EXPECT_EQ(e_.where().file, expectedFile) << e_.what();                \
-    EXPECT_EQ(e_.where().pointer, expectedPointer) << e_.what();          \
-    EXPECT_NE(e_.message().find(phrase), std::string::npos) << e_.what(); \
-  } while (0)
 
 constexpr const char* kFile = "demo.glint.json";
 
