@@ -24,10 +24,24 @@ struct Hit {
   float u = 0, v = 0;            // triangle barycentrics: p = (1-u-v) p0 + u p1 + v p2
 };
 
+// What a backend's structure looks like, for `glint bench-accel` and the benchmarks. Fields a
+// backend cannot know (Embree's internal BVH) stay 0.
+struct AccelStats {
+  uint64_t bytes = 0;      // nodes + leaf primitive lists (Embree: 0, not exposed)
+  uint64_t nodes = 0;      // all nodes, interior and leaf
+  uint64_t leaves = 0;
+  uint64_t emptyLeaves = 0;
+  uint32_t maxDepth = 0;
+  double meanPrimsPerLeaf = 0;  // over non-empty leaves
+  double sahCost = 0;           // expected cost of a random ray, the build's cost model
+};
+
 class Accelerator {
  public:
   virtual ~Accelerator() = default;
   virtual std::string name() const = 0;
+  // Structure statistics (see AccelStats).
+  virtual AccelStats stats() const { return {}; }
   // Finds the closest hit with t in [ray.tMin, ray.tMax]; false when there is none.
   virtual bool closestHit(const Ray& ray, Hit* hit) const = 0;
   // True when anything is hit with t in [ray.tMin, ray.tMax] (shadow rays).
