@@ -304,5 +304,42 @@ TEST(Csg, SpawnedRaysFromCsgSurfacesNeverReHit) {
   EXPECT_GT(tested, 500);
 }
 
+TEST(Csg, SpawnedRaysNeverReHitUnderTransforms) {
+  auto csg = sphereMinusBox();
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<float> u(-1, 1);
+  std::uniform_real_distribution<float> logScale(-3, 3);
+  int tested = 0;
+  for (int placement = 0; placement < 40; ++placement) {
+    float s = std::pow(10.0f, logScale(rng));
+    Vec3f move = Vec3f{u(rng), u(rng), u(rng)} * 1e4f;
+    Transform xf = Transform::translate(move) *
+                   Transform::rotate(180 * u(rng), {u(rng), 1, u(rng)}) *
+                   Transform::scale({s, s * (1 + 0.5f * u(rng)), s});
+    PlacedShape placed(csg.get(), xf);
+    for (int k = 0; k < 100; ++k) {
+      Vec3f o = xf.point(Vec3f{u(rng), u(rng), u(rng)} * 4.0f);
+      Vec3f target = xf.point(Vec3f{u(rng), u(rng), u(rng)} * 0.5f);
+      Ray ray{o, target - o};
+      ShapeHit hit;
+      if (!placed.intersect(ray, &hit)) continue;
+      ShapeSurface surf = placed.surface(ray, hit);
+      Vec3f n = dot(surf.n, ray.d) < 0 ? surf.n : -surf.n;
+      Vec3f d{u(rng), u(rng), u(rng)};
+      if (dot(d, n) < 0) d = -d;
+      if (lengthSquared(d) == 0) continue;
+      Ray spawned = spawnRay(surf.p, surf.pError, n, d, 0);
+      ShapeHit again;
+      if (placed.intersect(spawned, &again)) {
+        // Only a different part of the surface may be hit, never the point just left.
+        Vec3f q = spawned.at(again.t);
+        EXPECT_GT(distance(q, surf.p), 1e-3f * s) << "re-hit at t=" << again.t << " scale " << s;
+      }
+      ++tested;
+    }
+  }
+  EXPECT_GT(tested, 1000);
+}
+
 }  // namespace
 }  // namespace glint
