@@ -3,6 +3,7 @@
 
 #include <filesystem>
 
+#include "geometry/accel/accelerator.h"
 #include "scenes/gltf_loader.h"
 #include "scenes/json_reader.h"
 #include "scenes/json_util.h"
@@ -14,9 +15,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Names accepted by the render block. Add a backend or integrator here when it lands
-// ("kdtree", "kdtree-median", "path", ...).
-const std::vector<std::string> kAccelerators = {"embree"};
+// Names accepted by the render block (accelerators come from their factory). Add an
+// integrator here when it lands ("path", ...).
 const std::vector<std::string> kIntegrators = {"whitted"};
 const std::vector<std::string> kFilters = {"box", "tent", "gaussian"};
 const std::vector<std::string> kToneMapOperators = {"none", "ward"};
@@ -34,7 +34,7 @@ void readRender(JsonReader& r, RenderSettings* s) {
   s->spp = r.get<int>("spp", s->spp, kPositive);
   s->seed = r.get<uint64_t>("seed", s->seed);
   s->threads = r.get<int>("threads", s->threads, kNonNegative);
-  s->accel = r.oneOf("accel", kAccelerators, s->accel);
+  s->accel = r.oneOf("accel", acceleratorNames(), s->accel);
   s->camera = r.get<std::string>("camera", s->camera);
   s->integrator = r.oneOf("integrator", kIntegrators, s->integrator);
   s->maxDepth = r.get<int>("max_depth", s->maxDepth, kNonNegative);
