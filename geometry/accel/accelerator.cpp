@@ -4,15 +4,18 @@
 #include <stdexcept>
 
 #include "geometry/accel/embree_accel.h"
+#include "geometry/accel/kdtree.h"
 
 namespace glint {
 
-std::unique_ptr<Accelerator> makeAccelerator(const std::string& name,
-                                             const GeometryScene& scene) {
+std::unique_ptr<Accelerator> makeAccelerator(const std::string& name, const GeometryScene& scene) {
   if (name == "embree") return std::make_unique<EmbreeAccelerator>(scene);
+  if (name == "kdtree") return std::make_unique<KdTreeAccelerator>(scene, KdSplitMethod::Sah);
+  if (name == "kdtree-median")
+    return std::make_unique<KdTreeAccelerator>(scene, KdSplitMethod::Median);
   throw std::invalid_argument("unknown accelerator '" + name + "'");
 }
 
-std::vector<std::string> acceleratorNames() { return {"embree"}; }
+std::vector<std::string> acceleratorNames() { return {"embree", "kdtree", "kdtree-median"}; }
 
 }  // namespace glint

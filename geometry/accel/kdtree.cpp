@@ -1,0 +1,672 @@
+// glint — kd-tree backends: primitives, the shared tree bookkeeping, robust traversal, and the
+// SAH builder of Wald & Havran, "On building fast kd-Trees for Ray Tracing, and on doing that
+// in O(N log N)" (IEEE Symposium on Interactive Ray Tracing 2006). The median builder is in
+// kdtree_median.cpp.
+#include "geometry/accel/kdtree.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+
+namespace glint {
+
+// ---------------------------------------------------------------------------------------------
+// Primitives
+// ---------------------------------------------------------------------------------------------
+
+namespace {
+
+// Zero-area triangles are never hit, so they are left out of the tree. The cross product in
+// double is exact for repeated vertices and for collinear ones on a coarse grid; a float
+// test would let rounding make a sliver of a line out of an exactly collinear triangle.
+bool zeroArea(const std::array<Vec3f, 3>& t) {
+  double e1[3], e2[3];
+  for (int k = 0; k < 3; ++k) e1[k] = double(t[1][k]) - t[0][k], e2[k] = double(t[2][k]) - t[0][k];
+  return e1[1] * e2[2] - e1[2] * e2[1] == 0 && e1[2] * e2[0] - e1[0] * e2[2] == 0 &&
+         e1[0] * e2[1] - e1[1] * e2[0] == 0;
+}
+
+}  // namespace
+
+void KdPrimitives::gather(const GeometryScene& scene, const UnboundedShapes& unbounded) {
+  std::vector<Vec3f> world;  // one instance's vertices, transformed once
+  for (uint32_t i = 0; i < scene.instances.size(); ++i) {
+    const Instance& inst = scene.instances[i];
+    if (inst.isShape()) continue;
+    const TriangleMesh& mesh = scene.meshes[inst.mesh];
+    const bool identity = inst.worldFromObject.isIdentity();
+    if (!identity) {
+      world.resize(mesh.positions.size());
+      for (size_t v = 0; v < world.size(); ++v)
+        world[v] = inst.worldFromObject.point(mesh.positions[v]);
+    }
+    const std::vector<Vec3f>& p = identity ? mesh.positions : world;
+    for (uint32_t t = 0; t < mesh.triangleCount(); ++t) {
+      std::array<Vec3f, 3> tri{p[mesh.indices[3 * t]], p[mesh.indices[3 * t + 1]],
+                               p[mesh.indices[3 * t + 2]]};
+      if (!isFinite(tri[0]) || !isFinite(tri[1]) || !isFinite(tri[2]) || zeroArea(tri)) continue;
+      Bounds3f b;
+      for (const Vec3f& v : tri) b.extend(v);
+      triangles.push_back(tri);
+      triInstance.push_back(i);
+      triPrim.push_back(t);
+      bounds.push_back(b);
+    }
+  }
+  for (uint32_t i = 0; i < scene.instances.size(); ++i) {
+    if (!scene.instances[i].isShape() || unbounded.contains(i)) continue;
+    PlacedShape placed = scene.placedShape(i);
+    Bounds3f b = placed.bounds();
+    if (b.empty() || !isFinite(b.lower) || !isFinite(b.upper)) continue;
+    shapes.push_back(placed);
+    shapeInstance.push_back(i);
+    bounds.push_back(b);
+  }
+  if (bounds.size() > KdNode::kMaxPayload)
+    throw std::runtime_error("kd-tree: too many primitives for 30-bit indices");
+}
+
+namespace {
+
+Bounds3f intersectBounds(const Bounds3f& a, const Bounds3f& b) {
+  return {max(a.lower, b.lower), min(a.upper, b.upper)};
+}
+
+// Sutherland–Hodgman clipping of a convex polygon against one axis-aligned plane, keeping
+// the side `keepBelow` (x[axis] <= plane) or above. Points made on the plane get exactly the
+// plane's coordinate on that axis, so clipped bounds never poke through the cell's faces.
+int clipPolygon(const Vec3f* in, int n, Vec3f* out, int axis, float plane, bool keepBelow) {
+  int m = 0;
+  for (int i = 0; i < n; ++i) {
+    const Vec3f& a = in[i];
+    const Vec3f& b = in[(i + 1) % n];
+    const float da = keepBelow ? plane - a[axis] : a[axis] - plane;  // >= 0: inside
+    const float db = keepBelow ? plane - b[axis] : b[axis] - plane;
+    if (da >= 0) out[m++] = a;
+    if ((da >= 0) != (db >= 0)) {
+      const float s = (plane - a[axis]) / (b[axis] - a[axis]);
+      Vec3f p = a + (b - a) * s;
+      p[axis] = plane;
+      out[m++] = p;
+    }
+  }
+  return m;
+}
+
+}  // namespace
+
+Bounds3f KdPrimitives::clippedBounds(uint32_t id, const Bounds3f& box) const {
+  const Bounds3f& b = bounds[id];
+  Bounds3f inBox = intersectBounds(b, box);
+  if (inBox.empty() || !isTriangle(id)) return inBox;
+  // Perfect splits (Wald & Havran section 4.3): the bounds of the triangle clipped to the
+  // cell. At most 3 + 6 vertices after six planes.
+  Vec3f bufA[9], bufB[9];
+  Vec3f* cur = bufA;
+  Vec3f* next = bufB;
+  int n = 3;
+  for (int k = 0; k < 3; ++k) cur[k] = triangles[id][k];
+  for (int axis = 0; axis < 3 && n > 0; ++axis) {
+    if (b.lower[axis] < box.lower[axis]) {  // only planes that cut the triangle's bounds
+      n = clipPolygon(cur, n, next, axis, box.lower[axis], false);
+      std::swap(cur, next);
+    }
+    if (n > 0 && b.upper[axis] > box.upper[axis]) {
+      n = clipPolygon(cur, n, next, axis, box.upper[axis], true);
+      std::swap(cur, next);
+    }
+  }
+  // An empty result may be rounding in a sliver: fall back to the plain box overlap, which is
+  // conservative.
+  if (n == 0) return inBox;
+  Bounds3f clipped;
+  for (int k = 0; k < n; ++k) clipped.extend(cur[k]);
+  // Intersection points carry a few ulps of error in the non-clipped coordinates: widen by
+  // a bound on it (relative to the triangle's extent), then stay inside the exact overlap.
+  for (int axis = 0; axis < 3; ++axis) {
+    float slack = gamma(6) * std::max(std::abs(b.lower[axis]), std::abs(b.upper[axis]));
+    clipped.lower[axis] -= slack;
+    clipped.upper[axis] += slack;
+  }
+  return intersectBounds(clipped, inBox);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Tree bookkeeping (stats and the SAH cost of the built tree)
+// ---------------------------------------------------------------------------------------------
+
+namespace {
+
+// Half the surface area: every SAH ratio is a quotient of two, so the factor 2 cancels.
+double halfArea(const Bounds3f& b) {
+  Vec3f d = b.diagonal();
+  if (d.x < 0 || d.y < 0 || d.z < 0) return 0;
+  return double(d.x) * d.y + double(d.y) * d.z + double(d.z) * d.x;
+}
+
+}  // namespace
+
+int KdTree::maxDepthFor(uint32_t primCount) {
+  int depth = int(std::lround(8 + 1.3 * std::log2(std::max(1u, primCount))));
+  return std::min(depth, kMaxDepth);
+}
+
+void KdTree::addLeaf(const uint32_t* prims, uint32_t count, const Bounds3f& box, int depth) {
+  if (count > KdNode::kMaxPayload || nodes.size() >= KdNode::kMaxPayload)
+    throw std::runtime_error("kd-tree: too many nodes or leaf primitives");
+  if (count == 1) {
+    nodes.push_back(KdNode::leaf(1, prims[0]));
+  } else {
+    nodes.push_back(KdNode::leaf(count, uint32_t(leafPrims.size())));
+    leafPrims.insert(leafPrims.end(), prims, prims + count);
+  }
+  ++stats.leaves;
+  if (count == 0) ++stats.emptyLeaves;
+  leafPrimRefs_ += count;
+  stats.maxDepth = std::max(stats.maxDepth, uint32_t(depth));
+  areaCost_ += double(cost.intersection) * count * halfArea(box);
+}
+
+uint32_t KdTree::addInterior(const Bounds3f& box, int depth) {
+  if (nodes.size() >= KdNode::kMaxPayload) throw std::runtime_error("kd-tree: too many nodes");
+  nodes.emplace_back();
+  stats.maxDepth = std::max(stats.maxDepth, uint32_t(depth));
+  areaCost_ += double(cost.traversal) * halfArea(box);
+  return uint32_t(nodes.size() - 1);
+}
+
+void KdTree::setInterior(uint32_t node, int axis, float split) {
+  nodes[node] = KdNode::interior(axis, split, uint32_t(nodes.size()));
+}
+
+void KdTree::finish() {
+  stats.nodes = nodes.size();
+  stats.bytes = nodes.size() * sizeof(KdNode) + leafPrims.size() * sizeof(uint32_t);
+  uint64_t full = stats.leaves - stats.emptyLeaves;
+  stats.meanPrimsPerLeaf = full ? double(leafPrimRefs_) / double(full) : 0;
+  // The expected cost of a ray through the root cell (no empty-space bonus: that is a build
+  // heuristic, not a cost). A degenerate root (a point or a line) has no area to normalize
+  // by: its tree is one leaf, costed as if every ray reached it.
+  double root = halfArea(bounds);
+  stats.sahCost = root > 0 ? areaCost_ / root : double(cost.intersection) * leafPrimRefs_;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The SAH builder (Wald & Havran 2006)
+// ---------------------------------------------------------------------------------------------
+//
+// Steps, by the paper's names:
+//   * Events (section 4.2): each primitive, clipped to the cell, gives per axis a start and
+//     an end event at its bounds, or one planar event when it is flat on that axis. Three
+//     lists, one per axis, sorted by (position, type) with end < planar < start.
+//   * Sweep / FindPlane (section 4.2, Algorithm 4): one pass over each sorted list counts
+//     N_L, N_P, N_R at every candidate plane and evaluates the SAH, putting the planar
+//     primitives on whichever side is cheaper.
+//   * Termination (section 3.3): make a leaf when no split is cheaper than the leaf
+//     (KI * N) or at the maximum depth.
+//   * Classify (section 5.1, Algorithm 5): one pass over the split axis' events marks each
+//     primitive LeftOnly, RightOnly or Both.
+//   * Splice (section 5.2): the events of one-sided primitives are copied to the children in
+//     order, so the children's lists stay sorted without sorting; only the straddlers (Both)
+//     are clipped to each child cell (perfect splits, section 4.3), their new events sorted
+//     (few: about sqrt(N) per node) and merged in. Every level is linear, the whole O(N log N).
+namespace {
+
+enum EventType : uint32_t { kEnd = 0, kPlanar = 1, kStart = 2 };
+
+struct Event {
+  float pos;
+  uint32_t key;  // primitive << 2 | type
+  uint32_t prim() const { return key >> 2; }
+  uint32_t type() const { return key & 3; }
+};
+bool operator<(const Event& a, const Event& b) {
+  return a.pos < b.pos || (a.pos == b.pos && (a.key & 3) < (b.key & 3));
+}
+
+// A cell's events and how many primitives they describe.
+struct EventLists {
+  std::vector<Event> axis[3];
+  uint32_t count = 0;
+};
+
+enum Side : uint8_t { kBoth, kLeftOnly, kRightOnly };
+
+struct SplitPlane {
+  double cost = std::numeric_limits<double>::infinity();
+  int axis = -1;
+  float pos = 0;
+  bool planarLeft = true;  // where the primitives lying in the plane go
+};
+
+void addEvents(std::vector<Event>* lists, uint32_t prim, const Bounds3f& b) {
+  for (int k = 0; k < 3; ++k) {
+    if (b.lower[k] == b.upper[k]) {
+      lists[k].push_back({b.lower[k], prim << 2 | kPlanar});
+    } else {
+      lists[k].push_back({b.lower[k], prim << 2 | kStart});
+      lists[k].push_back({b.upper[k], prim << 2 | kEnd});
+    }
+  }
+}
+
+class SahBuilder {
+ public:
+  SahBuilder(const KdPrimitives& prims, KdTree* tree)
+      : prims_(prims), tree_(*tree), cost_(tree->cost), side_(prims.size(), kBoth) {}
+
+  void build() {
+    auto root = acquire();
+    for (uint32_t id = 0; id < prims_.size(); ++id) {
+      tree_.bounds.extend(prims_.bounds[id]);
+      addEvents(root->axis, id, prims_.bounds[id]);
+    }
+    root->count = prims_.size();
+    // The only full sort of the build: afterwards lists stay sorted (Splice).
+    for (auto& list : root->axis) std::sort(list.begin(), list.end());
+    maxDepth_ = KdTree::maxDepthFor(prims_.size());
+    tree_.nodes.reserve(8 * size_t(prims_.size()) + 1);  // typical: 7 nodes per primitive
+    buildNode(std::move(root), tree_.bounds, 0);
+  }
+
+ private:
+  // Vectors keep their capacity across nodes: no per-node heap traffic once warm.
+  std::unique_ptr<EventLists> acquire() {
+    if (pool_.empty()) return std::make_unique<EventLists>();
+    auto lists = std::move(pool_.back());
+    pool_.pop_back();
+    return lists;
+  }
+  void release(std::unique_ptr<EventLists> lists) {
+    for (auto& l : lists->axis) l.clear();
+    pool_.push_back(std::move(lists));
+  }
+
+  // The SAH cost of splitting `box` at `pos` on `axis` (section 3): lambda (KT + KI (P_L N_L
+  // + P_R N_R)), with the hit probabilities P = area(child) / area(box). The empty-space
+  // bonus lambda applies only when the empty child has volume: cutting off a flat empty cell
+  // gains nothing, and rewarding it would make no-op splits look cheaper than a leaf.
+  double splitCost(double pl, double pr, uint32_t nl, uint32_t nr, bool leftThick,
+                   bool rightThick) const {
+    double c = cost_.traversal + cost_.intersection * (pl * nl + pr * nr);
+    if ((nl == 0 && leftThick) || (nr == 0 && rightThick)) c *= cost_.emptyBonus;
+    return c;
+  }
+
+  // FindPlane (Algorithm 4): the sweep over each axis' sorted events.
+  SplitPlane findPlane(const EventLists& ev, const Bounds3f& box) const {
+    SplitPlane best;
+    const double area = halfArea(box);
+    if (!(area > 0)) return best;
+    const double invArea = 1 / area;
+    const Vec3f d = box.diagonal();
+    for (int k = 0; k < 3; ++k) {
+      if (!(d[k] > 0)) continue;  // a flat cell cannot be split across its thickness
+      const double a = d[(k + 1) % 3], b = d[(k + 2) % 3];
+      const double cap = a * b, ring = a + b;
+      const std::vector<Event>& e = ev.axis[k];
+      uint32_t nl = 0, nr = ev.count;
+      for (size_t i = 0; i < e.size();) {
+        const float p = e[i].pos;
+        uint32_t ends = 0, planars = 0, starts = 0;
+        while (i < e.size() && e[i].pos == p && e[i].type() == kEnd) ++ends, ++i;
+        while (i < e.size() && e[i].pos == p && e[i].type() == kPlanar) ++planars, ++i;
+        while (i < e.size() && e[i].pos == p && e[i].type() == kStart) ++starts, ++i;
+        nr -= planars + ends;
+        const double left = double(p) - box.lower[k], right = double(box.upper[k]) - p;
+        if (left >= 0 && right >= 0) {
+          const double pl = (cap + left * ring) * invArea, pr = (cap + right * ring) * invArea;
+          double cl = splitCost(pl, pr, nl + planars, nr, left > 0, right > 0);
+          double cr = splitCost(pl, pr, nl, nr + planars, left > 0, right > 0);
+          if (cl < best.cost) best = {cl, k, p, true};
+          if (cr < best.cost) best = {cr, k, p, false};
+        }
+        nl += starts + planars;
+      }
+    }
+    return best;
+  }
+
+  void buildNode(std::unique_ptr<EventLists> ev, const Bounds3f& box, int depth) {
+    SplitPlane plane;
+    if (depth < maxDepth_ && ev->count > 0) plane = findPlane(*ev, box);
+    // Termination (section 3.3): split only when cheaper than intersecting everything.
+    if (plane.axis < 0 || !(plane.cost < double(cost_.intersection) * ev->count)) {
+      leafBuffer_.clear();
+      for (const Event& e : ev->axis[0])
+        if (e.type() != kEnd) leafBuffer_.push_back(e.prim());
+      tree_.addLeaf(leafBuffer_.data(), uint32_t(leafBuffer_.size()), box, depth);
+      release(std::move(ev));
+      return;
+    }
+    Bounds3f leftBox = box, rightBox = box;
+    leftBox.upper[plane.axis] = plane.pos;
+    rightBox.lower[plane.axis] = plane.pos;
+    auto left = acquire(), right = acquire();
+    classify(*ev, plane);
+    splice(*ev, plane.axis, leftBox, rightBox, left.get(), right.get());
+    release(std::move(ev));  // before recursing: the pool reuses it for the children
+
+    const uint32_t node = tree_.addInterior(box, depth);
+    buildNode(std::move(left), leftBox, depth + 1);
+    tree_.setInterior(node, plane.axis, plane.pos);
+    buildNode(std::move(right), rightBox, depth + 1);
+  }
+
+  // Classify (Algorithm 5): one pass over the split axis' events.
+  void classify(const EventLists& ev, const SplitPlane& plane) {
+    for (const Event& e : ev.axis[0])
+      if (e.type() != kEnd) side_[e.prim()] = kBoth;
+    for (const Event& e : ev.axis[plane.axis]) {
+      switch (e.type()) {
+        case kEnd:
+          if (e.pos <= plane.pos) side_[e.prim()] = kLeftOnly;
+          break;
+        case kStart:
+          if (e.pos >= plane.pos) side_[e.prim()] = kRightOnly;
+          break;
+        default:  // planar
+          if (e.pos < plane.pos || (e.pos == plane.pos && plane.planarLeft))
+            side_[e.prim()] = kLeftOnly;
+          else
+            side_[e.prim()] = kRightOnly;
+      }
+    }
+  }
+
+  // Splice (section 5.2): sorted one-sided events are kept in order, straddlers re-generated
+  // against each child cell (perfect splits), sorted and merged in.
+  void splice(const EventLists& ev, int axis, const Bounds3f& leftBox, const Bounds3f& rightBox,
+              EventLists* left, EventLists* right) {
+    uint32_t nl = 0, nr = 0;
+    straddlers_.clear();
+    for (const Event& e : ev.axis[axis]) {
+      if (e.type() == kEnd) continue;
+      switch (side_[e.prim()]) {
+        case kLeftOnly:
+          ++nl;
+          break;
+        case kRightOnly:
+          ++nr;
+          break;
+        default:
+          straddlers_.push_back(e.prim());
+      }
+    }
+    for (int k = 0; k < 3; ++k) {
+      keptLeft_[k].clear(), keptRight_[k].clear();
+      newLeft_[k].clear(), newRight_[k].clear();
+      for (const Event& e : ev.axis[k]) {
+        const uint8_t s = side_[e.prim()];
+        if (s == kLeftOnly)
+          keptLeft_[k].push_back(e);
+        else if (s == kRightOnly)
+          keptRight_[k].push_back(e);
+      }
+    }
+    for (uint32_t prim : straddlers_) {
+      Bounds3f bl = prims_.clippedBounds(prim, leftBox);
+      if (!bl.empty()) addEvents(newLeft_, prim, bl), ++nl;
+      Bounds3f br = prims_.clippedBounds(prim, rightBox);
+      if (!br.empty()) addEvents(newRight_, prim, br), ++nr;
+    }
+    for (int k = 0; k < 3; ++k) {
+      std::sort(newLeft_[k].begin(), newLeft_[k].end());
+      std::sort(newRight_[k].begin(), newRight_[k].end());
+      mergeInto(keptLeft_[k], newLeft_[k], &left->axis[k]);
+      mergeInto(keptRight_[k], newRight_[k], &right->axis[k]);
+    }
+    left->count = nl;
+    right->count = nr;
+  }
+
+  static void mergeInto(const std::vector<Event>& a, const std::vector<Event>& b,
+                        std::vector<Event>* out) {
+    out->resize(a.size() + b.size());
+    std::merge(a.begin(), a.end(), b.begin(), b.end(), out->begin());
+  }
+
+  const KdPrimitives& prims_;
+  KdTree& tree_;
+  const KdCostModel& cost_;
+  int maxDepth_ = 0;
+  std::vector<uint8_t> side_;  // per primitive, valid for the node being split
+  std::vector<uint32_t> straddlers_, leafBuffer_;
+  std::vector<Event> keptLeft_[3], keptRight_[3], newLeft_[3], newRight_[3];
+  std::vector<std::unique_ptr<EventLists>> pool_;
+};
+
+}  // namespace
+
+void buildSahKdTree(const KdPrimitives& prims, const KdCostModel& cost, KdTree* tree) {
+  tree->cost = cost;
+  SahBuilder(prims, tree).build();
+  tree->finish();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Traversal
+// ---------------------------------------------------------------------------------------------
+
+namespace {
+
+// The ray's interval inside `b`, pbrt-v3's Bounds3::IntersectP: the far slab distances are
+// widened by 2 gamma(3) so rounding never drops a ray that grazes the box. A slab distance
+// that is NaN (origin on the slab plane, direction 0 on that axis: 0 * inf) fails both
+// comparisons and so leaves the interval alone: the ray lies in the slab's face.
+bool clipToBox(const Ray& ray, const Vec3f& invDir, const Bounds3f& b, float* t0, float* t1) {
+  float lo = ray.tMin, hi = ray.tMax;
+  for (int k = 0; k < 3; ++k) {
+    float tNear = (b.lower[k] - ray.o[k]) * invDir[k];
+    float tFar = (b.upper[k] - ray.o[k]) * invDir[k];
+    if (tNear > tFar) std::swap(tNear, tFar);
+    tFar *= 1 + 2 * gamma(3);
+    lo = tNear > lo ? tNear : lo;
+    hi = tFar < hi ? tFar : hi;
+    if (lo > hi) return false;
+  }
+  *t0 = lo, *t1 = hi;
+  return true;
+}
+
+// Per-ray set-up of the watertight ray/triangle test (Woop, Benthin & Wald 2013, as in
+// pbrt-v3): permute so the ray's largest direction component is z, then shear to +z.
+struct WatertightRay {
+  Vec3f o;
+  int kx, ky, kz;
+  float sx, sy, sz;
+  explicit WatertightRay(const Ray& ray) : o(ray.o) {
+    Vec3f a = abs(ray.d);
+    kz = a.x > a.y ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2);
+    kx = (kz + 1) % 3;
+    ky = (kx + 1) % 3;
+    sx = -ray.d[kx] / ray.d[kz];
+    sy = -ray.d[ky] / ray.d[kz];
+    sz = 1 / ray.d[kz];
+  }
+};
+
+// A hit with tMin < t <= tMax: t and Embree-convention barycentrics. Edges are shared
+// watertightly; a zero-area triangle has det == 0 and is never hit.
+bool intersectTriangle(const std::array<Vec3f, 3>& tri, const WatertightRay& r, float tMin,
+                       float tMax, float* t, float* u, float* v) {
+  Vec3f p[3];
+  for (int i = 0; i < 3; ++i) {
+    Vec3f q = tri[i] - r.o;
+    p[i] = {q[r.kx] + r.sx * q[r.kz], q[r.ky] + r.sy * q[r.kz], q[r.kz]};
+  }
+  float e0 = p[1].x * p[2].y - p[1].y * p[2].x;
+  float e1 = p[2].x * p[0].y - p[2].y * p[0].x;
+  float e2 = p[0].x * p[1].y - p[0].y * p[1].x;
+  if (e0 == 0 || e1 == 0 || e2 == 0) {  // on an edge in float: decide it in double
+    e0 = float(double(p[1].x) * p[2].y - double(p[1].y) * p[2].x);
+    e1 = float(double(p[2].x) * p[0].y - double(p[2].y) * p[0].x);
+    e2 = float(double(p[0].x) * p[1].y - double(p[0].y) * p[1].x);
+  }
+  if ((e0 < 0 || e1 < 0 || e2 < 0) && (e0 > 0 || e1 > 0 || e2 > 0)) return false;
+  const float det = e0 + e1 + e2;
+  if (det == 0) return false;
+  // t = (e0 z0 + e1 z1 + e2 z2) / det, written relative to z0 (det = e0 + e1 + e2): when the
+  // vertices share their z (a face perpendicular to the ray's main axis, an axis-aligned ray
+  // onto an axis-aligned face) the correction is exactly 0 and t is exact.
+  const float invDet = 1 / det;
+  const float dz = e1 * (p[1].z - p[0].z) + e2 * (p[2].z - p[0].z);
+  const float tt = (p[0].z + dz * invDet) * r.sz;
+  if (!(tt > tMin && tt <= tMax)) return false;
+  // t must be certainly greater than tMin, beyond its own rounding error (pbrt-v3's bound
+  // on t, section 3.9.6): a ray leaving a surface never re-hits it at t = 0 + rounding.
+  const float maxZ =
+      std::max({std::abs(p[0].z), std::abs(p[1].z), std::abs(p[2].z)}) * std::abs(r.sz);
+  const float maxX = std::max({std::abs(p[0].x), std::abs(p[1].x), std::abs(p[2].x)});
+  const float maxY = std::max({std::abs(p[0].y), std::abs(p[1].y), std::abs(p[2].y)});
+  const float deltaX = gamma(5) * (maxX + maxZ), deltaY = gamma(5) * (maxY + maxZ);
+  const float deltaZ = gamma(3) * maxZ;
+  const float deltaE = 2 * (gamma(2) * maxX * maxY + deltaY * maxX + deltaX * maxY);
+  const float maxE = std::max({std::abs(e0), std::abs(e1), std::abs(e2)});
+  const float deltaT =
+      3 * (gamma(3) * maxE * maxZ + deltaE * maxZ + deltaZ * maxE) * std::abs(invDet);
+  if (!(tt - tMin > deltaT)) return false;
+  *t = tt;
+  *u = e1 * invDet;
+  *v = e2 * invDet;
+  return true;
+}
+
+}  // namespace
+
+KdTreeAccelerator::KdTreeAccelerator(const GeometryScene& scene, KdSplitMethod method,
+                                     const KdCostModel& cost)
+    : method_(method) {
+  unbounded_.build(scene);
+  prims_.gather(scene, unbounded_);
+  if (method == KdSplitMethod::Sah)
+    buildSahKdTree(prims_, cost, &tree_);
+  else
+    buildMedianKdTree(prims_, cost, &tree_);
+}
+
+// Front-to-back traversal (pbrt-v3's KdTreeAccel::Intersect), with these rules:
+//   * Order by direction, not by origin: for d[axis] > 0 the below child is the near one.
+//     An origin exactly on a split plane thus needs no tie rule: the plane is crossed at
+//     t = 0 and the near cell gets [tMin, 0], which is visited only when tMin <= 0.
+//   * Parallel rays (d[axis] == 0, reciprocal +-inf) visit the child on their origin's side;
+//     a ray lying exactly in the split plane visits both, since primitives lying in the plane
+//     went to one side only. A NaN plane distance (0 * inf) is such a ray, too.
+//   * A cell is skipped only when the plane is strictly outside the ray's interval, and only
+//     by more than the rounding of the plane distance: flat cells (zero-thickness, from
+//     planar events) have an interval [t, t] and are visited.
+//   * Stop only when the closest hit so far is nearer than the next cell's entry: primitives
+//     are tested over the whole ray, so a hit found in one cell may lie beyond it, and a
+//     nearer one may still wait in the next.
+template <bool kAny>
+bool KdTreeAccelerator::trace(const Ray& ray, Hit* hit) const {
+  if (tree_.nodes.empty()) return false;
+  const Vec3f invDir{1 / ray.d.x, 1 / ray.d.y, 1 / ray.d.z};
+  float tMin, tMax;
+  if (!clipToBox(ray, invDir, tree_.bounds, &tMin, &tMax)) return false;
+  const WatertightRay wray(ray);
+  constexpr float kSlack = 2 * gamma(3);
+
+  struct Todo {
+    uint32_t node;
+    float tMin, tMax;
+  };
+  Todo todo[KdTree::kMaxDepth + 2];
+  int top = 0;
+  float closest = ray.tMax;
+  bool found = false;
+  const KdNode* nodes = tree_.nodes.data();
+  const uint32_t triCount = uint32_t(prims_.triangles.size());
+  uint32_t index = 0;
+  for (;;) {
+    const KdNode& node = nodes[index];
+    if (!node.isLeaf()) {
+      const int axis = node.axis();
+      const float split = node.split();
+      const float o = ray.o[axis], d = ray.d[axis];
+      const uint32_t below = index + 1, above = node.aboveChild();
+      const float tPlane = (split - o) * invDir[axis];
+      if (d == 0 || std::isnan(tPlane)) {
+        if (o < split) {
+          index = below;
+        } else if (o > split) {
+          index = above;
+        } else {
+          todo[top++] = {above, tMin, tMax};
+          index = below;
+        }
+        continue;
+      }
+      const uint32_t nearChild = d > 0 ? below : above;
+      const uint32_t farChild = d > 0 ? above : below;
+      if (tPlane > tMax + std::abs(tMax) * kSlack) {
+        index = nearChild;
+      } else if (tPlane < tMin - std::abs(tMin) * kSlack) {
+        index = farChild;
+      } else {
+        todo[top++] = {farChild, tPlane, tMax};
+        index = nearChild;
+        tMax = tPlane;
+      }
+      continue;
+    }
+
+    // A leaf: test its primitives over the whole remaining ray.
+    const uint32_t count = node.primCount();
+    const uint32_t* list = count == 1 ? &node.word : tree_.leafPrims.data() + node.word;
+    for (uint32_t i = 0; i < count; ++i) {
+      const uint32_t id = list[i];
+      if (id < triCount) {
+        float t, u, v;
+        if (!intersectTriangle(prims_.triangles[id], wray, ray.tMin, closest, &t, &u, &v)) continue;
+        if constexpr (kAny) return true;
+        closest = t;
+        found = true;
+        *hit = {t, prims_.triInstance[id], prims_.triPrim[id], u, v};
+      } else {
+        const uint32_t s = id - triCount;
+        Ray r = ray;
+        r.tMax = closest;
+        if constexpr (kAny) {
+          if (prims_.shapes[s].occluded(r)) return true;
+        } else {
+          ShapeHit sh;
+          if (!prims_.shapes[s].intersect(r, &sh)) continue;
+          closest = sh.t;
+          found = true;
+          *hit = {sh.t, prims_.shapeInstance[s], sh.part, 0, 0};
+        }
+      }
+    }
+    // Next cell, unless the closest hit is already nearer than where it begins.
+    for (;;) {
+      if (top == 0) return found;
+      const Todo& next = todo[--top];
+      if (closest < next.tMin) continue;
+      index = next.node, tMin = next.tMin, tMax = next.tMax;
+      break;
+    }
+  }
+}
+
+bool KdTreeAccelerator::closestHit(const Ray& ray, Hit* hit) const {
+  if (!unbounded_.empty()) {
+    // The nearest plane shortens the ray the tree traces (as the Embree backend does).
+    Hit plane;
+    if (!unbounded_.closestHit(ray, &plane)) return trace<false>(ray, hit);
+    Ray shorter = ray;
+    shorter.tMax = plane.t;
+    if (trace<false>(shorter, hit) && hit->t < plane.t) return true;
+    *hit = plane;
+    return true;
+  }
+  return trace<false>(ray, hit);
+}
+
+bool KdTreeAccelerator::anyHit(const Ray& ray) const {
+  if (!unbounded_.empty() && unbounded_.anyHit(ray)) return true;
+  return trace<true>(ray, nullptr);
+}
+
+}  // namespace glint

@@ -1,0 +1,65 @@
+// Every backend renders the same image: `glint render --accel NAME` against `--accel embree`
+// on scenes with triangles (instanced and baked), analytic shapes, CSG and an infinite plane,
+// compared with `glint diff` at the tolerance of the reference-image tests (backends may
+// differ in the last bits of t, which moves a few edge samples).
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "geometry/accel/accelerator.h"
+#include "test_support.h"
+
+namespace glint {
+namespace {
+
+struct Case {
+  const char* accel;
+  const char* scene;  // relative to the source tree
+};
+
+class AccelRender : public testing::TestWithParam<Case> {};
+
+TEST_P(AccelRender, MatchesEmbree) {
+  const Case& c = GetParam();
+  std::string scene = std::string(GLINT_SOURCE_DIR) + "/" + c.scene;
+  std::string dir = test::scratchDir(std::string("accel_render_") + c.accel);
+  std::string name = std::to_string(std::hash<std::string>{}(c.scene));
+  std::string a = dir + "/" + name + "_" + c.accel + ".exr", b = dir + "/" + name + "_embree.exr";
+  test::CommandResult r =
+      test::runGlint("render '" + scene + "' --quiet --width 160 --height 120 --spp 4 --accel " +
+                     c.accel + " -o '" + a + "'");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  r = test::runGlint("render '" + scene +
+                     "' --quiet --width 160 --height 120 --spp 4 --accel embree -o '" + b + "'");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  r = test::runGlint("diff '" + a + "' '" + b + "' --fail 0.05 --failpercent 0.5");
+  EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
+}
+
+std::vector<Case> cases() {
+  std::vector<Case> out;
+  for (const char* accel : {"kdtree", "kdtree-median"})
+    for (const char* scene :
+         {"scenes/demo/demo.gltf", "tests/images/scenes/csg.json",
+          "tests/images/scenes/primitives.json", "tests/data/scenes/two_instances.gltf"})
+      out.push_back({accel, scene});
+  return out;
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, AccelRender, testing::ValuesIn(cases()),
+                         [](const testing::TestParamInfo<Case>& p) {
+                           std::string n =
+                               std::string(info.param.accel) + "_" + std::to_string(p.index % 4);
+                           for (char& ch : n)
+                             if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+                           return n;
+                         });
+
+TEST(AccelRender, EveryBackendIsOfferedOnTheCommandLine) {
+  std::vector<std::string> names = acceleratorNames();
+  for (const char* expected : {"embree", "kdtree", "kdtree-median"})
+    EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected;
+}
+
+}  // namespace
+}  // namespace glint
