@@ -49,7 +49,7 @@ std::vector<Case> cases() {
 INSTANTIATE_TEST_SUITE_P(Backends, AccelRender, testing::ValuesIn(cases()),
                          [](const testing::TestParamInfo<Case>& p) {
                            std::string n =
-                               std::string(info.param.accel) + "_" + std::to_string(p.index % 4);
+                               std::string(p.param.accel) + "_" + std::to_string(p.index % 4);
                            for (char& ch : n)
                              if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
                            return n;
