@@ -4,6 +4,9 @@
 // kdtree_median.cpp.
 #include "geometry/accel/kdtree.h"
 
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -180,6 +183,25 @@ void KdTree::setInterior(uint32_t node, int axis, float split) {
   nodes[node] = KdNode::interior(axis, split, uint32_t(nodes.size()));
 }
 
+void KdTree::append(const KdTree& sub) {
+  const uint32_t nodeBase = uint32_t(nodes.size()), leafBase = uint32_t(leafPrims.size());
+  if (size_t(nodeBase) + sub.nodes.size() >= KdNode::kMaxPayload)
+    throw std::runtime_error("kd-tree: too many nodes");
+  for (KdNode n : sub.nodes) {
+    if (!n.isLeaf())
+      n = KdNode::interior(n.axis(), n.split(), n.aboveChild() + nodeBase);
+    else if (n.primCount() != 1)  // a single primitive is stored inline
+      n = KdNode::leaf(n.primCount(), n.word + leafBase);
+    nodes.push_back(n);
+  }
+  leafPrims.insert(leafPrims.end(), sub.leafPrims.begin(), sub.leafPrims.end());
+  stats.leaves += sub.stats.leaves;
+  stats.emptyLeaves += sub.stats.emptyLeaves;
+  stats.maxDepth = std::max(stats.maxDepth, sub.stats.maxDepth);
+  areaCost_ += sub.areaCost_;
+  leafPrimRefs_ += sub.leafPrimRefs_;
+}
+
 void KdTree::finish() {
   stats.nodes = nodes.size();
   stats.bytes = nodes.size() * sizeof(KdNode) + leafPrims.size() * sizeof(uint32_t);
@@ -256,6 +278,10 @@ class SahBuilder {
   SahBuilder(const KdPrimitives& prims, KdTree* tree)
       : prims_(prims), tree_(*tree), cost_(tree->cost), side_(prims.size(), kBoth) {}
 
+  // The whole tree. The top levels are split here, one after another; below `kTaskDepth` (or
+  // for small cells) each cell becomes a task that an independent builder finishes in
+  // parallel; the subtrees are then stitched in depth-first order. The result is the same
+  // tree for any number of threads: tasks never share state and are emitted in order.
   void build() {
     auto root = acquire();
     for (uint32_t id = 0; id < prims_.size(); ++id) {
@@ -264,10 +290,18 @@ class SahBuilder {
     }
     root->count = prims_.size();
     // The only full sort of the build: afterwards lists stay sorted (Splice).
-    for (auto& list : root->axis) std::sort(list.begin(), list.end());
+    for (auto& list : root->axis) tbb::parallel_sort(list.begin(), list.end());
     maxDepth_ = KdTree::maxDepthFor(prims_.size());
     tree_.nodes.reserve(8 * size_t(prims_.size()) + 1);  // typical: 7 nodes per primitive
-    buildNode(std::move(root), tree_.bounds, 0);
+    int top = plan(std::move(root), tree_.bounds, 0);
+    tbb::parallel_for(size_t(0), tasks_.size(), [&](size_t t) {
+      Task& task = tasks_[t];
+      task.tree.cost = tree_.cost;
+      SahBuilder sub(prims_, &task.tree);
+      sub.maxDepth_ = maxDepth_;
+      sub.buildNode(std::move(task.events), task.box, task.depth);
+    });
+    emit(top);
   }
 
  private:
@@ -427,10 +461,77 @@ class SahBuilder {
     std::merge(a.begin(), a.end(), b.begin(), b.end(), out->begin());
   }
 
+  // ---- The parallel top: a plan of the first levels' splits, and the cells left as tasks.
+  static constexpr int kTaskDepth = 4;             // up to 16 tasks: balance on a few cores
+  static constexpr uint32_t kMinTaskPrims = 4096;  // smaller cells are not worth a split here
+
+  struct Task {
+    std::unique_ptr<EventLists> events;
+    Bounds3f box;
+    int depth = 0;
+    KdTree tree;
+  };
+  struct PlanNode {
+    int task = -1;  // a task's subtree, or a split with the two plan children below
+    int axis = 0;
+    float pos = 0;
+    int below = -1, above = -1;
+    Bounds3f box;
+    int depth = 0;
+  };
+
+  // Splits the top levels exactly as buildNode would, recording them; returns the plan node.
+  int plan(std::unique_ptr<EventLists> ev, const Bounds3f& box, int depth) {
+    PlanNode node;
+    node.box = box;
+    node.depth = depth;
+    SplitPlane split;
+    bool deep = depth >= kTaskDepth || ev->count < kMinTaskPrims;
+    if (!deep && depth < maxDepth_ && ev->count > 0) split = findPlane(*ev, box);
+    if (deep || split.axis < 0 || !(split.cost < double(cost_.intersection) * ev->count)) {
+      // The task's builder repeats this node's decision itself (leaf or split).
+      node.task = int(tasks_.size());
+      tasks_.push_back(Task{std::move(ev), box, depth, KdTree{}});
+      plan_.push_back(node);
+      return int(plan_.size() - 1);
+    }
+    Bounds3f leftBox = box, rightBox = box;
+    leftBox.upper[split.axis] = split.pos;
+    rightBox.lower[split.axis] = split.pos;
+    auto left = acquire(), right = acquire();
+    classify(*ev, split);
+    splice(*ev, split.axis, leftBox, rightBox, left.get(), right.get());
+    release(std::move(ev));
+    node.axis = split.axis;
+    node.pos = split.pos;
+    int index = int(plan_.size());
+    plan_.push_back(node);
+    int below = plan(std::move(left), leftBox, depth + 1);
+    int above = plan(std::move(right), rightBox, depth + 1);
+    plan_[size_t(index)].below = below;
+    plan_[size_t(index)].above = above;
+    return index;
+  }
+
+  // Writes the planned top and the tasks' subtrees in depth-first order.
+  void emit(int p) {
+    const PlanNode& node = plan_[size_t(p)];
+    if (node.task >= 0) {
+      tree_.append(tasks_[size_t(node.task)].tree);
+      return;
+    }
+    const uint32_t index = tree_.addInterior(node.box, node.depth);
+    emit(node.below);
+    tree_.setInterior(index, node.axis, node.pos);
+    emit(node.above);
+  }
+
   const KdPrimitives& prims_;
   KdTree& tree_;
   const KdCostModel& cost_;
   int maxDepth_ = 0;
+  std::vector<Task> tasks_;
+  std::vector<PlanNode> plan_;
   std::vector<uint8_t> side_;  // per primitive, valid for the node being split
   std::vector<uint32_t> straddlers_, leafBuffer_;
   std::vector<Event> keptLeft_[3], keptRight_[3], newLeft_[3], newRight_[3];

@@ -106,6 +106,9 @@ struct KdTree {
   // setInterior once the below subtree is built.
   uint32_t addInterior(const Bounds3f& box, int depth);
   void setInterior(uint32_t node, int axis, float split);  // above child = nodes.size()
+  // Appends a subtree built on its own (a parallel build's task) as the next nodes: its
+  // child and leaf-array indices are shifted, its statistics merged.
+  void append(const KdTree& sub);
   // Normalizes the SAH cost by the root area and fills the byte and mean counts.
   void finish();
 
