@@ -243,8 +243,12 @@ struct Event {
   uint32_t prim() const { return key >> 2; }
   uint32_t type() const { return key & 3; }
 };
+// By position, then type (end < planar < start, which the sweep relies on), then primitive:
+// a total order, so every sort (serial or parallel) gives the same lists and the same tree.
 bool operator<(const Event& a, const Event& b) {
-  return a.pos < b.pos || (a.pos == b.pos && (a.key & 3) < (b.key & 3));
+  if (a.pos != b.pos) return a.pos < b.pos;
+  if ((a.key & 3) != (b.key & 3)) return (a.key & 3) < (b.key & 3);
+  return a.key < b.key;
 }
 
 // A cell's events and how many primitives they describe.

@@ -4,6 +4,7 @@
 #include "geometry/accel/kdtree.h"
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <cmath>
 #include <filesystem>
@@ -643,6 +644,26 @@ TEST(KdTree, BytesAreEightPerNodePlusTheLeafLists) {
       if (n.isLeaf() && n.primCount() > 1) listed += n.primCount();
     EXPECT_EQ(listed, tree.leafPrims.size());
   }
+}
+
+// The parallel build makes the same tree whatever the number of threads.
+TEST(KdTree, ParallelBuildIsIdenticalForOneAndTwoThreads) {
+  GeometryScene scene = loadBunny();
+  auto build = [&](int threads) {
+    std::unique_ptr<KdTreeAccelerator> accel;
+    tbb::task_arena(threads).execute(
+        [&] { accel = std::make_unique<KdTreeAccelerator>(scene, KdSplitMethod::Sah); });
+    return accel;
+  };
+  auto one = build(1), two = build(2);
+  const KdTree &a = one->tree(), &b = two->tree();
+  ASSERT_EQ(a.nodes.size(), b.nodes.size());
+  for (size_t i = 0; i < a.nodes.size(); ++i) {
+    ASSERT_EQ(a.nodes[i].word, b.nodes[i].word) << "node " << i;
+    ASSERT_EQ(a.nodes[i].bits, b.nodes[i].bits) << "node " << i;
+  }
+  EXPECT_EQ(a.leafPrims, b.leafPrims);
+  EXPECT_EQ(a.stats.sahCost, b.stats.sahCost);
 }
 
 TEST(KdTree, FactoryNamesAllBackends) {
