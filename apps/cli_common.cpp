@@ -1,10 +1,15 @@
 // glint — shared subcommand pieces.
 #include "apps/cli_common.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 
 #include "geometry/accel/accelerator.h"
+#include "renderer/output.h"
 
 namespace glint::app {
 
@@ -44,6 +49,28 @@ void SceneOverrides::apply(SceneDescription* desc) const {
 
 void printError(const std::string& message) {
   std::fprintf(stderr, "glint: %s\n", message.c_str());
+}
+
+void writeTextAtomically(const std::string& path, const std::string& text) {
+  std::filesystem::path target(path);
+  std::filesystem::path tmp = target.parent_path() / ("." + target.filename().string() + ".tmp-" +
+                                                      std::to_string(::getpid()));
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    out << text;
+    out.flush();
+    if (!out) {
+      std::error_code ec;
+      std::filesystem::remove(tmp, ec);
+      throw OutputError("cannot write " + path);
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, target, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    throw OutputError("cannot write " + path + ": " + ec.message());
+  }
 }
 
 }  // namespace glint::app

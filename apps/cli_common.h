@@ -1,4 +1,5 @@
-// glint — pieces shared by the subcommands: scene options, overrides, error reporting.
+// glint — pieces shared by the subcommands: scene options, overrides, error reporting, atomic
+// text output.
 #pragma once
 
 #include <optional>
@@ -25,5 +26,9 @@ struct SceneOverrides {
 
 // Prints "glint: MESSAGE" to stderr.
 void printError(const std::string& message);
+
+// Writes `text` to `path` through a temporary file in the same folder and a rename, so a
+// failed write never leaves a half-written file. Throws OutputError (renderer/output.h).
+void writeTextAtomically(const std::string& path, const std::string& text);
 
 }  // namespace glint::app

@@ -10,5 +10,6 @@ namespace glint::app {
 void addRenderCommand(CLI::App& app, int* exitCode);
 void addInfoCommand(CLI::App& app, int* exitCode);
 void addDiffCommand(CLI::App& app, int* exitCode);
+void addBenchAccelCommand(CLI::App& app, int* exitCode);
 
 }  // namespace glint::app

@@ -1,4 +1,4 @@
-// glint — command line entry point: `glint render | info | diff`.
+// glint — command line entry point: `glint render | info | diff | bench-accel`.
 //
 // Exit codes: 0 success, 1 render/compare failure, 2 bad input or usage.
 #include <cstdio>
@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   glint::app::addRenderCommand(app, &exitCode);
   glint::app::addInfoCommand(app, &exitCode);
   glint::app::addDiffCommand(app, &exitCode);
+  glint::app::addBenchAccelCommand(app, &exitCode);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -1,11 +1,8 @@
 // glint — `glint render`: load, build, render, write images and statistics.
-#include <unistd.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "apps/cli_common.h"
@@ -30,29 +27,6 @@ struct RenderArgs {
   SceneOverrides overrides;
   bool quiet = false;
 };
-
-// Writes `text` to `path` through a temporary file and a rename.
-void writeTextAtomically(const std::string& path, const std::string& text) {
-  std::filesystem::path target(path);
-  std::filesystem::path tmp = target.parent_path() /
-                              ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()));
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << text;
-    out.flush();
-    if (!out) {
-      std::error_code ec;
-      std::filesystem::remove(tmp, ec);
-      throw OutputError("cannot write " + path);
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, target, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw OutputError("cannot write " + path + ": " + ec.message());
-  }
-}
 
 std::string statsJson(const RenderArgs& args, const SceneDescription& desc,
                       const RenderScene& scene, const BuildTimings& build,

@@ -5,6 +5,8 @@ find_package(TBB REQUIRED)
 find_package(OpenEXR REQUIRED)
 find_package(OpenImageIO REQUIRED)
 find_package(TinyGLTF REQUIRED)
+# PLY and OBJ import (scenes/mesh_import.cpp); Debian ships assimpConfig.cmake.
+find_package(assimp REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)
 find_package(fmt REQUIRED)
 find_package(CLI11 REQUIRED)

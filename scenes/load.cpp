@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "scenes/gltf_loader.h"
+#include "scenes/mesh_import.h"
 #include "scenes/sidecar.h"
 
 namespace glint {
@@ -32,8 +33,13 @@ SceneDescription loadScene(const std::string& path, const std::optional<std::str
   SceneDescription scene;
   scene.file = path;
   std::string ext = lowerExtension(path);
-  if (ext == ".gltf" || ext == ".glb") {
-    loadGltf(path, &scene);
+  if (ext == ".gltf" || ext == ".glb" || isMeshFile(path)) {
+    // A bare mesh takes a sidecar like a glTF file does: it has no camera, lights or
+    // materials of its own, and the sidecar is where they come from.
+    if (isMeshFile(path))
+      loadMeshFile(path, &scene);
+    else
+      loadGltf(path, &scene);
     if (sidecar) {
       requireFile(*sidecar, "sidecar file");
       applySceneJsonFile(*sidecar, SceneJsonKind::Sidecar, &scene);
@@ -50,7 +56,7 @@ SceneDescription loadScene(const std::string& path, const std::optional<std::str
     applySceneJsonFile(path, SceneJsonKind::Scene, &scene);
   } else {
     throw SceneError({path, ""}, "unknown scene format '" + ext +
-                                     "'; expected a .gltf, .glb or glint .json file");
+                                     "'; expected a .gltf, .glb, .ply, .obj or glint .json file");
   }
   return scene;
 }

@@ -8,8 +8,8 @@
 
 namespace glint {
 
-// Loads SCENE: a .gltf/.glb (with `sidecar`, or NAME.glint.json next to it when that exists)
-// or a glint .json scene that may reference glTF files. Throws SceneError.
+// Loads SCENE: a .gltf/.glb or a .ply/.obj mesh (with `sidecar`, or NAME.glint.json next to it
+// when that exists) or a glint .json scene that may reference glTF files. Throws SceneError.
 SceneDescription loadScene(const std::string& path,
                            const std::optional<std::string>& sidecar = std::nullopt);
 

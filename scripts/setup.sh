@@ -8,10 +8,10 @@ PACKAGES=(
   libembree-dev libtbb-dev
   libopenimageio-dev openimageio-tools libopenexr-dev python3-imath
   libopencolorio-dev
-  libtinygltf-dev nlohmann-json3-dev
+  libtinygltf-dev nlohmann-json3-dev libassimp-dev
   libcli11-dev libfmt-dev
   libgtest-dev libbenchmark-dev
-  python3
+  python3 python3-matplotlib
 )
 
 # One dpkg-query for all packages; anything not reported as installed is missing.

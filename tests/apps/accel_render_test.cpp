@@ -4,6 +4,8 @@
 // differ in the last bits of t, which moves a few edge samples).
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <ostream>
 #include <string>
 
 #include "geometry/accel/accelerator.h"
@@ -17,14 +19,18 @@ struct Case {
   const char* scene;  // relative to the source tree
 };
 
+// How ctest lists a case ("kdtree on tests/images/scenes/csg.json"), not as raw bytes.
+void PrintTo(const Case& c, std::ostream* os) { *os << c.accel << " on " << c.scene; }
+
 class AccelRender : public testing::TestWithParam<Case> {};
 
 TEST_P(AccelRender, MatchesEmbree) {
   const Case& c = GetParam();
   std::string scene = std::string(GLINT_SOURCE_DIR) + "/" + c.scene;
-  std::string dir = test::scratchDir(std::string("accel_render_") + c.accel);
-  std::string name = std::to_string(std::hash<std::string>{}(c.scene));
-  std::string a = dir + "/" + name + "_" + c.accel + ".exr", b = dir + "/" + name + "_embree.exr";
+  // One scratch folder per case: ctest runs cases in parallel, and a scratch folder starts empty.
+  std::string name = std::string(c.accel) + "_" + std::filesystem::path(c.scene).stem().string();
+  std::string dir = test::scratchDir("accel_render_" + name);
+  std::string a = dir + "/" + c.accel + ".exr", b = dir + "/embree.exr";
   test::CommandResult r =
       test::runGlint("render '" + scene + "' --quiet --width 160 --height 120 --spp 4 --accel " +
                      c.accel + " -o '" + a + "'");

@@ -56,9 +56,9 @@ TEST(Load, MissingSceneFileIsNamed) {
 
 TEST(Load, UnknownExtensionIsRejected) {
   std::string dir = test::scratchDir("load_unknown_extension");
-  writeFile(dir + "/model.obj", "v 0 0 0\n");
-  EXPECT_SCENE_ERROR(errorFrom([&] { loadScene(dir + "/model.obj"); }), dir + "/model.obj", "",
-                     "unknown scene format '.obj'");
+  writeFile(dir + "/model.stl", "solid empty\nendsolid empty\n");
+  EXPECT_SCENE_ERROR(errorFrom([&] { loadScene(dir + "/model.stl"); }), dir + "/model.stl", "",
+                     "unknown scene format '.stl'");
 }
 
 TEST(Load, MissingExplicitSidecarIsAnError) {
