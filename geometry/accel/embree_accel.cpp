@@ -16,7 +16,8 @@ void embreeErrorCallback(void* user, RTCError code, const char* message) {
                         (message ? message : "(no message)");
 }
 
-EmbreeAccelerator::EmbreeAccelerator(const GeometryScene& geometry) {
+EmbreeAccelerator::EmbreeAccelerator(const GeometryScene& geometry, bool highQuality)
+    : highQuality_(highQuality) {
   device_ = rtcNewDevice(nullptr);
   if (!device_) throw std::runtime_error("cannot create an Embree device");
   rtcSetDeviceErrorFunction(device_, embreeErrorCallback, this);
@@ -31,6 +32,7 @@ EmbreeAccelerator::EmbreeAccelerator(const GeometryScene& geometry) {
   placedShapes_.reserve(geometry.shapeInstanceCount());
 
   scene_ = rtcNewScene(device_);
+  if (highQuality_) rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
   for (uint32_t i = 0; i < geometry.instances.size(); ++i) {
     const Instance& inst = geometry.instances[i];
     RTCGeometry geom;
@@ -47,6 +49,7 @@ EmbreeAccelerator::EmbreeAccelerator(const GeometryScene& geometry) {
         RTCScene& meshScene = meshScenes_[inst.mesh];
         if (!meshScene) {
           meshScene = rtcNewScene(device_);
+          if (highQuality_) rtcSetSceneBuildQuality(meshScene, RTC_BUILD_QUALITY_HIGH);
           RTCGeometry tri = makeTriangleGeometry(mesh);
           rtcAttachGeometry(meshScene, tri);
           rtcReleaseGeometry(tri);
@@ -80,6 +83,7 @@ EmbreeAccelerator::~EmbreeAccelerator() {
 
 RTCGeometry EmbreeAccelerator::makeTriangleGeometry(const TriangleMesh& mesh) {
   RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+  if (highQuality_) rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_HIGH);
   // Copied into Embree-owned buffers: Embree needs padding after the last vertex that our
   // tightly packed vectors do not have.
   auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
