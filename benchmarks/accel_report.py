@@ -106,6 +106,35 @@ def mesh_table(name, run):
     return lines
 
 
+def targets(whole):
+    """The issue's targets, as ratios measured in one run per mesh."""
+    lines = [
+        "## Targets",
+        "",
+        "Ratios within one run. SAH kd-tree camera rays >= 0.5x Embree and occlusion rays >= 0.4x "
+        "(bunny, dragon); SAH build of the 202k dragon <= 5x Embree's high-quality BVH build "
+        "(`RTC_BUILD_QUALITY_HIGH`, timed in the same run); median clearly slower than SAH.",
+        "",
+        "| mesh | SAH camera / embree | SAH occlusion / embree | SAH build / embree high-quality build | median camera: SAH faster by | median occlusion: SAH faster by |",
+        "|---|---:|---:|---:|---:|---:|",
+    ]
+    for name in sorted(whole, key=mesh_key):
+        b = whole[name]["backends"]
+        e, k, m = b.get("embree"), b.get("kdtree"), b.get("kdtree-median")
+        if not (e and k):
+            continue
+        verdict = lambda x, lo: f"{x:.2f} ({'met' if x >= lo else 'missed'})"
+        hq = e.get("high_quality_build_seconds")
+        build = f"{k['build_seconds'] / hq:.2f} ({'met' if k['build_seconds'] <= 5 * hq else 'missed'})" if hq else "—"
+        cam = k["camera_mrays_per_second"] / e["camera_mrays_per_second"]
+        occ = k["occlusion_mrays_per_second"] / e["occlusion_mrays_per_second"]
+        mc = f"{k['camera_mrays_per_second'] / m['camera_mrays_per_second']:.2f}x" if m else "—"
+        mo = f"{k['occlusion_mrays_per_second'] / m['occlusion_mrays_per_second']:.2f}x" if m else "—"
+        lines.append(f"| {name} | {verdict(cam, 0.5)} | {verdict(occ, 0.4)} | {build} | {mc} | {mo} |")
+    lines.append("")
+    return lines
+
+
 def scaling_points(whole, cut):
     """{backend: [(n, build s, source)]} over the subsamples and the whole meshes, by n."""
     points = {}
@@ -147,6 +176,7 @@ def markdown(whole, cut):
     for name in sorted(whole, key=mesh_key):
         lines += mesh_table(name, whole[name]) + [""]
 
+    lines += targets(whole)
     lines += [
         "## Build-time scaling",
         "",
