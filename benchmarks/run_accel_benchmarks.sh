@@ -54,7 +54,7 @@ mesh_path() {
 for name in "${meshes[@]}"; do
   path=$(mesh_path "$name")
   echo "== $name" >&2
-  "$glint" bench-accel "$path" "${accel[@]}" --json "$out/$name.json"
+  "$glint" bench-accel "$path" "${accel[@]}" --embree-high-quality --json "$out/$name.json"
 done
 
 if ((scaling)); then

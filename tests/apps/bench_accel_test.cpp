@@ -69,6 +69,20 @@ TEST(CliBenchAccel, JsonHasTheDocumentedShape) {
   EXPECT_LE(e["camera_hits"].get<int64_t>(), 64 * 48 * 2);
 }
 
+TEST(CliBenchAccel, HighQualityEmbreeBuildIsAnOptInKey) {
+  std::string dir = test::scratchDir("bench_accel_hq");
+  std::string mesh = writeTray(dir);
+  std::string out = dir + "/hq.json";
+  test::CommandResult r = test::runGlint("bench-accel '" + mesh +
+                                         "' --width 32 --height 24 --spp 1 --accel embree,kdtree "
+                                         "--embree-high-quality --json '" +
+                                         out + "'");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  nlohmann::json j = readJson(out);
+  EXPECT_GE(j["backends"]["embree"]["high_quality_build_seconds"].get<double>(), 0.0);
+  EXPECT_FALSE(j["backends"]["kdtree"].contains("high_quality_build_seconds"));
+}
+
 TEST(CliBenchAccel, RaysAreTheSameForAnyThreadCount) {
   std::string dir = test::scratchDir("bench_accel_seed");
   std::string mesh = writeTray(dir);
