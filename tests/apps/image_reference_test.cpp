@@ -45,8 +45,8 @@ TEST_P(ImageReference, MatchesTheStoredReference) {
 
 INSTANTIATE_TEST_SUITE_P(Scenes, ImageReference,
                          testing::Values("primitives", "transforms", "csg", "terrain"),
-                         [](const testing::TestParamInfo<const char*>& info) {
-                           return std::string(info.param);
+                         [](const testing::TestParamInfo<const char*>& p) {
+                           return std::string(p.param);
                          });
 
 // The thresholds must be able to fail: the CSG scene with one sphere slightly larger.
