@@ -209,21 +209,7 @@ double bareEmbreeSeconds(const std::vector<Ray>& rays, RTCScene rtc, tbb::task_a
     *hits = tbb::parallel_reduce(
         tbb::blocked_range<size_t>(0, rays.size(), 4096), uint64_t(0),
         [&](const tbb::blocked_range<size_t>& r, uint64_t count) {
-          RTCIntersectContext context;
-          rtcInitIntersectContext(&context);
-          for (size_t i = r.begin(); i != r.end(); ++i) {
-            const Ray& ray = rays[i];
-            RTCRayHit rh;
-            rh.ray.org_x = ray.o.x, rh.ray.org_y = ray.o.y, rh.ray.org_z = ray.o.z;
-            rh.ray.dir_x = ray.d.x, rh.ray.dir_y = ray.d.y, rh.ray.dir_z = ray.d.z;
-            rh.ray.tnear = ray.tMin, rh.ray.tfar = ray.tMax, rh.ray.time = 0;
-            rh.ray.mask = ~0u, rh.ray.id = 0, rh.ray.flags = 0;
-            rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-            rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-            rtcIntersect1(rtc, &context, &rh);
-            count += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-          }
-          return count;
+          return count + EmbreeAccelerator::bareIntersect1(rtc, rays.data() + r.begin(), r.size());
         },
         std::plus<uint64_t>());
     end = Clock::now();

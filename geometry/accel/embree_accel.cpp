@@ -12,8 +12,8 @@ void embreeErrorCallback(void* user, RTCError code, const char* message) {
   auto* self = static_cast<EmbreeAccelerator*>(user);
   std::lock_guard<std::mutex> lock(self->errorMutex_);
   if (self->firstError_.empty())
-    self->firstError_ = "Embree error " + std::to_string(int(code)) + ": " +
-                        (message ? message : "(no message)");
+    self->firstError_ =
+        "Embree error " + std::to_string(int(code)) + ": " + (message ? message : "(no message)");
 }
 
 EmbreeAccelerator::EmbreeAccelerator(const GeometryScene& geometry, bool highQuality)
@@ -88,9 +88,9 @@ RTCGeometry EmbreeAccelerator::makeTriangleGeometry(const TriangleMesh& mesh) {
   // tightly packed vectors do not have.
   auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
       geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(Vec3f), mesh.positions.size()));
-  auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-      geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
-      mesh.triangleCount()));
+  auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0,
+                                                             RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
+                                                             mesh.triangleCount()));
   if (!v || !idx) {
     rtcReleaseGeometry(geom);
     checkError("allocating Embree buffers");
@@ -193,6 +193,25 @@ void EmbreeAccelerator::closestHits(const Ray* rays, Hit* hits, int count) const
       hit.v = rh.hit.v[i];
     }
   }
+}
+
+uint64_t EmbreeAccelerator::bareIntersect1(RTCScene scene, const Ray* rays, size_t count) {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  uint64_t hits = 0;
+  for (size_t i = 0; i < count; ++i) {
+    const Ray& ray = rays[i];
+    RTCRayHit rh;
+    rh.ray.org_x = ray.o.x, rh.ray.org_y = ray.o.y, rh.ray.org_z = ray.o.z;
+    rh.ray.dir_x = ray.d.x, rh.ray.dir_y = ray.d.y, rh.ray.dir_z = ray.d.z;
+    rh.ray.tnear = ray.tMin, rh.ray.tfar = ray.tMax, rh.ray.time = ray.time;
+    rh.ray.mask = ~0u, rh.ray.id = 0, rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene, &context, &rh);
+    hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+  }
+  return hits;
 }
 
 bool EmbreeAccelerator::anyHit(const Ray& ray) const {

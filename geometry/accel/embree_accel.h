@@ -39,6 +39,9 @@ class EmbreeAccelerator final : public Accelerator {
 
   // The raw top-level scene, for benchmarks that measure Embree alone.
   RTCScene rtcScene() const { return scene_; }
+  // The benchmarks' reference: a bare rtcIntersect1 loop over `count` rays (RTCRayHit set up
+  // and nothing else: no glint code per ray). Returns how many hit. Thread-safe.
+  static uint64_t bareIntersect1(RTCScene scene, const Ray* rays, size_t count);
   // Maps a top-level geometry ID (of a direct mesh or an instance) to the instance index.
   uint32_t instanceOfGeometry(unsigned geomID) const { return instanceOfGeom_[geomID]; }
 
@@ -51,8 +54,8 @@ class EmbreeAccelerator final : public Accelerator {
   bool highQuality_ = false;
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
-  std::vector<RTCScene> meshScenes_;      // per mesh, only for instanced meshes
-  std::vector<uint32_t> instanceOfGeom_;  // top-level geomID -> instance index
+  std::vector<RTCScene> meshScenes_;       // per mesh, only for instanced meshes
+  std::vector<uint32_t> instanceOfGeom_;   // top-level geomID -> instance index
   std::vector<PlacedShape> placedShapes_;  // bounded shape instances: Embree's user data
   UnboundedShapes unbounded_;
 
