@@ -49,8 +49,8 @@ constexpr uint32_t kCameraBatch = 16;
 
 }  // namespace
 
-Film render(const RenderScene& scene, const Integrator& integrator,
-            const RenderSettings& settings, const RenderOptions& options, RenderStats* stats) {
+Film render(const RenderScene& scene, const Integrator& integrator, const RenderSettings& settings,
+            const RenderOptions& options, RenderStats* stats) {
   const int width = scene.camera.width(), height = scene.camera.height();
   const uint32_t spp = uint32_t(settings.spp);
   const bool aovs = settings.aovs;
@@ -85,8 +85,10 @@ Film render(const RenderScene& scene, const Integrator& integrator,
           const uint32_t n = std::min(kCameraBatch, spp - first);
           Ray rays[kCameraBatch];
           Hit found[kCameraBatch];
+          uint32_t fx[kCameraBatch], fy[kCameraBatch];
+          sample2DFractionBatch(first, n, filmSeeds, fx, fy);
           for (uint32_t i = 0; i < n; ++i) {
-            Vec2f offset = filter.sampleOffsetFraction(sample2DFraction(first + i, filmSeeds));
+            Vec2f offset = filter.sampleOffsetFraction({fx[i], fy[i]});
             rays[i] = scene.camera.generateRay(
                 {float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y}, 0.0f);
           }

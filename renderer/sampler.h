@@ -103,6 +103,11 @@ inline Fraction2 sample2DFraction(uint32_t sampleIndex, const DimensionSeeds& se
           reverseBits(laineKarrasHash(reversedSobolSecondDimension(index), seeds.y))};
 }
 
+// Samples firstIndex .. firstIndex + count - 1 of one dimension pair at once, as fractions
+// (xs[i], ys[i]): equal to sample2DFraction bit for bit, vectorised across the batch.
+void sample2DFractionBatch(uint32_t firstIndex, uint32_t count, const DimensionSeeds& seeds,
+                           uint32_t* xs, uint32_t* ys);
+
 // The same sample in [0,1)^2.
 inline Vec2f sample2D(uint32_t sampleIndex, const DimensionSeeds& seeds) {
   return sample2DFraction(sampleIndex, seeds).toFloat();

@@ -1,10 +1,11 @@
 // Tests for addressed sampling: determinism, ranges, (0,2)-net stratification, uniformity.
+#include "renderer/sampler.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 #include <set>
-
-#include "renderer/sampler.h"
 
 namespace glint {
 namespace {
@@ -135,6 +136,23 @@ TEST(Sampler, PixelSeededFilmPairMatchesTheSampler) {
       Vec2f c = plain.get2D(), d = after.get2D();
       EXPECT_EQ(c.x, d.x);
       EXPECT_EQ(c.y, d.y);
+    }
+  }
+}
+
+// The vectorised batch (whichever clone the CPU selects) equals the scalar sample bit for bit.
+TEST(Sampler, BatchEqualsSingleSamples) {
+  std::mt19937_64 rng(5);
+  for (int trial = 0; trial < 200; ++trial) {
+    DimensionSeeds seeds(rng(), uint32_t(rng() % 8));
+    uint32_t first = uint32_t(rng() % 4096), count = 1 + uint32_t(rng() % 16);
+    if (trial % 10 == 0) first = 0xfffffff0u;  // indices near the top of the range
+    uint32_t xs[16], ys[16];
+    sample2DFractionBatch(first, count, seeds, xs, ys);
+    for (uint32_t i = 0; i < count; ++i) {
+      Fraction2 f = sample2DFraction(first + i, seeds);
+      ASSERT_EQ(xs[i], f.x) << "trial " << trial << " sample " << i;
+      ASSERT_EQ(ys[i], f.y) << "trial " << trial << " sample " << i;
     }
   }
 }
