@@ -1,7 +1,7 @@
 // glint — feature detection over a built scene.
 #include "renderer/scene.h"
 
-#include <string>
+#include "geometry/csg.h"
 
 namespace glint {
 
@@ -15,7 +15,7 @@ SceneFeatures detectFeatures(const RenderScene& scene) {
       continue;
     }
     f.set(Feature::Analytic);
-    if (std::string(scene.geometry.shapes[inst.shape]->typeName()) == "csg")
+    if (dynamic_cast<const CsgShape*>(scene.geometry.shapes[inst.shape].get()))
       f.set(Feature::Csg);
     for (uint32_t m : scene.shapeMaterials[inst.shape]) {
       const Material& mat = *scene.materials[m];
