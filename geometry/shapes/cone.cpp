@@ -96,17 +96,7 @@ bool Cone::intersect(const Ray& ray, ShapeHit* hit) const {
   }
   Span side;
   double t[2];
-  if (!nappeSpan(ray, &side, t)) return false;
-  const Crossing* c[2] = {&side.enter, &side.exit};
-  for (int i = 0; i < 2; ++i) {
-    if (std::isnan(t[i])) continue;
-    double y = double(ray.o.y) + t[i] * double(ray.d.y);
-    if (y < 0 || y > height_ || !accepts(ray, *c[i])) continue;
-    hit->t = c[i]->t;
-    hit->part = 0;
-    return true;
-  }
-  return false;
+  return nappeSpan(ray, &side, t) && firstOnOpenSide(ray, side, t, height_, hit);
 }
 
 ShapeSurface Cone::surface(const Ray& ray, const ShapeHit& hit) const {

@@ -50,19 +50,10 @@ bool Cylinder::intersect(const Ray& ray, ShapeHit* hit) const {
     Span s;
     return span(ray, &s) && firstAccepted(ray, s, hit);
   }
-  // Open tube: each side root counts when its y is on the tube; both faces are hittable.
+  // Open tube: infinite crossings are never accepted.
   Span side;
   double t[2];
-  if (!sideSpan(ray, &side, &t[0], &t[1])) return false;  // infinite crossings never accepted
-  const Crossing* c[2] = {&side.enter, &side.exit};
-  for (int i = 0; i < 2; ++i) {
-    double y = double(ray.o.y) + t[i] * double(ray.d.y);
-    if (y < 0 || y > height_ || !accepts(ray, *c[i])) continue;
-    hit->t = c[i]->t;
-    hit->part = 0;
-    return true;
-  }
-  return false;
+  return sideSpan(ray, &side, &t[0], &t[1]) && firstOnOpenSide(ray, side, t, height_, hit);
 }
 
 ShapeSurface Cylinder::surface(const Ray& ray, const ShapeHit& hit) const {

@@ -67,6 +67,23 @@ inline bool firstAccepted(const Ray& ray, const Span& s, ShapeHit* hit) {
   return false;
 }
 
+// The first crossing of an open tube or cone side (a surface, not a solid) the ray accepts:
+// `t` holds the side's two roots in double, and a root counts only where its point lies on
+// the side, 0 <= y <= height. Both faces are hittable; a NaN root (a degenerate line) never is.
+inline bool firstOnOpenSide(const Ray& ray, const Span& side, const double t[2], double height,
+                            ShapeHit* hit) {
+  const Crossing* c[2] = {&side.enter, &side.exit};
+  for (int i = 0; i < 2; ++i) {
+    if (std::isnan(t[i])) continue;
+    double y = double(ray.o.y) + t[i] * double(ray.d.y);
+    if (y < 0 || y > height || !accepts(ray, *c[i])) continue;
+    hit->t = c[i]->t;
+    hit->part = 0;
+    return true;
+  }
+  return false;
+}
+
 // The error bound of a point computed in double (within `slack` per axis of the exact
 // surface point) and then rounded to float.
 inline Vec3f roundedPoint(V3 p, V3 slack, Vec3f* error) {
