@@ -16,20 +16,6 @@ struct InfoArgs {
   SceneOverrides overrides;
 };
 
-const char* materialTypeName(MaterialType t) {
-  switch (t) {
-    case MaterialType::Pbr:
-      return "pbr";
-    case MaterialType::Eyelight:
-      return "eyelight";
-    case MaterialType::Lambert:
-      return "lambert";
-    case MaterialType::Phong:
-      return "phong";
-  }
-  return "?";
-}
-
 const char* lightTypeName(LightType t) {
   switch (t) {
     case LightType::Point:

@@ -15,7 +15,8 @@ SurfaceInteraction shapeInteraction(const GeometryScene& scene, const Ray& ray, 
   si.wo = normalize(-ray.d);
   // Shade two-sided, like meshes: the normal faces the side the ray came from.
   Vec3f n = s.n;
-  if (dot(n, si.wo) < 0) n = -n;
+  si.frontFace = dot(n, si.wo) >= 0;
+  if (!si.frontFace) n = -n;
   si.ng = si.ns = n;
   si.uv = s.uv;
   si.dpdu = s.dpdu;
@@ -25,6 +26,34 @@ SurfaceInteraction shapeInteraction(const GeometryScene& scene, const Ray& ray, 
   si.prim = hit.prim;
   si.materialSlot = scene.shapes[inst.shape]->materialSlot(hit.prim);
   return si;
+}
+
+// dp/du and dp/dv of a triangle from its UVs (pbrt-v4's Triangle::InteractionFromIntersection),
+// in world space. Without UVs (or with degenerate ones) the barycentric parameterisation is
+// used, and a triangle with no area in uv gets any frame around its normal.
+void triangleTangents(const TriangleMesh& mesh, const Transform& xf, bool identity, uint32_t i0,
+                      uint32_t i1, uint32_t i2, SurfaceInteraction* si) {
+  const Vec3f p0 = mesh.positions[i0], p1 = mesh.positions[i1], p2 = mesh.positions[i2];
+  Vec2f uv0{0, 0}, uv1{1, 0}, uv2{0, 1};
+  if (!mesh.uvs.empty()) uv0 = mesh.uvs[i0], uv1 = mesh.uvs[i1], uv2 = mesh.uvs[i2];
+  const Vec2f duv02 = uv0 - uv2, duv12 = uv1 - uv2;
+  const Vec3f dp02 = p0 - p2, dp12 = p1 - p2;
+  const float det = duv02.x * duv12.y - duv02.y * duv12.x;
+  Vec3f dpdu, dpdv;
+  bool ok = std::abs(det) > 1e-12f;
+  if (ok) {
+    const float inv = 1 / det;
+    dpdu = (duv12.y * dp02 - duv02.y * dp12) * inv;
+    dpdv = (duv02.x * dp12 - duv12.x * dp02) * inv;
+    ok = isFinite(dpdu) && isFinite(dpdv) && lengthSquared(cross(dpdu, dpdv)) > 0;
+  }
+  if (!identity) dpdu = xf.vector(dpdu), dpdv = xf.vector(dpdv);
+  if (!ok) {
+    Frame f = Frame::fromZ(si->ng);
+    dpdu = f.s, dpdv = f.t;
+  }
+  si->dpdu = dpdu;
+  si->dpdv = dpdv;
 }
 
 }  // namespace
@@ -71,7 +100,8 @@ SurfaceInteraction computeSurfaceInteraction(const GeometryScene& scene, const R
 
   si.wo = normalize(-ray.d);
   // Shade two-sided: put ng on the side the ray came from and ns in ng's hemisphere.
-  if (dot(ng, si.wo) < 0) ng = -ng;
+  si.frontFace = dot(ng, si.wo) >= 0;
+  if (!si.frontFace) ng = -ng;
   if (dot(ns, ng) < 0) ns = -ns;
   si.ng = ng;
   si.ns = ns;
@@ -82,6 +112,7 @@ SurfaceInteraction computeSurfaceInteraction(const GeometryScene& scene, const R
     else
       si.uv = {b1, b2};
   }
+  if (needs.tangents) triangleTangents(mesh, xf, identity, i0, i1, i2, &si);
   if (needs.colors && !mesh.colors.empty()) {
     const Vec4f c0 = mesh.colors[i0], c1 = mesh.colors[i1], c2 = mesh.colors[i2];
     si.color = {b0 * c0.x + b1 * c1.x + b2 * c2.x, b0 * c0.y + b1 * c1.y + b2 * c2.y,

@@ -15,22 +15,36 @@ struct SurfaceNeeds {
   // p and pError, for spawning rays. Unlit (eyelight) shading reads only normals and wo, so
   // it skips the hit point and its error bound.
   bool position = true;
+  // dp/du and dp/dv of triangles (from their UVs), for bump and normal maps and texture
+  // footprints. Analytic shapes always provide theirs.
+  bool tangents = false;
 };
 
 struct SurfaceInteraction {
-  Vec3f p;          // world-space hit point,
-  Vec3f pError;     // with a conservative bound on its absolute rounding error (both zero
-                    // unless SurfaceNeeds::position)
-  Vec3f ng;         // unit geometric normal (world), on the side the ray came from
-  Vec3f ns;         // unit shading normal (world), in ng's hemisphere
-  Vec3f wo;         // unit direction back along the ray
-  Vec2f uv;         // TEXCOORD_0 (or barycentrics when the mesh has none); a shape's own uv
-  Vec3f dpdu, dpdv; // analytic shapes: world-space partial derivatives (zero for meshes)
+  Vec3f p;                  // world-space hit point,
+  Vec3f pError;             // with a conservative bound on its absolute rounding error (both zero
+                            // unless SurfaceNeeds::position)
+  Vec3f ng;                 // unit geometric normal (world), on the side the ray came from
+  Vec3f ns;                 // unit shading normal (world), in ng's hemisphere
+  Vec3f wo;                 // unit direction back along the ray
+  Vec2f uv;                 // TEXCOORD_0 (or barycentrics when the mesh has none); a shape's own uv
+  Vec3f dpdu, dpdv;         // world-space partial derivatives of p by uv (triangles: only with
+                            // SurfaceNeeds::tangents; zero otherwise)
   Vec4f color{1, 1, 1, 1};  // COLOR_0, white when absent
+  // True when the ray arrived on the side the surface's outward normal points to (a mesh's
+  // counter-clockwise front, a solid's outside): refraction enters the object there.
+  bool frontFace = true;
+  // Footprint of one pixel at the hit, for texture filtering: how p and uv change from one
+  // pixel to the next (zero unless the renderer computes them; see Camera::footprint).
+  Vec3f dpdx, dpdy;
+  Vec2f duvdx, duvdy;
+  // The object's own frame, for object-space textures (null: the world frame). Set by the
+  // renderer, which knows the placement each object was authored in.
+  const Transform* objectFromWorld = nullptr;
   float t = 0;
   uint32_t instance = 0, prim = 0;
-  uint32_t mesh = Instance::kNone;   // the instance's mesh, or kNone for an analytic shape
-  uint32_t materialSlot = 0;         // which of the instance's materials (CSG: the leaf)
+  uint32_t mesh = Instance::kNone;  // the instance's mesh, or kNone for an analytic shape
+  uint32_t materialSlot = 0;        // which of the instance's materials (CSG: the leaf)
 
   // A ray leaving this point in direction d (origin offset past the point's error bound).
   Ray spawnRay(Vec3f d, float time) const { return glint::spawnRay(p, pError, ng, d, time); }

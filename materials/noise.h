@@ -8,8 +8,8 @@
 // platform and compiler (no std:: distributions).
 //
 // Patterns (Perlin 1985; Ebert et al., "Texturing & Modeling: A Procedural Approach") return a
-// weight in [0, 1] that a material uses to mix two colours or as a height field. Building blocks
-// for issue 5; no material uses them yet.
+// weight in [0, 1] that a material uses to mix two colours or as a height field;
+// materials/procedural.h turns them into textures.
 #pragma once
 
 #include <array>
@@ -29,6 +29,8 @@ class PerlinNoise {
   float noise(Vec2f p) const { return noise(Vec3f{p.x, p.y, 0}); }
   // The exact gradient of noise(p) (differentiating the fade and the blend).
   Vec3f gradient(Vec3f p) const;
+  // Value and exact gradient in one evaluation.
+  float noise(Vec3f p, Vec3f* gradient) const { return evaluate(p, gradient); }
   // Fractal sum of `octaves` noise layers, frequency times `lacunarity` and amplitude times
   // `gain` per layer. |fbm| < kBound * (1 + gain + gain^2 + ...).
   float fbm(Vec3f p, int octaves, float lacunarity = 2, float gain = 0.5f) const;

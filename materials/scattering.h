@@ -1,6 +1,5 @@
 // glint — scattering at a smooth dielectric interface: exact Fresnel reflectance and Snell's
-// refraction. Building blocks for the mirror and glass shaders (issue 5) and, later, for the
-// microfacet models; no material uses them yet.
+// refraction, for the glass shaders (specular.h) and the microfacet models.
 //
 // Conventions (pbrt-v4's): directions point away from the surface; `n` is the surface normal
 // and may face either side; eta = n_transmitted / n_incident for light arriving from the side

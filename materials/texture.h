@@ -1,42 +1,136 @@
-// glint — textures: colour as a function of a surface point.
+// glint — textures: a colour (or a scalar) as a function of a surface point, and the mapping
+// layer that turns a surface point into texture coordinates.
 //
-// Image textures here are decoded into linear floats once and filtered bilinearly; issue 5
-// moves them to OpenImageIO's TextureSystem (MIP-mapping) behind the same interface.
+// A texture sees a TexturePoint, not the whole SurfaceInteraction: bump mapping evaluates the
+// height texture at points shifted along the surface, which means copies with a moved p and
+// uv. Image textures live in image_texture.h (OpenImageIO's TextureSystem), the Perlin-noise
+// patterns in procedural.h.
 #pragma once
 
 #include <memory>
-#include <vector>
+#include <string>
 
 #include "geometry/interaction.h"
 
 namespace glint {
 
+// Everything a texture may look up at one shading point.
+struct TexturePoint {
+  Vec3f p;             // world-space position
+  Vec2f uv;            // the primitive's UVs
+  Vec2f duvdx, duvdy;  // change of uv across one pixel (zero: point sample)
+  Vec3f dpdx, dpdy;    // change of p across one pixel (zero: point sample)
+  // The object's own frame, for object-space mapping (null: the world frame).
+  const Transform* objectFromWorld = nullptr;
+  uint32_t instance = 0, prim = 0;  // which object and primitive (random colours)
+
+  TexturePoint() = default;
+  explicit TexturePoint(const SurfaceInteraction& si)
+      : p(si.p),
+        uv(si.uv),
+        duvdx(si.duvdx),
+        duvdy(si.duvdy),
+        dpdx(si.dpdx),
+        dpdy(si.dpdy),
+        objectFromWorld(si.objectFromWorld),
+        instance(si.instance),
+        prim(si.prim) {}
+  Vec3f pObject() const { return objectFromWorld ? objectFromWorld->point(p) : p; }
+};
+
+// A 2D texture coordinate with its footprint across one pixel.
+struct TexCoord2 {
+  Vec2f st, dstdx, dstdy;
+};
+
+// Which coordinates a texture reads, and how: primitive UVs or a 3D space, scaled, then offset.
+//   2D lookups (images, checkers): uv space gives (u, v) * scale.xy + offset.xy; object and
+//   world space project the 3D point onto one of the planes xy, xz or yz.
+//   3D lookups (noise patterns): p * scale + offset in object or world space; uv space gives
+//   (u, v, 0) * scale + offset.
+struct TextureMapping {
+  enum class Space { Uv, Object, World };
+  enum class Plane { Xy, Xz, Yz };
+  Space space = Space::Uv;
+  Plane plane = Plane::Xy;
+  Vec3f scale{1, 1, 1}, offset{0, 0, 0};
+
+  TexCoord2 map2D(const TexturePoint& tp) const;
+  Vec3f map3D(const TexturePoint& tp) const;
+  // The change of map3D for a small world-space step `d` from tp (footprints, gradients).
+  Vec3f map3DVector(const TexturePoint& tp, Vec3f d) const;
+  bool usesUvs() const { return space == Space::Uv; }
+  bool usesObjectSpace() const { return space == Space::Object; }
+};
+
+// What a texture needs from the surface point, so scenes without it skip computing it.
+// `tangents`: dp/du and dp/dv (bump and normal maps, footprints in uv).
+struct TextureNeeds {
+  bool uvs = false, objectSpace = false, footprint = false, tangents = false;
+  TextureNeeds& operator|=(const TextureNeeds& o) {
+    uvs |= o.uvs, objectSpace |= o.objectSpace, footprint |= o.footprint;
+    tangents |= o.tangents;
+    return *this;
+  }
+};
+
 class Texture {
  public:
   virtual ~Texture() = default;
-  // Colour (linear RGB) and alpha at the surface point.
-  virtual Vec4f evaluate(const SurfaceInteraction& si) const = 0;
+  // Colour (linear RGB) and alpha at the point.
+  virtual Vec4f evaluate(const TexturePoint& tp) const = 0;
+  // A scalar from the colour: luminance (height maps, weights).
+  float scalar(const TexturePoint& tp) const {
+    Vec4f c = evaluate(tp);
+    return luminance({c.x, c.y, c.z});
+  }
+  // The world-space gradient of scalar() at tp, when the texture knows it exactly (3D
+  // procedural patterns); false otherwise, and bump mapping then takes finite differences.
+  virtual bool scalarGradient(const TexturePoint&, Vec3f*) const { return false; }
+  virtual TextureNeeds needs() const = 0;
+  // An image read from a file or the glTF (the "textures" effect); procedural ones are not.
+  virtual bool isImage() const { return false; }
 };
 
-enum class TextureWrap { Repeat, Clamp, Mirror };
+// A checkerboard of two colours over the 2D mapping (unit squares), or over the 3D mapping
+// (unit cubes) when `solid`.
+class CheckerTexture final : public Texture {
+ public:
+  CheckerTexture(TextureMapping mapping, Rgb a, Rgb b, bool solid)
+      : mapping_(mapping), a_(a), b_(b), solid_(solid) {}
+  Vec4f evaluate(const TexturePoint& tp) const override;
+  TextureNeeds needs() const override {
+    return {.uvs = mapping_.usesUvs(), .objectSpace = mapping_.usesObjectSpace()};
+  }
+
+ private:
+  TextureMapping mapping_;
+  Rgb a_, b_;
+  bool solid_;
+};
+
+// sRGB transfer function (IEC 61966-2-1), encoded value -> linear.
+float srgbToLinear(float v);
+
+// The bilinear image texture of the foundation (decoded floats, no MIP maps), kept until the
+// OpenImageIO TextureSystem path (image_texture.h) replaces it.
+enum class TextureWrap { Repeat, Clamp, Mirror, Black };
 
 struct ImageData {
   int width = 0, height = 0;
   std::vector<Vec4f> texels;  // linear RGBA, rows top to bottom
 };
-
-// Converts stored pixels (`channels` floats each in [0,1]) into linear RGBA. `srgb` decodes
-// the colour channels with the sRGB transfer function (alpha stays linear).
 ImageData makeImageData(int width, int height, int channels, const std::vector<float>& pixels,
                         bool srgb);
 
-// An image looked up by the primitive's UVs (glTF convention: v = 0 is the top row).
-class ImageTexture final : public Texture {
+class BilinearImageTexture final : public Texture {
  public:
-  ImageTexture(std::shared_ptr<const ImageData> image, TextureWrap wrapU, TextureWrap wrapV,
-               bool nearest);
-  Vec4f evaluate(const SurfaceInteraction& si) const override { return lookup(si.uv); }
+  BilinearImageTexture(std::shared_ptr<const ImageData> image, TextureWrap wrapU, TextureWrap wrapV,
+                       bool nearest);
+  Vec4f evaluate(const TexturePoint& tp) const override { return lookup(tp.uv); }
   Vec4f lookup(Vec2f uv) const;
+  TextureNeeds needs() const override { return {.uvs = true}; }
+  bool isImage() const override { return true; }
 
  private:
   Vec4f texel(int x, int y) const;
@@ -44,8 +138,5 @@ class ImageTexture final : public Texture {
   TextureWrap wrapU_, wrapV_;
   bool nearest_;
 };
-
-// sRGB transfer function (IEC 61966-2-1), encoded value -> linear.
-float srgbToLinear(float v);
 
 }  // namespace glint

@@ -10,6 +10,17 @@
 
 namespace glint {
 
+// A cone around a ray that covers one pixel (Akenine-Möller et al. 2019, "Texture Level of
+// Detail Strategies for Real-Time Ray Tracing"): width at the ray origin plus spread angle.
+// Texture filtering and bump-map steps read the pixel footprint from it at each hit; mirror
+// and glass bounces carry the cone on, widened by the distance travelled.
+struct RayCone {
+  float width = 0;   // world-space width at the ray's origin
+  float spread = 0;  // radians per unit distance
+
+  float widthAt(float distance) const { return width + spread * distance; }
+};
+
 class Camera {
  public:
   enum class Projection { Perspective, Orthographic };
@@ -31,6 +42,11 @@ class Camera {
   const Transform& worldFromCamera() const { return worldFromCamera_; }
   int width() const { return width_; }
   int height() const { return height_; }
+  // The cone of one pixel's camera rays (a pinhole's spread, an orthographic pixel's width).
+  RayCone pixelCone() const {
+    const float pixel = 2 * halfHeight_ / float(height_);
+    return projection_ == Projection::Perspective ? RayCone{0, pixel} : RayCone{pixel, 0};
+  }
 
  private:
   Projection projection_ = Projection::Perspective;

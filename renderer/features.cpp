@@ -15,6 +15,9 @@ const char* featureName(Feature f) {
     case Feature::Csg: return "csg";
     case Feature::Terrain: return "terrain";
     case Feature::Transparency: return "transparency";
+    case Feature::Refraction: return "refraction";
+    case Feature::Bump: return "bump";
+    case Feature::Procedural: return "procedural";
     case Feature::Lens: return "lens";
     case Feature::MotionBlur: return "motion blur";
     case Feature::Volumes: return "volumes";

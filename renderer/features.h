@@ -14,7 +14,7 @@ namespace glint {
 
 enum class Feature : uint32_t {
   Shadows,       // some light casts shadows onto lit (non-eyelight) surfaces
-  Textures,      // some material reads an image texture (UVs are interpolated)
+  Textures,      // some material reads an image texture
   VertexColors,  // some material reads COLOR_0
   Emission,      // some material emits light
   Instancing,    // some mesh is placed more than once
@@ -22,7 +22,10 @@ enum class Feature : uint32_t {
   Analytic,      // analytic primitives (Embree user geometry)
   Csg,           // constructive solid geometry trees
   Terrain,       // fractal terrain
-  Transparency,  // reserved: alpha / transmission (issue 5)
+  Transparency,  // some surface lets light pass straight through (alpha, transparent eyelight)
+  Refraction,    // some surface refracts (glass, glTF transmission)
+  Bump,          // some material perturbs its shading normal (bump, normal map, snow)
+  Procedural,    // some material reads a procedural (noise) texture
   Lens,          // reserved: thin-lens depth of field (issue 6)
   MotionBlur,    // reserved: anything moves during the shutter (issue 6)
   Volumes,       // reserved: participating media (issue 7)

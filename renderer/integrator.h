@@ -30,9 +30,25 @@ struct PathAovs {
   bool hit = false;
 };
 
+// What shading a material's hits needs, decided once per material (not per hit).
+struct MaterialShading {
+  SurfaceNeeds needs;
+  bool objectSpace = false;  // object-space textures or snow: set objectFromWorld
+  bool footprint = false;    // filtered textures or bump steps: set the pixel footprint
+  bool unlit = false;
+  bool transparent = false;  // may let light pass straight through (opacity < 1)
+  uint32_t flags = 0;
+};
+
+// Sets si.dpdx/dpdy and si.duvdx/duvdy for a ray of unit direction `d` whose pixel cone is
+// `width` wide at the hit: two perpendicular cone radii projected onto the surface's tangent
+// plane along d, then expressed in uv by least squares on dp/du and dp/dv (pbrt-v4's
+// SurfaceInteraction::ComputeDifferentials).
+void setPixelFootprint(SurfaceInteraction& si, Vec3f d, float width);
+
 class Integrator {
  public:
-  explicit Integrator(const RenderScene& scene) : scene_(scene) {}
+  explicit Integrator(const RenderScene& scene);
   virtual ~Integrator() = default;
   const RenderScene& scene() const { return scene_; }
 
@@ -40,14 +56,21 @@ class Integrator {
   // (`hit` is null when the ray escapes): the render loop traces a pixel's camera rays
   // together and hands each result here. Draws random numbers from `sampler` in a fixed order;
   // counts the further rays it traces (not the camera ray); fills `aovs` from the first hit.
-  virtual Rgb LiFromHit(const Ray& ray, const Hit* hit, Sampler& sampler,
-                        RayCounters& counters, PathAovs& aovs) const = 0;
+  virtual Rgb LiFromHit(const Ray& ray, const Hit* hit, Sampler& sampler, RayCounters& counters,
+                        PathAovs& aovs) const = 0;
 
   // The same for a camera ray not yet traced: traces it, counts it, then LiFromHit.
   Rgb Li(const Ray& ray, Sampler& sampler, RayCounters& counters, PathAovs& aovs) const;
 
  protected:
+  // The surface details of `hit` for shading with material `materialIndex`: only the
+  // attributes that material needs, its object frame and pixel footprint when it reads them,
+  // and its shading normal perturbed (bump, normal map, snow).
+  SurfaceInteraction shadingPoint(const Ray& ray, const Hit& hit, const RayCone& cone,
+                                  uint32_t materialIndex) const;
+
   const RenderScene& scene_;
+  std::vector<MaterialShading> shading_;  // per material
 };
 
 // Builds the integrator called `name` ("whitted"). Throws std::invalid_argument otherwise.

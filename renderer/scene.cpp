@@ -5,6 +5,22 @@
 
 namespace glint {
 
+namespace {
+
+void addMaterialFeatures(const Material& mat, SceneFeatures* f, bool* anyLit) {
+  const MaterialTraits& t = mat.traits();
+  if (t.imageTextures) f->set(Feature::Textures);
+  if (t.procedural) f->set(Feature::Procedural);
+  if (t.vertexColors) f->set(Feature::VertexColors);
+  if (t.emits) f->set(Feature::Emission);
+  if (t.bump) f->set(Feature::Bump);
+  if (t.transparency) f->set(Feature::Transparency);
+  if (t.refraction) f->set(Feature::Refraction);
+  if (!(mat.flags() & kBsdfUnlit)) *anyLit = true;
+}
+
+}  // namespace
+
 SceneFeatures detectFeatures(const RenderScene& scene) {
   SceneFeatures f;
   std::vector<uint32_t> uses(scene.geometry.meshes.size(), 0);
@@ -17,21 +33,13 @@ SceneFeatures detectFeatures(const RenderScene& scene) {
     f.set(Feature::Analytic);
     if (dynamic_cast<const CsgShape*>(scene.geometry.shapes[inst.shape].get()))
       f.set(Feature::Csg);
-    for (uint32_t m : scene.shapeMaterials[inst.shape]) {
-      const Material& mat = *scene.materials[m];
-      if (mat.usesTextures()) f.set(Feature::Textures);
-      if (mat.emits()) f.set(Feature::Emission);
-      if (!(mat.flags() & kBsdfUnlit)) anyLit = true;
-    }
+    for (uint32_t m : scene.shapeMaterials[inst.shape])
+      addMaterialFeatures(*scene.materials[m], &f, &anyLit);
   }
   for (size_t m = 0; m < scene.geometry.meshes.size(); ++m) {
     if (uses[m] == 0) continue;
     if (uses[m] > 1) f.set(Feature::Instancing);
-    const Material& mat = scene.materialOf(uint32_t(m));
-    if (mat.usesTextures()) f.set(Feature::Textures);
-    if (mat.usesVertexColors()) f.set(Feature::VertexColors);
-    if (mat.emits()) f.set(Feature::Emission);
-    if (!(mat.flags() & kBsdfUnlit)) anyLit = true;
+    addMaterialFeatures(scene.materialOf(uint32_t(m)), &f, &anyLit);
   }
   for (const auto& light : scene.lights)
     if (light->castsShadows() && anyLit) f.set(Feature::Shadows);

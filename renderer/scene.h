@@ -20,6 +20,9 @@ struct RenderScene {
   std::vector<std::vector<uint32_t>> shapeMaterials;
   std::vector<std::unique_ptr<Material>> materials;
   std::vector<std::unique_ptr<Texture>> textures;
+  // Per instance: the frame its object was authored in, for object-space textures (meshes
+  // baked into world space keep their original placement here).
+  std::vector<Transform> objectFromWorld;
   std::vector<std::unique_ptr<Light>> lights;
   Camera camera;
   std::string cameraName;

@@ -1,43 +1,76 @@
 // glint — the Whitted integrator.
 #include "renderer/whitted.h"
 
-#include <stdexcept>
-
 namespace glint {
 
 WhittedIntegrator::WhittedIntegrator(const RenderScene& scene, int maxDepth)
     : Integrator(scene), maxDepth_(maxDepth) {
-  needs_.uvs = scene.features.has(Feature::Textures);
-  needs_.colors = scene.features.has(Feature::VertexColors);
   shadows_ = scene.features.has(Feature::Shadows);
-  unlit_.resize(scene.materials.size());
-  for (size_t m = 0; m < unlit_.size(); ++m)
-    unlit_[m] = (scene.materials[m]->flags() & kBsdfUnlit) != 0;
+  cameraCone_ = scene.camera.pixelCone();
 }
 
-Rgb WhittedIntegrator::LiFromHit(const Ray& ray, const Hit* found, Sampler& sampler,
+Rgb WhittedIntegrator::LiFromHit(const Ray& ray, const Hit* hit, Sampler& sampler,
                                  RayCounters& counters, PathAovs& aovs) const {
+  return shade(ray, hit, cameraCone_, 0, sampler, counters, &aovs);
+}
+
+Rgb WhittedIntegrator::trace(const Ray& ray, const RayCone& cone, int depth, Sampler& sampler,
+                             RayCounters& counters) const {
+  ++counters.secondary;
+  Hit hit;
+  bool found = scene_.accel->closestHit(ray, &hit);
+  return shade(ray, found ? &hit : nullptr, cone, depth, sampler, counters, nullptr);
+}
+
+Rgb WhittedIntegrator::shade(const Ray& ray, const Hit* found, const RayCone& cone, int depth,
+                             Sampler& sampler, RayCounters& counters, PathAovs* aovs) const {
   if (!found) return scene_.background;
   const Hit& hit = *found;
   const uint32_t materialIndex = scene_.materialIndex(hit);
   const Material& material = *scene_.materials[materialIndex];
-  const bool unlit = unlit_[materialIndex];
-  SurfaceNeeds needs = needs_;
-  needs.position = !unlit;
-  SurfaceInteraction si = computeSurfaceInteraction(scene_.geometry, ray, hit, needs);
-  aovs.hit = true;
-  if (aovs.wanted) {
-    aovs.albedo = material.albedo(si);
-    aovs.normal = si.ns;
-    aovs.depth = hit.t * length(ray.d);
+  const MaterialShading& shading = shading_[materialIndex];
+  SurfaceInteraction si = shadingPoint(ray, hit, cone, materialIndex);
+  if (aovs) {
+    aovs->hit = true;
+    if (aovs->wanted) {
+      aovs->albedo = material.albedo(si);
+      aovs->normal = si.ns;
+      aovs->depth = hit.t * length(ray.d);
+    }
   }
-  if (unlit) return material.albedo(si) * std::abs(dot(si.ns, si.wo));
+  // The cone at the hit, carried on by every secondary ray from here.
+  const RayCone next{cone.widthAt(hit.t * length(ray.d)), cone.spread};
 
-  Rgb L = material.emitted(si);
-  L += directLight(si, material, ray.time, sampler, counters);
-  // Specular recursion (mirror, glass) up to maxDepth_ lands with those materials (issue 5).
-  (void)maxDepth_;
-  return L;
+  // Partly transparent surfaces: the rest of the light comes straight through.
+  const float opacity = shading.transparent ? material.opacity(si) : 1.0f;
+  Rgb behind;
+  if (opacity < 1) {
+    if (depth < maxDepth_)
+      behind = trace(si.spawnRay(ray.d, ray.time), next, depth + 1, sampler, counters);
+    if (opacity <= 0) return behind;
+  }
+
+  Rgb L;
+  if (shading.unlit) {
+    L = material.albedo(si) * std::abs(dot(si.ns, si.wo));
+  } else {
+    L = material.emitted(si);
+    L += directLight(si, material, ray.time, sampler, counters);
+  }
+  // Mirror and glass: follow the reflected and the refracted ray, each with its own weight.
+  if ((shading.flags & kBsdfSpecular) && depth < maxDepth_) {
+    for (uint32_t lobe : {kBsdfReflection, kBsdfTransmission}) {
+      if (!(shading.flags & lobe)) continue;
+      const Vec2f u = sampler.get2D();
+      const float uLobe = sampler.get1D();
+      std::optional<BsdfSample> s = material.sample(si, u, uLobe, lobe);
+      if (!s || !(s->flags & kBsdfSpecular) || s->pdf <= 0) continue;
+      const Rgb weight = s->weight(si.ns);
+      if (maxComponent(weight) <= 0) continue;
+      L += weight * trace(si.spawnRay(s->wi, ray.time), next, depth + 1, sampler, counters);
+    }
+  }
+  return opacity < 1 ? L * opacity + behind * (1 - opacity) : L;
 }
 
 Rgb WhittedIntegrator::directLight(const SurfaceInteraction& si, const Material& material,

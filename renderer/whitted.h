@@ -1,5 +1,10 @@
 // glint — Whitted-style ray tracing: direct light from every light with hard shadows, the
-// eyelight shortcut, emission; mirror and glass recursion arrive with those shaders.
+// eyelight shortcut, emission, and recursion along the delta lobes of mirrors and glass (both
+// the reflected and the refracted ray, each weighted by its Fresnel share) and through
+// transparent surfaces, up to `maxDepth` bounces.
+//
+// Shadow rays stop at the first surface, glass included: light reaches a point behind glass
+// only along paths the path tracer (issue 7) samples.
 #pragma once
 
 #include <cstdint>
@@ -16,14 +21,20 @@ class WhittedIntegrator final : public Integrator {
                 PathAovs& aovs) const override;
 
  private:
+  // Radiance along `ray`, which hit `hit` (null: escaped), `depth` bounces from the camera.
+  // `aovs` is the camera ray's (null for deeper rays).
+  Rgb shade(const Ray& ray, const Hit* hit, const RayCone& cone, int depth, Sampler& sampler,
+            RayCounters& counters, PathAovs* aovs) const;
+  // Traces a secondary ray and shades what it finds.
+  Rgb trace(const Ray& ray, const RayCone& cone, int depth, Sampler& sampler,
+            RayCounters& counters) const;
   // Direct light at a lit surface point: sum over all lights, shadow rays when enabled.
   Rgb directLight(const SurfaceInteraction& si, const Material& material, float time,
                   Sampler& sampler, RayCounters& counters) const;
 
   int maxDepth_;
-  SurfaceNeeds needs_;  // from the scene's features
   bool shadows_;
-  std::vector<uint8_t> unlit_;  // per material: unlit (decided once, not per hit)
+  RayCone cameraCone_;
 };
 
 }  // namespace glint

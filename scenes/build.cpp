@@ -15,6 +15,9 @@
 #include "geometry/shapes/sphere.h"
 #include "geometry/terrain.h"
 #include "materials/basic_materials.h"
+#include "materials/bump.h"
+#include "materials/procedural.h"
+#include "materials/specular.h"
 
 namespace glint {
 
@@ -136,9 +139,71 @@ TextureWrap toWrap(WrapMode m) {
       return TextureWrap::Clamp;
     case WrapMode::MirroredRepeat:
       return TextureWrap::Mirror;
+    case WrapMode::Black:
+      return TextureWrap::Black;
     case WrapMode::Repeat:
     default:
       return TextureWrap::Repeat;
+  }
+}
+
+TextureMapping toMapping(const MappingDesc& d) {
+  TextureMapping m;
+  m.space = d.space == MappingDesc::Space::Object  ? TextureMapping::Space::Object
+            : d.space == MappingDesc::Space::World ? TextureMapping::Space::World
+                                                   : TextureMapping::Space::Uv;
+  m.plane = d.plane == MappingDesc::Plane::Xz   ? TextureMapping::Plane::Xz
+            : d.plane == MappingDesc::Plane::Yz ? TextureMapping::Plane::Yz
+                                                : TextureMapping::Plane::Xy;
+  m.scale = d.scale;
+  m.offset = d.offset;
+  return m;
+}
+
+NoiseParams toNoiseParams(const TextureDesc& d) {
+  NoiseParams p;
+  switch (d.noise) {
+    case NoiseKind::Noise:
+      p.pattern = NoisePattern::Noise;
+      break;
+    case NoiseKind::Fbm:
+      p.pattern = NoisePattern::Fbm;
+      break;
+    case NoiseKind::Turbulence:
+      p.pattern = NoisePattern::Turbulence;
+      break;
+    case NoiseKind::Marble:
+      p.pattern = NoisePattern::Marble;
+      break;
+    case NoiseKind::Wood:
+      p.pattern = NoisePattern::Wood;
+      break;
+    case NoiseKind::Clouds:
+      p.pattern = NoisePattern::Clouds;
+      break;
+  }
+  p.seed = d.seed;
+  p.octaves = d.octaves;
+  p.lacunarity = d.lacunarity;
+  p.gain = d.gain;
+  p.frequency = d.frequency;
+  p.distortion = d.distortion;
+  p.ringFrequency = d.ringFrequency;
+  p.jitter = d.jitter;
+  p.colorA = d.colorA;
+  p.colorB = d.colorB;
+  return p;
+}
+
+RandomColorTexture::Mode toRandomMode(TextureDesc::RandomMode m) {
+  switch (m) {
+    case TextureDesc::RandomMode::Primitive:
+      return RandomColorTexture::Mode::Primitive;
+    case TextureDesc::RandomMode::Hit:
+      return RandomColorTexture::Mode::Hit;
+    case TextureDesc::RandomMode::Object:
+    default:
+      return RandomColorTexture::Mode::Object;
   }
 }
 
@@ -146,47 +211,113 @@ TextureWrap toWrap(WrapMode m) {
 class TextureCache {
  public:
   TextureCache(const SceneDescription& desc, RenderScene* scene) : desc_(desc), scene_(scene) {}
+  // Texture `texture` of the description; `srgb` is how a glTF image's colour is encoded
+  // (glTF fixes it per use: base colour and emission sRGB, the others linear).
   const Texture* get(int texture, bool srgb) {
     if (texture < 0) return nullptr;
     auto key = std::make_pair(texture, srgb);
     if (auto it = textures_.find(key); it != textures_.end()) return it->second;
-    const TextureDesc& td = desc_.textures[size_t(texture)];
-    const ImageDesc& img = desc_.images[size_t(td.image)];
-    auto& data = images_[{td.image, srgb}];
-    if (!data)
-      data = std::make_shared<ImageData>(
-          makeImageData(img.width, img.height, img.channels, img.pixels, srgb));
-    scene_->textures.push_back(
-        std::make_unique<ImageTexture>(data, toWrap(td.wrapS), toWrap(td.wrapT), td.nearest));
+    scene_->textures.push_back(make(desc_.textures[size_t(texture)], srgb));
     return textures_[key] = scene_->textures.back().get();
+  }
+  Texture* add(std::unique_ptr<Texture> t) {
+    scene_->textures.push_back(std::move(t));
+    return scene_->textures.back().get();
   }
 
  private:
+  std::unique_ptr<Texture> make(const TextureDesc& td, bool srgb) {
+    switch (td.kind) {
+      case TextureKind::Checker:
+        return std::make_unique<CheckerTexture>(toMapping(td.mapping), td.colorA, td.colorB,
+                                                td.solid);
+      case TextureKind::Noise:
+        return std::make_unique<NoiseTexture>(toMapping(td.mapping), toNoiseParams(td));
+      case TextureKind::Random:
+        return std::make_unique<RandomColorTexture>(toRandomMode(td.randomMode), td.seed);
+      case TextureKind::ImageFile:
+        throw SceneError(td.where, "image files are not supported yet");
+      case TextureKind::Image:
+      default: {
+        const ImageDesc& img = desc_.images[size_t(td.image)];
+        auto& data = images_[{td.image, srgb}];
+        if (!data)
+          data = std::make_shared<ImageData>(
+              makeImageData(img.width, img.height, img.channels, img.pixels, srgb));
+        return std::make_unique<BilinearImageTexture>(data, toWrap(td.wrapS), toWrap(td.wrapT),
+                                                      td.nearest);
+      }
+    }
+  }
+
   const SceneDescription& desc_;
   RenderScene* scene_;
   std::map<std::pair<int, bool>, const Texture*> textures_;
   std::map<std::pair<int, bool>, std::shared_ptr<const ImageData>> images_;
 };
 
-std::unique_ptr<Material> makeMaterial(const MaterialDesc& m, bool vertexColors,
-                                       TextureCache& textures) {
-  ColorParam base{m.baseColor, textures.get(m.baseColorTexture, true), vertexColors};
-  ColorParam emission{m.emissive, textures.get(m.emissiveTexture, true), false};
+AlphaMode toAlphaMode(AlphaModeDesc m) {
+  switch (m) {
+    case AlphaModeDesc::Mask:
+      return AlphaMode::Mask;
+    case AlphaModeDesc::Blend:
+      return AlphaMode::Blend;
+    case AlphaModeDesc::Opaque:
+    default:
+      return AlphaMode::Opaque;
+  }
+}
+
+std::unique_ptr<Material> makeBsdf(const MaterialDesc& m, const ColorParam& base,
+                                   const ColorParam& emission, TextureCache& textures) {
   switch (m.type) {
     case MaterialType::Eyelight:
       return std::make_unique<EyelightMaterial>(base);
     case MaterialType::Phong:
+    case MaterialType::BlinnPhong:
       for (int c = 0; c < 3; ++c)
         if (m.baseColor[c] + m.specular[c] > 1.0f + 1e-6f)
           throw SceneError(m.where,
                            "Phong diffuse + specular exceeds 1 in a channel; the "
                            "material would reflect more light than it receives");
-      return std::make_unique<PhongMaterial>(base, m.specular, m.shininess, emission);
+      return std::make_unique<PhongMaterial>(base, m.specular, m.shininess, emission,
+                                             m.type == MaterialType::BlinnPhong);
+    case MaterialType::Mirror:
+      return std::make_unique<MirrorMaterial>(base);
+    case MaterialType::Glass:
+      return std::make_unique<GlassMaterial>(m.ior, base);
+    case MaterialType::Random: {
+      ColorParam random{{1, 1, 1},
+                        textures.add(std::make_unique<RandomColorTexture>(
+                            toRandomMode(m.randomMode), m.randomSeed)),
+                        false};
+      if (m.randomLit) return std::make_unique<LambertMaterial>(random, emission);
+      return std::make_unique<EyelightMaterial>(random);
+    }
     case MaterialType::Lambert:
-    case MaterialType::Pbr:  // until the microfacet BSDF lands (issue 5): its base colour
+    case MaterialType::Pbr:  // until the microfacet BSDF lands: its base colour
     default:
       return std::make_unique<LambertMaterial>(base, emission);
   }
+}
+
+std::unique_ptr<Material> makeMaterial(const MaterialDesc& m, bool vertexColors,
+                                       TextureCache& textures) {
+  ColorParam base{m.baseColor, textures.get(m.baseColorTexture, true), vertexColors};
+  ColorParam emission{m.emissive, textures.get(m.emissiveTexture, true), false};
+  std::unique_ptr<Material> material = makeBsdf(m, base, emission, textures);
+  if (m.alphaMode != AlphaModeDesc::Opaque)
+    material->setAlpha(toAlphaMode(m.alphaMode), m.opacity, m.alphaCutoff, base);
+  if (m.normalTexture >= 0)
+    material->setNormalModifier(
+        std::make_unique<NormalMap>(textures.get(m.normalTexture, false), m.normalScale));
+  else if (m.bumpTexture >= 0)
+    material->setNormalModifier(
+        std::make_unique<BumpMap>(textures.get(m.bumpTexture, false), m.bumpStrength));
+  else if (m.snowAmount > 0)
+    material->setNormalModifier(
+        std::make_unique<SnowPerturbation>(m.snowAmount, m.snowGrain, m.snowSeed));
+  return material;
 }
 
 void addLights(const SceneDescription& desc, RenderScene* scene) {
@@ -240,18 +371,24 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
   RenderScene scene;
   scene.background = desc.render.background;
 
-  // --- Geometry: bake single placements into world space; keep shared meshes instanced.
-  std::vector<uint32_t> uses(desc.meshes.size(), 0);
-  for (const InstanceDesc& inst : desc.instances) ++uses[size_t(inst.mesh)];
-  std::vector<int> meshIndex(desc.meshes.size(), -1);
-  std::vector<bool> meshHasColors;
-  std::vector<std::pair<uint32_t, int>> terrainMeshes;  // (geometry mesh, material)
+  // --- Geometry: bake single placements into world space; keep shared meshes instanced. A
+  // mesh that nodes give different materials is one geometry mesh per material.
+  using MeshKey = std::pair<int, int>;  // (description mesh, node material or -1)
+  std::map<MeshKey, uint32_t> uses;
+  for (const InstanceDesc& inst : desc.instances) ++uses[{inst.mesh, inst.material}];
+  std::map<MeshKey, uint32_t> meshIndex;
+  struct MeshMaterial {
+    int material;  // description material, -1 = default
+    bool colors;
+  };
+  std::vector<MeshMaterial> meshMaterials;  // per geometry mesh
   for (const InstanceDesc& inst : desc.instances) {
     const MeshDesc& md = desc.meshes[size_t(inst.mesh)];
-    bool bake = uses[size_t(inst.mesh)] == 1;
-    if (!bake && meshIndex[size_t(inst.mesh)] >= 0) {
-      scene.geometry.instances.push_back(
-          {uint32_t(meshIndex[size_t(inst.mesh)]), inst.worldFromObject});
+    const MeshKey key{inst.mesh, inst.material};
+    const bool bake = uses[key] == 1;
+    scene.objectFromWorld.push_back(inst.worldFromObject.inverse());
+    if (auto it = meshIndex.find(key); !bake && it != meshIndex.end()) {
+      scene.geometry.instances.push_back({it->second, inst.worldFromObject});
       continue;
     }
     TriangleMesh mesh;
@@ -266,8 +403,8 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
       for (Vec3f& n : mesh.normals) n = normalize(placement.normal(n));
       placement = Transform();
     }
-    meshIndex[size_t(inst.mesh)] = int(scene.geometry.meshes.size());
-    meshHasColors.push_back(!md.colors.empty());
+    meshIndex[key] = uint32_t(scene.geometry.meshes.size());
+    meshMaterials.push_back({inst.material >= 0 ? inst.material : md.material, !md.colors.empty()});
     scene.geometry.meshes.push_back(std::move(mesh));
     scene.geometry.instances.push_back({uint32_t(scene.geometry.meshes.size() - 1), placement});
   }
@@ -277,14 +414,14 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
   std::vector<std::vector<int>> shapeMaterialDescs;  // per geometry shape: per slot
   bool terrain = false;
   for (const ObjectDesc& obj : desc.objects) {
+    scene.objectFromWorld.push_back(obj.worldFromObject.inverse());
     if (obj.kind == ObjectKind::Terrain) {
       TriangleMesh mesh = makeFractalTerrain(terrainParams(obj.terrain));
       if (!obj.worldFromObject.isIdentity()) {
         for (Vec3f& p : mesh.positions) p = obj.worldFromObject.point(p);
         for (Vec3f& n : mesh.normals) n = normalize(obj.worldFromObject.normal(n));
       }
-      meshHasColors.push_back(false);
-      terrainMeshes.emplace_back(uint32_t(scene.geometry.meshes.size()), obj.material);
+      meshMaterials.push_back({obj.material, false});
       scene.geometry.meshes.push_back(std::move(mesh));
       scene.geometry.instances.push_back({uint32_t(scene.geometry.meshes.size() - 1), Transform()});
       terrain = true;
@@ -325,13 +462,8 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
     scene.materials.push_back(makeMaterial(md, colors, textures));
     return materialIndex[key] = uint32_t(scene.materials.size() - 1);
   };
-  scene.meshMaterial.resize(scene.geometry.meshes.size());
-  for (size_t m = 0; m < desc.meshes.size(); ++m)
-    if (meshIndex[m] >= 0)
-      scene.meshMaterial[size_t(meshIndex[m])] =
-          materialFor(desc.meshes[m].material, meshHasColors[size_t(meshIndex[m])]);
-  for (const auto& [mesh, material] : terrainMeshes)
-    scene.meshMaterial[mesh] = materialFor(material, false);
+  for (const MeshMaterial& m : meshMaterials)
+    scene.meshMaterial.push_back(materialFor(m.material, m.colors));
   for (const std::vector<int>& slots : shapeMaterialDescs) {
     std::vector<uint32_t> materials;
     for (int m : slots) materials.push_back(materialFor(m, false));

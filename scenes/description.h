@@ -24,33 +24,86 @@ struct ImageDesc {
   SourceLocation where;
 };
 
-enum class WrapMode { Repeat, ClampToEdge, MirroredRepeat };
+enum class WrapMode { Repeat, ClampToEdge, MirroredRepeat, Black };
+
+// Where a texture reads its coordinates (materials/texture.h, TextureMapping).
+struct MappingDesc {
+  enum class Space { Uv, Object, World } space = Space::Uv;
+  enum class Plane { Xy, Xz, Yz } plane = Plane::Xy;  // 2D lookups in object/world space
+  Vec3f scale{1, 1, 1}, offset{0, 0, 0};
+};
+
+enum class TextureKind {
+  Image,      // a glTF texture: `image` with the glTF sampler's wrap and filter
+  ImageFile,  // an image file named in the sidecar
+  Checker,
+  Noise,      // Perlin patterns (materials/procedural.h)
+  Random,     // random colour per object / primitive / hit
+};
+
+enum class NoiseKind { Noise, Fbm, Turbulence, Marble, Wood, Clouds };
 
 struct TextureDesc {
-  int image = -1;
+  std::string name;  // sidecar textures are referenced by name
+  TextureKind kind = TextureKind::Image;
+  int image = -1;           // Image
+  std::string file;         // ImageFile: absolute path
+  enum class Encoding { Auto, Srgb, Linear } encoding = Encoding::Auto;  // ImageFile
   WrapMode wrapS = WrapMode::Repeat, wrapT = WrapMode::Repeat;
-  bool nearest = false;  // glTF magFilter NEAREST; otherwise bilinear
+  bool nearest = false;     // glTF magFilter NEAREST; otherwise filtered
+  bool mipmap = true;       // MIP-mapped filtering (otherwise bilinear)
+  MappingDesc mapping;
+  // Checker and Noise: lerp(colorA, colorB, pattern weight).
+  Rgb colorA{0, 0, 0}, colorB{1, 1, 1};
+  bool solid = false;       // Checker: 3D cubes instead of 2D squares
+  NoiseKind noise = NoiseKind::Noise;
+  uint64_t seed = 0;        // Noise, Random
+  int octaves = 5;
+  float lacunarity = 2, gain = 0.5f, frequency = 4, distortion = 6, ringFrequency = 8,
+        jitter = 0.6f;
+  enum class RandomMode { Object, Primitive, Hit } randomMode = RandomMode::Object;
   SourceLocation where;
 };
 
 enum class MaterialType {
-  Pbr,       // glTF pbrMetallicRoughness; shaded as Lambert (base colour) until issue 5
-  Eyelight,  // colour x |cos(normal, view)|, no lights: the course's first shader
+  Pbr,         // glTF pbrMetallicRoughness: GGX microfacet metal/dielectric (materials/pbr.h)
+  Eyelight,    // colour x |cos(normal, view)|, no lights: the course's first shader
   Lambert,
-  Phong,     // energy-normalized Phong: diffuse + specular lobe
+  Phong,       // energy-normalized Phong: diffuse + specular lobe
+  BlinnPhong,  // the same with Blinn's half-vector lobe
+  Mirror,      // perfect specular reflection, tinted by baseColor
+  Glass,       // dielectric: Snell refraction + Fresnel, transmission tinted by baseColor
+  Random,      // a deterministic random colour (eyelight- or Lambert-shaded)
 };
+
+enum class AlphaModeDesc { Opaque, Mask, Blend };
 
 struct MaterialDesc {
   std::string name;
   MaterialType type = MaterialType::Pbr;
   Rgb baseColor{1, 1, 1};     // diffuse colour / glTF baseColorFactor.rgb (linear)
-  float opacity = 1;          // glTF baseColorFactor.a
-  int baseColorTexture = -1;  // sRGB-encoded, multiplied with baseColor
+  float opacity = 1;          // glTF baseColorFactor.a; 1 - transparency (eyelight)
+  AlphaModeDesc alphaMode = AlphaModeDesc::Opaque;
+  float alphaCutoff = 0.5f;
+  int baseColorTexture = -1;  // multiplied with baseColor (glTF: sRGB-encoded)
   float metallic = 1, roughness = 1;
+  int metallicRoughnessTexture = -1;  // glTF: roughness in G, metallic in B (linear)
   Rgb emissive{0, 0, 0};      // emitted radiance (linear), multiplied by emissiveTexture
   int emissiveTexture = -1;   // sRGB-encoded
+  int normalTexture = -1;     // tangent-space normal map (linear)
+  float normalScale = 1;
+  float ior = 1.5f;           // glass, pbr (KHR_materials_ior)
+  float transmission = 0;     // pbr (KHR_materials_transmission)
   Rgb specular{0, 0, 0};      // Phong specular colour
   float shininess = 0;        // Phong exponent
+  int bumpTexture = -1;       // height map (scalar: luminance)
+  float bumpStrength = 1;
+  float snowAmount = 0;       // > 0: random normal jitter ("snow")
+  float snowGrain = 0.01f;
+  uint64_t snowSeed = 0;
+  TextureDesc::RandomMode randomMode = TextureDesc::RandomMode::Object;  // Random
+  uint64_t randomSeed = 0;
+  bool randomLit = false;     // Random: Lambert instead of eyelight shading
   bool doubleSided = false;
   SourceLocation where;
 };
@@ -103,6 +156,7 @@ struct InstanceDesc {
   Transform worldFromObject;
   std::string node;  // name of the glTF node, for messages
   SourceLocation where;
+  int material = -1;  // a sidecar material assigned to the node; -1 = the mesh's own
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -184,6 +238,9 @@ struct SceneDescription {
   // each with its location; `glint render` and `glint info` print them.
   std::vector<std::string> warnings;
 };
+
+// The sidecar's name of a material type ("blinn_phong").
+const char* materialTypeName(MaterialType type);
 
 // World-space bounds of all instances.
 Bounds3f sceneBounds(const SceneDescription& scene);

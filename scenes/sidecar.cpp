@@ -7,6 +7,7 @@
 #include "scenes/gltf_loader.h"
 #include "scenes/json_reader.h"
 #include "scenes/json_util.h"
+#include "scenes/sidecar_materials.h"
 #include "scenes/sidecar_objects.h"
 
 namespace glint {
@@ -226,80 +227,6 @@ void readLights(JsonReader& root, SceneDescription* scene) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// materials
-// ---------------------------------------------------------------------------------------------
-
-const std::vector<std::pair<std::string, MaterialType>> kMaterialTypes = {
-    {"pbr", MaterialType::Pbr},
-    {"eyelight", MaterialType::Eyelight},
-    {"lambert", MaterialType::Lambert},
-    {"phong", MaterialType::Phong},
-};
-
-// Sets the given parameters of `m` (type already decided); others keep their values, so an
-// override keeps the glTF material's textures and unmentioned factors.
-void readMaterialParameters(JsonReader& r, MaterialDesc* m) {
-  switch (m->type) {
-    case MaterialType::Pbr:
-      m->baseColor = r.get<Rgb>("base_color", m->baseColor, kNonNegative);
-      m->metallic = r.get<float>("metallic", m->metallic, kUnit);
-      m->roughness = r.get<float>("roughness", m->roughness, kUnit);
-      break;
-    case MaterialType::Eyelight:
-      m->baseColor = r.get<Rgb>("color", m->baseColor, kNonNegative);
-      break;
-    case MaterialType::Lambert:
-      m->baseColor = r.get<Rgb>("diffuse", m->baseColor, kNonNegative);
-      break;
-    case MaterialType::Phong:
-      m->baseColor = r.get<Rgb>("diffuse", m->baseColor, kNonNegative);
-      m->specular = r.get<Rgb>("specular", m->specular, kNonNegative);
-      m->shininess = r.get<float>("shininess", m->shininess, kNonNegative);
-      break;
-  }
-  m->emissive = r.get<Rgb>("emissive", m->emissive, kNonNegative);
-  m->doubleSided = r.get<bool>("double_sided", m->doubleSided);
-}
-
-// A material named like an existing one overrides it (every one of that name); others are
-// added as new materials, which need a type.
-void readMaterials(JsonReader& root, SceneDescription* scene) {
-  std::vector<std::pair<std::string, std::string>> seen;  // name, pointer
-  for (JsonReader* r : root.objects("materials")) {
-    std::string name = r->get<std::string>("name");
-    if (name.empty()) throw SceneError(r->where("name"), "must not be empty");
-    for (const auto& [other, pointer] : seen)
-      if (other == name)
-        throw SceneError(r->where("name"),
-                         "duplicate material name '" + name + "' (also at " + pointer + ")");
-    seen.emplace_back(name, r->where().pointer);
-
-    std::vector<MaterialDesc*> targets;
-    for (MaterialDesc& m : scene->materials)
-      if (m.name == name) targets.push_back(&m);
-    if (targets.empty()) {
-      if (!r->has("type"))
-        throw SceneError(r->where(), "a new material needs a 'type' (no material named '" + name +
-                                         "' to override)");
-      MaterialDesc m;
-      m.name = name;
-      m.where = r->where();
-      m.type = r->oneOf<MaterialType>("type", kMaterialTypes);
-      readMaterialParameters(*r, &m);
-      scene->materials.push_back(m);
-      continue;
-    }
-    std::optional<MaterialType> type;
-    if (r->has("type")) type = r->oneOf<MaterialType>("type", kMaterialTypes);
-    // Reading the same keys again for each match is fine: the reader only records them.
-    for (MaterialDesc* m : targets) {
-      if (type) m->type = *type;
-      readMaterialParameters(*r, m);
-    }
-  }
-}
-
-// ---------------------------------------------------------------------------------------------
 // gltf (only in a .json scene)
 // ---------------------------------------------------------------------------------------------
 
@@ -348,6 +275,7 @@ void applySceneJsonText(std::string_view text, const std::string& file, SceneJso
 
   readCameras(root, scene);
   readLights(root, scene);
+  readTextures(root, file, scene);
   readMaterials(root, scene);
   readObjects(root, file, scene);
   JsonReader* render = root.optionalObject("render");

@@ -156,16 +156,19 @@ TEST(Render, MissingCameraNameIsASceneError) {
 // A material that emits NaN: the film must never see it, and the stats must count it.
 class NanMaterial final : public Material {
  public:
-  Rgb eval(const SurfaceInteraction&, Vec3f) const override { return {}; }
-  std::optional<BsdfSample> sample(const SurfaceInteraction&, Vec2f, float) const override {
-    return std::nullopt;
-  }
-  float pdf(const SurfaceInteraction&, Vec3f) const override { return 0; }
   Rgb emitted(const SurfaceInteraction& si) const override {
     return si.p.x > 0 ? Rgb{std::nanf(""), 0, 0} : Rgb{1, 1, 1};
   }
   Rgb albedo(const SurfaceInteraction&) const override { return {}; }
   uint32_t flags() const override { return kBsdfDiffuse; }
+
+ protected:
+  Rgb evalBsdf(const SurfaceInteraction&, Vec3f) const override { return {}; }
+  std::optional<BsdfSample> sampleBsdf(const SurfaceInteraction&, Vec2f, float,
+                                       uint32_t) const override {
+    return std::nullopt;
+  }
+  float pdfBsdf(const SurfaceInteraction&, Vec3f) const override { return 0; }
 };
 
 TEST(Render, NanSamplesAreCountedAndNeverReachTheFilm) {

@@ -1,0 +1,113 @@
+// glint — bump mapping, normal maps and snow.
+#include "materials/bump.h"
+
+#include <cmath>
+
+namespace glint {
+
+Vec3f clampToHemisphere(Vec3f ns, Vec3f ng) {
+  // Keep at least ~1 degree above the surface so the shading frame stays well defined.
+  constexpr float kMinCos = 0.02f;
+  const float c = dot(ns, ng);
+  if (c >= kMinCos) return ns;
+  return normalize(ns + ng * (kMinCos - c));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Bump mapping
+// ---------------------------------------------------------------------------------------------
+
+Vec2f BumpMap::heightDerivatives(const SurfaceInteraction& si, bool forceFiniteDifferences) const {
+  TexturePoint tp(si);
+  Vec3f gradient;
+  if (!forceFiniteDifferences && height_->scalarGradient(tp, &gradient))
+    return Vec2f{dot(gradient, si.dpdu), dot(gradient, si.dpdv)} * strength_;
+  // Central differences over half the pixel footprint in u and v (pbrt's choice), or a small
+  // fixed fraction of the uv unit when the footprint is unknown.
+  auto step = [](float a, float b) {
+    float d = 0.5f * (std::abs(a) + std::abs(b));
+    return d > 0 ? d : 5e-4f;
+  };
+  const float du = step(si.duvdx.x, si.duvdy.x), dv = step(si.duvdx.y, si.duvdy.y);
+  auto heightAt = [&](float su, float sv) {
+    TexturePoint q = tp;
+    q.p = tp.p + si.dpdu * su + si.dpdv * sv;
+    q.uv = tp.uv + Vec2f{su, sv};
+    return height_->scalar(q);
+  };
+  return Vec2f{(heightAt(du, 0) - heightAt(-du, 0)) / (2 * du),
+               (heightAt(0, dv) - heightAt(0, -dv)) / (2 * dv)} *
+         strength_;
+}
+
+void BumpMap::apply(SurfaceInteraction& si) const {
+  if (lengthSquared(cross(si.dpdu, si.dpdv)) == 0) return;
+  const Vec2f dh = heightDerivatives(si, false);
+  const Vec3f n = si.ns;
+  const Vec3f dpdu = si.dpdu + n * dh.x, dpdv = si.dpdv + n * dh.y;
+  Vec3f bumped = cross(dpdu, dpdv);
+  // cross(dp/du, dp/dv) may face either side; the bumped normal keeps the side of ns.
+  if (dot(cross(si.dpdu, si.dpdv), n) < 0) bumped = -bumped;
+  const float len = length(bumped);
+  if (!(len > 0) || !std::isfinite(len)) return;
+  si.ns = clampToHemisphere(bumped / len, si.ng);
+  si.dpdu = dpdu;
+  si.dpdv = dpdv;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Normal maps
+// ---------------------------------------------------------------------------------------------
+
+void NormalMap::apply(SurfaceInteraction& si) const {
+  // Work in the front face's frame (as the glTF reference viewer does) and flip the result
+  // for back faces, so a double-sided surface shows the same relief from both sides.
+  const Vec3f front = si.frontFace ? si.ns : -si.ns;
+  Vec3f t = si.dpdu - front * dot(front, si.dpdu);
+  if (lengthSquared(t) == 0) t = Frame::fromZ(front).s;
+  t = normalize(t);
+  const Vec3f b = cross(front, t);
+  const Vec4f c = map_->evaluate(TexturePoint(si));
+  const Vec3f local{(2 * c.x - 1) * scale_, (2 * c.y - 1) * scale_, 2 * c.z - 1};
+  Vec3f m = t * local.x + b * local.y + front * local.z;
+  const float len = length(m);
+  if (!(len > 0) || !std::isfinite(len)) return;
+  m = m / len;
+  si.ns = clampToHemisphere(si.frontFace ? m : -m, si.ng);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Snow
+// ---------------------------------------------------------------------------------------------
+
+namespace {
+uint64_t hash64(uint64_t v) {
+  v ^= v >> 31;
+  v *= 0x7fb5d329728ea185ull;
+  v ^= v >> 27;
+  v *= 0x81dadef4bc2dd44dull;
+  v ^= v >> 33;
+  return v;
+}
+}  // namespace
+
+void SnowPerturbation::apply(SurfaceInteraction& si) const {
+  const Vec3f p = si.objectFromWorld ? si.objectFromWorld->point(si.p) : si.p;
+  uint64_t key = hash64(seed_ + 0x9e3779b97f4a7c15ull);
+  for (int axis = 0; axis < 3; ++axis)
+    key = hash64(key ^ uint64_t(int64_t(std::floor(p[axis] / grain_))));
+  // A random vector in the unit ball, by rejection from a deterministic sequence.
+  Vec3f v;
+  for (uint64_t i = 0;; ++i) {
+    uint64_t h = hash64(key + i);
+    auto unit = [](uint64_t bits) { return float(bits & 0x1fffff) * 0x1p-20f - 1.0f; };
+    v = {unit(h), unit(h >> 21), unit(h >> 42)};
+    if (lengthSquared(v) <= 1 || i == 16) break;
+  }
+  Vec3f n = si.ns + v * amount_;
+  const float len = length(n);
+  if (!(len > 0)) return;
+  si.ns = clampToHemisphere(n / len, si.ng);
+}
+
+}  // namespace glint

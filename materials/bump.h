@@ -1,0 +1,66 @@
+// glint — shading-normal modifiers: bump mapping, normal maps and "snow" (normal jitter).
+//
+// All of them work on SurfaceInteraction::dpdu / dpdv, which every primitive provides
+// (triangles from their UVs, analytic shapes from their own parameterisation, CSG leaves from
+// the leaf that was hit), and leave ns in ng's hemisphere. Material::eval then multiplies by
+// the shadow-terminator term (material.h) so that strongly tilted normals do not show a hard
+// terminator.
+#pragma once
+
+#include "materials/material.h"
+
+namespace glint {
+
+// Blinn (1978): the surface displaced by strength * h along its normal; the perturbed normal
+// is cross(dp/du + dh/du n, dp/dv + dh/dv n) with h = strength * height. The height derivatives
+// are exact when the texture knows its gradient (procedural patterns) and finite differences
+// over half a pixel footprint otherwise (images). Colour height maps are read as luminance.
+class BumpMap final : public NormalModifier {
+ public:
+  BumpMap(const Texture* height, float strength) : height_(height), strength_(strength) {}
+  void apply(SurfaceInteraction& si) const override;
+  std::vector<const Texture*> textures() const override { return {height_}; }
+  // dh/du and dh/dv at si (h including the strength), by the texture's gradient or by finite
+  // differences; `forceFiniteDifferences` is for tests.
+  Vec2f heightDerivatives(const SurfaceInteraction& si, bool forceFiniteDifferences) const;
+
+ private:
+  const Texture* height_;
+  float strength_;
+};
+
+// A tangent-space normal map (glTF normalTexture): rgb * 2 - 1 in the frame (dp/du, n x dp/du,
+// n), the x and y components scaled by `scale`. The tangent comes from dp/du, i.e. from the
+// UV derivatives when the mesh carries no tangents (as the Khronos reference viewer does).
+class NormalMap final : public NormalModifier {
+ public:
+  NormalMap(const Texture* map, float scale) : map_(map), scale_(scale) {}
+  void apply(SurfaceInteraction& si) const override;
+  std::vector<const Texture*> textures() const override { return {map_}; }
+
+ private:
+  const Texture* map_;
+  float scale_;
+};
+
+// Random normal jitter, as on snow: the object-space surface is cut into cubic grains of size
+// `grain`, and each grain tilts the normal by `amount` times a random vector in the unit ball
+// (a hash of the grain cell and `seed`). Keyed to object space, the pattern stays put on
+// moving objects and is the same in every frame.
+class SnowPerturbation final : public NormalModifier {
+ public:
+  SnowPerturbation(float amount, float grain, uint64_t seed)
+      : amount_(amount), grain_(grain), seed_(seed) {}
+  void apply(SurfaceInteraction& si) const override;
+  TextureNeeds needs() const override { return {.objectSpace = true}; }
+
+ private:
+  float amount_, grain_;
+  uint64_t seed_;
+};
+
+// Keeps a perturbed normal in the geometric normal's hemisphere (tilted just above the
+// surface when it would point below it).
+Vec3f clampToHemisphere(Vec3f ns, Vec3f ng);
+
+}  // namespace glint
