@@ -126,6 +126,7 @@ class Material {
   // restricted to the hemispheres in `lobes` (kBsdfReflection, kBsdfTransmission or both):
   // pdf and f are then those of the restricted choice, so an integrator may follow the
   // reflected and the transmitted lobe separately (Whitted) or pick one (path tracing).
+  // kBsdfSpecular in `lobes` further restricts the choice to delta lobes.
   std::optional<BsdfSample> sample(const SurfaceInteraction& si, Vec2f u, float uLobe,
                                    uint32_t lobes = kBsdfAllLobes) const;
   // Solid-angle density with which sample() (all lobes) returns wi.

@@ -34,6 +34,7 @@ class NoiseTexture final : public Texture {
   TextureNeeds needs() const override {
     return {.uvs = mapping_.usesUvs(), .objectSpace = mapping_.usesObjectSpace()};
   }
+  Rgb upperBound() const override { return max(params_.colorA, params_.colorB); }
   // The pattern's weight in [0, 1] at texture-space point q, and its gradient by q.
   float weight(Vec3f q, Vec3f* gradient) const;
 

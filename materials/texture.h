@@ -88,6 +88,8 @@ class Texture {
   // procedural patterns); false otherwise, and bump mapping then takes finite differences.
   virtual bool scalarGradient(const TexturePoint&, Vec3f*) const { return false; }
   virtual TextureNeeds needs() const = 0;
+  // A bound on every colour the texture returns (energy checks of the materials using it).
+  virtual Rgb upperBound() const { return {1, 1, 1}; }
   // An image read from a file or the glTF (the "textures" effect); procedural ones are not.
   virtual bool isImage() const { return false; }
 };
@@ -102,6 +104,7 @@ class CheckerTexture final : public Texture {
   TextureNeeds needs() const override {
     return {.uvs = mapping_.usesUvs(), .objectSpace = mapping_.usesObjectSpace()};
   }
+  Rgb upperBound() const override { return max(a_, b_); }
 
  private:
   TextureMapping mapping_;
@@ -109,34 +112,10 @@ class CheckerTexture final : public Texture {
   bool solid_;
 };
 
-// sRGB transfer function (IEC 61966-2-1), encoded value -> linear.
-float srgbToLinear(float v);
-
-// The bilinear image texture of the foundation (decoded floats, no MIP maps), kept until the
-// OpenImageIO TextureSystem path (image_texture.h) replaces it.
+// How a 2D lookup treats coordinates outside [0, 1].
 enum class TextureWrap { Repeat, Clamp, Mirror, Black };
 
-struct ImageData {
-  int width = 0, height = 0;
-  std::vector<Vec4f> texels;  // linear RGBA, rows top to bottom
-};
-ImageData makeImageData(int width, int height, int channels, const std::vector<float>& pixels,
-                        bool srgb);
-
-class BilinearImageTexture final : public Texture {
- public:
-  BilinearImageTexture(std::shared_ptr<const ImageData> image, TextureWrap wrapU, TextureWrap wrapV,
-                       bool nearest);
-  Vec4f evaluate(const TexturePoint& tp) const override { return lookup(tp.uv); }
-  Vec4f lookup(Vec2f uv) const;
-  TextureNeeds needs() const override { return {.uvs = true}; }
-  bool isImage() const override { return true; }
-
- private:
-  Vec4f texel(int x, int y) const;
-  std::shared_ptr<const ImageData> image_;
-  TextureWrap wrapU_, wrapV_;
-  bool nearest_;
-};
+// sRGB transfer function (IEC 61966-2-1), encoded value -> linear.
+float srgbToLinear(float v);
 
 }  // namespace glint

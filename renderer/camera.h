@@ -55,7 +55,7 @@ class Camera {
   float halfHeight_ = 1, halfWidth_ = 1;  // film half extents at distance 1 (or world, ortho)
   float znear_ = 0, zfar_ = kInfinity;
   float filmToScreenX_ = 1, filmToScreenY_ = 1;  // 2 / width, 2 / height
-  Vec3f origin_, forward_{0, 0, -1};  // world-space eye point and view direction
+  Vec3f origin_, forward_{0, 0, -1};             // world-space eye point and view direction
 };
 
 inline Ray Camera::generateRay(Vec2f pFilm, float time) const {

@@ -5,23 +5,40 @@ namespace glint {
 
 const char* featureName(Feature f) {
   switch (f) {
-    case Feature::Shadows: return "shadows";
-    case Feature::Textures: return "textures";
-    case Feature::VertexColors: return "vertex colors";
-    case Feature::Emission: return "emission";
-    case Feature::Instancing: return "instancing";
-    case Feature::Headlight: return "headlight";
-    case Feature::Analytic: return "analytic";
-    case Feature::Csg: return "csg";
-    case Feature::Terrain: return "terrain";
-    case Feature::Transparency: return "transparency";
-    case Feature::Refraction: return "refraction";
-    case Feature::Bump: return "bump";
-    case Feature::Procedural: return "procedural";
-    case Feature::Lens: return "lens";
-    case Feature::MotionBlur: return "motion blur";
-    case Feature::Volumes: return "volumes";
-    case Feature::Count: break;
+    case Feature::Shadows:
+      return "shadows";
+    case Feature::Textures:
+      return "textures";
+    case Feature::VertexColors:
+      return "vertex colors";
+    case Feature::Emission:
+      return "emission";
+    case Feature::Instancing:
+      return "instancing";
+    case Feature::Headlight:
+      return "headlight";
+    case Feature::Analytic:
+      return "analytic";
+    case Feature::Csg:
+      return "csg";
+    case Feature::Terrain:
+      return "terrain";
+    case Feature::Transparency:
+      return "transparency";
+    case Feature::Refraction:
+      return "refraction";
+    case Feature::Bump:
+      return "bump";
+    case Feature::Procedural:
+      return "procedural";
+    case Feature::Lens:
+      return "lens";
+    case Feature::MotionBlur:
+      return "motion blur";
+    case Feature::Volumes:
+      return "volumes";
+    case Feature::Count:
+      break;
   }
   return "?";
 }

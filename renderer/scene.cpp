@@ -31,8 +31,7 @@ SceneFeatures detectFeatures(const RenderScene& scene) {
       continue;
     }
     f.set(Feature::Analytic);
-    if (dynamic_cast<const CsgShape*>(scene.geometry.shapes[inst.shape].get()))
-      f.set(Feature::Csg);
+    if (dynamic_cast<const CsgShape*>(scene.geometry.shapes[inst.shape].get())) f.set(Feature::Csg);
     for (uint32_t m : scene.shapeMaterials[inst.shape])
       addMaterialFeatures(*scene.materials[m], &f, &anyLit);
   }

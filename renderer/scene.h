@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "geometry/accel/accelerator.h"
+#include "materials/image_texture.h"
 #include "materials/material.h"
 #include "renderer/camera.h"
 #include "renderer/features.h"
@@ -19,6 +20,8 @@ struct RenderScene {
   // Per analytic shape (GeometryScene::shapes), the material index of each material slot.
   std::vector<std::vector<uint32_t>> shapeMaterials;
   std::vector<std::unique_ptr<Material>> materials;
+  std::unique_ptr<TextureImages> images;  // the images the textures read (before them: it
+                                          // must outlive them)
   std::vector<std::unique_ptr<Texture>> textures;
   // Per instance: the frame its object was authored in, for object-space textures (meshes
   // baked into world space keep their original placement here).

@@ -63,7 +63,8 @@ Rgb WhittedIntegrator::shade(const Ray& ray, const Hit* found, const RayCone& co
       if (!(shading.flags & lobe)) continue;
       const Vec2f u = sampler.get2D();
       const float uLobe = sampler.get1D();
-      std::optional<BsdfSample> s = material.sample(si, u, uLobe, lobe);
+      // Only the delta part of the lobe: glossy and diffuse light arrives from the lights.
+      std::optional<BsdfSample> s = material.sample(si, u, uLobe, lobe | kBsdfSpecular);
       if (!s || !(s->flags & kBsdfSpecular) || s->pdf <= 0) continue;
       const Rgb weight = s->weight(si.ns);
       if (maxComponent(weight) <= 0) continue;

@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <map>
 
 #include "geometry/csg.h"
@@ -16,6 +17,8 @@
 #include "geometry/terrain.h"
 #include "materials/basic_materials.h"
 #include "materials/bump.h"
+#include "materials/image_texture.h"
+#include "materials/pbr.h"
 #include "materials/procedural.h"
 #include "materials/specular.h"
 
@@ -236,24 +239,56 @@ class TextureCache {
       case TextureKind::Random:
         return std::make_unique<RandomColorTexture>(toRandomMode(td.randomMode), td.seed);
       case TextureKind::ImageFile:
-        throw SceneError(td.where, "image files are not supported yet");
       case TextureKind::Image:
-      default: {
-        const ImageDesc& img = desc_.images[size_t(td.image)];
-        auto& data = images_[{td.image, srgb}];
-        if (!data)
-          data = std::make_shared<ImageData>(
-              makeImageData(img.width, img.height, img.channels, img.pixels, srgb));
-        return std::make_unique<BilinearImageTexture>(data, toWrap(td.wrapS), toWrap(td.wrapT),
-                                                      td.nearest);
-      }
+      default:
+        return std::make_unique<ImageTexture>(images(), image(td, srgb), toMapping(td.mapping),
+                                              toWrap(td.wrapS), toWrap(td.wrapT),
+                                              td.nearest  ? TextureFilter::Nearest
+                                              : td.mipmap ? TextureFilter::Mipmap
+                                                          : TextureFilter::Linear);
     }
+  }
+
+  TextureImages& images() {
+    if (!scene_->images) scene_->images = std::make_unique<TextureImages>();
+    return *scene_->images;
+  }
+
+  // The image of `td` in the scene's TextureImages, added once per (image, encoding).
+  TextureImages::Handle image(const TextureDesc& td, bool srgb) {
+    try {
+      if (td.kind == TextureKind::ImageFile) {
+        bool fileSrgb = td.encoding == TextureDesc::Encoding::Srgb ||
+                        (td.encoding == TextureDesc::Encoding::Auto && !isLinearFormat(td.file));
+        auto key = std::make_pair(td.file, fileSrgb);
+        if (auto it = files_.find(key); it != files_.end()) return it->second;
+        return files_[key] = images().addFile(
+                   td.file, fileSrgb ? ColorEncoding::Srgb : ColorEncoding::Linear);
+      }
+      auto key = std::make_pair(td.image, srgb);
+      if (auto it = pixels_.find(key); it != pixels_.end()) return it->second;
+      const ImageDesc& img = desc_.images[size_t(td.image)];
+      return pixels_[key] = images().addPixels(
+                 img.name + (srgb ? " (sRGB)" : " (linear)") + " #" + std::to_string(td.image),
+                 img.width, img.height, img.channels, img.pixels,
+                 srgb ? ColorEncoding::Srgb : ColorEncoding::Linear);
+    } catch (const std::exception& e) {
+      throw SceneError(td.where, e.what());
+    }
+  }
+
+  // Formats that store linear values (HDR, floating point); others are taken as sRGB.
+  static bool isLinearFormat(const std::string& file) {
+    std::string ext = std::filesystem::path(file).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext == ".exr" || ext == ".hdr" || ext == ".tx" || ext == ".pfm";
   }
 
   const SceneDescription& desc_;
   RenderScene* scene_;
   std::map<std::pair<int, bool>, const Texture*> textures_;
-  std::map<std::pair<int, bool>, std::shared_ptr<const ImageData>> images_;
+  std::map<std::pair<int, bool>, TextureImages::Handle> pixels_;
+  std::map<std::pair<std::string, bool>, TextureImages::Handle> files_;
 };
 
 AlphaMode toAlphaMode(AlphaModeDesc m) {
@@ -276,7 +311,8 @@ std::unique_ptr<Material> makeBsdf(const MaterialDesc& m, const ColorParam& base
     case MaterialType::Phong:
     case MaterialType::BlinnPhong:
       for (int c = 0; c < 3; ++c)
-        if (m.baseColor[c] + m.specular[c] > 1.0f + 1e-6f)
+        if (m.baseColor[c] * (base.texture ? base.texture->upperBound()[c] : 1.0f) + m.specular[c] >
+            1.0f + 1e-6f)
           throw SceneError(m.where,
                            "Phong diffuse + specular exceeds 1 in a channel; the "
                            "material would reflect more light than it receives");
@@ -284,8 +320,28 @@ std::unique_ptr<Material> makeBsdf(const MaterialDesc& m, const ColorParam& base
                                              m.type == MaterialType::BlinnPhong);
     case MaterialType::Mirror:
       return std::make_unique<MirrorMaterial>(base);
-    case MaterialType::Glass:
-      return std::make_unique<GlassMaterial>(m.ior, base);
+    case MaterialType::Glass: {
+      if (m.roughness <= 0) return std::make_unique<GlassMaterial>(m.ior, base);
+      // Rough glass: the microfacet dielectric (all transmission, no diffuse part).
+      PbrParams p;
+      p.baseColor = base;
+      p.metallic = {0};
+      p.roughness = {m.roughness};
+      p.ior = m.ior;
+      p.transmission = {1};
+      return std::make_unique<PbrMaterial>(p);
+    }
+    case MaterialType::Pbr: {
+      PbrParams p;
+      p.baseColor = base;
+      const Texture* mr = textures.get(m.metallicRoughnessTexture, false);
+      p.metallic = {m.metallic, mr, 2};    // glTF: metallic in B
+      p.roughness = {m.roughness, mr, 1};  // roughness in G
+      p.emission = emission;
+      p.ior = m.ior;
+      p.transmission = {m.transmission, textures.get(m.transmissionTexture, false), 0};
+      return std::make_unique<PbrMaterial>(p);
+    }
     case MaterialType::Random: {
       ColorParam random{{1, 1, 1},
                         textures.add(std::make_unique<RandomColorTexture>(
@@ -295,7 +351,6 @@ std::unique_ptr<Material> makeBsdf(const MaterialDesc& m, const ColorParam& base
       return std::make_unique<EyelightMaterial>(random);
     }
     case MaterialType::Lambert:
-    case MaterialType::Pbr:  // until the microfacet BSDF lands: its base colour
     default:
       return std::make_unique<LambertMaterial>(base, emission);
   }

@@ -37,8 +37,8 @@ enum class TextureKind {
   Image,      // a glTF texture: `image` with the glTF sampler's wrap and filter
   ImageFile,  // an image file named in the sidecar
   Checker,
-  Noise,      // Perlin patterns (materials/procedural.h)
-  Random,     // random colour per object / primitive / hit
+  Noise,   // Perlin patterns (materials/procedural.h)
+  Random,  // random colour per object / primitive / hit
 };
 
 enum class NoiseKind { Noise, Fbm, Turbulence, Marble, Wood, Clouds };
@@ -46,18 +46,18 @@ enum class NoiseKind { Noise, Fbm, Turbulence, Marble, Wood, Clouds };
 struct TextureDesc {
   std::string name;  // sidecar textures are referenced by name
   TextureKind kind = TextureKind::Image;
-  int image = -1;           // Image
-  std::string file;         // ImageFile: absolute path
+  int image = -1;                                                        // Image
+  std::string file;                                                      // ImageFile: absolute path
   enum class Encoding { Auto, Srgb, Linear } encoding = Encoding::Auto;  // ImageFile
   WrapMode wrapS = WrapMode::Repeat, wrapT = WrapMode::Repeat;
-  bool nearest = false;     // glTF magFilter NEAREST; otherwise filtered
-  bool mipmap = true;       // MIP-mapped filtering (otherwise bilinear)
+  bool nearest = false;  // glTF magFilter NEAREST; otherwise filtered
+  bool mipmap = true;    // MIP-mapped filtering (otherwise bilinear)
   MappingDesc mapping;
   // Checker and Noise: lerp(colorA, colorB, pattern weight).
   Rgb colorA{0, 0, 0}, colorB{1, 1, 1};
-  bool solid = false;       // Checker: 3D cubes instead of 2D squares
+  bool solid = false;  // Checker: 3D cubes instead of 2D squares
   NoiseKind noise = NoiseKind::Noise;
-  uint64_t seed = 0;        // Noise, Random
+  uint64_t seed = 0;  // Noise, Random
   int octaves = 5;
   float lacunarity = 2, gain = 0.5f, frequency = 4, distortion = 6, ringFrequency = 8,
         jitter = 0.6f;
@@ -66,8 +66,8 @@ struct TextureDesc {
 };
 
 enum class MaterialType {
-  Pbr,         // glTF pbrMetallicRoughness: GGX microfacet metal/dielectric (materials/pbr.h)
-  Eyelight,    // colour x |cos(normal, view)|, no lights: the course's first shader
+  Pbr,       // glTF pbrMetallicRoughness: GGX microfacet metal/dielectric (materials/pbr.h)
+  Eyelight,  // colour x |cos(normal, view)|, no lights: the course's first shader
   Lambert,
   Phong,       // energy-normalized Phong: diffuse + specular lobe
   BlinnPhong,  // the same with Blinn's half-vector lobe
@@ -81,29 +81,30 @@ enum class AlphaModeDesc { Opaque, Mask, Blend };
 struct MaterialDesc {
   std::string name;
   MaterialType type = MaterialType::Pbr;
-  Rgb baseColor{1, 1, 1};     // diffuse colour / glTF baseColorFactor.rgb (linear)
-  float opacity = 1;          // glTF baseColorFactor.a; 1 - transparency (eyelight)
+  Rgb baseColor{1, 1, 1};  // diffuse colour / glTF baseColorFactor.rgb (linear)
+  float opacity = 1;       // glTF baseColorFactor.a; 1 - transparency (eyelight)
   AlphaModeDesc alphaMode = AlphaModeDesc::Opaque;
   float alphaCutoff = 0.5f;
-  int baseColorTexture = -1;  // multiplied with baseColor (glTF: sRGB-encoded)
-  float metallic = 1, roughness = 1;
+  int baseColorTexture = -1;          // multiplied with baseColor (glTF: sRGB-encoded)
+  float metallic = 1, roughness = 1;  // roughness also for glass (0: smooth)
   int metallicRoughnessTexture = -1;  // glTF: roughness in G, metallic in B (linear)
-  Rgb emissive{0, 0, 0};      // emitted radiance (linear), multiplied by emissiveTexture
-  int emissiveTexture = -1;   // sRGB-encoded
-  int normalTexture = -1;     // tangent-space normal map (linear)
+  Rgb emissive{0, 0, 0};              // emitted radiance (linear), multiplied by emissiveTexture
+  int emissiveTexture = -1;           // sRGB-encoded
+  int normalTexture = -1;             // tangent-space normal map (linear)
   float normalScale = 1;
-  float ior = 1.5f;           // glass, pbr (KHR_materials_ior)
-  float transmission = 0;     // pbr (KHR_materials_transmission)
-  Rgb specular{0, 0, 0};      // Phong specular colour
-  float shininess = 0;        // Phong exponent
-  int bumpTexture = -1;       // height map (scalar: luminance)
+  float ior = 1.5f;        // glass, pbr (KHR_materials_ior)
+  float transmission = 0;  // pbr (KHR_materials_transmission), x its texture's R
+  int transmissionTexture = -1;
+  Rgb specular{0, 0, 0};  // Phong specular colour
+  float shininess = 0;    // Phong exponent
+  int bumpTexture = -1;   // height map (scalar: luminance)
   float bumpStrength = 1;
-  float snowAmount = 0;       // > 0: random normal jitter ("snow")
+  float snowAmount = 0;  // > 0: random normal jitter ("snow")
   float snowGrain = 0.01f;
   uint64_t snowSeed = 0;
   TextureDesc::RandomMode randomMode = TextureDesc::RandomMode::Object;  // Random
   uint64_t randomSeed = 0;
-  bool randomLit = false;     // Random: Lambert instead of eyelight shading
+  bool randomLit = false;  // Random: Lambert instead of eyelight shading
   bool doubleSided = false;
   SourceLocation where;
 };
@@ -125,11 +126,11 @@ enum class CameraType { Perspective, Orthographic };
 struct CameraDesc {
   std::string name;
   CameraType type = CameraType::Perspective;
-  float yfov = 0.8f;         // radians (perspective)
-  float aspectRatio = 0;     // width / height; 0 = not given (use the image's)
+  float yfov = 0.8f;      // radians (perspective)
+  float aspectRatio = 0;  // width / height; 0 = not given (use the image's)
   float znear = 0, zfar = kInfinity;
-  float xmag = 1, ymag = 1;  // half extents (orthographic)
-  Transform worldFromCamera; // camera at the origin looking down -Z, +Y up (glTF)
+  float xmag = 1, ymag = 1;   // half extents (orthographic)
+  Transform worldFromCamera;  // camera at the origin looking down -Z, +Y up (glTF)
   SourceLocation where;
 };
 
@@ -142,9 +143,9 @@ struct LightDesc {
   LightType type = LightType::Point;
   Rgb color{1, 1, 1};
   float intensity = 1;
-  float range = 0;  // 0 = infinite
+  float range = 0;                                     // 0 = infinite
   float innerConeAngle = 0, outerConeAngle = kPi / 4;  // spot, radians
-  Transform worldFromLight;  // light at the origin, shining down -Z
+  Transform worldFromLight;                            // light at the origin, shining down -Z
   bool castsShadows = true;
   SourceLocation where;
 };
@@ -169,13 +170,13 @@ enum class ShapeType { Sphere, Box, Cylinder, Cone, Plane, Disk, Quad };
 // fields of `type` are meaningful; the loader validates them (finite, sizes > 0).
 struct ShapeDesc {
   ShapeType type = ShapeType::Sphere;
-  Vec3f center{0, 0, 0};  // sphere
-  float radius = 1;       // sphere, cylinder, cone (base), disk
+  Vec3f center{0, 0, 0};                    // sphere
+  float radius = 1;                         // sphere, cylinder, cone (base), disk
   Vec3f lower{-1, -1, -1}, upper{1, 1, 1};  // box
-  float height = 1;       // cylinder, cone: along +Y from y = 0
-  bool capped = true;     // cylinder, cone
+  float height = 1;                         // cylinder, cone: along +Y from y = 0
+  bool capped = true;                       // cylinder, cone
   Vec3f point{0, 0, 0}, normal{0, 1, 0};    // plane: the solid is the half-space behind normal
-  float uvScale = 1;      // plane: world units per texture tile
+  float uvScale = 1;                        // plane: world units per texture tile
   Vec3f corner{-0.5f, 0, 0.5f}, edgeU{1, 0, 0}, edgeV{0, 0, -1};  // quad (parallelogram)
 };
 

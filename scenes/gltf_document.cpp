@@ -389,12 +389,18 @@ void readMaterials(const Object& root, Document* doc) {
         m.baseColorFactor = {float(f[0]), float(f[1]), float(f[2]), float(f[3])};
       }
       m.baseColorTexture = textureRef(pbr, "baseColorTexture", *doc);
-      textureRef(pbr, "metallicRoughnessTexture", *doc);
+      m.metallicRoughnessTexture = textureRef(pbr, "metallicRoughnessTexture", *doc);
       m.metallic = nonNegative(pbr, "metallicFactor", 1, 1);
       m.roughness = nonNegative(pbr, "roughnessFactor", 1, 1);
     }
-    textureRef(o, "normalTexture", *doc);
-    textureRef(o, "occlusionTexture", *doc);
+    m.normalTexture = textureRef(o, "normalTexture", *doc);
+    if (o.has("normalTexture")) m.normalScale = float(o.object("normalTexture").number("scale", 1));
+    textureRef(o, "occlusionTexture", *doc);  // ambient occlusion: not used by a ray tracer
+    m.alphaMode = o.string("alphaMode", "OPAQUE");
+    if (m.alphaMode != "OPAQUE" && m.alphaMode != "MASK" && m.alphaMode != "BLEND")
+      throw SceneError(o.at("alphaMode"),
+                       "must be OPAQUE, MASK or BLEND (got '" + m.alphaMode + "')");
+    m.alphaCutoff = nonNegative(o, "alphaCutoff", 0.5, kInfinity);
     m.emissiveTexture = textureRef(o, "emissiveTexture", *doc);
     if (o.has("emissiveFactor")) {
       auto f = o.numbers("emissiveFactor", 3);
@@ -409,8 +415,23 @@ void readMaterials(const Object& root, Document* doc) {
       if (ext.has("KHR_materials_emissive_strength"))
         m.emissiveStrength = nonNegative(ext.object("KHR_materials_emissive_strength"),
                                          "emissiveStrength", 1, kInfinity);
+      if (ext.has("KHR_materials_transmission")) {
+        Object t = ext.object("KHR_materials_transmission");
+        m.transmission = nonNegative(t, "transmissionFactor", 0, 1);
+        m.transmissionTexture = textureRef(t, "transmissionTexture", *doc);
+      }
+      if (ext.has("KHR_materials_ior")) {
+        Object i = ext.object("KHR_materials_ior");
+        double ior = i.number("ior", 1.5);
+        // The extension allows 0 as "infinite" only for historical exporters; glint needs a
+        // real index.
+        if (!(ior >= 1)) throw SceneError(i.at("ior"), "must be >= 1");
+        m.ior = float(ior);
+      }
     }
-    for (const TextureRef* r : {&m.baseColorTexture, &m.emissiveTexture})
+    for (const TextureRef* r :
+         {&m.baseColorTexture, &m.emissiveTexture, &m.metallicRoughnessTexture, &m.normalTexture,
+          &m.transmissionTexture})
       if (r->index >= 0 && r->texCoord != 0)
         doc->warnings.push_back(r->where.child("texCoord").str() + ": texCoord " +
                                 std::to_string(r->texCoord) +
@@ -650,7 +671,8 @@ void readNodes(const Object& root, Document* doc) {
 
 // Extensions glint implements; any other extension in extensionsRequired is an error.
 const char* const kSupportedExtensions[] = {"KHR_lights_punctual",
-                                            "KHR_materials_emissive_strength"};
+                                            "KHR_materials_emissive_strength",
+                                            "KHR_materials_transmission", "KHR_materials_ior"};
 
 void checkRequiredExtensions(const Object& root) {
   for (auto& [value, loc] : root.array("extensionsRequired")) {

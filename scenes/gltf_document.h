@@ -82,6 +82,14 @@ struct Material {
   Vec4f baseColorFactor{1, 1, 1, 1};
   TextureRef baseColorTexture;
   float metallic = 1, roughness = 1;
+  TextureRef metallicRoughnessTexture;
+  TextureRef normalTexture;
+  float normalScale = 1;
+  std::string alphaMode = "OPAQUE";  // OPAQUE | MASK | BLEND
+  float alphaCutoff = 0.5f;
+  float transmission = 0;  // KHR_materials_transmission
+  TextureRef transmissionTexture;
+  float ior = 1.5f;  // KHR_materials_ior
   Rgb emissiveFactor{0, 0, 0};
   float emissiveStrength = 1;  // KHR_materials_emissive_strength
   TextureRef emissiveTexture;

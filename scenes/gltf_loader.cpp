@@ -452,6 +452,19 @@ class Loader {
       d.baseColorTexture =
           m.baseColorTexture.index < 0 ? -1 : textureBase_ + m.baseColorTexture.index;
       d.metallic = m.metallic, d.roughness = m.roughness;
+      auto texture = [&](const gltf::TextureRef& r) {
+        return r.index < 0 ? -1 : textureBase_ + r.index;
+      };
+      d.metallicRoughnessTexture = texture(m.metallicRoughnessTexture);
+      d.normalTexture = texture(m.normalTexture);
+      d.normalScale = m.normalScale;
+      d.alphaMode = m.alphaMode == "MASK"    ? AlphaModeDesc::Mask
+                    : m.alphaMode == "BLEND" ? AlphaModeDesc::Blend
+                                             : AlphaModeDesc::Opaque;
+      d.alphaCutoff = m.alphaCutoff;
+      d.transmission = m.transmission;
+      d.transmissionTexture = texture(m.transmissionTexture);
+      d.ior = m.ior;
       d.emissive = m.emissiveFactor * m.emissiveStrength;
       d.emissiveTexture = m.emissiveTexture.index < 0 ? -1 : textureBase_ + m.emissiveTexture.index;
       d.doubleSided = m.doubleSided;

@@ -243,6 +243,7 @@ void readMaterialParameters(JsonReader& r, const SceneDescription& scene, Materi
     case MaterialType::Glass:
       readColorParam(r, "color", scene, &m->baseColor, &m->baseColorTexture);
       m->ior = r.get<float>("ior", m->ior, kPositive);
+      m->roughness = r.get<float>("roughness", m->roughness, kUnit);
       break;
     case MaterialType::Random:
       m->randomMode =
@@ -329,6 +330,7 @@ void readMaterials(JsonReader& root, SceneDescription* scene) {
       m.name = name;
       m.where = r->where();
       m.type = r->oneOf<MaterialType>("type", kMaterialTypes);
+      if (m.type == MaterialType::Glass) m.roughness = 0;  // smooth unless given
       readMaterialParameters(*r, *scene, &m);
       scene->materials.push_back(m);
       assignToNodes(*r, int(scene->materials.size() - 1), scene);
@@ -339,6 +341,7 @@ void readMaterials(JsonReader& root, SceneDescription* scene) {
     // Reading the same keys again for each match is fine: the reader only records them.
     for (int i : targets) {
       MaterialDesc& m = scene->materials[size_t(i)];
+      if (type && *type == MaterialType::Glass && m.type != MaterialType::Glass) m.roughness = 0;
       if (type) m.type = *type;
       readMaterialParameters(*r, *scene, &m);
     }

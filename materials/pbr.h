@@ -1,0 +1,55 @@
+// glint — glTF's metallic-roughness material as a microfacet BSDF (Trowbridge–Reitz / GGX with
+// height-correlated Smith masking and visible-normal sampling, microfacet.h).
+//
+// The model is the glTF 2.0 specification's (Appendix B) with KHR_materials_transmission and
+// KHR_materials_ior:
+//   f = metallic         * F_schlick(baseColor, wo.h) * spec
+//     + (1 - metallic)   * [ F(wo.h) * spec + (1 - F(wo.h)) * base ]
+//   base = (1 - transmission) * baseColor / pi  +  transmission * baseColor * btdf
+// where spec is the GGX reflection lobe, btdf the GGX refraction lobe (Walter et al. 2007) and
+// F the exact dielectric Fresnel reflectance for the index of refraction `ior` (the
+// specification allows Schlick; the exact form costs little and matches the glass shader).
+// Transmission refracts (as with KHR_materials_volume); a thin-walled variant is not modelled.
+//
+// Roughness below ~0.03 (alpha < 1e-3) cannot be sampled or integrated in float; such surfaces
+// (with a constant roughness) switch to delta lobes for the specular reflection and refraction,
+// so that mirrors and clear glass from glTF render as such in the Whitted integrator too.
+#pragma once
+
+#include "materials/material.h"
+
+namespace glint {
+
+struct PbrParams {
+  ColorParam baseColor;
+  FloatParam metallic{1}, roughness{1};  // glTF: metallicRoughnessTexture B and G channels
+  ColorParam emission{{0, 0, 0}};
+  float ior = 1.5f;
+  FloatParam transmission{0};
+};
+
+class PbrMaterial final : public Material {
+ public:
+  explicit PbrMaterial(const PbrParams& params);
+  Rgb emitted(const SurfaceInteraction& si) const override { return p_.emission.evaluate(si); }
+  Rgb albedo(const SurfaceInteraction& si) const override { return p_.baseColor.evaluate(si); }
+  uint32_t flags() const override { return flags_; }
+
+ protected:
+  Rgb evalBsdf(const SurfaceInteraction& si, Vec3f wi) const override;
+  std::optional<BsdfSample> sampleBsdf(const SurfaceInteraction& si, Vec2f u, float uLobe,
+                                       uint32_t lobes) const override;
+  float pdfBsdf(const SurfaceInteraction& si, Vec3f wi) const override;
+
+ private:
+  struct Lobes;  // the parameters and lobe probabilities at one hit
+  Lobes lobesAt(const SurfaceInteraction& si, uint32_t allowed) const;
+  Rgb evalLocal(const Lobes& l, Vec3f wo, Vec3f wi) const;
+  float pdfLocal(const Lobes& l, Vec3f wo, Vec3f wi) const;
+
+  PbrParams p_;
+  bool smooth_;  // constant roughness below the delta threshold
+  uint32_t flags_;
+};
+
+}  // namespace glint
