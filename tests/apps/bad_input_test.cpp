@@ -138,6 +138,29 @@ TEST(CliBadInput, CsgFileWithStackUnderflow) {
   expectRejected("csg_underflow", shellQuote(dir + "/scene.gltf"), {"tree.csg:2", "underflow"});
 }
 
+TEST(CliBadInput, UnknownMaterialType) {
+  expectBadSidecar("unknown_material_type", R"({"materials": [{"name": "m", "type": "velvet"}]})",
+                   {"/materials/0/type", "velvet"});
+}
+
+TEST(CliBadInput, NegativeIor) {
+  expectBadSidecar("negative_ior",
+                   R"({"materials": [{"name": "m", "type": "glass", "ior": -1.5}]})",
+                   {"/materials/0/ior", "must be > 0"});
+}
+
+TEST(CliBadInput, RoughnessOutsideTheUnitInterval) {
+  expectBadSidecar("roughness_range",
+                   R"({"materials": [{"name": "m", "type": "pbr", "roughness": 1.2}]})",
+                   {"/materials/0/roughness", "<= 1"});
+}
+
+TEST(CliBadInput, MissingTextureFile) {
+  expectBadSidecar("missing_texture",
+                   R"({"textures": [{"name": "t", "type": "image", "file": "gone.png"}]})",
+                   {"/textures/0/file", "gone.png"});
+}
+
 TEST(CliBadInput, SidecarWrongType) {
   expectBadSidecar("wrong_type", R"({"render": {"spp": "many"}})", {"/render/spp"});
 }
