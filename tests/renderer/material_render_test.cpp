@@ -1,0 +1,156 @@
+// Render tests of the material plumbing in the Whitted integrator: surfaces that should be
+// invisible (glass of index 1, a fully transparent eyelight) leave the image unchanged, a
+// mirror shows what it faces, and scenes without such materials trace no secondary rays.
+#include <gtest/gtest.h>
+
+#include "renderer/render.h"
+#include "scenes/build.h"
+#include "scenes/sidecar.h"
+
+namespace glint {
+namespace {
+
+// A checkered floor, a back wall and two lights, seen by a camera; `extra` adds materials
+// and objects (JSON fragments, each starting with a comma when not empty). Shadow rays stop
+// at glass and transparent surfaces in the Whitted integrator, so tests of invisible
+// surfaces turn shadows off.
+std::string sceneJson(const std::string& extraMaterials, const std::string& extraObjects,
+                      bool shadows = true) {
+  const std::string castShadows = shadows ? "true" : "false";
+  return R"({
+    "render": {"width": 48, "height": 36, "spp": 4, "camera": "c", "seed": 3,
+               "background": [0.3, 0.4, 0.6]},
+    "cameras": [{"name": "c", "position": [0, 2, 6], "look_at": [0, 0.8, 0]}],
+    "lights": [{"type": "point", "position": [3, 6, 4], "intensity": 60, "cast_shadows": )" +
+         castShadows + R"(},
+               {"type": "directional", "direction": [-0.3, -1, -0.2], "intensity": 0.5, "cast_shadows": false}],
+    "textures": [{"name": "checks", "type": "checker", "colors": [[0.8, 0.8, 0.8], [0.1, 0.1, 0.1]],
+                  "mapping": {"space": "world", "plane": "xz", "scale": 2}}],
+    "materials": [{"name": "floor", "type": "lambert", "diffuse": "checks"},
+                  {"name": "wall", "type": "lambert", "diffuse": [0.6, 0.3, 0.2]})" +
+         extraMaterials + R"(],
+    "objects": [{"type": "plane", "material": "floor"},
+                {"type": "box", "min": [-4, 0, -3], "max": [4, 3, -2.5], "material": "wall"})" +
+         extraObjects + "]}";
+}
+
+struct Rendered {
+  Film film;
+  RenderStats stats;
+  SceneFeatures features;
+};
+
+Rendered renderJson(const std::string& text) {
+  SceneDescription d;
+  d.file = "scene.json";
+  applySceneJsonText(text, d.file, SceneJsonKind::Scene, &d);
+  RenderScene scene = buildRenderScene(d);
+  auto integrator = makeIntegrator("whitted", scene, d.render);
+  Rendered r;
+  r.features = scene.features;
+  r.film = render(scene, *integrator, d.render, {.threads = 2}, &r.stats);
+  return r;
+}
+
+// The largest per-channel difference between two films of the same size.
+float maxDifference(const Film& a, const Film& b) {
+  float worst = 0;
+  for (size_t i = 0; i < a.color.size(); ++i)
+    worst = std::max(worst, maxComponent(abs(a.color[i] - b.color[i])));
+  return worst;
+}
+
+TEST(MaterialRender, GlassOfIndexOneIsInvisible) {
+  // eta = 1: no reflection (F = 0 exactly) and no bending, so every ray passes straight
+  // through both surfaces and sees what it would see without the sphere. The spawned rays
+  // start past the hit's error bound, which moves them by a few ulps: allow 1e-3.
+  Rendered without = renderJson(sceneJson("", "", false));
+  Rendered with = renderJson(sceneJson(
+      R"(, {"name": "g", "type": "glass", "ior": 1})",
+      R"(, {"type": "sphere", "center": [0, 1, 0], "radius": 0.9, "material": "g"})", false));
+  ASSERT_EQ(with.film.color.size(), without.film.color.size());
+  EXPECT_LT(maxDifference(with.film, without.film), 1e-3f);
+  EXPECT_GT(with.stats.rays.secondary, 0u);
+  EXPECT_TRUE(with.features.has(Feature::Refraction));
+}
+
+TEST(MaterialRender, GlassOfIndexOneAndAHalfIsVisible) {
+  Rendered without = renderJson(sceneJson("", ""));
+  Rendered with = renderJson(
+      sceneJson(R"(, {"name": "g", "type": "glass", "ior": 1.5})",
+                R"(, {"type": "sphere", "center": [0, 1, 0], "radius": 0.9, "material": "g"})"));
+  EXPECT_GT(maxDifference(with.film, without.film), 0.1f);
+  EXPECT_EQ(with.stats.nonfiniteSamples, 0u);
+}
+
+TEST(MaterialRender, FullyTransparentEyelightIsInvisible) {
+  Rendered without = renderJson(sceneJson("", "", false));
+  Rendered with = renderJson(sceneJson(
+      R"(, {"name": "t", "type": "eyelight", "color": [1, 0, 0], "transparency": 1})",
+      R"(, {"type": "box", "min": [-1, 0.2, -1], "max": [1, 1.5, 1], "material": "t"})", false));
+  EXPECT_LT(maxDifference(with.film, without.film), 1e-3f);
+  EXPECT_TRUE(with.features.has(Feature::Transparency));
+}
+
+TEST(MaterialRender, HalfTransparentEyelightBlends) {
+  // A camera-facing quad: eyelight colour x |cos| = colour where the view is head-on.
+  auto scene = [](const std::string& transparency) {
+    return R"({"render": {"width": 8, "height": 8, "spp": 1, "camera": "c", "background": [0, 0, 1]},
+      "cameras": [{"name": "c", "type": "orthographic", "xmag": 0.5, "ymag": 0.5,
+                   "position": [0, 0, 5], "look_at": [0, 0, 0]}],
+      "materials": [{"name": "t", "type": "eyelight", "color": [1, 0, 0])" +
+           transparency + R"(}],
+      "objects": [{"type": "quad", "corner": [-1, -1, 0], "edge_u": [2, 0, 0],
+                   "edge_v": [0, 2, 0], "material": "t"}]})";
+  };
+  Rendered half = renderJson(scene(R"(, "transparency": 0.25)"));
+  for (const Rgb& c : half.film.color) {
+    EXPECT_NEAR(c.x, 0.75f, 1e-5f);  // 0.75 of the red surface
+    EXPECT_NEAR(c.z, 0.25f, 1e-5f);  // 0.25 of the blue background behind it
+  }
+}
+
+TEST(MaterialRender, ScenesWithoutSpecularMaterialsTraceNoSecondaryRays) {
+  Rendered plain = renderJson(sceneJson("", ""));
+  EXPECT_EQ(plain.stats.rays.secondary, 0u);
+  for (Feature f : {Feature::Refraction, Feature::Transparency, Feature::Bump, Feature::Textures})
+    EXPECT_FALSE(plain.features.has(f)) << featureName(f);
+  EXPECT_TRUE(plain.features.has(Feature::Procedural));  // the checker
+}
+
+TEST(MaterialRender, MirrorReflectsTheBackground) {
+  // An orthographic camera looking down at a mirror tilted by 45 degrees sees the horizon:
+  // the background radiance times the mirror's reflectance.
+  Rendered r = renderJson(R"({"render": {"width": 8, "height": 8, "spp": 1, "camera": "c",
+      "background": [0.2, 0.4, 0.8]},
+    "cameras": [{"name": "c", "type": "orthographic", "xmag": 0.3, "ymag": 0.3,
+                 "position": [0, 5, 0], "look_at": [0, 0, 0], "up": [0, 0, -1]}],
+    "materials": [{"name": "m", "type": "mirror", "color": [0.5, 0.5, 0.5]}],
+    "objects": [{"type": "quad", "corner": [-1, 0, -1], "edge_u": [2, 0, 0], "edge_v": [0, 0, 2],
+                 "material": "m", "transform": [{"rotate": {"axis": [1, 0, 0], "degrees": 45}}]}]})");
+  for (const Rgb& c : r.film.color) {
+    EXPECT_NEAR(c.x, 0.1f, 1e-5f);
+    EXPECT_NEAR(c.y, 0.2f, 1e-5f);
+    EXPECT_NEAR(c.z, 0.4f, 1e-5f);
+  }
+  EXPECT_EQ(r.stats.rays.secondary, 64u);
+}
+
+TEST(MaterialRender, ThreadCountsGiveIdenticalImagesWithGlassAndBump) {
+  std::string text = sceneJson(
+      R"(, {"name": "g", "type": "glass"}, {"name": "b", "type": "lambert", "diffuse": [0.7, 0.7, 0.7],
+           "bump": {"texture": "checks", "strength": 0.02}})",
+      R"(, {"type": "sphere", "center": [-1, 1, 0], "radius": 0.8, "material": "g"},
+         {"type": "sphere", "center": [1.2, 0.7, 0.5], "radius": 0.7, "material": "b"})");
+  SceneDescription d;
+  d.file = "scene.json";
+  applySceneJsonText(text, d.file, SceneJsonKind::Scene, &d);
+  RenderScene scene = buildRenderScene(d);
+  auto integrator = makeIntegrator("whitted", scene, d.render);
+  Film one = render(scene, *integrator, d.render, {.threads = 1}, nullptr);
+  Film two = render(scene, *integrator, d.render, {.threads = 2, .tileSize = 7}, nullptr);
+  for (size_t i = 0; i < one.color.size(); ++i) ASSERT_EQ(one.color[i], two.color[i]) << i;
+}
+
+}  // namespace
+}  // namespace glint
