@@ -44,7 +44,11 @@ void BumpMap::apply(SurfaceInteraction& si) const {
   if (lengthSquared(cross(si.dpdu, si.dpdv)) == 0) return;
   const Vec2f dh = heightDerivatives(si, false);
   const Vec3f n = si.ns;
-  const Vec3f dpdu = si.dpdu + n * dh.x, dpdv = si.dpdv + n * dh.y;
+  // Displace the shading surface, whose tangent plane is ns's: a smooth-shaded triangle's
+  // dp/du and dp/dv span its flat face, and their cross product would replace the
+  // interpolated normal by the face normal (facets) even where the height is constant.
+  const Vec3f dpdu = si.dpdu - n * (dot(n, si.dpdu) - dh.x);
+  const Vec3f dpdv = si.dpdv - n * (dot(n, si.dpdv) - dh.y);
   Vec3f bumped = cross(dpdu, dpdv);
   // cross(dp/du, dp/dv) may face either side; the bumped normal keeps the side of ns.
   if (dot(cross(si.dpdu, si.dpdv), n) < 0) bumped = -bumped;
