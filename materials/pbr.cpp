@@ -18,6 +18,9 @@ Rgb schlick(Rgb f0, float cosTheta) {
 
 float square(float v) { return v * v; }
 
+// The least share (1 - Fresnel) the lobe selection gives rough transmission (see lobesAt).
+constexpr float kMinRoughTransmissionWeight = 0.2f;
+
 }  // namespace
 
 // Everything about the material at one hit, in the local shading frame (ns = +Z, wo.z > 0).
@@ -67,7 +70,11 @@ PbrMaterial::Lobes PbrMaterial::lobesAt(const SurfaceInteraction& si, uint32_t a
   const float dielectric = 1 - l.metallic;
   float wSpec = l.metallic + dielectric * fd;
   float wDiff = dielectric * (1 - l.transmission) * (1 - fd) * std::max(luminance(l.base), 0.0f);
-  float wTrans = dielectric * l.transmission * (1 - fd);
+  // A rough surface transmits through tilted microfacets even where the macro-surface reflects
+  // totally (fd = 1 seen from inside past the critical angle): the transmission lobe keeps a
+  // minimum weight there, or sample() would never reach light that eval() says passes.
+  const float fdTransmission = smooth_ ? fd : std::min(fd, 1 - kMinRoughTransmissionWeight);
+  float wTrans = dielectric * l.transmission * (1 - fdTransmission);
   if (!(allowed & kBsdfReflection)) wSpec = wDiff = 0;
   if (!(allowed & kBsdfTransmission)) wTrans = 0;
   if (allowed & kBsdfSpecular) {  // only the delta lobes
@@ -96,8 +103,14 @@ Rgb PbrMaterial::evalLocal(const Lobes& l, Vec3f wo, Vec3f wi) const {
     const float spec = distribution.D(h) * distribution.G(wo, wi) / (4 * wo.z * wi.z);
     const float fd = fresnelDielectric(cosH, l.eta);
     const Rgb metal = schlick(l.base, cosH) * spec;
+    // The diffuse layer gets what the interface does not reflect at wo, 1 - F(wo.n), as in
+    // the smooth case and the lobe weights above, not glTF's 1 - F(wo.h): the half-vector
+    // coupling is not energy conserving (glTF 2.0, B.3.6.3; a white surface reflected up to
+    // 1.7 times the light at grazing angles), and from inside a transmitting surface past
+    // the critical angle it was non-zero where the diffuse lobe is never sampled.
+    const float fdView = fresnelDielectric(wo.z, l.eta);
     const Rgb plastic =
-        Rgb{1, 1, 1} * (fd * spec) + l.base * ((1 - l.transmission) * (1 - fd) * kInvPi);
+        Rgb{1, 1, 1} * (fd * spec) + l.base * ((1 - l.transmission) * (1 - fdView) * kInvPi);
     return metal * l.metallic + plastic * dielectric;
   }
   if (l.transmission <= 0 || dielectric <= 0) return {};
