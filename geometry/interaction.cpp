@@ -112,7 +112,20 @@ SurfaceInteraction computeSurfaceInteraction(const GeometryScene& scene, const R
     else
       si.uv = {b1, b2};
   }
-  if (needs.tangents) triangleTangents(mesh, xf, identity, i0, i1, i2, &si);
+  if (needs.tangents) {
+    triangleTangents(mesh, xf, identity, i0, i1, i2, &si);
+    if (!mesh.tangents.empty()) {
+      const Vec4f t0 = mesh.tangents[i0], t1 = mesh.tangents[i1], t2 = mesh.tangents[i2];
+      Vec3f t = b0 * Vec3f{t0.x, t0.y, t0.z} + b1 * Vec3f{t1.x, t1.y, t1.z} +
+                b2 * Vec3f{t2.x, t2.y, t2.z};
+      if (!identity) t = xf.vector(t);
+      const float tLen = length(t);
+      if (tLen > 0) {
+        si.tangent = t / tLen;
+        si.bitangentSign = t0.w < 0 ? -1.0f : 1.0f;
+      }
+    }
+  }
   if (needs.colors && !mesh.colors.empty()) {
     const Vec4f c0 = mesh.colors[i0], c1 = mesh.colors[i1], c2 = mesh.colors[i2];
     si.color = {b0 * c0.x + b1 * c1.x + b2 * c2.x, b0 * c0.y + b1 * c1.y + b2 * c2.y,

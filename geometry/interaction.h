@@ -31,6 +31,10 @@ struct SurfaceInteraction {
   Vec3f dpdu, dpdv;         // world-space partial derivatives of p by uv (triangles: only with
                             // SurfaceNeeds::tangents; zero otherwise)
   Vec4f color{1, 1, 1, 1};  // COLOR_0, white when absent
+  // The mesh's TANGENT (world, unit) and the bitangent's handedness, when it has one (only
+  // with SurfaceNeeds::tangents; zero otherwise): normal maps prefer it to dp/du.
+  Vec3f tangent;
+  float bitangentSign = 1;
   // True when the ray arrived on the side the surface's outward normal points to (a mesh's
   // counter-clockwise front, a solid's outside): refraction enters the object there.
   bool frontFace = true;

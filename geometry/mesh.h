@@ -15,6 +15,7 @@ namespace glint {
 struct TriangleMesh {
   std::vector<Vec3f> positions;
   std::vector<Vec3f> normals;
+  std::vector<Vec4f> tangents;  // xyz: unit tangent, w: bitangent handedness (+-1)
   std::vector<Vec2f> uvs;
   std::vector<Vec4f> colors;
   std::vector<uint32_t> indices;  // 3 per triangle

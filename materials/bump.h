@@ -29,9 +29,10 @@ class BumpMap final : public NormalModifier {
   float strength_;
 };
 
-// A tangent-space normal map (glTF normalTexture): rgb * 2 - 1 in the frame (dp/du, n x dp/du,
-// n), the x and y components scaled by `scale`. The tangent comes from dp/du, i.e. from the
-// UV derivatives when the mesh carries no tangents (as the Khronos reference viewer does).
+// A tangent-space normal map (glTF normalTexture): rgb * 2 - 1 in the frame (t, w n x t, n),
+// the x and y components scaled by `scale`. t is the mesh's TANGENT (w its handedness) or,
+// when the mesh carries none, dp/du from the UVs with w = 1 (as the Khronos reference viewer
+// does).
 class NormalMap final : public NormalModifier {
  public:
   NormalMap(const Texture* map, float scale) : map_(map), scale_(scale) {}

@@ -449,6 +449,7 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
     TriangleMesh mesh;
     mesh.positions = md.positions;
     mesh.normals = md.normals;
+    mesh.tangents = md.tangents;
     mesh.uvs = md.uvs;
     mesh.colors = md.colors;
     mesh.indices = md.indices;
@@ -456,6 +457,10 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
     if (bake && !placement.isIdentity()) {
       for (Vec3f& p : mesh.positions) p = placement.point(p);
       for (Vec3f& n : mesh.normals) n = normalize(placement.normal(n));
+      for (Vec4f& t : mesh.tangents) {
+        Vec3f v = normalize(placement.vector({t.x, t.y, t.z}));
+        t = {v.x, v.y, v.z, t.w};
+      }
       placement = Transform();
     }
     meshIndex[key] = uint32_t(scene.geometry.meshes.size());

@@ -114,6 +114,7 @@ struct MeshDesc {
   std::string name;
   std::vector<Vec3f> positions;
   std::vector<Vec3f> normals;     // empty, or one unit normal per position
+  std::vector<Vec4f> tangents;    // TANGENT: empty, or unit xyz + handedness w = +-1
   std::vector<Vec2f> uvs;         // TEXCOORD_0: empty or one per position
   std::vector<Vec4f> colors;      // COLOR_0 (linear RGBA): empty or one per position
   std::vector<uint32_t> indices;  // 3 per triangle; generated 0..n-1 when the file has none

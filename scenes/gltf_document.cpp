@@ -459,6 +459,7 @@ void readMeshes(const Object& root, Document* doc) {
       size_t accessors = doc->accessors.size();
       p.position = attributes.index("POSITION", accessors, "accessor");
       p.normal = attributes.index("NORMAL", accessors, "accessor");
+      p.tangent = attributes.index("TANGENT", accessors, "accessor");
       p.texcoord0 = attributes.index("TEXCOORD_0", accessors, "accessor");
       p.color0 = attributes.index("COLOR_0", accessors, "accessor");
       p.indices = po.index("indices", accessors, "accessor");

@@ -101,7 +101,7 @@ enum Mode { kPoints = 0, kLines, kLineLoop, kLineStrip, kTriangles, kTriangleStr
 
 struct Primitive {
   // Accessor indices of the attributes glint reads (-1 = absent).
-  int position = -1, normal = -1, texcoord0 = -1, color0 = -1;
+  int position = -1, normal = -1, tangent = -1, texcoord0 = -1, color0 = -1;
   int indices = -1;
   int material = -1;
   int mode = kTriangles;

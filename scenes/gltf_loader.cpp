@@ -603,6 +603,23 @@ class Loader {
         mesh.normals[i] = nv / len;
       }
     }
+    if (p.tangent >= 0) {
+      // xyz: the tangent (normalised), w: +-1, the handedness of the bitangent.
+      const Accessor& ta = attribute(p.tangent, p, "TANGENT", {"VEC4"}, false);
+      sameCount(p.tangent, "TANGENT");
+      std::vector<double> v = reader_.read(p.tangent);
+      mesh.tangents.resize(n);
+      for (size_t i = 0; i < n; ++i) {
+        Vec3f t{float(v[4 * i]), float(v[4 * i + 1]), float(v[4 * i + 2])};
+        float w = float(v[4 * i + 3]);
+        float len = length(t);
+        if (!isFinite(t) || !std::isfinite(w) || !(len > 0) || !std::isfinite(len))
+          throw SceneError(ta.where,
+                           "tangent " + std::to_string(i) + " is not a finite, non-zero vector");
+        t = t / len;
+        mesh.tangents[i] = {t.x, t.y, t.z, w < 0 ? -1.0f : 1.0f};
+      }
+    }
     if (p.texcoord0 >= 0) {
       const Accessor& ta = attribute(p.texcoord0, p, "TEXCOORD_0", {"VEC2"}, true);
       sameCount(p.texcoord0, "TEXCOORD_0");

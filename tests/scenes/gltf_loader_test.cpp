@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <string>
 
+#include "scenes/build.h"
 #include "test_support.h"
 
 namespace glint {
@@ -433,6 +434,41 @@ TEST(GltfLoader, ReadsMaterialsTexturesSamplersAndImages) {
   EXPECT_EQ(gray16.height, 1);
   EXPECT_EQ(gray16.channels, 1);
   EXPECT_EQ(gray16.pixels, (std::vector<float>{0, 1}));
+}
+
+TEST(GltfLoader, ReadsPbrExtensionsAlphaNormalMapsAndTangents) {
+  SceneDescription s = load(goodFile("pbr_materials.gltf"));
+  ASSERT_EQ(s.materials.size(), 1u);
+  const MaterialDesc& m = s.materials[0];
+  EXPECT_EQ(m.type, MaterialType::Pbr);
+  EXPECT_EQ(m.metallicRoughnessTexture, 0);
+  EXPECT_EQ(m.normalTexture, 0);
+  EXPECT_FLOAT_EQ(m.normalScale, 0.5f);
+  EXPECT_EQ(m.alphaMode, AlphaModeDesc::Mask);
+  EXPECT_FLOAT_EQ(m.alphaCutoff, 0.3f);
+  EXPECT_FLOAT_EQ(m.transmission, 0.8f);
+  EXPECT_EQ(m.transmissionTexture, 0);
+  EXPECT_FLOAT_EQ(m.ior, 1.33f);
+  ASSERT_EQ(s.meshes.size(), 1u);
+  ASSERT_EQ(s.meshes[0].tangents.size(), 3u);
+  for (const Vec4f& t : s.meshes[0].tangents) {  // normalized, handedness kept
+    EXPECT_FLOAT_EQ(t.x, 1);
+    EXPECT_FLOAT_EQ(t.w, -1);
+  }
+  // Built: the tangent reaches the surface interaction of a hit that needs tangents.
+  RenderScene scene = buildRenderScene(s);
+  EXPECT_TRUE(scene.features.has(Feature::Bump));
+  EXPECT_TRUE(scene.features.has(Feature::Refraction));
+  EXPECT_TRUE(scene.features.has(Feature::Transparency));
+  EXPECT_TRUE(scene.features.has(Feature::Textures));
+  Ray ray{{0.25f, 0.25f, 1}, {0, 0, -1}};
+  Hit hit;
+  ASSERT_TRUE(scene.accel->closestHit(ray, &hit));
+  SurfaceInteraction si =
+      computeSurfaceInteraction(scene.geometry, ray, hit, {.uvs = true, .tangents = true});
+  EXPECT_NEAR(si.tangent.x, 1, 1e-6f);
+  EXPECT_EQ(si.bitangentSign, -1.0f);
+  EXPECT_NEAR(length(si.dpdu - Vec3f{1, 0, 0}), 0, 1e-6f);  // from the UVs
 }
 
 TEST(GltfLoader, WarnsAboutSkippedPrimitivesAndOtherTexCoordSets) {

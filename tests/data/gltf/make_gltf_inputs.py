@@ -174,6 +174,45 @@ def no_scenes():
     }, b.data
 
 
+def pbr_materials():
+    """One triangle with NORMAL, TANGENT (left-handed bitangent) and TEXCOORD_0, and a material
+    with a normal map, a metallic-roughness texture, alphaMode MASK, KHR_materials_transmission
+    and KHR_materials_ior."""
+    b = Builder()
+    pos = b.accessor("f", flat([(0, 0, 0), (1, 0, 0), (0, 1, 0)]), 5126, "VEC3", 3,
+                     min=[0, 0, 0], max=[1, 1, 0])
+    nrm = b.accessor("f", flat([(0, 0, 1)] * 3), 5126, "VEC3", 3)
+    tan = b.accessor("f", [2, 0, 0, -1] * 3, 5126, "VEC4", 3)  # unnormalized on purpose
+    uv = b.accessor("f", [0, 0, 1, 0, 0, 1], 5126, "VEC2", 3)
+    image = png(2, 2, 2, 8, [bytes([128, 128, 255, 128, 128, 255]),
+                             bytes([128, 128, 255, 128, 128, 255])])
+    uri = "data:image/png;base64," + base64.b64encode(image).decode()
+    return {
+        "asset": {"version": "2.0", "generator": "glint make_gltf_inputs.py"},
+        "extensionsUsed": ["KHR_materials_transmission", "KHR_materials_ior"],
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"name": "Tri", "mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": pos, "NORMAL": nrm, "TANGENT": tan,
+                                                   "TEXCOORD_0": uv}, "material": 0}]}],
+        "materials": [{
+            "name": "Clear",
+            "pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0.4,
+                                     "metallicRoughnessTexture": {"index": 0}},
+            "normalTexture": {"index": 0, "scale": 0.5},
+            "alphaMode": "MASK", "alphaCutoff": 0.3,
+            "extensions": {"KHR_materials_transmission": {"transmissionFactor": 0.8,
+                                                          "transmissionTexture": {"index": 0}},
+                           "KHR_materials_ior": {"ior": 1.33}}}],
+        "textures": [{"source": 0}],
+        "images": [{"uri": uri}],
+        "buffers": [{"byteLength": len(b.data),
+                     "uri": "data:application/octet-stream;base64," +
+                            base64.b64encode(b.data).decode()}],
+        "bufferViews": b.views,
+        "accessors": b.accessors,
+    }
+
+
 def glb(doc, bin_data):
     js = json.dumps(doc).encode()
     js += b" " * (-len(js) % 4)
@@ -187,6 +226,9 @@ def glb(doc, bin_data):
 def main():
     with open(os.path.join(HERE, "features.gltf"), "w") as f:
         json.dump(features(), f, indent=1)
+        f.write("\n")
+    with open(os.path.join(HERE, "pbr_materials.gltf"), "w") as f:
+        json.dump(pbr_materials(), f, indent=1)
         f.write("\n")
     doc, data = no_scenes()
     with open(os.path.join(HERE, "no_scenes.gltf"), "w") as f:
