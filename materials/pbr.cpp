@@ -58,10 +58,20 @@ PbrMaterial::Lobes PbrMaterial::lobesAt(const SurfaceInteraction& si, uint32_t a
   l.frame = Frame::fromZ(si.ns);
   l.wo = l.frame.toLocal(si.wo);
   l.base = p_.baseColor.evaluate(si);
-  l.metallic = std::clamp(p_.metallic.evaluate(si), 0.0f, 1.0f);
+  float metallic = p_.metallic.factor, roughness = p_.roughness.factor;
+  if (p_.metallic.texture && p_.metallic.texture == p_.roughness.texture &&
+      p_.metallic.channel >= 0 && p_.roughness.channel >= 0) {
+    // glTF's metallicRoughnessTexture holds both: one lookup, two channels.
+    const Vec4f mr = p_.metallic.texture->evaluate(TexturePoint(si));
+    metallic *= mr[p_.metallic.channel];
+    roughness *= mr[p_.roughness.channel];
+  } else {
+    metallic = p_.metallic.evaluate(si);
+    roughness = p_.roughness.evaluate(si);
+  }
+  l.metallic = std::clamp(metallic, 0.0f, 1.0f);
   l.transmission = std::clamp(p_.transmission.evaluate(si), 0.0f, 1.0f);
-  l.alpha = TrowbridgeReitzDistribution::roughnessToAlpha(
-      std::clamp(p_.roughness.evaluate(si), 0.0f, 1.0f));
+  l.alpha = TrowbridgeReitzDistribution::roughnessToAlpha(std::clamp(roughness, 0.0f, 1.0f));
   // An opaque surface has no inside: both faces see air against the material's index.
   l.eta = l.transmission > 0 && !si.frontFace ? 1 / p_.ior : p_.ior;
 
