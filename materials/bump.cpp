@@ -74,7 +74,10 @@ void NormalMap::apply(SurfaceInteraction& si) const {
   Vec3f t = source - front * dot(front, source);
   if (lengthSquared(t) == 0) t = Frame::fromZ(front).s;
   t = normalize(t);
-  const Vec3f b = cross(front, t) * (given ? si.bitangentSign : 1.0f);
+  // Without a TANGENT the bitangent is cross(n, t), as in the Khronos reference viewer (UV
+  // layouts mirrored in v then come out inverted; MikkTSpace tangents would fix that).
+  const float sign = given ? si.bitangentSign : 1.0f;
+  const Vec3f b = cross(front, t) * sign;
   const Vec4f c = map_->evaluate(TexturePoint(si));
   const Vec3f local{(2 * c.x - 1) * scale_, (2 * c.y - 1) * scale_, 2 * c.z - 1};
   Vec3f m = t * local.x + b * local.y + front * local.z;

@@ -29,7 +29,8 @@ struct PbrMaterial::Lobes {
   Vec3f wo;
   Rgb base;
   float metallic = 0, transmission = 0, alpha = 1;
-  float eta = 1.5f;  // relative index of refraction across the surface, seen from wo's side
+  bool smooth = false;  // alpha below the delta threshold: specular lobes are deltas here
+  float eta = 1.5f;     // relative index of refraction across the surface, seen from wo's side
   // Probabilities of sampling the specular reflection, diffuse and transmission lobes
   // (zero for lobes not allowed), summing to 1 unless every lobe is excluded.
   float pSpec = 0, pDiff = 0, pTrans = 0;
@@ -45,11 +46,14 @@ PbrMaterial::PbrMaterial(const PbrParams& params) : p_(params) {
   traits_.emits = !p_.emission.isBlack();
   const bool transmits = p_.transmission.texture || p_.transmission.factor > 0;
   traits_.refraction = transmits;
-  smooth_ = !p_.roughness.texture &&
-            TrowbridgeReitzDistribution(
-                TrowbridgeReitzDistribution::roughnessToAlpha(p_.roughness.factor))
-                .effectivelySmooth();
-  flags_ = kBsdfReflection | kBsdfDiffuse | (smooth_ ? kBsdfSpecular : kBsdfGlossy);
+  // Smoothness is decided per hit (a roughness texture may hold both); the flags say which
+  // kinds of lobes the material can have anywhere.
+  const bool smoothFactor = TrowbridgeReitzDistribution(
+                                TrowbridgeReitzDistribution::roughnessToAlpha(p_.roughness.factor))
+                                .effectivelySmooth();
+  flags_ = kBsdfReflection | kBsdfDiffuse;
+  if (p_.roughness.texture || smoothFactor) flags_ |= kBsdfSpecular;
+  if (p_.roughness.texture || !smoothFactor) flags_ |= kBsdfGlossy;
   if (transmits) flags_ |= kBsdfTransmission;
 }
 
@@ -72,6 +76,7 @@ PbrMaterial::Lobes PbrMaterial::lobesAt(const SurfaceInteraction& si, uint32_t a
   l.metallic = std::clamp(metallic, 0.0f, 1.0f);
   l.transmission = std::clamp(p_.transmission.evaluate(si), 0.0f, 1.0f);
   l.alpha = TrowbridgeReitzDistribution::roughnessToAlpha(std::clamp(roughness, 0.0f, 1.0f));
+  l.smooth = TrowbridgeReitzDistribution(l.alpha).effectivelySmooth();
   // An opaque surface has no inside: both faces see air against the material's index.
   l.eta = l.transmission > 0 && !si.frontFace ? 1 / p_.ior : p_.ior;
 
@@ -83,13 +88,13 @@ PbrMaterial::Lobes PbrMaterial::lobesAt(const SurfaceInteraction& si, uint32_t a
   // A rough surface transmits through tilted microfacets even where the macro-surface reflects
   // totally (fd = 1 seen from inside past the critical angle): the transmission lobe keeps a
   // minimum weight there, or sample() would never reach light that eval() says passes.
-  const float fdTransmission = smooth_ ? fd : std::min(fd, 1 - kMinRoughTransmissionWeight);
+  const float fdTransmission = l.smooth ? fd : std::min(fd, 1 - kMinRoughTransmissionWeight);
   float wTrans = dielectric * l.transmission * (1 - fdTransmission);
   if (!(allowed & kBsdfReflection)) wSpec = wDiff = 0;
   if (!(allowed & kBsdfTransmission)) wTrans = 0;
   if (allowed & kBsdfSpecular) {  // only the delta lobes
     wDiff = 0;
-    if (!smooth_) wSpec = wTrans = 0;
+    if (!l.smooth) wSpec = wTrans = 0;
   }
   const float sum = wSpec + wDiff + wTrans;
   if (sum > 0) l.pSpec = wSpec / sum, l.pDiff = wDiff / sum, l.pTrans = wTrans / sum;
@@ -98,7 +103,7 @@ PbrMaterial::Lobes PbrMaterial::lobesAt(const SurfaceInteraction& si, uint32_t a
 
 Rgb PbrMaterial::evalLocal(const Lobes& l, Vec3f wo, Vec3f wi) const {
   const float dielectric = 1 - l.metallic;
-  if (smooth_) {
+  if (l.smooth) {
     // Only the diffuse lobe is not a delta; it gets what the mirror lobe leaves at wo.
     if (wi.z <= 0) return {};
     const float fd = fresnelDielectric(wo.z, l.eta);
@@ -139,7 +144,7 @@ Rgb PbrMaterial::evalLocal(const Lobes& l, Vec3f wo, Vec3f wi) const {
 }
 
 float PbrMaterial::pdfLocal(const Lobes& l, Vec3f wo, Vec3f wi) const {
-  if (smooth_) return wi.z > 0 ? l.pDiff * cosineHemispherePdf(wi.z) : 0;
+  if (l.smooth) return wi.z > 0 ? l.pDiff * cosineHemispherePdf(wi.z) : 0;
   const TrowbridgeReitzDistribution distribution(l.alpha);
   if (wi.z > 0) {
     Vec3f h = wo + wi;
@@ -204,7 +209,7 @@ std::optional<BsdfSample> PbrMaterial::sampleBsdf(const SurfaceInteraction& si, 
 
   Vec3f wi;
   BsdfSample s;
-  if (smooth_ && lobe != kDiff) {
+  if (l.smooth && lobe != kDiff) {
     // Delta lobes: the mirror direction, or the refracted one.
     if (lobe == kSpec) {
       wi = {-wo.x, -wo.y, wo.z};
@@ -243,6 +248,13 @@ std::optional<BsdfSample> PbrMaterial::sampleBsdf(const SurfaceInteraction& si, 
     if (!(s.pdf > 0)) return std::nullopt;
   }
   s.wi = l.frame.fromLocal(wi);
+  if ((s.flags & kBsdfSpecular) && (s.flags & kBsdfReflection) && dot(s.wi, si.ng) <= 0) {
+    // A mirror direction about a strongly tilted shading normal (normal maps, coarse smooth
+    // meshes) can point into the surface; fold it back above the geometric plane rather than
+    // lose it (a lost ray shows as a black fringe on mirrors).
+    s.wi = normalize(s.wi - si.ng * (2 * dot(s.wi, si.ng)));
+    return s;
+  }
   if (!consistentSide(si, s.wi, wi.z)) return std::nullopt;
   return s;
 }

@@ -16,9 +16,10 @@
 // tables would restore).
 // Transmission refracts (as with KHR_materials_volume); a thin-walled variant is not modelled.
 //
-// Roughness below ~0.03 (alpha < 1e-3) cannot be sampled or integrated in float; such surfaces
-// (with a constant roughness) switch to delta lobes for the specular reflection and refraction,
-// so that mirrors and clear glass from glTF render as such in the Whitted integrator too.
+// Roughness below ~0.03 (alpha < 1e-3) cannot be sampled or integrated in float; where a hit's
+// roughness (constant or from the texture) is that low, the specular reflection and refraction
+// are delta lobes, so that mirrors and clear glass from glTF render as such in the Whitted
+// integrator too.
 #pragma once
 
 #include "materials/material.h"
@@ -53,7 +54,6 @@ class PbrMaterial final : public Material {
   float pdfLocal(const Lobes& l, Vec3f wo, Vec3f wi) const;
 
   PbrParams p_;
-  bool smooth_;  // constant roughness below the delta threshold
   uint32_t flags_;
 };
 

@@ -39,5 +39,31 @@ TEST(PbrTextures, MetallicRoughnessChannelsMatchConstantFactors) {
   EXPECT_TRUE(a.traits().procedural);
 }
 
+TEST(PbrTextures, SmoothnessIsDecidedPerHitFromTheRoughnessTexture) {
+  // Roughness 0 in the texture: a mirror at that hit (the Whitted integrator follows delta
+  // lobes only); roughness 0.5: no delta lobe there.
+  CheckerTexture smooth(TextureMapping{}, {0, 0, 1}, {0, 0, 1}, false);
+  CheckerTexture rough(TextureMapping{}, {0, 0.5f, 1}, {0, 0.5f, 1}, false);
+  SurfaceInteraction si = hitFacing({0.3f, -0.2f, 1});
+  for (const CheckerTexture* mr : {&smooth, &rough}) {
+    PbrParams p;
+    p.baseColor = {{0.9f, 0.7f, 0.3f}};
+    p.metallic = {1, mr, 2};
+    p.roughness = {1, mr, 1};
+    PbrMaterial m(p);
+    EXPECT_TRUE(m.flags() & kBsdfSpecular);
+    EXPECT_TRUE(m.flags() & kBsdfGlossy);
+    std::optional<BsdfSample> s = m.sample(si, {0.3f, 0.6f}, 0.1f, kBsdfReflection | kBsdfSpecular);
+    if (mr == &smooth) {
+      ASSERT_TRUE(s.has_value());
+      EXPECT_TRUE(s->flags & kBsdfSpecular);
+      EXPECT_NEAR(s->wi.x, -si.wo.x, 1e-6f);  // the mirror direction
+      EXPECT_NEAR(s->wi.z, si.wo.z, 1e-6f);
+    } else {
+      EXPECT_FALSE(s.has_value());
+    }
+  }
+}
+
 }  // namespace
 }  // namespace glint
