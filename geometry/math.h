@@ -102,6 +102,17 @@ struct Frame {
   Vec3f fromLocal(Vec3f v) const { return s * v.x + t * v.y + n * v.z; }
 };
 
+// A 64-bit hash finaliser (Stafford's Mix13 variant of MurmurHash3's fmix64), a strong
+// bijective mix: the sampler, random colours and snow all hash with it.
+inline uint64_t mixBits(uint64_t v) {
+  v ^= v >> 31;
+  v *= 0x7fb5d329728ea185ull;
+  v ^= v >> 27;
+  v *= 0x81dadef4bc2dd44dull;
+  v ^= v >> 33;
+  return v;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Bounds
 // ---------------------------------------------------------------------------------------------

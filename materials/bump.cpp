@@ -91,26 +91,15 @@ void NormalMap::apply(SurfaceInteraction& si) const {
 // Snow
 // ---------------------------------------------------------------------------------------------
 
-namespace {
-uint64_t hash64(uint64_t v) {
-  v ^= v >> 31;
-  v *= 0x7fb5d329728ea185ull;
-  v ^= v >> 27;
-  v *= 0x81dadef4bc2dd44dull;
-  v ^= v >> 33;
-  return v;
-}
-}  // namespace
-
 void SnowPerturbation::apply(SurfaceInteraction& si) const {
   const Vec3f p = si.objectFromWorld ? si.objectFromWorld->point(si.p) : si.p;
-  uint64_t key = hash64(seed_ + 0x9e3779b97f4a7c15ull);
+  uint64_t key = mixBits(seed_ + 0x9e3779b97f4a7c15ull);
   for (int axis = 0; axis < 3; ++axis)
-    key = hash64(key ^ uint64_t(int64_t(std::floor(p[axis] / grain_))));
+    key = mixBits(key ^ uint64_t(int64_t(std::floor(p[axis] / grain_))));
   // A random vector in the unit ball, by rejection from a deterministic sequence.
   Vec3f v;
   for (uint64_t i = 0;; ++i) {
-    uint64_t h = hash64(key + i);
+    uint64_t h = mixBits(key + i);
     auto unit = [](uint64_t bits) { return float(bits & 0x1fffff) * 0x1p-20f - 1.0f; };
     v = {unit(h), unit(h >> 21), unit(h >> 42)};
     if (lengthSquared(v) <= 1 || i == 16) break;

@@ -6,17 +6,6 @@
 
 namespace glint {
 
-namespace {
-// A strong 64-bit mix (the MurmurHash3 finaliser with Stafford's constants).
-uint64_t hash64(uint64_t v) {
-  v ^= v >> 31;
-  v *= 0x7fb5d329728ea185ull;
-  v ^= v >> 27;
-  v *= 0x81dadef4bc2dd44dull;
-  v ^= v >> 33;
-  return v;
-}
-}  // namespace
 
 NoiseTexture::NoiseTexture(TextureMapping mapping, const NoiseParams& params)
     : mapping_(mapping),
@@ -122,16 +111,16 @@ bool NoiseTexture::scalarGradient(const TexturePoint& tp, Vec3f* gradient) const
 }
 
 Vec4f RandomColorTexture::evaluate(const TexturePoint& tp) const {
-  uint64_t key = hash64(seed_ + 0x9e3779b97f4a7c15ull) ^ hash64(tp.instance + 1);
-  if (mode_ != Mode::Object) key = hash64(key ^ (uint64_t(tp.prim) << 32));
+  uint64_t key = mixBits(seed_ + 0x9e3779b97f4a7c15ull) ^ mixBits(tp.instance + 1);
+  if (mode_ != Mode::Object) key = mixBits(key ^ (uint64_t(tp.prim) << 32));
   if (mode_ == Mode::Hit) {
     Vec3f p = tp.pObject();
-    key = hash64(key ^ std::bit_cast<uint32_t>(p.x));
-    key = hash64(key ^ std::bit_cast<uint32_t>(p.y));
-    key = hash64(key ^ std::bit_cast<uint32_t>(p.z));
+    key = mixBits(key ^ std::bit_cast<uint32_t>(p.x));
+    key = mixBits(key ^ std::bit_cast<uint32_t>(p.y));
+    key = mixBits(key ^ std::bit_cast<uint32_t>(p.z));
   }
   auto channel = [&](int i) {
-    return float((hash64(key + uint64_t(i)) >> 40) & 0xffffff) * 0x1p-24f;
+    return float((mixBits(key + uint64_t(i)) >> 40) & 0xffffff) * 0x1p-24f;
   };
   return {channel(0), channel(1), channel(2), 1};
 }

@@ -19,16 +19,6 @@
 
 namespace glint {
 
-// 64-bit finaliser (Stafford's Mix13 variant of MurmurHash3's fmix64): a strong bijective mix.
-inline uint64_t mixBits(uint64_t v) {
-  v ^= v >> 31;
-  v *= 0x7fb5d329728ea185ull;
-  v ^= v >> 27;
-  v *= 0x81dadef4bc2dd44dull;
-  v ^= v >> 33;
-  return v;
-}
-
 // The key of one pixel's samples for a seed; computed once per pixel.
 inline uint64_t pixelSampleKey(uint64_t seed, uint64_t pixel) {
   return mixBits(mixBits(seed + 0x9e3779b97f4a7c15ull) ^ (pixel * 0xd1b54a32d192ed03ull));
