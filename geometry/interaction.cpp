@@ -47,13 +47,13 @@ void triangleTangents(const TriangleMesh& mesh, const Transform& xf, bool identi
     dpdv = (duv02.x * dp12 - duv12.x * dp02) * inv;
     ok = isFinite(dpdu) && isFinite(dpdv) && lengthSquared(cross(dpdu, dpdv)) > 0;
   }
-  if (!identity) dpdu = xf.vector(dpdu), dpdv = xf.vector(dpdv);
   if (!ok) {
-    Frame f = Frame::fromZ(si->ng);
-    dpdu = f.s, dpdv = f.t;
+    const Frame f = Frame::fromZ(si->ng);  // already in world space
+    si->dpdu = f.s, si->dpdv = f.t;
+  } else {
+    si->dpdu = identity ? dpdu : xf.vector(dpdu);
+    si->dpdv = identity ? dpdv : xf.vector(dpdv);
   }
-  si->dpdu = dpdu;
-  si->dpdv = dpdv;
 }
 
 }  // namespace

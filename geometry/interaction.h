@@ -39,7 +39,7 @@ struct SurfaceInteraction {
   // counter-clockwise front, a solid's outside): refraction enters the object there.
   bool frontFace = true;
   // Footprint of one pixel at the hit, for texture filtering: how p and uv change from one
-  // pixel to the next (zero unless the renderer computes them; see Camera::footprint).
+  // pixel to the next (zero unless the renderer computes them: RayCone, setPixelFootprint).
   Vec3f dpdx, dpdy;
   Vec2f duvdx, duvdy;
   // The object's own frame, for object-space textures (null: the world frame). Set by the
