@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "geometry/math.h"
+#include "geometry/motion.h"
 #include "geometry/shape.h"
 
 namespace glint {
@@ -31,6 +32,9 @@ struct Instance {
   uint32_t mesh = kNone;  // index into GeometryScene::meshes
   Transform worldFromObject;
   uint32_t shape = kNone;  // index into GeometryScene::shapes
+  // The placement over the shutter when it moves (then worldFromObject == motion.key(0));
+  // static (one key) otherwise, and then nothing is built with time steps.
+  AnimatedTransform motion;
 
   bool isShape() const { return shape != kNone; }
 };

@@ -39,6 +39,8 @@ struct RenderSettings {
   int threads = 0;                   // 0 = all hardware threads
   std::string accel = "embree";
   std::string camera;                // camera name; empty = the first camera
+  double time = 0;                   // seconds: the scene time of a single frame
+  double fps = 24;                   // frames per second of a sequence (frame f at f / fps)
   std::string integrator = "whitted";
   int maxDepth = 8;                  // recursion depth for mirror/glass (Whitted)
   FilterSettings filter;

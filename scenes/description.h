@@ -11,6 +11,7 @@
 
 #include "geometry/math.h"
 #include "renderer/settings.h"
+#include "scenes/animation.h"
 #include "scenes/errors.h"
 
 namespace glint {
@@ -132,6 +133,17 @@ struct CameraDesc {
   float znear = 0, zfar = kInfinity;
   float xmag = 1, ymag = 1;   // half extents (orthographic)
   Transform worldFromCamera;  // camera at the origin looking down -Z, +Y up (glTF)
+  // Animated placement: worldFromNode(nodes, transformNode, t) · nodeFromCamera; -1 = static
+  // (worldFromCamera). When set, worldFromCamera holds the placement at the load time.
+  int transformNode = -1;
+  Transform nodeFromCamera;
+  // Thin lens (sidecar): aperture radius and focus distance in world units; 0 = pinhole.
+  float apertureRadius = 0;
+  float focusDistance = 0;  // along the view axis; 0 = not given (required with an aperture)
+  int apertureBlades = 0;   // 0 = round; >= 3: a regular polygon (bokeh shape)
+  float apertureRotation = 0;  // radians, polygon orientation
+  // Shutter interval in seconds relative to the frame's time; open == close = no motion blur.
+  float shutterOpen = 0, shutterClose = 0;
   SourceLocation where;
 };
 
@@ -147,6 +159,8 @@ struct LightDesc {
   float range = 0;                                     // 0 = infinite
   float innerConeAngle = 0, outerConeAngle = kPi / 4;  // spot, radians
   Transform worldFromLight;                            // light at the origin, shining down -Z
+  int transformNode = -1;  // animated placement (see CameraDesc); -1 = static
+  Transform nodeFromLight;
   bool castsShadows = true;
   SourceLocation where;
 };
@@ -159,6 +173,8 @@ struct InstanceDesc {
   std::string node;  // name of the glTF node, for messages
   SourceLocation where;
   int material = -1;  // a sidecar material assigned to the node; -1 = the mesh's own
+  int transformNode = -1;  // animated placement (see CameraDesc); -1 = static
+  Transform nodeFromObject;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -222,6 +238,8 @@ struct ObjectDesc {
   TerrainDesc terrain;
   int material = -1;  // index into materials, -1 = the default material
   Transform worldFromObject;
+  int transformNode = -1;  // animated placement (see CameraDesc); -1 = static
+  Transform nodeFromObject;
   SourceLocation where;
 };
 
@@ -235,6 +253,9 @@ struct SceneDescription {
   std::vector<CameraDesc> cameras;
   std::vector<LightDesc> lights;
   std::vector<ObjectDesc> objects;  // analytic objects from the sidecar
+  // The transform hierarchy of everything animated (glTF nodes with animated ancestry,
+  // sidecar objects with keyframes); items refer to it by transformNode.
+  std::vector<NodeDesc> nodes;
   RenderSettings render;
   // Things loaders accepted but did not use (e.g. glTF point or line primitives), one line
   // each with its location; `glint render` and `glint info` print them.

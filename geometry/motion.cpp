@@ -1,0 +1,190 @@
+// glint — keyed transforms interpolated as Embree interpolates motion instances.
+#include "geometry/motion.h"
+
+#include <cmath>
+
+namespace glint {
+
+Quaternion normalize(const Quaternion& q) {
+  float n = std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
+  if (!(n > 0)) return {};
+  return {q.x / n, q.y / n, q.z / n, q.w / n};
+}
+
+float dot(const Quaternion& a, const Quaternion& b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z + a.w * b.w;
+}
+
+Quaternion slerp(const Quaternion& a, const Quaternion& b0, float t) {
+  Quaternion b = b0;
+  float c = dot(a, b);
+  if (c < 0) b = {-b.x, -b.y, -b.z, -b.w}, c = -c;
+  if (c > 0.9995f) {
+    // Nearly parallel: sin(theta) would divide by ~0; the chord is indistinguishable from the arc.
+    return normalize({a.x + t * (b.x - a.x), a.y + t * (b.y - a.y), a.z + t * (b.z - a.z),
+                      a.w + t * (b.w - a.w)});
+  }
+  float theta = std::acos(std::min(c, 1.0f));
+  float s = std::sin(theta);
+  float wa = std::sin((1 - t) * theta) / s, wb = std::sin(t * theta) / s;
+  return normalize(
+      {wa * a.x + wb * b.x, wa * a.y + wb * b.y, wa * a.z + wb * b.z, wa * a.w + wb * b.w});
+}
+
+Transform toTransform(const Quaternion& q) {
+  return Transform::rotateQuaternion({q.x, q.y, q.z, q.w});
+}
+
+Quaternion quaternionFromRotation(const Mat4& mat) {
+  // Shepperd's method: pick the largest of w, x, y, z to divide by, for accuracy.
+  const auto& m = mat.m;
+  double trace = double(m[0][0]) + m[1][1] + m[2][2];
+  double x, y, z, w;
+  if (trace > 0) {
+    double s = std::sqrt(trace + 1.0) * 2;
+    w = 0.25 * s;
+    x = (m[2][1] - m[1][2]) / s;
+    y = (m[0][2] - m[2][0]) / s;
+    z = (m[1][0] - m[0][1]) / s;
+  } else if (m[0][0] > m[1][1] && m[0][0] > m[2][2]) {
+    double s = std::sqrt(1.0 + m[0][0] - m[1][1] - m[2][2]) * 2;
+    w = (m[2][1] - m[1][2]) / s;
+    x = 0.25 * s;
+    y = (m[0][1] + m[1][0]) / s;
+    z = (m[0][2] + m[2][0]) / s;
+  } else if (m[1][1] > m[2][2]) {
+    double s = std::sqrt(1.0 + m[1][1] - m[0][0] - m[2][2]) * 2;
+    w = (m[0][2] - m[2][0]) / s;
+    x = (m[0][1] + m[1][0]) / s;
+    y = 0.25 * s;
+    z = (m[1][2] + m[2][1]) / s;
+  } else {
+    double s = std::sqrt(1.0 + m[2][2] - m[0][0] - m[1][1]) * 2;
+    w = (m[1][0] - m[0][1]) / s;
+    x = (m[0][2] + m[2][0]) / s;
+    y = (m[1][2] + m[2][1]) / s;
+    z = 0.25 * s;
+  }
+  return normalize({float(x), float(y), float(z), float(w)});
+}
+
+// ---- decomposition ---------------------------------------------------------------------------
+
+namespace {
+
+struct Vec3d {
+  double x = 0, y = 0, z = 0;
+};
+Vec3d operator-(Vec3d a, Vec3d b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+Vec3d operator*(Vec3d a, double s) { return {a.x * s, a.y * s, a.z * s}; }
+double dotd(Vec3d a, Vec3d b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+Vec3d crossd(Vec3d a, Vec3d b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+double lengthd(Vec3d a) { return std::sqrt(dotd(a, a)); }
+
+// Any unit vector perpendicular to `a` (unit), for degenerate (zero-scale) columns.
+Vec3d perpendicular(Vec3d a) {
+  Vec3d axis = std::abs(a.x) < 0.9 ? Vec3d{1, 0, 0} : Vec3d{0, 1, 0};
+  Vec3d p = crossd(a, axis);
+  return p * (1 / lengthd(p));
+}
+
+}  // namespace
+
+DecomposedTransform DecomposedTransform::fromTransform(const Transform& xf) {
+  const auto& m = xf.matrix().m;
+  Vec3d a[3];
+  for (int c = 0; c < 3; ++c) a[c] = {m[0][c], m[1][c], m[2][c]};
+  // Gram–Schmidt: A = Q U, column by column.
+  Vec3d q[3];
+  double u[3][3] = {};
+  u[0][0] = lengthd(a[0]);
+  q[0] = u[0][0] > 0 ? a[0] * (1 / u[0][0]) : Vec3d{1, 0, 0};
+  u[0][1] = dotd(q[0], a[1]);
+  Vec3d r1 = a[1] - q[0] * u[0][1];
+  u[1][1] = lengthd(r1);
+  q[1] = u[1][1] > 1e-12 * (1 + lengthd(a[1])) ? r1 * (1 / u[1][1]) : perpendicular(q[0]);
+  u[0][2] = dotd(q[0], a[2]);
+  u[1][2] = dotd(q[1], a[2]);
+  Vec3d r2 = a[2] - q[0] * u[0][2] - q[1] * u[1][2];
+  // q2 completes a right-handed frame; a reflection shows up as a negative u22.
+  q[2] = crossd(q[0], q[1]);
+  u[2][2] = dotd(q[2], r2);
+
+  DecomposedTransform d;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) d.u[r][c] = float(u[r][c]);
+  Mat4 rot;
+  for (int c = 0; c < 3; ++c) {
+    rot.m[0][c] = float(q[c].x);
+    rot.m[1][c] = float(q[c].y);
+    rot.m[2][c] = float(q[c].z);
+  }
+  d.rotation = quaternionFromRotation(rot);
+  d.translation = {m[0][3], m[1][3], m[2][3]};
+  return d;
+}
+
+Transform DecomposedTransform::toTransform() const {
+  Mat4 um;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) um.m[r][c] = u[r][c];
+  Mat4 m = glint::toTransform(rotation).matrix() * um;
+  m.m[0][3] = translation.x, m.m[1][3] = translation.y, m.m[2][3] = translation.z;
+  Mat4 inv;
+  if (!invert(m, &inv)) inv = Mat4{};  // a zero scale: nothing can be hit, keep it finite
+  return Transform(m, inv);
+}
+
+DecomposedTransform DecomposedTransform::lerp(const DecomposedTransform& a,
+                                              const DecomposedTransform& b, float t) {
+  DecomposedTransform d;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) d.u[r][c] = (1 - t) * a.u[r][c] + t * b.u[r][c];
+  d.rotation = slerp(a.rotation, b.rotation, t);
+  d.translation = a.translation * (1 - t) + b.translation * t;
+  return d;
+}
+
+// ---- AnimatedTransform -----------------------------------------------------------------------
+
+AnimatedTransform::AnimatedTransform(std::vector<Transform> keys) {
+  if (keys.empty()) keys.push_back(Transform());
+  bool moves = false;
+  for (const Transform& k : keys) moves = moves || !(k == keys.front());
+  if (!moves) {
+    keys_ = {keys.front()};
+    return;
+  }
+  keys_ = std::move(keys);
+  decomposed_.reserve(keys_.size());
+  for (size_t i = 0; i < keys_.size(); ++i) {
+    DecomposedTransform d = DecomposedTransform::fromTransform(keys_[i]);
+    if (i > 0 && dot(d.rotation, decomposed_.back().rotation) < 0)
+      d.rotation = {-d.rotation.x, -d.rotation.y, -d.rotation.z, -d.rotation.w};
+    decomposed_.push_back(d);
+  }
+}
+
+Transform AnimatedTransform::at(float time) const {
+  if (!isAnimated()) return keys_.front();
+  const size_t segments = keys_.size() - 1;
+  float s = std::clamp(time, 0.0f, 1.0f) * float(segments);
+  size_t i = std::min(size_t(s), segments - 1);
+  float f = s - float(i);
+  // On a key the key itself is returned, bit for bit (its decomposition would round).
+  if (f == 0) return keys_[i];
+  if (f == 1) return keys_[i + 1];
+  return DecomposedTransform::lerp(decomposed_[i], decomposed_[i + 1], f).toTransform();
+}
+
+Bounds3f AnimatedTransform::motionBounds(const Bounds3f& b, int steps) const {
+  if (!isAnimated()) return keys_.front().bounds(b);
+  Bounds3f out;
+  const int n = int(keys_.size() - 1) * std::max(steps, 1);
+  for (int i = 0; i <= n; ++i) out.extend(at(float(i) / float(n)).bounds(b));
+  return out;
+}
+
+}  // namespace glint
