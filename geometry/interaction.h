@@ -43,7 +43,8 @@ struct SurfaceInteraction {
   Vec3f dpdx, dpdy;
   Vec2f duvdx, duvdy;
   // The object's own frame, for object-space textures (null: the world frame). Set by the
-  // renderer, which knows the placement each object was authored in.
+  // renderer, which knows the placement each object was authored in; for a moving instance it
+  // must be the inverse of worldFromObjectAt(ray time), so the texture moves with the object.
   const Transform* objectFromWorld = nullptr;
   float t = 0;
   uint32_t instance = 0, prim = 0;
@@ -61,7 +62,8 @@ struct SurfaceInteraction {
 // Computes the surface details of `hit` (found for `ray` in `scene`). Triangles: the hit point
 // is re-evaluated from the vertices and barycentrics, which is far more accurate than o + t d,
 // with its error bound propagated through the instance transform. Analytic shapes: their own
-// surface() (re-projected point, error bound, normal, uv, dp/du, dp/dv) in world space.
+// surface() (re-projected point, error bound, normal, uv, dp/du, dp/dv) in world space. A moving
+// instance is placed by its transform at ray.time (Instance::worldFromObjectAt).
 SurfaceInteraction computeSurfaceInteraction(const GeometryScene& scene, const Ray& ray,
                                              const Hit& hit, SurfaceNeeds needs = {});
 

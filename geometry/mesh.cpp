@@ -17,13 +17,25 @@ Bounds3f GeometryScene::bounds() const {
   for (uint32_t i = 0; i < instances.size(); ++i) {
     const Instance& inst = instances[i];
     if (!inst.isShape()) {
-      b.extend(inst.worldFromObject.bounds(meshBounds[inst.mesh]));
+      if (inst.moves())
+        b.extend(inst.motion.motionBounds(meshBounds[inst.mesh]));
+      else
+        b.extend(inst.worldFromObject.bounds(meshBounds[inst.mesh]));
+    } else if (inst.moves()) {
+      Bounds3f sb = shapes[inst.shape]->bounds();
+      if (!isUnbounded(sb)) b.extend(inst.motion.motionBounds(sb));
     } else {
       Bounds3f sb = placedShape(i).bounds();
       if (!isUnbounded(sb)) b.extend(sb);
     }
   }
   return b;
+}
+
+bool GeometryScene::hasMotion() const {
+  for (const Instance& inst : instances)
+    if (inst.moves()) return true;
+  return false;
 }
 
 size_t GeometryScene::uniqueTriangleCount() const {

@@ -37,6 +37,12 @@ struct Instance {
   AnimatedTransform motion;
 
   bool isShape() const { return shape != kNone; }
+  bool moves() const { return motion.isAnimated(); }
+  // The placement at normalised shutter time `time`: the transform the accelerators intersected
+  // at that time (the same interpolation as Embree's), worldFromObject when static.
+  Transform worldFromObjectAt(float time) const {
+    return motion.isAnimated() ? motion.at(time) : worldFromObject;
+  }
 };
 
 // Everything an accelerator needs: meshes, analytic shapes (primitives and CSG trees, each in
@@ -47,17 +53,22 @@ struct GeometryScene {
   std::vector<std::unique_ptr<Shape>> shapes;
   std::vector<Instance> instances;
 
-  // The analytic shape of instance `i` (which must be a shape instance), placed in the world.
+  // The analytic shape of instance `i` (which must be a shape instance), placed in the world
+  // (at shutter open when it moves).
   PlacedShape placedShape(uint32_t i) const {
     return PlacedShape(shapes[instances[i].shape].get(), instances[i].worldFromObject);
   }
-  // World bounds of the bounded geometry (unbounded shapes such as infinite planes are left
-  // out: they have no finite box).
-
+  // The same, placed where it is at normalised shutter time `time`.
+  PlacedShape placedShape(uint32_t i, float time) const {
+    return PlacedShape(shapes[instances[i].shape].get(), instances[i].worldFromObjectAt(time));
+  }
+  // World bounds of the bounded geometry, moving instances swept over the shutter (unbounded
+  // shapes such as infinite planes are left out: they have no finite box).
   Bounds3f bounds() const;
-  size_t uniqueTriangleCount() const;    // triangles stored
-  size_t instancedTriangleCount() const; // triangles in the world (instances counted)
-  size_t shapeInstanceCount() const;     // analytic objects in the world
+  bool hasMotion() const;                 // any instance moves
+  size_t uniqueTriangleCount() const;     // triangles stored
+  size_t instancedTriangleCount() const;  // triangles in the world (instances counted)
+  size_t shapeInstanceCount() const;      // analytic objects in the world
 };
 
 }  // namespace glint

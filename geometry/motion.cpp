@@ -1,6 +1,7 @@
 // glint — keyed transforms interpolated as Embree interpolates motion instances.
 #include "geometry/motion.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace glint {
@@ -15,6 +16,28 @@ float dot(const Quaternion& a, const Quaternion& b) {
   return a.x * b.x + a.y * b.y + a.z * b.z + a.w * b.w;
 }
 
+namespace {
+
+// acos on [0, 1] by the same single-precision polynomial Embree's slerp uses (its
+// fastapprox::acos, a sollya minimax fit of asin, absolute error about 1.3e-6 rad). That error
+// is twenty float ulps of a rotated point's position: with std::acos our transform at a ray
+// time would put a moving surface off the one Embree intersected by more than a hit point's
+// error bound, and rays spawned from it could re-hit it. Evaluated in Embree's order.
+float embreeAcos(float x) {
+  float v = 1.57079517841339111328125f +
+            x * (-0.21450997889041900634765625f +
+                 x * (8.78556668758392333984375e-2f +
+                      x * (-4.489909112453460693359375e-2f +
+                           x * (1.928029954433441162109375e-2f +
+                                x * (-4.3095736764371395111083984375e-3f)))));
+  v *= -std::sqrt(1.0f - x);
+  v = v + 1.57079637050628662109375f;  // asin(x)
+  if (v < 0) v = 0;
+  return 1.57079637050628662109375f - v;
+}
+
+}  // namespace
+
 Quaternion slerp(const Quaternion& a, const Quaternion& b0, float t) {
   Quaternion b = b0;
   float c = dot(a, b);
@@ -24,11 +47,12 @@ Quaternion slerp(const Quaternion& a, const Quaternion& b0, float t) {
     return normalize({a.x + t * (b.x - a.x), a.y + t * (b.y - a.y), a.z + t * (b.z - a.z),
                       a.w + t * (b.w - a.w)});
   }
-  float theta = std::acos(std::min(c, 1.0f));
-  float s = std::sin(theta);
-  float wa = std::sin((1 - t) * theta) / s, wb = std::sin(t * theta) / s;
-  return normalize(
-      {wa * a.x + wb * b.x, wa * a.y + wb * b.y, wa * a.z + wb * b.z, wa * a.w + wb * b.w});
+  // Embree's formulation: turn by phi from a towards the unit part of b orthogonal to a.
+  const float phi = t * embreeAcos(c);
+  const float sinPhi = std::sin(phi), cosPhi = std::cos(phi);
+  const Quaternion perp = normalize({b.x - c * a.x, b.y - c * a.y, b.z - c * a.z, b.w - c * a.w});
+  return {cosPhi * a.x + sinPhi * perp.x, cosPhi * a.y + sinPhi * perp.y,
+          cosPhi * a.z + sinPhi * perp.z, cosPhi * a.w + sinPhi * perp.w};
 }
 
 Transform toTransform(const Quaternion& q) {
@@ -154,7 +178,7 @@ AnimatedTransform::AnimatedTransform(std::vector<Transform> keys) {
   bool moves = false;
   for (const Transform& k : keys) moves = moves || !(k == keys.front());
   if (!moves) {
-    keys_ = {keys.front()};
+    keys_.assign(1, keys.front());
     return;
   }
   keys_ = std::move(keys);

@@ -24,6 +24,8 @@ struct Quaternion {
 Quaternion normalize(const Quaternion& q);
 float dot(const Quaternion& a, const Quaternion& b);
 // Spherical linear interpolation along the shorter arc; nlerp when the two are nearly equal.
+// Computed as Embree computes it (its approximate acos included), so a moving surface is where
+// Embree intersected it to within float rounding.
 Quaternion slerp(const Quaternion& a, const Quaternion& b, float t);
 // The rotation matrix of a unit quaternion (and its transpose as the inverse).
 Transform toTransform(const Quaternion& q);
@@ -47,8 +49,10 @@ struct DecomposedTransform {
 
 class AnimatedTransform {
  public:
-  AnimatedTransform() = default;  // the identity, not moving
-  explicit AnimatedTransform(const Transform& xf) : keys_{xf}, decomposed_{} {}
+  // The identity, not moving. (Sized constructors, not braces: GCC 12 warns about the
+  // initializer_list temporaries of `keys_{...}`.)
+  AnimatedTransform() : keys_(1) {}
+  explicit AnimatedTransform(const Transform& xf) : keys_(1, xf) {}
   // Keys at times i / (n - 1) of the shutter, n >= 1. Consecutive rotations are put in the same
   // hemisphere so slerp takes the short way between them; callers sample densely enough that
   // no step turns by more than 180 degrees. All keys equal collapses to one (no motion).
@@ -67,7 +71,7 @@ class AnimatedTransform {
   Bounds3f motionBounds(const Bounds3f& b, int steps = 8) const;
 
  private:
-  std::vector<Transform> keys_{Transform()};
+  std::vector<Transform> keys_;
   std::vector<DecomposedTransform> decomposed_;  // empty unless animated
 };
 

@@ -3,6 +3,13 @@
 // Backends are interchangeable and chosen by name (makeAccelerator); they are tested against
 // each other. A hit records only what traversal knows (t, instance, primitive, barycentrics);
 // surface details are computed once, for the final hit (computeSurfaceInteraction).
+//
+// Motion blur: every backend supports moving instances (Instance::motion animated). A ray is
+// intersected with the scene as it is at ray.time (normalised shutter time, [0, 1]), each
+// moving placement interpolated as AnimatedTransform::at does (Embree's quaternion-instance
+// interpolation). Static scenes are built and traced exactly as without motion. Embree holds
+// moving objects in its motion-blur BVH; the kd-trees keep them out of the tree and test them
+// one by one at the ray's time (fine for a few, slow for many).
 #pragma once
 
 #include <cstdint>
@@ -27,8 +34,8 @@ struct Hit {
 // What a backend's structure looks like, for `glint bench-accel` and the benchmarks. Fields a
 // backend cannot know (Embree's internal BVH) stay 0.
 struct AccelStats {
-  uint64_t bytes = 0;      // nodes + leaf primitive lists (Embree: 0, not exposed)
-  uint64_t nodes = 0;      // all nodes, interior and leaf
+  uint64_t bytes = 0;  // nodes + leaf primitive lists (Embree: 0, not exposed)
+  uint64_t nodes = 0;  // all nodes, interior and leaf
   uint64_t leaves = 0;
   uint64_t emptyLeaves = 0;
   uint32_t maxDepth = 0;

@@ -16,6 +16,30 @@ void embreeErrorCallback(void* user, RTCError code, const char* message) {
         "Embree error " + std::to_string(int(code)) + ": " + (message ? message : "(no message)");
 }
 
+namespace {
+
+// One time step per key, each as Embree's quaternion decomposition M = T R U (no shift): Embree
+// then blends T and U linearly and R by slerp, as AnimatedTransform::at does.
+void setMotionTransform(RTCGeometry geom, const AnimatedTransform& motion) {
+  rtcSetGeometryTimeStepCount(geom, unsigned(motion.keyCount()));
+  for (size_t k = 0; k < motion.keyCount(); ++k) {
+    const DecomposedTransform& d = motion.decomposedKey(k);
+    RTCQuaternionDecomposition qd;
+    rtcInitQuaternionDecomposition(&qd);
+    rtcQuaternionDecompositionSetScale(&qd, d.u[0][0], d.u[1][1], d.u[2][2]);
+    rtcQuaternionDecompositionSetSkew(&qd, d.u[0][1], d.u[0][2], d.u[1][2]);
+    rtcQuaternionDecompositionSetShift(&qd, 0, 0, 0);
+    // Embree's quaternion is r + i i + j j + k k: r is glint's w.
+    rtcQuaternionDecompositionSetQuaternion(&qd, d.rotation.w, d.rotation.x, d.rotation.y,
+                                            d.rotation.z);
+    rtcQuaternionDecompositionSetTranslation(&qd, d.translation.x, d.translation.y,
+                                             d.translation.z);
+    rtcSetGeometryTransformQuaternion(geom, unsigned(k), &qd);
+  }
+}
+
+}  // namespace
+
 EmbreeAccelerator::EmbreeAccelerator(const GeometryScene& geometry, bool highQuality)
     : highQuality_(highQuality) {
   device_ = rtcNewDevice(nullptr);
@@ -24,12 +48,16 @@ EmbreeAccelerator::EmbreeAccelerator(const GeometryScene& geometry, bool highQua
 
   // How often each mesh is placed decides direct attachment versus instancing.
   std::vector<uint32_t> uses(geometry.meshes.size(), 0);
-  for (const Instance& inst : geometry.instances)
+  size_t movingShapeCount = 0;
+  for (const Instance& inst : geometry.instances) {
     if (!inst.isShape()) ++uses[inst.mesh];
+    movingShapeCount += inst.isShape() && inst.moves();
+  }
   meshScenes_.assign(geometry.meshes.size(), nullptr);
   unbounded_.build(geometry);
-  // Embree keeps pointers to the placed shapes: the vector must not reallocate.
-  placedShapes_.reserve(geometry.shapeInstanceCount());
+  // Embree keeps pointers to the placed shapes: the vectors must not reallocate.
+  placedShapes_.reserve(geometry.shapeInstanceCount() - movingShapeCount);
+  movingShapes_.reserve(movingShapeCount);
 
   scene_ = rtcNewScene(device_);
   if (highQuality_) rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
@@ -38,12 +66,19 @@ EmbreeAccelerator::EmbreeAccelerator(const GeometryScene& geometry, bool highQua
     RTCGeometry geom;
     if (inst.isShape()) {
       if (unbounded_.contains(i)) continue;
-      placedShapes_.push_back(geometry.placedShape(i));
-      geom = makeShapeGeometry(&placedShapes_.back());
+      if (inst.moves()) {
+        const Shape* shape = geometry.shapes[inst.shape].get();
+        movingShapes_.push_back(
+            {shape, &inst.motion, motionKeyBounds(shape->bounds(), inst.motion)});
+        geom = makeMovingShapeGeometry(&movingShapes_.back());
+      } else {
+        placedShapes_.push_back(geometry.placedShape(i));
+        geom = makeShapeGeometry(&placedShapes_.back());
+      }
     } else {
       const TriangleMesh& mesh = geometry.meshes[inst.mesh];
       if (mesh.triangleCount() == 0) continue;
-      if (uses[inst.mesh] == 1 && inst.worldFromObject.isIdentity()) {
+      if (uses[inst.mesh] == 1 && !inst.moves() && inst.worldFromObject.isIdentity()) {
         geom = makeTriangleGeometry(mesh);
       } else {
         RTCScene& meshScene = meshScenes_[inst.mesh];
@@ -57,11 +92,16 @@ EmbreeAccelerator::EmbreeAccelerator(const GeometryScene& geometry, bool highQua
         }
         geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
         rtcSetGeometryInstancedScene(geom, meshScene);
-        float m[12];  // 3x4 column-major
-        const auto& a = inst.worldFromObject.matrix().m;
-        for (int c = 0; c < 4; ++c)
-          for (int r = 0; r < 3; ++r) m[c * 3 + r] = a[r][c];
-        rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, m);
+        if (inst.moves()) {
+          setMotionTransform(geom, inst.motion);
+          ++motionGeometryCount_;
+        } else {
+          float m[12];  // 3x4 column-major
+          const auto& a = inst.worldFromObject.matrix().m;
+          for (int c = 0; c < 4; ++c)
+            for (int r = 0; r < 3; ++r) m[c * 3 + r] = a[r][c];
+          rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, m);
+        }
         rtcCommitGeometry(geom);
       }
     }

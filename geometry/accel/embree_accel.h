@@ -20,6 +20,23 @@ namespace glint {
 // directly; meshes placed several times are built once as their own scene and instanced, so
 // their triangles are stored once. Embree's device errors are recorded by the error callback
 // (which must not throw) and raised as std::runtime_error after the call that caused them.
+//
+// Motion blur (Instance::motion animated; rays carry their normalised shutter time). Only what
+// moves is built with time steps, so a static scene has exactly the layout and cost it had
+// without motion:
+// - a moving mesh is always instanced (never baked), by an instance geometry with one time
+//   step per key, each given as Embree's quaternion decomposition (decomposedKey), so Embree
+//   interpolates T and U linearly and R by slerp, as AnimatedTransform::at does;
+// - a moving analytic shape is user geometry with one time step per key: the callbacks place
+//   the shape at the ray's time (PlacedShape at motion.at(time)) and intersect the world ray,
+//   and the per-step bounds (motionKeyBounds) are conservative for that nonlinear motion.
+//   Chosen over hosting the shape in its own scene behind a motion instance because then
+//   traversal and surface details use the very same transform and PlacedShape's robust
+//   world-to-object ray transform (rays spawned from a hit never re-hit it) is kept; a motion
+//   instance would hand the shape Embree's float-transformed ray instead, with an origin error
+//   nothing accounts for. It costs one transform evaluation per candidate hit, moving shapes
+//   only;
+// - moving unbounded shapes (infinite planes) stay in UnboundedShapes, placed at the ray time.
 class EmbreeAccelerator final : public Accelerator {
  public:
   // `highQuality` asks Embree for its high-quality BVH build (RTC_BUILD_QUALITY_HIGH: SAH with
@@ -44,11 +61,23 @@ class EmbreeAccelerator final : public Accelerator {
   static uint64_t bareIntersect1(RTCScene scene, const Ray* rays, size_t count);
   // Maps a top-level geometry ID (of a direct mesh or an instance) to the instance index.
   uint32_t instanceOfGeometry(unsigned geomID) const { return instanceOfGeom_[geomID]; }
+  // How many geometries were built with time steps (moving instances and shapes): 0 for a
+  // static scene.
+  uint32_t motionGeometryCount() const { return motionGeometryCount_; }
+
+  // A moving analytic shape as Embree's user data: placed at each ray's time.
+  struct MovingShape {
+    const Shape* shape;
+    const AnimatedTransform* motion;
+    std::vector<Bounds3f> keyBounds;  // per time step, see motionKeyBounds
+    PlacedShape at(float time) const { return PlacedShape(shape, motion->at(time)); }
+  };
 
  private:
   bool traceClosest(const Ray& ray, Hit* hit) const;  // Embree only, no unbounded shapes
   RTCGeometry makeTriangleGeometry(const TriangleMesh& mesh);
   RTCGeometry makeShapeGeometry(const PlacedShape* shape);
+  RTCGeometry makeMovingShapeGeometry(const MovingShape* shape);
   void checkError(const char* what);
 
   bool highQuality_ = false;
@@ -57,11 +86,22 @@ class EmbreeAccelerator final : public Accelerator {
   std::vector<RTCScene> meshScenes_;       // per mesh, only for instanced meshes
   std::vector<uint32_t> instanceOfGeom_;   // top-level geomID -> instance index
   std::vector<PlacedShape> placedShapes_;  // bounded shape instances: Embree's user data
+  std::vector<MovingShape> movingShapes_;  // bounded moving shape instances: the same
+  uint32_t motionGeometryCount_ = 0;
   UnboundedShapes unbounded_;
 
   std::mutex errorMutex_;
   std::string firstError_;
   friend void embreeErrorCallback(void*, RTCError, const char*);
 };
+
+// Bounds of `objectBounds` (in object space) for each key of `motion` (animated), such that
+// for every time in the shutter the linear blend of the two keys' bounds around it contains
+// the placed box at that time, rounding included: what Embree assumes of the per-time-step
+// bounds of user geometry. Each key's box holds the whole sweep over its neighbouring key
+// intervals (a blend of two boxes that both contain a set contains it); the sweep is sampled
+// and padded by the farthest any point can travel between samples.
+std::vector<Bounds3f> motionKeyBounds(const Bounds3f& objectBounds,
+                                      const AnimatedTransform& motion);
 
 }  // namespace glint

@@ -36,7 +36,7 @@ void KdPrimitives::gather(const GeometryScene& scene, const UnboundedShapes& unb
   std::vector<Vec3f> world;  // one instance's vertices, transformed once
   for (uint32_t i = 0; i < scene.instances.size(); ++i) {
     const Instance& inst = scene.instances[i];
-    if (inst.isShape()) continue;
+    if (inst.isShape() || inst.moves()) continue;
     const TriangleMesh& mesh = scene.meshes[inst.mesh];
     const bool identity = inst.worldFromObject.isIdentity();
     if (!identity) {
@@ -58,7 +58,8 @@ void KdPrimitives::gather(const GeometryScene& scene, const UnboundedShapes& unb
     }
   }
   for (uint32_t i = 0; i < scene.instances.size(); ++i) {
-    if (!scene.instances[i].isShape() || unbounded.contains(i)) continue;
+    const Instance& inst = scene.instances[i];
+    if (!inst.isShape() || inst.moves() || unbounded.contains(i)) continue;
     PlacedShape placed = scene.placedShape(i);
     Bounds3f b = placed.bounds();
     if (b.empty() || !isFinite(b.lower) || !isFinite(b.upper)) continue;
@@ -649,6 +650,65 @@ KdTreeAccelerator::KdTreeAccelerator(const GeometryScene& scene, KdSplitMethod m
     buildSahKdTree(prims_, cost, &tree_);
   else
     buildMedianKdTree(prims_, cost, &tree_);
+
+  // Moving instances stay out of the tree (their world-space triangles change with time).
+  std::vector<int> meshTree(scene.meshes.size(), -1);
+  for (uint32_t i = 0; i < scene.instances.size(); ++i) {
+    const Instance& inst = scene.instances[i];
+    if (!inst.moves() || unbounded_.contains(i)) continue;
+    if (inst.isShape()) {
+      movingShapes_.push_back({scene.shapes[inst.shape].get(), &inst.motion, i});
+      continue;
+    }
+    const TriangleMesh& mesh = scene.meshes[inst.mesh];
+    if (mesh.triangleCount() == 0) continue;
+    if (meshTree[inst.mesh] < 0) {
+      // A tree over the mesh alone, in object space: what is traced is the ray taken to
+      // object space at its time. Only positions and indices are needed to build it.
+      GeometryScene alone;
+      alone.meshes.push_back({mesh.positions, {}, {}, {}, {}, mesh.indices});
+      alone.instances.push_back(Instance{0, Transform()});
+      meshTree[inst.mesh] = int(meshTrees_.size());
+      meshTrees_.push_back(std::make_unique<KdTreeAccelerator>(alone, method, cost));
+    }
+    movingMeshes_.push_back({meshTrees_[size_t(meshTree[inst.mesh])].get(), &inst.motion, i});
+  }
+}
+
+bool KdTreeAccelerator::closestMoving(const Ray& ray, Hit* hit) const {
+  Ray r = ray;
+  bool found = false;
+  for (const MovingShape& m : movingShapes_) {
+    ShapeHit sh;
+    if (!PlacedShape(m.shape, m.motion->at(ray.time)).intersect(r, &sh)) continue;
+    r.tMax = sh.t;
+    *hit = {sh.t, m.instance, sh.part, 0, 0};
+    found = true;
+  }
+  for (const MovingMesh& m : movingMeshes_) {
+    // An affine map keeps t (d is mapped, not normalized) and barycentrics: Embree's object
+    // space hit, as a motion instance gives it.
+    const Transform objectFromWorld = m.motion->at(ray.time).inverse();
+    Ray local{objectFromWorld.point(r.o), objectFromWorld.vector(r.d), r.tMin, r.tMax, r.time};
+    Hit h;
+    if (!m.tree->closestHit(local, &h)) continue;
+    r.tMax = h.t;
+    *hit = {h.t, m.instance, h.prim, h.u, h.v};
+    found = true;
+  }
+  return found;
+}
+
+bool KdTreeAccelerator::anyMoving(const Ray& ray) const {
+  for (const MovingShape& m : movingShapes_)
+    if (PlacedShape(m.shape, m.motion->at(ray.time)).occluded(ray)) return true;
+  for (const MovingMesh& m : movingMeshes_) {
+    const Transform objectFromWorld = m.motion->at(ray.time).inverse();
+    Ray local{objectFromWorld.point(ray.o), objectFromWorld.vector(ray.d), ray.tMin, ray.tMax,
+              ray.time};
+    if (m.tree->anyHit(local)) return true;
+  }
+  return false;
 }
 
 // Front-to-back traversal (pbrt-v3's KdTreeAccel::Intersect), with these rules:
@@ -756,21 +816,30 @@ bool KdTreeAccelerator::trace(const Ray& ray, Hit* hit) const {
 }
 
 bool KdTreeAccelerator::closestHit(const Ray& ray, Hit* hit) const {
-  if (!unbounded_.empty()) {
-    // The nearest plane shortens the ray the tree traces (as the Embree backend does).
-    Hit plane;
-    if (!unbounded_.closestHit(ray, &plane)) return trace<false>(ray, hit);
-    Ray shorter = ray;
-    shorter.tMax = plane.t;
-    if (trace<false>(shorter, hit) && hit->t < plane.t) return true;
-    *hit = plane;
-    return true;
+  const bool moving = !movingShapes_.empty() || !movingMeshes_.empty();
+  if (unbounded_.empty() && !moving) return trace<false>(ray, hit);
+  // The nearest plane or moving object shortens the ray the tree traces (as the Embree
+  // backend does with planes).
+  Hit direct;
+  Ray shorter = ray;
+  bool found = false;
+  if (!unbounded_.empty() && unbounded_.closestHit(ray, &direct)) {
+    shorter.tMax = direct.t;
+    found = true;
   }
-  return trace<false>(ray, hit);
+  if (moving && closestMoving(shorter, &direct)) {
+    shorter.tMax = direct.t;
+    found = true;
+  }
+  if (!found) return trace<false>(ray, hit);
+  if (trace<false>(shorter, hit) && hit->t < direct.t) return true;
+  *hit = direct;
+  return true;
 }
 
 bool KdTreeAccelerator::anyHit(const Ray& ray) const {
   if (!unbounded_.empty() && unbounded_.anyHit(ray)) return true;
+  if ((!movingShapes_.empty() || !movingMeshes_.empty()) && anyMoving(ray)) return true;
   return trace<true>(ray, nullptr);
 }
 

@@ -8,11 +8,19 @@
 // under the affine placement, so Hit.u, v match Embree's object-space ones), and every
 // bounded analytic shape instance. Unbounded shapes (infinite planes) stay out of the tree,
 // in an UnboundedShapes list tested first, as in the Embree backend.
+//
+// Motion blur: moving instances (Instance::motion animated) stay out of the tree too, so a
+// static scene builds and traces exactly as before. A moving shape is placed at the ray's time
+// and tested directly; a moving mesh gets a tree of its own in object space (one per mesh,
+// shared by its moving placements), traced with the ray taken to object space by the inverse
+// of the transform at the ray's time. Each query tests them all in a linear list: right for a
+// few moving objects, slow for thousands (use Embree, whose BVH holds them).
 #pragma once
 
 #include <array>
 #include <bit>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -73,8 +81,9 @@ struct KdPrimitives {
   std::vector<uint32_t> shapeInstance;
   std::vector<Bounds3f> bounds;  // per primitive id (triangles first)
 
-  // Collects the scene's triangles and bounded shapes (`unbounded` lists the shapes to
-  // leave out). Triangles with non-finite vertices are dropped: they cannot be bounded.
+  // Collects the scene's static triangles and bounded shapes (`unbounded` lists the shapes to
+  // leave out; moving instances are left out too). Triangles with non-finite vertices are
+  // dropped: they cannot be bounded.
   void gather(const GeometryScene& scene, const UnboundedShapes& unbounded);
   uint32_t size() const { return uint32_t(bounds.size()); }
   bool isTriangle(uint32_t id) const { return id < triangles.size(); }
@@ -145,11 +154,28 @@ class KdTreeAccelerator final : public Accelerator {
   // Front-to-back traversal; with kAny it returns at the first hit and leaves `hit` alone.
   template <bool kAny>
   bool trace(const Ray& ray, Hit* hit) const;
+  // The moving instances, tested one by one at the ray's time.
+  bool closestMoving(const Ray& ray, Hit* hit) const;
+  bool anyMoving(const Ray& ray) const;
+
+  struct MovingShape {
+    const Shape* shape;
+    const AnimatedTransform* motion;
+    uint32_t instance;
+  };
+  struct MovingMesh {
+    const KdTreeAccelerator* tree;  // of the mesh alone, in object space
+    const AnimatedTransform* motion;
+    uint32_t instance;
+  };
 
   KdSplitMethod method_;
   KdPrimitives prims_;
   KdTree tree_;
   UnboundedShapes unbounded_;
+  std::vector<MovingShape> movingShapes_;
+  std::vector<std::unique_ptr<KdTreeAccelerator>> meshTrees_;  // per mesh that moves
+  std::vector<MovingMesh> movingMeshes_;
 };
 
 }  // namespace glint

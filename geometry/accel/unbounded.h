@@ -6,7 +6,8 @@
 // every backend keeps such shapes in this short list instead and tests them directly: a
 // closest-hit query first intersects them and then asks the hierarchy only for hits nearer
 // than the nearest plane (shorter rays also traverse faster). Scenes have a handful of
-// planes at most, so a linear list is the right structure.
+// planes at most, so a linear list is the right structure. A moving one is placed at each
+// ray's time (Instance::worldFromObjectAt), exactly as the bounded shapes are.
 #pragma once
 
 #include <cstdint>
@@ -30,7 +31,11 @@ class UnboundedShapes {
   bool contains(uint32_t instance) const;
 
  private:
-  std::vector<PlacedShape> shapes_;
+  // The shape at ray time `time`: as placed, or where its motion puts it then.
+  PlacedShape at(size_t k, float time) const;
+
+  std::vector<PlacedShape> shapes_;               // placed at shutter open
+  std::vector<const AnimatedTransform*> motion_;  // null for static shapes
   std::vector<uint32_t> instances_;
 };
 
