@@ -8,6 +8,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "geometry/math.h"
@@ -38,15 +39,20 @@ struct Track {
   float endTime() const { return times.empty() ? 0.0f : times.back(); }
 };
 
-// Evaluation (scenes/animation.cpp). Rotations are unit quaternions: Linear is slerp, cubic
-// and smooth results are renormalised.
+// Evaluation (scenes/animation.cpp). An empty track is a caller error (asserted). Rotations
+// are unit quaternions: Linear is slerp along the shorter arc, CubicSpline and Smooth are
+// evaluated per component (Smooth with each key moved into the hemisphere of the previous one)
+// and renormalised.
 float evaluate(const Track<float>& track, double time);
+Vec2f evaluate(const Track<Vec2f>& track, double time);
 Vec3f evaluate(const Track<Vec3f>& track, double time);
 Quaternion evaluate(const Track<Quaternion>& track, double time);
 
 // A node of the transform hierarchy. Its local transform is `matrix` when the file gave a
 // matrix (glTF forbids animating those), else T · R · S from the rest values, each replaced
-// by its track where one exists.
+// by its track where one exists. The rotation comes from `angleTrack` (degrees about
+// `rotationAxis`: the sidecar's form, which can turn by more than 180 degrees between two
+// keys) when that is set, else from `rotationTrack`, else from `rotation`.
 struct NodeDesc {
   std::string name;
   int parent = -1;  // index into SceneDescription::nodes
@@ -58,19 +64,27 @@ struct NodeDesc {
   Track<Vec3f> translationTrack;
   Track<Quaternion> rotationTrack;
   Track<Vec3f> scaleTrack;
+  Vec3f rotationAxis{0, 1, 0};  // unit length
+  Track<float> angleTrack;      // degrees
   SourceLocation where;
 
   bool hasTracks() const {
-    return !translationTrack.empty() || !rotationTrack.empty() || !scaleTrack.empty();
+    return !translationTrack.empty() || !rotationTrack.empty() || !scaleTrack.empty() ||
+           !angleTrack.empty();
   }
   Transform localAt(double time) const;
 };
 
-// Whether node `node` or any of its ancestors has a track.
+// Whether node `node` or any of its ancestors has a track (false for -1).
 bool isAnimated(const std::vector<NodeDesc>& nodes, int node);
-// parent chain: world-from-node at `time`.
+// World-from-node at `time`: the local transforms along the parent chain, root first. The
+// identity for node -1.
 Transform worldFromNode(const std::vector<NodeDesc>& nodes, int node, double time);
 // The time span covered by all tracks of all nodes, {0, 0} when nothing is keyed.
 std::pair<double, double> animationRange(const std::vector<NodeDesc>& nodes);
+
+// The sidecar's names of the interpolation modes ("linear", "step", "smooth"; glTF's
+// CUBICSPLINE is "cubicspline").
+const char* interpolationName(Interpolation interpolation);
 
 }  // namespace glint

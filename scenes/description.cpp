@@ -14,4 +14,16 @@ Bounds3f sceneBounds(const SceneDescription& scene) {
   return b;
 }
 
+void evaluatePlacements(SceneDescription* scene, double time) {
+  auto at = [&](int node) { return worldFromNode(scene->nodes, node, time); };
+  for (InstanceDesc& i : scene->instances)
+    if (i.transformNode >= 0) i.worldFromObject = at(i.transformNode) * i.nodeFromObject;
+  for (ObjectDesc& o : scene->objects)
+    if (o.transformNode >= 0) o.worldFromObject = at(o.transformNode) * o.nodeFromObject;
+  for (CameraDesc& c : scene->cameras)
+    if (c.transformNode >= 0) c.worldFromCamera = at(c.transformNode) * c.nodeFromCamera;
+  for (LightDesc& l : scene->lights)
+    if (l.transformNode >= 0) l.worldFromLight = at(l.transformNode) * l.nodeFromLight;
+}
+
 }  // namespace glint

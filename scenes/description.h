@@ -139,8 +139,8 @@ struct CameraDesc {
   Transform nodeFromCamera;
   // Thin lens (sidecar): aperture radius and focus distance in world units; 0 = pinhole.
   float apertureRadius = 0;
-  float focusDistance = 0;  // along the view axis; 0 = not given (required with an aperture)
-  int apertureBlades = 0;   // 0 = round; >= 3: a regular polygon (bokeh shape)
+  float focusDistance = 0;     // along the view axis; 0 = not given (required with an aperture)
+  int apertureBlades = 0;      // 0 = round; >= 3: a regular polygon (bokeh shape)
   float apertureRotation = 0;  // radians, polygon orientation
   // Shutter interval in seconds relative to the frame's time; open == close = no motion blur.
   float shutterOpen = 0, shutterClose = 0;
@@ -172,7 +172,7 @@ struct InstanceDesc {
   Transform worldFromObject;
   std::string node;  // name of the glTF node, for messages
   SourceLocation where;
-  int material = -1;  // a sidecar material assigned to the node; -1 = the mesh's own
+  int material = -1;       // a sidecar material assigned to the node; -1 = the mesh's own
   int transformNode = -1;  // animated placement (see CameraDesc); -1 = static
   Transform nodeFromObject;
 };
@@ -267,5 +267,10 @@ const char* materialTypeName(MaterialType type);
 
 // World-space bounds of all instances.
 Bounds3f sceneBounds(const SceneDescription& scene);
+
+// Sets the static transform (worldFromObject, worldFromCamera, worldFromLight) of every item
+// with a transformNode to its placement at `time`: worldFromNode(nodes, transformNode, time) ·
+// nodeFrom*.
+void evaluatePlacements(SceneDescription* scene, double time);
 
 }  // namespace glint

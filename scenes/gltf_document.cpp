@@ -570,7 +570,8 @@ void readLights(const Object& root, Document* doc) {
 // Nodes and scenes
 // ---------------------------------------------------------------------------------------------
 
-Transform nodeTransform(const Object& o) {
+// Fills node->local and the rest values it is made of.
+void nodeTransform(const Object& o, Node* node) {
   bool trs = o.has("translation") || o.has("rotation") || o.has("scale");
   if (o.has("matrix")) {
     if (trs) throw SceneError(o.where(), "has both 'matrix' and translation/rotation/scale");
@@ -579,26 +580,28 @@ Transform nodeTransform(const Object& o) {
     for (int i = 0; i < 16; ++i) f[i] = float(v[size_t(i)]);
     Mat4 m = Mat4::fromColumnMajor(f), inv;
     if (!invert(m, &inv)) throw SceneError(o.at("matrix"), "matrix is not invertible");
-    return Transform(m, inv);
+    node->hasMatrix = true;
+    node->local = Transform(m, inv);
+    return;
   }
-  Transform xf;
   if (o.has("translation")) {
     auto t = o.numbers("translation", 3);
-    xf = Transform::translate({float(t[0]), float(t[1]), float(t[2])});
+    node->translation = {float(t[0]), float(t[1]), float(t[2])};
   }
   if (o.has("rotation")) {
     auto q = o.numbers("rotation", 4);
     if (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3] < 1e-12)
       throw SceneError(o.at("rotation"), "quaternion has zero length");
-    xf = xf * Transform::rotateQuaternion({float(q[0]), float(q[1]), float(q[2]), float(q[3])});
+    node->rotation = normalize(Quaternion{float(q[0]), float(q[1]), float(q[2]), float(q[3])});
   }
   if (o.has("scale")) {
     auto s = o.numbers("scale", 3);
     if (s[0] == 0 || s[1] == 0 || s[2] == 0)
       throw SceneError(o.at("scale"), "a zero scale makes the node matrix not invertible");
-    xf = xf * Transform::scale({float(s[0]), float(s[1]), float(s[2])});
+    node->scale = {float(s[0]), float(s[1]), float(s[2])};
   }
-  return xf;
+  node->local = Transform::translate(node->translation) * toTransform(node->rotation) *
+                Transform::scale(node->scale);
 }
 
 void readNodes(const Object& root, Document* doc) {
@@ -618,7 +621,7 @@ void readNodes(const Object& root, Document* doc) {
     }
     for (auto& [value, loc] : o.array("children"))
       node.children.push_back(Object::indexValue(*value, loc, n, "node"));
-    node.local = nodeTransform(o);
+    nodeTransform(o, &node);
     doc->nodes.push_back(node);
   }
 
@@ -668,6 +671,140 @@ void readNodes(const Object& root, Document* doc) {
     doc->scenes.push_back(s);
   }
   doc->scene = root.index("scene", doc->scenes.size(), "scene");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Animations
+// ---------------------------------------------------------------------------------------------
+
+const char* pathName(AnimationPath path) {
+  switch (path) {
+    case AnimationPath::Translation:
+      return "translation";
+    case AnimationPath::Rotation:
+      return "rotation";
+    case AnimationPath::Scale:
+      return "scale";
+    case AnimationPath::Weights:
+      return "weights";
+  }
+  return "translation";
+}
+
+bool isNormalizedInteger(const Accessor& a) {
+  return a.normalized && a.componentType != kFloat && a.componentType != kUnsignedInt;
+}
+
+// The output accessor of `sampler` must suit `channel`'s path (glTF 2.0, "Animations"):
+// translation and scale VEC3 of FLOAT, rotation VEC4 of FLOAT or normalized (UNSIGNED_)BYTE /
+// (UNSIGNED_)SHORT, with one element per key (three for CUBICSPLINE: in-tangent, value,
+// out-tangent).
+void checkOutput(const Document& doc, const Animation& anim, const AnimationChannel& channel) {
+  const AnimationSampler& sampler = anim.samplers[size_t(channel.sampler)];
+  const Accessor& out = doc.accessors[size_t(sampler.output)];
+  const Accessor& in = doc.accessors[size_t(sampler.input)];
+  SourceLocation loc = sampler.where.child("output");
+  std::string user =
+      "the '" + std::string(pathName(channel.path)) + "' channel at " + channel.where.pointer;
+  bool ok = true;
+  std::string want;
+  switch (channel.path) {
+    case AnimationPath::Translation:
+    case AnimationPath::Scale:
+      ok = out.type == "VEC3" && out.componentType == kFloat;
+      want = "VEC3 of FLOAT";
+      break;
+    case AnimationPath::Rotation:
+      ok = out.type == "VEC4" && (out.componentType == kFloat || isNormalizedInteger(out));
+      want = "VEC4 of FLOAT or of normalized BYTE, UNSIGNED_BYTE, SHORT or UNSIGNED_SHORT";
+      break;
+    case AnimationPath::Weights:
+      ok = out.type == "SCALAR" && (out.componentType == kFloat || isNormalizedInteger(out));
+      want = "SCALAR of FLOAT or of a normalized integer type";
+      break;
+  }
+  if (!ok)
+    throw SceneError(loc, "accessor " + std::to_string(sampler.output) + " is " + out.type +
+                              " of " + (out.normalized ? "normalized " : "") +
+                              componentTypeName(out.componentType) + "; " + user + " needs " +
+                              want);
+  if (channel.path == AnimationPath::Weights) return;  // one value per morph target and key
+  size_t perKey = sampler.interpolation == Interpolation::CubicSpline ? 3 : 1;
+  if (out.count != perKey * in.count)
+    throw SceneError(loc, "accessor " + std::to_string(sampler.output) + " has " +
+                              plural(out.count, "element") + "; " + user + " with " +
+                              plural(in.count, "key") + (perKey == 3 ? " (CUBICSPLINE)" : "") +
+                              " needs " + std::to_string(perKey * in.count));
+}
+
+void readAnimations(const Object& root, Document* doc) {
+  size_t index = 0;
+  for (const Object& o : objects(root, "animations")) {
+    Animation anim;
+    anim.where = o.where();
+    anim.name = o.string("name", "animation " + std::to_string(index++));
+    o.require("samplers");
+    for (const Object& so : objects(o, "samplers")) {
+      AnimationSampler s;
+      s.where = so.where();
+      s.input = so.index("input", doc->accessors.size(), "accessor", true);
+      s.output = so.index("output", doc->accessors.size(), "accessor", true);
+      std::string interpolation = so.string("interpolation", "LINEAR");
+      if (interpolation == "LINEAR")
+        s.interpolation = Interpolation::Linear;
+      else if (interpolation == "STEP")
+        s.interpolation = Interpolation::Step;
+      else if (interpolation == "CUBICSPLINE")
+        s.interpolation = Interpolation::CubicSpline;
+      else
+        throw SceneError(so.at("interpolation"), "unknown interpolation '" + interpolation +
+                                                     "' (expected LINEAR, STEP or CUBICSPLINE)");
+      const Accessor& in = doc->accessors[size_t(s.input)];
+      if (in.type != "SCALAR" || in.componentType != kFloat)
+        throw SceneError(so.at("input"), "accessor " + std::to_string(s.input) + " is " + in.type +
+                                             " of " + componentTypeName(in.componentType) +
+                                             "; keyframe times must be SCALAR of FLOAT");
+      if (s.interpolation == Interpolation::CubicSpline && in.count < 2)
+        throw SceneError(so.at("input"), "CUBICSPLINE needs at least 2 keys");
+      anim.samplers.push_back(s);
+    }
+    if (anim.samplers.empty()) throw SceneError(o.at("samplers"), "must not be empty");
+    o.require("channels");
+    for (const Object& co : objects(o, "channels")) {
+      AnimationChannel c;
+      c.where = co.where();
+      c.sampler = co.index("sampler", anim.samplers.size(), "sampler", true);
+      co.require("target");
+      Object target = co.object("target");
+      c.node = target.index("node", doc->nodes.size(), "node");
+      target.require("path");
+      std::string path = target.string("path");
+      if (path == "translation")
+        c.path = AnimationPath::Translation;
+      else if (path == "rotation")
+        c.path = AnimationPath::Rotation;
+      else if (path == "scale")
+        c.path = AnimationPath::Scale;
+      else if (path == "weights")
+        c.path = AnimationPath::Weights;
+      else
+        throw SceneError(
+            target.at("path"),
+            "unknown path '" + path + "' (expected translation, rotation, scale or weights)");
+      if (c.node >= 0 && c.path != AnimationPath::Weights && doc->nodes[size_t(c.node)].hasMatrix)
+        throw SceneError(target.at("node"), "node " + std::to_string(c.node) +
+                                                " has a matrix; only nodes given by "
+                                                "translation/rotation/scale may be animated");
+      for (const AnimationChannel& other : anim.channels)
+        if (c.node >= 0 && other.node == c.node && other.path == c.path)
+          throw SceneError(co.where(), "node " + std::to_string(c.node) + " '" + path +
+                                           "' is already animated by " + other.where.pointer);
+      checkOutput(*doc, anim, c);
+      anim.channels.push_back(c);
+    }
+    if (anim.channels.empty()) throw SceneError(o.at("channels"), "must not be empty");
+    doc->animations.push_back(anim);
+  }
 }
 
 // Extensions glint implements; any other extension in extensionsRequired is an error.
@@ -755,6 +892,7 @@ Document readDocument(const json& rootValue, const std::string& file) {
   readCameras(root, &doc);
   readLights(root, &doc);
   readNodes(root, &doc);
+  readAnimations(root, &doc);
   return doc;
 }
 

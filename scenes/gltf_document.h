@@ -117,8 +117,38 @@ struct Mesh {
 struct Node {
   std::string name;
   Transform local;
+  // The rest values `local` was made from: a matrix, or translation, rotation (unit) and scale.
+  bool hasMatrix = false;
+  Vec3f translation{0, 0, 0};
+  Quaternion rotation;
+  Vec3f scale{1, 1, 1};
   std::vector<int> children;
   int mesh = -1, camera = -1, light = -1;
+  SourceLocation where;
+};
+
+// An animation sampler: keyframe times (input) and values (output). Accessor layouts are
+// checked against the channels that use the sampler; the data (strictly increasing finite
+// times, finite values) is checked by the loader, which decodes it.
+struct AnimationSampler {
+  int input = -1, output = -1;
+  Interpolation interpolation = Interpolation::Linear;
+  SourceLocation where;
+};
+
+enum class AnimationPath { Translation, Rotation, Scale, Weights };
+
+struct AnimationChannel {
+  int sampler = -1;  // index into Animation::samplers
+  int node = -1;     // -1: no target node (the channel is ignored, as glTF allows)
+  AnimationPath path = AnimationPath::Translation;
+  SourceLocation where;
+};
+
+struct Animation {
+  std::string name;  // "animation N" when the file gives none
+  std::vector<AnimationSampler> samplers;
+  std::vector<AnimationChannel> channels;
   SourceLocation where;
 };
 
@@ -139,6 +169,7 @@ struct Document {
   std::vector<Mesh> meshes;
   std::vector<Node> nodes;
   std::vector<Scene> scenes;
+  std::vector<Animation> animations;
   std::vector<CameraDesc> cameras;  // everything but worldFromCamera
   std::vector<LightDesc> lights;    // KHR_lights_punctual, everything but worldFromLight
   int scene = -1;                   // the "scene" property
@@ -147,7 +178,8 @@ struct Document {
 
 // Reads and validates `root` (the parsed JSON of `file`): types, required fields, index
 // ranges, byte ranges of buffer views and accessors against the declared byte lengths, the
-// node graph (trees, no cycles), camera and light parameters and extensionsRequired.
+// node graph (trees, no cycles), camera and light parameters, animations (targets, paths,
+// interpolation names, accessor types and counts) and extensionsRequired.
 // Throws SceneError at the offending pointer.
 Document readDocument(const nlohmann::json& root, const std::string& file);
 

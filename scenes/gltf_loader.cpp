@@ -16,6 +16,7 @@
 #include <fstream>
 #include <map>
 #include <system_error>
+#include <type_traits>
 
 #include "scenes/gltf_document.h"
 #include "scenes/json_util.h"
@@ -485,15 +486,170 @@ class Loader {
       for (size_t i = 0; i < doc_.nodes.size(); ++i)
         if (!isChild[i]) roots.push_back(int(i));
     }
-    for (int r : roots) visit(r, rootTransform);
+    readTracks();
+    subtreeAnimated_.assign(doc_.nodes.size(), -1);
+    rootTransform_ = rootTransform;
+    for (int r : roots) visit(r, rootTransform, -1, false);
   }
 
  private:
-  // The node graph was checked to be a forest, so recursion terminates.
-  void visit(int index, const Transform& parent) {
+  // ---- animations ---------------------------------------------------------------------------
+
+  struct NodeTracks {
+    Track<Vec3f> translation, scale;
+    Track<Quaternion> rotation;
+  };
+
+  // Keyframe times of sampler `s`: finite, >= 0 and strictly increasing (glTF 2.0).
+  std::vector<float> readTimes(const gltf::AnimationSampler& s) const {
+    std::vector<double> v = reader_.read(s.input);
+    std::vector<float> times(v.size());
+    SourceLocation at = s.where.child("input");
+    for (size_t i = 0; i < v.size(); ++i) {
+      times[i] = float(v[i]);
+      if (!std::isfinite(times[i]) || times[i] < 0)
+        throw SceneError(at, "accessor " + std::to_string(s.input) + ": key " + std::to_string(i) +
+                                 " has time " + std::to_string(v[i]) +
+                                 "; times must be finite and >= 0");
+      if (i > 0 && !(times[i] > times[i - 1]))
+        throw SceneError(at, "accessor " + std::to_string(s.input) + ": key " + std::to_string(i) +
+                                 " at time " + std::to_string(times[i]) +
+                                 " does not come after key " + std::to_string(i - 1) + " at " +
+                                 std::to_string(times[i - 1]) + "; times must increase strictly");
+    }
+    return times;
+  }
+
+  template <class T>
+  void fillTrack(Track<T>* track, const gltf::AnimationSampler& s, const gltf::AnimationChannel& c,
+                 gltf::AnimationPath path) {
+    track->interpolation = s.interpolation;
+    track->times = readTimes(s);
+    track->where = c.where;
+    std::vector<double> v = reader_.read(s.output);
+    const Accessor& out = doc_.accessors[size_t(s.output)];
+    size_t n = out.count;
+    bool cubic = s.interpolation == Interpolation::CubicSpline;
+    SourceLocation at = s.where.child("output");
+    for (size_t i = 0; i < n; ++i) {
+      // Only key values (not CUBICSPLINE tangents) must be unit quaternions and non-zero scales.
+      bool isValue = !cubic || i % 3 == 1;
+      std::string which =
+          "element " + std::to_string(i) + " of accessor " + std::to_string(s.output);
+      if constexpr (std::is_same_v<T, Quaternion>) {
+        Quaternion q{float(v[4 * i]), float(v[4 * i + 1]), float(v[4 * i + 2]),
+                     float(v[4 * i + 3])};
+        if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z) ||
+            !std::isfinite(q.w))
+          throw SceneError(at, which + " is not finite");
+        if (isValue) {
+          if (!(dot(q, q) > 1e-12f)) throw SceneError(at, which + " is a zero quaternion");
+          q = normalize(q);
+        }
+        track->values.push_back(q);
+      } else {
+        Vec3f x{float(v[3 * i]), float(v[3 * i + 1]), float(v[3 * i + 2])};
+        if (!isFinite(x)) throw SceneError(at, which + " is not finite");
+        if (isValue && path == gltf::AnimationPath::Scale && (x.x == 0 || x.y == 0 || x.z == 0))
+          throw SceneError(at, which +
+                                   " is a scale with a zero component, which glint cannot "
+                                   "place (the node matrix would not be invertible)");
+        track->values.push_back(x);
+      }
+    }
+  }
+
+  // Every animation in the file plays at once, on one clock: glTF files usually hold one
+  // animation, and a viewer's "play all" is the only choice that needs no name. When two
+  // animations drive the same property, the first one wins (with a warning).
+  void readTracks() {
+    for (const gltf::Animation& anim : doc_.animations) {
+      for (const gltf::AnimationChannel& c : anim.channels) {
+        if (c.node < 0) continue;
+        const gltf::AnimationSampler& s = anim.samplers[size_t(c.sampler)];
+        if (c.path == gltf::AnimationPath::Weights) {
+          scene_->warnings.push_back(c.where.str() +
+                                     ": morph target weights are not animated (glint does not "
+                                     "support morph targets)");
+          continue;
+        }
+        NodeTracks& t = tracks_[c.node];
+        bool taken = c.path == gltf::AnimationPath::Translation ? !t.translation.empty()
+                     : c.path == gltf::AnimationPath::Rotation  ? !t.rotation.empty()
+                                                                : !t.scale.empty();
+        if (taken) {
+          scene_->warnings.push_back(c.where.str() + ": node " + std::to_string(c.node) +
+                                     " is already animated by an earlier animation; ignored");
+          continue;
+        }
+        if (c.path == gltf::AnimationPath::Translation)
+          fillTrack(&t.translation, s, c, c.path);
+        else if (c.path == gltf::AnimationPath::Rotation)
+          fillTrack(&t.rotation, s, c, c.path);
+        else
+          fillTrack(&t.scale, s, c, c.path);
+      }
+    }
+  }
+
+  // Whether node `index` or a node below it has tracks (memoised; the graph is a forest).
+  bool subtreeAnimated(int index) {
+    int& memo = subtreeAnimated_[size_t(index)];
+    if (memo >= 0) return memo;
+    bool any = tracks_.count(index) > 0;
+    for (int c : doc_.nodes[size_t(index)].children) any = subtreeAnimated(c) || any;
+    memo = any;
+    return any;
+  }
+
+  // The NodeDesc of the glTF root transform, made on first use (-1 when it is the identity).
+  int rootNode() {
+    if (rootTransform_.isIdentity()) return -1;
+    if (rootNode_ < 0) {
+      NodeDesc root;
+      root.name = "glTF root transform";
+      root.hasMatrix = true;
+      root.matrix = rootTransform_;
+      root.where = SourceLocation{doc_.file, ""};
+      scene_->nodes.push_back(root);
+      rootNode_ = int(scene_->nodes.size()) - 1;
+    }
+    return rootNode_;
+  }
+
+  // ---- the node walk ------------------------------------------------------------------------
+
+  // The node graph was checked to be a forest, so recursion terminates. Nodes whose world
+  // transform can change (animated, below an animated node, or above one) are kept as
+  // NodeDescs; `parentDesc` is the parent's (-1 when it has none) and `moving` says whether
+  // the parent moves.
+  void visit(int index, const Transform& parent, int parentDesc, bool moving) {
     const gltf::Node& node = doc_.nodes[size_t(index)];
-    Transform world = parent * node.local;
     std::string nodeName = node.name.empty() ? "node " + std::to_string(index) : node.name;
+    Transform world = parent * node.local;
+    int desc = -1;
+    if (moving || subtreeAnimated(index)) {
+      NodeDesc d;
+      d.name = nodeName;
+      d.parent = parentDesc >= 0 ? parentDesc : rootNode();
+      d.hasMatrix = node.hasMatrix;
+      d.matrix = node.local;
+      d.translation = node.translation;
+      d.rotation = node.rotation;
+      d.scale = node.scale;
+      if (auto it = tracks_.find(index); it != tracks_.end()) {
+        d.translationTrack = it->second.translation;
+        d.rotationTrack = it->second.rotation;
+        d.scaleTrack = it->second.scale;
+      }
+      d.where = node.where;
+      scene_->nodes.push_back(d);
+      desc = int(scene_->nodes.size()) - 1;
+      moving = isAnimated(scene_->nodes, desc);
+      // The placement at time 0: a channel's first value, else the rest value.
+      world = worldFromNode(scene_->nodes, desc, 0.0);
+    }
+    int transformNode = moving ? desc : -1;
     if (node.mesh >= 0) {
       const std::vector<int>& meshes = meshDescs(node.mesh);
       for (int m : meshes) {
@@ -501,6 +657,7 @@ class Loader {
         InstanceDesc inst;
         inst.mesh = m;
         inst.worldFromObject = world;
+        inst.transformNode = transformNode;
         inst.node = nodeName;
         inst.where = node.where;
         scene_->instances.push_back(inst);
@@ -511,6 +668,7 @@ class Loader {
       if (c.name.empty())
         c.name = node.name.empty() ? "camera " + std::to_string(node.camera) : node.name;
       c.worldFromCamera = world;
+      c.transformNode = transformNode;
       scene_->cameras.push_back(c);
     }
     if (node.light >= 0) {
@@ -518,9 +676,10 @@ class Loader {
       if (l.name.empty())
         l.name = node.name.empty() ? "light " + std::to_string(node.light) : node.name;
       l.worldFromLight = world;
+      l.transformNode = transformNode;
       scene_->lights.push_back(l);
     }
-    for (int c : node.children) visit(c, world);
+    for (int c : node.children) visit(c, world, desc, moving);
   }
 
   // The MeshDesc indices of glTF mesh `m`'s primitives (-1 for skipped ones), converted on
@@ -705,6 +864,10 @@ class Loader {
   SceneDescription* scene_;
   int imageBase_ = 0, textureBase_ = 0, materialBase_ = 0;
   std::map<int, std::vector<int>> converted_;
+  std::map<int, NodeTracks> tracks_;  // by glTF node index
+  std::vector<int> subtreeAnimated_;  // -1 = not yet known
+  Transform rootTransform_;
+  int rootNode_ = -1;
 };
 
 }  // namespace
@@ -732,7 +895,7 @@ void loadGltf(const std::string& path, SceneDescription* scene, const Transform&
   // On error leave `scene` as it was, so a caller that recovers sees no half-loaded file.
   size_t sizes[] = {scene->images.size(), scene->textures.size(),  scene->materials.size(),
                     scene->meshes.size(), scene->instances.size(), scene->cameras.size(),
-                    scene->lights.size(), scene->warnings.size()};
+                    scene->lights.size(), scene->warnings.size(),  scene->nodes.size()};
   try {
     Loader(doc, model, scene).run(rootTransform);
   } catch (...) {
@@ -744,6 +907,7 @@ void loadGltf(const std::string& path, SceneDescription* scene, const Transform&
     scene->cameras.resize(sizes[5]);
     scene->lights.resize(sizes[6]);
     scene->warnings.resize(sizes[7]);
+    scene->nodes.resize(sizes[8]);
     throw;
   }
 }

@@ -12,6 +12,14 @@ namespace glint {
 // to `scene`, placed under `rootTransform`: meshes, materials, textures, images, cameras,
 // KHR_lights_punctual lights and one instance per (node, primitive). Throws SceneError naming
 // the file and the JSON pointer of anything malformed.
+//
+// Animations: all animations of the file play together on one clock (a property driven by two
+// animations takes the first, with a warning; morph target weights are ignored with a
+// warning). Nodes whose placement can change (animated, below an animated node, or an
+// ancestor of one) are appended to scene->nodes (under a node holding `rootTransform` when that
+// is not the identity); instances, cameras and lights below an animated node get its
+// transformNode with an identity nodeFrom*, and their static transforms hold the placement at
+// time 0.
 void loadGltf(const std::string& path, SceneDescription* scene,
               const Transform& rootTransform = Transform());
 

@@ -140,8 +140,7 @@ Transform toMatrix(const Json& value, const SourceLocation& where) {
   return Transform(m, inverse);
 }
 
-const std::vector<std::string> kTransformOps = {"translate", "rotate", "scale", "shear",
-                                                "matrix"};
+const std::vector<std::string> kTransformOps = {"translate", "rotate", "scale", "shear", "matrix"};
 
 Transform toOperation(const Json& op, const SourceLocation& where) {
   if (!op.is_object()) wrongType(op, where, "a transform operation object");
@@ -244,6 +243,15 @@ float readValue<float>(const Json& value, const SourceLocation& where, const Ran
 }
 
 template <>
+double readValue<double>(const Json& value, const SourceLocation& where, const Range& range) {
+  if (!value.is_number()) wrongType(value, where, "number");
+  double d = value.get<double>();
+  if (!std::isfinite(d)) throw SceneError(where, "must be finite");
+  checkRange(d, where, range);
+  return d;
+}
+
+template <>
 std::string readValue<std::string>(const Json& value, const SourceLocation& where, const Range&) {
   if (!value.is_string()) wrongType(value, where, "string");
   return value.get<std::string>();
@@ -262,16 +270,26 @@ Vec3f readValue<Vec3f>(const Json& value, const SourceLocation& where, const Ran
 }
 
 template <>
+Quaternion readValue<Quaternion>(const Json& value, const SourceLocation& where, const Range&) {
+  auto q = toFloats<4>(value, where, {});
+  Quaternion r{q[0], q[1], q[2], q[3]};
+  if (!(dot(r, r) > 1e-12f)) throw SceneError(where, "quaternion must not be zero");
+  return normalize(r);
+}
+
+template <>
 Transform readValue<Transform>(const Json& value, const SourceLocation& where, const Range&) {
   return readTransform(value, where);
 }
+
+bool isKeyframes(const Json& value) { return value.is_object() && value.contains("keys"); }
 
 // ---------------------------------------------------------------------------------------------
 // JsonReader
 // ---------------------------------------------------------------------------------------------
 
-JsonReader::JsonReader(const Json& object, SourceLocation where)
-    : object_(&object), where_(std::move(where)) {
+JsonReader::JsonReader(const Json& object, SourceLocation where, std::optional<double> time)
+    : object_(&object), where_(std::move(where)), time_(time) {
   if (!object.is_object()) wrongType(object, where_, "object");
 }
 
@@ -315,7 +333,7 @@ std::string JsonReader::oneOf(std::string_view key, const std::vector<std::strin
 
 JsonReader& JsonReader::object(std::string_view key) {
   const Json& v = require(key);
-  children_.push_back(std::make_unique<JsonReader>(v, where(key)));
+  children_.push_back(std::make_unique<JsonReader>(v, where(key), time_));
   return *children_.back();
 }
 
@@ -345,7 +363,7 @@ std::vector<JsonItem> JsonReader::optionalArray(std::string_view key) {
 }
 
 JsonReader& JsonReader::item(const JsonItem& element) {
-  children_.push_back(std::make_unique<JsonReader>(*element.value, element.where));
+  children_.push_back(std::make_unique<JsonReader>(*element.value, element.where, time_));
   return *children_.back();
 }
 

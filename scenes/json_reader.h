@@ -23,10 +23,13 @@
 #include <set>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
 #include "geometry/math.h"
+#include "geometry/motion.h"
+#include "scenes/animation.h"
 #include "scenes/errors.h"
 
 namespace glint {
@@ -60,8 +63,9 @@ std::string closestMatch(std::string_view word, const std::vector<std::string>& 
 // ---------------------------------------------------------------------------------------------
 
 // Converts one JSON value found at `where` to T, or throws a SceneError at `where`. Supported:
-// bool, int, uint64_t, float, std::string, Vec2f, Vec3f (= Rgb), Transform. `range` applies to
-// numbers (each component of a vector) and is ignored for the other types.
+// bool, int, uint64_t, float, double, std::string, Vec2f, Vec3f (= Rgb), Quaternion ([x, y, z, w],
+// not zero, normalised), Transform. `range` applies to numbers (each component of a vector)
+// and is ignored for the other types.
 template <class T>
 T readValue(const nlohmann::json& value, const SourceLocation& where, const Range& range = {});
 
@@ -73,9 +77,11 @@ GLINT_JSON_READ_VALUE(bool);
 GLINT_JSON_READ_VALUE(int);
 GLINT_JSON_READ_VALUE(uint64_t);
 GLINT_JSON_READ_VALUE(float);
+GLINT_JSON_READ_VALUE(double);
 GLINT_JSON_READ_VALUE(std::string);
 GLINT_JSON_READ_VALUE(Vec2f);
 GLINT_JSON_READ_VALUE(Vec3f);
+GLINT_JSON_READ_VALUE(Quaternion);
 GLINT_JSON_READ_VALUE(Transform);
 #undef GLINT_JSON_READ_VALUE
 
@@ -83,7 +89,8 @@ GLINT_JSON_READ_VALUE(Transform);
 // in order, the first one first:
 //   [{"scale": 2}, {"rotate": {"axis": [0, 1, 0], "degrees": 90}}, {"translate": [1, 0, 0]}]
 // Operations: translate [x,y,z]; rotate {axis, degrees}; scale s or [x,y,z]; shear {xy, xz,
-// yx, yz, zx, zy} (x' = x + xy y + xz z, ...; unset factors 0); matrix (either matrix form). Singular, non-affine or non-finite matrices are errors at their pointer.
+// yx, yz, zx, zy} (x' = x + xy y + xz z, ...; unset factors 0); matrix (either matrix form).
+// Singular, non-affine or non-finite matrices are errors at their pointer.
 Transform readTransform(const nlohmann::json& value, const SourceLocation& where);
 
 // One element of an array read through a JsonReader, with its location.
@@ -98,20 +105,42 @@ struct JsonItem {
 };
 
 // ---------------------------------------------------------------------------------------------
+// Keyframes
+// ---------------------------------------------------------------------------------------------
+
+// Whether `value` is written as keyframes: an object with a "keys" member.
+bool isKeyframes(const nlohmann::json& value);
+
+class JsonReader;
+
+// Reads the "keys" and "interpolation" of a keyframe object (the caller's reader `r` may hold
+// more keys, e.g. a rotation axis, and finishes it):
+//   {"keys": [[t, value], ...], "interpolation": "linear" | "step" | "smooth"}
+// Times are seconds, finite and strictly increasing; at least one key. `read` converts one
+// value (given its JSON and location).
+template <class T, class ReadValue>
+Track<T> readTrack(JsonReader& r, ReadValue&& read);
+
+// ---------------------------------------------------------------------------------------------
 // JsonReader
 // ---------------------------------------------------------------------------------------------
 
 class JsonReader {
  public:
   // Reads the JSON object `object` found at `where`; throws "expected object, got X" when it
-  // is not an object. `object` must outlive the reader.
-  JsonReader(const nlohmann::json& object, SourceLocation where);
+  // is not an object. `object` must outlive the reader. With a `time`, numbers and vectors
+  // read through get(), optional() and value() may be keyframes (see readTrack), evaluated at
+  // that time; without one, keyframes are an error. Child readers share the time.
+  JsonReader(const nlohmann::json& object, SourceLocation where,
+             std::optional<double> time = std::nullopt);
   JsonReader(JsonReader&&) = default;
   JsonReader& operator=(JsonReader&&) = default;
 
   const SourceLocation& where() const { return where_; }
   SourceLocation where(std::string_view key) const { return where_.child(std::string(key)); }
   const nlohmann::json& json() const { return *object_; }
+  // The time keyframes are evaluated at (none: keyframes are not allowed).
+  std::optional<double> time() const { return time_; }
   // True when `key` is present. Does not count as reading it.
   bool has(std::string_view key) const;
 
@@ -119,20 +148,34 @@ class JsonReader {
   // Required: a missing key is "/parent: missing required key 'key'".
   template <class T>
   T get(std::string_view key, const Range& range = {}) {
-    return readValue<T>(require(key), where(key), range);
+    return value<T>(require(key), where(key), range);
   }
   // With a fallback for a missing key.
   template <class T>
   T get(std::string_view key, const T& fallback, const Range& range = {}) {
     const nlohmann::json* v = take(key);
-    return v ? readValue<T>(*v, where(key), range) : fallback;
+    return v ? value<T>(*v, where(key), range) : fallback;
   }
   // Empty when the key is missing.
   template <class T>
   std::optional<T> optional(std::string_view key, const Range& range = {}) {
     const nlohmann::json* v = take(key);
     if (!v) return std::nullopt;
-    return readValue<T>(*v, where(key), range);
+    return value<T>(*v, where(key), range);
+  }
+  // A value taken with take(): like readValue, but float, Vec2f and Vec3f may be keyframes,
+  // evaluated at time(). Every key's value must satisfy `range`, and so must the value at
+  // time() (a "smooth" curve can overshoot its keys).
+  template <class T>
+  T value(const nlohmann::json& v, const SourceLocation& at, const Range& range = {}) const {
+    if (isKeyframes(v)) {
+      if constexpr (std::is_same_v<T, float> || std::is_same_v<T, Vec2f> ||
+                    std::is_same_v<T, Vec3f>)
+        return keyframed<T>(v, at, range);
+      else
+        throw SceneError(at, "keyframes are only allowed on numbers and vectors");
+    }
+    return readValue<T>(v, at, range);
   }
 
   // --- enumerations: a string that must be one of `allowed` ---
@@ -182,12 +225,70 @@ class JsonReader {
 
  private:
   void markKnown(std::string_view key);
+  template <class T>
+  T keyframed(const nlohmann::json& v, const SourceLocation& at, const Range& range) const;
 
   const nlohmann::json* object_;
   SourceLocation where_;
+  std::optional<double> time_;
   std::set<std::string, std::less<>> read_;   // keys taken
   std::set<std::string, std::less<>> known_;  // keys asked for, present or not
   std::vector<std::unique_ptr<JsonReader>> children_;
 };
+
+// ---------------------------------------------------------------------------------------------
+// Keyframes (templates)
+// ---------------------------------------------------------------------------------------------
+
+template <class T, class ReadValue>
+Track<T> readTrack(JsonReader& r, ReadValue&& read) {
+  Track<T> track;
+  track.where = r.where();
+  track.interpolation = r.oneOf<Interpolation>("interpolation",
+                                               {{"linear", Interpolation::Linear},
+                                                {"step", Interpolation::Step},
+                                                {"smooth", Interpolation::Smooth}},
+                                               Interpolation::Linear);
+  std::vector<JsonItem> keys = r.array("keys");
+  if (keys.empty()) throw SceneError(r.where("keys"), "needs at least one key");
+  for (const JsonItem& key : keys) {
+    if (!key.value->is_array() || key.value->size() != 2)
+      throw SceneError(key.where, "a key is [time, value]");
+    SourceLocation at = key.where.child(size_t(0));
+    float t = readValue<float>((*key.value)[0], at);
+    if (!track.times.empty() && !(t > track.times.back()))
+      throw SceneError(at, "key times must increase strictly (the previous key is at " +
+                               std::to_string(track.times.back()) + ")");
+    track.times.push_back(t);
+    track.values.push_back(read((*key.value)[1], key.where.child(size_t(1))));
+  }
+  return track;
+}
+
+template <class T>
+T JsonReader::keyframed(const nlohmann::json& v, const SourceLocation& at,
+                        const Range& range) const {
+  if (!time_) throw SceneError(at, "keyframes are not allowed here");
+  JsonReader r(v, at);
+  Track<T> track = readTrack<T>(r, [&](const nlohmann::json& x, const SourceLocation& w) {
+    return readValue<T>(x, w, range);
+  });
+  r.finish();
+  T result = evaluate(track, *time_);
+  if constexpr (std::is_same_v<T, float>) {
+    if (!range.contains(result))
+      throw SceneError(at, "the keyframed value at time " + std::to_string(*time_) + " is " +
+                               std::to_string(result) + ": " + range.describe() +
+                               " (a smooth curve overshoots its keys; add keys or use linear)");
+  } else {
+    for (int i = 0; i < (std::is_same_v<T, Vec2f> ? 2 : 3); ++i)
+      if (!range.contains(result[i]))
+        throw SceneError(at, "the keyframed value at time " + std::to_string(*time_) +
+                                 " has component " + std::to_string(i) + " = " +
+                                 std::to_string(result[i]) + ": " + range.describe() +
+                                 " (a smooth curve overshoots its keys; add keys or use linear)");
+  }
+  return result;
+}
 
 }  // namespace glint

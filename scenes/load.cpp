@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "scenes/gltf_loader.h"
+#include "scenes/json_util.h"
 #include "scenes/mesh_import.h"
 #include "scenes/sidecar.h"
 
@@ -28,37 +29,60 @@ void requireFile(const std::string& path, const std::string& what) {
 
 }  // namespace
 
-SceneDescription loadScene(const std::string& path, const std::optional<std::string>& sidecar) {
+SceneLoader::SceneLoader(const std::string& path, const std::optional<std::string>& sidecar) {
   requireFile(path, "scene file");
-  SceneDescription scene;
-  scene.file = path;
+  base_.file = path;
   std::string ext = lowerExtension(path);
   if (ext == ".gltf" || ext == ".glb" || isMeshFile(path)) {
     // A bare mesh takes a sidecar like a glTF file does: it has no camera, lights or
     // materials of its own, and the sidecar is where they come from.
     if (isMeshFile(path))
-      loadMeshFile(path, &scene);
+      loadMeshFile(path, &base_);
     else
-      loadGltf(path, &scene);
+      loadGltf(path, &base_);
     if (sidecar) {
       requireFile(*sidecar, "sidecar file");
-      applySceneJsonFile(*sidecar, SceneJsonKind::Sidecar, &scene);
+      jsonFile_ = *sidecar;
     } else {
       std::string automatic = defaultSidecarPath(path);
       std::error_code ec;
-      if (fs::is_regular_file(automatic, ec))
-        applySceneJsonFile(automatic, SceneJsonKind::Sidecar, &scene);
+      if (fs::is_regular_file(automatic, ec)) jsonFile_ = automatic;
     }
+    kind_ = SceneJsonKind::Sidecar;
+    if (!jsonFile_.empty()) json_ = parseJson(readTextFile(jsonFile_), jsonFile_);
   } else if (ext == ".json") {
     if (sidecar)
       throw SceneError({*sidecar, ""},
                        "a sidecar applies to a .gltf/.glb scene; put its settings in " + path);
-    applySceneJsonFile(path, SceneJsonKind::Scene, &scene);
+    jsonFile_ = path;
+    kind_ = SceneJsonKind::Scene;
+    json_ = parseJson(readTextFile(path), path);
+    loadSceneGltfList(json_, path, &base_);
   } else {
     throw SceneError({path, ""}, "unknown scene format '" + ext +
                                      "'; expected a .gltf, .glb, .ply, .obj or glint .json file");
   }
+  // The first frame is checked here, so that a bad file fails at construction.
+  at();
+}
+
+SceneDescription SceneLoader::at(std::optional<double> time) const {
+  SceneDescription scene = base_;
+  if (jsonFile_.empty()) {
+    if (time) scene.render.time = *time;
+    evaluatePlacements(&scene, scene.render.time);
+    return scene;
+  }
+  SceneJsonOptions options;
+  options.time = time;
+  options.loadGltf = false;
+  applySceneJson(json_, jsonFile_, kind_, &scene, options);
   return scene;
+}
+
+SceneDescription loadScene(const std::string& path, const std::optional<std::string>& sidecar,
+                           std::optional<double> time) {
+  return SceneLoader(path, sidecar).at(time);
 }
 
 }  // namespace glint

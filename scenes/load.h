@@ -1,16 +1,46 @@
 // glint — the scene loading entry point: a glTF file with its sidecar, or a glint .json scene.
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
 #include "scenes/description.h"
+#include "scenes/sidecar.h"
 
 namespace glint {
 
-// Loads SCENE: a .gltf/.glb or a .ply/.obj mesh (with `sidecar`, or NAME.glint.json next to it
-// when that exists) or a glint .json scene that may reference glTF files. Throws SceneError.
+// Loads a scene once and gives its description at any time, for sequences: the glTF files
+// (and a bare mesh) are read and decoded once, in the constructor; the sidecar (or the glint
+// .json scene's own keys), parsed once, is applied again for each time, so its keyframed
+// values are evaluated at that time. Every item with a transformNode holds its placement at
+// that time. Throws SceneError.
+class SceneLoader {
+ public:
+  // SCENE: a .gltf/.glb or a .ply/.obj mesh (with `sidecar`, or NAME.glint.json next to it
+  // when that exists) or a glint .json scene that may reference glTF files.
+  explicit SceneLoader(const std::string& path,
+                       const std::optional<std::string>& sidecar = std::nullopt);
+
+  // The scene at `time` seconds; unset: the file's render.time (0 when it gives none).
+  // render.time of the result is the time used.
+  SceneDescription at(std::optional<double> time = std::nullopt) const;
+
+  // The sidecar that applies (given or found next to the scene), or the .json scene itself;
+  // empty when there is none.
+  const std::string& jsonFile() const { return jsonFile_; }
+
+ private:
+  SceneDescription base_;  // what the glTF files / mesh hold
+  std::string jsonFile_;   // "" = no sidecar
+  nlohmann::json json_;    // its parsed contents
+  SceneJsonKind kind_ = SceneJsonKind::Sidecar;
+};
+
+// Loads SCENE at `time` (unset: the file's render.time, else 0): SceneLoader(path,
+// sidecar).at(time). Throws SceneError.
 SceneDescription loadScene(const std::string& path,
-                           const std::optional<std::string>& sidecar = std::nullopt);
+                           const std::optional<std::string>& sidecar = std::nullopt,
+                           std::optional<double> time = std::nullopt);
 
 }  // namespace glint

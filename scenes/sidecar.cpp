@@ -39,6 +39,9 @@ void readRender(JsonReader& r, RenderSettings* s) {
   s->camera = r.get<std::string>("camera", s->camera);
   s->integrator = r.oneOf("integrator", kIntegrators, s->integrator);
   s->maxDepth = r.get<int>("max_depth", s->maxDepth, kNonNegative);
+  // The scene time was taken from here before anything else was read (sceneTime below).
+  s->time = r.get<double>("time", s->time);
+  s->fps = r.get<double>("fps", s->fps, kPositive);
   if (JsonReader* f = r.optionalObject("filter")) {
     s->filter.type = f->oneOf("type", kFilters, s->filter.type);
     s->filter.radius = f->get<float>("radius", s->filter.radius, kPositive);
@@ -112,17 +115,60 @@ bool usesTransform(const JsonReader& r, std::initializer_list<const char*> other
 // cameras
 // ---------------------------------------------------------------------------------------------
 
-CameraDesc readCamera(JsonReader& r) {
+// Thin lens and shutter: "aperture", "focus_distance", "blades", "blade_rotation",
+// "shutter". `lookAtDistance` is the distance from position to look_at (0 when the camera is
+// placed by a transform): the focus distance when an aperture is given without one.
+void readLensAndShutter(JsonReader& r, float lookAtDistance, CameraDesc* cam) {
+  cam->apertureRadius = r.get<float>("aperture", cam->apertureRadius, kNonNegative);
+  if (auto focus = r.optional<float>("focus_distance", kPositive))
+    cam->focusDistance = *focus;
+  else if (cam->apertureRadius > 0 && cam->focusDistance <= 0 && lookAtDistance > 0)
+    cam->focusDistance = lookAtDistance;
+  if (cam->apertureRadius > 0 && cam->focusDistance <= 0)
+    throw SceneError(r.where("aperture"),
+                     "a camera with an aperture needs 'focus_distance' (or 'position' and "
+                     "'look_at', whose distance it then focuses at)");
+  cam->apertureBlades = r.get<int>("blades", cam->apertureBlades, kNonNegative);
+  if (cam->apertureBlades == 1 || cam->apertureBlades == 2)
+    throw SceneError(r.where("blades"), "must be 0 (a round aperture) or >= 3 (a polygon)");
+  if (auto degrees = r.optional<float>("blade_rotation")) cam->apertureRotation = radians(*degrees);
+  if (auto shutter = r.optional<Vec2f>("shutter")) {
+    if (shutter->x > shutter->y)
+      throw SceneError(r.where("shutter"),
+                       "the shutter must open before it closes ([open, close] "
+                       "with open <= close, seconds from the frame time)");
+    cam->shutterOpen = shutter->x, cam->shutterClose = shutter->y;
+  }
+}
+
+// Places `item` under its "animation" when it has one: world(t) = animation(t) · `placed`.
+// Returns the node index (or -1) and writes the placement at the scene time to `world`.
+int animate(JsonReader& r, const std::string& name, const Transform& placed,
+            SceneDescription* scene, Transform* world) {
+  std::optional<NodeDesc> node = readAnimation(r, name);
+  if (!node) return -1;
+  scene->nodes.push_back(*node);
+  int index = int(scene->nodes.size()) - 1;
+  *world = worldFromNode(scene->nodes, index, r.time().value_or(0.0)) * placed;
+  return index;
+}
+
+// A camera entry. `base` is the existing camera of the same name when the entry gives no
+// placement: then only the keys given change it (a lens on a glTF camera, for instance).
+CameraDesc readCamera(JsonReader& r, const CameraDesc* base, SceneDescription* scene) {
   CameraDesc cam;
+  cam.yfov = radians(40);
+  if (base) cam = *base;
   cam.where = r.where();
   cam.name = r.get<std::string>("name", "");
   cam.type = r.oneOf<CameraType>(
       "type",
       {{"perspective", CameraType::Perspective}, {"orthographic", CameraType::Orthographic}},
-      CameraType::Perspective);
+      cam.type);
   if (cam.type == CameraType::Perspective) {
-    cam.yfov = radians(r.get<float>("yfov_degrees", 40, {.gt = 0, .lt = 180}));
-    cam.aspectRatio = r.get<float>("aspect_ratio", 0, kPositive);
+    if (auto fov = r.optional<float>("yfov_degrees", {.gt = 0, .lt = 180}))
+      cam.yfov = radians(*fov);
+    cam.aspectRatio = r.get<float>("aspect_ratio", cam.aspectRatio, kPositive);
   } else {
     cam.xmag = r.get<float>("xmag", cam.xmag, kPositive);
     cam.ymag = r.get<float>("ymag", cam.ymag, kPositive);
@@ -132,16 +178,31 @@ CameraDesc readCamera(JsonReader& r) {
   if (cam.znear >= cam.zfar)
     throw SceneError(r.where("znear"), "must be < zfar (znear " + std::to_string(cam.znear) +
                                            ", zfar " + std::to_string(cam.zfar) + ")");
-  if (usesTransform(r, {"position", "look_at", "up"})) {
-    cam.worldFromCamera = r.get<Transform>("transform");
+  float lookAtDistance = 0;
+  if (base) {
+    if (r.has("animation"))
+      throw SceneError(r.where("animation"),
+                       "an 'animation' needs the camera's own placement ('position' and "
+                       "'look_at', or 'transform')");
   } else {
-    if (!r.has("position") || !r.has("look_at"))
-      throw SceneError(r.where(), "a camera needs 'position' and 'look_at', or a 'transform'");
-    Vec3f eye = r.get<Vec3f>("position");
-    Vec3f target = r.get<Vec3f>("look_at");
-    Vec3f up = r.get<Vec3f>("up", Vec3f{0, 1, 0});
-    cam.worldFromCamera = aimAlong(r, eye, target - eye, up, "look_at", "up");
+    if (usesTransform(r, {"position", "look_at", "up"})) {
+      cam.worldFromCamera = r.get<Transform>("transform");
+    } else {
+      if (!r.has("position") || !r.has("look_at"))
+        throw SceneError(r.where(), "a camera needs 'position' and 'look_at', or a 'transform'");
+      Vec3f eye = r.get<Vec3f>("position");
+      Vec3f target = r.get<Vec3f>("look_at");
+      Vec3f up = r.get<Vec3f>("up", Vec3f{0, 1, 0});
+      cam.worldFromCamera = aimAlong(r, eye, target - eye, up, "look_at", "up");
+      lookAtDistance = distance(eye, target);
+    }
+    cam.transformNode = -1;
+    cam.nodeFromCamera = Transform();
+    Transform placed = cam.worldFromCamera;
+    if (int node = animate(r, cam.name, placed, scene, &cam.worldFromCamera); node >= 0)
+      cam.transformNode = node, cam.nodeFromCamera = placed;
   }
+  readLensAndShutter(r, lookAtDistance, &cam);
   return cam;
 }
 
@@ -149,7 +210,12 @@ CameraDesc readCamera(JsonReader& r) {
 void readCameras(JsonReader& root, SceneDescription* scene) {
   std::vector<std::pair<std::string, std::string>> seen;  // name, pointer
   for (JsonReader* r : root.objects("cameras")) {
-    CameraDesc cam = readCamera(*r);
+    const CameraDesc* base = nullptr;
+    bool placed = r->has("transform") || r->has("position") || r->has("look_at") || r->has("up");
+    if (!placed && r->has("name") && r->json()["name"].is_string())
+      for (const CameraDesc& existing : scene->cameras)
+        if (existing.name == r->json()["name"].get<std::string>()) base = &existing;
+    CameraDesc cam = readCamera(*r, base, scene);
     bool replaced = false;
     if (!cam.name.empty()) {
       for (const auto& [name, pointer] : seen)
@@ -168,7 +234,7 @@ void readCameras(JsonReader& root, SceneDescription* scene) {
 // lights
 // ---------------------------------------------------------------------------------------------
 
-LightDesc readLight(JsonReader& r) {
+LightDesc readLight(JsonReader& r, SceneDescription* scene) {
   LightDesc light;
   light.where = r.where();
   light.name = r.get<std::string>("name", "");
@@ -219,18 +285,26 @@ LightDesc readLight(JsonReader& r) {
       }
       break;
   }
+  Transform placed = light.worldFromLight;
+  if (int node = animate(r, light.name, placed, scene, &light.worldFromLight); node >= 0)
+    light.transformNode = node, light.nodeFromLight = placed;
   return light;
 }
 
 void readLights(JsonReader& root, SceneDescription* scene) {
-  for (JsonReader* r : root.objects("lights")) scene->lights.push_back(readLight(*r));
+  for (JsonReader* r : root.objects("lights")) {
+    LightDesc light = readLight(*r, scene);
+    scene->lights.push_back(light);
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
 // gltf (only in a .json scene)
 // ---------------------------------------------------------------------------------------------
 
-void loadGltfList(JsonReader& root, const std::string& file, SceneDescription* scene) {
+// Reads the "gltf" list; loads the files only when `load` (SceneLoader loads them once and
+// then re-applies the rest of the scene per frame).
+void loadGltfList(JsonReader& root, const std::string& file, SceneDescription* scene, bool load) {
   fs::path folder = fs::path(file).parent_path();
   for (const JsonItem& entry : root.optionalArray("gltf")) {
     std::string relative;
@@ -252,6 +326,7 @@ void loadGltfList(JsonReader& root, const std::string& file, SceneDescription* s
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
     if (ext != ".gltf" && ext != ".glb")
       throw SceneError(at, "expected a .gltf or .glb file, got '" + relative + "'");
+    if (!load) continue;
     std::error_code ec;
     if (!fs::is_regular_file(path, ec)) throw SceneError(at, "file not found: " + path.string());
     loadGltf(path.string(), scene, transform);
@@ -264,12 +339,26 @@ void loadGltfList(JsonReader& root, const std::string& file, SceneDescription* s
 // Entry points
 // ---------------------------------------------------------------------------------------------
 
-void applySceneJsonText(std::string_view text, const std::string& file, SceneJsonKind kind,
-                        SceneDescription* scene) {
-  nlohmann::json doc = parseJson(text, file);
-  JsonReader root(doc, {file, ""});
+double sceneTime(const nlohmann::json& doc, const std::string& file, const SceneDescription& scene,
+                 const SceneJsonOptions& options) {
+  if (options.time) return *options.time;
+  if (doc.is_object() && doc.contains("render") && doc["render"].is_object() &&
+      doc["render"].contains("time")) {
+    SourceLocation at{file, "/render/time"};
+    const nlohmann::json& t = doc["render"]["time"];
+    if (isKeyframes(t)) throw SceneError(at, "the scene time itself cannot be keyframed");
+    return readValue<double>(t, at);
+  }
+  return scene.render.time;
+}
+
+void applySceneJson(const nlohmann::json& doc, const std::string& file, SceneJsonKind kind,
+                    SceneDescription* scene, const SceneJsonOptions& options) {
+  // Every keyframed value is evaluated at one time, known before anything else is read.
+  double time = sceneTime(doc, file, *scene, options);
+  JsonReader root(doc, {file, ""}, time);
   if (kind == SceneJsonKind::Scene)
-    loadGltfList(root, file, scene);
+    loadGltfList(root, file, scene, options.loadGltf);
   else if (root.has("gltf"))
     throw SceneError(root.where("gltf"), "only a .json scene may list glTF files");
 
@@ -280,14 +369,28 @@ void applySceneJsonText(std::string_view text, const std::string& file, SceneJso
   readObjects(root, file, scene);
   JsonReader* render = root.optionalObject("render");
   if (render) readRender(*render, &scene->render);
+  scene->render.time = time;
   // Unknown keys first: a misspelt section would otherwise surface as a confusing
   // cross-reference error below.
   root.finish();
   if (render) checkRenderCamera(*render, *scene);
+  evaluatePlacements(scene, time);
 }
 
-void applySceneJsonFile(const std::string& path, SceneJsonKind kind, SceneDescription* scene) {
-  applySceneJsonText(readTextFile(path), path, kind, scene);
+void applySceneJsonText(std::string_view text, const std::string& file, SceneJsonKind kind,
+                        SceneDescription* scene, const SceneJsonOptions& options) {
+  applySceneJson(parseJson(text, file), file, kind, scene, options);
+}
+
+void applySceneJsonFile(const std::string& path, SceneJsonKind kind, SceneDescription* scene,
+                        const SceneJsonOptions& options) {
+  applySceneJsonText(readTextFile(path), path, kind, scene, options);
+}
+
+void loadSceneGltfList(const nlohmann::json& doc, const std::string& file,
+                       SceneDescription* scene) {
+  JsonReader root(doc, {file, ""});
+  loadGltfList(root, file, scene, true);
 }
 
 std::string defaultSidecarPath(const std::string& gltfPath) {

@@ -43,8 +43,8 @@ MappingDesc readMapping(JsonReader& r, MappingDesc::Space fallback) {
                                           {"yz", MappingDesc::Plane::Yz}},
                                          MappingDesc::Plane::Xy);
   if (const nlohmann::json* s = j->take("scale")) {
-    m.scale = s->is_number() ? Vec3f{1, 1, 1} * readValue<float>(*s, j->where("scale"), kPositive)
-                             : readValue<Vec3f>(*s, j->where("scale"), kPositive);
+    m.scale = s->is_number() ? Vec3f{1, 1, 1} * j->value<float>(*s, j->where("scale"), kPositive)
+                             : j->value<Vec3f>(*s, j->where("scale"), kPositive);
   }
   m.offset = j->get<Vec3f>("offset", m.offset);
   return m;
@@ -183,7 +183,7 @@ void readColorParam(JsonReader& r, const char* key, const SceneDescription& scen
     *factor = {1, 1, 1};
     return;
   }
-  *factor = readValue<Rgb>(*v, r.where(key), kNonNegative);
+  *factor = r.value<Rgb>(*v, r.where(key), kNonNegative);
 }
 
 // "bump", "normal_map" or "snow": at most one per material.

@@ -141,11 +141,21 @@ TerrainDesc readTerrain(JsonReader& r) {
   return t;
 }
 
-ObjectDesc readObject(JsonReader& r, const std::string& file, const SceneDescription& scene) {
+ObjectDesc readObject(JsonReader& r, const std::string& file, SceneDescription* sceneOut) {
+  const SceneDescription& scene = *sceneOut;
   ObjectDesc obj;
   obj.where = r.where();
   obj.name = r.get<std::string>("name", "");
   obj.worldFromObject = r.get<Transform>("transform", Transform());
+  if (std::optional<NodeDesc> node = readAnimation(r, obj.name)) {
+    sceneOut->nodes.push_back(*node);
+    obj.transformNode = int(sceneOut->nodes.size()) - 1;
+    obj.nodeFromObject = obj.worldFromObject;
+    // The placement at the scene time; scenes/sidecar.cpp sets it again once all is read.
+    obj.worldFromObject =
+        worldFromNode(sceneOut->nodes, obj.transformNode, r.time().value_or(0.0)) *
+        obj.nodeFromObject;
+  }
   obj.material = readMaterialRef(r, scene);
   std::string type = r.get<std::string>("type");
   if (type == "csg") {
@@ -197,8 +207,50 @@ void resolveCsgMaterials(CsgTreeDesc* tree, const SceneDescription& scene) {
 }
 
 void readObjects(JsonReader& root, const std::string& file, SceneDescription* scene) {
-  for (JsonReader* r : root.objects("objects"))
-    scene->objects.push_back(readObject(*r, file, *scene));
+  for (JsonReader* r : root.objects("objects")) {
+    ObjectDesc obj = readObject(*r, file, scene);
+    scene->objects.push_back(std::move(obj));
+  }
+}
+
+std::optional<NodeDesc> readAnimation(JsonReader& item, const std::string& name) {
+  JsonReader* r = item.optionalObject("animation");
+  if (!r) return std::nullopt;
+  NodeDesc node;
+  node.name = name.empty() ? "animation at " + r->where().pointer : name;
+  node.where = r->where();
+  if (JsonReader* t = r->optionalObject("translation"))
+    node.translationTrack = readTrack<Vec3f>(
+        *t,
+        [](const nlohmann::json& v, const SourceLocation& w) { return readValue<Vec3f>(v, w); });
+  if (JsonReader* q = r->optionalObject("rotation")) {
+    if (q->has("axis")) {
+      // Angles rather than quaternions: two keys can then turn by any amount (a wheel
+      // spinning 720 degrees), where slerp would take the shortest way.
+      Vec3f axis = q->get<Vec3f>("axis");
+      if (axis == Vec3f{}) throw SceneError(q->where("axis"), "must not be zero");
+      node.rotationAxis = normalize(axis);
+      node.angleTrack = readTrack<float>(*q, [](const nlohmann::json& v, const SourceLocation& w) {
+        return readValue<float>(v, w);
+      });
+    } else {
+      node.rotationTrack =
+          readTrack<Quaternion>(*q, [](const nlohmann::json& v, const SourceLocation& w) {
+            return readValue<Quaternion>(v, w);
+          });
+    }
+  }
+  if (JsonReader* s = r->optionalObject("scale"))
+    node.scaleTrack = readTrack<Vec3f>(*s, [](const nlohmann::json& v, const SourceLocation& w) {
+      Vec3f x = v.is_number() ? Vec3f{1, 1, 1} * readValue<float>(v, w) : readValue<Vec3f>(v, w);
+      if (x.x == 0 || x.y == 0 || x.z == 0)
+        throw SceneError(w, "scale must not be zero (the transform would not be invertible)");
+      return x;
+    });
+  r->finish();  // a misspelt track is reported as such, not as a missing one
+  if (!node.hasTracks())
+    throw SceneError(r->where(), "an animation needs 'translation', 'rotation' or 'scale'");
+  return node;
 }
 
 }  // namespace glint

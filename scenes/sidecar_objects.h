@@ -2,6 +2,7 @@
 // (Internal to scenes/: sidecar.cpp calls it after the materials, which objects name.)
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "scenes/description.h"
@@ -12,6 +13,11 @@ namespace glint {
 // Reads root["objects"] into scene->objects. `file` is the JSON file (for .csg paths, which
 // are relative to it). Material names must exist in scene->materials.
 void readObjects(JsonReader& root, const std::string& file, SceneDescription* scene);
+
+// The optional "animation" of an object, camera or light: translation, rotation and scale
+// keyframes (T(t) · R(t) · S(t), applied after the item's own transform), as a NodeDesc
+// without parent. Empty when `item` has no "animation".
+std::optional<NodeDesc> readAnimation(JsonReader& item, const std::string& name);
 
 // Resolves the material names a .csg file gave its leaves (CsgNodeDesc::materialName) against
 // scene.materials (errors are located at the leaf's file:line).
