@@ -11,5 +11,6 @@ void addRenderCommand(CLI::App& app, int* exitCode);
 void addInfoCommand(CLI::App& app, int* exitCode);
 void addDiffCommand(CLI::App& app, int* exitCode);
 void addBenchAccelCommand(CLI::App& app, int* exitCode);
+void addTonemapCommand(CLI::App& app, int* exitCode);
 
 }  // namespace glint::app

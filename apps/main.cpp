@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   glint::app::addInfoCommand(app, &exitCode);
   glint::app::addDiffCommand(app, &exitCode);
   glint::app::addBenchAccelCommand(app, &exitCode);
+  glint::app::addTonemapCommand(app, &exitCode);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -12,6 +12,7 @@
 #include <cctype>
 #include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <vector>
@@ -100,10 +101,12 @@ Image exrImage(const Film& film, const RenderSettings& settings) {
   return img;
 }
 
-// Display-referred RGB: exposure, tone mapping, then the OCIO display/view transform.
-Image displayImage(const Film& film, const RenderSettings& settings, Format format) {
+// Display-referred RGB: exposure, tone mapping with the scale `logAverageLuminance` gives, then
+// the OCIO display/view transform.
+Image displayImage(const Film& film, const ToneMapSettings& tonemap, double logAverageLuminance,
+                   Format format) {
   std::vector<Rgb> color = film.color;
-  toneMap(color, settings.tonemap);
+  applyToneMap(color, tonemap, logAverageLuminance);
 
   Image img;
   img.pixels.resize(color.size() * 3);
@@ -112,7 +115,7 @@ Image displayImage(const Film& film, const RenderSettings& settings, Format form
     img.pixels[3 * i + 1] = color[i].y;
     img.pixels[3 * i + 2] = color[i].z;
   }
-  applyDisplayView(img.pixels, settings.tonemap.display, settings.tonemap.view);
+  applyDisplayView(img.pixels, tonemap.display, tonemap.view);
   // OIIO clamps to [0, 1] and rounds when it quantizes; NaN has no defined conversion.
   for (float& v : img.pixels)
     if (std::isnan(v)) v = 0;
@@ -121,6 +124,24 @@ Image displayImage(const Film& film, const RenderSettings& settings, Format form
       OIIO::ImageSpec(film.width, film.height, 3,
                       format == Format::Tiff ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::UINT8);
   return img;
+}
+
+// Checks what writeImage and writeDisplayImage check before any pixel work.
+Format checkedFormat(const std::string& path, const Film& film) {
+  Format format = formatOf(path);
+  std::string why;
+  if (format == Format::Unknown) {
+    isSupportedOutput(path, &why);
+    throw OutputError(why);
+  }
+  if (film.width <= 0 || film.height <= 0)
+    throw OutputError(fmt::format("cannot write '{}': the image is empty", path));
+  const size_t n = size_t(film.width) * size_t(film.height);
+  assert(film.color.size() == n && film.alpha.size() == n);
+  assert(!film.hasAovs || (film.albedo.size() == n && film.normal.size() == n &&
+                           film.depth.size() == n && film.variance.size() == n));
+  (void)n;
+  return format;
 }
 
 // ---- atomic write ----------------------------------------------------------------------------
@@ -195,25 +216,71 @@ bool isSupportedOutput(const std::string& path, std::string* why) {
 
 void writeImage(const std::string& path, const Film& film, const RenderSettings& settings,
                 const ImageMetadata& meta) {
-  Format format = formatOf(path);
-  std::string why;
-  if (format == Format::Unknown) {
-    isSupportedOutput(path, &why);
-    throw OutputError(why);
-  }
-  if (film.width <= 0 || film.height <= 0)
-    throw OutputError(fmt::format("cannot write '{}': the image is empty", path));
-  const size_t n = size_t(film.width) * size_t(film.height);
-  assert(film.color.size() == n && film.alpha.size() == n);
-  assert(!film.hasAovs || (film.albedo.size() == n && film.normal.size() == n &&
-                           film.depth.size() == n && film.variance.size() == n));
-  (void)n;
-
+  Format format = checkedFormat(path, film);
   // Pixels first (colour errors are bad input, not a failed write); then the file system.
-  Image img =
-      format == Format::Exr ? exrImage(film, settings) : displayImage(film, settings, format);
+  Image img;
+  if (format == Format::Exr) {
+    img = exrImage(film, settings);
+  } else {
+    LogLuminanceStats stats;
+    if (settings.tonemap.op == "ward") stats.add(film.color, settings.tonemap);
+    img = displayImage(film, settings.tonemap, stats.logAverage(), format);
+  }
   addMetadata(img.spec, meta);
   writeAtomically(path, img);
+}
+
+void writeDisplayImage(const std::string& path, const Film& film, const ToneMapSettings& tonemap,
+                       double logAverageLuminance, const ImageMetadata& meta) {
+  Format format = checkedFormat(path, film);
+  if (format == Format::Exr)
+    throw OutputError(fmt::format(
+        "cannot write '{}': tone-mapped output is display-referred (.png, .jpg, .tif); EXR "
+        "stays scene-linear",
+        path));
+  Image img = displayImage(film, tonemap, logAverageLuminance, format);
+  addMetadata(img.spec, meta);
+  writeAtomically(path, img);
+}
+
+Film readExr(const std::string& path, ImageMetadata* meta) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw ImageReadError(fmt::format("{}: no such file", path));
+  if (fs::is_directory(path, ec))
+    throw ImageReadError(fmt::format("{}: is a folder, not an image", path));
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) throw ImageReadError(fmt::format("{}: {}", path, OIIO::geterror()));
+  const OIIO::ImageSpec& spec = in->spec();
+  if (std::string(in->format_name()) != "openexr")
+    throw ImageReadError(fmt::format("{}: is not an OpenEXR image ({})", path, in->format_name()));
+  int r = spec.channelindex("R"), g = spec.channelindex("G"), b = spec.channelindex("B");
+  int a = spec.channelindex("A");
+  if (r < 0 || g < 0 || b < 0)
+    throw ImageReadError(fmt::format("{}: has no R, G, B channels", path));
+  if (spec.width <= 0 || spec.height <= 0 || spec.depth > 1)
+    throw ImageReadError(fmt::format("{}: not a 2D image", path));
+
+  const int nch = spec.nchannels;
+  std::vector<float> pixels(size_t(spec.width) * size_t(spec.height) * size_t(nch));
+  if (!in->read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, pixels.data()))
+    throw ImageReadError(fmt::format("{}: {}", path, in->geterror()));
+  if (meta) {
+    meta->scene = spec.get_string_attribute("glint:scene");
+    meta->spp = spec.get_int_attribute("glint:spp");
+    meta->seed = std::strtoull(spec.get_string_attribute("glint:seed", "0").c_str(), nullptr, 10);
+    meta->renderSeconds = spec.get_float_attribute("glint:render_seconds");
+    meta->accel = spec.get_string_attribute("glint:accel");
+    meta->integrator = spec.get_string_attribute("glint:integrator");
+  }
+  in->close();
+
+  Film film(spec.width, spec.height, false);
+  for (size_t i = 0; i < film.color.size(); ++i) {
+    const float* p = &pixels[i * size_t(nch)];
+    film.color[i] = Rgb{p[r], p[g], p[b]};
+    film.alpha[i] = a >= 0 ? p[a] : 1.0f;
+  }
+  return film;
 }
 
 }  // namespace glint

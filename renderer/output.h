@@ -7,12 +7,13 @@
 #include <string>
 
 #include "renderer/film.h"
+#include "renderer/image_diff.h"
 #include "renderer/settings.h"
 
 namespace glint {
 
 struct ImageMetadata {
-  std::string scene;      // the scene file
+  std::string scene;  // the scene file
   int spp = 0;
   uint64_t seed = 0;
   double renderSeconds = 0;
@@ -35,5 +36,17 @@ bool isSupportedOutput(const std::string& path, std::string* why);
 // half-written file or destroys a previous good image. Throws OutputError.
 void writeImage(const std::string& path, const Film& film, const RenderSettings& settings,
                 const ImageMetadata& meta);
+
+// Writes a display-referred image (PNG/JPEG/TIFF) of `film`, tone-mapped with the scale that
+// `logAverageLuminance` gives (toneMapScale) instead of the film's own statistic: how every
+// frame of a sequence shares one Ward scale. Atomic like writeImage. Throws OutputError (also
+// for an .exr path: EXR stays scene-linear) or ColorError.
+void writeDisplayImage(const std::string& path, const Film& film, const ToneMapSettings& tonemap,
+                       double logAverageLuminance, const ImageMetadata& meta);
+
+// Reads a scene-linear EXR (the R, G, B channels, and A when present, else alpha 1) into a film
+// without AOVs; fills *meta from glint's attributes when given. Throws ImageReadError naming
+// the file when it is missing, unreadable or has no R, G, B channels.
+Film readExr(const std::string& path, ImageMetadata* meta = nullptr);
 
 }  // namespace glint

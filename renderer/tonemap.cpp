@@ -19,9 +19,16 @@ void LogLuminanceStats::add(std::span<const Rgb> sceneLinear, const ToneMapSetti
   const double toWorld = double(exposureScale(settings.exposure)) * settings.wardSceneLuminance;
   for (const Rgb& c : sceneLinear) {
     double lw = double(luminance(c)) * toWorld;
-    // Negative or NaN luminance (a bad sample) counts as black rather than poisoning the mean.
-    if (!(lw > 0)) lw = 0;
-    if (std::isinf(lw)) continue;
+    // A NaN or infinite pixel (a bad sample) would make the mean NaN or ±inf for the whole
+    // image, or the whole sequence: leave it out, and count it so the caller can say so.
+    if (!std::isfinite(lw)) {
+      ++nonFinite;
+      continue;
+    }
+    if (lw > 0)
+      ++nonBlack;
+    else
+      lw = 0;
     sumLog += std::log(kWardLogDelta + lw);
     ++count;
   }
@@ -30,10 +37,25 @@ void LogLuminanceStats::add(std::span<const Rgb> sceneLinear, const ToneMapSetti
 void LogLuminanceStats::merge(const LogLuminanceStats& other) {
   sumLog += other.sumLog;
   count += other.count;
+  nonBlack += other.nonBlack;
+  nonFinite += other.nonFinite;
 }
 
 double LogLuminanceStats::logAverage() const {
   return count == 0 ? kWardLogDelta : std::exp(sumLog / double(count));
+}
+
+// ---- sequences -------------------------------------------------------------------------------
+
+LogLuminanceStats sequenceStats(std::span<const LogLuminanceStats> frames) {
+  LogLuminanceStats lit, all;
+  for (const LogLuminanceStats& f : frames) {
+    all.merge(f);
+    if (!f.allBlack()) lit.merge(f);
+  }
+  if (lit.count == 0) return all;
+  lit.nonFinite = all.nonFinite;
+  return lit;
 }
 
 // ---- applying a scale ------------------------------------------------------------------------

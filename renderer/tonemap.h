@@ -28,15 +28,35 @@ float exposureScale(float stops);
 // Log-average world luminance, accumulated over any number of images (frames) and merged across
 // threads. World luminance Lw = luminance(rgb) · 2^exposure · wardSceneLuminance (cd/m²).
 struct LogLuminanceStats {
-  double sumLog = 0;   // Σ log(δ + Lw)
-  uint64_t count = 0;  // number of pixels summed
+  double sumLog = 0;       // Σ log(δ + Lw)
+  uint64_t count = 0;      // number of pixels summed
+  uint64_t nonBlack = 0;   // of those, pixels with Lw > 0
+  uint64_t nonFinite = 0;  // NaN or infinite pixels: left out of the sum, only counted
 
-  // Adds every pixel of one scene-linear image.
+  // Adds every pixel of one scene-linear image. Negative luminance counts as black.
   void add(std::span<const Rgb> sceneLinear, const ToneMapSettings& settings);
   void merge(const LogLuminanceStats& other);
   // Lwa = exp(mean log(δ + Lw)) in cd/m²; δ for an empty set.
   double logAverage() const;
+  // True when no pixel had positive luminance (an all-black or empty frame).
+  bool allBlack() const { return nonBlack == 0; }
 };
+
+// ---- sequences -------------------------------------------------------------------------------
+//
+// An animation is mapped in three steps: gather one LogLuminanceStats per frame, combine them
+// with sequenceStats, then map every frame with the one toneMapScale(settings,
+// sequence.logAverage()). The competition's animation tool averaged the frames' own scale
+// factors; averaging log luminance over all pixels of all frames instead keeps Ward's statistic
+// what it is for one image (a one-frame sequence maps exactly as the frame alone).
+
+// The statistics of a whole sequence from each frame's: every pixel of every frame that has at
+// least one non-black pixel. All-black frames (a fade to black, an empty first frame) are left
+// out: their log-average is δ, a number chosen only to keep log finite, and one such frame in
+// ten would lower Lwa of a 20 cd/m² sequence about threefold and brighten every other frame;
+// the black frame itself maps to black at any scale. When every frame is black the result is
+// their plain merge (Lwa = δ). nonFinite counts the NaN/Inf pixels of every frame.
+LogLuminanceStats sequenceStats(std::span<const LogLuminanceStats> frames);
 
 // Ward's contrast-based scale factor m = ((1.219 + (Ldmax/2)^0.4) / (1.219 + Lwa^0.4))^2.5,
 // mapping world luminance to display luminance (cd/m²). Greg Ward, "A contrast-based

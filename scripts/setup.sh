@@ -7,7 +7,7 @@ PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libembree-dev libtbb-dev
   libopenimageio-dev openimageio-tools libopenexr-dev python3-imath
-  libopencolorio-dev
+  libopencolorio-dev opencolorio-tools
   libtinygltf-dev nlohmann-json3-dev libassimp-dev
   libcli11-dev libfmt-dev
   libgtest-dev libbenchmark-dev

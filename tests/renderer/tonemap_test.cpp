@@ -1,12 +1,17 @@
 // Tests for renderer/tonemap: exposure and Ward's (1994) contrast-based scale factor.
 #include "renderer/tonemap.h"
 
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <span>
 #include <vector>
 
 #include "renderer/color.h"
+#include "renderer/output.h"
+#include "test_support.h"
 
 namespace glint {
 namespace {
@@ -103,11 +108,140 @@ TEST(ToneMap, BlackPixelsUseDeltaAndBadSamplesDoNotPoison) {
   LogLuminanceStats black;
   black.add(constantImage(16, {0, 0, 0}), s);
   EXPECT_NEAR(black.logAverage(), kWardLogDelta, 1e-15);
+  EXPECT_TRUE(black.allBlack());
   EXPECT_EQ(LogLuminanceStats{}.logAverage(), kWardLogDelta);
 
   LogLuminanceStats bad;
   bad.add(std::vector<Rgb>{{NAN, 0, 0}, {-1, -1, -1}}, s);
   EXPECT_TRUE(std::isfinite(bad.logAverage()));
+  EXPECT_EQ(bad.nonFinite, 1u);
+  EXPECT_EQ(bad.count, 1u);  // the negative pixel counts, as black
+  EXPECT_TRUE(bad.allBlack());
+}
+
+// A non-constant image: Lwa = exp(mean log(δ + Lw)) and m, written out by hand.
+TEST(ToneMap, WardFactorEqualsClosedFormForAGradient) {
+  ToneMapSettings s;
+  s.op = "ward";
+  s.wardDisplayMax = 120;
+  s.wardSceneLuminance = 40;
+  s.exposure = -1;
+  std::vector<Rgb> img;
+  double sumLog = 0;
+  for (int i = 0; i < 100; ++i) {
+    float v = 0.05f * float(i);  // 0 … 4.95, grey, so luminance = v
+    img.push_back({v, v, v});
+    sumLog += std::log(kWardLogDelta + double(v) * 0.5 * 40.0);
+  }
+  const double lwa = std::exp(sumLog / 100.0);
+  LogLuminanceStats stats;
+  stats.add(img, s);
+  EXPECT_NEAR(stats.logAverage(), lwa, 1e-6 * lwa);  // luminance() sums in float
+  EXPECT_EQ(stats.nonBlack, 99u);
+  const double m = closedFormWard(lwa, 120);
+  EXPECT_NEAR(toneMapScale(s, stats.logAverage()), 0.5 * 40.0 * m / 120.0, 1e-6);
+  // Brighter scenes get a smaller factor: Ward maps more world contrast onto the display.
+  EXPECT_GT(wardScaleFactor(1, 100), wardScaleFactor(10, 100));
+  EXPECT_GT(wardScaleFactor(10, 100), wardScaleFactor(1000, 100));
+}
+
+// ---- sequences -------------------------------------------------------------------------------
+
+std::vector<LogLuminanceStats> statsOf(const std::vector<std::vector<Rgb>>& frames,
+                                       const ToneMapSettings& s) {
+  std::vector<LogLuminanceStats> out(frames.size());
+  for (size_t i = 0; i < frames.size(); ++i) out[i].add(frames[i], s);
+  return out;
+}
+
+TEST(ToneMap, SequenceSharesOneScaleSoBrightnessRatiosSurvive) {
+  ToneMapSettings s;
+  s.op = "ward";
+  const std::vector<float> level = {0.05f, 0.1f, 0.4f};
+  std::vector<std::vector<Rgb>> frames;
+  for (float v : level) frames.push_back(constantImage(64, {v, v, v}));
+  std::vector<LogLuminanceStats> perFrame = statsOf(frames, s);
+  LogLuminanceStats seq = sequenceStats(perFrame);
+
+  // Equal-size frames: the sequence's Lwa is the geometric mean of the frames' own.
+  double expected =
+      std::cbrt(perFrame[0].logAverage() * perFrame[1].logAverage() * perFrame[2].logAverage());
+  EXPECT_NEAR(seq.logAverage(), expected, 1e-9 * expected);
+  EXPECT_EQ(seq.count, 3u * 64u);
+
+  std::vector<std::vector<Rgb>> shared = frames, own = frames;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    applyToneMap(shared[i], s, seq.logAverage());
+    applyToneMap(own[i], s, perFrame[i].logAverage());
+  }
+  // One scale: frame 2 stays 8× frame 0 and 4× frame 1.
+  EXPECT_NEAR(shared[2][0].x / shared[0][0].x, 8.0, 1e-5);
+  EXPECT_NEAR(shared[2][0].x / shared[1][0].x, 4.0, 1e-5);
+  const float k = float(toneMapScale(s, seq.logAverage()));
+  for (size_t i = 0; i < frames.size(); ++i) EXPECT_FLOAT_EQ(shared[i][5].y, level[i] * k);
+  // Per frame, Ward adapts to each frame and squeezes the 8× range.
+  EXPECT_LT(own[2][0].x / own[0][0].x, 4.0);
+  EXPECT_GT(own[2][0].x / own[0][0].x, 1.0);
+  // A one-frame sequence maps exactly as the frame alone.
+  EXPECT_EQ(sequenceStats(std::span(perFrame.data(), 1)).logAverage(), perFrame[0].logAverage());
+}
+
+TEST(ToneMap, SequenceLeavesOutAllBlackFrames) {
+  ToneMapSettings s;
+  s.op = "ward";
+  std::vector<Rgb> lit0 = constantImage(16, {0.2f, 0.2f, 0.2f});
+  std::vector<Rgb> lit1 = constantImage(16, {0.3f, 0.1f, 0.5f});
+  std::vector<Rgb> black = constantImage(16, {0, 0, 0});
+  std::vector<LogLuminanceStats> withBlack = statsOf({lit0, black, lit1, black}, s);
+  std::vector<LogLuminanceStats> without = statsOf({lit0, lit1}, s);
+  EXPECT_TRUE(withBlack[1].allBlack());
+  EXPECT_DOUBLE_EQ(sequenceStats(withBlack).logAverage(), sequenceStats(without).logAverage());
+
+  // Without the guard, two black frames in four would pull Lwa down by orders of magnitude.
+  LogLuminanceStats naive;
+  for (const LogLuminanceStats& f : withBlack) naive.merge(f);
+  EXPECT_LT(naive.logAverage(), 0.01 * sequenceStats(without).logAverage());
+
+  // A frame with a single lit pixel is not black: it counts, all of it.
+  std::vector<Rgb> nearlyBlack = black;
+  nearlyBlack[7] = {0.5f, 0.5f, 0.5f};
+  std::vector<LogLuminanceStats> withDim = statsOf({lit0, nearlyBlack, lit1}, s);
+  EXPECT_FALSE(withDim[1].allBlack());
+  EXPECT_EQ(sequenceStats(withDim).count, 48u);
+
+  // Every frame black: Lwa = δ, and the scale stays finite.
+  std::vector<LogLuminanceStats> allBlack = statsOf({black, black}, s);
+  LogLuminanceStats seq = sequenceStats(allBlack);
+  EXPECT_EQ(seq.count, 32u);
+  EXPECT_NEAR(seq.logAverage(), kWardLogDelta, 1e-15);
+  EXPECT_TRUE(std::isfinite(toneMapScale(s, seq.logAverage())));
+  EXPECT_EQ(sequenceStats({}).logAverage(), kWardLogDelta);
+}
+
+TEST(ToneMap, NanAndInfPixelsAreLeftOutAndCounted) {
+  ToneMapSettings s;
+  s.op = "ward";
+  std::vector<Rgb> clean = {{0.1f, 0.2f, 0.3f}, {1, 1, 1}, {0.5f, 0.25f, 0}, {0, 0, 0}};
+  std::vector<Rgb> dirty = clean;
+  dirty.insert(dirty.begin() + 1, {NAN, 0.5f, 0.5f});
+  dirty.push_back({INFINITY, 1, 1});
+  dirty.push_back({-INFINITY, 0, 0});
+  LogLuminanceStats a, b;
+  a.add(clean, s);
+  b.add(dirty, s);
+  EXPECT_EQ(b.nonFinite, 3u);
+  EXPECT_EQ(b.count, a.count);
+  EXPECT_DOUBLE_EQ(b.logAverage(), a.logAverage());
+
+  // A frame of nothing but NaN has no usable pixel: like a black frame, it is left out of a
+  // sequence, whose NaN count still reports it.
+  LogLuminanceStats nanFrame;
+  nanFrame.add(constantImage(8, {NAN, NAN, NAN}), s);
+  EXPECT_TRUE(nanFrame.allBlack());
+  std::vector<LogLuminanceStats> frames = {a, nanFrame};
+  LogLuminanceStats seq = sequenceStats(frames);
+  EXPECT_DOUBLE_EQ(seq.logAverage(), a.logAverage());
+  EXPECT_EQ(seq.nonFinite, 8u);
 }
 
 TEST(ToneMap, ExposureShiftsWorldLuminance) {
@@ -127,6 +261,57 @@ TEST(ToneMap, UnknownOperatorThrows) {
   EXPECT_TRUE(isKnownToneMapOperator("ward"));
   std::vector<Rgb> img = constantImage(1, {1, 1, 1});
   EXPECT_THROW(toneMap(img, s), ColorError);
+}
+
+// ---- applying a given statistic to a file --------------------------------------------------
+
+int code8(const std::string& path) {
+  auto in = OIIO::ImageInput::open(path);
+  EXPECT_TRUE(in) << OIIO::geterror();
+  if (!in) return -1;
+  std::vector<unsigned char> px(size_t(in->spec().image_pixels()) * size_t(in->spec().nchannels));
+  EXPECT_TRUE(in->read_image(0, 0, 0, -1, OIIO::TypeDesc::UINT8, px.data()));
+  return px[0];
+}
+
+// The path `glint tonemap --sequence` takes: EXR in, the sequence's Lwa, display image out.
+TEST(ToneMap, DisplayImageUsesTheGivenLogAverage) {
+  const char* ocio = std::getenv("OCIO");
+  std::string savedOcio = ocio ? ocio : "";
+  ::unsetenv("OCIO");
+  struct Restore {
+    std::string value;
+    ~Restore() {
+      if (!value.empty()) ::setenv("OCIO", value.c_str(), 1);
+    }
+  } restore{savedOcio};
+  std::string dir = test::scratchDir("ToneMap.DisplayImageUsesTheGivenLogAverage");
+  Film film(3, 2, false);
+  for (size_t i = 0; i < film.color.size(); ++i) film.color[i] = {0.1f, 0.1f, 0.1f};
+  film.alpha.assign(film.alpha.size(), 1.0f);
+  RenderSettings rs;
+  writeImage(dir + "/in.exr", film, rs, {"scene.gltf", 4, 7, 1.5, "embree", "whitted"});
+
+  ImageMetadata meta;
+  Film back = readExr(dir + "/in.exr", &meta);
+  ASSERT_EQ(back.width, 3);
+  ASSERT_EQ(back.height, 2);
+  EXPECT_EQ(back.color[4], (Rgb{0.1f, 0.1f, 0.1f}));
+  EXPECT_EQ(meta.scene, "scene.gltf");
+  EXPECT_EQ(meta.spp, 4);
+
+  ToneMapSettings s;
+  s.op = "ward";
+  s.view = "Raw";          // code values proportional to the scaled radiance
+  const double lwa = 2.5;  // not this image's own (10 + δ)
+  writeDisplayImage(dir + "/out.png", back, s, lwa, meta);
+  double k = toneMapScale(s, lwa);
+  EXPECT_EQ(code8(dir + "/out.png"), int(std::lround(0.1 * k * 255)));
+  EXPECT_NE(int(std::lround(0.1 * k * 255)), int(std::lround(0.1 * toneMapScale(s, 10) * 255)));
+
+  EXPECT_THROW(writeDisplayImage(dir + "/out.exr", back, s, lwa, meta), OutputError);
+  EXPECT_THROW(readExr(dir + "/missing.exr"), ImageReadError);
+  EXPECT_THROW(readExr(dir + "/out.png"), ImageReadError);  // not an EXR
 }
 
 }  // namespace

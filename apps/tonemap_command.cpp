@@ -1,0 +1,426 @@
+// glint — `glint tonemap IN.exr|'IN_####.exr' -o OUT.png|'OUT_####.png'`: scene-linear EXR
+// frames to display-referred images, as a separate step that can be re-run with other settings.
+// With --sequence every frame shares one Ward scale, so an animation does not flicker.
+#include <fmt/format.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <memory>
+#include <optional>
+#include <regex>
+#include <string>
+#include <vector>
+
+#include "apps/cli_common.h"
+#include "apps/commands.h"
+#include "renderer/color.h"
+#include "renderer/output.h"
+#include "renderer/progress.h"
+#include "renderer/tonemap.h"
+
+namespace fs = std::filesystem;
+
+namespace glint::app {
+
+namespace {
+
+struct TonemapArgs {
+  std::string input;
+  std::optional<std::string> output;
+  std::string op = "none";
+  bool sequence = false;
+  float ldmax = 100;
+  float sceneLuminance = 100;
+  float exposure = 0;
+  std::string display, view;
+  std::optional<std::string> frames;
+  std::optional<std::string> mp4;
+  double fps = 24;
+  bool quiet = false;
+};
+
+// A bad command line or input: exit code 2, the message names the file.
+struct UsageError {
+  std::string message;
+};
+
+// ---- frame patterns --------------------------------------------------------------------------
+
+// A file name with one run of '#': the frame number, zero-padded to the run's width.
+struct FramePattern {
+  std::string text;        // as given
+  fs::path folder;         // where the frames are
+  std::string head, tail;  // the file name around the run
+  int width = 0;           // 0: a single file, not a pattern
+
+  bool isPattern() const { return width > 0; }
+  std::string path(int frame) const {
+    if (!isPattern()) return text;
+    return (folder / fmt::format("{}{:0{}d}{}", head, frame, width, tail)).string();
+  }
+};
+
+FramePattern parsePattern(const std::string& text) {
+  FramePattern p;
+  p.text = text;
+  fs::path path(text);
+  std::string name = path.filename().string();
+  if (path.parent_path().string().find('#') != std::string::npos)
+    throw UsageError{fmt::format("'{}': '#' may only stand in the file name", text)};
+  size_t first = name.find('#');
+  if (first == std::string::npos) return p;
+  size_t last = name.find_first_not_of('#', first);
+  if (last == std::string::npos) last = name.size();
+  if (name.find('#', last) != std::string::npos)
+    throw UsageError{fmt::format("'{}': more than one run of '#'", text)};
+  p.folder = path.parent_path();
+  p.head = name.substr(0, first);
+  p.tail = name.substr(last);
+  p.width = int(last - first);
+  return p;
+}
+
+struct FrameRange {
+  int first = 0, last = 0, step = 1;
+  bool contains(int f) const { return f >= first && f <= last && (f - first) % step == 0; }
+};
+
+FrameRange parseFrames(const std::string& text) {
+  static const std::regex re(R"(^(\d{1,9})(?:-(\d{1,9}))?(?::(\d{1,9}))?$)");
+  std::smatch m;
+  if (!std::regex_match(text, m, re))
+    throw UsageError{fmt::format("--frames '{}': expected A-B[:STEP] or A", text)};
+  FrameRange r;
+  r.first = std::stoi(m[1]);
+  r.last = m[2].matched ? std::stoi(m[2]) : r.first;
+  r.step = m[3].matched ? std::stoi(m[3]) : 1;
+  if (r.last < r.first)
+    throw UsageError{fmt::format("--frames '{}': the last frame is before the first", text)};
+  if (r.step < 1) throw UsageError{fmt::format("--frames '{}': STEP must be >= 1", text)};
+  return r;
+}
+
+// The existing frames of `p`, sorted by number. A name matches only with the number written as
+// the pattern writes it (padded to the run's width), so 'f_1.exr' and 'f_00001.exr' are not
+// frame 1 of 'f_####.exr'.
+std::vector<int> findFrames(const FramePattern& p, const std::optional<FrameRange>& range) {
+  fs::path folder = p.folder.empty() ? fs::path(".") : p.folder;
+  std::vector<int> frames;
+  std::error_code ec;
+  fs::directory_iterator it(folder, ec);
+  if (ec)
+    throw UsageError{fmt::format("no frames match '{}': cannot list folder '{}': {}", p.text,
+                                 folder.string(), ec.message())};
+  for (const fs::directory_entry& entry : it) {
+    std::string name = entry.path().filename().string();
+    if (name.size() < p.head.size() + p.tail.size() + size_t(p.width)) continue;
+    if (!name.starts_with(p.head) || !name.ends_with(p.tail)) continue;
+    std::string digits = name.substr(p.head.size(), name.size() - p.head.size() - p.tail.size());
+    if (digits.size() > 9 ||
+        !std::all_of(digits.begin(), digits.end(), [](unsigned char c) { return std::isdigit(c); }))
+      continue;
+    int frame = std::stoi(digits);
+    if (fmt::format("{:0{}d}", frame, p.width) != digits) continue;
+    if (range && !range->contains(frame)) continue;
+    if (!entry.is_regular_file(ec)) continue;
+    frames.push_back(frame);
+  }
+  std::sort(frames.begin(), frames.end());
+  if (frames.empty())
+    throw UsageError{range ? fmt::format("no frames match '{}' in --frames {}-{}:{}", p.text,
+                                         range->first, range->last, range->step)
+                           : fmt::format("no frames match '{}'", p.text)};
+  return frames;
+}
+
+std::string lowerExtension(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  return ext;
+}
+
+// ---- ffmpeg ----------------------------------------------------------------------------------
+
+std::optional<std::string> findOnPath(const std::string& program) {
+  const char* path = std::getenv("PATH");
+  if (!path) return std::nullopt;
+  std::string dirs = path;
+  size_t start = 0;
+  while (start <= dirs.size()) {
+    size_t end = dirs.find(':', start);
+    if (end == std::string::npos) end = dirs.size();
+    std::string dir = dirs.substr(start, end - start);
+    fs::path candidate = fs::path(dir.empty() ? "." : dir) / program;
+    std::error_code ec;
+    if (fs::is_regular_file(candidate, ec) && ::access(candidate.c_str(), X_OK) == 0)
+      return candidate.string();
+    start = end + 1;
+  }
+  return std::nullopt;
+}
+
+std::string shellQuote(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+// Pipes the PNGs (in order) into ffmpeg, which writes a temporary file renamed to `mp4` on
+// success. A pipe rather than ffmpeg's own %0Nd input, because --frames with a step or missing
+// frames leave gaps that the image2 demuxer stops at. Throws OutputError.
+void encodeMp4(const std::string& ffmpeg, const std::vector<std::string>& pngs,
+               const std::string& mp4, double fps) {
+  fs::path target(mp4);
+  fs::path temp =
+      target.parent_path() / fmt::format(".{}.tmp-{}.mp4", target.stem().string(), ::getpid());
+  // yuv420p (what players accept) needs even sizes: pad by one pixel where needed.
+  std::string command = fmt::format(
+      "{} -hide_banner -loglevel error -y -f image2pipe -framerate {} -c:v png -i - "
+      "-vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' -pix_fmt yuv420p {}",
+      shellQuote(ffmpeg), fps, shellQuote(temp.string()));
+  auto fail = [&](const std::string& why) {
+    std::error_code ec;
+    fs::remove(temp, ec);
+    return OutputError(fmt::format("cannot write '{}': {}", mp4, why));
+  };
+  // A crashed ffmpeg must be an error message, not a SIGPIPE that kills glint.
+  auto oldHandler = std::signal(SIGPIPE, SIG_IGN);
+  std::FILE* pipe = ::popen(command.c_str(), "w");
+  if (!pipe) {
+    std::signal(SIGPIPE, oldHandler);
+    throw fail("cannot start ffmpeg");
+  }
+  bool written = true;
+  for (const std::string& png : pngs) {
+    std::ifstream in(png, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    if (!in.good() && !in.eof()) written = false;
+    if (std::fwrite(bytes.data(), 1, bytes.size(), pipe) != bytes.size()) written = false;
+    if (!written) break;
+  }
+  int status = ::pclose(pipe);
+  std::signal(SIGPIPE, oldHandler);
+  if (!written || status != 0)
+    throw fail(fmt::format("ffmpeg failed (exit status {})",
+                           WIFEXITED(status) ? WEXITSTATUS(status) : -1));
+  std::error_code ec;
+  fs::rename(temp, target, ec);
+  if (ec) throw fail(ec.message());
+}
+
+// ---- the command -----------------------------------------------------------------------------
+
+struct Job {
+  std::vector<std::string> inputs, outputs;  // one pair per frame
+  ToneMapSettings tonemap;
+  std::optional<std::string> ffmpeg;
+};
+
+// Everything that can be checked without reading pixels; throws UsageError or ColorError.
+Job plan(const TonemapArgs& args) {
+  Job job;
+  if (!isKnownToneMapOperator(args.op))
+    throw UsageError{
+        fmt::format("unknown tone-map operator '{}'; available: 'none', 'ward'", args.op)};
+  if (args.sequence && args.op != "ward")
+    throw UsageError{"--sequence shares Ward's scale between frames; it needs --operator ward"};
+  job.tonemap.op = args.op;
+  job.tonemap.exposure = args.exposure;
+  job.tonemap.wardDisplayMax = args.ldmax;
+  job.tonemap.wardSceneLuminance = args.sceneLuminance;
+  auto [display, view] = resolveDisplayView(args.display, args.view);
+  job.tonemap.display = display;
+  job.tonemap.view = view;
+
+  FramePattern in = parsePattern(args.input);
+  std::string outText =
+      args.output ? *args.output : fs::path(args.input).replace_extension(".png").string();
+  FramePattern out = parsePattern(outText);
+  if (in.isPattern() != out.isPattern())
+    throw UsageError{fmt::format(
+        "mismatched patterns: input '{}' {} a '#' frame pattern but output '{}' {}", args.input,
+        in.isPattern() ? "is" : "is not", outText, out.isPattern() ? "is" : "is not")};
+  if (lowerExtension(args.input) != ".exr")
+    throw UsageError{
+        fmt::format("'{}': tonemap reads scene-linear OpenEXR (.exr) images", args.input)};
+  std::string why;
+  if (!isSupportedOutput(outText, &why)) throw UsageError{why};
+  if (lowerExtension(outText) == ".exr")
+    throw UsageError{fmt::format(
+        "'{}': tone-mapped output is display-referred (.png, .jpg, .tif); EXR stays scene-linear",
+        outText)};
+  if (args.frames && !in.isPattern())
+    throw UsageError{fmt::format("--frames needs a '#' frame pattern, not '{}'", args.input)};
+
+  if (args.mp4) {
+    if (lowerExtension(outText) != ".png")
+      throw UsageError{fmt::format("--mp4 encodes the PNG frames; '{}' is not .png", outText)};
+    if (lowerExtension(*args.mp4) != ".mp4")
+      throw UsageError{fmt::format("--mp4 '{}': the file name must end in .mp4", *args.mp4)};
+    job.ffmpeg = findOnPath("ffmpeg");
+    if (!job.ffmpeg)
+      throw UsageError{
+          "ffmpeg not found on PATH; install it (apt install ffmpeg) or encode the PNGs "
+          "yourself"};
+  }
+
+  if (in.isPattern()) {
+    std::optional<FrameRange> range;
+    if (args.frames) range = parseFrames(*args.frames);
+    for (int f : findFrames(in, range)) {
+      job.inputs.push_back(in.path(f));
+      job.outputs.push_back(out.path(f));
+    }
+  } else {
+    std::error_code ec;
+    if (!fs::exists(args.input, ec)) throw UsageError{fmt::format("{}: no such file", args.input)};
+    job.inputs.push_back(args.input);
+    job.outputs.push_back(outText);
+  }
+  return job;
+}
+
+std::string describeWard(const ToneMapSettings& tm, double lwa) {
+  return fmt::format(
+      "log-average luminance {:.6g} cd/m², Ward scale factor {:.6g}, scene-linear × {:.6g}", lwa,
+      wardScaleFactor(lwa, tm.wardDisplayMax), toneMapScale(tm, lwa));
+}
+
+int runTonemap(const TonemapArgs& args) {
+  Job job;
+  try {
+    job = plan(args);
+  } catch (const UsageError& e) {
+    printError(e.message);
+    return 2;
+  } catch (const ColorError& e) {
+    printError(e.what());
+    return 2;
+  }
+  const ToneMapSettings& tm = job.tonemap;
+  const size_t n = job.inputs.size();
+  // Held by pointer so an error can end the bar's line before the message is printed.
+  auto progress =
+      std::make_unique<ProgressBar>("tonemap", 2 * n, !args.quiet && isTerminal(stderr));
+  auto fail = [&](int code, const std::string& message) {
+    progress.reset();
+    printError(message);
+    return code;
+  };
+
+  // Pass 1 reads every frame before any output is written: a missing or broken frame stops
+  // the run with nothing changed, and the sequence statistic needs every frame anyway. Frames
+  // are read again in pass 2 rather than kept, so a long sequence needs memory for one frame.
+  std::vector<LogLuminanceStats> stats(n);
+  try {
+    for (size_t i = 0; i < n; ++i) {
+      Film film = readExr(job.inputs[i]);
+      stats[i].add(film.color, tm);
+      progress->advance();
+    }
+  } catch (const ImageReadError& e) {
+    return fail(2, e.what());
+  }
+
+  LogLuminanceStats sequence = sequenceStats(stats);
+  std::vector<std::string> report;
+  if (tm.op == "ward") {
+    if (args.sequence) {
+      size_t black = size_t(std::count_if(stats.begin(), stats.end(),
+                                          [](const LogLuminanceStats& s) { return s.allBlack(); }));
+      std::string left = black == 0 || black == n ? ""
+                                                  : fmt::format(", {} all-black frame{} left out",
+                                                                black, black == 1 ? "" : "s");
+      report.push_back(fmt::format("sequence of {} frame{}{}: {}", n, n == 1 ? "" : "s", left,
+                                   describeWard(tm, sequence.logAverage())));
+    } else {
+      for (size_t i = 0; i < n; ++i)
+        report.push_back(
+            fmt::format("{}: {}", job.inputs[i], describeWard(tm, stats[i].logAverage())));
+    }
+  }
+
+  try {
+    if (!job.outputs.empty()) {
+      fs::path folder = fs::path(job.outputs.front()).parent_path();
+      if (!folder.empty()) fs::create_directories(folder);
+    }
+    for (size_t i = 0; i < n; ++i) {
+      ImageMetadata meta;
+      Film film = readExr(job.inputs[i], &meta);
+      double lwa = args.sequence ? sequence.logAverage() : stats[i].logAverage();
+      writeDisplayImage(job.outputs[i], film, tm, lwa, meta);
+      progress->advance();
+    }
+    progress->finish();
+    if (args.mp4) encodeMp4(*job.ffmpeg, job.outputs, *args.mp4, args.fps);
+  } catch (const ImageReadError& e) {  // changed since pass 1
+    return fail(2, e.what());
+  } catch (const ColorError& e) {
+    return fail(2, e.what());
+  } catch (const std::exception& e) {  // OutputError, or the output folder
+    return fail(1, e.what());
+  }
+
+  if (!args.quiet) {
+    for (const std::string& line : report) fmt::print("{}\n", line);
+    if (tm.op == "ward")
+      for (size_t i = 0; i < n; ++i)
+        if (stats[i].nonFinite)
+          fmt::print(stderr, "glint: warning: {}: {} NaN/Inf pixels left out of the statistic\n",
+                     job.inputs[i], stats[i].nonFinite);
+    fmt::print(stderr, "glint: wrote {}{}{}\n", job.outputs.front(),
+               n > 1 ? fmt::format(" … {} ({} frames)", job.outputs.back(), n) : "",
+               args.mp4 ? " and " + *args.mp4 : "");
+  }
+  return 0;
+}
+
+}  // namespace
+
+void addTonemapCommand(CLI::App& app, int* exitCode) {
+  auto args = std::make_shared<TonemapArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "tonemap", "tone-map scene-linear EXR frames to PNG/JPEG/TIFF (one file or a sequence)");
+  cmd->add_option("input", args->input,
+                  "an .exr file, or a frame pattern such as 'out/frame_####.exr'")
+      ->required();
+  cmd->add_option("-o,--output", args->output,
+                  "output image or pattern (default: the input with .png); a pattern for a "
+                  "pattern input");
+  cmd->add_option("--operator", args->op, "tone-map operator: none | ward")->capture_default_str();
+  cmd->add_flag("--sequence", args->sequence,
+                "one Ward scale for all frames (no flicker); otherwise one per frame");
+  cmd->add_option("--ldmax", args->ldmax, "Ward: display maximum luminance, cd/m²")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--scene-luminance", args->sceneLuminance,
+                  "Ward: luminance of scene-linear 1.0, cd/m²")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--exposure", args->exposure, "exposure in stops (EV), before tone mapping")
+      ->capture_default_str();
+  cmd->add_option("--display", args->display, "OCIO display (default: the config's)");
+  cmd->add_option("--view", args->view,
+                  "OCIO view, e.g. Standard, Raw, 'ACES 1.0 SDR-video' (default: the display's)");
+  cmd->add_option("--frames", args->frames, "only frames A-B[:STEP] of a pattern");
+  CLI::Option* mp4 =
+      cmd->add_option("--mp4", args->mp4, "also encode the PNG frames to this .mp4 (needs ffmpeg)");
+  cmd->add_option("--fps", args->fps, "frame rate of --mp4")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber)
+      ->needs(mp4);
+  cmd->add_flag("-q,--quiet", args->quiet, "no progress bar, statistics or summary");
+  cmd->callback([args, exitCode] { *exitCode = runTonemap(*args); });
+}
+
+}  // namespace glint::app
