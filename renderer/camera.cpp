@@ -1,38 +1,99 @@
-// glint — pinhole and orthographic cameras.
+// glint — pinhole, orthographic and thin-lens cameras, static or moving.
 #include "renderer/camera.h"
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "geometry/sampling.h"
 
 namespace glint {
 
-Camera Camera::perspective(const Transform& worldFromCamera, float yfov, int width, int height,
-                           float znear, float zfar) {
+Camera Camera::perspective(const AnimatedTransform& worldFromCamera, float yfov, int width,
+                           int height, float znear, float zfar) {
   Camera c;
   c.projection_ = Projection::Perspective;
-  c.worldFromCamera_ = worldFromCamera;
-  c.width_ = width, c.height_ = height;
   c.halfHeight_ = std::tan(yfov / 2);
   c.halfWidth_ = c.halfHeight_ * float(width) / float(height);
-  c.znear_ = znear, c.zfar_ = zfar;
-  c.filmToScreenX_ = 2.0f / float(width), c.filmToScreenY_ = 2.0f / float(height);
-  c.origin_ = worldFromCamera.point({0, 0, 0});
-  c.forward_ = normalize(worldFromCamera.vector({0, 0, -1}));
+  c.setCommon(worldFromCamera, width, height, znear, zfar);
   return c;
 }
 
-Camera Camera::orthographic(const Transform& worldFromCamera, float ymag, int width, int height,
-                            float znear, float zfar) {
+Camera Camera::orthographic(const AnimatedTransform& worldFromCamera, float ymag, int width,
+                            int height, float znear, float zfar) {
   Camera c;
   c.projection_ = Projection::Orthographic;
-  c.worldFromCamera_ = worldFromCamera;
-  c.width_ = width, c.height_ = height;
   c.halfHeight_ = ymag;
   c.halfWidth_ = ymag * float(width) / float(height);
-  c.znear_ = znear, c.zfar_ = zfar;
-  c.filmToScreenX_ = 2.0f / float(width), c.filmToScreenY_ = 2.0f / float(height);
-  c.origin_ = worldFromCamera.point({0, 0, 0});
-  c.forward_ = normalize(worldFromCamera.vector({0, 0, -1}));
+  c.setCommon(worldFromCamera, width, height, znear, zfar);
   return c;
+}
+
+void Camera::setCommon(const AnimatedTransform& worldFromCamera, int width, int height, float znear,
+                       float zfar) {
+  worldFromCamera_ = worldFromCamera;
+  worldFromCamera0_ = worldFromCamera.at(0);
+  moving_ = worldFromCamera.isAnimated();
+  pinhole_ = !moving_ && !hasLens();
+  width_ = width, height_ = height;
+  znear_ = znear, zfar_ = zfar;
+  filmToScreenX_ = 2.0f / float(width), filmToScreenY_ = 2.0f / float(height);
+  origin_ = worldFromCamera0_.point({0, 0, 0});
+  forward_ = normalize(worldFromCamera0_.vector({0, 0, -1}));
+}
+
+void Camera::setLens(const ThinLens& lens) {
+  if (!(lens.radius >= 0) || !std::isfinite(lens.radius))
+    throw std::invalid_argument("thin lens: aperture radius must be finite and >= 0, got " +
+                                std::to_string(lens.radius));
+  if (lens.radius > 0 && (!(lens.focusDistance > 0) || !std::isfinite(lens.focusDistance)))
+    throw std::invalid_argument("thin lens: focus distance must be finite and > 0, got " +
+                                std::to_string(lens.focusDistance));
+  if (lens.blades != 0 && lens.blades < 3)
+    throw std::invalid_argument("thin lens: a polygonal aperture needs >= 3 blades, got " +
+                                std::to_string(lens.blades));
+  if (!std::isfinite(lens.rotation))
+    throw std::invalid_argument("thin lens: aperture rotation must be finite");
+  lens_ = lens;
+  pinhole_ = !moving_ && !hasLens();
+  // ThinLens::rotation 0 means a vertex straight up.
+  lensAngle0_ = kPi / 2 + lens.rotation;
+}
+
+Ray Camera::lensOrMotionRay(const CameraSample& s) const {
+  // The placement at the ray's time, computed as the static camera computes its own, so a
+  // moving camera's ray equals the ray of a static camera placed where it is at that time.
+  Transform xf = worldFromCamera0_;
+  Vec3f origin = origin_, forward = forward_;
+  if (moving_) {
+    xf = worldFromCamera_.at(s.time);
+    origin = xf.point({0, 0, 0});
+    forward = normalize(xf.vector({0, 0, -1}));
+  }
+  if (!(lens_.radius > 0)) return pinholeRayAt(xf, origin, forward, s.pFilm, s.time);
+  // Every ray of a film point passes through that point's image on the focus plane (depth f):
+  // where the pinhole ray crosses it (perspective), or the film point pushed to depth f
+  // (orthographic).
+  const bool perspective = projection_ == Projection::Perspective;
+  const float sx = (s.pFilm.x * filmToScreenX_ - 1) * halfWidth_;
+  const float sy = (1 - s.pFilm.y * filmToScreenY_) * halfHeight_;
+  const float f = lens_.focusDistance;
+  Vec2f l = (lens_.blades >= 3 ? sampleRegularPolygon(s.pLens, lens_.blades, lensAngle0_)
+                               : sampleConcentricDisk(s.pLens)) *
+            lens_.radius;
+  Vec3f pFocus = perspective ? Vec3f{sx * f, sy * f, -f} : Vec3f{sx, sy, -f};
+  Vec3f pLens = perspective ? Vec3f{l.x, l.y, 0} : Vec3f{sx + l.x, sy + l.y, 0};
+  // The camera-space direction spans depth f; its world length converts view depths to
+  // distances along the unit ray.
+  Vec3f d = xf.vector(pFocus - pLens);
+  float len = length(d);
+  Ray r;
+  r.time = s.time;
+  r.o = xf.point(pLens);
+  r.d = d / len;
+  r.tMin = znear_ * len / f;
+  r.tMax = std::isinf(zfar_) ? kInfinity : zfar_ * len / f;
+  return r;
 }
 
 }  // namespace glint

@@ -54,6 +54,12 @@ Film render(const RenderScene& scene, const Integrator& integrator, const Render
   const int width = scene.camera.width(), height = scene.camera.height();
   const uint32_t spp = uint32_t(settings.spp);
   const bool aovs = settings.aovs;
+  // The camera decides whether there is a lens to sample (the scene builder reports it as
+  // Feature::Lens); time is sampled only when the builder found something moving.
+  const bool lens = scene.camera.hasLens();
+  const bool motion = scene.features.has(Feature::MotionBlur);
+  // Neither: the pinhole rays of before, with no per-ray test.
+  const bool plain = !lens && !motion && scene.camera.isStaticPinhole();
   Film film(width, height, aovs);
   PixelFilter filter(settings.filter);
 
@@ -74,8 +80,11 @@ Film render(const RenderScene& scene, const Integrator& integrator, const Render
       for (int x = x0; x < x1; ++x) {
         const size_t index = film.index(x, y);
         const uint64_t pixelKey = pixelSampleKey(settings.seed, index);
-        // The film position is dimensions 0-1; their seeds depend on the pixel only.
-        const DimensionSeeds filmSeeds(pixelKey, 0);
+        // The film position, and the lens point where there is one, are 2D dimension pairs
+        // whose seeds depend on the pixel only.
+        const DimensionSeeds filmSeeds(pixelKey, kFilmDimension);
+        const DimensionSeeds lensSeeds =
+            lens ? DimensionSeeds(pixelKey, kLensDimension) : DimensionSeeds();
         PixelMoments acc;
         double hits = 0, depth = 0;
         Rgb albedo, normal;
@@ -87,15 +96,29 @@ Film render(const RenderScene& scene, const Integrator& integrator, const Render
           Hit found[kCameraBatch];
           uint32_t fx[kCameraBatch], fy[kCameraBatch];
           sample2DFractionBatch(first, n, filmSeeds, fx, fy);
-          for (uint32_t i = 0; i < n; ++i) {
-            Vec2f offset = filter.sampleOffsetFraction({fx[i], fy[i]});
-            rays[i] = scene.camera.generateRay(
-                {float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y}, 0.0f);
+          if (plain) {
+            for (uint32_t i = 0; i < n; ++i) {
+              Vec2f offset = filter.sampleOffsetFraction({fx[i], fy[i]});
+              rays[i] = scene.camera.pinholeRay(
+                  {float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y}, 0.0f);
+            }
+          } else {
+            uint32_t lx[kCameraBatch], ly[kCameraBatch];
+            if (lens) sample2DFractionBatch(first, n, lensSeeds, lx, ly);
+            for (uint32_t i = 0; i < n; ++i) {
+              Vec2f offset = filter.sampleOffsetFraction({fx[i], fy[i]});
+              CameraSample cs;
+              cs.pFilm = {float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y};
+              if (lens) cs.pLens = Fraction2{lx[i], ly[i]}.toFloat();
+              // A 1D Owen-scrambled Sobol dimension: stratified over the pixel's samples.
+              if (motion) cs.time = Sampler(pixelKey, first + i, kTimeDimension).get1D();
+              rays[i] = scene.camera.generateRay(cs);
+            }
           }
           scene.accel->closestHits(rays, found, int(n));
           tally.rays.camera += n;
           for (uint32_t i = 0; i < n; ++i) {
-            Sampler sampler(pixelKey, first + i, 2);
+            Sampler sampler(pixelKey, first + i, kIntegratorDimension);
             PathAovs pathAovs;
             pathAovs.wanted = aovs;
             const Hit* hit = found[i].instance != Hit::kInvalid ? &found[i] : nullptr;

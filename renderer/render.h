@@ -10,6 +10,16 @@
 
 namespace glint {
 
+// The sampler dimensions of one camera path, the same for every scene so that switching depth
+// of field or motion blur on or off changes the camera ray and nothing else (an aperture of 0
+// renders the pinhole image exactly). The lens pair and the time are drawn only when the scene
+// needs them (a camera with an aperture; Feature::MotionBlur), otherwise the lens centre and
+// time 0 are used and the dimensions stay unused.
+inline constexpr uint32_t kFilmDimension = 0;        // 0-1: position in the pixel (filter)
+inline constexpr uint32_t kLensDimension = 2;        // 2-3: point on the aperture
+inline constexpr uint32_t kTimeDimension = 4;        // 4: shutter time, stratified per pixel
+inline constexpr uint32_t kIntegratorDimension = 5;  // 5-: the integrator's
+
 struct RenderStats {
   double renderSeconds = 0;
   int threads = 0;
@@ -18,15 +28,15 @@ struct RenderStats {
 };
 
 struct RenderOptions {
-  int threads = 0;         // 0 = all hardware threads
-  bool progress = false;   // draw a progress bar on stderr
+  int threads = 0;        // 0 = all hardware threads
+  bool progress = false;  // draw a progress bar on stderr
   int tileSize = 16;
 };
 
 // Renders `scene` with `integrator` at the camera's resolution. Each pixel's samples are
 // addressed by (pixel, sample, seed), so the result does not depend on thread count or tile
 // order. NaN/Inf samples never reach the film.
-Film render(const RenderScene& scene, const Integrator& integrator,
-            const RenderSettings& settings, const RenderOptions& options, RenderStats* stats);
+Film render(const RenderScene& scene, const Integrator& integrator, const RenderSettings& settings,
+            const RenderOptions& options, RenderStats* stats);
 
 }  // namespace glint
