@@ -133,6 +133,13 @@ int runInfo(const InfoArgs& args) {
               scene.camera.width(), scene.camera.height(), desc.render.spp,
               (unsigned long long)desc.render.seed, desc.render.accel.c_str(),
               desc.render.integrator.c_str());
+  auto [animStart, animEnd] = animationRange(desc.nodes);
+  size_t animatedNodes = 0;
+  for (const NodeDesc& n : desc.nodes) animatedNodes += n.hasTracks();
+  if (animatedNodes > 0)
+    std::printf("animation:  %zu animated node%s, keys from %g s to %g s (frames %g to %g at %g fps)\n",
+                animatedNodes, animatedNodes == 1 ? "" : "s", animStart, animEnd,
+                animStart * desc.render.fps, animEnd * desc.render.fps, desc.render.fps);
   std::vector<std::string> effects = scene.features.names();
   std::printf("effects:    %s\n", effects.empty()
                                       ? "none"

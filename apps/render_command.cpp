@@ -7,6 +7,7 @@
 
 #include "apps/cli_common.h"
 #include "apps/commands.h"
+#include "apps/frames.h"
 #include "renderer/color.h"
 #include "renderer/output.h"
 #include "renderer/progress.h"
@@ -24,13 +25,37 @@ struct RenderArgs {
   std::vector<std::string> outputs;
   std::optional<std::string> sidecar;
   std::optional<std::string> statsPath;
+  std::optional<std::string> frames;  // "A-B[:STEP]"
+  std::optional<double> fps;
+  std::optional<double> time;  // a single frame's scene time, seconds
+  bool resume = false;
   SceneOverrides overrides;
   bool quiet = false;
 };
 
-std::string statsJson(const RenderArgs& args, const SceneDescription& desc,
-                      const RenderScene& scene, const BuildTimings& build,
-                      const RenderStats& stats) {
+// One rendered frame, for the statistics.
+struct FrameRecord {
+  int frame = 0;
+  double time = 0;
+  BuildTimings build;
+  RenderStats stats;
+};
+
+nlohmann::json frameJson(const FrameRecord& r) {
+  nlohmann::json j;
+  j["frame"] = r.frame;
+  j["time"] = r.time;
+  j["build_seconds"] = r.build.totalSeconds;
+  j["accel_build_seconds"] = r.build.acceleratorSeconds;
+  j["render_seconds"] = r.stats.renderSeconds;
+  j["rays"] = r.stats.rays.total();
+  j["nonfinite_samples"] = r.stats.nonfiniteSamples;
+  return j;
+}
+
+nlohmann::json statsJson(const RenderArgs& args, const SceneDescription& desc,
+                         const RenderScene& scene, const BuildTimings& build,
+                         const RenderStats& stats) {
   nlohmann::json j;
   j["scene"] = args.scene;
   j["accel"] = desc.render.accel;
@@ -40,6 +65,7 @@ std::string statsJson(const RenderArgs& args, const SceneDescription& desc,
   j["height"] = scene.camera.height();
   j["spp"] = desc.render.spp;
   j["seed"] = desc.render.seed;
+  j["time"] = desc.render.time;
   j["threads"] = stats.threads;
   j["triangles"] = scene.geometry.instancedTriangleCount();
   j["triangles_stored"] = scene.geometry.uniqueTriangleCount();
@@ -60,28 +86,23 @@ std::string statsJson(const RenderArgs& args, const SceneDescription& desc,
       stats.renderSeconds > 0 ? double(stats.rays.total()) / stats.renderSeconds * 1e-6 : 0.0;
   j["effects"] = scene.features.names();
   j["nonfinite_samples"] = stats.nonfiniteSamples;
-  return j.dump(2) + "\n";
+  return j;
 }
 
-int runRender(const RenderArgs& args) {
-  std::vector<std::string> outputs = args.outputs;
-  if (outputs.empty())
-    outputs.push_back(std::filesystem::path(args.scene).stem().string() + ".exr");
-  for (const std::string& out : outputs) {
-    std::string why;
-    if (!isSupportedOutput(out, &why)) {
-      printError(out + ": " + why);
-      return 2;
-    }
-  }
+// The scene as it is at `time` (sidecar keyframes evaluated; unset: the file's render.time),
+// with the command line applied.
+SceneDescription loadAt(const RenderArgs& args, const SceneLoader& loader,
+                        std::optional<double> time) {
+  SceneDescription desc = loader.at(time);
+  if (args.fps) desc.render.fps = *args.fps;
+  args.overrides.apply(&desc);
+  return desc;
+}
 
-  SceneDescription desc;
-  RenderScene scene;
-  BuildTimings build;
+// Exit code of a failed load or build; prints the error.
+int reportBuildError(const RenderArgs& args, const std::exception_ptr& error) {
   try {
-    desc = loadScene(args.scene, args.sidecar);
-    args.overrides.apply(&desc);
-    scene = buildRenderScene(desc, &build);
+    std::rethrow_exception(error);
   } catch (const SceneError& e) {
     printError(e.what());
     return 2;
@@ -92,31 +113,35 @@ int runRender(const RenderArgs& args) {
     printError(args.scene + ": cannot build the scene: " + std::string(e.what()));
     return 1;
   }
-  // Display settings are only used when writing, after the render: check them now.
+}
+
+// Display settings are only used when writing, after the render: check them before it.
+int checkDisplaySettings(const SceneDescription& desc, const std::vector<std::string>& outputs) {
   bool displayReferred = std::any_of(outputs.begin(), outputs.end(), [](const std::string& o) {
     return std::filesystem::path(o).extension() != ".exr";
   });
-  if (displayReferred) {
-    try {
-      if (!isKnownToneMapOperator(desc.render.tonemap.op))
-        throw ColorError("unknown tone mapping operator '" + desc.render.tonemap.op + "'");
-      resolveDisplayView(desc.render.tonemap.display, desc.render.tonemap.view);
-    } catch (const ColorError& e) {
-      printError(desc.file + ": /render/tonemap: " + e.what());
-      return 2;
-    }
+  if (!displayReferred) return 0;
+  try {
+    if (!isKnownToneMapOperator(desc.render.tonemap.op))
+      throw ColorError("unknown tone mapping operator '" + desc.render.tonemap.op + "'");
+    resolveDisplayView(desc.render.tonemap.display, desc.render.tonemap.view);
+  } catch (const ColorError& e) {
+    printError(desc.file + ": /render/tonemap: " + e.what());
+    return 2;
   }
-  if (!args.quiet)
-    for (const std::string& w : desc.warnings) std::fprintf(stderr, "glint: warning: %s\n", w.c_str());
+  return 0;
+}
 
-  RenderStats stats;
+// Renders one built scene and writes `outputs`; returns the exit code.
+int renderAndWrite(const RenderArgs& args, const SceneDescription& desc, const RenderScene& scene,
+                   const std::vector<std::string>& outputs, bool tileProgress, FrameRecord* record) {
   Film film;
   try {
     auto integrator = makeIntegrator(desc.render.integrator, scene, desc.render);
     RenderOptions options;
     options.threads = desc.render.threads;
-    options.progress = !args.quiet && isTerminal(stderr);
-    film = render(scene, *integrator, desc.render, options, &stats);
+    options.progress = tileProgress;
+    film = render(scene, *integrator, desc.render, options, &record->stats);
   } catch (const std::invalid_argument& e) {
     printError(args.scene + ": " + e.what());
     return 2;
@@ -124,29 +149,200 @@ int runRender(const RenderArgs& args) {
     printError(args.scene + ": render failed: " + std::string(e.what()));
     return 1;
   }
-
-  ImageMetadata meta{args.scene, desc.render.spp, desc.render.seed, stats.renderSeconds,
+  ImageMetadata meta{args.scene, desc.render.spp, desc.render.seed, record->stats.renderSeconds,
                      desc.render.accel, desc.render.integrator};
   try {
     for (const std::string& out : outputs) writeImage(out, film, desc.render, meta);
-    if (args.statsPath)
-      writeTextAtomically(*args.statsPath, statsJson(args, desc, scene, build, stats));
   } catch (const std::exception& e) {
     printError(e.what());
     return 1;
   }
-  if (!args.quiet) {
-    double mrays = stats.renderSeconds > 0 ? double(stats.rays.total()) / stats.renderSeconds * 1e-6 : 0;
-    std::string names;
-    for (const std::string& out : outputs) names += (names.empty() ? "" : ", ") + out;
-    std::fprintf(stderr, "glint: wrote %s (%dx%d, %d spp, %.2f s, %.1f Mrays/s%s)\n",
-                 names.c_str(), film.width, film.height, desc.render.spp, stats.renderSeconds,
-                 mrays,
-                 stats.nonfiniteSamples
-                     ? (", " + std::to_string(stats.nonfiniteSamples) + " NaN/Inf samples dropped").c_str()
-                     : "");
+  return 0;
+}
+
+void printSummary(const std::vector<std::string>& outputs, const SceneDescription& desc,
+                  const RenderScene& scene, const RenderStats& stats) {
+  double mrays =
+      stats.renderSeconds > 0 ? double(stats.rays.total()) / stats.renderSeconds * 1e-6 : 0;
+  std::string names;
+  for (const std::string& out : outputs) names += (names.empty() ? "" : ", ") + out;
+  std::string dropped = stats.nonfiniteSamples
+                            ? ", " + std::to_string(stats.nonfiniteSamples) +
+                                  " NaN/Inf samples dropped"
+                            : "";
+  std::fprintf(stderr, "glint: wrote %s (%dx%d, %d spp, %.2f s, %.1f Mrays/s%s)\n",
+               names.c_str(), scene.camera.width(), scene.camera.height(), desc.render.spp,
+               stats.renderSeconds, mrays, dropped.c_str());
+}
+
+int checkOutputs(const std::vector<std::string>& outputs) {
+  for (const std::string& out : outputs) {
+    std::string why;
+    if (!isSupportedOutput(out, &why)) {
+      printError(out + ": " + why);
+      return 2;
+    }
   }
   return 0;
+}
+
+int runSingle(const RenderArgs& args, const std::vector<std::string>& outputs) {
+  SceneDescription desc;
+  RenderScene scene;
+  FrameRecord record;
+  try {
+    SceneLoader loader(args.scene, args.sidecar);
+    desc = loadAt(args, loader, args.time);
+    scene = buildRenderScene(desc, &record.build);
+  } catch (...) {
+    return reportBuildError(args, std::current_exception());
+  }
+  if (int code = checkDisplaySettings(desc, outputs)) return code;
+  if (!args.quiet)
+    for (const std::string& w : desc.warnings) std::fprintf(stderr, "glint: warning: %s\n", w.c_str());
+  if (int code = renderAndWrite(args, desc, scene, outputs, !args.quiet && isTerminal(stderr),
+                                &record))
+    return code;
+  try {
+    if (args.statsPath)
+      writeTextAtomically(*args.statsPath,
+                          statsJson(args, desc, scene, record.build, record.stats).dump(2) + "\n");
+  } catch (const std::exception& e) {
+    printError(e.what());
+    return 1;
+  }
+  if (!args.quiet) printSummary(outputs, desc, scene, record.stats);
+  return 0;
+}
+
+// A sequence: frame f at time f / fps, one set of outputs per frame from the '#' patterns.
+// Frames are independent renders, so --resume can skip every frame whose outputs all exist
+// (writes are atomic: an existing file is a complete one).
+int runSequence(const RenderArgs& args, const std::vector<std::string>& patterns) {
+  std::vector<int> frames;
+  try {
+    frames = parseFrameRange(*args.frames);
+  } catch (const std::invalid_argument& e) {
+    printError(e.what());
+    return 2;
+  }
+  if (frames.size() > 1)
+    for (const std::string& p : patterns)
+      if (!hasFramePattern(p)) {
+        printError("-o " + p + ": a sequence of " + std::to_string(frames.size()) +
+                   " frames needs a '#' run for the frame number, e.g. frame_####.exr");
+        return 2;
+      }
+  if (args.fps && !(*args.fps > 0)) {
+    printError("--fps must be > 0");
+    return 2;
+  }
+
+  // The files are read once; each frame re-evaluates the sidecar at its time. fps may come
+  // from the sidecar: read it before deciding the frames' times.
+  std::optional<SceneLoader> loader;
+  double fps = 0;
+  try {
+    loader.emplace(args.scene, args.sidecar);
+    fps = args.fps ? *args.fps : loader->at().render.fps;
+  } catch (...) {
+    return reportBuildError(args, std::current_exception());
+  }
+
+  const bool terminal = !args.quiet && isTerminal(stderr);
+  ProgressBar progress("frames", frames.size(), terminal);
+  std::vector<FrameRecord> records;
+  nlohmann::json first;  // scene-wide statistics, from the first rendered frame
+  int skipped = 0;
+  bool warned = false;
+  for (int frame : frames) {
+    std::vector<std::string> outputs;
+    for (const std::string& p : patterns) outputs.push_back(framePath(p, frame));
+    if (args.resume && std::all_of(outputs.begin(), outputs.end(), [](const std::string& o) {
+          return std::filesystem::is_regular_file(o);
+        })) {
+      ++skipped;
+      progress.advance();
+      continue;
+    }
+    SceneDescription desc;
+    RenderScene scene;
+    FrameRecord record;
+    record.frame = frame;
+    try {
+      record.time = double(frame) / fps;
+      desc = loadAt(args, *loader, record.time);
+      scene = buildRenderScene(desc, &record.build);
+    } catch (...) {
+      progress.finish();
+      return reportBuildError(args, std::current_exception());
+    }
+    if (records.empty()) {
+      if (int code = checkDisplaySettings(desc, outputs)) return code;
+      if (!args.quiet && !warned)
+        for (const std::string& w : desc.warnings)
+          std::fprintf(stderr, "glint: warning: %s\n", w.c_str());
+      warned = true;
+    }
+    if (int code = renderAndWrite(args, desc, scene, outputs, false, &record)) {
+      progress.finish();
+      return code;
+    }
+    if (records.empty()) first = statsJson(args, desc, scene, record.build, record.stats);
+    records.push_back(record);
+    progress.advance();
+    if (!args.quiet && !terminal) printSummary(outputs, desc, scene, record.stats);
+  }
+  progress.finish();
+
+  double total = 0;
+  nlohmann::json perFrame = nlohmann::json::array();
+  for (const FrameRecord& r : records) {
+    total += r.stats.renderSeconds;
+    perFrame.push_back(frameJson(r));
+  }
+  try {
+    if (args.statsPath) {
+      nlohmann::json j = first.is_null() ? nlohmann::json::object() : first;
+      j.erase("time");
+      j.erase("render_seconds");
+      j.erase("build_seconds");
+      j.erase("accel_build_seconds");
+      j.erase("rays");
+      j.erase("mrays_per_second");
+      j.erase("nonfinite_samples");
+      j["scene"] = args.scene;
+      j["frames"] = perFrame;
+      j["frames_rendered"] = records.size();
+      j["frames_skipped"] = skipped;
+      j["render_seconds_total"] = total;
+      writeTextAtomically(*args.statsPath, j.dump(2) + "\n");
+    }
+  } catch (const std::exception& e) {
+    printError(e.what());
+    return 1;
+  }
+  if (!args.quiet)
+    std::fprintf(stderr, "glint: rendered %zu frame%s (%d skipped, already complete) in %.2f s\n",
+                 records.size(), records.size() == 1 ? "" : "s", skipped, total);
+  return 0;
+}
+
+int runRender(const RenderArgs& args) {
+  std::vector<std::string> outputs = args.outputs;
+  if (outputs.empty())
+    outputs.push_back(std::filesystem::path(args.scene).stem().string() +
+                      (args.frames ? "_####.exr" : ".exr"));
+  if (int code = checkOutputs(outputs)) return code;
+  if (args.time && args.frames) {
+    printError("--time and --frames exclude each other (frame f is at time f / fps)");
+    return 2;
+  }
+  if (args.resume && !args.frames) {
+    printError("--resume applies to a sequence (--frames A-B)");
+    return 2;
+  }
+  return args.frames ? runSequence(args, outputs) : runSingle(args, outputs);
 }
 
 }  // namespace
@@ -159,6 +355,12 @@ void addRenderCommand(CLI::App& app, int* exitCode) {
                   "output image(s): .exr, .png, .jpg, .tif (repeat to write several)");
   cmd->add_option("--sidecar", args->sidecar, "sidecar JSON (default: NAME.glint.json beside the glTF)");
   cmd->add_option("--stats", args->statsPath, "write render statistics as JSON");
+  cmd->add_option("--frames", args->frames,
+                  "render a sequence: frames A-B[:STEP] at time frame / fps; outputs need a '#' "
+                  "run for the frame number (frame_####.exr)");
+  cmd->add_option("--fps", args->fps, "frames per second of the sequence (default: the sidecar's, else 24)");
+  cmd->add_option("--time", args->time, "scene time of a single frame, in seconds (default: the sidecar's render.time, else 0)");
+  cmd->add_flag("--resume", args->resume, "skip frames whose outputs already exist");
   cmd->add_flag("-q,--quiet", args->quiet, "no progress bar or summary");
   args->overrides.addOptions(cmd);
   cmd->callback([args, exitCode] { *exitCode = runRender(*args); });

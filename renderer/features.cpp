@@ -32,7 +32,7 @@ const char* featureName(Feature f) {
     case Feature::Procedural:
       return "procedural";
     case Feature::Lens:
-      return "lens";
+      return "depth of field";
     case Feature::MotionBlur:
       return "motion blur";
     case Feature::Volumes:

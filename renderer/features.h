@@ -26,8 +26,8 @@ enum class Feature : uint32_t {
   Refraction,    // some surface refracts (glass, glTF transmission)
   Bump,          // some material perturbs its shading normal (bump, normal map, snow)
   Procedural,    // some material reads a procedural (noise) texture
-  Lens,          // reserved: thin-lens depth of field (issue 6)
-  MotionBlur,    // reserved: anything moves during the shutter (issue 6)
+  Lens,          // the camera has an aperture: lens samples, depth of field
+  MotionBlur,    // something moves during the shutter: ray times, Embree time steps
   Volumes,       // reserved: participating media (issue 7)
   Count
 };

@@ -59,7 +59,14 @@ SurfaceInteraction Integrator::shadingPoint(const Ray& ray, const Hit& hit, cons
                                             uint32_t materialIndex) const {
   const MaterialShading& s = shading_[materialIndex];
   SurfaceInteraction si = computeSurfaceInteraction(scene_.geometry, ray, hit, s.needs);
-  if (s.objectSpace) si.objectFromWorld = &scene_.objectFromWorld[hit.instance];
+  if (s.objectSpace) {
+    // A moving object's texture moves with it: its frame at the ray's time.
+    const Instance& inst = scene_.geometry.instances[hit.instance];
+    if (inst.moves())
+      si.movingObjectFromWorld = inst.worldFromObjectAt(ray.time).inverse();
+    else
+      si.objectFromWorld = &scene_.objectFromWorld[hit.instance];
+  }
   if (s.footprint) {
     const float len = length(ray.d);
     setPixelFootprint(si, ray.d / len, cone.widthAt(hit.t * len));

@@ -375,11 +375,112 @@ std::unique_ptr<Material> makeMaterial(const MaterialDesc& m, bool vertexColors,
   return material;
 }
 
-void addLights(const SceneDescription& desc, RenderScene* scene) {
+// ---------------------------------------------------------------------------------------------
+// Motion: placements sampled over the shutter
+// ---------------------------------------------------------------------------------------------
+
+// The scene times the shutter of the selected camera spans for this frame.
+struct ShutterTimes {
+  double open = 0, close = 0;
+  bool moves() const { return close > open; }
+};
+
+// What the tracks on a node's parent chain look like between the shutter times: how many
+// keys fall strictly inside, how many nodes move, whether any curve is not piecewise linear.
+struct ChainMotion {
+  int keysInside = 0;
+  int animatedNodes = 0;
+  bool curved = false;
+  double turnDegrees = 0;  // how far angle tracks turn during the shutter (any number of turns)
+};
+
+template <class T>
+void scanTrack(const Track<T>& track, const ShutterTimes& shutter, ChainMotion* m) {
+  if (track.empty()) return;
+  for (float t : track.times)
+    if (t > shutter.open && t < shutter.close) ++m->keysInside;
+  if (track.interpolation == Interpolation::CubicSpline ||
+      track.interpolation == Interpolation::Smooth)
+    m->curved = true;
+}
+
+ChainMotion scanChain(const std::vector<NodeDesc>& nodes, int node, const ShutterTimes& shutter) {
+  ChainMotion m;
+  for (int n = node; n >= 0; n = nodes[size_t(n)].parent) {
+    const NodeDesc& nd = nodes[size_t(n)];
+    if (!nd.hasTracks()) continue;
+    ++m.animatedNodes;
+    scanTrack(nd.translationTrack, shutter, &m);
+    scanTrack(nd.rotationTrack, shutter, &m);
+    scanTrack(nd.scaleTrack, shutter, &m);
+    scanTrack(nd.angleTrack, shutter, &m);
+    if (!nd.angleTrack.empty()) {
+      // Summed between the keys inside the shutter: a track may turn forwards and back.
+      std::vector<double> times{shutter.open};
+      for (float t : nd.angleTrack.times)
+        if (t > shutter.open && t < shutter.close) times.push_back(t);
+      times.push_back(shutter.close);
+      for (size_t i = 1; i < times.size(); ++i)
+        m.turnDegrees += std::abs(double(evaluate(nd.angleTrack, times[i])) -
+                                  double(evaluate(nd.angleTrack, times[i - 1])));
+    }
+  }
+  return m;
+}
+
+// The placement worldFromNode(node, t) · nodeFromItem over the shutter, as keys at uniform
+// times (Embree's time steps are uniform). One segment is exact when a single node moves
+// linearly between two keys that bracket the shutter: T and S interpolate linearly and R by
+// slerp on both sides. Anything else (keys inside the shutter, curves, moving parents) is
+// sampled with 8 segments per key interval, at most 64, and more while a step turns by over
+// 90 degrees, so slerp between samples cannot take the long way round. `staticWorld` is used
+// when nothing moves.
+AnimatedTransform placementOverShutter(const std::vector<NodeDesc>& nodes, int node,
+                                       const Transform& nodeFromItem,
+                                       const Transform& staticWorld,
+                                       const ShutterTimes& shutter) {
+  if (node < 0) return AnimatedTransform(staticWorld);
+  auto at = [&](double t) { return worldFromNode(nodes, node, t) * nodeFromItem; };
+  if (!shutter.moves() || !isAnimated(nodes, node)) return AnimatedTransform(at(shutter.open));
+  ChainMotion m = scanChain(nodes, node, shutter);
+  int segments = (m.keysInside == 0 && m.animatedNodes == 1 && !m.curved)
+                     ? 1
+                     : std::min(64, 8 * (m.keysInside + 1));
+  // Angle tracks may spin any number of turns between two keys, which the keys' rotations
+  // alone cannot show: at most 60 degrees per segment.
+  segments = std::max(segments, int(std::ceil(std::min(m.turnDegrees, 15360.0) / 60.0)));
+  for (;;) {
+    std::vector<Transform> keys;
+    keys.reserve(size_t(segments) + 1);
+    for (int i = 0; i <= segments; ++i)
+      keys.push_back(at(shutter.open + (shutter.close - shutter.open) * double(i) / segments));
+    AnimatedTransform motion(std::move(keys));
+    bool sharpTurn = false;
+    for (size_t i = 1; motion.isAnimated() && i < motion.keyCount(); ++i)
+      // |dot| < cos(45°): the two rotations differ by more than 90 degrees.
+      sharpTurn = sharpTurn || std::abs(dot(motion.decomposedKey(i - 1).rotation,
+                                            motion.decomposedKey(i).rotation)) < 0.7071f;
+    if (!sharpTurn || segments >= 256) return motion;
+    segments *= 2;
+  }
+}
+
+// A placement fixed for the frame (lights): at the shutter's opening.
+Transform placementAtOpen(const std::vector<NodeDesc>& nodes, int node,
+                          const Transform& nodeFromItem, const Transform& staticWorld,
+                          const ShutterTimes& shutter) {
+  return node < 0 ? staticWorld : worldFromNode(nodes, node, shutter.open) * nodeFromItem;
+}
+
+
+// Lights are placed once per frame, where they are when the shutter opens.
+void addLights(const SceneDescription& desc, const ShutterTimes& shutter, RenderScene* scene) {
   for (const LightDesc& l : desc.lights) {
     Rgb power = l.color * l.intensity;
-    Vec3f position = l.worldFromLight.point({0, 0, 0});
-    Vec3f direction = normalize(l.worldFromLight.vector({0, 0, -1}));
+    Transform worldFromLight =
+        placementAtOpen(desc.nodes, l.transformNode, l.nodeFromLight, l.worldFromLight, shutter);
+    Vec3f position = worldFromLight.point({0, 0, 0});
+    Vec3f direction = normalize(worldFromLight.vector({0, 0, -1}));
     switch (l.type) {
       case LightType::Point:
         scene->lights.push_back(
@@ -397,6 +498,7 @@ void addLights(const SceneDescription& desc, RenderScene* scene) {
     }
   }
 }
+
 
 }  // namespace
 
@@ -425,6 +527,15 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
   auto start = Clock::now();
   RenderScene scene;
   scene.background = desc.render.background;
+  // The frame's shutter decides what moves; without a camera (one is framed below) there is
+  // no shutter and nothing moves.
+  const CameraDesc* selected = selectCamera(desc);
+  ShutterTimes shutter{desc.render.time, desc.render.time};
+  if (selected) {
+    shutter.open += selected->shutterOpen;
+    shutter.close += selected->shutterClose;
+  }
+  bool moving = false;  // anything moves during the shutter
 
   // --- Geometry: bake single placements into world space; keep shared meshes instanced. A
   // mesh that nodes give different materials is one geometry mesh per material.
@@ -440,10 +551,18 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
   for (const InstanceDesc& inst : desc.instances) {
     const MeshDesc& md = desc.meshes[size_t(inst.mesh)];
     const MeshKey key{inst.mesh, inst.material};
-    const bool bake = uses[key] == 1;
-    scene.objectFromWorld.push_back(inst.worldFromObject.inverse());
+    AnimatedTransform motion = placementOverShutter(desc.nodes, inst.transformNode,
+                                                    inst.nodeFromObject, inst.worldFromObject,
+                                                    shutter);
+    const Transform& world = motion.key(0);
+    moving = moving || motion.isAnimated();
+    // A moving mesh keeps its object space: Embree moves it as an instance.
+    const bool bake = uses[key] == 1 && !motion.isAnimated();
+    scene.objectFromWorld.push_back(world.inverse());
     if (auto it = meshIndex.find(key); !bake && it != meshIndex.end()) {
-      scene.geometry.instances.push_back({it->second, inst.worldFromObject});
+      Instance placed{it->second, world};
+      placed.motion = motion;
+      scene.geometry.instances.push_back(placed);
       continue;
     }
     TriangleMesh mesh;
@@ -453,7 +572,7 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
     mesh.uvs = md.uvs;
     mesh.colors = md.colors;
     mesh.indices = md.indices;
-    Transform placement = inst.worldFromObject;
+    Transform placement = world;
     if (bake && !placement.isIdentity()) {
       for (Vec3f& p : mesh.positions) p = placement.point(p);
       for (Vec3f& n : mesh.normals) n = normalize(placement.normal(n));
@@ -466,7 +585,9 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
     meshIndex[key] = uint32_t(scene.geometry.meshes.size());
     meshMaterials.push_back({inst.material >= 0 ? inst.material : md.material, !md.colors.empty()});
     scene.geometry.meshes.push_back(std::move(mesh));
-    scene.geometry.instances.push_back({uint32_t(scene.geometry.meshes.size() - 1), placement});
+    Instance placed{uint32_t(scene.geometry.meshes.size() - 1), placement};
+    if (motion.isAnimated()) placed.motion = motion;
+    scene.geometry.instances.push_back(placed);
   }
 
   // --- Analytic objects: shapes and CSG trees stay in object space under their transform;
@@ -474,16 +595,26 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
   std::vector<std::vector<int>> shapeMaterialDescs;  // per geometry shape: per slot
   bool terrain = false;
   for (const ObjectDesc& obj : desc.objects) {
-    scene.objectFromWorld.push_back(obj.worldFromObject.inverse());
+    AnimatedTransform motion = placementOverShutter(desc.nodes, obj.transformNode,
+                                                    obj.nodeFromObject, obj.worldFromObject,
+                                                    shutter);
+    const Transform& world = motion.key(0);
+    moving = moving || motion.isAnimated();
+    scene.objectFromWorld.push_back(world.inverse());
     if (obj.kind == ObjectKind::Terrain) {
       TriangleMesh mesh = makeFractalTerrain(terrainParams(obj.terrain));
-      if (!obj.worldFromObject.isIdentity()) {
-        for (Vec3f& p : mesh.positions) p = obj.worldFromObject.point(p);
-        for (Vec3f& n : mesh.normals) n = normalize(obj.worldFromObject.normal(n));
+      Instance placed{0, Transform()};
+      if (motion.isAnimated()) {
+        placed.worldFromObject = world;
+        placed.motion = motion;
+      } else if (!world.isIdentity()) {
+        for (Vec3f& p : mesh.positions) p = world.point(p);
+        for (Vec3f& n : mesh.normals) n = normalize(world.normal(n));
       }
       meshMaterials.push_back({obj.material, false});
       scene.geometry.meshes.push_back(std::move(mesh));
-      scene.geometry.instances.push_back({uint32_t(scene.geometry.meshes.size() - 1), Transform()});
+      placed.mesh = uint32_t(scene.geometry.meshes.size() - 1);
+      scene.geometry.instances.push_back(placed);
       terrain = true;
       continue;
     }
@@ -502,7 +633,8 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
     }
     Instance inst;
     inst.shape = uint32_t(scene.geometry.shapes.size());
-    inst.worldFromObject = obj.worldFromObject;
+    inst.worldFromObject = world;
+    if (motion.isAnimated()) inst.motion = motion;
     scene.geometry.shapes.push_back(std::move(shape));
     scene.geometry.instances.push_back(inst);
     shapeMaterialDescs.push_back(std::move(slots));
@@ -531,7 +663,6 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
   }
 
   // --- Camera and image size.
-  const CameraDesc* selected = selectCamera(desc);
   int width = 0, height = 0;
   resolveImageSize(desc, selected, &width, &height);
   CameraDesc framing;
@@ -540,15 +671,23 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
     selected = &framing;
   }
   scene.cameraName = selected->name;
+  AnimatedTransform worldFromCamera =
+      placementOverShutter(desc.nodes, selected->transformNode, selected->nodeFromCamera,
+                           selected->worldFromCamera, shutter);
+  moving = moving || worldFromCamera.isAnimated();
   if (selected->type == CameraType::Perspective)
-    scene.camera = Camera::perspective(selected->worldFromCamera, selected->yfov, width, height,
+    scene.camera = Camera::perspective(worldFromCamera, selected->yfov, width, height,
                                        selected->znear, selected->zfar);
   else
-    scene.camera = Camera::orthographic(selected->worldFromCamera, selected->ymag, width, height,
+    scene.camera = Camera::orthographic(worldFromCamera, selected->ymag, width, height,
                                         selected->znear, selected->zfar);
+  const bool lens = selected->apertureRadius > 0;
+  if (lens)
+    scene.camera.setLens({selected->apertureRadius, selected->focusDistance,
+                          selected->apertureBlades, selected->apertureRotation});
 
   // --- Lights; a headlight when there are none, so a scene is never black.
-  addLights(desc, &scene);
+  addLights(desc, shutter, &scene);
   bool headlight = scene.lights.empty();
   if (headlight)
     // Irradiance pi: a white Lambert surface facing the camera has radiance 1.
@@ -558,6 +697,8 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
   scene.features = detectFeatures(scene);
   scene.features.set(Feature::Headlight, headlight);
   scene.features.set(Feature::Terrain, terrain);
+  scene.features.set(Feature::Lens, lens);
+  scene.features.set(Feature::MotionBlur, moving);
 
   auto accelStart = Clock::now();
   scene.accel = makeAccelerator(desc.render.accel, scene.geometry);
