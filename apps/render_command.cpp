@@ -175,12 +175,21 @@ void printSummary(const std::vector<std::string>& outputs, const SceneDescriptio
                stats.renderSeconds, mrays, dropped.c_str());
 }
 
+// Checks the formats and creates missing output folders (a sequence usually goes into a
+// folder of its own: -o out/frame_####.exr).
 int checkOutputs(const std::vector<std::string>& outputs) {
   for (const std::string& out : outputs) {
     std::string why;
     if (!isSupportedOutput(out, &why)) {
       printError(out + ": " + why);
       return 2;
+    }
+    std::filesystem::path folder = std::filesystem::path(out).parent_path();
+    std::error_code ec;
+    if (!folder.empty() && !std::filesystem::is_directory(folder, ec) &&
+        !std::filesystem::create_directories(folder, ec)) {
+      printError(out + ": cannot create the folder " + folder.string() + ": " + ec.message());
+      return 1;
     }
   }
   return 0;
