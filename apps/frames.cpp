@@ -1,60 +1,93 @@
 // glint — frame ranges and numbered file patterns.
 #include "apps/frames.h"
 
-#include <charconv>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <regex>
 #include <stdexcept>
 
 namespace glint::app {
 
-namespace {
+namespace fs = std::filesystem;
 
-int parseFrameNumber(const std::string& text, const std::string& what, const std::string& whole) {
-  int value = 0;
-  const char* end = text.data() + text.size();
-  auto [ptr, ec] = std::from_chars(text.data(), end, value);
-  if (text.empty() || ec != std::errc() || ptr != end)
-    throw std::invalid_argument("--frames '" + whole + "': " + what + " '" + text +
-                                "' is not a whole number (expected A-B[:STEP])");
-  return value;
+std::vector<int> FrameRange::frames() const {
+  std::vector<int> out;
+  for (long f = first; f <= last; f += step) out.push_back(int(f));
+  return out;
 }
 
-}  // namespace
+FrameRange parseFrameRange(const std::string& text) {
+  static const std::regex re(R"(^(\d{1,9})(?:-(\d{1,9}))?(?::(\d{1,9}))?$)");
+  std::smatch m;
+  if (!std::regex_match(text, m, re))
+    throw std::invalid_argument(fmt::format("--frames '{}': expected A-B[:STEP] or A", text));
+  FrameRange r;
+  r.first = std::stoi(m[1]);
+  r.last = m[2].matched ? std::stoi(m[2]) : r.first;
+  r.step = m[3].matched ? std::stoi(m[3]) : 1;
+  if (r.last < r.first)
+    throw std::invalid_argument(
+        fmt::format("--frames '{}': the last frame is before the first", text));
+  if (r.step < 1)
+    throw std::invalid_argument(fmt::format("--frames '{}': the step must be >= 1", text));
+  return r;
+}
 
-std::vector<int> parseFrameRange(const std::string& text) {
-  std::string range = text, stepText;
-  if (size_t colon = text.find(':'); colon != std::string::npos) {
-    range = text.substr(0, colon);
-    stepText = text.substr(colon + 1);
-  }
-  int first = 0, last = 0, step = 1;
-  if (size_t dash = range.find('-'); dash != std::string::npos) {
-    first = parseFrameNumber(range.substr(0, dash), "first frame", text);
-    last = parseFrameNumber(range.substr(dash + 1), "last frame", text);
-  } else {
-    first = last = parseFrameNumber(range, "frame", text);
-  }
-  if (!stepText.empty() || text.find(':') != std::string::npos)
-    step = parseFrameNumber(stepText, "step", text);
-  if (first < 0) throw std::invalid_argument("--frames '" + text + "': frames start at 0");
-  if (last < first)
-    throw std::invalid_argument("--frames '" + text + "': the last frame is before the first");
-  if (step < 1) throw std::invalid_argument("--frames '" + text + "': the step must be >= 1");
+std::string FramePattern::path(int frame) const {
+  if (!isPattern()) return text;
+  return (folder / fmt::format("{}{:0{}d}{}", head, frame, width, tail)).string();
+}
+
+FramePattern parseFramePattern(const std::string& text) {
+  FramePattern p;
+  p.text = text;
+  fs::path path(text);
+  std::string name = path.filename().string();
+  if (path.parent_path().string().find('#') != std::string::npos)
+    throw std::invalid_argument(fmt::format("'{}': '#' may only stand in the file name", text));
+  size_t first = name.find('#');
+  if (first == std::string::npos) return p;
+  size_t last = name.find_first_not_of('#', first);
+  if (last == std::string::npos) last = name.size();
+  if (name.find('#', last) != std::string::npos)
+    throw std::invalid_argument(fmt::format("'{}': more than one run of '#'", text));
+  p.folder = path.parent_path();
+  p.head = name.substr(0, first);
+  p.tail = name.substr(last);
+  p.width = int(last - first);
+  return p;
+}
+
+std::vector<int> findFrames(const FramePattern& p, const std::optional<FrameRange>& range) {
+  fs::path folder = p.folder.empty() ? fs::path(".") : p.folder;
   std::vector<int> frames;
-  for (long f = first; f <= last; f += step) frames.push_back(int(f));
+  std::error_code ec;
+  fs::directory_iterator it(folder, ec);
+  if (ec)
+    throw std::invalid_argument(fmt::format("no frames match '{}': cannot list folder '{}': {}",
+                                            p.text, folder.string(), ec.message()));
+  for (const fs::directory_entry& entry : it) {
+    std::string name = entry.path().filename().string();
+    if (name.size() < p.head.size() + p.tail.size() + size_t(p.width)) continue;
+    if (!name.starts_with(p.head) || !name.ends_with(p.tail)) continue;
+    std::string digits = name.substr(p.head.size(), name.size() - p.head.size() - p.tail.size());
+    if (digits.size() > 9 ||
+        !std::all_of(digits.begin(), digits.end(), [](unsigned char c) { return std::isdigit(c); }))
+      continue;
+    int frame = std::stoi(digits);
+    if (fmt::format("{:0{}d}", frame, p.width) != digits) continue;
+    if (range && !range->contains(frame)) continue;
+    if (!entry.is_regular_file(ec)) continue;
+    frames.push_back(frame);
+  }
+  std::sort(frames.begin(), frames.end());
+  if (frames.empty())
+    throw std::invalid_argument(range ? fmt::format("no frames match '{}' in --frames {}-{}:{}",
+                                                    p.text, range->first, range->last, range->step)
+                                      : fmt::format("no frames match '{}'", p.text));
   return frames;
-}
-
-bool hasFramePattern(const std::string& pattern) { return pattern.find('#') != std::string::npos; }
-
-std::string framePath(const std::string& pattern, int frame) {
-  size_t end = pattern.rfind('#');
-  if (end == std::string::npos) return pattern;
-  size_t begin = end;
-  while (begin > 0 && pattern[begin - 1] == '#') --begin;
-  const size_t width = end - begin + 1;
-  std::string number = std::to_string(frame);
-  if (number.size() < width) number.insert(0, width - number.size(), '0');
-  return pattern.substr(0, begin) + number + pattern.substr(end + 1);
 }
 
 }  // namespace glint::app

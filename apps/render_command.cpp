@@ -229,16 +229,18 @@ int runSingle(const RenderArgs& args, const std::vector<std::string>& outputs) {
 // (writes are atomic: an existing file is a complete one).
 int runSequence(const RenderArgs& args, const std::vector<std::string>& patterns) {
   std::vector<int> frames;
+  std::vector<FramePattern> outputPatterns;
   try {
-    frames = parseFrameRange(*args.frames);
+    frames = parseFrameRange(*args.frames).frames();
+    for (const std::string& p : patterns) outputPatterns.push_back(parseFramePattern(p));
   } catch (const std::invalid_argument& e) {
     printError(e.what());
     return 2;
   }
   if (frames.size() > 1)
-    for (const std::string& p : patterns)
-      if (!hasFramePattern(p)) {
-        printError("-o " + p + ": a sequence of " + std::to_string(frames.size()) +
+    for (const FramePattern& p : outputPatterns)
+      if (!p.isPattern()) {
+        printError("-o " + p.text + ": a sequence of " + std::to_string(frames.size()) +
                    " frames needs a '#' run for the frame number, e.g. frame_####.exr");
         return 2;
       }
@@ -266,7 +268,7 @@ int runSequence(const RenderArgs& args, const std::vector<std::string>& patterns
   bool warned = false;
   for (int frame : frames) {
     std::vector<std::string> outputs;
-    for (const std::string& p : patterns) outputs.push_back(framePath(p, frame));
+    for (const FramePattern& p : outputPatterns) outputs.push_back(p.path(frame));
     if (args.resume && std::all_of(outputs.begin(), outputs.end(), [](const std::string& o) {
           return std::filesystem::is_regular_file(o);
         })) {

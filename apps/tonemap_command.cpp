@@ -21,6 +21,7 @@
 
 #include "apps/cli_common.h"
 #include "apps/commands.h"
+#include "apps/frames.h"
 #include "renderer/color.h"
 #include "renderer/output.h"
 #include "renderer/progress.h"
@@ -51,95 +52,6 @@ struct TonemapArgs {
 struct UsageError {
   std::string message;
 };
-
-// ---- frame patterns --------------------------------------------------------------------------
-
-// A file name with one run of '#': the frame number, zero-padded to the run's width.
-struct FramePattern {
-  std::string text;        // as given
-  fs::path folder;         // where the frames are
-  std::string head, tail;  // the file name around the run
-  int width = 0;           // 0: a single file, not a pattern
-
-  bool isPattern() const { return width > 0; }
-  std::string path(int frame) const {
-    if (!isPattern()) return text;
-    return (folder / fmt::format("{}{:0{}d}{}", head, frame, width, tail)).string();
-  }
-};
-
-FramePattern parsePattern(const std::string& text) {
-  FramePattern p;
-  p.text = text;
-  fs::path path(text);
-  std::string name = path.filename().string();
-  if (path.parent_path().string().find('#') != std::string::npos)
-    throw UsageError{fmt::format("'{}': '#' may only stand in the file name", text)};
-  size_t first = name.find('#');
-  if (first == std::string::npos) return p;
-  size_t last = name.find_first_not_of('#', first);
-  if (last == std::string::npos) last = name.size();
-  if (name.find('#', last) != std::string::npos)
-    throw UsageError{fmt::format("'{}': more than one run of '#'", text)};
-  p.folder = path.parent_path();
-  p.head = name.substr(0, first);
-  p.tail = name.substr(last);
-  p.width = int(last - first);
-  return p;
-}
-
-struct FrameRange {
-  int first = 0, last = 0, step = 1;
-  bool contains(int f) const { return f >= first && f <= last && (f - first) % step == 0; }
-};
-
-FrameRange parseFrames(const std::string& text) {
-  static const std::regex re(R"(^(\d{1,9})(?:-(\d{1,9}))?(?::(\d{1,9}))?$)");
-  std::smatch m;
-  if (!std::regex_match(text, m, re))
-    throw UsageError{fmt::format("--frames '{}': expected A-B[:STEP] or A", text)};
-  FrameRange r;
-  r.first = std::stoi(m[1]);
-  r.last = m[2].matched ? std::stoi(m[2]) : r.first;
-  r.step = m[3].matched ? std::stoi(m[3]) : 1;
-  if (r.last < r.first)
-    throw UsageError{fmt::format("--frames '{}': the last frame is before the first", text)};
-  if (r.step < 1) throw UsageError{fmt::format("--frames '{}': STEP must be >= 1", text)};
-  return r;
-}
-
-// The existing frames of `p`, sorted by number. A name matches only with the number written as
-// the pattern writes it (padded to the run's width), so 'f_1.exr' and 'f_00001.exr' are not
-// frame 1 of 'f_####.exr'.
-std::vector<int> findFrames(const FramePattern& p, const std::optional<FrameRange>& range) {
-  fs::path folder = p.folder.empty() ? fs::path(".") : p.folder;
-  std::vector<int> frames;
-  std::error_code ec;
-  fs::directory_iterator it(folder, ec);
-  if (ec)
-    throw UsageError{fmt::format("no frames match '{}': cannot list folder '{}': {}", p.text,
-                                 folder.string(), ec.message())};
-  for (const fs::directory_entry& entry : it) {
-    std::string name = entry.path().filename().string();
-    if (name.size() < p.head.size() + p.tail.size() + size_t(p.width)) continue;
-    if (!name.starts_with(p.head) || !name.ends_with(p.tail)) continue;
-    std::string digits = name.substr(p.head.size(), name.size() - p.head.size() - p.tail.size());
-    if (digits.size() > 9 ||
-        !std::all_of(digits.begin(), digits.end(), [](unsigned char c) { return std::isdigit(c); }))
-      continue;
-    int frame = std::stoi(digits);
-    if (fmt::format("{:0{}d}", frame, p.width) != digits) continue;
-    if (range && !range->contains(frame)) continue;
-    if (!entry.is_regular_file(ec)) continue;
-    frames.push_back(frame);
-  }
-  std::sort(frames.begin(), frames.end());
-  if (frames.empty())
-    throw UsageError{range ? fmt::format("no frames match '{}' in --frames {}-{}:{}", p.text,
-                                         range->first, range->last, range->step)
-                           : fmt::format("no frames match '{}'", p.text)};
-  return frames;
-}
 
 std::string lowerExtension(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
@@ -241,10 +153,10 @@ Job plan(const TonemapArgs& args) {
   job.tonemap.display = display;
   job.tonemap.view = view;
 
-  FramePattern in = parsePattern(args.input);
+  FramePattern in = parseFramePattern(args.input);
   std::string outText =
       args.output ? *args.output : fs::path(args.input).replace_extension(".png").string();
-  FramePattern out = parsePattern(outText);
+  FramePattern out = parseFramePattern(outText);
   if (in.isPattern() != out.isPattern())
     throw UsageError{fmt::format(
         "mismatched patterns: input '{}' {} a '#' frame pattern but output '{}' {}", args.input,
@@ -275,7 +187,7 @@ Job plan(const TonemapArgs& args) {
 
   if (in.isPattern()) {
     std::optional<FrameRange> range;
-    if (args.frames) range = parseFrames(*args.frames);
+    if (args.frames) range = parseFrameRange(*args.frames);
     for (int f : findFrames(in, range)) {
       job.inputs.push_back(in.path(f));
       job.outputs.push_back(out.path(f));
@@ -301,6 +213,9 @@ int runTonemap(const TonemapArgs& args) {
     job = plan(args);
   } catch (const UsageError& e) {
     printError(e.message);
+    return 2;
+  } catch (const std::invalid_argument& e) {  // frame patterns and ranges
+    printError(e.what());
     return 2;
   } catch (const ColorError& e) {
     printError(e.what());

@@ -15,10 +15,12 @@ namespace glint::app {
 namespace {
 
 TEST(Frames, RangesWithAndWithoutStep) {
-  EXPECT_EQ(parseFrameRange("3"), (std::vector<int>{3}));
-  EXPECT_EQ(parseFrameRange("0-4"), (std::vector<int>{0, 1, 2, 3, 4}));
-  EXPECT_EQ(parseFrameRange("1-10:4"), (std::vector<int>{1, 5, 9}));
-  EXPECT_EQ(parseFrameRange("7-7:3"), (std::vector<int>{7}));
+  EXPECT_EQ(parseFrameRange("3").frames(), (std::vector<int>{3}));
+  EXPECT_EQ(parseFrameRange("0-4").frames(), (std::vector<int>{0, 1, 2, 3, 4}));
+  EXPECT_EQ(parseFrameRange("1-10:4").frames(), (std::vector<int>{1, 5, 9}));
+  EXPECT_EQ(parseFrameRange("7-7:3").frames(), (std::vector<int>{7}));
+  EXPECT_TRUE(parseFrameRange("1-10:4").contains(9));
+  EXPECT_FALSE(parseFrameRange("1-10:4").contains(8));
 }
 
 TEST(Frames, BadRangesAreRejectedWithTheReason) {
@@ -33,13 +35,13 @@ TEST(Frames, BadRangesAreRejectedWithTheReason) {
 }
 
 TEST(Frames, PatternsArePaddedToTheRunOfHashes) {
-  EXPECT_EQ(framePath("out/frame_####.exr", 42), "out/frame_0042.exr");
-  EXPECT_EQ(framePath("f#.png", 7), "f7.png");
-  EXPECT_EQ(framePath("f##.png", 12345), "f12345.png");     // wider numbers are written in full
-  EXPECT_EQ(framePath("a#/b_###.exr", 3), "a#/b_003.exr");  // the last run is the frame
-  EXPECT_EQ(framePath("still.exr", 3), "still.exr");
-  EXPECT_TRUE(hasFramePattern("x_#.exr"));
-  EXPECT_FALSE(hasFramePattern("x.exr"));
+  EXPECT_EQ(parseFramePattern("out/frame_####.exr").path(42), "out/frame_0042.exr");
+  EXPECT_EQ(parseFramePattern("f#.png").path(7), "f7.png");
+  EXPECT_EQ(parseFramePattern("f##.png").path(12345), "f12345.png");  // wider: in full
+  EXPECT_EQ(parseFramePattern("still.exr").path(3), "still.exr");
+  EXPECT_FALSE(parseFramePattern("still.exr").isPattern());
+  EXPECT_THROW(parseFramePattern("a#/b_###.exr"), std::invalid_argument);
+  EXPECT_THROW(parseFramePattern("f_##_##.exr"), std::invalid_argument);
 }
 
 }  // namespace
