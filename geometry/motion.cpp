@@ -151,13 +151,28 @@ DecomposedTransform DecomposedTransform::fromTransform(const Transform& xf) {
 }
 
 Transform DecomposedTransform::toTransform() const {
-  Mat4 um;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) um.m[r][c] = u[r][c];
-  Mat4 m = glint::toTransform(rotation).matrix() * um;
+  // M = T R U and M^-1 = U^-1 R^T T^-1: the inverse comes from the factors (U is upper
+  // triangular, R orthogonal) at a fraction of a general 4x4 inversion. This runs for every
+  // candidate hit on a moving shape.
+  const Mat4 r = glint::toTransform(rotation).matrix();
+  Mat4 m;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      m.m[i][j] = r.m[i][0] * u[0][j] + r.m[i][1] * u[1][j] + r.m[i][2] * u[2][j];
   m.m[0][3] = translation.x, m.m[1][3] = translation.y, m.m[2][3] = translation.z;
+  const float a = u[0][0], b = u[0][1], c = u[0][2], d = u[1][1], e = u[1][2], f = u[2][2];
+  if (a == 0 || d == 0 || f == 0 || !std::isfinite(a * d * f))
+    return Transform(m, Mat4{});  // a zero scale: nothing can be hit, keep it finite
+  const float ui[3][3] = {{1 / a, -b / (a * d), (b * e - c * d) / (a * d * f)},
+                          {0, 1 / d, -e / (d * f)},
+                          {0, 0, 1 / f}};
   Mat4 inv;
-  if (!invert(m, &inv)) inv = Mat4{};  // a zero scale: nothing can be hit, keep it finite
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)  // (U^-1 R^T)[i][j] = sum_k ui[i][k] r[j][k]
+      inv.m[i][j] = ui[i][0] * r.m[j][0] + ui[i][1] * r.m[j][1] + ui[i][2] * r.m[j][2];
+  for (int i = 0; i < 3; ++i)
+    inv.m[i][3] =
+        -(inv.m[i][0] * translation.x + inv.m[i][1] * translation.y + inv.m[i][2] * translation.z);
   return Transform(m, inv);
 }
 

@@ -605,3 +605,29 @@ TEST(MotionBlur, SceneBoundsHoldTheWholeSweep) {
 
 }  // namespace
 }  // namespace glint
+
+namespace glint {
+namespace {
+
+// The interpolated transform's inverse is built from its factors (U^-1 R^T T^-1), not by a
+// general inversion: it must still invert the matrix, shear, reflection and all.
+TEST(AnimatedTransform, InterpolatedInverseInvertsTheMatrix) {
+  Mat4 shear;
+  shear.m[0][1] = 0.7f, shear.m[1][2] = -0.4f, shear.m[0][2] = 0.25f;
+  Transform a = Transform::translate({1, -2, 3}) * Transform::rotate(30, {1, 2, 3}) *
+                Transform(shear) * Transform::scale({2, 0.5f, -1.5f});
+  Transform b = Transform::translate({-4, 0, 1}) * Transform::rotate(130, {0, 1, 1}) *
+                Transform::scale({0.25f, 3, 1});
+  AnimatedTransform motion({a, b});
+  for (float t : {0.1f, 0.37f, 0.5f, 0.9f}) {
+    Transform xf = motion.at(t);
+    Mat4 product = xf.matrix() * xf.inverseMatrix();
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c)
+        EXPECT_NEAR(product.m[r][c], r == c ? 1.0f : 0.0f, 2e-5f) << "t " << t << " [" << r
+                                                                   << "][" << c << "]";
+  }
+}
+
+}  // namespace
+}  // namespace glint
