@@ -12,6 +12,10 @@ namespace glint::app {
 
 namespace fs = std::filesystem;
 
+// A bound on one run's frame list (a typo such as 0-999999999 would otherwise allocate
+// gigabytes): a million frames is over ten hours of film at 24 fps.
+constexpr int kMaxFrames = 1'000'000;
+
 std::vector<int> FrameRange::frames() const {
   std::vector<int> out;
   for (long f = first; f <= last; f += step) out.push_back(int(f));
@@ -32,6 +36,9 @@ FrameRange parseFrameRange(const std::string& text) {
         fmt::format("--frames '{}': the last frame is before the first", text));
   if (r.step < 1)
     throw std::invalid_argument(fmt::format("--frames '{}': the step must be >= 1", text));
+  if ((r.last - r.first) / r.step >= kMaxFrames)
+    throw std::invalid_argument(
+        fmt::format("--frames '{}': more than {} frames in one run", text, kMaxFrames));
   return r;
 }
 

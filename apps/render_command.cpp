@@ -134,7 +134,8 @@ int checkDisplaySettings(const SceneDescription& desc, const std::vector<std::st
 
 // Renders one built scene and writes `outputs`; returns the exit code.
 int renderAndWrite(const RenderArgs& args, const SceneDescription& desc, const RenderScene& scene,
-                   const std::vector<std::string>& outputs, bool tileProgress, FrameRecord* record) {
+                   const std::vector<std::string>& outputs, bool tileProgress,
+                   FrameRecord* record) {
   Film film;
   try {
     auto integrator = makeIntegrator(desc.render.integrator, scene, desc.render);
@@ -149,7 +150,8 @@ int renderAndWrite(const RenderArgs& args, const SceneDescription& desc, const R
     printError(args.scene + ": render failed: " + std::string(e.what()));
     return 1;
   }
-  ImageMetadata meta{args.scene, desc.render.spp, desc.render.seed, record->stats.renderSeconds,
+  ImageMetadata meta{args.scene,        desc.render.spp,
+                     desc.render.seed,  record->stats.renderSeconds,
                      desc.render.accel, desc.render.integrator};
   try {
     for (const std::string& out : outputs) writeImage(out, film, desc.render, meta);
@@ -166,13 +168,12 @@ void printSummary(const std::vector<std::string>& outputs, const SceneDescriptio
       stats.renderSeconds > 0 ? double(stats.rays.total()) / stats.renderSeconds * 1e-6 : 0;
   std::string names;
   for (const std::string& out : outputs) names += (names.empty() ? "" : ", ") + out;
-  std::string dropped = stats.nonfiniteSamples
-                            ? ", " + std::to_string(stats.nonfiniteSamples) +
-                                  " NaN/Inf samples dropped"
-                            : "";
-  std::fprintf(stderr, "glint: wrote %s (%dx%d, %d spp, %.2f s, %.1f Mrays/s%s)\n",
-               names.c_str(), scene.camera.width(), scene.camera.height(), desc.render.spp,
-               stats.renderSeconds, mrays, dropped.c_str());
+  std::string dropped = stats.nonfiniteSamples ? ", " + std::to_string(stats.nonfiniteSamples) +
+                                                     " NaN/Inf samples dropped"
+                                               : "";
+  std::fprintf(stderr, "glint: wrote %s (%dx%d, %d spp, %.2f s, %.1f Mrays/s%s)\n", names.c_str(),
+               scene.camera.width(), scene.camera.height(), desc.render.spp, stats.renderSeconds,
+               mrays, dropped.c_str());
 }
 
 // Checks the formats and creates missing output folders (a sequence usually goes into a
@@ -208,9 +209,10 @@ int runSingle(const RenderArgs& args, const std::vector<std::string>& outputs) {
   }
   if (int code = checkDisplaySettings(desc, outputs)) return code;
   if (!args.quiet)
-    for (const std::string& w : desc.warnings) std::fprintf(stderr, "glint: warning: %s\n", w.c_str());
-  if (int code = renderAndWrite(args, desc, scene, outputs, !args.quiet && isTerminal(stderr),
-                                &record))
+    for (const std::string& w : desc.warnings)
+      std::fprintf(stderr, "glint: warning: %s\n", w.c_str());
+  if (int code =
+          renderAndWrite(args, desc, scene, outputs, !args.quiet && isTerminal(stderr), &record))
     return code;
   try {
     if (args.statsPath)
@@ -344,7 +346,6 @@ int runRender(const RenderArgs& args) {
   if (outputs.empty())
     outputs.push_back(std::filesystem::path(args.scene).stem().string() +
                       (args.frames ? "_####.exr" : ".exr"));
-  if (int code = checkOutputs(outputs)) return code;
   if (args.time && args.frames) {
     printError("--time and --frames exclude each other (frame f is at time f / fps)");
     return 2;
@@ -353,6 +354,7 @@ int runRender(const RenderArgs& args) {
     printError("--resume applies to a sequence (--frames A-B)");
     return 2;
   }
+  if (int code = checkOutputs(outputs)) return code;
   return args.frames ? runSequence(args, outputs) : runSingle(args, outputs);
 }
 
@@ -360,17 +362,22 @@ int runRender(const RenderArgs& args) {
 
 void addRenderCommand(CLI::App& app, int* exitCode) {
   auto args = std::make_shared<RenderArgs>();
-  CLI::App* cmd = app.add_subcommand("render", "render a scene to EXR (scene-linear) or PNG/JPEG/TIFF");
+  CLI::App* cmd =
+      app.add_subcommand("render", "render a scene to EXR (scene-linear) or PNG/JPEG/TIFF");
   cmd->add_option("scene", args->scene, "a .gltf/.glb scene or a glint .json scene")->required();
   cmd->add_option("-o,--output", args->outputs,
                   "output image(s): .exr, .png, .jpg, .tif (repeat to write several)");
-  cmd->add_option("--sidecar", args->sidecar, "sidecar JSON (default: NAME.glint.json beside the glTF)");
+  cmd->add_option("--sidecar", args->sidecar,
+                  "sidecar JSON (default: NAME.glint.json beside the glTF)");
   cmd->add_option("--stats", args->statsPath, "write render statistics as JSON");
   cmd->add_option("--frames", args->frames,
                   "render a sequence: frames A-B[:STEP] at time frame / fps; outputs need a '#' "
                   "run for the frame number (frame_####.exr)");
-  cmd->add_option("--fps", args->fps, "frames per second of the sequence (default: the sidecar's, else 24)");
-  cmd->add_option("--time", args->time, "scene time of a single frame, in seconds (default: the sidecar's render.time, else 0)");
+  cmd->add_option("--fps", args->fps,
+                  "frames per second of the sequence (default: the sidecar's, else 24)");
+  cmd->add_option(
+      "--time", args->time,
+      "scene time of a single frame, in seconds (default: the sidecar's render.time, else 0)");
   cmd->add_flag("--resume", args->resume, "skip frames whose outputs already exist");
   cmd->add_flag("-q,--quiet", args->quiet, "no progress bar or summary");
   args->overrides.addOptions(cmd);

@@ -24,6 +24,8 @@ import os
 import subprocess
 import sys
 
+from accel_report import cpu_model  # beside this script
+
 CAMERAS = ["pinhole", "lens", "motion", "lens+motion"]
 
 
@@ -53,17 +55,6 @@ def render(args, camera, spp, path, repeat=1):
 def rmse(args, image, reference):
     out = run([args.glint, "diff", image, reference, "--json", "--fail", "1e9"])
     return json.loads(out)["rmse"]
-
-
-def cpu_model():
-    try:
-        with open("/proc/cpuinfo") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return "unknown CPU"
 
 
 def spp_for_error(curve, target):

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace glint {
 
@@ -75,9 +76,9 @@ SurfaceInteraction computeSurfaceInteraction(const GeometryScene& scene, const R
 
   // A moving mesh is mapped by its transform at the ray's time, interpolated as Embree
   // interpolated it, so the point and normal are those of the surface it intersected.
-  Transform moved;
+  std::optional<Transform> moved;  // constructed only for moving meshes
   if (inst.moves()) moved = inst.motion.at(ray.time);
-  const Transform& xf = inst.moves() ? moved : inst.worldFromObject;
+  const Transform& xf = moved ? *moved : inst.worldFromObject;
   const bool identity = xf.isIdentity();
   if (needs.position) {
     // Object-space point from barycentrics; error bound as in pbrt-v4

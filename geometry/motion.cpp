@@ -189,13 +189,11 @@ DecomposedTransform DecomposedTransform::lerp(const DecomposedTransform& a,
 // ---- AnimatedTransform -----------------------------------------------------------------------
 
 AnimatedTransform::AnimatedTransform(std::vector<Transform> keys) {
-  if (keys.empty()) keys.push_back(Transform());
+  if (keys.empty()) return;
+  first_ = keys.front();
   bool moves = false;
   for (const Transform& k : keys) moves = moves || !(k == keys.front());
-  if (!moves) {
-    keys_.assign(1, keys.front());
-    return;
-  }
+  if (!moves) return;
   keys_ = std::move(keys);
   decomposed_.reserve(keys_.size());
   for (size_t i = 0; i < keys_.size(); ++i) {
@@ -207,7 +205,7 @@ AnimatedTransform::AnimatedTransform(std::vector<Transform> keys) {
 }
 
 Transform AnimatedTransform::at(float time) const {
-  if (!isAnimated()) return keys_.front();
+  if (!isAnimated()) return first_;
   const size_t segments = keys_.size() - 1;
   float s = std::clamp(time, 0.0f, 1.0f) * float(segments);
   size_t i = std::min(size_t(s), segments - 1);
@@ -219,7 +217,7 @@ Transform AnimatedTransform::at(float time) const {
 }
 
 Bounds3f AnimatedTransform::motionBounds(const Bounds3f& b, int steps) const {
-  if (!isAnimated()) return keys_.front().bounds(b);
+  if (!isAnimated()) return first_.bounds(b);
   Bounds3f out;
   const int n = int(keys_.size() - 1) * std::max(steps, 1);
   for (int i = 0; i <= n; ++i) out.extend(at(float(i) / float(n)).bounds(b));

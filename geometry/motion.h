@@ -47,20 +47,23 @@ struct DecomposedTransform {
                                   float t);
 };
 
+// The most keys a motion may have: Embree 3's RTC_MAX_TIME_STEP_COUNT.
+inline constexpr size_t kMaxMotionKeys = 129;
+
 class AnimatedTransform {
  public:
-  // The identity, not moving. (Sized constructors, not braces: GCC 12 warns about the
-  // initializer_list temporaries of `keys_{...}`.)
-  AnimatedTransform() : keys_(1) {}
-  explicit AnimatedTransform(const Transform& xf) : keys_(1, xf) {}
-  // Keys at times i / (n - 1) of the shutter, n >= 1. Consecutive rotations are put in the same
+  // The identity, not moving. A static transform lives in `first_` alone, so the many
+  // instances that never move carry no heap allocation for their motion.
+  AnimatedTransform() = default;
+  explicit AnimatedTransform(const Transform& xf) : first_(xf) {}
+  // Keys at times i / (n - 1) of the shutter, 1 <= n <= kMaxMotionKeys. Consecutive rotations are put in the same
   // hemisphere so slerp takes the short way between them; callers sample densely enough that
   // no step turns by more than 180 degrees. All keys equal collapses to one (no motion).
   explicit AnimatedTransform(std::vector<Transform> keys);
 
-  bool isAnimated() const { return keys_.size() > 1; }
-  size_t keyCount() const { return keys_.size(); }
-  const Transform& key(size_t i) const { return keys_[i]; }
+  bool isAnimated() const { return !keys_.empty(); }
+  size_t keyCount() const { return isAnimated() ? keys_.size() : 1; }
+  const Transform& key(size_t i) const { return isAnimated() ? keys_[i] : first_; }
   // The decomposition of key i (animated transforms only): what Embree is given.
   const DecomposedTransform& decomposedKey(size_t i) const { return decomposed_[i]; }
   // The transform at normalised shutter time `time` (clamped to [0, 1]). Exactly key i at time
@@ -71,7 +74,8 @@ class AnimatedTransform {
   Bounds3f motionBounds(const Bounds3f& b, int steps = 8) const;
 
  private:
-  std::vector<Transform> keys_;
+  Transform first_;                              // key 0
+  std::vector<Transform> keys_;                  // every key, or empty when not animated
   std::vector<DecomposedTransform> decomposed_;  // empty unless animated
 };
 

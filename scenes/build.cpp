@@ -385,100 +385,80 @@ struct ShutterTimes {
   bool moves() const { return close > open; }
 };
 
-// What the tracks on a node's parent chain look like between the shutter times: how many
-// keys fall strictly inside, how many nodes move, whether any curve is not piecewise linear.
-struct ChainMotion {
-  int keysInside = 0;
-  int animatedNodes = 0;
-  bool curved = false;
-  double turnDegrees = 0;  // how far angle tracks turn during the shutter (any number of turns)
-};
+// How far an interpolated placement may stray from the animation between its keys: a
+// thousandth of the object's unit length (the test points are the object-space origin and unit
+// axes). Small enough to be invisible, large enough that a smooth motion needs few keys.
+constexpr float kMotionTolerance = 1e-3f;
 
-template <class T>
-void scanTrack(const Track<T>& track, const ShutterTimes& shutter, ChainMotion* m) {
-  if (track.empty()) return;
-  for (float t : track.times)
-    if (t > shutter.open && t < shutter.close) ++m->keysInside;
-  if (track.interpolation == Interpolation::CubicSpline ||
-      track.interpolation == Interpolation::Smooth)
-    m->curved = true;
-}
-
-ChainMotion scanChain(const std::vector<NodeDesc>& nodes, int node, const ShutterTimes& shutter) {
-  ChainMotion m;
-  for (int n = node; n >= 0; n = nodes[size_t(n)].parent) {
-    const NodeDesc& nd = nodes[size_t(n)];
-    if (!nd.hasTracks()) continue;
-    ++m.animatedNodes;
-    scanTrack(nd.translationTrack, shutter, &m);
-    scanTrack(nd.rotationTrack, shutter, &m);
-    scanTrack(nd.scaleTrack, shutter, &m);
-    scanTrack(nd.angleTrack, shutter, &m);
-    if (!nd.angleTrack.empty()) {
-      // Summed between the keys inside the shutter: a track may turn forwards and back.
-      std::vector<double> times{shutter.open};
-      for (float t : nd.angleTrack.times)
-        if (t > shutter.open && t < shutter.close) times.push_back(t);
-      times.push_back(shutter.close);
-      for (size_t i = 1; i < times.size(); ++i)
-        m.turnDegrees += std::abs(double(evaluate(nd.angleTrack, times[i])) -
-                                  double(evaluate(nd.angleTrack, times[i - 1])));
-    }
+// The largest distance between where `exact` and `approx` put the object-space origin and unit
+// axes, relative to the larger of the exact axes' lengths.
+float placementError(const Transform& exact, const Transform& approx) {
+  float error = 0, scale = 0;
+  for (Vec3f p : {Vec3f{0, 0, 0}, Vec3f{1, 0, 0}, Vec3f{0, 1, 0}, Vec3f{0, 0, 1}}) {
+    error = std::max(error, length(exact.point(p) - approx.point(p)));
+    if (p != Vec3f{0, 0, 0}) scale = std::max(scale, length(exact.vector(p)));
   }
-  return m;
+  return scale > 0 ? error / scale : error;
 }
 
 // The placement worldFromNode(node, t) · nodeFromItem over the shutter, as keys at uniform
-// times (Embree's time steps are uniform). One segment is exact when a single node moves
-// linearly between two keys that bracket the shutter: T and S interpolate linearly and R by
-// slerp on both sides. Anything else (keys inside the shutter, curves, moving parents) is
-// sampled with 8 segments per key interval, at most 64, and more while a step turns by over
-// 90 degrees, so slerp between samples cannot take the long way round. `staticWorld` is used
-// when nothing moves.
+// times (Embree's time steps are uniform). Starting from one segment, the number of segments
+// doubles until the interpolation (slerp for rotation, linear for scale and translation, as
+// Embree blends) stays within kMotionTolerance of the animation at a quarter, the middle and
+// three quarters of every segment and no segment turns by more than 90 degrees (slerp would
+// take the short way). A single node moving linearly is then one segment; an object off its
+// node's pivot swinging on an arc, curves and kinks get as many as they need, up to Embree's
+// limit (a step inside the shutter never converges: it becomes a fast ramp). `staticWorld` is
+// used when nothing moves.
 AnimatedTransform placementOverShutter(const std::vector<NodeDesc>& nodes, int node,
-                                       const Transform& nodeFromItem,
-                                       const Transform& staticWorld,
+                                       const Transform& nodeFromItem, const Transform& staticWorld,
                                        const ShutterTimes& shutter) {
   if (node < 0) return AnimatedTransform(staticWorld);
   auto at = [&](double t) { return worldFromNode(nodes, node, t) * nodeFromItem; };
   if (!shutter.moves() || !isAnimated(nodes, node)) return AnimatedTransform(at(shutter.open));
-  ChainMotion m = scanChain(nodes, node, shutter);
-  int segments = (m.keysInside == 0 && m.animatedNodes == 1 && !m.curved)
-                     ? 1
-                     : std::min(64, 8 * (m.keysInside + 1));
-  // Angle tracks may spin any number of turns between two keys, which the keys' rotations
-  // alone cannot show: at most 60 degrees per segment.
-  segments = std::max(segments, int(std::ceil(std::min(m.turnDegrees, 15360.0) / 60.0)));
-  for (;;) {
+  const double span = shutter.close - shutter.open;
+  for (int segments = 1;; segments *= 2) {
     std::vector<Transform> keys;
     keys.reserve(size_t(segments) + 1);
-    for (int i = 0; i <= segments; ++i)
-      keys.push_back(at(shutter.open + (shutter.close - shutter.open) * double(i) / segments));
+    for (int i = 0; i <= segments; ++i) keys.push_back(at(shutter.open + span * i / segments));
     AnimatedTransform motion(std::move(keys));
-    bool sharpTurn = false;
-    for (size_t i = 1; motion.isAnimated() && i < motion.keyCount(); ++i)
-      // |dot| < cos(45°): the two rotations differ by more than 90 degrees.
-      sharpTurn = sharpTurn || std::abs(dot(motion.decomposedKey(i - 1).rotation,
-                                            motion.decomposedKey(i).rotation)) < 0.7071f;
-    if (!sharpTurn || segments >= 256) return motion;
-    segments *= 2;
+    if (2 * size_t(segments) + 1 > kMaxMotionKeys) return motion;
+    bool good = true;
+    for (int i = 0; good && i < segments; ++i) {
+      if (motion.isAnimated() && std::abs(dot(motion.decomposedKey(size_t(i)).rotation,
+                                              motion.decomposedKey(size_t(i) + 1).rotation)) <
+                                     0.7071f) {  // cos(45°): a turn of over 90 degrees
+        good = false;
+        break;
+      }
+      for (double f : {0.25, 0.5, 0.75}) {
+        const double u = (i + f) / segments;
+        if (placementError(at(shutter.open + span * u), motion.at(float(u))) > kMotionTolerance) {
+          good = false;
+          break;
+        }
+      }
+    }
+    if (good) return motion;
   }
 }
 
-// A placement fixed for the frame (lights): at the shutter's opening.
-Transform placementAtOpen(const std::vector<NodeDesc>& nodes, int node,
-                          const Transform& nodeFromItem, const Transform& staticWorld,
-                          const ShutterTimes& shutter) {
-  return node < 0 ? staticWorld : worldFromNode(nodes, node, shutter.open) * nodeFromItem;
+// A placement fixed for the frame (lights): the middle of the shutter, where it is closest on
+// average to the geometry that moves with it (a lamp on a moving rig lights from the middle of
+// its own blur streak rather than from one end).
+Transform placementAtShutterMiddle(const std::vector<NodeDesc>& nodes, int node,
+                                   const Transform& nodeFromItem, const Transform& staticWorld,
+                                   const ShutterTimes& shutter) {
+  return node < 0 ? staticWorld
+                  : worldFromNode(nodes, node, 0.5 * (shutter.open + shutter.close)) * nodeFromItem;
 }
 
-
-// Lights are placed once per frame, where they are when the shutter opens.
+// Lights are placed once per frame, where they are in the middle of the shutter.
 void addLights(const SceneDescription& desc, const ShutterTimes& shutter, RenderScene* scene) {
   for (const LightDesc& l : desc.lights) {
     Rgb power = l.color * l.intensity;
-    Transform worldFromLight =
-        placementAtOpen(desc.nodes, l.transformNode, l.nodeFromLight, l.worldFromLight, shutter);
+    Transform worldFromLight = placementAtShutterMiddle(desc.nodes, l.transformNode,
+                                                        l.nodeFromLight, l.worldFromLight, shutter);
     Vec3f position = worldFromLight.point({0, 0, 0});
     Vec3f direction = normalize(worldFromLight.vector({0, 0, -1}));
     switch (l.type) {
@@ -498,7 +478,6 @@ void addLights(const SceneDescription& desc, const ShutterTimes& shutter, Render
     }
   }
 }
-
 
 }  // namespace
 
@@ -551,9 +530,8 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
   for (const InstanceDesc& inst : desc.instances) {
     const MeshDesc& md = desc.meshes[size_t(inst.mesh)];
     const MeshKey key{inst.mesh, inst.material};
-    AnimatedTransform motion = placementOverShutter(desc.nodes, inst.transformNode,
-                                                    inst.nodeFromObject, inst.worldFromObject,
-                                                    shutter);
+    AnimatedTransform motion = placementOverShutter(
+        desc.nodes, inst.transformNode, inst.nodeFromObject, inst.worldFromObject, shutter);
     const Transform& world = motion.key(0);
     moving = moving || motion.isAnimated();
     // A moving mesh keeps its object space: Embree moves it as an instance.
@@ -595,9 +573,8 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
   std::vector<std::vector<int>> shapeMaterialDescs;  // per geometry shape: per slot
   bool terrain = false;
   for (const ObjectDesc& obj : desc.objects) {
-    AnimatedTransform motion = placementOverShutter(desc.nodes, obj.transformNode,
-                                                    obj.nodeFromObject, obj.worldFromObject,
-                                                    shutter);
+    AnimatedTransform motion = placementOverShutter(
+        desc.nodes, obj.transformNode, obj.nodeFromObject, obj.worldFromObject, shutter);
     const Transform& world = motion.key(0);
     moving = moving || motion.isAnimated();
     scene.objectFromWorld.push_back(world.inverse());

@@ -137,7 +137,8 @@ struct CameraDesc {
   // (worldFromCamera). When set, worldFromCamera holds the placement at the load time.
   int transformNode = -1;
   Transform nodeFromCamera;
-  // Thin lens (sidecar): aperture radius and focus distance in world units; 0 = pinhole.
+  // Thin lens (sidecar): aperture radius and focus distance in camera-space units (world
+  // units unless the camera's transform scales); 0 = pinhole.
   float apertureRadius = 0;
   float focusDistance = 0;     // along the view axis; 0 = not given (required with an aperture)
   int apertureBlades = 0;      // 0 = round; >= 3: a regular polygon (bokeh shape)

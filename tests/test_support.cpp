@@ -39,8 +39,8 @@ CommandResult runGlint(const std::string& args) {
   static int counter = 0;
   std::string base = std::filesystem::temp_directory_path() /
                      ("glint_cmd_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-  std::string cmd = std::string("'") + GLINT_EXECUTABLE + "' " + args + " >'" + base +
-                    ".out' 2>'" + base + ".err' </dev/null";
+  std::string cmd = std::string("'") + GLINT_EXECUTABLE + "' " + args + " >'" + base + ".out' 2>'" +
+                    base + ".err' </dev/null";
   int status = std::system(cmd.c_str());
   CommandResult r;
   r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -49,6 +49,21 @@ CommandResult runGlint(const std::string& args) {
   std::filesystem::remove(base + ".out");
   std::filesystem::remove(base + ".err");
   return r;
+}
+
+ScopedEnv::ScopedEnv(const char* name, const char* value) : name_(name) {
+  if (const char* old = std::getenv(name)) old_ = old;
+  if (value)
+    ::setenv(name, value, 1);
+  else
+    ::unsetenv(name);
+}
+
+ScopedEnv::~ScopedEnv() {
+  if (old_)
+    ::setenv(name_.c_str(), old_->c_str(), 1);
+  else
+    ::unsetenv(name_.c_str());
 }
 
 }  // namespace glint::test

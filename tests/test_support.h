@@ -1,6 +1,7 @@
 // glint tests — shared helpers: data paths, the shared asset folder, running the CLI.
 #pragma once
 
+#include <optional>
 #include <string>
 
 namespace glint::test {
@@ -19,5 +20,18 @@ struct CommandResult {
 };
 // Runs the glint executable with `args` (already shell-quoted where needed).
 CommandResult runGlint(const std::string& args);
+
+// Sets (or, with a null value, unsets) an environment variable for one scope.
+class ScopedEnv {
+ public:
+  ScopedEnv(const char* name, const char* value);
+  ~ScopedEnv();
+  ScopedEnv(const ScopedEnv&) = delete;
+  ScopedEnv& operator=(const ScopedEnv&) = delete;
+
+ private:
+  std::string name_;
+  std::optional<std::string> old_;
+};
 
 }  // namespace glint::test

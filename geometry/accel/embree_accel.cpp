@@ -2,6 +2,7 @@
 #include "geometry/accel/embree_accel.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cstring>
 #include <stdexcept>
 
@@ -21,6 +22,7 @@ namespace {
 // One time step per key, each as Embree's quaternion decomposition M = T R U (no shift): Embree
 // then blends T and U linearly and R by slerp, as AnimatedTransform::at does.
 void setMotionTransform(RTCGeometry geom, const AnimatedTransform& motion) {
+  assert(motion.keyCount() <= kMaxMotionKeys);
   rtcSetGeometryTimeStepCount(geom, unsigned(motion.keyCount()));
   for (size_t k = 0; k < motion.keyCount(); ++k) {
     const DecomposedTransform& d = motion.decomposedKey(k);

@@ -9,42 +9,14 @@
 #include <random>
 #include <vector>
 
+#include "chi2.h"
+
 namespace glint {
 namespace {
 
 using Warp = std::function<Vec2f(Vec2f)>;
 
 // ---- chi-square ------------------------------------------------------------------------------
-
-// Regularized upper incomplete gamma Q(a, x): series below a + 1, Lentz's continued fraction
-// above (Numerical Recipes, gammq).
-double gammaQ(double a, double x) {
-  if (x <= 0) return 1;
-  const double logPrefix = -x + a * std::log(x) - std::lgamma(a);
-  if (x < a + 1) {
-    double term = 1 / a, sum = term;
-    for (int n = 1; n < 1000 && std::abs(term) > 1e-15 * std::abs(sum); ++n) {
-      term *= x / (a + n);
-      sum += term;
-    }
-    return 1 - sum * std::exp(logPrefix);
-  }
-  const double tiny = 1e-300;
-  double b = x + 1 - a, c = 1 / tiny, d = 1 / b, h = d;
-  for (int i = 1; i < 1000; ++i) {
-    double an = -i * (i - a);
-    b += 2;
-    d = an * d + b;
-    if (std::abs(d) < tiny) d = tiny;
-    c = b + an / c;
-    if (std::abs(c) < tiny) c = tiny;
-    d = 1 / d;
-    double del = d * c;
-    h *= del;
-    if (std::abs(del - 1) < 1e-15) break;
-  }
-  return std::exp(logPrefix) * h;
-}
 
 // The p-value of Pearson's statistic for observed counts against expected counts. Cells
 // expected to hold fewer than 5 samples are pooled into one, as the test requires.
@@ -63,7 +35,7 @@ double chi2PValue(const std::vector<double>& observed, const std::vector<double>
     chi2 += (pooledObs - pooledExp) * (pooledObs - pooledExp) / pooledExp;
     ++cells;
   }
-  return gammaQ((cells - 1) / 2.0, chi2 / 2);
+  return test::chi2SurvivalFunction(chi2, cells - 1);
 }
 
 // Fixed seeds make every chi-square test deterministic; the threshold is the chance that a

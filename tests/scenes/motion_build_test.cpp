@@ -134,19 +134,68 @@ TEST(MotionBuild, MovingMeshIsNotBakedAndStaticOneIs) {
   EXPECT_TRUE(s.geometry.instances[1].worldFromObject.isIdentity()) << "the still one is baked";
 }
 
-TEST(MotionBuild, LightsArePlacedWhereTheShutterOpens) {
+TEST(MotionBuild, LightsArePlacedInTheMiddleOfTheShutter) {
+  // The node moves x = 0 -> 10 over [0, 1]; the frame at t = 0.5 has its shutter open for
+  // 0.5 s, so the light (5 above the node) is at x = 7.5 for the frame.
   SceneDescription d = movingSphere({0, 1}, {{0, 0, 0}, {10, 0, 0}}, 0, 0.5f);
   LightDesc bulb;
   bulb.type = LightType::Point;
+  bulb.intensity = 1;
   bulb.transformNode = 0;
   bulb.nodeFromLight = Transform::translate({0, 5, 0});
   d.lights.push_back(bulb);
   d.render.time = 0.5;
   RenderScene s = buildRenderScene(d);
   ASSERT_EQ(s.lights.size(), 1u);
-  // Lit from (5, 5, 0): a point straight below it receives light from straight above.
   EXPECT_TRUE(s.features.has(Feature::MotionBlur));
   EXPECT_FALSE(s.features.has(Feature::Headlight));
+  // A point light's incident direction reveals its position.
+  auto ls = s.lights[0]->sampleLi({7.5f, 0, 0}, {0.5f, 0.5f});
+  ASSERT_TRUE(ls.has_value());
+  EXPECT_NEAR(ls->wi.x, 0.0f, 1e-5f);
+  EXPECT_NEAR(ls->wi.y, 1.0f, 1e-5f);
+}
+
+TEST(MotionBuild, ObjectOffItsPivotFollowsTheArc) {
+  // A sphere 3 units off the node's axis, the node turning 90 degrees about +Y: the linear blend
+  // of two keys would cut the corner (radius 2.12 half way); the builder adds keys until the
+  // path is within a thousandth of the arc.
+  SceneDescription d = movingSphere({0, 1}, {{0, 0, 0}, {0, 0, 0}}, 0, 1);
+  NodeDesc& n = d.nodes[0];
+  n.translationTrack = {};
+  n.rotationTrack.times = {0, 1};
+  const float h = 90.0f * kPi / 360.0f;
+  n.rotationTrack.values = {{0, 0, 0, 1}, {0, std::sin(h), 0, std::cos(h)}};
+  d.objects[0].nodeFromObject = Transform::translate({3, 0, 0});
+  RenderScene s = buildRenderScene(d);
+  const AnimatedTransform& m = s.geometry.instances[0].motion;
+  ASSERT_TRUE(m.isAnimated());
+  EXPECT_GT(m.keyCount(), 2u);
+  EXPECT_LE(m.keyCount(), kMaxMotionKeys);
+  for (float t : {0.1f, 0.3f, 0.5f, 0.77f}) {
+    Vec3f c = origin(m.at(t));
+    EXPECT_NEAR(std::sqrt(c.x * c.x + c.z * c.z), 3.0f, 3e-3f) << "t " << t;
+  }
+}
+
+TEST(MotionBuild, StepInsideTheShutterStaysWithinEmbreesTimeStepLimit) {
+  // A step track jumps 180 degrees half way: no number of keys makes that smooth, so the
+  // builder stops at Embree's limit instead of failing the build.
+  SceneDescription d = movingSphere({0, 1}, {{0, 0, 0}, {0, 0, 0}}, 0, 1);
+  NodeDesc& n = d.nodes[0];
+  n.translationTrack = {};
+  n.rotationTrack.interpolation = Interpolation::Step;
+  n.rotationTrack.times = {0, 0.5f};
+  n.rotationTrack.values = {{0, 0, 0, 1}, {0, 1, 0, 0}};
+  d.objects[0].nodeFromObject = Transform::translate({1, 0, 0});
+  RenderScene s = buildRenderScene(d);
+  const AnimatedTransform& m = s.geometry.instances[0].motion;
+  ASSERT_TRUE(m.isAnimated());
+  EXPECT_LE(m.keyCount(), kMaxMotionKeys);
+  EXPECT_NEAR(origin(m.at(0)).x, 1.0f, 1e-5f);
+  EXPECT_NEAR(origin(m.at(1)).x, -1.0f, 1e-5f);
+  Hit hit;  // and the accelerator was built
+  EXPECT_TRUE(s.accel->closestHit(Ray{{-1, 0, 5}, {0, 0, -1}, 0, kInfinity, 1.0f}, &hit));
 }
 
 }  // namespace
