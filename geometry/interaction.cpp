@@ -65,9 +65,11 @@ void triangleTangents(const TriangleMesh& mesh, const Transform& xf, bool identi
 
 SurfaceInteraction computeSurfaceInteraction(const GeometryScene& scene, const Ray& ray,
                                              const Hit& hit, SurfaceNeeds needs) {
-  SurfaceInteraction si;
   const Instance& inst = scene.instances[hit.instance];
   if (inst.isShape()) return shapeInteraction(scene, ray, hit);
+  // Declared after the shape's return, so that `si` is built in the caller's return slot
+  // (NRVO) instead of being copied there: this runs once per hit.
+  SurfaceInteraction si;
   const TriangleMesh& mesh = scene.meshes[inst.mesh];
   const uint32_t i0 = mesh.indices[3 * hit.prim], i1 = mesh.indices[3 * hit.prim + 1],
                  i2 = mesh.indices[3 * hit.prim + 2];
@@ -76,8 +78,9 @@ SurfaceInteraction computeSurfaceInteraction(const GeometryScene& scene, const R
 
   // A moving mesh is mapped by its transform at the ray's time, interpolated as Embree
   // interpolated it, so the point and normal are those of the surface it intersected.
+  const bool moves = inst.moves();
   std::optional<Transform> moved;  // constructed only for moving meshes
-  if (inst.moves()) moved = inst.motion.at(ray.time);
+  if (moves) moved = inst.motion.at(ray.time);
   const Transform& xf = moved ? *moved : inst.worldFromObject;
   const bool identity = xf.isIdentity();
   if (needs.position) {
@@ -91,7 +94,7 @@ SurfaceInteraction computeSurfaceInteraction(const GeometryScene& scene, const R
     } else {
       si.p = xf.point(pObj, errObj, &si.pError);
     }
-    if (inst.moves()) {
+    if (moves) {
       // Embree evaluated the transform at this time itself; its float slerp and matrix build
       // agree with ours only to about 1e-6 of the matrix's scale (measured against
       // rtcGetGeometryTransform), far above one rounding: without this margin a ray spawned

@@ -1,8 +1,6 @@
 // glint — SurfaceInteraction: everything about a ray's final hit that shading needs.
 #pragma once
 
-#include <optional>
-
 #include "geometry/accel/accelerator.h"
 #include "geometry/mesh.h"
 #include "geometry/ray.h"
@@ -46,20 +44,13 @@ struct SurfaceInteraction {
   Vec2f duvdx, duvdy;
   // The object's own frame, for object-space textures (null: the world frame). Set by the
   // renderer, which knows the placement each object was authored in; for a moving instance it
-  // must be the inverse of worldFromObjectAt(ray time), so the texture moves with the object.
+  // is the inverse of worldFromObjectAt(ray time), held by the caller, so the texture moves
+  // with the object.
   const Transform* objectFromWorld = nullptr;
-  // A moving instance's frame at the ray's time, held here because no table can: the renderer
-  // fills it instead of objectFromWorld. Read the frame through objectFrame().
-  std::optional<Transform> movingObjectFromWorld;
   float t = 0;
   uint32_t instance = 0, prim = 0;
   uint32_t mesh = Instance::kNone;  // the instance's mesh, or kNone for an analytic shape
   uint32_t materialSlot = 0;        // which of the instance's materials (CSG: the leaf)
-
-  // The object's frame for object-space textures; null for the world frame.
-  const Transform* objectFrame() const {
-    return movingObjectFromWorld ? &*movingObjectFromWorld : objectFromWorld;
-  }
 
   // A ray leaving this point in direction d (origin offset past the point's error bound).
   Ray spawnRay(Vec3f d, float time) const { return glint::spawnRay(p, pError, ng, d, time); }

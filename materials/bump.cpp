@@ -92,8 +92,7 @@ void NormalMap::apply(SurfaceInteraction& si) const {
 // ---------------------------------------------------------------------------------------------
 
 void SnowPerturbation::apply(SurfaceInteraction& si) const {
-  const Transform* objectFromWorld = si.objectFrame();
-  const Vec3f p = objectFromWorld ? objectFromWorld->point(si.p) : si.p;
+  const Vec3f p = si.objectFromWorld ? si.objectFromWorld->point(si.p) : si.p;
   uint64_t key = mixBits(seed_ + 0x9e3779b97f4a7c15ull);
   for (int axis = 0; axis < 3; ++axis)
     key = mixBits(key ^ uint64_t(int64_t(std::floor(p[axis] / grain_))));

@@ -32,7 +32,7 @@ struct TexturePoint {
         duvdy(si.duvdy),
         dpdx(si.dpdx),
         dpdy(si.dpdy),
-        objectFromWorld(si.objectFrame()),
+        objectFromWorld(si.objectFromWorld),
         instance(si.instance),
         prim(si.prim) {}
   Vec3f pObject() const { return objectFromWorld ? objectFromWorld->point(p) : p; }

@@ -90,7 +90,7 @@ class Camera {
   // True for a static camera without a lens: then pinholeRay() is generateRay() without its
   // one test, for loops that decide once per image (the render loop's plain path).
   bool isStaticPinhole() const { return pinhole_; }
-  Ray pinholeRay(Vec2f pFilm, float time) const;
+  [[gnu::always_inline]] Ray pinholeRay(Vec2f pFilm, float time) const;
 
   Projection projection() const { return projection_; }
   // Placement at shutter open (time 0).
@@ -115,7 +115,9 @@ class Camera {
                  float zfar);
   // The pinhole (or orthographic) ray for the placement xf, whose eye and view direction
   // are `origin` and `forward`.
-  Ray pinholeRayAt(const Transform& xf, Vec3f origin, Vec3f forward, Vec2f pFilm, float time) const;
+  // Always inlined: it runs once per camera sample on the plain path.
+  [[gnu::always_inline]] Ray pinholeRayAt(const Transform& xf, Vec3f origin, Vec3f forward,
+                                          Vec2f pFilm, float time) const;
   // Everything else, out of line: a lens, a moving placement or both.
   Ray lensOrMotionRay(const CameraSample& s) const;
 

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "renderer/sampler.h"
@@ -65,9 +66,12 @@ class Integrator {
  protected:
   // The surface details of `hit` for shading with material `materialIndex`: only the
   // attributes that material needs, its object frame and pixel footprint when it reads them,
-  // and its shading normal perturbed (bump, normal map, snow).
+  // and its shading normal perturbed (bump, normal map, snow). A moving object's frame at the
+  // ray's time goes into `movingFrame`, which the caller keeps alive while it uses the result
+  // (SurfaceInteraction points to it; holding it inline would enlarge every hit's record).
   SurfaceInteraction shadingPoint(const Ray& ray, const Hit& hit, const RayCone& cone,
-                                  uint32_t materialIndex) const;
+                                  uint32_t materialIndex,
+                                  std::optional<Transform>* movingFrame) const;
 
   const RenderScene& scene_;
   std::vector<MaterialShading> shading_;  // per material

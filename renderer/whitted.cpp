@@ -1,6 +1,8 @@
 // glint — the Whitted integrator.
 #include "renderer/whitted.h"
 
+#include <optional>
+
 namespace glint {
 
 WhittedIntegrator::WhittedIntegrator(const RenderScene& scene, int maxDepth)
@@ -29,7 +31,8 @@ Rgb WhittedIntegrator::shade(const Ray& ray, const Hit* found, const RayCone& co
   const uint32_t materialIndex = scene_.materialIndex(hit);
   const Material& material = *scene_.materials[materialIndex];
   const MaterialShading& shading = shading_[materialIndex];
-  SurfaceInteraction si = shadingPoint(ray, hit, cone, materialIndex);
+  std::optional<Transform> movingFrame;  // a moving object's frame: lives as long as `si`
+  SurfaceInteraction si = shadingPoint(ray, hit, cone, materialIndex, &movingFrame);
   if (aovs) {
     aovs->hit = true;
     if (aovs->wanted) {

@@ -13,12 +13,24 @@ namespace {
 
 // An eyelight sphere (radius 0.5) moving from x = -1 to x = 1 over one second, seen head-on by
 // an orthographic camera covering [-2, 2] x [-1, 1].
-SceneDescription movingBall(float shutterClose, double time) {
+SceneDescription movingBall(float shutterClose, double time, bool textured = false) {
   SceneDescription d;
   d.file = "moving ball (in code)";
   MaterialDesc white;
   white.name = "white";
   white.type = MaterialType::Eyelight;
+  if (textured) {
+    // Checkers fixed to the ball (object space): they must travel with it.
+    TextureDesc checks;
+    checks.name = "checks";
+    checks.kind = TextureKind::Checker;
+    checks.solid = true;
+    checks.mapping.space = MappingDesc::Space::Object;
+    checks.mapping.scale = {4, 4, 4};
+    checks.colorA = {0.1f, 0.1f, 0.1f};
+    d.textures.push_back(checks);
+    white.baseColorTexture = 0;
+  }
   d.materials.push_back(white);
   NodeDesc node;
   node.translationTrack.times = {0, 1};
@@ -63,18 +75,23 @@ double meanAbsDifference(const Film& a, const Film& b) {
   return sum / double(a.color.size());
 }
 
-TEST(MotionRender, BlurEqualsTheAverageOfStaticFrames) {
-  const Film blurred = renderIt(movingBall(1, 0), 256);
+class MotionRender : public testing::TestWithParam<bool> {};
+
+// Untextured, and with object-space checkers that must move with the ball (its texture frame
+// is the object's at each ray's time).
+TEST_P(MotionRender, BlurEqualsTheAverageOfStaticFrames) {
+  const bool textured = GetParam();
+  const Film blurred = renderIt(movingBall(1, 0, textured), 256);
   // The box-filtered time average: 32 static frames at the midpoints of equal time slices.
   constexpr int kSlices = 32;
-  Film average = renderIt(movingBall(0, 0.5 / kSlices), 8);
+  Film average = renderIt(movingBall(0, 0.5 / kSlices, textured), 8);
   for (Rgb& c : average.color) c = {};
   for (int k = 0; k < kSlices; ++k) {
-    Film frame = renderIt(movingBall(0, (k + 0.5) / kSlices), 8);
+    Film frame = renderIt(movingBall(0, (k + 0.5) / kSlices, textured), 8);
     for (size_t i = 0; i < frame.color.size(); ++i)
       average.color[i] += frame.color[i] / float(kSlices);
   }
-  const Film still = renderIt(movingBall(0, 0.5), 8);
+  const Film still = renderIt(movingBall(0, 0.5, textured), 8);
   double blurError = meanAbsDifference(blurred, average);
   double stillError = meanAbsDifference(still, average);
   // The blurred streak covers x in [-1.5, 1.5] with a ramp; a still ball is a disc. Their
@@ -84,8 +101,13 @@ TEST(MotionRender, BlurEqualsTheAverageOfStaticFrames) {
   EXPECT_GT(stillError, 10 * blurError) << "the test cannot tell blur from no blur";
 }
 
-TEST(MotionRender, SameImageForAnyThreadCount) {
-  const SceneDescription d = movingBall(1, 0);
+INSTANTIATE_TEST_SUITE_P(Materials, MotionRender, testing::Values(false, true),
+                         [](const testing::TestParamInfo<bool>& info) {
+                           return info.param ? "ObjectSpaceTexture" : "Plain";
+                         });
+
+TEST(MotionRenderThreads, SameImageForAnyThreadCount) {
+  const SceneDescription d = movingBall(1, 0, true);
   Film one = renderIt(d, 16, 1), two = renderIt(d, 16, 2);
   ASSERT_EQ(one.color.size(), two.color.size());
   for (size_t i = 0; i < one.color.size(); ++i) ASSERT_EQ(one.color[i], two.color[i]) << i;
