@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
 
 namespace glint {
 
@@ -61,14 +60,11 @@ void triangleTangents(const TriangleMesh& mesh, const Transform& xf, bool identi
   }
 }
 
-}  // namespace
-
-SurfaceInteraction computeSurfaceInteraction(const GeometryScene& scene, const Ray& ray,
-                                             const Hit& hit, SurfaceNeeds needs) {
-  const Instance& inst = scene.instances[hit.instance];
-  if (inst.isShape()) return shapeInteraction(scene, ray, hit);
-  // Declared after the shape's return, so that `si` is built in the caller's return slot
-  // (NRVO) instead of being copied there: this runs once per hit.
+// A triangle hit on an instance placed by `xf` (its transform at the ray's time when it moves).
+// Inlined twice, for static and moving meshes, so the static path carries no motion code.
+[[gnu::always_inline]] inline SurfaceInteraction triangleInteraction(
+    const GeometryScene& scene, const Ray& ray, const Hit& hit, SurfaceNeeds needs,
+    const Instance& inst, const Transform& xf, bool moves) {
   SurfaceInteraction si;
   const TriangleMesh& mesh = scene.meshes[inst.mesh];
   const uint32_t i0 = mesh.indices[3 * hit.prim], i1 = mesh.indices[3 * hit.prim + 1],
@@ -76,12 +72,6 @@ SurfaceInteraction computeSurfaceInteraction(const GeometryScene& scene, const R
   const Vec3f p0 = mesh.positions[i0], p1 = mesh.positions[i1], p2 = mesh.positions[i2];
   const float b1 = hit.u, b2 = hit.v, b0 = 1 - b1 - b2;
 
-  // A moving mesh is mapped by its transform at the ray's time, interpolated as Embree
-  // interpolated it, so the point and normal are those of the surface it intersected.
-  const bool moves = inst.moves();
-  std::optional<Transform> moved;  // constructed only for moving meshes
-  if (moves) moved = inst.motion.at(ray.time);
-  const Transform& xf = moved ? *moved : inst.worldFromObject;
   const bool identity = xf.isIdentity();
   if (needs.position) {
     // Object-space point from barycentrics; error bound as in pbrt-v4
@@ -161,6 +151,25 @@ SurfaceInteraction computeSurfaceInteraction(const GeometryScene& scene, const R
   si.mesh = inst.mesh;
   si.prim = hit.prim;
   return si;
+}
+
+// A moving mesh is mapped by its transform at the ray's time, interpolated as Embree
+// interpolated it, so the point and normal are those of the surface it intersected.
+[[gnu::noinline]] SurfaceInteraction movingTriangleInteraction(const GeometryScene& scene,
+                                                               const Ray& ray, const Hit& hit,
+                                                               SurfaceNeeds needs,
+                                                               const Instance& inst) {
+  return triangleInteraction(scene, ray, hit, needs, inst, inst.motion.at(ray.time), true);
+}
+
+}  // namespace
+
+SurfaceInteraction computeSurfaceInteraction(const GeometryScene& scene, const Ray& ray,
+                                             const Hit& hit, SurfaceNeeds needs) {
+  const Instance& inst = scene.instances[hit.instance];
+  if (inst.isShape()) return shapeInteraction(scene, ray, hit);
+  if (inst.moves()) return movingTriangleInteraction(scene, ray, hit, needs, inst);
+  return triangleInteraction(scene, ray, hit, needs, inst, inst.worldFromObject, false);
 }
 
 }  // namespace glint
