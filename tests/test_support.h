@@ -3,6 +3,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace glint::test {
 
@@ -20,6 +21,11 @@ struct CommandResult {
 };
 // Runs the glint executable with `args` (already shell-quoted where needed).
 CommandResult runGlint(const std::string& args);
+
+// The whole contents of a file ("" when it cannot be read).
+std::string slurp(const std::string& path);
+// The names of the entries of a folder, sorted.
+std::vector<std::string> listFolder(const std::string& dir);
 
 // Sets (or, with a null value, unsets) an environment variable for one scope.
 class ScopedEnv {

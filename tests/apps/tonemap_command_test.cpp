@@ -43,17 +43,8 @@ int code8(const std::string& path) {
   return px[0];
 }
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-std::vector<std::string> listFolder(const std::string& dir) {
-  std::vector<std::string> names;
-  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
+using test::listFolder;
+using test::slurp;
 
 // Ward (1994) by hand, with glint's defaults: 1.0 scene-linear = 100 cd/m², Ldmax = 100 cd/m².
 double wardScale(double lwa) {

@@ -80,17 +80,8 @@ int code8(const std::string& path, int c = 0) {
   return px[size_t(c)];
 }
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-std::vector<std::string> listFolder(const std::string& dir) {
-  std::vector<std::string> names;
-  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
+using test::listFolder;
+using test::slurp;
 
 // A film whose every channel differs, so a swapped channel cannot pass.
 Film aovFilm() {
