@@ -41,21 +41,26 @@ struct FrameRecord {
   RenderStats stats;
 };
 
+// What one render measured: its time, timings, rays and dropped samples.
 nlohmann::json frameJson(const FrameRecord& r) {
   nlohmann::json j;
-  j["frame"] = r.frame;
   j["time"] = r.time;
   j["build_seconds"] = r.build.totalSeconds;
   j["accel_build_seconds"] = r.build.acceleratorSeconds;
   j["render_seconds"] = r.stats.renderSeconds;
-  j["rays"] = r.stats.rays.total();
+  j["rays"] = {{"camera", r.stats.rays.camera},
+               {"shadow", r.stats.rays.shadow},
+               {"secondary", r.stats.rays.secondary},
+               {"total", r.stats.rays.total()}};
+  j["mrays_per_second"] =
+      r.stats.renderSeconds > 0 ? double(r.stats.rays.total()) / r.stats.renderSeconds * 1e-6 : 0.0;
   j["nonfinite_samples"] = r.stats.nonfiniteSamples;
   return j;
 }
 
-nlohmann::json statsJson(const RenderArgs& args, const SceneDescription& desc,
-                         const RenderScene& scene, const BuildTimings& build,
-                         const RenderStats& stats) {
+// What the scene and settings are: the same for every frame of a sequence.
+nlohmann::json sceneJson(const RenderArgs& args, const SceneDescription& desc,
+                         const RenderScene& scene, int threads) {
   nlohmann::json j;
   j["scene"] = args.scene;
   j["accel"] = desc.render.accel;
@@ -65,8 +70,7 @@ nlohmann::json statsJson(const RenderArgs& args, const SceneDescription& desc,
   j["height"] = scene.camera.height();
   j["spp"] = desc.render.spp;
   j["seed"] = desc.render.seed;
-  j["time"] = desc.render.time;
-  j["threads"] = stats.threads;
+  j["threads"] = threads;
   j["triangles"] = scene.geometry.instancedTriangleCount();
   j["triangles_stored"] = scene.geometry.uniqueTriangleCount();
   // Everything the accelerator intersects: placed triangles plus analytic objects (a CSG tree
@@ -75,17 +79,7 @@ nlohmann::json statsJson(const RenderArgs& args, const SceneDescription& desc,
   j["analytic_objects"] = scene.geometry.shapeInstanceCount();
   j["instances"] = scene.geometry.instances.size();
   j["lights"] = scene.lights.size();
-  j["build_seconds"] = build.totalSeconds;
-  j["accel_build_seconds"] = build.acceleratorSeconds;
-  j["render_seconds"] = stats.renderSeconds;
-  j["rays"] = {{"camera", stats.rays.camera},
-               {"shadow", stats.rays.shadow},
-               {"secondary", stats.rays.secondary},
-               {"total", stats.rays.total()}};
-  j["mrays_per_second"] =
-      stats.renderSeconds > 0 ? double(stats.rays.total()) / stats.renderSeconds * 1e-6 : 0.0;
   j["effects"] = scene.features.names();
-  j["nonfinite_samples"] = stats.nonfiniteSamples;
   return j;
 }
 
@@ -203,6 +197,7 @@ int runSingle(const RenderArgs& args, const std::vector<std::string>& outputs) {
   try {
     SceneLoader loader(args.scene, args.sidecar);
     desc = loadAt(args, loader, args.time);
+    record.time = desc.render.time;
     scene = buildRenderScene(desc, &record.build);
   } catch (...) {
     return reportBuildError(args, std::current_exception());
@@ -216,8 +211,11 @@ int runSingle(const RenderArgs& args, const std::vector<std::string>& outputs) {
     return code;
   try {
     if (args.statsPath)
-      writeTextAtomically(*args.statsPath,
-                          statsJson(args, desc, scene, record.build, record.stats).dump(2) + "\n");
+      writeTextAtomically(*args.statsPath, [&] {
+        nlohmann::json j = sceneJson(args, desc, scene, record.stats.threads);
+        j.update(frameJson(record));
+        return j.dump(2) + "\n";
+      }());
   } catch (const std::exception& e) {
     printError(e.what());
     return 1;
@@ -301,7 +299,7 @@ int runSequence(const RenderArgs& args, const std::vector<std::string>& patterns
       progress.finish();
       return code;
     }
-    if (records.empty()) first = statsJson(args, desc, scene, record.build, record.stats);
+    if (records.empty()) first = sceneJson(args, desc, scene, record.stats.threads);
     records.push_back(record);
     progress.advance();
     if (!args.quiet && !terminal) printSummary(outputs, desc, scene, record.stats);
@@ -313,17 +311,11 @@ int runSequence(const RenderArgs& args, const std::vector<std::string>& patterns
   for (const FrameRecord& r : records) {
     total += r.stats.renderSeconds;
     perFrame.push_back(frameJson(r));
+    perFrame.back()["frame"] = r.frame;
   }
   try {
     if (args.statsPath) {
       nlohmann::json j = first.is_null() ? nlohmann::json::object() : first;
-      j.erase("time");
-      j.erase("render_seconds");
-      j.erase("build_seconds");
-      j.erase("accel_build_seconds");
-      j.erase("rays");
-      j.erase("mrays_per_second");
-      j.erase("nonfinite_samples");
       j["scene"] = args.scene;
       j["frames"] = perFrame;
       j["frames_rendered"] = records.size();
