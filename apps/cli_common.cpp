@@ -9,6 +9,8 @@
 #include <fstream>
 
 #include "geometry/accel/accelerator.h"
+#include "renderer/integrator.h"
+#include "renderer/light_sampler.h"
 #include "renderer/output.h"
 
 namespace glint::app {
@@ -23,6 +25,11 @@ void SceneOverrides::addOptions(CLI::App* cmd) {
   cmd->add_option("--accel", accel, "acceleration structure")
       ->check(CLI::IsMember(acceleratorNames()));
   cmd->add_option("--camera", camera, "camera name");
+  cmd->add_option("--integrator", integrator, "light transport")
+      ->check(CLI::IsMember(integratorNames()));
+  cmd->add_option("--max-depth", maxDepth, "maximum bounces")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--light-sampler", lightSampler, "how next-event estimation picks a light")
+      ->check(CLI::IsMember(lightSamplerNames()));
 }
 
 void SceneOverrides::apply(SceneDescription* desc) const {
@@ -33,6 +40,9 @@ void SceneOverrides::apply(SceneDescription* desc) const {
   if (seed) r.seed = *seed;
   if (threads) r.threads = *threads;
   if (accel) r.accel = *accel;
+  if (integrator) r.integrator.type = *integrator;
+  if (maxDepth) r.integrator.maxDepth = *maxDepth;
+  if (lightSampler) r.integrator.lightSampler = *lightSampler;
   if (camera) {
     bool known = std::any_of(desc->cameras.begin(), desc->cameras.end(),
                              [&](const CameraDesc& c) { return c.name == *camera; });

@@ -15,9 +15,11 @@ namespace glint::app {
 struct SceneOverrides {
   std::optional<int> width, height, spp, threads;
   std::optional<uint64_t> seed;
-  std::optional<std::string> accel, camera;
+  std::optional<std::string> accel, camera, integrator, lightSampler;
+  std::optional<int> maxDepth;
 
-  // Registers --width --height --spp --seed --threads --accel --camera on `cmd`.
+  // Registers --width --height --spp --seed --threads --accel --camera --integrator
+  // --max-depth --light-sampler on `cmd`.
   void addOptions(CLI::App* cmd);
   // Applies the given options to desc->render; throws SceneError (location "command line")
   // for values that cannot work, e.g. an unknown camera name.

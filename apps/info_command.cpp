@@ -132,7 +132,7 @@ int runInfo(const InfoArgs& args) {
   std::printf("image:      %dx%d, %d spp, seed %llu, accel %s, integrator %s\n",
               scene.camera.width(), scene.camera.height(), desc.render.spp,
               (unsigned long long)desc.render.seed, desc.render.accel.c_str(),
-              desc.render.integrator.c_str());
+              desc.render.integrator.type.c_str());
   auto [animStart, animEnd] = animationRange(desc.nodes);
   size_t animatedNodes = 0;
   for (const NodeDesc& n : desc.nodes) animatedNodes += n.hasTracks();

@@ -64,7 +64,7 @@ nlohmann::json sceneJson(const RenderArgs& args, const SceneDescription& desc,
   nlohmann::json j;
   j["scene"] = args.scene;
   j["accel"] = desc.render.accel;
-  j["integrator"] = desc.render.integrator;
+  j["integrator"] = desc.render.integrator.type;
   j["camera"] = scene.cameraName;
   j["width"] = scene.camera.width();
   j["height"] = scene.camera.height();
@@ -132,7 +132,7 @@ int renderAndWrite(const RenderArgs& args, const SceneDescription& desc, const R
                    FrameRecord* record) {
   Film film;
   try {
-    auto integrator = makeIntegrator(desc.render.integrator, scene, desc.render);
+    auto integrator = makeIntegrator(scene, desc.render);
     RenderOptions options;
     options.threads = desc.render.threads;
     options.progress = tileProgress;
@@ -146,7 +146,7 @@ int renderAndWrite(const RenderArgs& args, const SceneDescription& desc, const R
   }
   ImageMetadata meta{args.scene,        desc.render.spp,
                      desc.render.seed,  record->stats.renderSeconds,
-                     desc.render.accel, desc.render.integrator};
+                     desc.render.accel, desc.render.integrator.type};
   try {
     for (const std::string& out : outputs) writeImage(out, film, desc.render, meta);
   } catch (const std::exception& e) {

@@ -189,7 +189,7 @@ std::string cpuModel() {
 
 void BM_GlintEyelightRender(benchmark::State& state) {
   Fixture& f = fixture();
-  auto integrator = makeIntegrator("whitted", f.scene, f.desc.render);
+  auto integrator = makeIntegrator(f.scene, f.desc.render);
   RenderOptions options;
   options.threads = f.threads;
   RenderStats stats;

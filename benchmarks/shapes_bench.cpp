@@ -157,7 +157,7 @@ void BM_CsgSceneRender(benchmark::State& state) {
   desc.render.width = 800;
   desc.render.height = 600;
   RenderScene scene = buildRenderScene(desc);
-  auto integrator = makeIntegrator(desc.render.integrator, scene, desc.render);
+  auto integrator = makeIntegrator(scene, desc.render);
   RenderOptions options;
   RenderStats stats;
   for (auto _ : state) {

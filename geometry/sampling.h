@@ -73,6 +73,25 @@ inline Vec3f sampleCosineHemisphere(Vec2f u) {
 }
 inline float cosineHemispherePdf(float cosTheta) { return cosTheta > 0 ? cosTheta * kInvPi : 0; }
 
+// Uniform direction on the unit sphere; pdf = 1 / (4 pi).
+inline Vec3f sampleUniformSphere(Vec2f u) {
+  const float z = 1 - 2 * u.x;
+  const float r = std::sqrt(std::max(0.0f, 1 - z * z));
+  const float phi = 2 * kPi * u.y;
+  return {r * std::cos(phi), r * std::sin(phi), z};
+}
+inline constexpr float kUniformSpherePdf = 1 / (4 * kPi);
+
+// Uniform direction in the cone of half-angle acos(cosThetaMax) around +Z;
+// pdf = 1 / (2 pi (1 - cosThetaMax)).
+inline Vec3f sampleUniformCone(Vec2f u, float cosThetaMax) {
+  const float cosTheta = (1 - u.x) + u.x * cosThetaMax;
+  const float sinTheta = std::sqrt(std::max(0.0f, 1 - cosTheta * cosTheta));
+  const float phi = 2 * kPi * u.y;
+  return {sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta};
+}
+inline float uniformConePdf(float cosThetaMax) { return 1 / (2 * kPi * (1 - cosThetaMax)); }
+
 // Mirror reflection of w about n (both unit, pointing away from the surface).
 inline Vec3f reflect(Vec3f w, Vec3f n) { return 2 * dot(w, n) * n - w; }
 

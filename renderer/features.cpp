@@ -37,6 +37,16 @@ const char* featureName(Feature f) {
       return "motion blur";
     case Feature::Volumes:
       return "volumes";
+    case Feature::AreaLights:
+      return "area lights";
+    case Feature::Environment:
+      return "environment light";
+    case Feature::Projective:
+      return "projective light";
+    case Feature::Indirect:
+      return "indirect light";
+    case Feature::Vpls:
+      return "virtual point lights";
     case Feature::Count:
       break;
   }

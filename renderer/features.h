@@ -28,7 +28,12 @@ enum class Feature : uint32_t {
   Procedural,    // some material reads a procedural (noise) texture
   Lens,          // the camera has an aperture: lens samples, depth of field
   MotionBlur,    // something moves during the shutter: ray times, Embree time steps
-  Volumes,       // reserved: participating media (issue 7)
+  Volumes,       // participating media: transmittance on every ray, in-scattering
+  AreaLights,    // some light has an area (quad, disk, sphere, emissive surface): soft shadows
+  Environment,   // an environment light surrounds the scene
+  Projective,    // a projective textured light (a slide projector)
+  Indirect,      // the integrator follows diffuse and glossy bounces (path tracer, VPLs)
+  Vpls,          // instant radiosity: virtual point lights from light paths
   Count
 };
 

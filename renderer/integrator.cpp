@@ -83,10 +83,15 @@ Rgb Integrator::Li(const Ray& ray, Sampler& sampler, RayCounters& counters, Path
   return LiFromHit(ray, found ? &hit : nullptr, sampler, counters, aovs);
 }
 
-std::unique_ptr<Integrator> makeIntegrator(const std::string& name, const RenderScene& scene,
-                                           const RenderSettings& settings) {
-  if (name == "whitted") return std::make_unique<WhittedIntegrator>(scene, settings.maxDepth);
-  throw std::invalid_argument("unknown integrator '" + name + "' (whitted)");
+const std::vector<std::string>& integratorNames() {
+  static const std::vector<std::string> names = {"whitted"};
+  return names;
+}
+
+std::unique_ptr<Integrator> makeIntegrator(const RenderScene& scene, const RenderSettings& settings) {
+  const IntegratorSettings& s = settings.integrator;
+  if (s.type == "whitted") return std::make_unique<WhittedIntegrator>(scene, s.maxDepth);
+  throw std::invalid_argument("unknown integrator '" + s.type + "' (whitted)");
 }
 
 }  // namespace glint

@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "renderer/sampler.h"
 #include "renderer/scene.h"
@@ -77,8 +78,10 @@ class Integrator {
   std::vector<MaterialShading> shading_;  // per material
 };
 
-// Builds the integrator called `name` ("whitted"). Throws std::invalid_argument otherwise.
-std::unique_ptr<Integrator> makeIntegrator(const std::string& name, const RenderScene& scene,
-                                           const RenderSettings& settings);
+// Builds the integrator settings.integrator.type names for `scene`. Throws
+// std::invalid_argument for unknown names.
+std::unique_ptr<Integrator> makeIntegrator(const RenderScene& scene, const RenderSettings& settings);
+// The names makeIntegrator accepts.
+const std::vector<std::string>& integratorNames();
 
 }  // namespace glint

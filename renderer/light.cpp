@@ -1,7 +1,9 @@
-// glint — point, spot and directional lights.
+// glint — point, spot and directional lights, the uniform environment, and shadow rays.
 #include "renderer/light.h"
 
 #include <cmath>
+
+#include "geometry/sampling.h"
 
 namespace glint {
 
@@ -17,26 +19,86 @@ float smoothStep(float a, float b, float x) {
   float t = std::clamp((x - a) / (b - a), 0.0f, 1.0f);
   return t * t * (3 - 2 * t);
 }
+// A delta-position light's sample towards `position`.
+std::optional<LightSample> towardsPoint(const LightSampleContext& ctx, Vec3f position,
+                                        Rgb intensity, float range, float* cosToLight,
+                                        Vec3f axis) {
+  Vec3f toLight = position - ctx.p;
+  float r2 = lengthSquared(toLight);
+  if (!(r2 > 0)) return std::nullopt;
+  float r = std::sqrt(r2);
+  Vec3f wi = toLight / r;
+  if (cosToLight) *cosToLight = dot(-wi, axis);
+  float window = rangeWindow(r, range);
+  if (window == 0) return std::nullopt;
+  LightSample s;
+  s.L = intensity * (window / r2);
+  s.wi = wi;
+  s.pLight = position;
+  return s;
+}
+// The disk of the scene's bounding sphere facing `d`, through which lights at infinity send
+// their light paths: a uniform point on it, moved back out of the sphere.
+Vec3f pointOnSceneDisk(Vec3f d, Vec3f center, float radius, Vec2f u) {
+  const Frame f = Frame::fromZ(d);
+  const Vec2f q = sampleConcentricDisk(u);
+  return center + radius * (f.s * q.x + f.t * q.y - d);
+}
+void sceneSphere(const Bounds3f& b, Vec3f* center, float* radius) {
+  if (b.empty()) {
+    *center = {}, *radius = 1;
+    return;
+  }
+  *center = b.center();
+  *radius = std::max(length(b.diagonal()) * 0.5f, 1e-6f);
+}
 }  // namespace
 
+Ray shadowRay(const LightSampleContext& ctx, const LightSample& ls) {
+  // In a medium there is no surface to leave: the normal is zero and so is the offset.
+  if (ls.infinite) return spawnRay(ctx.p, ctx.pError, ctx.n, ls.wi, ctx.time);
+  // An area light's point is moved off its surface towards the receiver, so the ray cannot
+  // report the light itself; spawnRayTo then keeps the last kShadowEpsilon of the segment.
+  Vec3f target = ls.pLight;
+  if (ls.nLight.x != 0 || ls.nLight.y != 0 || ls.nLight.z != 0)
+    target = offsetRayOrigin(ls.pLight, ls.pLightError, ls.nLight, ctx.p - ls.pLight);
+  return spawnRayTo(ctx.p, ctx.pError, ctx.n, target, ctx.time);
+}
+
+// --- Point ------------------------------------------------------------------------------------
+
 PointLight::PointLight(Vec3f position, Rgb intensity, float range, bool castsShadows)
-    : position_(position), intensity_(intensity), range_(range) {
+    : Light(LightKind::DeltaPosition), position_(position), intensity_(intensity), range_(range) {
   castsShadows_ = castsShadows;
 }
 
-std::optional<LightSample> PointLight::sampleLi(Vec3f p, Vec2f) const {
-  Vec3f toLight = position_ - p;
-  float r2 = lengthSquared(toLight);
-  if (r2 == 0) return std::nullopt;
-  float r = std::sqrt(r2);
-  float window = rangeWindow(r, range_);
-  if (window == 0) return std::nullopt;
-  return LightSample{intensity_ * (window / r2), toLight / r, position_};
+std::optional<LightSample> PointLight::sampleLi(const LightSampleContext& ctx, Vec2f) const {
+  return towardsPoint(ctx, position_, intensity_, range_, nullptr, {});
 }
+
+std::optional<LightLeSample> PointLight::sampleLe(Vec2f, Vec2f uDir, float time) const {
+  LightLeSample s;
+  s.ray = Ray{position_, sampleUniformSphere(uDir), 0, kInfinity, time};
+  s.L = intensity_;
+  s.pdfDir = kUniformSpherePdf;
+  return s;
+}
+
+std::optional<LightBounds> PointLight::bounds() const {
+  LightBounds b;
+  b.bounds = Bounds3f{position_, position_};
+  b.phi = 4 * kPi * luminance(intensity_);
+  b.cosThetaO = -1;  // all directions
+  b.cosThetaE = 0;
+  return b;
+}
+
+// --- Spot -------------------------------------------------------------------------------------
 
 SpotLight::SpotLight(Vec3f position, Vec3f direction, Rgb intensity, float innerAngle,
                      float outerAngle, float range, bool castsShadows)
-    : position_(position),
+    : Light(LightKind::DeltaPosition),
+      position_(position),
       direction_(normalize(direction)),
       intensity_(intensity),
       cosInner_(std::cos(innerAngle)),
@@ -45,32 +107,123 @@ SpotLight::SpotLight(Vec3f position, Vec3f direction, Rgb intensity, float inner
   castsShadows_ = castsShadows;
 }
 
-std::optional<LightSample> SpotLight::sampleLi(Vec3f p, Vec2f) const {
-  Vec3f toLight = position_ - p;
-  float r2 = lengthSquared(toLight);
-  if (r2 == 0) return std::nullopt;
-  float r = std::sqrt(r2);
-  Vec3f wi = toLight / r;
-  float cone = smoothStep(cosOuter_, cosInner_, dot(-wi, direction_));
-  float window = rangeWindow(r, range_);
-  if (cone == 0 || window == 0) return std::nullopt;
-  return LightSample{intensity_ * (cone * window / r2), wi, position_};
+float SpotLight::falloff(float cosTheta) const { return smoothStep(cosOuter_, cosInner_, cosTheta); }
+
+std::optional<LightSample> SpotLight::sampleLi(const LightSampleContext& ctx, Vec2f) const {
+  float cosTheta = 0;
+  std::optional<LightSample> s = towardsPoint(ctx, position_, intensity_, range_, &cosTheta, direction_);
+  if (!s) return s;
+  const float cone = falloff(cosTheta);
+  if (cone == 0) return std::nullopt;
+  s->L *= cone;
+  return s;
 }
 
-float SpotLight::power() const {
-  // Solid angle of the cone, counting the falloff band at half weight.
-  return luminance(intensity_) * 2 * kPi * (1 - 0.5f * (cosInner_ + cosOuter_));
+std::optional<LightLeSample> SpotLight::sampleLe(Vec2f, Vec2f uDir, float time) const {
+  // Uniform in the outer cone; the smooth falloff goes into L.
+  const Vec3f local = sampleUniformCone(uDir, cosOuter_);
+  const float cone = falloff(local.z);
+  if (cone == 0) return std::nullopt;
+  LightLeSample s;
+  s.ray = Ray{position_, Frame::fromZ(direction_).fromLocal(local), 0, kInfinity, time};
+  s.L = intensity_ * cone;
+  s.pdfDir = uniformConePdf(cosOuter_);
+  return s;
 }
+
+Rgb SpotLight::phi() const {
+  // The integral of the smoothstep falloff over the sphere: 2 pi [(1 - cosInner) +
+  // (cosInner - cosOuter) / 2], the smoothstep averaging one half over its band.
+  return intensity_ * (2 * kPi * ((1 - cosInner_) + (cosInner_ - cosOuter_) * 0.5f));
+}
+
+std::optional<LightBounds> SpotLight::bounds() const {
+  LightBounds b;
+  b.bounds = Bounds3f{position_, position_};
+  b.phi = luminance(phi());
+  b.w = direction_;
+  b.cosThetaO = 1;  // a point: one "normal"
+  b.cosThetaE = cosOuter_;
+  return b;
+}
+
+// --- Directional ------------------------------------------------------------------------------
 
 DirectionalLight::DirectionalLight(Vec3f direction, Rgb irradiance, bool castsShadows)
-    : direction_(normalize(direction)), irradiance_(irradiance) {
+    : Light(LightKind::DeltaDirection), direction_(normalize(direction)), irradiance_(irradiance) {
   castsShadows_ = castsShadows;
 }
 
-std::optional<LightSample> DirectionalLight::sampleLi(Vec3f, Vec2f) const {
-  LightSample s{irradiance_, -direction_, {}};
+void DirectionalLight::preprocess(const Bounds3f& sceneBounds) {
+  sceneSphere(sceneBounds, &sceneCenter_, &sceneRadius_);
+}
+
+std::optional<LightSample> DirectionalLight::sampleLi(const LightSampleContext&, Vec2f) const {
+  LightSample s;
+  s.L = irradiance_;
+  s.wi = -direction_;
   s.infinite = true;
   return s;
+}
+
+std::optional<LightLeSample> DirectionalLight::sampleLe(Vec2f uPos, Vec2f, float time) const {
+  LightLeSample s;
+  s.ray = Ray{pointOnSceneDisk(direction_, sceneCenter_, sceneRadius_, uPos), direction_, 0,
+              kInfinity, time};
+  s.L = irradiance_;
+  s.pdfPos = 1 / (kPi * sceneRadius_ * sceneRadius_);
+  s.pdfDir = 1;
+  return s;
+}
+
+// --- Uniform environment ----------------------------------------------------------------------
+
+UniformEnvironmentLight::UniformEnvironmentLight(Rgb radiance)
+    : Light(LightKind::Infinite), radiance_(radiance) {}
+
+void UniformEnvironmentLight::preprocess(const Bounds3f& sceneBounds) {
+  sceneSphere(sceneBounds, &sceneCenter_, &sceneRadius_);
+}
+
+std::optional<LightSample> UniformEnvironmentLight::sampleLi(const LightSampleContext& ctx,
+                                                             Vec2f u) const {
+  LightSample s;
+  if (ctx.onSurface()) {
+    const Vec3f local = sampleCosineHemisphere(u);
+    s.wi = Frame::fromZ(ctx.ns).fromLocal(local);
+    s.pdf = cosineHemispherePdf(local.z);
+  } else {
+    s.wi = sampleUniformSphere(u);
+    s.pdf = kUniformSpherePdf;
+  }
+  if (!(s.pdf > 0)) return std::nullopt;
+  s.L = radiance_;
+  s.infinite = true;
+  s.delta = false;
+  return s;
+}
+
+float UniformEnvironmentLight::pdfLi(const LightSampleContext& ctx, Vec3f wi, const LightHit&) const {
+  if (!ctx.onSurface()) return kUniformSpherePdf;
+  return cosineHemispherePdf(dot(ctx.ns, wi));
+}
+
+std::optional<LightLeSample> UniformEnvironmentLight::sampleLe(Vec2f uPos, Vec2f uDir,
+                                                               float time) const {
+  // Light arriving from direction -d: a uniform direction, then a uniform point on the scene
+  // disk facing it.
+  const Vec3f d = -sampleUniformSphere(uDir);
+  LightLeSample s;
+  s.ray = Ray{pointOnSceneDisk(d, sceneCenter_, sceneRadius_, uPos), d, 0, kInfinity, time};
+  s.L = radiance_;
+  s.pdfPos = 1 / (kPi * sceneRadius_ * sceneRadius_);
+  s.pdfDir = kUniformSpherePdf;
+  return s;
+}
+
+Rgb UniformEnvironmentLight::phi() const {
+  // Radiance L from every direction, each through the scene's disk of area pi r^2.
+  return radiance_ * (4 * kPi * kPi * sceneRadius_ * sceneRadius_);
 }
 
 }  // namespace glint

@@ -11,6 +11,7 @@
 #include "renderer/camera.h"
 #include "renderer/features.h"
 #include "renderer/light.h"
+#include "renderer/light_sampler.h"
 
 namespace glint {
 
@@ -26,13 +27,32 @@ struct RenderScene {
   // Per instance: the frame its object was authored in, for object-space textures (meshes
   // baked into world space keep their original placement here).
   std::vector<Transform> objectFromWorld;
-  std::vector<std::unique_ptr<Light>> lights;
+  std::vector<std::unique_ptr<Light>> lights;  // every light, emitting surfaces included
+  // Per instance, the index in `lights` of the area light it is (an emissive mesh or shape),
+  // or -1; empty when no surface emits.
+  std::vector<int32_t> instanceLight;
+  std::vector<const Light*> infiniteLights;  // the environment lights among `lights`
+  std::unique_ptr<LightSampler> lightSampler;  // over `lights`, for next-event estimation
   Camera camera;
   std::string cameraName;
-  Rgb background{0, 0, 0};
+  Rgb background{0, 0, 0};  // what escaping rays see when there is no environment light
   SceneFeatures features;
   std::unique_ptr<Accelerator> accel;  // built last, over `geometry`
 
+  // Radiance along an escaping ray of unit direction d: the environment lights', or the
+  // background (which lights nothing) when there are none.
+  Rgb escaped(Vec3f d) const {
+    if (infiniteLights.empty()) return background;
+    Rgb L;
+    for (const Light* l : infiniteLights) L += l->Le(d);
+    return L;
+  }
+  // The area light a hit found, or null.
+  const Light* areaLight(const Hit& hit, uint32_t* index = nullptr) const {
+    if (instanceLight.empty() || instanceLight[hit.instance] < 0) return nullptr;
+    if (index) *index = uint32_t(instanceLight[hit.instance]);
+    return lights[size_t(instanceLight[hit.instance])].get();
+  }
   const Material& materialOf(uint32_t mesh) const { return *materials[meshMaterial[mesh]]; }
   // The material index of a hit, on a mesh or an analytic shape.
   uint32_t materialIndex(const Hit& hit) const {

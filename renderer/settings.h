@@ -32,6 +32,23 @@ struct ToneMapSettings {
   std::string view;               // OCIO view; empty = the display's default
 };
 
+// Light transport: the render block's "integrator" (a name, or an object with "type" and the
+// keys below) and `--integrator`.
+struct IntegratorSettings {
+  std::string type = "whitted";  // "whitted" | "path" | "instant-radiosity" | "auto"
+  int maxDepth = 8;              // bounces: Whitted's mirror/glass recursion, path length
+  int rrDepth = 3;               // path: Russian roulette from this many bounces on
+  std::string lightSampler = "power";  // next-event estimation: "uniform" | "power" | "bvh"
+  // Participating media (Whitted and instant radiosity; the path tracer scatters any number
+  // of times unless `volume` asks for less).
+  std::string volume = "single";           // "emission" (absorb and emit) | "single" | "multiple"
+  std::string volumeEstimator = "march";   // "march" (fixed steps) | "track" (ratio/delta tracking)
+  float volumeStep = 0;                    // march step, world units; 0 = from each medium's size
+  // Instant radiosity (Keller 1997).
+  int vplPaths = 64;        // light paths traced from the lights (Halton-seeded)
+  float vplClamp = 0;       // bound on the geometry term cos cos / d^2 of a VPL; 0 = no clamp
+};
+
 struct RenderSettings {
   std::optional<int> width, height;  // unset: 640 wide, height from the camera's aspect
   int spp = 16;
@@ -41,8 +58,7 @@ struct RenderSettings {
   std::string camera;                // camera name; empty = the first camera
   double time = 0;                   // seconds: the scene time of a single frame
   double fps = 24;                   // frames per second of a sequence (frame f at f / fps)
-  std::string integrator = "whitted";
-  int maxDepth = 8;                  // recursion depth for mirror/glass (Whitted)
+  IntegratorSettings integrator;
   FilterSettings filter;
   ToneMapSettings tonemap;
   Rgb background{0, 0, 0};           // radiance of rays that leave the scene

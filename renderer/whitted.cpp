@@ -26,7 +26,7 @@ Rgb WhittedIntegrator::trace(const Ray& ray, const RayCone& cone, int depth, Sam
 
 Rgb WhittedIntegrator::shade(const Ray& ray, const Hit* found, const RayCone& cone, int depth,
                              Sampler& sampler, RayCounters& counters, PathAovs* aovs) const {
-  if (!found) return scene_.background;
+  if (!found) return scene_.escaped(normalize(ray.d));
   const Hit& hit = *found;
   const uint32_t materialIndex = scene_.materialIndex(hit);
   const Material& material = *scene_.materials[materialIndex];
@@ -80,20 +80,21 @@ Rgb WhittedIntegrator::shade(const Ray& ray, const Hit* found, const RayCone& co
 Rgb WhittedIntegrator::directLight(const SurfaceInteraction& si, const Material& material,
                                    float time, Sampler& sampler, RayCounters& counters) const {
   Rgb L;
+  const LightSampleContext ctx(si, time);
   for (const auto& light : scene_.lights) {
     Vec2f u = light->isDelta() ? Vec2f{0.5f, 0.5f} : sampler.get2D();
-    std::optional<LightSample> ls = light->sampleLi(si.p, u);
+    std::optional<LightSample> ls = light->sampleLi(ctx, u);
     if (!ls || ls->pdf <= 0) continue;
     float cosTheta = dot(si.ns, ls->wi);
     if (cosTheta <= 0 || dot(si.ng, ls->wi) <= 0) continue;
     Rgb f = material.eval(si, ls->wi);
     if (maxComponent(f) <= 0) continue;
     if (shadows_ && light->castsShadows()) {
-      Ray shadow = ls->infinite ? si.spawnRay(ls->wi, time) : si.spawnRayTo(ls->pLight, time);
+      Ray shadow = shadowRay(ctx, *ls);
       ++counters.shadow;
       if (scene_.accel->anyHit(shadow)) continue;
     }
-    L += f * ls->Li * (cosTheta / ls->pdf);
+    L += f * ls->L * (cosTheta / ls->pdf);
   }
   return L;
 }

@@ -670,6 +670,13 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
     // Irradiance pi: a white Lambert surface facing the camera has radiance 1.
     scene.lights.push_back(std::make_unique<DirectionalLight>(
         scene.camera.forward(), Rgb{kPi, kPi, kPi}, /*castsShadows=*/false));
+  // Lights at infinity learn the scene's extent; then the sampler that picks among them.
+  const Bounds3f sceneExtent = scene.geometry.bounds();
+  for (auto& light : scene.lights) {
+    light->preprocess(sceneExtent);
+    if (light->kind() == LightKind::Infinite) scene.infiniteLights.push_back(light.get());
+  }
+  scene.lightSampler = makeLightSampler(desc.render.integrator.lightSampler, scene.lights);
 
   scene.features = detectFeatures(scene);
   scene.features.set(Feature::Headlight, headlight);

@@ -4,6 +4,8 @@
 #include <filesystem>
 
 #include "geometry/accel/accelerator.h"
+#include "renderer/integrator.h"
+#include "renderer/light_sampler.h"
 #include "scenes/gltf_loader.h"
 #include "scenes/json_reader.h"
 #include "scenes/json_util.h"
@@ -16,9 +18,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Names accepted by the render block (accelerators come from their factory). Add an
-// integrator here when it lands ("path", ...).
-const std::vector<std::string> kIntegrators = {"whitted"};
+// Names accepted by the render block (accelerators and light samplers come from their
+// factories).
+const std::vector<std::string> kVolumeModes = {"emission", "single", "multiple"};
+const std::vector<std::string> kVolumeEstimators = {"march", "track"};
 const std::vector<std::string> kFilters = {"box", "tent", "gaussian"};
 const std::vector<std::string> kToneMapOperators = {"none", "ward"};
 
@@ -27,6 +30,25 @@ float radians(float degrees) { return degrees * (kPi / 180.0f); }
 // ---------------------------------------------------------------------------------------------
 // render
 // ---------------------------------------------------------------------------------------------
+
+// "integrator": a name, or an object with "type" and the integrator's settings.
+void readIntegrator(JsonReader& r, IntegratorSettings* s) {
+  if (!r.has("integrator")) return;
+  if (r.json().at("integrator").is_string()) {
+    s->type = r.oneOf("integrator", integratorNames(), s->type);
+    return;
+  }
+  JsonReader& i = r.object("integrator");
+  s->type = i.oneOf("type", integratorNames(), s->type);
+  s->maxDepth = i.get<int>("max_depth", s->maxDepth, kNonNegative);
+  s->rrDepth = i.get<int>("rr_depth", s->rrDepth, kNonNegative);
+  s->lightSampler = i.oneOf("light_sampler", lightSamplerNames(), s->lightSampler);
+  s->volume = i.oneOf("volume", kVolumeModes, s->volume);
+  s->volumeEstimator = i.oneOf("volume_estimator", kVolumeEstimators, s->volumeEstimator);
+  s->volumeStep = i.get<float>("volume_step", s->volumeStep, kNonNegative);
+  s->vplPaths = i.get<int>("vpl_paths", s->vplPaths, kPositive);
+  s->vplClamp = i.get<float>("vpl_clamp", s->vplClamp, kNonNegative);
+}
 
 // Fills `s` from the render block; a missing key keeps the value already there.
 void readRender(JsonReader& r, RenderSettings* s) {
@@ -37,8 +59,7 @@ void readRender(JsonReader& r, RenderSettings* s) {
   s->threads = r.get<int>("threads", s->threads, kNonNegative);
   s->accel = r.oneOf("accel", acceleratorNames(), s->accel);
   s->camera = r.get<std::string>("camera", s->camera);
-  s->integrator = r.oneOf("integrator", kIntegrators, s->integrator);
-  s->maxDepth = r.get<int>("max_depth", s->maxDepth, kNonNegative);
+  readIntegrator(r, &s->integrator);
   // The scene time was taken from here before anything else was read (sceneTime below).
   s->time = r.get<double>("time", s->time);
   s->fps = r.get<double>("fps", s->fps, kPositive);

@@ -59,7 +59,7 @@ SceneDescription edgeScene(float depth, int width, int height, int spp) {
 
 Film renderScene(const RenderScene& scene, const SceneDescription& d, int threads = 2,
                  int tileSize = 16) {
-  auto integrator = makeIntegrator(d.render.integrator, scene, d.render);
+  auto integrator = makeIntegrator(scene, d.render);
   RenderOptions options;
   options.threads = threads;
   options.tileSize = tileSize;

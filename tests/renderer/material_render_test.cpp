@@ -45,7 +45,7 @@ Rendered renderJson(const std::string& text) {
   d.file = "scene.json";
   applySceneJsonText(text, d.file, SceneJsonKind::Scene, &d);
   RenderScene scene = buildRenderScene(d);
-  auto integrator = makeIntegrator("whitted", scene, d.render);
+  auto integrator = makeIntegrator(scene, d.render);
   Rendered r;
   r.features = scene.features;
   r.film = render(scene, *integrator, d.render, {.threads = 2}, &r.stats);
@@ -146,7 +146,7 @@ TEST(MaterialRender, ThreadCountsGiveIdenticalImagesWithGlassAndBump) {
   d.file = "scene.json";
   applySceneJsonText(text, d.file, SceneJsonKind::Scene, &d);
   RenderScene scene = buildRenderScene(d);
-  auto integrator = makeIntegrator("whitted", scene, d.render);
+  auto integrator = makeIntegrator(scene, d.render);
   Film one = render(scene, *integrator, d.render, {.threads = 1}, nullptr);
   Film two = render(scene, *integrator, d.render, {.threads = 2, .tileSize = 7}, nullptr);
   for (size_t i = 0; i < one.color.size(); ++i) ASSERT_EQ(one.color[i], two.color[i]) << i;

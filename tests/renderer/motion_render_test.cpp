@@ -61,7 +61,7 @@ Film renderIt(const SceneDescription& d, int spp, int threads = 2) {
   SceneDescription copy = d;
   copy.render.spp = spp;
   RenderScene scene = buildRenderScene(copy);
-  auto integrator = makeIntegrator(copy.render.integrator, scene, copy.render);
+  auto integrator = makeIntegrator(scene, copy.render);
   RenderOptions options;
   options.threads = threads;
   RenderStats stats;

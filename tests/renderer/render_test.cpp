@@ -51,7 +51,7 @@ SceneDescription lambertPlaneScene(float rho, float intensity, float h, int size
 
 Film renderDescription(const SceneDescription& d, int threads, RenderStats* stats = nullptr) {
   RenderScene scene = buildRenderScene(d);
-  auto integrator = makeIntegrator(d.render.integrator, scene, d.render);
+  auto integrator = makeIntegrator(scene, d.render);
   RenderOptions options;
   options.threads = threads;
   RenderStats local;
@@ -175,7 +175,7 @@ TEST(Render, NanSamplesAreCountedAndNeverReachTheFilm) {
   SceneDescription d = lambertPlaneScene(0.5f, 0, 2, 16);
   RenderScene scene = buildRenderScene(d);
   scene.materials[scene.meshMaterial[0]] = std::make_unique<NanMaterial>();
-  auto integrator = makeIntegrator("whitted", scene, d.render);
+  auto integrator = makeIntegrator(scene, d.render);
   RenderStats stats;
   Film film = render(scene, *integrator, d.render, RenderOptions{}, &stats);
   EXPECT_GT(stats.nonfiniteSamples, 0u);

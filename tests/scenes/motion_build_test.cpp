@@ -150,7 +150,7 @@ TEST(MotionBuild, LightsArePlacedInTheMiddleOfTheShutter) {
   EXPECT_TRUE(s.features.has(Feature::MotionBlur));
   EXPECT_FALSE(s.features.has(Feature::Headlight));
   // A point light's incident direction reveals its position.
-  auto ls = s.lights[0]->sampleLi({7.5f, 0, 0}, {0.5f, 0.5f});
+  auto ls = s.lights[0]->sampleLi(LightSampleContext::inMedium({7.5f, 0, 0}, 0), {0.5f, 0.5f});
   ASSERT_TRUE(ls.has_value());
   EXPECT_NEAR(ls->wi.x, 0.0f, 1e-5f);
   EXPECT_NEAR(ls->wi.y, 1.0f, 1e-5f);

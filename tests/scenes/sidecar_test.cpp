@@ -450,7 +450,10 @@ TEST(Sidecar, RenderSettingsAreApplied) {
   scene.cameras.push_back(CameraDesc{.name = "Main"});
   SceneDescription s = apply(R"({"render": {
       "width": 800, "height": 450, "spp": 64, "seed": 12345678901, "threads": 3,
-      "accel": "embree", "camera": "Main", "integrator": "whitted", "max_depth": 5,
+      "accel": "embree", "camera": "Main", "integrator": {"type": "whitted", "max_depth": 5, "rr_depth": 2,
+                     "light_sampler": "uniform", "volume": "emission",
+                     "volume_estimator": "track", "volume_step": 0.25, "vpl_paths": 7,
+                     "vpl_clamp": 3},
       "filter": {"type": "tent", "radius": 2},
       "background": [0.1, 0.2, 0.3],
       "exr": {"half": true, "aovs": true},
@@ -466,8 +469,15 @@ TEST(Sidecar, RenderSettingsAreApplied) {
   EXPECT_EQ(r.threads, 3);
   EXPECT_EQ(r.accel, "embree");
   EXPECT_EQ(r.camera, "Main");
-  EXPECT_EQ(r.integrator, "whitted");
-  EXPECT_EQ(r.maxDepth, 5);
+  EXPECT_EQ(r.integrator.type, "whitted");
+  EXPECT_EQ(r.integrator.maxDepth, 5);
+  EXPECT_EQ(r.integrator.rrDepth, 2);
+  EXPECT_EQ(r.integrator.lightSampler, "uniform");
+  EXPECT_EQ(r.integrator.volume, "emission");
+  EXPECT_EQ(r.integrator.volumeEstimator, "track");
+  EXPECT_FLOAT_EQ(r.integrator.volumeStep, 0.25f);
+  EXPECT_EQ(r.integrator.vplPaths, 7);
+  EXPECT_FLOAT_EQ(r.integrator.vplClamp, 3);
   EXPECT_EQ(r.filter.type, "tent");
   EXPECT_FLOAT_EQ(r.filter.radius, 2);
   EXPECT_EQ(r.background, (Rgb{0.1f, 0.2f, 0.3f}));
@@ -488,7 +498,8 @@ TEST(Sidecar, MissingKeysKeepTheDefaults) {
   EXPECT_FALSE(s.render.width.has_value());
   EXPECT_EQ(s.render.filter.type, "box");
   EXPECT_FLOAT_EQ(s.render.filter.radius, defaults.filter.radius);
-  EXPECT_EQ(s.render.maxDepth, defaults.maxDepth);
+  EXPECT_EQ(s.render.integrator.maxDepth, defaults.integrator.maxDepth);
+  EXPECT_EQ(apply(R"({"render": {"integrator": "whitted"}})").render.integrator.type, "whitted");
   EXPECT_EQ(s.render.tonemap.op, "none");
   SceneDescription empty = apply("{}");
   EXPECT_EQ(empty.render.spp, defaults.spp);
