@@ -3,6 +3,7 @@
 
 #include <stdexcept>
 
+#include "renderer/path.h"
 #include "renderer/whitted.h"
 
 namespace glint {
@@ -84,14 +85,26 @@ Rgb Integrator::Li(const Ray& ray, Sampler& sampler, RayCounters& counters, Path
 }
 
 const std::vector<std::string>& integratorNames() {
-  static const std::vector<std::string> names = {"whitted"};
+  static const std::vector<std::string> names = {"whitted", "path", "auto"};
   return names;
+}
+
+std::string resolveIntegratorType(const RenderScene& scene, const IntegratorSettings& settings) {
+  if (settings.type != "auto") return settings.type;
+  // Light with an extent (area, emitting surfaces, the environment) is what Whitted's hard
+  // shadows cannot render; point, spot and directional lights it renders exactly.
+  bool extended = !scene.infiniteLights.empty();
+  for (int32_t l : scene.instanceLight) extended = extended || l >= 0;
+  for (const auto& light : scene.lights) extended = extended || !light->isDelta();
+  return extended ? "path" : "whitted";
 }
 
 std::unique_ptr<Integrator> makeIntegrator(const RenderScene& scene, const RenderSettings& settings) {
   const IntegratorSettings& s = settings.integrator;
-  if (s.type == "whitted") return std::make_unique<WhittedIntegrator>(scene, s.maxDepth);
-  throw std::invalid_argument("unknown integrator '" + s.type + "' (whitted)");
+  const std::string type = resolveIntegratorType(scene, s);
+  if (type == "whitted") return std::make_unique<WhittedIntegrator>(scene, s.maxDepth);
+  if (type == "path") return std::make_unique<PathIntegrator>(scene, s);
+  throw std::invalid_argument("unknown integrator '" + s.type + "' (whitted, path, auto)");
 }
 
 }  // namespace glint

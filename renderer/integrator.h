@@ -78,8 +78,12 @@ class Integrator {
   std::vector<MaterialShading> shading_;  // per material
 };
 
-// Builds the integrator settings.integrator.type names for `scene`. Throws
-// std::invalid_argument for unknown names.
+// The integrator settings.type asks for, with "auto" resolved for `scene`: "path" when the
+// scene has light with an extent (an environment, emitting surfaces that are lights, any
+// non-delta light), else "whitted". Other names are returned as they are.
+std::string resolveIntegratorType(const RenderScene& scene, const IntegratorSettings& settings);
+// Builds the integrator settings.integrator.type names for `scene` ("auto" resolved as
+// above). Throws std::invalid_argument for unknown names.
 std::unique_ptr<Integrator> makeIntegrator(const RenderScene& scene, const RenderSettings& settings);
 // The names makeIntegrator accepts.
 const std::vector<std::string>& integratorNames();

@@ -21,6 +21,7 @@
 #include "materials/pbr.h"
 #include "materials/procedural.h"
 #include "materials/specular.h"
+#include "renderer/integrator.h"
 
 namespace glint {
 
@@ -683,6 +684,8 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
   scene.features.set(Feature::Terrain, terrain);
   scene.features.set(Feature::Lens, lens);
   scene.features.set(Feature::MotionBlur, moving);
+  scene.features.set(Feature::Indirect,
+                     resolveIntegratorType(scene, desc.render.integrator) == "path");
 
   auto accelStart = Clock::now();
   scene.accel = makeAccelerator(desc.render.accel, scene.geometry);

@@ -324,8 +324,8 @@ TEST(Sidecar, BadEnumIsRejected) {
                      "/render/filter/type", "'mitchell' is not one of 'box', 'tent', 'gaussian'");
   EXPECT_SCENE_ERROR(applyError(R"({"render": {"accel": "bvh"}})"), kFile, "/render/accel",
                      "is not one of 'embree'");
-  EXPECT_SCENE_ERROR(applyError(R"({"render": {"integrator": "path"}})"), kFile,
-                     "/render/integrator", "is not one of 'whitted'");
+  EXPECT_SCENE_ERROR(applyError(R"({"render": {"integrator": "photon"}})"), kFile,
+                     "/render/integrator", "is not one of 'whitted', 'path'");
   EXPECT_SCENE_ERROR(applyError(R"({"render": {"tonemap": {"operator": "aces"}}})"), kFile,
                      "/render/tonemap/operator", "is not one of 'none', 'ward'");
   EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "area"}]})"), kFile, "/lights/0/type",
