@@ -34,6 +34,13 @@ uint32_t DiscreteDistribution::sample(float u, float* p) const {
   return uint32_t(i);
 }
 
+uint32_t DiscreteDistribution::sample(float u, float* p, float* uRemapped) const {
+  const uint32_t i = sample(u, p);
+  const double within = *p > 0 ? (double(u) - cdf_[i]) / double(*p) : 0.0;
+  *uRemapped = float(std::clamp(within, 0.0, double(0x1.fffffep-1)));
+  return i;
+}
+
 std::optional<SampledLight> UniformLightSampler::sample(const LightSampleContext&, float u) const {
   if (count_ == 0) return std::nullopt;
   const uint32_t i = std::min(uint32_t(u * float(count_)), count_ - 1);
