@@ -37,7 +37,7 @@ const std::string kFloor =
 
 TEST(SidecarLights, ReadsQuadDiskSphereAndProjective) {
   SceneDescription d = apply(R"({
-    "textures": [{"name": "clouds", "type": "noise", "pattern": "clouds"}],
+    "textures": [{"name": "clouds", "type": "clouds"}],
     "lights": [
       {"type": "quad", "corner": [0, 2, 0], "edge_u": [1, 0, 0], "edge_v": [0, 0, 1],
        "color": [1, 0.5, 0.25], "intensity": 4, "two_sided": true},
@@ -110,7 +110,7 @@ TEST(SidecarLights, BadInputNamesThePointer) {
   EXPECT_SCENE_ERROR(applyError(R"({"environment": {"color": [1, 1, 1], "image": "sky.exr"}})"),
                      kFile, "/environment/image", "not both");
   EXPECT_SCENE_ERROR(applyError(R"({"environment": {"color": [1, -1, 1]}})"), kFile,
-                     "/environment/color", ">= 0");
+                     "/environment/color/1", ">= 0");
   EXPECT_SCENE_ERROR(applyError(R"({"environment": {"colour": [1, 1, 1]}})"), kFile,
                      "/environment/colour", "unknown key");
 }
