@@ -45,6 +45,8 @@ class AreaLight : public Light {
   std::optional<LightLeSample> sampleLe(Vec2f uPos, Vec2f uDir, float time) const override;
   Rgb phi() const override { return phi_; }
   const AreaEmission& emission() const { return emission_; }
+  // Sidecar lights may opt out of shadows (emitting surfaces always cast them).
+  void setCastsShadows(bool castsShadows) { castsShadows_ = castsShadows; }
   float area() const { return area_; }
   // A uniform point on the surface for u in [0, 1)^2.
   virtual AreaPoint samplePoint(Vec2f u) const = 0;

@@ -1,9 +1,11 @@
-// glint — uniform and power light samplers.
+// glint — uniform and power light samplers (the BVH sampler is in light_bvh.cpp).
 #include "renderer/light_sampler.h"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+
+#include "renderer/light_bvh.h"
 
 namespace glint {
 
@@ -71,7 +73,7 @@ float PowerLightSampler::pmf(const LightSampleContext&, uint32_t index) const {
 }
 
 const std::vector<std::string>& lightSamplerNames() {
-  static const std::vector<std::string> names = {"uniform", "power"};
+  static const std::vector<std::string> names = {"uniform", "power", "bvh"};
   return names;
 }
 
@@ -79,7 +81,8 @@ std::unique_ptr<LightSampler> makeLightSampler(const std::string& name,
                                                const std::vector<std::unique_ptr<Light>>& lights) {
   if (name == "uniform") return std::make_unique<UniformLightSampler>(lights.size());
   if (name == "power") return std::make_unique<PowerLightSampler>(lights);
-  throw std::invalid_argument("unknown light sampler '" + name + "' (uniform, power)");
+  if (name == "bvh") return std::make_unique<BvhLightSampler>(lights);
+  throw std::invalid_argument("unknown light sampler '" + name + "' (uniform, power, bvh)");
 }
 
 }  // namespace glint

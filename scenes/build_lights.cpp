@@ -101,21 +101,24 @@ std::unique_ptr<Light> makeSidecarLight(const LightDesc& l, const Transform& wor
   AreaEmission emission;
   emission.radiance = l.color * l.intensity;
   emission.twoSided = l.twoSided;
+  std::unique_ptr<AreaLight> area;
   switch (l.type) {
     case LightType::Quad:
-      return std::make_unique<QuadLight>(world.point(l.corner), world.vector(l.edgeU),
+      area = std::make_unique<QuadLight>(world.point(l.corner), world.vector(l.edgeU),
                                          world.vector(l.edgeV), emission);
+      break;
     case LightType::Disk:
       // In the frame's XY plane facing -Z: cross(axisZ, axisX) must be -Z, so the "Z" axis
       // of DiskLight is the frame's +Y.
-      return std::make_unique<DiskLight>(world.point({0, 0, 0}), world.vector({l.radius, 0, 0}),
+      area = std::make_unique<DiskLight>(world.point({0, 0, 0}), world.vector({l.radius, 0, 0}),
                                          world.vector({0, l.radius, 0}), emission);
+      break;
     case LightType::Sphere: {
-      // An animated sphere light follows its node's translation; its radius its scale (when
-      // uniform).
+      // An animated sphere light follows its node's translation, and its scale when uniform.
       const float scale = uniformScale(world);
-      return std::make_unique<SphereLight>(world.point({0, 0, 0}),
+      area = std::make_unique<SphereLight>(world.point({0, 0, 0}),
                                            l.radius * (scale > 0 ? scale : 1.0f), emission);
+      break;
     }
     case LightType::Projective:
       return std::make_unique<ProjectiveLight>(world, l.color * l.intensity, l.fov, slide,
@@ -123,6 +126,8 @@ std::unique_ptr<Light> makeSidecarLight(const LightDesc& l, const Transform& wor
     default:
       return nullptr;
   }
+  area->setCastsShadows(l.castsShadows);
+  return area;
 }
 
 std::unique_ptr<Light> makeEnvironmentLight(const EnvironmentDesc& env) {

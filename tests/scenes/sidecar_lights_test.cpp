@@ -182,6 +182,38 @@ TEST(SidecarLights, EmittingSurfacesBecomeLights) {
   EXPECT_EQ(ls->L, (Rgb{2, 2, 2}));
 }
 
+TEST(SidecarLights, EmissiveMeshesAndTexturedEmission) {
+  SceneDescription d = apply(R"({
+    "textures": [{"name": "checks", "type": "checker", "colors": [[1, 0, 0], [0, 0, 4]],
+                  "mapping": {"scale": 2}}],
+    "materials": [{"name": "glow", "type": "lambert", "emissive": [2, 2, 2]},
+                  {"name": "tiles", "type": "lambert", "emissive": "checks"}],
+    "objects": [
+      {"type": "terrain", "size": 2, "depth": 2, "height": 0.5, "material": "glow"},
+      {"type": "quad", "corner": [0, 3, 0], "edge_u": [1, 0, 0], "edge_v": [0, 0, 1], "material": "tiles"}
+    ]})");
+  RenderScene s = buildRenderScene(d);
+  ASSERT_EQ(s.instanceLight.size(), 2u);
+  auto* mesh = dynamic_cast<const TriangleMeshLight*>(s.lights[size_t(s.instanceLight[0])].get());
+  ASSERT_NE(mesh, nullptr);
+  EXPECT_GE(mesh->area(), 4.0f);  // at least its footprint
+  EXPECT_NEAR(mesh->phi().x, 2 * kPi * 2 * mesh->area(), 1e-3f * mesh->phi().x);
+  // The quad's light carries the texture at the sampled uv, as a camera hit there sees it.
+  auto* quad = dynamic_cast<const QuadLight*>(s.lights[size_t(s.instanceLight[1])].get());
+  ASSERT_NE(quad, nullptr);
+  LightSampleContext ctx;
+  ctx.p = {0.5f, 0, 0.5f};
+  ctx.n = ctx.ns = {0, 1, 0};
+  auto a = quad->sampleLi(ctx, {0.1f, 0.1f}), b = quad->sampleLi(ctx, {0.6f, 0.1f});
+  ASSERT_TRUE(a.has_value());
+  ASSERT_TRUE(b.has_value());
+  EXPECT_EQ(a->L, (Rgb{1, 0, 0}));
+  EXPECT_EQ(b->L, (Rgb{0, 0, 4}));
+  // Half the quad is red (1), half blue (4): the power follows the texture's average.
+  EXPECT_NEAR(quad->phi().x, 2 * kPi * 0.5f, 1e-3f);
+  EXPECT_NEAR(quad->phi().z, 2 * kPi * 2.0f, 1e-3f);
+}
+
 TEST(SidecarLights, OnlyUnsampledEmittersStillSuppressTheHeadlight) {
   SceneDescription d = apply(R"({
     "materials": [{"name": "glow", "type": "lambert", "emissive": [1, 1, 1]}],
