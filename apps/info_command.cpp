@@ -24,6 +24,14 @@ const char* lightTypeName(LightType t) {
       return "spot";
     case LightType::Directional:
       return "directional";
+    case LightType::Quad:
+      return "quad";
+    case LightType::Disk:
+      return "disk";
+    case LightType::Sphere:
+      return "sphere";
+    case LightType::Projective:
+      return "projective";
   }
   return "?";
 }

@@ -1,9 +1,11 @@
-// glint — uniform and power light samplers.
+// glint — uniform and power light samplers (the BVH sampler is in light_bvh.cpp).
 #include "renderer/light_sampler.h"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+
+#include "renderer/light_bvh.h"
 
 namespace glint {
 
@@ -32,6 +34,13 @@ uint32_t DiscreteDistribution::sample(float u, float* p) const {
   while (pmf_[i] == 0 && i > 0) --i;  // u landed exactly on a boundary before a zero entry
   *p = pmf_[i];
   return uint32_t(i);
+}
+
+uint32_t DiscreteDistribution::sample(float u, float* p, float* uRemapped) const {
+  const uint32_t i = sample(u, p);
+  const double within = *p > 0 ? (double(u) - cdf_[i]) / double(*p) : 0.0;
+  *uRemapped = float(std::clamp(within, 0.0, double(0x1.fffffep-1)));
+  return i;
 }
 
 std::optional<SampledLight> UniformLightSampler::sample(const LightSampleContext&, float u) const {
@@ -64,7 +73,7 @@ float PowerLightSampler::pmf(const LightSampleContext&, uint32_t index) const {
 }
 
 const std::vector<std::string>& lightSamplerNames() {
-  static const std::vector<std::string> names = {"uniform", "power"};
+  static const std::vector<std::string> names = {"uniform", "power", "bvh"};
   return names;
 }
 
@@ -72,7 +81,8 @@ std::unique_ptr<LightSampler> makeLightSampler(const std::string& name,
                                                const std::vector<std::unique_ptr<Light>>& lights) {
   if (name == "uniform") return std::make_unique<UniformLightSampler>(lights.size());
   if (name == "power") return std::make_unique<PowerLightSampler>(lights);
-  throw std::invalid_argument("unknown light sampler '" + name + "' (uniform, power)");
+  if (name == "bvh") return std::make_unique<BvhLightSampler>(lights);
+  throw std::invalid_argument("unknown light sampler '" + name + "' (uniform, power, bvh)");
 }
 
 }  // namespace glint

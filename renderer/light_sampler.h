@@ -42,6 +42,8 @@ class DiscreteDistribution {
   size_t size() const { return pmf_.size(); }
   // The entry for u in [0, 1), with its probability.
   uint32_t sample(float u, float* p) const;
+  // The same, also returning u rescaled to [0, 1) within the entry (to reuse it).
+  uint32_t sample(float u, float* p, float* uRemapped) const;
   float pmf(uint32_t i) const { return i < pmf_.size() ? pmf_[i] : 0; }
 
  private:

@@ -2,6 +2,7 @@
 #include "renderer/scene.h"
 
 #include "geometry/csg.h"
+#include "renderer/projective_light.h"
 
 namespace glint {
 
@@ -40,8 +41,12 @@ SceneFeatures detectFeatures(const RenderScene& scene) {
     if (uses[m] > 1) f.set(Feature::Instancing);
     addMaterialFeatures(scene.materialOf(uint32_t(m)), &f, &anyLit);
   }
-  for (const auto& light : scene.lights)
+  for (const auto& light : scene.lights) {
     if (light->castsShadows() && anyLit) f.set(Feature::Shadows);
+    if (light->kind() == LightKind::Area) f.set(Feature::AreaLights);
+    if (light->kind() == LightKind::Infinite) f.set(Feature::Environment);
+    if (dynamic_cast<const ProjectiveLight*>(light.get())) f.set(Feature::Projective);
+  }
   return f;
 }
 

@@ -22,6 +22,7 @@
 #include "materials/procedural.h"
 #include "materials/specular.h"
 #include "renderer/integrator.h"
+#include "scenes/build_lights.h"
 
 namespace glint {
 
@@ -455,7 +456,8 @@ Transform placementAtShutterMiddle(const std::vector<NodeDesc>& nodes, int node,
 }
 
 // Lights are placed once per frame, where they are in the middle of the shutter.
-void addLights(const SceneDescription& desc, const ShutterTimes& shutter, RenderScene* scene) {
+void addLights(const SceneDescription& desc, const ShutterTimes& shutter, TextureCache* textures,
+               RenderScene* scene) {
   for (const LightDesc& l : desc.lights) {
     Rgb power = l.color * l.intensity;
     Transform worldFromLight = placementAtShutterMiddle(desc.nodes, l.transformNode,
@@ -475,6 +477,11 @@ void addLights(const SceneDescription& desc, const ShutterTimes& shutter, Render
       case LightType::Directional:
         scene->lights.push_back(
             std::make_unique<DirectionalLight>(direction, power, l.castsShadows));
+        break;
+      default:  // area and projective lights (build_lights.cpp)
+        scene->lights.push_back(makeSidecarLight(
+            l, worldFromLight,
+            l.type == LightType::Projective ? textures->get(l.texture, true) : nullptr));
         break;
     }
   }
@@ -664,9 +671,12 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
     scene.camera.setLens({selected->apertureRadius, selected->focusDistance,
                           selected->apertureBlades, selected->apertureRotation});
 
-  // --- Lights; a headlight when there are none, so a scene is never black.
-  addLights(desc, shutter, &scene);
-  bool headlight = scene.lights.empty();
+  // --- Lights (emitting surfaces too); a headlight when there are none, so a scene is never
+  // black.
+  addLights(desc, shutter, &textures, &scene);
+  if (desc.environment) scene.lights.push_back(makeEnvironmentLight(*desc.environment));
+  const bool emits = addEmissiveSurfaceLights(&scene);
+  bool headlight = scene.lights.empty() && !emits;
   if (headlight)
     // Irradiance pi: a white Lambert surface facing the camera has radiance 1.
     scene.lights.push_back(std::make_unique<DirectionalLight>(

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -148,7 +149,7 @@ struct CameraDesc {
   SourceLocation where;
 };
 
-enum class LightType { Point, Spot, Directional };
+enum class LightType { Point, Spot, Directional, Quad, Disk, Sphere, Projective };
 
 // Units follow KHR_lights_punctual: point and spot intensity in candela (W/sr here),
 // directional in lux (W/m^2 here). glint is RGB, so photometric units are used as radiometric.
@@ -163,6 +164,28 @@ struct LightDesc {
   int transformNode = -1;  // animated placement (see CameraDesc); -1 = static
   Transform nodeFromLight;
   bool castsShadows = true;
+  // Area lights (sidecar; color * intensity is their radiance), in the light's frame, which
+  // worldFromLight places: quad corner + [0,1] edgeU + [0,1] edgeV, emitting towards
+  // cross(edgeU, edgeV); disk of `radius` in the frame's XY plane facing -Z; sphere of
+  // `radius` at the origin. One-sided unless twoSided.
+  Vec3f corner, edgeU, edgeV;
+  float radius = 1;
+  bool twoSided = false;
+  // Projective (sidecar): the slide's full field of view (radians), its texture (index into
+  // SceneDescription::textures, -1 = none) and how much it attenuates, in [0, 1].
+  float fov = kPi / 4;
+  int texture = -1;
+  float attenuation = 1;
+  SourceLocation where;
+};
+
+// The environment at infinity (sidecar "environment"): a constant colour or an equirectangular
+// EXR, times intensity, turned by `rotation` (radians) about +Y.
+struct EnvironmentDesc {
+  Rgb color{1, 1, 1};
+  std::string image;  // path of the EXR (resolved against the sidecar's folder); "" = colour
+  float intensity = 1;
+  float rotation = 0;
   SourceLocation where;
 };
 
@@ -253,6 +276,7 @@ struct SceneDescription {
   std::vector<InstanceDesc> instances;
   std::vector<CameraDesc> cameras;
   std::vector<LightDesc> lights;
+  std::optional<EnvironmentDesc> environment;
   std::vector<ObjectDesc> objects;  // analytic objects from the sidecar
   // The transform hierarchy of everything animated (glTF nodes with animated ancestry,
   // sidecar objects with keyframes); items refer to it by transformNode.

@@ -9,6 +9,7 @@
 #include "scenes/gltf_loader.h"
 #include "scenes/json_reader.h"
 #include "scenes/json_util.h"
+#include "scenes/sidecar_lights.h"
 #include "scenes/sidecar_materials.h"
 #include "scenes/sidecar_objects.h"
 
@@ -261,13 +262,18 @@ LightDesc readLight(JsonReader& r, SceneDescription* scene) {
   light.name = r.get<std::string>("name", "");
   light.type = r.oneOf<LightType>("type", {{"point", LightType::Point},
                                            {"spot", LightType::Spot},
-                                           {"directional", LightType::Directional}});
+                                           {"directional", LightType::Directional},
+                                           {"quad", LightType::Quad},
+                                           {"disk", LightType::Disk},
+                                           {"sphere", LightType::Sphere},
+                                           {"projective", LightType::Projective}});
   light.color = r.get<Rgb>("color", light.color, kNonNegative);
   light.intensity = r.get<float>("intensity", light.intensity, kNonNegative);
   light.castsShadows = r.get<bool>("cast_shadows", light.castsShadows);
-  if (light.type != LightType::Directional)
+  if (light.type == LightType::Point || light.type == LightType::Spot)
     light.range = r.get<float>("range", light.range, kNonNegative);
 
+  if (isSidecarOnlyLight(light.type)) readSidecarLight(r, *scene, &light);
   switch (light.type) {
     case LightType::Point:
       if (usesTransform(r, {"position"}))
@@ -304,6 +310,8 @@ LightDesc readLight(JsonReader& r, SceneDescription* scene) {
         light.worldFromLight =
             aimAlong(r, {}, dir, dir == Vec3f{} ? dir : someUp(dir), "direction", "direction");
       }
+      break;
+    default:  // read above
       break;
   }
   Transform placed = light.worldFromLight;
@@ -384,8 +392,9 @@ void applySceneJson(const nlohmann::json& doc, const std::string& file, SceneJso
     throw SceneError(root.where("gltf"), "only a .json scene may list glTF files");
 
   readCameras(root, scene);
+  readTextures(root, file, scene);  // before lights and materials, which name textures
   readLights(root, scene);
-  readTextures(root, file, scene);
+  readEnvironment(root, file, scene);
   readMaterials(root, scene);
   readObjects(root, file, scene);
   JsonReader* render = root.optionalObject("render");

@@ -16,6 +16,8 @@ class Disk final : public Shape {
   // n = +Y (both sides are hittable); uv = (x/2r + 1/2, z/2r + 1/2). Part 0.
   ShapeSurface surface(const Ray& ray, const ShapeHit& hit) const override;
 
+  float radius() const { return radius_; }
+
  private:
   float radius_;
 };

@@ -17,6 +17,10 @@ class Quad final : public Shape {
   // dpdv = edgeV. Part 0.
   ShapeSurface surface(const Ray& ray, const ShapeHit& hit) const override;
 
+  Vec3f corner() const { return corner_; }
+  Vec3f edgeU() const { return edgeU_; }
+  Vec3f edgeV() const { return edgeV_; }
+
  private:
   // (a, b) of the point `p` of the quad's plane.
   void coordinates(const double p[3], double* a, double* b) const;

@@ -1,0 +1,145 @@
+// glint — emitting surfaces as lights.
+#include "scenes/build_lights.h"
+
+#include <cmath>
+
+#include "geometry/shapes/disk.h"
+#include "geometry/shapes/quad.h"
+#include "geometry/shapes/sphere.h"
+#include "renderer/area_lights.h"
+#include "renderer/environment_light.h"
+#include "renderer/output.h"
+#include "renderer/projective_light.h"
+#include "scenes/errors.h"
+
+namespace glint {
+
+namespace {
+
+// The uniform scale of a similarity transform's linear part, or 0 when it is not one (a
+// sphere stays a sphere only under a similarity).
+float uniformScale(const Transform& t) {
+  const Vec3f x = t.vector({1, 0, 0}), y = t.vector({0, 1, 0}), z = t.vector({0, 0, 1});
+  const float s = length(x);
+  constexpr float kTolerance = 1e-4f;  // relative: what float placements round to
+  if (!(s > 0) || std::abs(length(y) - s) > kTolerance * s || std::abs(length(z) - s) > kTolerance * s)
+    return 0;
+  if (std::abs(dot(x, y)) > kTolerance * s * s || std::abs(dot(y, z)) > kTolerance * s * s ||
+      std::abs(dot(x, z)) > kTolerance * s * s)
+    return 0;
+  return s;
+}
+
+// The area light of an emitting analytic shape, or null when the shape cannot be sampled.
+std::unique_ptr<Light> shapeLight(const Shape& shape, const Transform& world,
+                                  const AreaEmission& emission) {
+  if (auto* q = dynamic_cast<const Quad*>(&shape))
+    return std::make_unique<QuadLight>(world.point(q->corner()), world.vector(q->edgeU()),
+                                       world.vector(q->edgeV()), emission);
+  if (auto* d = dynamic_cast<const Disk*>(&shape)) {
+    const float r = d->radius();
+    return std::make_unique<DiskLight>(world.point({0, 0, 0}), world.vector({r, 0, 0}),
+                                       world.vector({0, 0, r}), emission);
+  }
+  if (auto* s = dynamic_cast<const Sphere*>(&shape)) {
+    const float scale = uniformScale(world);
+    if (scale == 0) return nullptr;
+    return std::make_unique<SphereLight>(world.point(s->center()), s->radius() * scale, emission);
+  }
+  return nullptr;
+}
+
+std::unique_ptr<Light> meshLight(const TriangleMesh& mesh, const Transform& world,
+                                 const AreaEmission& emission) {
+  std::vector<Vec3f> positions = mesh.positions, normals = mesh.normals;
+  if (!world.isIdentity()) {
+    for (Vec3f& p : positions) p = world.point(p);
+    for (Vec3f& n : normals) n = normalize(world.normal(n));
+  }
+  return std::make_unique<TriangleMeshLight>(std::move(positions), mesh.indices,
+                                             std::move(normals), mesh.uvs, emission);
+}
+
+}  // namespace
+
+bool addEmissiveSurfaceLights(RenderScene* scene) {
+  const GeometryScene& g = scene->geometry;
+  bool anyEmits = false;
+  for (uint32_t i = 0; i < g.instances.size(); ++i) {
+    const Instance& inst = g.instances[i];
+    // A shape emits when its (first) material does; CSG trees never become lights anyway.
+    const uint32_t m = inst.isShape() ? scene->shapeMaterials[inst.shape].front()
+                                      : scene->meshMaterial[inst.mesh];
+    bool emits = scene->materials[m]->traits().emits;
+    if (inst.isShape())
+      for (uint32_t sm : scene->shapeMaterials[inst.shape])
+        emits = emits || scene->materials[sm]->traits().emits;
+    if (!emits) continue;
+    anyEmits = true;
+    if (scene->instanceLight.empty()) scene->instanceLight.assign(g.instances.size(), -1);
+    // Moving emitters are placed at the middle of the shutter, like every light.
+    const Transform world = inst.worldFromObjectAt(0.5f);
+    AreaEmission emission;
+    emission.material = scene->materials[m].get();
+    emission.objectFromWorld = inst.moves() ? world.inverse() : scene->objectFromWorld[i];
+    emission.instance = i;
+    emission.twoSided = true;  // Material::emitted does not depend on the side
+    std::unique_ptr<Light> light =
+        inst.isShape() ? (scene->shapeMaterials[inst.shape].size() == 1
+                              ? shapeLight(*g.shapes[inst.shape], world, emission)
+                              : nullptr)
+                       : meshLight(g.meshes[inst.mesh], world, emission);
+    if (!light) continue;
+    scene->instanceLight[i] = int32_t(scene->lights.size());
+    scene->lights.push_back(std::move(light));
+  }
+  return anyEmits;
+}
+
+std::unique_ptr<Light> makeSidecarLight(const LightDesc& l, const Transform& world,
+                                        const Texture* slide) {
+  AreaEmission emission;
+  emission.radiance = l.color * l.intensity;
+  emission.twoSided = l.twoSided;
+  std::unique_ptr<AreaLight> area;
+  switch (l.type) {
+    case LightType::Quad:
+      area = std::make_unique<QuadLight>(world.point(l.corner), world.vector(l.edgeU),
+                                         world.vector(l.edgeV), emission);
+      break;
+    case LightType::Disk:
+      // In the frame's XY plane facing -Z: cross(axisZ, axisX) must be -Z, so the "Z" axis
+      // of DiskLight is the frame's +Y.
+      area = std::make_unique<DiskLight>(world.point({0, 0, 0}), world.vector({l.radius, 0, 0}),
+                                         world.vector({0, l.radius, 0}), emission);
+      break;
+    case LightType::Sphere: {
+      // An animated sphere light follows its node's translation, and its scale when uniform.
+      const float scale = uniformScale(world);
+      area = std::make_unique<SphereLight>(world.point({0, 0, 0}),
+                                           l.radius * (scale > 0 ? scale : 1.0f), emission);
+      break;
+    }
+    case LightType::Projective:
+      return std::make_unique<ProjectiveLight>(world, l.color * l.intensity, l.fov, slide,
+                                               l.attenuation, l.castsShadows);
+    default:
+      return nullptr;
+  }
+  area->setCastsShadows(l.castsShadows);
+  return area;
+}
+
+std::unique_ptr<Light> makeEnvironmentLight(const EnvironmentDesc& env) {
+  if (env.image.empty()) return std::make_unique<UniformEnvironmentLight>(env.color * env.intensity);
+  Film film;
+  try {
+    film = readExr(env.image);
+  } catch (const std::exception& e) {
+    throw SceneError(env.where.child("image"), e.what());
+  }
+  return std::make_unique<ImageEnvironmentLight>(film.width, film.height, std::move(film.color),
+                                                 env.intensity, env.rotation);
+}
+
+}  // namespace glint

@@ -1,0 +1,20 @@
+// glint — the sidecar's area and projective lights and its "environment". (Internal to
+// scenes/: sidecar.cpp calls them.)
+#pragma once
+
+#include <string>
+
+#include "scenes/description.h"
+#include "scenes/json_reader.h"
+
+namespace glint {
+
+// Whether `type` is read by readSidecarLight (quad, disk, sphere, projective).
+bool isSidecarOnlyLight(LightType type);
+// Reads the shape and placement of a quad, disk, sphere or projective light into `light`
+// (whose type, colour and intensity are already read); textures must be read first.
+void readSidecarLight(JsonReader& r, const SceneDescription& scene, LightDesc* light);
+// Reads root["environment"] (image paths relative to `file`'s folder).
+void readEnvironment(JsonReader& root, const std::string& file, SceneDescription* scene);
+
+}  // namespace glint

@@ -1,0 +1,415 @@
+// Area lights: sampleLi against pdfLi (chi-square), samples that trace back to the light,
+// sampleLe's power against phi, and irradiance against closed forms.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <random>
+
+#include "geometry/shapes/disk.h"
+#include "geometry/shapes/quad.h"
+#include "geometry/shapes/sphere.h"
+#include "renderer/area_lights.h"
+#include "renderer/environment_light.h"
+#include "renderer/projective_light.h"
+#include "tests/chi2.h"
+
+namespace glint {
+namespace {
+
+// A light with the shape that traces rays against it.
+struct LightCase {
+  std::string name;
+  std::unique_ptr<AreaLight> light;
+  std::unique_ptr<Shape> shape;
+  Vec3f receiver;  // a point that sees the whole light
+  Vec3f receiverNormal;
+};
+
+AreaEmission constant(Rgb L, bool twoSided) {
+  AreaEmission e;
+  e.radiance = L;
+  e.twoSided = twoSided;
+  return e;
+}
+
+// Two triangles covering the quad corner + [0,1] edgeU + [0,1] edgeV.
+std::unique_ptr<TriangleMeshLight> meshQuad(Vec3f c, Vec3f eu, Vec3f ev, const AreaEmission& e) {
+  return std::make_unique<TriangleMeshLight>(
+      std::vector<Vec3f>{c, c + eu, c + eu + ev, c + ev}, std::vector<uint32_t>{0, 1, 2, 0, 2, 3},
+      std::vector<Vec3f>{}, std::vector<Vec2f>{}, e);
+}
+
+std::vector<LightCase> lightCases() {
+  std::vector<LightCase> cases;
+  const Vec3f c{-0.5f, 2, -0.75f}, eu{1, 0, 0}, ev{0, 0.2f, 1.5f};  // tilted, facing down-ish
+  // cross(eu, ev) = (0, -1.5, 0.2): the emitting side is below.
+  cases.push_back({"quad", std::make_unique<QuadLight>(c, eu, ev, constant({1, 2, 3}, false)),
+                   std::make_unique<Quad>(c, eu, ev), {0.2f, 0, 0.1f}, {0, 1, 0}});
+  cases.push_back({"quad two-sided",
+                   std::make_unique<QuadLight>(c, eu, ev, constant({1, 1, 1}, true)),
+                   std::make_unique<Quad>(c, eu, ev), {0.3f, 3, 0}, {0, -1, 0}});
+  // The disk shape: radius 0.8 at the origin, normal +Y; the receiver is above.
+  cases.push_back({"disk",
+                   std::make_unique<DiskLight>(Vec3f{0, 0, 0}, Vec3f{0.8f, 0, 0},
+                                               Vec3f{0, 0, 0.8f}, constant({2, 1, 1}, false)),
+                   std::make_unique<Disk>(0.8f), {0.3f, 1.5f, -0.2f}, {0, -1, 0}});
+  cases.push_back({"sphere outside",
+                   std::make_unique<SphereLight>(Vec3f{1, 2, 0}, 0.5f, constant({1, 1, 2}, false)),
+                   std::make_unique<Sphere>(Vec3f{1, 2, 0}, 0.5f), {0, 0, 0}, {0, 1, 0}});
+  cases.push_back({"sphere far",
+                   std::make_unique<SphereLight>(Vec3f{0, 6, 0}, 0.5f, constant({1, 1, 1}, false)),
+                   std::make_unique<Sphere>(Vec3f{0, 6, 0}, 0.5f), {0, 0, 0}, {0, 1, 0}});
+  cases.push_back({"sphere inside",
+                   std::make_unique<SphereLight>(Vec3f{0, 0, 0}, 2.0f, constant({1, 1, 1}, true)),
+                   std::make_unique<Sphere>(Vec3f{0, 0, 0}, 2.0f), {0.5f, -0.3f, 0.2f}, {}});
+  cases.push_back({"mesh", meshQuad(c, eu, ev, constant({1, 2, 3}, false)),
+                   std::make_unique<Quad>(c, eu, ev), {0.2f, 0, 0.1f}, {0, 1, 0}});
+  return cases;
+}
+
+LightSampleContext contextAt(const LightCase& lc) {
+  LightSampleContext ctx;
+  ctx.p = lc.receiver;
+  ctx.n = ctx.ns = lc.receiverNormal;
+  return ctx;
+}
+
+// The first point where the ray from p along unit w meets the shape.
+std::optional<LightHit> trace(const Shape& shape, Vec3f p, Vec3f w) {
+  Ray ray{p, w, 0, kInfinity, 0};
+  ShapeHit h;
+  if (!shape.intersect(ray, &h)) return std::nullopt;
+  ShapeSurface s = shape.surface(ray, h);
+  return LightHit{p + w * h.t, normalize(s.n)};
+}
+
+TEST(AreaLights, SampleLiMatchesPdfLiChi2) {
+  auto cases = lightCases();
+  for (const LightCase& lc : cases) {
+    SCOPED_TRACE(lc.name);
+    // A distant sphere's cone is too narrow for float directions: samples on its silhouette
+    // land one rounding step outside the bins that hold it. The closed-form irradiance test
+    // below covers distant spheres instead.
+    if (lc.name == "sphere far") continue;
+    const LightSampleContext ctx = contextAt(lc);
+    test::Chi2Options options;
+    options.sampleCount = 300'000;
+    options.testCount = int(cases.size()) - 1;
+    // Peaked lights get a fine cap around the direction towards them.
+    const Vec3f towards = normalize(lc.light->bounds()->bounds.center() - ctx.p);
+    if (lc.name != "sphere inside") {
+      options.binFrame = Frame::fromZ(towards);
+      options.capCosTheta = 0.5f;
+      // A sphere's cone edge on a bin edge: cubature never straddles its discontinuity.
+      if (lc.name.rfind("sphere", 0) == 0) {
+        const Vec3f c = lc.light->bounds()->bounds.center();
+        const float r = 0.5f, d2 = lengthSquared(c - ctx.p);
+        options.capCosTheta = std::sqrt(1 - r * r / d2);
+      }
+    }
+    auto sample = [&](Vec2f u, float) -> std::optional<Vec3f> {
+      auto s = lc.light->sampleLi(ctx, u);
+      if (!s) return std::nullopt;
+      return s->wi;
+    };
+    auto pdf = [&](Vec3f w) -> float {
+      auto hit = trace(*lc.shape, ctx.p, w);
+      return hit ? lc.light->pdfLi(ctx, w, *hit) : 0.0f;
+    };
+    test::Chi2Result r = test::chi2Test(sample, pdf, options);
+    EXPECT_TRUE(r.passed) << r.message;
+    EXPECT_NEAR(r.pdfIntegral, 1.0, 2e-3);
+  }
+}
+
+TEST(AreaLights, SampledDirectionsTraceBackToTheLight) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> uni(0.0f, 0.999999f);
+  for (const LightCase& lc : lightCases()) {
+    SCOPED_TRACE(lc.name);
+    const LightSampleContext ctx = contextAt(lc);
+    int found = 0;
+    for (int i = 0; i < 2000; ++i) {
+      auto s = lc.light->sampleLi(ctx, {uni(rng), uni(rng)});
+      if (!s) continue;
+      ++found;
+      EXPECT_FALSE(s->delta);
+      EXPECT_NEAR(length(s->wi), 1.0f, 1e-5f);
+      auto hit = trace(*lc.shape, ctx.p, s->wi);
+      ASSERT_TRUE(hit.has_value());
+      const float scale = std::max(1.0f, length(s->pLight - ctx.p));
+      EXPECT_LT(length(hit->p - s->pLight), 2e-4f * scale);
+      EXPECT_NEAR(std::abs(dot(hit->n, s->nLight)), 1.0f, 1e-4f);
+      const float pdf = lc.light->pdfLi(ctx, s->wi, *hit);
+      EXPECT_NEAR(pdf, s->pdf, 2e-3f * s->pdf);
+      // The shadow ray ends just short of the light and starts just off the receiver.
+      Ray shadow = shadowRay(ctx, *s);
+      ShapeHit h;
+      EXPECT_FALSE(lc.shape->intersect(shadow, &h)) << "the shadow ray reaches the light itself";
+    }
+    EXPECT_GT(found, 1900);
+  }
+}
+
+TEST(AreaLights, LightPathPowerMatchesPhi) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> uni(0.0f, 0.999999f);
+  for (const LightCase& lc : lightCases()) {
+    SCOPED_TRACE(lc.name);
+    constexpr int kN = 200'000;
+    Rgb sum;
+    for (int i = 0; i < kN; ++i) {
+      auto s = lc.light->sampleLe({uni(rng), uni(rng)}, {uni(rng), uni(rng)}, 0);
+      if (!s) continue;
+      EXPECT_NEAR(length(s->ray.d), 1.0f, 1e-5f);
+      sum += s->beta();
+    }
+    const Rgb phi = lc.light->phi();
+    const Rgb mean = sum * (1.0f / kN);
+    EXPECT_GT(phi.x, 0);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(mean[c], phi[c], 0.01f * phi[c]) << "channel " << c;
+    EXPECT_NEAR(lc.light->bounds()->phi, luminance(phi), 1e-4f * luminance(phi));
+  }
+}
+
+// The mean of L cos / pdf over `n` samples: the irradiance at ctx.
+float irradiance(const Light& light, const LightSampleContext& ctx, int n, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> uni(0.0f, 0.999999f);
+  double sum = 0;
+  for (int i = 0; i < n; ++i) {
+    auto s = light.sampleLi(ctx, {uni(rng), uni(rng)});
+    if (!s) continue;
+    sum += double(s->L.x) * std::max(0.0f, dot(ctx.n, s->wi)) / s->pdf;
+  }
+  return float(sum / n);
+}
+
+TEST(AreaLights, SquareIrradianceMatchesClosedForm) {
+  // A square of half-side a at height h over the receiver, facing it: the form factor of a
+  // differential area to a parallel square centred above it gives
+  // E = 4 L X / sqrt(1 + X^2) atan(X / sqrt(1 + X^2)), X = a / h.
+  const float a = 0.5f, L = 3;
+  for (float h : {0.25f, 1.0f, 4.0f}) {
+    SCOPED_TRACE(h);
+    QuadLight quad({-a, h, -a}, {2 * a, 0, 0}, {0, 0, 2 * a}, constant({L, L, L}, false));
+    LightSampleContext ctx;
+    ctx.n = ctx.ns = {0, 1, 0};
+    const float X = a / h, s = std::sqrt(1 + X * X);
+    const float exact = 4 * L * X / s * std::atan(X / s);
+    EXPECT_NEAR(irradiance(quad, ctx, 200'000, 1), exact, 0.01f * exact);
+  }
+}
+
+TEST(AreaLights, SphereIrradianceMatchesClosedForm) {
+  // A sphere above the horizon: E = pi L sin^2(theta_max), whatever its size.
+  const float L = 2;
+  for (float d : {1.5f, 10.0f, 1000.0f}) {
+    SCOPED_TRACE(d);
+    SphereLight sphere({0, d, 0}, 1, constant({L, L, L}, false));
+    LightSampleContext ctx;
+    ctx.n = ctx.ns = {0, 1, 0};
+    const float exact = kPi * L / (d * d);
+    EXPECT_NEAR(irradiance(sphere, ctx, 100'000, 2), exact, 0.01f * exact);
+  }
+}
+
+TEST(AreaLights, EmissiveMeshIrradianceEqualsQuad) {
+  const Vec3f c{-1, 2, -0.5f}, eu{2, 0.5f, 0}, ev{0, 0, 1};  // facing down
+  const AreaEmission e = constant({1.5f, 1.5f, 1.5f}, false);
+  QuadLight quad(c, eu, ev, e);
+  auto mesh = meshQuad(c, eu, ev, e);
+  EXPECT_NEAR(mesh->area(), quad.area(), 1e-5f);
+  for (Vec3f p : {Vec3f{0, 0, 0}, Vec3f{1, 1, 1}, Vec3f{-2, 0.5f, 0}}) {
+    LightSampleContext ctx;
+    ctx.p = p;
+    ctx.n = ctx.ns = {0, 1, 0};
+    const float q = irradiance(quad, ctx, 200'000, 5), m = irradiance(*mesh, ctx, 200'000, 6);
+    EXPECT_GT(q, 0);
+    EXPECT_NEAR(m, q, 0.015f * q);
+  }
+}
+
+TEST(AreaLights, OneSidedLightsAreDarkBehind) {
+  QuadLight quad({0, 1, 0}, {1, 0, 0}, {0, 0, 1}, constant({1, 1, 1}, false));  // normal -Y
+  LightSampleContext below, above;
+  below.p = {0.5f, 0, 0.5f};
+  above.p = {0.5f, 2, 0.5f};
+  EXPECT_TRUE(quad.sampleLi(below, {0.3f, 0.6f}).has_value());
+  EXPECT_FALSE(quad.sampleLi(above, {0.3f, 0.6f}).has_value());
+  QuadLight both({0, 1, 0}, {1, 0, 0}, {0, 0, 1}, constant({1, 1, 1}, true));
+  EXPECT_TRUE(both.sampleLi(above, {0.3f, 0.6f}).has_value());
+  EXPECT_NEAR(luminance(both.phi()), 2 * luminance(quad.phi()), 1e-4f);
+}
+
+TEST(AreaLights, ZeroAreaLightsGiveNoSamples) {
+  QuadLight flat({0, 1, 0}, {1, 0, 0}, {2, 0, 0}, constant({1, 1, 1}, true));
+  LightSampleContext ctx;
+  EXPECT_FALSE(flat.sampleLi(ctx, {0.5f, 0.5f}).has_value());
+  EXPECT_FALSE(flat.sampleLe({0.5f, 0.5f}, {0.5f, 0.5f}, 0).has_value());
+  EXPECT_EQ(luminance(flat.phi()), 0);
+}
+
+}  // namespace
+}  // namespace glint
+
+// --- Projective ----------------------------------------------------------------------------------
+
+namespace glint {
+namespace {
+
+TEST(ProjectiveLight, IrradianceFollowsTheSlide) {
+  // A 4 x 4 checker slide (black and white), the projector at the origin looking down -Y at
+  // the plane y = -h: each point's irradiance is I * ((1 - a) + a * slide(uv)) cos / r^2,
+  // with uv where the point projects onto the slide.
+  TextureMapping mapping;
+  mapping.scale = {4, 4, 1};
+  CheckerTexture checker(mapping, {0, 0, 0}, {1, 1, 1}, false);
+  const float h = 2, fov = kPi / 2, I = 5;  // tan(fov/2) = 1: the slide covers |x|, |z| <= h
+  for (float a : {0.0f, 0.3f, 1.0f}) {
+    SCOPED_TRACE(a);
+    const Transform world = Transform::lookAt({0, 0, 0}, {0, -1, 0}, {0, 0, -1});
+    ProjectiveLight light(world, {I, I, I}, fov, &checker, a, true);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> uni(-1.2f, 1.2f);
+    int inside = 0;
+    for (int i = 0; i < 500; ++i) {
+      const Vec3f p{uni(rng) * h, -h, uni(rng) * h};
+      LightSampleContext ctx;
+      ctx.p = p;
+      ctx.n = ctx.ns = {0, 1, 0};
+      auto s = light.sampleLi(ctx, {0.5f, 0.5f});
+      // The slide in light space: +X is world +X... found independently by projecting p.
+      const Vec3f local = world.inverse().point(p);
+      const float x = local.x / -local.z, y = local.y / -local.z;  // tan(fov/2) = 1
+      if (std::abs(x) > 1 || std::abs(y) > 1) {
+        EXPECT_FALSE(s.has_value()) << "lit outside the frustum";
+        continue;
+      }
+      // Keep away from checker edges, where the test's rounding could pick the other cell.
+      const float cu = (0.5f * x + 0.5f) * 4, cv = (0.5f * y + 0.5f) * 4;
+      if (std::abs(cu - std::round(cu)) < 1e-3f || std::abs(cv - std::round(cv)) < 1e-3f) continue;
+      ++inside;
+      const float slide = ((int(std::floor(cu)) + int(std::floor(cv))) % 2 == 0) ? 0.0f : 1.0f;
+      const float r2 = lengthSquared(p), cosTheta = h / std::sqrt(r2);
+      const float expected = I * ((1 - a) + a * slide) * cosTheta / r2;
+      const float got = s ? s->L.x * std::max(0.0f, dot(ctx.n, s->wi)) : 0.0f;
+      EXPECT_NEAR(got, expected, 1e-4f * I) << "at " << p.x << ", " << p.z;
+    }
+    EXPECT_GT(inside, 250);
+    // Power: half the slide is black, so phi lies between full and (1 - a) of the plain
+    // frustum's; and light paths carry it.
+    ProjectiveLight plain(world, {I, I, I}, fov, nullptr, a, true);
+    constexpr int kN = 200'000;
+    std::uniform_real_distribution<float> unit(0.0f, 0.999999f);
+    double sum = 0;
+    for (int i = 0; i < kN; ++i)
+      if (auto le = light.sampleLe({0, 0}, {unit(rng), unit(rng)}, 0)) sum += le->beta().x;
+    EXPECT_NEAR(sum / kN, light.phi().x, 0.01 * plain.phi().x);
+    EXPECT_NEAR(light.phi().x, plain.phi().x * (1 - a / 2), 0.01f * plain.phi().x);
+  }
+}
+
+}  // namespace
+}  // namespace glint
+
+// --- Environment ---------------------------------------------------------------------------------
+
+namespace glint {
+namespace {
+
+// A small map: dim sky, a bright sun patch, a black band (where the density must be 0). The
+// rows at the poles are black too: there the solid-angle density has an (integrable) 1/sin
+// singularity that the chi-square test's cubature cannot integrate accurately.
+ImageEnvironmentLight testEnvironment(float rotation) {
+  const int w = 32, h = 16;
+  std::vector<Rgb> pixels(size_t(w * h), Rgb{0.2f, 0.3f, 0.5f});
+  for (int x = 0; x < w; ++x) pixels[size_t(x)] = pixels[size_t((h - 1) * w + x)] = {0, 0, 0};
+  for (int y = 3; y < 5; ++y)
+    for (int x = 20; x < 23; ++x) pixels[size_t(y * w + x)] = {50, 40, 30};
+  for (int x = 0; x < w; ++x) pixels[size_t(12 * w + x)] = {0, 0, 0};
+  return ImageEnvironmentLight(w, h, std::move(pixels), 2.0f, rotation);
+}
+
+TEST(EnvironmentLight, Distribution2DMatchesItsPdf) {
+  // Frequencies of cells against the normalised values.
+  const int nu = 4, nv = 3;
+  const std::vector<float> f = {1, 2, 0, 3, 0, 0, 0, 0, 5, 1, 1, 1};
+  Distribution2D d(f, nu, nv);
+  double total = 0;
+  for (float v : f) total += v;
+  std::vector<int> counts(f.size(), 0);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> uni(0.0f, 0.999999f);
+  constexpr int kN = 400'000;
+  for (int i = 0; i < kN; ++i) {
+    float pdf = 0;
+    const Vec2f p = d.sample({uni(rng), uni(rng)}, &pdf);
+    ASSERT_GE(p.x, 0);
+    ASSERT_LT(p.x, 1);
+    const int cell = std::min(int(p.y * nv), nv - 1) * nu + std::min(int(p.x * nu), nu - 1);
+    ++counts[size_t(cell)];
+    EXPECT_NEAR(pdf, d.pdf(p), 1e-5f * pdf);
+    EXPECT_NEAR(pdf, f[size_t(cell)] / total * nu * nv, 1e-4f * pdf);
+  }
+  for (size_t i = 0; i < f.size(); ++i) {
+    const double p = f[i] / total;
+    EXPECT_NEAR(counts[i] / double(kN), p, 5 * std::sqrt(p * (1 - p) / kN) + 1e-9) << "cell " << i;
+  }
+}
+
+TEST(EnvironmentLight, SampleLiMatchesPdfLiChi2) {
+  for (float rotation : {0.0f, 1.0f}) {
+    const ImageEnvironmentLight env = testEnvironment(rotation);
+    LightSampleContext ctx;
+    auto sample = [&](Vec2f u, float) -> std::optional<Vec3f> {
+      auto s = env.sampleLi(ctx, u);
+      if (!s) return std::nullopt;
+      EXPECT_TRUE(s->infinite);
+      EXPECT_NEAR(s->pdf, env.pdfLi(ctx, s->wi, {}), 1e-4f * s->pdf);
+      EXPECT_EQ(s->L, env.Le(s->wi));
+      return s->wi;
+    };
+    auto pdf = [&](Vec3f w) { return env.pdfLi(ctx, w, {}); };
+    test::Chi2Options options;
+    options.sampleCount = 300'000;
+    options.testCount = 2;
+    test::Chi2Result r = test::chi2Test(sample, pdf, options);
+    EXPECT_TRUE(r.passed) << r.message;
+    EXPECT_NEAR(r.pdfIntegral, 1.0, 2e-3);
+  }
+}
+
+TEST(EnvironmentLight, MappingRoundTripsAndRotates) {
+  const ImageEnvironmentLight env = testEnvironment(0), turned = testEnvironment(kPi / 2);
+  // The map's centre looks down -Z; its top is +Y.
+  EXPECT_NEAR(env.uvOf({0, 0, -1}).x, 0.5f, 1e-6f);
+  EXPECT_NEAR(env.uvOf({0, 1, 0}).y, 0.0f, 1e-6f);
+  for (Vec2f uv : {Vec2f{0.1f, 0.3f}, Vec2f{0.7f, 0.8f}, Vec2f{0.5f, 0.5f}}) {
+    const Vec2f back = turned.uvOf(turned.directionOf(uv));
+    EXPECT_NEAR(back.x, uv.x, 1e-5f);
+    EXPECT_NEAR(back.y, uv.y, 1e-5f);
+    // Turning by 90 degrees about +Y moves the map a quarter turn.
+    const Vec3f d = env.directionOf(uv), t = turned.directionOf(uv);
+    EXPECT_NEAR(d.y, t.y, 1e-6f);
+    EXPECT_NEAR(std::abs(dot(Vec3f{d.x, 0, d.z}, Vec3f{t.x, 0, t.z})), 0.0f, 1e-5f);
+  }
+}
+
+TEST(EnvironmentLight, LightPathPowerMatchesPhi) {
+  ImageEnvironmentLight env = testEnvironment(0.4f);
+  env.preprocess(Bounds3f{{-1, -2, -1}, {3, 1, 2}});
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> uni(0.0f, 0.999999f);
+  constexpr int kN = 200'000;
+  Rgb sum;
+  for (int i = 0; i < kN; ++i)
+    if (auto s = env.sampleLe({uni(rng), uni(rng)}, {uni(rng), uni(rng)}, 0)) sum += s->beta();
+  const Rgb phi = env.phi();
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(sum[c] / kN, phi[c], 0.01f * phi[c]);
+}
+
+}  // namespace
+}  // namespace glint

@@ -1,0 +1,227 @@
+// The sidecar's area, projective and environment lights: reading, bad input, and the render
+// scene built from them (emitting surfaces included).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "renderer/area_lights.h"
+#include "renderer/environment_light.h"
+#include "renderer/film.h"
+#include "renderer/output.h"
+#include "renderer/projective_light.h"
+#include "scene_error_support.h"
+#include "scenes/build.h"
+#include "scenes/sidecar.h"
+#include "test_support.h"
+
+namespace glint {
+namespace {
+
+using test::errorFrom;
+
+constexpr const char* kFile = "demo.glint.json";
+
+SceneDescription apply(const std::string& text) {
+  SceneDescription scene;
+  applySceneJsonText(text, kFile, SceneJsonKind::Scene, &scene);
+  return scene;
+}
+SceneError applyError(const std::string& text) {
+  SceneDescription scene;
+  return errorFrom([&] { applySceneJsonText(text, kFile, SceneJsonKind::Scene, &scene); });
+}
+
+// A floor quad, so the scene has geometry.
+const std::string kFloor =
+    R"("objects": [{"type": "quad", "corner": [-2, 0, 2], "edge_u": [4, 0, 0], "edge_v": [0, 0, -4]}])";
+
+TEST(SidecarLights, ReadsQuadDiskSphereAndProjective) {
+  SceneDescription d = apply(R"({
+    "textures": [{"name": "clouds", "type": "clouds"}],
+    "lights": [
+      {"type": "quad", "corner": [0, 2, 0], "edge_u": [1, 0, 0], "edge_v": [0, 0, 1],
+       "color": [1, 0.5, 0.25], "intensity": 4, "two_sided": true},
+      {"type": "disk", "position": [0, 3, 0], "direction": [0, -1, 0], "radius": 0.5},
+      {"type": "sphere", "position": [1, 2, 3], "radius": 0.25},
+      {"type": "projective", "position": [0, 5, 0], "direction": [0, -1, 0], "up": [0, 0, -1],
+       "fov_degrees": 30, "texture": "clouds",
+       "attenuation": {"keys": [[0, 0], [2, 1]]}}
+    ],
+    "render": {"time": 1}, )" + kFloor + "}");
+  ASSERT_EQ(d.lights.size(), 4u);
+  EXPECT_EQ(d.lights[0].type, LightType::Quad);
+  EXPECT_TRUE(d.lights[0].twoSided);
+  EXPECT_EQ(d.lights[0].edgeV, (Vec3f{0, 0, 1}));
+  EXPECT_EQ(d.lights[1].type, LightType::Disk);
+  EXPECT_FALSE(d.lights[1].twoSided);
+  EXPECT_FLOAT_EQ(d.lights[2].radius, 0.25f);
+  EXPECT_EQ(d.lights[3].type, LightType::Projective);
+  EXPECT_EQ(d.lights[3].texture, 0);
+  EXPECT_NEAR(d.lights[3].fov, 30 * kPi / 180, 1e-6f);
+  EXPECT_NEAR(d.lights[3].attenuation, 0.5f, 1e-6f);  // keyframed, at time 1
+
+  RenderScene s = buildRenderScene(d);
+  ASSERT_EQ(s.lights.size(), 4u);
+  auto* quad = dynamic_cast<const QuadLight*>(s.lights[0].get());
+  ASSERT_NE(quad, nullptr);
+  EXPECT_NEAR(quad->area(), 1, 1e-6f);
+  // Radiance 4 (1, 0.5, 0.25), both sides, area 1: phi = 2 pi L.
+  EXPECT_NEAR(quad->phi().x, 2 * kPi * 4, 1e-3f);
+  // The disk faces down: it lights the floor below, not a point above.
+  auto* disk = dynamic_cast<const DiskLight*>(s.lights[1].get());
+  ASSERT_NE(disk, nullptr);
+  EXPECT_NEAR(disk->area(), kPi * 0.25f, 1e-5f);
+  LightSampleContext below, above;
+  below.p = {0, 0, 0};
+  above.p = {0, 4, 0};
+  EXPECT_TRUE(disk->sampleLi(below, {0.3f, 0.4f}).has_value());
+  EXPECT_FALSE(disk->sampleLi(above, {0.3f, 0.4f}).has_value());
+  EXPECT_NE(dynamic_cast<const SphereLight*>(s.lights[2].get()), nullptr);
+  EXPECT_NE(dynamic_cast<const ProjectiveLight*>(s.lights[3].get()), nullptr);
+  EXPECT_TRUE(s.features.has(Feature::AreaLights));
+  EXPECT_TRUE(s.features.has(Feature::Projective));
+  EXPECT_FALSE(s.features.has(Feature::Environment));
+  EXPECT_FALSE(s.features.has(Feature::Headlight));
+}
+
+TEST(SidecarLights, BadInputNamesThePointer) {
+  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "sphere", "position": [0, 0, 0], "radius": -1}]})"),
+                     kFile, "/lights/0/radius", "must be > 0");
+  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "disk", "position": [0, 0, 0], "direction": [0, 1, 0], "radius": 0}]})"),
+                     kFile, "/lights/0/radius", "must be > 0");
+  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [2, 0, 0]}]})"),
+                     kFile, "/lights/0/edge_v", "no area");
+  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [0, 0, 0]}]})"),
+                     kFile, "/lights/0/edge_v", "no area");
+  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "disk", "position": [0, 0, 0], "direction": [0, 0, 0], "radius": 1}]})"),
+                     kFile, "/lights/0/direction", "must not be zero");
+  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [0, 1, 0], "range": 3}]})"),
+                     kFile, "/lights/0/range", "unknown key");
+  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "projective", "position": [0, 0, 0], "direction": [0, -1, 0], "attenuation": 1.5}]})"),
+                     kFile, "/lights/0/attenuation", "must be >= 0 and <= 1");
+  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "projective", "position": [0, 0, 0], "direction": [0, -1, 0], "texture": "nope"}]})"),
+                     kFile, "/lights/0/texture", "no texture named 'nope'");
+  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "projective", "position": [0, 0, 0], "direction": [0, -1, 0], "up": [0, 2, 0]}]})"),
+                     kFile, "/lights/0/up", "not parallel");
+  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "projective", "position": [0, 0, 0], "direction": [0, -1, 0], "fov_degrees": 180}]})"),
+                     kFile, "/lights/0/fov_degrees", "< 180");
+  EXPECT_SCENE_ERROR(applyError(R"({"environment": {"image": "missing.exr"}})"), kFile,
+                     "/environment/image", "file not found");
+  EXPECT_SCENE_ERROR(applyError(R"({"environment": {"color": [1, 1, 1], "image": "sky.exr"}})"),
+                     kFile, "/environment/image", "not both");
+  EXPECT_SCENE_ERROR(applyError(R"({"environment": {"color": [1, -1, 1]}})"), kFile,
+                     "/environment/color/1", ">= 0");
+  EXPECT_SCENE_ERROR(applyError(R"({"environment": {"colour": [1, 1, 1]}})"), kFile,
+                     "/environment/colour", "unknown key");
+}
+
+TEST(SidecarLights, ConstantEnvironmentLightsTheScene) {
+  SceneDescription d = apply(R"({"environment": {"color": [0.5, 1, 2], "intensity": 2}, )" + kFloor + "}");
+  ASSERT_TRUE(d.environment.has_value());
+  RenderScene s = buildRenderScene(d);
+  ASSERT_EQ(s.infiniteLights.size(), 1u);
+  EXPECT_EQ(s.escaped({0, 1, 0}), (Rgb{1, 2, 4}));
+  EXPECT_TRUE(s.features.has(Feature::Environment));
+  EXPECT_FALSE(s.features.has(Feature::Headlight));
+}
+
+TEST(SidecarLights, ImageEnvironmentIsReadFromAnExr) {
+  const std::string dir = test::scratchDir("sidecar_lights_env");
+  Film film(8, 4, false);
+  for (size_t i = 0; i < film.color.size(); ++i) film.color[i] = Rgb{float(i), 1, 0.5f};
+  writeImage(dir + "/sky.exr", film, RenderSettings{}, {});
+  SceneDescription d;
+  applySceneJsonText(R"({"environment": {"image": "sky.exr", "intensity": 3, "rotation_degrees": 90}, )" +
+                         kFloor + "}",
+                     dir + "/scene.json", SceneJsonKind::Scene, &d);
+  RenderScene s = buildRenderScene(d);
+  ASSERT_EQ(s.infiniteLights.size(), 1u);
+  auto* env = dynamic_cast<const ImageEnvironmentLight*>(s.infiniteLights[0]);
+  ASSERT_NE(env, nullptr);
+  // Straight up is the top row; every pixel of it has G = 1, times the intensity.
+  EXPECT_NEAR(s.escaped({0, 1, 0}).y, 3, 1e-5f);
+  EXPECT_NEAR(env->Le(env->directionOf({0.3f, 0.6f})).x, 3 * float(2 * 8 + 2), 1e-4f);
+}
+
+TEST(SidecarLights, EmittingSurfacesBecomeLights) {
+  SceneDescription d = apply(R"({
+    "materials": [{"name": "glow", "type": "lambert", "diffuse": [0, 0, 0], "emissive": [2, 2, 2]}],
+    "objects": [
+      {"type": "quad", "corner": [-2, 0, 2], "edge_u": [4, 0, 0], "edge_v": [0, 0, -4]},
+      {"type": "disk", "radius": 0.5, "material": "glow", "transform": [{"translate": [0, 2, 0]}]},
+      {"type": "sphere", "radius": 0.5, "material": "glow", "transform": [{"scale": 2}]},
+      {"type": "box", "min": [0, 0, 0], "max": [1, 1, 1], "material": "glow"},
+      {"type": "quad", "corner": [0, 3, 0], "edge_u": [1, 0, 0], "edge_v": [0, 0, 1], "material": "glow"}
+    ]})");
+  RenderScene s = buildRenderScene(d);
+  ASSERT_EQ(s.instanceLight.size(), 5u);
+  EXPECT_EQ(s.instanceLight[0], -1);
+  EXPECT_EQ(s.instanceLight[3], -1);  // a box emits when hit but cannot be sampled
+  ASSERT_GE(s.instanceLight[1], 0);
+  ASSERT_GE(s.instanceLight[2], 0);
+  ASSERT_GE(s.instanceLight[4], 0);
+  EXPECT_EQ(s.lights.size(), 3u);  // and no headlight
+  EXPECT_FALSE(s.features.has(Feature::Headlight));
+  EXPECT_TRUE(s.features.has(Feature::AreaLights));
+  auto* disk = dynamic_cast<const DiskLight*>(s.lights[size_t(s.instanceLight[1])].get());
+  ASSERT_NE(disk, nullptr);
+  EXPECT_NEAR(disk->area(), kPi * 0.25f, 1e-5f);
+  // Two-sided radiance 2 over the area: phi = 2 pi L A.
+  EXPECT_NEAR(disk->phi().x, 2 * kPi * 2 * disk->area(), 1e-3f);
+  auto* sphere = dynamic_cast<const SphereLight*>(s.lights[size_t(s.instanceLight[2])].get());
+  ASSERT_NE(sphere, nullptr);
+  EXPECT_NEAR(sphere->area(), 4 * kPi, 1e-4f);  // radius 0.5 scaled by 2
+  auto* quad = dynamic_cast<const QuadLight*>(s.lights[size_t(s.instanceLight[4])].get());
+  ASSERT_NE(quad, nullptr);
+  // The radiance a light sample carries is the material's emission.
+  LightSampleContext ctx;
+  ctx.p = {0.5f, 0, 0.5f};
+  ctx.n = ctx.ns = {0, 1, 0};
+  auto ls = quad->sampleLi(ctx, {0.5f, 0.5f});
+  ASSERT_TRUE(ls.has_value());
+  EXPECT_EQ(ls->L, (Rgb{2, 2, 2}));
+}
+
+TEST(SidecarLights, EmissiveMeshesAndTexturedEmission) {
+  SceneDescription d = apply(R"({
+    "textures": [{"name": "checks", "type": "checker", "colors": [[1, 0, 0], [0, 0, 4]],
+                  "mapping": {"scale": 2}}],
+    "materials": [{"name": "glow", "type": "lambert", "emissive": [2, 2, 2]},
+                  {"name": "tiles", "type": "lambert", "emissive": "checks"}],
+    "objects": [
+      {"type": "terrain", "size": 2, "depth": 2, "height": 0.5, "material": "glow"},
+      {"type": "quad", "corner": [0, 3, 0], "edge_u": [1, 0, 0], "edge_v": [0, 0, 1], "material": "tiles"}
+    ]})");
+  RenderScene s = buildRenderScene(d);
+  ASSERT_EQ(s.instanceLight.size(), 2u);
+  auto* mesh = dynamic_cast<const TriangleMeshLight*>(s.lights[size_t(s.instanceLight[0])].get());
+  ASSERT_NE(mesh, nullptr);
+  EXPECT_GE(mesh->area(), 4.0f);  // at least its footprint
+  EXPECT_NEAR(mesh->phi().x, 2 * kPi * 2 * mesh->area(), 1e-3f * mesh->phi().x);
+  // The quad's light carries the texture at the sampled uv, as a camera hit there sees it.
+  auto* quad = dynamic_cast<const QuadLight*>(s.lights[size_t(s.instanceLight[1])].get());
+  ASSERT_NE(quad, nullptr);
+  LightSampleContext ctx;
+  ctx.p = {0.5f, 0, 0.5f};
+  ctx.n = ctx.ns = {0, 1, 0};
+  auto a = quad->sampleLi(ctx, {0.1f, 0.1f}), b = quad->sampleLi(ctx, {0.6f, 0.1f});
+  ASSERT_TRUE(a.has_value());
+  ASSERT_TRUE(b.has_value());
+  EXPECT_EQ(a->L, (Rgb{1, 0, 0}));
+  EXPECT_EQ(b->L, (Rgb{0, 0, 4}));
+  // Half the quad is red (1), half blue (4): the power follows the texture's average.
+  EXPECT_NEAR(quad->phi().x, 2 * kPi * 0.5f, 1e-3f);
+  EXPECT_NEAR(quad->phi().z, 2 * kPi * 2.0f, 1e-3f);
+}
+
+TEST(SidecarLights, OnlyUnsampledEmittersStillSuppressTheHeadlight) {
+  SceneDescription d = apply(R"({
+    "materials": [{"name": "glow", "type": "lambert", "emissive": [1, 1, 1]}],
+    "objects": [{"type": "box", "min": [0, 0, 0], "max": [1, 1, 1], "material": "glow"}]})");
+  RenderScene s = buildRenderScene(d);
+  EXPECT_TRUE(s.lights.empty());
+  EXPECT_FALSE(s.features.has(Feature::Headlight));
+}
+
+}  // namespace
+}  // namespace glint
