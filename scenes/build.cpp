@@ -21,6 +21,7 @@
 #include "materials/pbr.h"
 #include "materials/procedural.h"
 #include "materials/specular.h"
+#include "scenes/build_media.h"
 
 namespace glint {
 
@@ -683,6 +684,7 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
   scene.features.set(Feature::Terrain, terrain);
   scene.features.set(Feature::Lens, lens);
   scene.features.set(Feature::MotionBlur, moving);
+  addMedia(desc, &scene);
 
   auto accelStart = Clock::now();
   scene.accel = makeAccelerator(desc.render.accel, scene.geometry);
