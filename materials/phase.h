@@ -28,7 +28,7 @@ inline float henyeyGreenstein(float cosTheta, float g) {
 // The cosine of a direction drawn from the HG density (inverse CDF), for u in [0, 1).
 inline float sampleHenyeyGreensteinCos(float g, float u) {
   // Near g = 0 the inverse CDF divides 0 by 0; the isotropic law is its limit there.
-  if (std::abs(g) < 1e-3f) return std::clamp(1 - 2 * u, -1.0f, 1.0f);
+  if (std::abs(g) < 1e-3f) return std::clamp(2 * u - 1, -1.0f, 1.0f);
   const float s = (1 - g * g) / (1 - g + 2 * g * u);
   return std::clamp((1 + g * g - s * s) / (2 * g), -1.0f, 1.0f);
 }

@@ -265,6 +265,22 @@ VolumeSegment MediaScene::integrate(const RenderScene& scene, const Ray& ray, fl
       const Coefficients c = coefficients(scratch.active, start);
       seg.L += seg.T * c.emission * sourceIntegral(c.sigmaT, s);
       seg.T *= expNeg(c.sigmaT * s);
+    } else if (track_ && homogeneous) {
+      // Exact transmittance; the in-scattering integral from one distance sample with density
+      // proportional to exp(-mu x) on [0, s], mu the channels' mean sigma_t.
+      const Coefficients c = coefficients(scratch.active, start);
+      const float mu = (c.sigmaT.x + c.sigmaT.y + c.sigmaT.z) / 3;
+      const float u = sampler.get1D();
+      float x = u * s, pdf = 1 / s;
+      if (mu * s > 1e-4f) {
+        const float norm = -std::expm1(-mu * s);
+        x = std::min(s, -std::log1p(-u * norm) / mu);
+        pdf = mu * std::exp(-mu * x) / norm;
+      }
+      const Vec3f p = start + dUnit * x;
+      const Rgb S = source(scene, scratch.active, p, dUnit, ray.time, c, sampler, counters);
+      seg.L += seg.T * S * expNeg(c.sigmaT * x) / pdf;
+      seg.T *= expNeg(c.sigmaT * s);
     } else if (track_) {
       if (majorant <= 0) continue;
       // Ratio tracking with the source gathered at every tentative collision: the collisions

@@ -17,7 +17,9 @@
 // forms; heterogeneous media are either marched with fixed steps ("march": one jittered offset
 // per camera sample, steps of `volumeStep`, 0 = 1/64 of the region's diagonal; biased by the
 // step, consistent) or tracked against the density majorant ("track": ratio tracking for
-// transmittance and in-scattering at every tentative collision; unbiased, noisier).
+// transmittance and in-scattering at every tentative collision, or for homogeneous stretches
+// exact transmittance and one exponentially distributed in-scattering point; unbiased,
+// noisier).
 #pragma once
 
 #include <cstdint>

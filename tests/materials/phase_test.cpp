@@ -40,7 +40,7 @@ TEST(HenyeyGreenstein, SamplingIsContinuousAcrossGZero) {
   for (float u : {0.05f, 0.3f, 0.5f, 0.8f, 0.99f}) {
     EXPECT_NEAR(sampleHenyeyGreensteinCos(0.99e-3f, u), sampleHenyeyGreensteinCos(1.01e-3f, u),
                 5e-3f);
-    EXPECT_NEAR(sampleHenyeyGreensteinCos(0.0f, u), 1 - 2 * u, 1e-6f);
+    EXPECT_NEAR(sampleHenyeyGreensteinCos(0.0f, u), 2 * u - 1, 1e-6f);
   }
 }
 

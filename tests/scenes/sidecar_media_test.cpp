@@ -79,7 +79,6 @@ TEST(SidecarMedia, BuildsMediaAndSetsTheFeature) {
   EXPECT_TRUE(scene.features.has(Feature::Volumes));
   EXPECT_EQ(scene.media->regionCount(), 2u);
   // The ball region (radius 2 at the origin) is crossed over 4 units by a ray through it.
-  Sampler sampler(1, 0);
   const Ray ray{{-10, 0, 0}, {1, 0, 0}};
   std::vector<MediaScene::Interval> iv;
   scene.media->intervals(ray, kInfinity, &iv);
