@@ -126,8 +126,8 @@ TEST(SidecarMedia, ReadsVolFiles) {
 
 TEST(SidecarMedia, RejectsBadInput) {
   EXPECT_SCENE_ERROR(applyError(R"([{"sigma_a": -1}])"), kFile, "/media/0/sigma_a", ">= 0");
-  EXPECT_SCENE_ERROR(applyError(R"([{"sigma_s": [0.1, -0.2, 0]}])"), kFile, "/media/0/sigma_s",
-                     ">= 0");
+  EXPECT_SCENE_ERROR(applyError(R"([{"sigma_s": [0.1, -0.2, 0]}])"), kFile,
+                     "/media/0/sigma_s/1", ">= 0");
   EXPECT_SCENE_ERROR(applyError(R"([{"emission": [1, 2]}])"), kFile, "/media/0/emission", "");
   EXPECT_SCENE_ERROR(applyError(R"([{"g": 1}])"), kFile, "/media/0/g", "< 1");
   EXPECT_SCENE_ERROR(applyError(R"([{"g": -1.5}])"), kFile, "/media/0/g", "> -1");
