@@ -12,6 +12,7 @@
 #include "renderer/features.h"
 #include "renderer/light.h"
 #include "renderer/light_sampler.h"
+#include "renderer/volume.h"
 
 namespace glint {
 
@@ -37,6 +38,8 @@ struct RenderScene {
   std::string cameraName;
   Rgb background{0, 0, 0};  // what escaping rays see when there is no environment light
   SceneFeatures features;
+  // Participating media (renderer/volume.h); null when the scene has none (Feature::Volumes).
+  std::unique_ptr<MediaScene> media;
   std::unique_ptr<Accelerator> accel;  // built last, over `geometry`
 
   // Radiance along an escaping ray of unit direction d: the environment lights', or the

@@ -8,11 +8,13 @@ namespace glint {
 WhittedIntegrator::WhittedIntegrator(const RenderScene& scene, int maxDepth)
     : Integrator(scene), maxDepth_(maxDepth) {
   shadows_ = scene.features.has(Feature::Shadows);
+  media_ = scene.features.has(Feature::Volumes) ? scene.media.get() : nullptr;
   cameraCone_ = scene.camera.pixelCone();
 }
 
 Rgb WhittedIntegrator::LiFromHit(const Ray& ray, const Hit* hit, Sampler& sampler,
                                  RayCounters& counters, PathAovs& aovs) const {
+  if (media_) return throughMedia(ray, hit, cameraCone_, 0, sampler, counters, &aovs);
   return shade(ray, hit, cameraCone_, 0, sampler, counters, &aovs);
 }
 
@@ -21,6 +23,8 @@ Rgb WhittedIntegrator::trace(const Ray& ray, const RayCone& cone, int depth, Sam
   ++counters.secondary;
   Hit hit;
   bool found = scene_.accel->closestHit(ray, &hit);
+  if (media_)
+    return throughMedia(ray, found ? &hit : nullptr, cone, depth, sampler, counters, nullptr);
   return shade(ray, found ? &hit : nullptr, cone, depth, sampler, counters, nullptr);
 }
 
@@ -77,6 +81,16 @@ Rgb WhittedIntegrator::shade(const Ray& ray, const Hit* found, const RayCone& co
   return opacity < 1 ? L * opacity + behind * (1 - opacity) : L;
 }
 
+Rgb WhittedIntegrator::throughMedia(const Ray& ray, const Hit* hit, const RayCone& cone,
+                                    int depth, Sampler& sampler, RayCounters& counters,
+                                    PathAovs* aovs) const {
+  const VolumeSegment seg =
+      media_->integrate(scene_, ray, hit ? hit->t : kInfinity, sampler, counters);
+  // Behind an opaque medium the surface cannot be seen: no need to shade it (AOVs aside).
+  if (maxComponent(seg.T) <= 0 && !aovs) return seg.L;
+  return seg.T * shade(ray, hit, cone, depth, sampler, counters, aovs) + seg.L;
+}
+
 Rgb WhittedIntegrator::directLight(const SurfaceInteraction& si, const Material& material,
                                    float time, Sampler& sampler, RayCounters& counters) const {
   Rgb L;
@@ -93,6 +107,11 @@ Rgb WhittedIntegrator::directLight(const SurfaceInteraction& si, const Material&
       Ray shadow = shadowRay(ctx, *ls);
       ++counters.shadow;
       if (scene_.accel->anyHit(shadow)) continue;
+      if (media_) {
+        const Rgb Tr = media_->transmittance(shadow, shadow.tMax, sampler);
+        if (maxComponent(Tr) <= 0) continue;
+        f *= Tr;
+      }
     }
     L += f * ls->L * (cosTheta / ls->pdf);
   }

@@ -5,6 +5,12 @@
 //
 // Shadow rays stop at the first surface, glass included: light reaches a point behind glass
 // only along paths the path tracer (issue 7) samples.
+//
+// Participating media (when the scene has them, Feature::Volumes): every camera and secondary
+// ray's segment up to its hit (or to where it leaves the media) adds what the media emit and,
+// in the "single" volume mode, scatter from the lights (renderer/volume.h), and attenuates
+// what lies behind; shadow rays are attenuated by the media they cross. The "multiple" mode
+// is single scattering here.
 #pragma once
 
 #include <cstdint>
@@ -28,12 +34,16 @@ class WhittedIntegrator final : public Integrator {
   // Traces a secondary ray and shades what it finds.
   Rgb trace(const Ray& ray, const RayCone& cone, int depth, Sampler& sampler,
             RayCounters& counters) const;
+  // The radiance `surface` (found at `hit`, null: escaped) seen through the media along `ray`.
+  Rgb throughMedia(const Ray& ray, const Hit* hit, const RayCone& cone, int depth,
+                   Sampler& sampler, RayCounters& counters, PathAovs* aovs) const;
   // Direct light at a lit surface point: sum over all lights, shadow rays when enabled.
   Rgb directLight(const SurfaceInteraction& si, const Material& material, float time,
                   Sampler& sampler, RayCounters& counters) const;
 
   int maxDepth_;
   bool shadows_;
+  const MediaScene* media_;  // null without media: rays take the media-free path
   RayCone cameraCone_;
 };
 

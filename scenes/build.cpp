@@ -23,6 +23,7 @@
 #include "materials/specular.h"
 #include "renderer/integrator.h"
 #include "scenes/build_lights.h"
+#include "scenes/build_media.h"
 
 namespace glint {
 
@@ -694,6 +695,7 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
   scene.features.set(Feature::Terrain, terrain);
   scene.features.set(Feature::Lens, lens);
   scene.features.set(Feature::MotionBlur, moving);
+  addMedia(desc, &scene);
   scene.features.set(Feature::Indirect,
                      resolveIntegratorType(scene, desc.render.integrator) == "path");
 

@@ -267,6 +267,34 @@ struct ObjectDesc {
   SourceLocation where;
 };
 
+// ---------------------------------------------------------------------------------------------
+// Participating media (sidecar "media"; materials/medium.h, renderer/volume.h)
+// ---------------------------------------------------------------------------------------------
+
+enum class DensityType { Constant, Grid, Noise, Exponential };
+
+// A medium filling a region: a convex solid (`shape` placed by worldFromRegion), the solid of
+// the analytic object `object`, or (neither) the whole scene.
+struct MediumDesc {
+  std::string name;
+  enum class Region { Scene, Shape, Object } region = Region::Scene;
+  ShapeDesc shape;            // Region::Shape (a solid: sphere, box, capped cylinder or cone)
+  Transform worldFromRegion;  // Region::Shape
+  int object = -1;            // Region::Object: index into SceneDescription::objects
+  Rgb sigmaA{0, 0, 0}, sigmaS{0, 0, 0}, emission{0, 0, 0};
+  float g = 0;
+  DensityType density = DensityType::Constant;
+  float value = 1;                                  // constant
+  int gridRes[3] = {0, 0, 0};                       // grid (x fastest in gridValues)
+  std::vector<float> gridValues;
+  float noiseScale = 1, noiseThreshold = 0;         // noise
+  int noiseOctaves = 4;
+  uint64_t noiseSeed = 0;
+  Vec3f up{0, 1, 0};                                // exponential
+  float falloff = 1, h0 = 0;
+  SourceLocation where;
+};
+
 struct SceneDescription {
   std::string file;  // the scene file the user named
   std::vector<ImageDesc> images;
@@ -278,6 +306,7 @@ struct SceneDescription {
   std::vector<LightDesc> lights;
   std::optional<EnvironmentDesc> environment;
   std::vector<ObjectDesc> objects;  // analytic objects from the sidecar
+  std::vector<MediumDesc> media;    // participating media from the sidecar
   // The transform hierarchy of everything animated (glTF nodes with animated ancestry,
   // sidecar objects with keyframes); items refer to it by transformNode.
   std::vector<NodeDesc> nodes;

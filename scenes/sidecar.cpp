@@ -11,6 +11,7 @@
 #include "scenes/json_util.h"
 #include "scenes/sidecar_lights.h"
 #include "scenes/sidecar_materials.h"
+#include "scenes/sidecar_media.h"
 #include "scenes/sidecar_objects.h"
 
 namespace glint {
@@ -397,6 +398,7 @@ void applySceneJson(const nlohmann::json& doc, const std::string& file, SceneJso
   readEnvironment(root, file, scene);
   readMaterials(root, scene);
   readObjects(root, file, scene);
+  readMedia(root, file, scene);
   JsonReader* render = root.optionalObject("render");
   if (render) readRender(*render, &scene->render);
   scene->render.time = time;

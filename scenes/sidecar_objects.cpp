@@ -35,6 +35,8 @@ int readMaterialRef(JsonReader& r, const SceneDescription& scene) {
   return materialByName(scene, r.get<std::string>("material"), r.where("material"));
 }
 
+}  // namespace
+
 // The fields of one primitive (the "type" key is read by the caller).
 ShapeDesc readShape(JsonReader& r, ShapeType type) {
   ShapeDesc s;
@@ -95,6 +97,8 @@ bool isSolid(const ShapeDesc& s) {
       return false;
   }
 }
+
+namespace {
 
 const std::vector<std::pair<std::string, CsgOp>> kCsgOps = {
     {"union", CsgOp::Union},

@@ -14,6 +14,11 @@ namespace glint {
 // are relative to it). Material names must exist in scene->materials.
 void readObjects(JsonReader& root, const std::string& file, SceneDescription* scene);
 
+// The keys of one primitive of type `type` (the caller reads "type" itself).
+ShapeDesc readShape(JsonReader& r, ShapeType type);
+// Whether a primitive is a closed convex solid (CSG leaves, medium regions).
+bool isSolid(const ShapeDesc& s);
+
 // The optional "animation" of an object, camera or light: translation, rotation and scale
 // keyframes (T(t) · R(t) · S(t), applied after the item's own transform), as a NodeDesc
 // without parent. Empty when `item` has no "animation".

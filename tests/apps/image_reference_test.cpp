@@ -55,7 +55,7 @@ TEST_P(ImageReference, MatchesTheStoredReference) {
 
 INSTANTIATE_TEST_SUITE_P(Scenes, ImageReference,
                          testing::Values("primitives", "transforms", "csg", "terrain", "procedural",
-                                         "bump_wall", "glass"),
+                                         "bump_wall", "glass", "fog"),
                          [](const testing::TestParamInfo<const char*>& p) {
                            return std::string(p.param);
                          });

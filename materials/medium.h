@@ -1,0 +1,134 @@
+// glint — participating media: what a medium is made of, independent of how rays cross it
+// (renderer/volume.h integrates along rays; scenes/build_media.cpp builds media from the
+// sidecar's "media").
+//
+// A Medium has base coefficients per unit length — absorption sigma_a, scattering sigma_s
+// (RGB), emission Le (RGB radiance emitted per unit length) — a Henyey–Greenstein g
+// (materials/phase.h) and a density field d(p) >= 0 that scales all three:
+//   sigma_t(p) = (sigma_a + sigma_s) d(p),   emitted radiance per unit length = Le d(p).
+// A homogeneous segment of length s thus adds Le / sigma_t (1 - exp(-sigma_t s)) (Le s where
+// sigma_t = 0) and transmits exp(-sigma_t s).
+//
+// Density fields are evaluated in the object space of the region the medium fills, and report
+// a maximum (the majorant for tracking) over that region's object-space bounds.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "geometry/math.h"
+#include "materials/noise.h"
+
+namespace glint {
+
+// ---------------------------------------------------------------------------------------------
+// Density fields
+// ---------------------------------------------------------------------------------------------
+
+class DensityField {
+ public:
+  virtual ~DensityField() = default;
+  // The density at an object-space point (>= 0, finite).
+  virtual float density(Vec3f p) const = 0;
+  // An upper bound of density() over the object-space box `region`.
+  virtual float maxDensity(const Bounds3f& region) const = 0;
+  // True when density() is the same everywhere: transmittance is then exp(-sigma_t s).
+  virtual bool isConstant() const { return false; }
+};
+
+// The same density everywhere (a homogeneous medium).
+class ConstantDensity final : public DensityField {
+ public:
+  explicit ConstantDensity(float value) : value_(value) {}
+  float density(Vec3f) const override { return value_; }
+  float maxDensity(const Bounds3f&) const override { return value_; }
+  bool isConstant() const override { return true; }
+
+ private:
+  float value_;
+};
+
+// A grid of nx x ny x nz values (x fastest) whose nodes span the box `bounds`: node (0,0,0) at
+// bounds.lower, node (nx-1, ny-1, nz-1) at bounds.upper (Mitsuba's gridvolume convention);
+// trilinear in between, clamped to the boundary nodes outside. Values < 0 are read as 0.
+class GridDensity final : public DensityField {
+ public:
+  GridDensity(int nx, int ny, int nz, std::vector<float> values, const Bounds3f& bounds);
+  float density(Vec3f p) const override;
+  float maxDensity(const Bounds3f&) const override { return max_; }
+
+ private:
+  float at(int x, int y, int z) const { return values_[(size_t(z) * ny_ + y) * nx_ + x]; }
+  int nx_, ny_, nz_;
+  std::vector<float> values_;
+  Bounds3f bounds_;
+  float max_ = 0;
+};
+
+// Clouds from fractal Perlin noise: n = 0.5 + 0.5 fbm(scale p) / (sum of octave amplitudes),
+// clamped to [0, 1]; density = max(0, n - threshold) / (1 - threshold), in [0, 1].
+class NoiseDensity final : public DensityField {
+ public:
+  NoiseDensity(float scale, int octaves, float threshold, uint64_t seed);
+  float density(Vec3f p) const override;
+  float maxDensity(const Bounds3f&) const override { return 1; }
+
+ private:
+  PerlinNoise noise_;
+  float scale_;
+  int octaves_;
+  float threshold_;
+  float amplitudeSum_;
+};
+
+// Height fog: density = exp(-falloff (dot(p, up) - h0)), densest below h0 for falloff > 0.
+// The exponent is clamped at 60 so that far below h0 the density stays finite.
+class ExponentialDensity final : public DensityField {
+ public:
+  ExponentialDensity(Vec3f up, float falloff, float h0);
+  float density(Vec3f p) const override;
+  float maxDensity(const Bounds3f& region) const override;
+
+ private:
+  Vec3f up_;  // unit
+  float falloff_, h0_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Grid files
+// ---------------------------------------------------------------------------------------------
+
+struct VolumeGrid {
+  int nx = 0, ny = 0, nz = 0;
+  std::vector<float> values;  // x fastest, then y, then z
+  Bounds3f bounds;            // the box the file gives (informational: regions place grids)
+};
+
+// Reads Mitsuba's documented binary grid format: "VOL", version byte 3, int32 encoding (1 =
+// float32), int32 xres, yres, zres, int32 channels (must be 1), 6 float32 bounding box
+// (xmin, ymin, zmin, xmax, ymax, zmax), then xres*yres*zres float32 values, x fastest; all
+// little-endian. Throws std::runtime_error with the reason on anything else.
+VolumeGrid readVolFile(const std::string& path);
+// Writes a grid in that format (tests, generated grids). Throws std::runtime_error.
+void writeVolFile(const std::string& path, const VolumeGrid& grid);
+
+// ---------------------------------------------------------------------------------------------
+// Medium
+// ---------------------------------------------------------------------------------------------
+
+struct Medium {
+  std::string name;
+  Rgb sigmaA{0, 0, 0}, sigmaS{0, 0, 0};  // per unit length, at density 1
+  Rgb Le{0, 0, 0};                       // emitted radiance per unit length, at density 1
+  float g = 0;                           // Henyey–Greenstein asymmetry, |g| < 1
+  std::unique_ptr<DensityField> density;
+
+  Rgb sigmaT() const { return sigmaA + sigmaS; }
+  bool emits() const { return maxComponent(Le) > 0; }
+  bool scatters() const { return maxComponent(sigmaS) > 0; }
+  bool homogeneous() const { return density->isConstant(); }
+};
+
+}  // namespace glint

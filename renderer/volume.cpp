@@ -1,0 +1,381 @@
+// glint — media along rays.
+#include "renderer/volume.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "materials/phase.h"
+#include "renderer/integrator.h"
+#include "renderer/scene.h"
+
+namespace glint {
+
+namespace {
+
+// Steps per region diagonal when no step is configured.
+constexpr float kAutoStepsPerDiagonal = 64;
+// A bound on marching steps per interval, so a tiny step on a huge region cannot hang a render.
+constexpr int kMaxSteps = 1 << 14;
+// Tracking: below this throughput, Russian roulette decides whether the walk goes on.
+constexpr float kRouletteThreshold = 0.05f;
+
+// The ray's parameters inside a world-space box; false when it misses.
+bool clipToBox(const Ray& ray, const Bounds3f& box, float* t0, float* t1) {
+  for (int a = 0; a < 3; ++a) {
+    const float inv = 1 / ray.d[a];
+    float tNear = (box.lower[a] - ray.o[a]) * inv;
+    float tFar = (box.upper[a] - ray.o[a]) * inv;
+    if (tNear > tFar) std::swap(tNear, tFar);
+    // NaN (origin on a slab plane of a parallel ray) leaves the bounds as they are.
+    if (tNear > *t0) *t0 = tNear;
+    if (tFar < *t1) *t1 = tFar;
+    if (*t0 > *t1) return false;
+  }
+  return true;
+}
+
+// (1 - exp(-sigma_t s)) / sigma_t per channel: what a constant source of 1 per unit length
+// adds over a homogeneous stretch of length s (s itself where sigma_t = 0).
+Rgb sourceIntegral(Rgb sigmaT, float s) {
+  Rgb out;
+  for (int c = 0; c < 3; ++c)
+    out[c] = sigmaT[c] * s > 1e-6f ? -std::expm1(-sigmaT[c] * s) / sigmaT[c] : s;
+  return out;
+}
+
+Rgb expNeg(Rgb x) { return {std::exp(-x.x), std::exp(-x.y), std::exp(-x.z)}; }
+
+// Sorted distinct interval ends: the pieces between consecutive ones have a fixed set of
+// active regions.
+void breakpoints(const std::vector<MediaScene::Interval>& iv, std::vector<float>* out) {
+  out->clear();
+  for (const auto& i : iv) out->push_back(i.t0), out->push_back(i.t1);
+  std::sort(out->begin(), out->end());
+  out->erase(std::unique(out->begin(), out->end()), out->end());
+}
+
+void activeIn(const std::vector<MediaScene::Interval>& iv, float a, float b,
+              std::vector<uint32_t>* out) {
+  out->clear();
+  for (const auto& i : iv)
+    if (i.t0 <= a && i.t1 >= b) out->push_back(i.region);
+}
+
+// Per-thread scratch lists: no allocation per ray once warm. `integrate` and `transmittance`
+// (which it calls for shadow rays) use separate ones.
+struct Scratch {
+  std::vector<MediaScene::Interval> intervals;
+  std::vector<float> cuts;
+  std::vector<uint32_t> active;
+};
+Scratch& integrateScratch() {
+  thread_local Scratch s;
+  return s;
+}
+Scratch& transmittanceScratch() {
+  thread_local Scratch s;
+  return s;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Regions
+// ---------------------------------------------------------------------------------------------
+
+MediaScene::MediaScene(const IntegratorSettings& settings)
+    : single_(settings.volume != "emission"),
+      track_(settings.volumeEstimator == "track"),
+      step_(settings.volumeStep) {}
+
+void MediaScene::finishRegion(Region* r, const Bounds3f& objectBounds) {
+  r->majorant = maxComponent(r->medium->sigmaT()) * r->medium->density->maxDensity(objectBounds);
+  r->step = step_ > 0 ? step_ : length(r->box.diagonal()) / kAutoStepsPerDiagonal;
+}
+
+void MediaScene::addRegion(std::unique_ptr<Medium> medium, std::unique_ptr<Shape> shape,
+                           const Transform& worldFromObject) {
+  Region r;
+  r.medium = std::move(medium);
+  r.shape = std::move(shape);
+  r.placed.emplace(r.shape.get(), worldFromObject);
+  r.objectFromWorld = worldFromObject.inverse();
+  r.box = r.placed->bounds();
+  const Bounds3f objectBounds = r.shape->bounds();
+  finishRegion(&r, objectBounds);
+  regions_.push_back(std::move(r));
+}
+
+void MediaScene::addSceneRegion(std::unique_ptr<Medium> medium, const Bounds3f& box) {
+  Region r;
+  r.medium = std::move(medium);
+  r.box = box;
+  finishRegion(&r, box);
+  regions_.push_back(std::move(r));
+}
+
+void MediaScene::intervals(const Ray& ray, float tMax, std::vector<Interval>* out) const {
+  out->clear();
+  for (uint32_t i = 0; i < regions_.size(); ++i) {
+    const Region& r = regions_[i];
+    float t0 = std::max(0.0f, ray.tMin), t1 = tMax;
+    if (r.placed) {
+      Span span;
+      if (!r.placed->span(ray, &span)) continue;
+      t0 = std::max(t0, span.enter.t), t1 = std::min(t1, span.exit.t);
+    } else if (!clipToBox(ray, r.box, &t0, &t1)) {
+      continue;
+    }
+    // An unbounded end (a ray that never leaves) would make every estimator diverge; regions
+    // are bounded, so this only guards degenerate rays.
+    if (t0 < t1 && std::isfinite(t1)) out->push_back({t0, t1, i});
+  }
+}
+
+MediaScene::Coefficients MediaScene::coefficients(const std::vector<uint32_t>& active,
+                                                  Vec3f p) const {
+  Coefficients c;
+  for (uint32_t i : active) {
+    const Region& r = regions_[i];
+    const float d = density(r, p);
+    c.sigmaT += r.medium->sigmaT() * d;
+    c.sigmaS += r.medium->sigmaS * d;
+    c.emission += r.medium->Le * d;
+  }
+  return c;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Transmittance
+// ---------------------------------------------------------------------------------------------
+
+Rgb MediaScene::regionTransmittance(const Region& r, const Ray& ray, float t0, float t1,
+                                    Sampler& sampler) const {
+  const float len = length(ray.d);
+  const float s = (t1 - t0) * len;  // world-space length
+  const Medium& m = *r.medium;
+  if (m.homogeneous()) return expNeg(m.sigmaT() * (m.density->density({}) * s));
+  if (r.majorant <= 0) return {1, 1, 1};
+  const Vec3f dUnit = ray.d / len;
+  const Vec3f start = ray.at(t0);
+  if (track_) {
+    // Ratio tracking (Novák et al. 2014): tentative collisions at the majorant's rate, each
+    // multiplying by the probability of it being a null collision.
+    Rgb T{1, 1, 1};
+    float x = 0;
+    for (;;) {
+      x -= std::log1p(-sampler.get1D()) / r.majorant;
+      if (x >= s) return T;
+      const float d = density(r, start + dUnit * x);
+      T *= max(Rgb{0, 0, 0}, Rgb{1, 1, 1} - m.sigmaT() * (d / r.majorant));
+      const float q = maxComponent(T);
+      if (q <= 0) return {};
+      if (q < kRouletteThreshold) {
+        const float survive = q / kRouletteThreshold;
+        if (sampler.get1D() >= survive) return {};
+        T = T / survive;
+      }
+    }
+  }
+  // Fixed steps, all shifted by one jittered offset.
+  const int n = std::clamp(int(std::ceil(s / r.step)), 1, kMaxSteps);
+  const float ds = s / float(n);
+  const float u = sampler.get1D();
+  float depth = 0;
+  for (int k = 0; k < n; ++k) depth += density(r, start + dUnit * ((float(k) + u) * ds));
+  return expNeg(m.sigmaT() * (depth * ds));
+}
+
+Rgb MediaScene::transmittance(const Ray& ray, float tMax, Sampler& sampler) const {
+  Scratch& scratch = transmittanceScratch();
+  intervals(ray, tMax, &scratch.intervals);
+  // Coefficients of overlapping regions add, so their transmittances multiply.
+  Rgb T{1, 1, 1};
+  for (const Interval& i : scratch.intervals) {
+    T *= regionTransmittance(regions_[i.region], ray, i.t0, i.t1, sampler);
+    if (maxComponent(T) <= 0) return {};
+  }
+  return T;
+}
+
+// ---------------------------------------------------------------------------------------------
+// In-scattering
+// ---------------------------------------------------------------------------------------------
+
+Rgb MediaScene::source(const RenderScene& scene, const std::vector<uint32_t>& active, Vec3f p,
+                       Vec3f d, float time, const Coefficients& c, Sampler& sampler,
+                       RayCounters& counters) const {
+  Rgb S = c.emission;
+  if (!single_ || maxComponent(c.sigmaS) <= 0) return S;
+  const LightSampleContext ctx = LightSampleContext::inMedium(p, time);
+  for (const auto& light : scene.lights) {
+    const Vec2f u = light->isDelta() ? Vec2f{0.5f, 0.5f} : sampler.get2D();
+    std::optional<LightSample> ls = light->sampleLi(ctx, u);
+    if (!ls || ls->pdf <= 0 || maxComponent(ls->L) <= 0) continue;
+    // Each region scatters with its own phase function.
+    Rgb scatter;
+    const float cosTheta = dot(ls->wi, d);
+    for (uint32_t i : active) {
+      const Region& r = regions_[i];
+      if (!r.medium->scatters()) continue;
+      scatter += r.medium->sigmaS * (density(r, p) * henyeyGreenstein(cosTheta, r.medium->g));
+    }
+    if (maxComponent(scatter) <= 0) continue;
+    Rgb Tr{1, 1, 1};
+    if (light->castsShadows()) {
+      const Ray shadow = shadowRay(ctx, *ls);
+      ++counters.shadow;
+      if (scene.accel->anyHit(shadow)) continue;
+      Tr = transmittance(shadow, shadow.tMax, sampler);
+    }
+    S += scatter * ls->L * Tr / ls->pdf;
+  }
+  return S;
+}
+
+VolumeSegment MediaScene::integrate(const RenderScene& scene, const Ray& ray, float tMax,
+                                    Sampler& sampler, RayCounters& counters) const {
+  VolumeSegment seg;
+  Scratch& scratch = integrateScratch();
+  intervals(ray, tMax, &scratch.intervals);
+  if (scratch.intervals.empty()) return seg;
+  const float len = length(ray.d);
+  const Vec3f dUnit = ray.d / len;
+  // One jittered offset for every marched stretch of this camera sample.
+  const float jitter = track_ ? 0 : sampler.get1D();
+  breakpoints(scratch.intervals, &scratch.cuts);
+  for (size_t k = 0; k + 1 < scratch.cuts.size(); ++k) {
+    const float a = scratch.cuts[k], b = scratch.cuts[k + 1];
+    activeIn(scratch.intervals, a, b, &scratch.active);
+    if (scratch.active.empty() || !(b > a)) continue;
+    const float s = (b - a) * len;
+    const Vec3f start = ray.at(a);
+    bool homogeneous = true, scatters = false;
+    float step = kInfinity, majorant = 0;
+    for (uint32_t i : scratch.active) {
+      const Region& r = regions_[i];
+      homogeneous = homogeneous && r.medium->homogeneous();
+      scatters = scatters || r.medium->scatters();
+      step = std::min(step, r.step);
+      majorant += r.majorant;
+    }
+    const bool sourceVaries = single_ && scatters;
+    if (homogeneous && !sourceVaries) {
+      // Constant coefficients and source: the closed form, exactly.
+      const Coefficients c = coefficients(scratch.active, start);
+      seg.L += seg.T * c.emission * sourceIntegral(c.sigmaT, s);
+      seg.T *= expNeg(c.sigmaT * s);
+    } else if (track_ && homogeneous) {
+      // Exact transmittance; the in-scattering integral from one distance sample with density
+      // proportional to exp(-mu x) on [0, s], mu the channels' mean sigma_t.
+      const Coefficients c = coefficients(scratch.active, start);
+      const float mu = (c.sigmaT.x + c.sigmaT.y + c.sigmaT.z) / 3;
+      const float u = sampler.get1D();
+      float x = u * s, pdf = 1 / s;
+      if (mu * s > 1e-4f) {
+        const float norm = -std::expm1(-mu * s);
+        x = std::min(s, -std::log1p(-u * norm) / mu);
+        pdf = mu * std::exp(-mu * x) / norm;
+      }
+      const Vec3f p = start + dUnit * x;
+      const Rgb S = source(scene, scratch.active, p, dUnit, ray.time, c, sampler, counters);
+      seg.L += seg.T * S * expNeg(c.sigmaT * x) / pdf;
+      seg.T *= expNeg(c.sigmaT * s);
+    } else if (track_) {
+      if (majorant <= 0) continue;
+      // Ratio tracking with the source gathered at every tentative collision: the collisions
+      // form a Poisson process of rate `majorant`, so sum T(x_i) S(x_i) / majorant estimates
+      // the integral of T S, with T(x_i) the ratio-tracking estimate up to x_i.
+      float x = 0;
+      for (;;) {
+        x -= std::log1p(-sampler.get1D()) / majorant;
+        if (x >= s) break;
+        const Vec3f p = start + dUnit * x;
+        const Coefficients c = coefficients(scratch.active, p);
+        seg.L += seg.T * source(scene, scratch.active, p, dUnit, ray.time, c, sampler, counters) /
+                 majorant;
+        seg.T *= max(Rgb{0, 0, 0}, Rgb{1, 1, 1} - c.sigmaT / majorant);
+        const float q = maxComponent(seg.T);
+        if (q <= 0) return {Rgb{0, 0, 0}, seg.L};
+        if (q < kRouletteThreshold) {
+          const float survive = q / kRouletteThreshold;
+          if (sampler.get1D() >= survive) return {Rgb{0, 0, 0}, seg.L};
+          seg.T = seg.T / survive;
+        }
+      }
+    } else {
+      // Fixed steps: coefficients and source from one jittered point per step, integrated
+      // exactly over the step as if constant there.
+      const int n = std::clamp(int(std::ceil(s / step)), 1, kMaxSteps);
+      const float ds = s / float(n);
+      for (int j = 0; j < n; ++j) {
+        const Vec3f p = start + dUnit * ((float(j) + jitter) * ds);
+        const Coefficients c = coefficients(scratch.active, p);
+        const Rgb S = source(scene, scratch.active, p, dUnit, ray.time, c, sampler, counters);
+        seg.L += seg.T * S * sourceIntegral(c.sigmaT, ds);
+        seg.T *= expNeg(c.sigmaT * ds);
+      }
+    }
+    if (maxComponent(seg.T) <= 0) return {Rgb{0, 0, 0}, seg.L};
+  }
+  return seg;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Free-flight sampling
+// ---------------------------------------------------------------------------------------------
+
+MediumEvent MediaScene::sampleScattering(const Ray& ray, float tMax, Sampler& sampler) const {
+  MediumEvent event;
+  Scratch& scratch = integrateScratch();
+  intervals(ray, tMax, &scratch.intervals);
+  if (scratch.intervals.empty()) return event;
+  const float len = length(ray.d);
+  const Vec3f dUnit = ray.d / len;
+  breakpoints(scratch.intervals, &scratch.cuts);
+  auto mean = [](Rgb c) { return (c.x + c.y + c.z) / 3; };
+  for (size_t k = 0; k + 1 < scratch.cuts.size(); ++k) {
+    const float a = scratch.cuts[k], b = scratch.cuts[k + 1];
+    activeIn(scratch.intervals, a, b, &scratch.active);
+    if (scratch.active.empty() || !(b > a)) continue;
+    float majorant = 0;
+    for (uint32_t i : scratch.active) majorant += regions_[i].majorant;
+    if (majorant <= 0) continue;
+    const float s = (b - a) * len;
+    const Vec3f start = ray.at(a);
+    float x = 0;
+    for (;;) {
+      x -= std::log1p(-sampler.get1D()) / majorant;
+      if (x >= s) break;
+      const Coefficients c = coefficients(scratch.active, start + dUnit * x);
+      // Channel-averaged event probabilities (majorant >= every channel's sigma_t, so they
+      // sum to <= 1); each event weighs its true coefficient over majorant * its probability,
+      // which keeps every channel unbiased and is exactly 1 for grey media.
+      const float pAbsorb = mean(c.sigmaT - c.sigmaS) / majorant;
+      const float pScatter = mean(c.sigmaS) / majorant;
+      const float u = sampler.get1D();
+      if (u < pAbsorb) return {false, 0, Rgb{0, 0, 0}, 0};
+      if (u < pAbsorb + pScatter) {
+        event.scattered = true;
+        event.t = a + x / len;
+        event.weight *= c.sigmaS / (majorant * pScatter);
+        // The scattering region, in proportion to its share of sigma_s.
+        float pick = sampler.get1D() * mean(c.sigmaS);
+        for (uint32_t i : scratch.active) {
+          const Region& r = regions_[i];
+          event.g = r.medium->g;
+          pick -= mean(r.medium->sigmaS) * density(r, start + dUnit * x);
+          if (pick < 0) break;
+        }
+        return event;
+      }
+      const float pNull = 1 - pAbsorb - pScatter;
+      if (pNull <= 0) continue;  // only by rounding: then sigma_t = majorant, a weight of 1
+      event.weight *= max(Rgb{0, 0, 0}, Rgb{majorant, majorant, majorant} - c.sigmaT) /
+                      (majorant * pNull);
+    }
+  }
+  return event;
+}
+
+}  // namespace glint

@@ -1,0 +1,159 @@
+// glint — reading participating media from the sidecar JSON (schema: scenes/README.md, media).
+#include "scenes/sidecar_media.h"
+
+#include <filesystem>
+#include <stdexcept>
+
+#include "materials/medium.h"
+#include "scenes/sidecar_objects.h"
+
+namespace glint {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::vector<std::pair<std::string, ShapeType>> kRegionShapes = {
+    {"sphere", ShapeType::Sphere},
+    {"box", ShapeType::Box},
+    {"cylinder", ShapeType::Cylinder},
+    {"cone", ShapeType::Cone},
+};
+
+const std::vector<std::pair<std::string, DensityType>> kDensityTypes = {
+    {"constant", DensityType::Constant},
+    {"grid", DensityType::Grid},
+    {"noise", DensityType::Noise},
+    {"exponential", DensityType::Exponential},
+};
+
+// A coefficient: one number (grey) or [r, g, b], either possibly keyframed; >= 0.
+Rgb readCoefficient(JsonReader& r, std::string_view key) {
+  const nlohmann::json* v = r.take(key);
+  if (!v) return {0, 0, 0};
+  bool grey = v->is_number();
+  if (isKeyframes(*v)) {
+    const nlohmann::json& keys = (*v)["keys"];
+    grey = keys.is_array() && !keys.empty() && keys[0].is_array() && keys[0].size() == 2 &&
+           keys[0][1].is_number();
+  }
+  if (grey) {
+    const float x = r.value<float>(*v, r.where(key), kNonNegative);
+    return {x, x, x};
+  }
+  return r.value<Vec3f>(*v, r.where(key), kNonNegative);
+}
+
+void readGrid(JsonReader& d, const std::string& file, MediumDesc* m) {
+  if (d.has("file") == d.has("values"))
+    throw SceneError(d.where(), "a grid density has either 'file' (.vol) or 'values' with "
+                                "'resolution'");
+  if (d.has("file")) {
+    const std::string relative = d.get<std::string>("file");
+    const fs::path path = fs::path(relative).is_absolute()
+                              ? fs::path(relative)
+                              : fs::path(file).parent_path() / relative;
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec))
+      throw SceneError(d.where("file"), "file not found: " + path.string());
+    VolumeGrid grid;
+    try {
+      grid = readVolFile(path.string());
+    } catch (const std::runtime_error& e) {
+      throw SceneError(d.where("file"), e.what());
+    }
+    m->gridRes[0] = grid.nx, m->gridRes[1] = grid.ny, m->gridRes[2] = grid.nz;
+    m->gridValues = std::move(grid.values);
+    return;
+  }
+  std::vector<JsonItem> res = d.array("resolution");
+  if (res.size() != 3) throw SceneError(d.where("resolution"), "expected [nx, ny, nz]");
+  size_t count = 1;
+  for (int a = 0; a < 3; ++a) {
+    m->gridRes[a] = res[size_t(a)].as<int>({.ge = 1, .le = 4096});
+    count *= size_t(m->gridRes[a]);
+  }
+  std::vector<JsonItem> values = d.array("values");
+  if (values.size() != count)
+    throw SceneError(d.where("values"), "expected " + std::to_string(count) +
+                                            " values (nx * ny * nz), got " +
+                                            std::to_string(values.size()));
+  for (const JsonItem& v : values) m->gridValues.push_back(v.as<float>(kNonNegative));
+}
+
+void readDensity(JsonReader& d, const std::string& file, MediumDesc* m) {
+  m->density = d.oneOf<DensityType>("type", kDensityTypes);
+  switch (m->density) {
+    case DensityType::Constant:
+      m->value = d.get<float>("value", 1.0f, kNonNegative);
+      break;
+    case DensityType::Grid:
+      readGrid(d, file, m);
+      break;
+    case DensityType::Noise:
+      m->noiseScale = d.get<float>("scale", 1.0f, kPositive);
+      m->noiseOctaves = d.get<int>("octaves", 4, {.ge = 1, .le = 16});
+      m->noiseThreshold = d.get<float>("threshold", 0.0f, {.ge = 0, .lt = 1});
+      m->noiseSeed = d.get<uint64_t>("seed", uint64_t(0));
+      break;
+    case DensityType::Exponential:
+      m->up = d.get<Vec3f>("up", Vec3f{0, 1, 0});
+      if (m->up == Vec3f{}) throw SceneError(d.where("up"), "must not be zero");
+      m->up = normalize(m->up);
+      m->falloff = d.get<float>("falloff", 1.0f, kNonNegative);
+      m->h0 = d.get<float>("height", 0.0f);
+      break;
+  }
+}
+
+int objectByName(const SceneDescription& scene, const std::string& name,
+                 const SourceLocation& where) {
+  std::vector<std::string> names;
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    if (scene.objects[i].name == name) return int(i);
+    names.push_back(scene.objects[i].name);
+  }
+  std::string message = "no object named '" + name + "'";
+  if (std::string guess = closestMatch(name, names); !guess.empty())
+    message += "; did you mean '" + guess + "'?";
+  throw SceneError(where, message);
+}
+
+MediumDesc readMedium(JsonReader& r, const std::string& file, const SceneDescription& scene) {
+  MediumDesc m;
+  m.where = r.where();
+  m.name = r.get<std::string>("name", "");
+  if (r.has("region") && r.has("object"))
+    throw SceneError(r.where(), "a medium has 'region' (a solid), 'object' (an object's solid) "
+                                "or neither (the whole scene), not both");
+  if (JsonReader* region = r.optionalObject("region")) {
+    m.region = MediumDesc::Region::Shape;
+    m.shape = readShape(*region, region->oneOf<ShapeType>("type", kRegionShapes));
+    if (!isSolid(m.shape))
+      throw SceneError(region->where(), "a region must be a closed solid (capped cylinder or "
+                                        "cone)");
+    m.worldFromRegion = region->get<Transform>("transform", Transform());
+  } else if (r.has("object")) {
+    m.region = MediumDesc::Region::Object;
+    m.object = objectByName(scene, r.get<std::string>("object"), r.where("object"));
+    const ObjectDesc& obj = scene.objects[size_t(m.object)];
+    if (obj.kind != ObjectKind::Shape || !isSolid(obj.shape) || obj.shape.type == ShapeType::Plane)
+      throw SceneError(r.where("object"), "object '" + obj.name +
+                                              "' is not a bounded convex solid (sphere, box, "
+                                              "capped cylinder or cone)");
+  }
+  m.sigmaA = readCoefficient(r, "sigma_a");
+  m.sigmaS = readCoefficient(r, "sigma_s");
+  m.emission = readCoefficient(r, "emission");
+  m.g = r.get<float>("g", 0.0f, {.gt = -1, .lt = 1});
+  if (JsonReader* d = r.optionalObject("density")) readDensity(*d, file, &m);
+  return m;
+}
+
+}  // namespace
+
+void readMedia(JsonReader& root, const std::string& file, SceneDescription* scene) {
+  for (JsonReader* r : root.objects("media")) scene->media.push_back(readMedium(*r, file, *scene));
+}
+
+}  // namespace glint

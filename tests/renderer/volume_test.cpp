@@ -1,0 +1,425 @@
+// Participating media: transmittance and emission against closed forms, single scattering
+// against a numerically integrated reference, and rendered scenes (density 0, a volumetric
+// shadow, scenes without media).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "geometry/shapes/box.h"
+#include "materials/phase.h"
+#include "renderer/render.h"
+#include "renderer/volume.h"
+#include "scenes/build.h"
+
+namespace glint {
+namespace {
+
+std::unique_ptr<Medium> makeMedium(Rgb sigmaA, Rgb sigmaS, Rgb Le, float g,
+                                   std::unique_ptr<DensityField> density) {
+  auto m = std::make_unique<Medium>();
+  m->sigmaA = sigmaA, m->sigmaS = sigmaS, m->Le = Le, m->g = g;
+  m->density = std::move(density);
+  return m;
+}
+
+IntegratorSettings settingsFor(const std::string& estimator, const std::string& volume = "single",
+                               float step = 0) {
+  IntegratorSettings s;
+  s.volumeEstimator = estimator;
+  s.volume = volume;
+  s.volumeStep = step;
+  return s;
+}
+
+// A slab |x| <= 1 (a box, as large as needed in y and z), crossed along +x from x = -3.
+const Ray kAcross{{-3, 0.1f, 0.2f}, {2, 0, 0}};  // |d| = 2: t and distance differ
+constexpr float kSlab = 2;                       // thickness crossed
+
+void addSlab(MediaScene* media, std::unique_ptr<Medium> m) {
+  media->addRegion(std::move(m), std::make_unique<Box>(Vec3f{-1, -5, -5}, Vec3f{1, 5, 5}),
+                   Transform());
+}
+
+// Mean and standard error of `n` samples of f(sampler).
+template <class F>
+std::pair<Rgb, Rgb> meanAndError(int n, F&& f) {
+  Rgb sum, sum2;
+  for (int i = 0; i < n; ++i) {
+    Sampler sampler(mixBits(uint64_t(i) + 12345), 0);
+    Rgb v = f(sampler);
+    sum += v, sum2 += v * v;
+  }
+  Rgb mean = sum / float(n);
+  Rgb var = max(Rgb{}, sum2 / float(n) - mean * mean);
+  return {mean, Rgb{std::sqrt(var.x), std::sqrt(var.y), std::sqrt(var.z)} / std::sqrt(float(n))};
+}
+
+// ---------------------------------------------------------------------------------------------
+// Transmittance
+// ---------------------------------------------------------------------------------------------
+
+TEST(Volume, HomogeneousSlabTransmittanceIsExactlyExponential) {
+  const Rgb sigmaA{0.1f, 0.3f, 0.6f}, sigmaS{0.2f, 0.2f, 0.1f};
+  for (const char* estimator : {"march", "track"}) {
+    MediaScene media(settingsFor(estimator));
+    addSlab(&media, makeMedium(sigmaA, sigmaS, {}, 0, std::make_unique<ConstantDensity>(1.5f)));
+    Sampler sampler(1, 0);
+    const Rgb T = media.transmittance(kAcross, kInfinity, sampler);
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(T[c], std::exp(-(sigmaA[c] + sigmaS[c]) * 1.5f * kSlab), 1e-6f) << estimator;
+    // Analytic: no random numbers used.
+    EXPECT_EQ(sampler.dimension(), 0u);
+    // A segment ending inside the slab (t = 1.75: x = 0.5) crosses 1.5 units of it.
+    const Rgb Tpart = media.transmittance(kAcross, 1.75f, sampler);
+    EXPECT_NEAR(Tpart.x, std::exp(-0.3f * 1.5f * 1.5f), 1e-6f);
+  }
+}
+
+TEST(Volume, SegmentsMissingTheRegionTransmitEverything) {
+  MediaScene media(settingsFor("march"));
+  addSlab(&media, makeMedium({1, 1, 1}, {}, {}, 0, std::make_unique<ConstantDensity>(1)));
+  Sampler sampler(1, 0);
+  EXPECT_EQ(media.transmittance(kAcross, 0.9f, sampler), (Rgb{1, 1, 1}));  // ends at x = -1.2
+  const Ray away{{-3, 0, 0}, {-1, 0, 0}};
+  EXPECT_EQ(media.transmittance(away, kInfinity, sampler), (Rgb{1, 1, 1}));
+}
+
+// A grid of constant values takes the heterogeneous code paths with a known answer.
+std::unique_ptr<DensityField> constantGrid(float value) {
+  return std::make_unique<GridDensity>(3, 2, 4, std::vector<float>(24, value),
+                                       Bounds3f{{-1, -5, -5}, {1, 5, 5}});
+}
+
+TEST(Volume, HeterogeneousEstimatorsMatchTheExponential) {
+  const float sigmaT = 0.7f, density = 0.8f;
+  const float exact = std::exp(-sigmaT * density * kSlab);
+  {
+    // Marching a constant field sums equal steps: exact up to rounding.
+    MediaScene media(settingsFor("march"));
+    addSlab(&media, makeMedium({0.3f, 0.3f, 0.3f}, {0.4f, 0.4f, 0.4f}, {}, 0,
+                               constantGrid(density)));
+    Sampler sampler(1, 0);
+    EXPECT_NEAR(media.transmittance(kAcross, kInfinity, sampler).y, exact, 1e-5f);
+  }
+  // Ratio tracking is unbiased: the mean over many samples, within 4 standard errors.
+  for (bool grid : {true, false}) {
+    MediaScene media(settingsFor("track"));
+    // A noise field of threshold 0 is a heterogeneous field; scale it to the same answer only
+    // for the grid. The noise case is compared with marching at a fine step below.
+    addSlab(&media, makeMedium({0.3f, 0.3f, 0.3f}, {0.4f, 0.4f, 0.4f}, {}, 0,
+                               grid ? constantGrid(density)
+                                    : std::make_unique<NoiseDensity>(1.3f, 4, 0.2f, 7)));
+    auto [mean, error] = meanAndError(20000, [&](Sampler& s) {
+      return media.transmittance(kAcross, kInfinity, s);
+    });
+    float expected = exact;
+    if (!grid) {
+      MediaScene fine(settingsFor("march", "single", 0.001f));
+      addSlab(&fine, makeMedium({0.3f, 0.3f, 0.3f}, {0.4f, 0.4f, 0.4f}, {}, 0,
+                                std::make_unique<NoiseDensity>(1.3f, 4, 0.2f, 7)));
+      Sampler s(3, 0);
+      expected = fine.transmittance(kAcross, kInfinity, s).y;
+      EXPECT_GT(expected, exact);  // the thresholded noise is thinner than density 0.8
+      EXPECT_LT(expected, 1);
+    }
+    EXPECT_NEAR(mean.y, expected, 4 * error.y + 1e-4f) << (grid ? "grid" : "noise");
+    EXPECT_GT(error.y, 0);
+  }
+}
+
+TEST(Volume, OverlappingRegionsAddTheirCoefficients) {
+  MediaScene media(settingsFor("march"));
+  addSlab(&media, makeMedium({0.2f, 0.2f, 0.2f}, {}, {}, 0, std::make_unique<ConstantDensity>(1)));
+  addSlab(&media, makeMedium({0.5f, 0.5f, 0.5f}, {}, {}, 0, std::make_unique<ConstantDensity>(1)));
+  Sampler sampler(1, 0);
+  EXPECT_NEAR(media.transmittance(kAcross, kInfinity, sampler).x, std::exp(-0.7f * kSlab), 1e-6f);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Emission
+// ---------------------------------------------------------------------------------------------
+
+TEST(Volume, EmissionOnlyHomogeneousSegmentMatchesClosedForm) {
+  const Rgb sigmaA{0.5f, 1.0f, 0.0f}, Le{2, 3, 4};
+  const float density = 1.2f;
+  RenderScene noLights;
+  RayCounters counters;
+  for (const char* estimator : {"march", "track"}) {
+    MediaScene media(settingsFor(estimator, "emission"));
+    addSlab(&media, makeMedium(sigmaA, {0.1f, 0.1f, 0.1f}, Le, 0,
+                               std::make_unique<ConstantDensity>(density)));
+    Sampler sampler(1, 0);
+    VolumeSegment seg = media.integrate(noLights, kAcross, kInfinity, sampler, counters);
+    for (int c = 0; c < 3; ++c) {
+      const float st = (sigmaA[c] + 0.1f) * density;
+      const float exact = Le[c] * density / st * (1 - std::exp(-st * kSlab));
+      EXPECT_NEAR(seg.L[c], exact, 1e-5f * exact) << estimator << " channel " << c;
+      EXPECT_NEAR(seg.T[c], std::exp(-st * kSlab), 1e-6f);
+    }
+  }
+}
+
+TEST(Volume, HeterogeneousEmissionConvergesToTheSameAnswer) {
+  // The constant grid through the marching and tracking paths (emission mode).
+  const float sigmaT = 0.6f, Le = 2;
+  const float exact = Le / sigmaT * (1 - std::exp(-sigmaT * kSlab));
+  RenderScene noLights;
+  RayCounters counters;
+  MediaScene march(settingsFor("march", "emission"));
+  addSlab(&march, makeMedium({sigmaT, sigmaT, sigmaT}, {}, {Le, Le, Le}, 0, constantGrid(1)));
+  Sampler s(1, 0);
+  EXPECT_NEAR(march.integrate(noLights, kAcross, kInfinity, s, counters).L.x, exact, 1e-4f);
+  MediaScene track(settingsFor("track", "emission"));
+  addSlab(&track, makeMedium({sigmaT, sigmaT, sigmaT}, {}, {Le, Le, Le}, 0, constantGrid(1)));
+  auto [mean, error] = meanAndError(20000, [&](Sampler& sampler) {
+    return track.integrate(noLights, kAcross, kInfinity, sampler, counters).L;
+  });
+  EXPECT_NEAR(mean.x, exact, 4 * error.x + 1e-4f);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Single scattering
+// ---------------------------------------------------------------------------------------------
+
+// A scene with one point light and nothing else to hit (a small far-away quad keeps the
+// geometry non-empty), and a homogeneous medium in the box [-1, 1]^3.
+struct LitMedium {
+  SceneDescription desc;
+  RenderScene scene;
+  static constexpr float kSigmaA = 0.2f, kSigmaS = 0.5f, kG = 0.3f, kI = 10;
+  static constexpr Vec3f kLight{0.3f, 2, 0};
+
+  explicit LitMedium(const std::string& estimator, float step) {
+    MeshDesc m;
+    m.positions = {{100, 100, 100}, {101, 100, 100}, {100, 101, 100}};
+    m.indices = {0, 1, 2};
+    desc.meshes.push_back(m);
+    desc.instances.push_back({0, Transform(), "far", {}});
+    LightDesc light;
+    light.type = LightType::Point;
+    light.intensity = kI;
+    light.worldFromLight = Transform::translate(kLight);
+    desc.lights.push_back(light);
+    MediumDesc medium;
+    medium.region = MediumDesc::Region::Shape;
+    medium.shape.type = ShapeType::Box;
+    medium.sigmaA = {kSigmaA, kSigmaA, kSigmaA};
+    medium.sigmaS = {kSigmaS, kSigmaS, kSigmaS};
+    medium.g = kG;
+    desc.media.push_back(medium);
+    desc.render.integrator.volumeEstimator = estimator;
+    desc.render.integrator.volumeStep = step;
+    scene = buildRenderScene(desc);
+  }
+
+  // The reference by Simpson's rule along the ray inside the box.
+  static double reference(const Ray& ray) {
+    const double st = kSigmaA + kSigmaS;
+    // The ray runs along +x at (y, z) inside the box, from x = -1 to 1.
+    const double y = ray.o.y, z = ray.o.z;
+    auto f = [&](double x) {
+      const double dx = kLight.x - x, dy = kLight.y - y, dz = kLight.z - z;
+      const double r = std::sqrt(dx * dx + dy * dy + dz * dz);
+      // The shadow ray leaves the box at y = 1: the part of it below y = 1.
+      const double inside = r * (1 - y) / dy;
+      const double cosTheta = dx / r;  // dot(towards the light, ray direction +x)
+      return std::exp(-st * (x + 1)) * kSigmaS * henyeyGreenstein(float(cosTheta), kG) * kI /
+             (r * r) * std::exp(-st * inside);
+    };
+    const int n = 20000;
+    const double h = 2.0 / n;
+    double sum = f(-1) + f(1);
+    for (int i = 1; i < n; ++i) sum += f(-1 + i * h) * (i % 2 ? 4 : 2);
+    return sum * h / 3;
+  }
+};
+
+TEST(Volume, SingleScatteringMatchesNumericalIntegration) {
+  const Ray ray{{-4, 0.2f, -0.3f}, {1, 0, 0}};
+  const double exact = LitMedium::reference(ray);
+  ASSERT_GT(exact, 0.01);
+  {
+    LitMedium lit("march", 0.002f);
+    ASSERT_TRUE(lit.scene.features.has(Feature::Volumes));
+    RayCounters counters;
+    auto [mean, error] = meanAndError(64, [&](Sampler& s) {
+      return lit.scene.media->integrate(lit.scene, ray, kInfinity, s, counters).L;
+    });
+    EXPECT_NEAR(mean.y, exact, 0.005 * exact);
+    EXPECT_GT(counters.shadow, 0u);
+  }
+  {
+    LitMedium lit("track", 0);
+    RayCounters counters;
+    auto [mean, error] = meanAndError(40000, [&](Sampler& s) {
+      return lit.scene.media->integrate(lit.scene, ray, kInfinity, s, counters).L;
+    });
+    EXPECT_NEAR(mean.y, exact, 4 * error.y + 0.002 * exact);
+  }
+}
+
+TEST(Volume, DeltaTrackingScattersWithTheRightProbability) {
+  // Grey homogeneous slab: P(scatter before leaving) = sigma_s / sigma_t (1 - exp(-sigma_t d)),
+  // P(absorbed) the rest, and every weight is exactly 1.
+  const float sa = 0.3f, ss = 0.6f, st = sa + ss;
+  MediaScene media(settingsFor("track"));
+  addSlab(&media, makeMedium({sa, sa, sa}, {ss, ss, ss}, {}, 0.4f,
+                             std::make_unique<ConstantDensity>(1)));
+  const int n = 100000;
+  int scattered = 0, passed = 0;
+  for (int i = 0; i < n; ++i) {
+    Sampler s(mixBits(uint64_t(i)), 0);
+    MediumEvent e = media.sampleScattering(kAcross, kInfinity, s);
+    if (e.scattered) {
+      ++scattered;
+      EXPECT_NEAR(e.weight.x, 1, 1e-5f);
+      EXPECT_EQ(e.g, 0.4f);
+      EXPECT_GE(e.t, 1.0f);  // inside the slab: x in [-1, 1] is t in [1, 2]
+      EXPECT_LE(e.t, 2.0f);
+    } else if (e.weight.x > 0) {
+      ++passed;
+    }
+  }
+  const double pScatter = ss / st * (1 - std::exp(-st * kSlab));
+  const double pPass = std::exp(-st * kSlab);
+  EXPECT_NEAR(double(scattered) / n, pScatter, 4 * std::sqrt(pScatter * (1 - pScatter) / n));
+  EXPECT_NEAR(double(passed) / n, pPass, 4 * std::sqrt(pPass * (1 - pPass) / n));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Rendered scenes
+// ---------------------------------------------------------------------------------------------
+
+// A white Lambert floor at y = -1 under a point light, seen from the front, with an opaque
+// sphere between the light and the floor; media are added by the tests.
+SceneDescription shadowScene(int size) {
+  SceneDescription d;
+  d.file = "volume shadow (in code)";
+  MaterialDesc white;
+  white.name = "white";
+  white.type = MaterialType::Lambert;
+  white.baseColor = {0.8f, 0.8f, 0.8f};
+  d.materials.push_back(white);
+  MeshDesc floor;
+  floor.positions = {{-5, -1, -5}, {5, -1, -5}, {5, -1, 5}, {-5, -1, 5}};
+  floor.normals.assign(4, {0, 1, 0});
+  floor.indices = {0, 2, 1, 0, 3, 2};
+  floor.material = 0;
+  d.meshes.push_back(floor);
+  d.instances.push_back({0, Transform(), "floor", {}});
+  ObjectDesc ball;
+  ball.name = "ball";
+  ball.shape.type = ShapeType::Sphere;
+  ball.shape.center = {0, 1.5f, 0};
+  ball.shape.radius = 0.6f;
+  ball.material = 0;
+  d.objects.push_back(ball);
+  CameraDesc cam;
+  cam.type = CameraType::Orthographic;
+  cam.xmag = cam.ymag = 2;
+  cam.worldFromCamera = Transform::lookAt({0, 0, 6}, {0, 0, 0}, {0, 1, 0});
+  d.cameras.push_back(cam);
+  LightDesc light;
+  light.type = LightType::Point;
+  light.intensity = 20;
+  light.worldFromLight = Transform::translate({0, 3, 0});
+  d.lights.push_back(light);
+  d.render.width = d.render.height = size;
+  d.render.spp = 4;
+  return d;
+}
+
+MediumDesc fogBox(float density) {
+  MediumDesc m;
+  m.name = "fog";
+  m.region = MediumDesc::Region::Shape;
+  m.shape.type = ShapeType::Box;
+  m.shape.lower = {-2, -1, -1};
+  m.shape.upper = {2, 1, 1};
+  m.sigmaA = {0.05f, 0.05f, 0.05f};
+  m.sigmaS = {0.4f, 0.4f, 0.4f};
+  m.value = density;
+  return m;
+}
+
+Film renderIt(const SceneDescription& d) {
+  RenderScene scene = buildRenderScene(d);
+  auto integrator = makeIntegrator(scene, d.render);
+  RenderOptions options;
+  options.threads = 2;
+  RenderStats stats;
+  Film film = render(scene, *integrator, d.render, options, &stats);
+  EXPECT_EQ(stats.nonfiniteSamples, 0u);
+  return film;
+}
+
+TEST(VolumeRender, ScenesWithoutMediaTakeTheMediaFreePath) {
+  SceneDescription d = shadowScene(24);
+  RenderScene scene = buildRenderScene(d);
+  EXPECT_FALSE(scene.features.has(Feature::Volumes));
+  EXPECT_EQ(scene.media, nullptr);
+  // The same scene with a medium that was then removed renders exactly as before.
+  SceneDescription withFog = d;
+  withFog.media.push_back(fogBox(1));
+  withFog.media.clear();
+  Film a = renderIt(d), b = renderIt(withFog);
+  ASSERT_EQ(a.color.size(), b.color.size());
+  for (size_t i = 0; i < a.color.size(); ++i) ASSERT_EQ(a.color[i], b.color[i]) << i;
+}
+
+TEST(VolumeRender, DensityZeroMediaLeaveTheImageUnchanged) {
+  const int size = 24;
+  SceneDescription d = shadowScene(size);
+  Film plain = renderIt(d);
+  for (const char* estimator : {"march", "track"}) {
+    for (DensityType type : {DensityType::Constant, DensityType::Grid}) {
+      SceneDescription z = d;
+      MediumDesc m = fogBox(0);
+      m.density = type;
+      m.gridRes[0] = m.gridRes[1] = m.gridRes[2] = 2;
+      m.gridValues.assign(8, 0.0f);
+      m.emission = {1, 1, 1};  // emission scales with density: none either
+      z.media.push_back(m);
+      z.media.push_back(fogBox(0));  // a whole-scene medium of density 0 as well
+      z.media.back().region = MediumDesc::Region::Scene;
+      z.render.integrator.volumeEstimator = estimator;
+      Film f = renderIt(z);
+      for (size_t i = 0; i < f.color.size(); ++i) {
+        ASSERT_TRUE(isFinite(f.color[i]));
+        ASSERT_NEAR(f.color[i].y, plain.color[i].y, 1e-4f + 1e-4f * plain.color[i].y)
+            << estimator << " pixel " << i;
+      }
+    }
+  }
+}
+
+TEST(VolumeRender, SphereCastsAVolumetricShadow) {
+  const int size = 48;
+  SceneDescription d = shadowScene(size);
+  d.media.push_back(fogBox(1));
+  d.render.spp = 8;
+  for (const char* estimator : {"march", "track"}) {
+    d.render.integrator.volumeEstimator = estimator;
+    Film f = renderIt(d);
+    // Rows through the medium between the ball and the floor (world y in [-0.6, 0.6]):
+    // the shaft below the ball (|x| < 0.25) against the lit fog beside it (1.6 < |x| < 1.95).
+    double shaft = 0, beside = 0;
+    int nShaft = 0, nBeside = 0;
+    for (int y = 0; y < size; ++y) {
+      const float wy = 2 - 4 * (y + 0.5f) / size;
+      if (std::abs(wy) > 0.6f) continue;
+      for (int x = 0; x < size; ++x) {
+        const float wx = -2 + 4 * (x + 0.5f) / size;
+        const double v = f.color[f.index(x, y)].y;
+        if (std::abs(wx) < 0.25f) shaft += v, ++nShaft;
+        if (std::abs(wx) > 1.6f && std::abs(wx) < 1.95f) beside += v, ++nBeside;
+      }
+    }
+    shaft /= nShaft, beside /= nBeside;
+    EXPECT_GT(beside, 0.02) << estimator;
+    EXPECT_LT(shaft, 0.6 * beside) << estimator;
+  }
+}
+
+}  // namespace
+}  // namespace glint
