@@ -83,13 +83,14 @@ struct Fixture {
     LightDesc bulb;
     bulb.name = "bulb";
     bulb.intensity = 0.5f * r * r;
-    bulb.worldFromLight = Transform::translate({centre.x + 0.5f * r, b.lower.y + r, centre.z + 0.5f * r});
+    bulb.worldFromLight =
+        Transform::translate({centre.x + 0.5f * r, b.lower.y + r, centre.z + 0.5f * r});
     desc.lights = {bulb};
     CameraDesc cam;
     cam.name = "inside";
     cam.yfov = 0.9f;
-    cam.worldFromCamera = Transform::lookAt(
-        {centre.x, b.lower.y + 0.6f * r, centre.z + 0.95f * r}, centre, {0, 1, 0});
+    cam.worldFromCamera = Transform::lookAt({centre.x, b.lower.y + 0.6f * r, centre.z + 0.95f * r},
+                                            centre, {0, 1, 0});
     desc.cameras = {cam};
     desc.render.camera = "inside";
     desc.render.width = kWidth;
@@ -157,13 +158,14 @@ int main(int argc, char** argv) {
     return 1;
   }
   const glint::RenderStats& s = glint::gStats;
-  std::printf("\npath tracer, dragon in a box: %.2f Mrays/s, %.3f Mpaths/s (%d threads)\n"
-              "rays per frame: camera %llu, secondary %llu, shadow %llu; non-finite samples %llu\n",
-              reporter.mrays, reporter.mpaths, glint::fixture().threads,
-              static_cast<unsigned long long>(s.rays.camera),
-              static_cast<unsigned long long>(s.rays.secondary),
-              static_cast<unsigned long long>(s.rays.shadow),
-              static_cast<unsigned long long>(s.nonfiniteSamples));
+  std::printf(
+      "\npath tracer, dragon in a box: %.2f Mrays/s, %.3f Mpaths/s (%d threads)\n"
+      "rays per frame: camera %llu, secondary %llu, shadow %llu; non-finite samples %llu\n",
+      reporter.mrays, reporter.mpaths, glint::fixture().threads,
+      static_cast<unsigned long long>(s.rays.camera),
+      static_cast<unsigned long long>(s.rays.secondary),
+      static_cast<unsigned long long>(s.rays.shadow),
+      static_cast<unsigned long long>(s.nonfiniteSamples));
   if (!out.empty()) {
     std::ofstream f(out);
     f << "{\n  \"scene\": \"stanford/dragon_vrip_res2.glb in a closed Lambert box\",\n"
@@ -172,7 +174,8 @@ int main(int argc, char** argv) {
       << ",\n  \"threads\": " << glint::fixture().threads
       << ",\n  \"path_mrays_per_second\": " << reporter.mrays
       << ",\n  \"path_mpaths_per_second\": " << reporter.mpaths
-      << ",\n  \"camera_rays\": " << s.rays.camera << ",\n  \"secondary_rays\": " << s.rays.secondary
+      << ",\n  \"camera_rays\": " << s.rays.camera
+      << ",\n  \"secondary_rays\": " << s.rays.secondary
       << ",\n  \"shadow_rays\": " << s.rays.shadow
       << ",\n  \"nonfinite_samples\": " << s.nonfiniteSamples << "\n}\n";
   }
