@@ -152,9 +152,8 @@ Rgb PathIntegrator::LiFromHit(const Ray& cameraRay, const Hit* cameraHit, Sample
 // Next-event estimation
 // ---------------------------------------------------------------------------------------------
 
-Rgb PathIntegrator::sampleLight(const SurfaceInteraction& si, const Material& material,
-                                float time, float uLight, Vec2f uPoint,
-                                RayCounters& counters) const {
+Rgb PathIntegrator::sampleLight(const SurfaceInteraction& si, const Material& material, float time,
+                                float uLight, Vec2f uPoint, RayCounters& counters) const {
   const LightSampleContext ctx(si, time);
   const std::optional<SampledLight> picked = scene_.lightSampler->sample(ctx, uLight);
   if (!picked || !(picked->p > 0)) return {};

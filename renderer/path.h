@@ -51,12 +51,12 @@ class PathIntegrator final : public Integrator {
  private:
   // One light sampled for the lit point `si` (next-event estimation), MIS-weighted against
   // the BSDF; `uLight` picks the light, `uPoint` the point on it.
-  Rgb sampleLight(const SurfaceInteraction& si, const Material& material, float time,
-                  float uLight, Vec2f uPoint, RayCounters& counters) const;
+  Rgb sampleLight(const SurfaceInteraction& si, const Material& material, float time, float uLight,
+                  Vec2f uPoint, RayCounters& counters) const;
 
   int maxDepth_, rrDepth_;
-  bool shadows_;     // some light casts shadows (Feature::Shadows)
-  bool lights_;      // there is a light to sample (else no next-event estimation at all)
+  bool shadows_;  // some light casts shadows (Feature::Shadows)
+  bool lights_;   // there is a light to sample (else no next-event estimation at all)
   RayCone cameraCone_;
   // The environment lights with their indices in scene.lights (the light sampler's pmf
   // needs the index).

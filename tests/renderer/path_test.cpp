@@ -2,11 +2,12 @@
 // where both estimate the same thing, determinism across thread counts, and scenes built to
 // provoke NaN/Inf. Every statistical check states its tolerance in standard errors taken from
 // the film's per-pixel variance of the mean.
+#include "renderer/path.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "renderer/path.h"
 #include "renderer/render.h"
 #include "scenes/build.h"
 #include "scenes/sidecar.h"
