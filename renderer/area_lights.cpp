@@ -206,8 +206,20 @@ AreaPoint SphereLight::pointAt(Vec3f n) const {
 
 AreaPoint SphereLight::samplePoint(Vec2f u) const { return pointAt(sampleUniformSphere(u)); }
 
+namespace {
+// The squared distance from the sphere's centre to the receiving point, moved towards the
+// centre past its rounding error: a point on the sphere itself (a surface of the light lit by
+// the rest of it, as inside a glowing enclosure) then counts as inside whichever way its
+// coordinates rounded, rather than seeing a degenerate hemisphere "cone" half of the time.
+float receiverDistanceSquared(const LightSampleContext& ctx, Vec3f center) {
+  const Vec3f p = ctx.onSurface() ? offsetRayOrigin(ctx.p, ctx.pError, ctx.n, center - ctx.p)
+                                  : ctx.p;
+  return lengthSquared(p - center);
+}
+}  // namespace
+
 std::optional<LightSample> SphereLight::sampleLi(const LightSampleContext& ctx, Vec2f u) const {
-  const float d2 = lengthSquared(ctx.p - center_);
+  const float d2 = receiverDistanceSquared(ctx, center_);
   if (d2 <= radius_ * radius_) return AreaLight::sampleLi(ctx, u);  // inside: by area
   // Outside: a uniform direction in the subtended cone, then the point it first meets on the
   // sphere, found from the angle alpha at the centre rather than by intersecting a ray (which
@@ -241,7 +253,7 @@ std::optional<LightSample> SphereLight::sampleLi(const LightSampleContext& ctx, 
 }
 
 float SphereLight::pdfLi(const LightSampleContext& ctx, Vec3f wi, const LightHit& hit) const {
-  const float d2 = lengthSquared(ctx.p - center_);
+  const float d2 = receiverDistanceSquared(ctx, center_);
   if (d2 <= radius_ * radius_) return AreaLight::pdfLi(ctx, wi, hit);
   float cosMax, oneMinusCosMax;
   sphereCone(d2, radius_, &cosMax, &oneMinusCosMax);
