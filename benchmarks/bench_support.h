@@ -5,6 +5,7 @@
 #include <benchmark/benchmark.h>
 
 #include <cstring>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -26,5 +27,28 @@ inline std::string initialize(int argc, char** argv) {
   benchmark::Initialize(&n, args.data());
   return out;
 }
+
+// Prints like the console reporter and keeps the counters of every measured (iteration) run by
+// benchmark function, for a program's own summary: value("BM_X", "Mrays/s"), 0 when absent
+// (e.g. filtered out).
+class CounterReporter : public benchmark::ConsoleReporter {
+ public:
+  void ReportRuns(const std::vector<Run>& runs) override {
+    for (const Run& run : runs)
+      if (run.run_type == Run::RT_Iteration)
+        for (const auto& [name, counter] : run.counters)
+          counters_[run.run_name.function_name][name] = double(counter);
+    ConsoleReporter::ReportRuns(runs);
+  }
+  double value(const std::string& function, const std::string& counter) const {
+    auto f = counters_.find(function);
+    if (f == counters_.end()) return 0;
+    auto c = f->second.find(counter);
+    return c == f->second.end() ? 0 : c->second;
+  }
+
+ private:
+  std::map<std::string, std::map<std::string, double>> counters_;
+};
 
 }  // namespace glint::bench

@@ -132,28 +132,16 @@ void BM_PathTracerDragonInABox(benchmark::State& state) {
 
 BENCHMARK(BM_PathTracerDragonInABox)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
 
-// Keeps the ray rate for the summary.
-class RateReporter : public benchmark::ConsoleReporter {
- public:
-  double mrays = 0, mpaths = 0;
-  void ReportRuns(const std::vector<Run>& runs) override {
-    for (const Run& run : runs) {
-      if (run.run_type != Run::RT_Iteration) continue;
-      if (auto it = run.counters.find("Mrays/s"); it != run.counters.end()) mrays = it->second;
-      if (auto it = run.counters.find("Mpaths/s"); it != run.counters.end()) mpaths = it->second;
-    }
-    ConsoleReporter::ReportRuns(runs);
-  }
-};
-
 }  // namespace
 }  // namespace glint
 
 int main(int argc, char** argv) {
   std::string out = glint::bench::initialize(argc, argv);
-  glint::RateReporter reporter;
+  glint::bench::CounterReporter reporter;
   benchmark::RunSpecifiedBenchmarks(&reporter);
-  if (reporter.mrays <= 0) {
+  const double mrays = reporter.value("BM_PathTracerDragonInABox", "Mrays/s");
+  const double mpaths = reporter.value("BM_PathTracerDragonInABox", "Mpaths/s");
+  if (mrays <= 0) {
     std::fprintf(stderr, "path_bench: missing results\n");
     return 1;
   }
@@ -161,7 +149,7 @@ int main(int argc, char** argv) {
   std::printf(
       "\npath tracer, dragon in a box: %.2f Mrays/s, %.3f Mpaths/s (%d threads)\n"
       "rays per frame: camera %llu, secondary %llu, shadow %llu; non-finite samples %llu\n",
-      reporter.mrays, reporter.mpaths, glint::fixture().threads,
+      mrays, mpaths, glint::fixture().threads,
       static_cast<unsigned long long>(s.rays.camera),
       static_cast<unsigned long long>(s.rays.secondary),
       static_cast<unsigned long long>(s.rays.shadow),
@@ -172,8 +160,8 @@ int main(int argc, char** argv) {
       << "  \"width\": " << glint::kWidth << ",\n  \"height\": " << glint::kHeight
       << ",\n  \"spp\": " << glint::kSpp << ",\n  \"max_depth\": " << glint::kMaxDepth
       << ",\n  \"threads\": " << glint::fixture().threads
-      << ",\n  \"path_mrays_per_second\": " << reporter.mrays
-      << ",\n  \"path_mpaths_per_second\": " << reporter.mpaths
+      << ",\n  \"path_mrays_per_second\": " << mrays
+      << ",\n  \"path_mpaths_per_second\": " << mpaths
       << ",\n  \"camera_rays\": " << s.rays.camera
       << ",\n  \"secondary_rays\": " << s.rays.secondary
       << ",\n  \"shadow_rays\": " << s.rays.shadow

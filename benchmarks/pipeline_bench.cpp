@@ -206,30 +206,16 @@ BENCHMARK(BM_BareEmbreeIntersect1)->Unit(benchmark::kMillisecond)->UseRealTime()
 BENCHMARK(BM_BareEmbreeIntersect16)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
 BENCHMARK(BM_GlintEyelightRender)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
 
-// Keeps each benchmark's ray rate for the ratio.
-class RateReporter : public benchmark::ConsoleReporter {
- public:
-  std::map<std::string, double> rates;
-  void ReportRuns(const std::vector<Run>& runs) override {
-    for (const Run& run : runs) {
-      auto it = run.counters.find("Mrays/s");
-      if (it != run.counters.end() && run.run_type == Run::RT_Iteration)
-        rates[run.run_name.function_name] = double(it->second);
-    }
-    ConsoleReporter::ReportRuns(runs);
-  }
-};
-
 }  // namespace
 }  // namespace glint
 
 int main(int argc, char** argv) {
   std::string out = glint::bench::initialize(argc, argv);
-  glint::RateReporter reporter;
+  glint::bench::CounterReporter reporter;
   benchmark::RunSpecifiedBenchmarks(&reporter);
-  double bare = reporter.rates["BM_BareEmbreeIntersect1"];
-  double glint = reporter.rates["BM_GlintEyelightRender"];
-  double packet = reporter.rates["BM_BareEmbreeIntersect16"];  // 0 when filtered out
+  double bare = reporter.value("BM_BareEmbreeIntersect1", "Mrays/s");
+  double glint = reporter.value("BM_GlintEyelightRender", "Mrays/s");
+  double packet = reporter.value("BM_BareEmbreeIntersect16", "Mrays/s");  // 0 when filtered out
   if (bare <= 0 || glint <= 0) {
     std::fprintf(stderr, "pipeline_bench: missing results\n");
     return 1;
