@@ -9,6 +9,9 @@
 #include <filesystem>
 #include <fstream>
 
+#include "scenes/build.h"
+#include "scenes/sidecar.h"
+
 namespace glint::test {
 
 std::string dataDir() { return GLINT_TEST_DATA; }
@@ -68,6 +71,18 @@ ScopedEnv::~ScopedEnv() {
     ::setenv(name_.c_str(), old_->c_str(), 1);
   else
     ::unsetenv(name_.c_str());
+}
+
+Rendered renderJson(const std::string& text) {
+  SceneDescription d;
+  d.file = "scene.json";
+  applySceneJsonText(text, d.file, SceneJsonKind::Scene, &d);
+  RenderScene scene = buildRenderScene(d);
+  auto integrator = makeIntegrator(scene, d.render);
+  Rendered r;
+  r.features = scene.features;
+  r.film = render(scene, *integrator, d.render, {.threads = 2}, &r.stats);
+  return r;
 }
 
 }  // namespace glint::test

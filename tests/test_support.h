@@ -1,11 +1,24 @@
-// glint tests — shared helpers: data paths, the shared asset folder, running the CLI.
+// glint tests — shared helpers: data paths, the shared asset folder, running the CLI,
+// rendering a scene given as JSON text.
 #pragma once
 
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "renderer/render.h"
+
 namespace glint::test {
+
+// A render of a glint JSON scene: the film, its statistics and the scene's features.
+struct Rendered {
+  Film film;
+  RenderStats stats;
+  SceneFeatures features;
+};
+// Loads `text` as a glint .json scene (file name "scene.json"), builds it and renders it with
+// its own integrator on two threads.
+Rendered renderJson(const std::string& text);
 
 // Folder of the project's own test data (tests/data).
 std::string dataDir();

@@ -2,9 +2,7 @@
 // of values strictly between umbra and lit) where a point light casts a hard one.
 #include <gtest/gtest.h>
 
-#include "renderer/render.h"
-#include "scenes/build.h"
-#include "scenes/sidecar.h"
+#include "test_support.h"
 
 namespace glint {
 namespace {
@@ -23,15 +21,9 @@ Film renderKnifeEdge(const std::string& light, bool blocker = true) {
                            std::string(blocker ? R"(,
                 {"type": "quad", "corner": [-10, 2, 10], "edge_u": [9, 0, 0], "edge_v": [0, 0, -20],
                  "material": "white"})" : "") + "]}";
-  SceneDescription d;
-  d.file = "scene.json";
-  applySceneJsonText(text, d.file, SceneJsonKind::Scene, &d);
-  RenderScene scene = buildRenderScene(d);
-  auto integrator = makeIntegrator(scene, d.render);
-  RenderStats stats;
-  Film film = render(scene, *integrator, d.render, {.threads = 2}, &stats);
-  EXPECT_EQ(stats.nonfiniteSamples, 0u);
-  return film;
+  test::Rendered r = test::renderJson(text);
+  EXPECT_EQ(r.stats.nonfiniteSamples, 0u);
+  return r.film;
 }
 
 // The middle rows' mean luminance per column.

@@ -6,6 +6,7 @@
 #include "renderer/render.h"
 #include "scenes/build.h"
 #include "scenes/sidecar.h"
+#include "test_support.h"
 
 namespace glint {
 namespace {
@@ -34,23 +35,8 @@ std::string sceneJson(const std::string& extraMaterials, const std::string& extr
          extraObjects + "]}";
 }
 
-struct Rendered {
-  Film film;
-  RenderStats stats;
-  SceneFeatures features;
-};
-
-Rendered renderJson(const std::string& text) {
-  SceneDescription d;
-  d.file = "scene.json";
-  applySceneJsonText(text, d.file, SceneJsonKind::Scene, &d);
-  RenderScene scene = buildRenderScene(d);
-  auto integrator = makeIntegrator(scene, d.render);
-  Rendered r;
-  r.features = scene.features;
-  r.film = render(scene, *integrator, d.render, {.threads = 2}, &r.stats);
-  return r;
-}
+using test::Rendered;
+using test::renderJson;
 
 // The largest per-channel difference between two films of the same size.
 float maxDifference(const Film& a, const Film& b) {
