@@ -91,8 +91,10 @@ const std::vector<std::string>& integratorNames() {
 
 std::string resolveIntegratorType(const RenderScene& scene, const IntegratorSettings& settings) {
   if (settings.type != "auto") return settings.type;
-  // Media are rendered by Whitted's volume integrators until the path tracer scatters in them.
-  if (scene.media) return "whitted";
+  // Media asking for multiple scattering need the path tracer (Whitted scatters once); other
+  // media go by the light rule below (Whitted's marched single scattering is the low-noise
+  // answer for point lights).
+  if (scene.media && settings.volume == "multiple") return "path";
   // Light with an extent (area, emitting surfaces, the environment) is what Whitted's hard
   // shadows cannot render; point, spot and directional lights it renders exactly.
   bool extended = !scene.infiniteLights.empty();
@@ -105,13 +107,7 @@ std::unique_ptr<Integrator> makeIntegrator(const RenderScene& scene, const Rende
   const IntegratorSettings& s = settings.integrator;
   const std::string type = resolveIntegratorType(scene, s);
   if (type == "whitted") return std::make_unique<WhittedIntegrator>(scene, s.maxDepth);
-  if (type == "path") {
-    // Refuse rather than silently render fog as clear air.
-    if (scene.media)
-      throw std::invalid_argument(
-          "the path tracer does not render participating media yet; use --integrator whitted");
-    return std::make_unique<PathIntegrator>(scene, s);
-  }
+  if (type == "path") return std::make_unique<PathIntegrator>(scene, s);
   throw std::invalid_argument("unknown integrator '" + s.type + "' (whitted, path, auto)");
 }
 

@@ -5,6 +5,9 @@
 #include <cmath>
 #include <optional>
 
+#include "materials/phase.h"
+#include "renderer/volume.h"
+
 namespace glint {
 
 float powerHeuristic(float f, float g) {
@@ -14,6 +17,44 @@ float powerHeuristic(float f, float g) {
   return f2 / (f2 + g2);
 }
 
+namespace {
+
+// The sampler dimensions of one path vertex (PathIntegrator::kVertexDimensions), drawn in this
+// order at every vertex whatever it turns out to be.
+struct VertexSamples {
+  float uPass, uLight;
+  Vec2f uLightPoint, uBsdf;
+  float uLobe, uRoulette;
+  explicit VertexSamples(Sampler& sampler)
+      : uPass(sampler.get1D()),
+        uLight(sampler.get1D()),
+        uLightPoint(sampler.get2D()),
+        uBsdf(sampler.get2D()),
+        uLobe(sampler.get1D()),
+        uRoulette(sampler.get1D()) {}
+};
+
+// Russian roulette after vertex `depth`: survive with the throughput's largest component
+// (radiance's 1/eta^2 undone by `etaScale`), clamped; false when the path ends.
+bool survivesRoulette(int depth, int rrDepth, float etaScale, float u, Rgb* beta) {
+  if (depth + 1 < rrDepth) return true;
+  const float survive = std::clamp(maxComponent(*beta * etaScale), 0.05f, 1.0f);
+  if (survive >= 1) return true;
+  if (u >= survive) return false;
+  *beta *= 1 / survive;
+  return true;
+}
+
+// The private random stream of a path's media tracking (see path.h): one 2D sample of the
+// path's sampler, hashed into the key of a Sampler read at sample 0.
+Sampler trackingStream(Sampler& sampler) {
+  const Vec2f u = sampler.get2D();
+  const uint64_t bits = (uint64_t(u.x * 0x1p24f) << 24) | uint64_t(u.y * 0x1p24f);
+  return Sampler(mixBits(bits ^ 0x6a09e667f3bcc909ull), 0);
+}
+
+}  // namespace
+
 PathIntegrator::PathIntegrator(const RenderScene& scene, const IntegratorSettings& settings)
     : Integrator(scene), maxDepth_(settings.maxDepth), rrDepth_(settings.rrDepth) {
   shadows_ = scene.features.has(Feature::Shadows);
@@ -22,13 +63,24 @@ PathIntegrator::PathIntegrator(const RenderScene& scene, const IntegratorSetting
   for (const Light* l : scene.infiniteLights)
     for (size_t i = 0; i < scene.lights.size(); ++i)
       if (scene.lights[i].get() == l) infinite_.push_back({l, uint32_t(i)});
+  if (scene.features.has(Feature::Volumes) && scene.media) {
+    media_ = scene.media.get();
+    mediaScatter_ = settings.volume != "emission";
+  }
+}
+
+Rgb PathIntegrator::LiFromHit(const Ray& ray, const Hit* hit, Sampler& sampler,
+                              RayCounters& counters, PathAovs& aovs) const {
+  if (media_) return tracePath<true>(ray, hit, sampler, counters, aovs);
+  return tracePath<false>(ray, hit, sampler, counters, aovs);
 }
 
 // ---------------------------------------------------------------------------------------------
 // The path
 // ---------------------------------------------------------------------------------------------
 
-Rgb PathIntegrator::LiFromHit(const Ray& cameraRay, const Hit* cameraHit, Sampler& sampler,
+template <bool kMedia>
+Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sampler& sampler,
                               RayCounters& counters, PathAovs& aovs) const {
   Rgb L, beta{1, 1, 1};
   float etaScale = 1;  // the 1/eta^2 refractions put into beta, undone for roulette
@@ -37,12 +89,60 @@ Rgb PathIntegrator::LiFromHit(const Ray& cameraRay, const Hit* cameraHit, Sample
   bool specularBounce = true;
   float bsdfPdf = 0;
   LightSampleContext prev;
+  // Media: tracking's own random stream (unused, and folded away, without media).
+  Sampler tracker = kMedia ? trackingStream(sampler) : Sampler(0, 0);
 
   Ray ray = cameraRay;
   Hit hitStorage;
   const Hit* hit = cameraHit;
   RayCone cone = cameraCone_;
   for (int depth = 0;; ++depth) {
+    if constexpr (kMedia) {
+      // AOVs are the camera ray's first surface, seen through the media or not.
+      if (depth == 0 && hit) {
+        aovs.hit = true;
+        if (aovs.wanted) {
+          const uint32_t m = scene_.materialIndex(*hit);
+          std::optional<Transform> movingFrame;
+          const SurfaceInteraction si = shadingPoint(ray, *hit, cone, m, &movingFrame);
+          aovs.albedo = scene_.materials[m]->albedo(si);
+          aovs.normal = si.ns;
+          aovs.depth = hit->t * length(ray.d);
+        }
+      }
+      // --- The media along the segment: emission, then pass or scatter.
+      Rgb Le;
+      const MediumEvent event =
+          media_->sampleScatteringAndEmission(ray, hit ? hit->t : kInfinity, tracker, &Le);
+      L += beta * Le;
+      beta *= event.weight;
+      if (!(maxComponent(beta) > 0)) break;  // absorbed
+      if (event.scattered) {
+        const VertexSamples u(sampler);
+        if (!mediaScatter_ || depth >= maxDepth_) break;
+        const float len = length(ray.d);
+        const Vec3f d = ray.d / len;
+        const LightSampleContext ctx = LightSampleContext::inMedium(ray.at(event.t), ray.time);
+        cone = RayCone{cone.widthAt(event.t * len), cone.spread};
+        if (lights_)
+          L += beta * sampleLightInMedium(ctx, d, event.g, u.uLight, u.uLightPoint, tracker,
+                                          counters);
+        // The phase function sampled exactly: weight phase / pdf = 1.
+        float phasePdf = 0;
+        const Vec3f wi = sampleHenyeyGreenstein(d, event.g, u.uBsdf, &phasePdf);
+        if (!(phasePdf > 0) || !std::isfinite(phasePdf)) break;
+        specularBounce = false;
+        bsdfPdf = phasePdf;
+        prev = ctx;
+        if (!survivesRoulette(depth, rrDepth_, etaScale, u.uRoulette, &beta)) break;
+        // A point in a medium lies on no surface: no offset needed.
+        ray = Ray{ctx.p, wi, 0, kInfinity, ray.time};
+        ++counters.secondary;
+        hit = scene_.accel->closestHit(ray, &hitStorage) ? &hitStorage : nullptr;
+        continue;
+      }
+    }
+
     // --- Escaped: the environment (MIS-weighted after non-delta bounces) or the background.
     if (!hit) {
       const Vec3f d = normalize(ray.d);
@@ -66,7 +166,7 @@ Rgb PathIntegrator::LiFromHit(const Ray& cameraRay, const Hit* cameraHit, Sample
     std::optional<Transform> movingFrame;  // a moving object's frame: lives as long as `si`
     SurfaceInteraction si = shadingPoint(ray, *hit, cone, materialIndex, &movingFrame);
     const float distance = hit->t * length(ray.d);
-    if (depth == 0) {
+    if (!kMedia && depth == 0) {
       aovs.hit = true;
       if (aovs.wanted) {
         aovs.albedo = material.albedo(si);
@@ -77,17 +177,12 @@ Rgb PathIntegrator::LiFromHit(const Ray& cameraRay, const Hit* cameraHit, Sample
     cone = RayCone{cone.widthAt(distance), cone.spread};
 
     // The vertex's sampler dimensions, all drawn whatever happens below (kVertexDimensions).
-    const float uPass = sampler.get1D();
-    const float uLight = sampler.get1D();
-    const Vec2f uLightPoint = sampler.get2D();
-    const Vec2f uBsdf = sampler.get2D();
-    const float uLobe = sampler.get1D();
-    const float uRoulette = sampler.get1D();
+    const VertexSamples u(sampler);
 
     // --- Partly transparent: pass straight through with probability 1 - opacity (beta
     // unchanged: the probability and the weight cancel). The previous vertex stays the MIS
     // reference, since the direction does not change.
-    if (shading.transparent && uPass >= material.opacity(si)) {
+    if (shading.transparent && u.uPass >= material.opacity(si)) {
       if (depth >= maxDepth_) break;
       ray = si.spawnRay(ray.d, ray.time);
       ++counters.secondary;
@@ -119,10 +214,11 @@ Rgb PathIntegrator::LiFromHit(const Ray& cameraRay, const Hit* cameraHit, Sample
 
     // --- Next-event estimation, at surfaces with a non-delta lobe.
     if (lights_ && (shading.flags & (kBsdfDiffuse | kBsdfGlossy)))
-      L += beta * sampleLight(si, material, ray.time, uLight, uLightPoint, counters);
+      L += beta * sampleLight<kMedia>(si, material, ray.time, u.uLight, u.uLightPoint, &tracker,
+                                      counters);
 
     // --- The next direction.
-    std::optional<BsdfSample> s = material.sample(si, uBsdf, uLobe);
+    std::optional<BsdfSample> s = material.sample(si, u.uBsdf, u.uLobe);
     if (!s || !(s->pdf > 0) || !std::isfinite(s->pdf)) break;
     const Rgb weight = s->weight(si.ns);
     if (!(maxComponent(weight) > 0) || !isFinite(weight)) break;
@@ -133,13 +229,7 @@ Rgb PathIntegrator::LiFromHit(const Ray& cameraRay, const Hit* cameraHit, Sample
     if (s->flags & kBsdfTransmission) etaScale *= s->eta * s->eta;
 
     // --- Russian roulette: survive with the throughput's largest component, clamped.
-    if (depth + 1 >= rrDepth_) {
-      const float survive = std::clamp(maxComponent(beta * etaScale), 0.05f, 1.0f);
-      if (survive < 1) {
-        if (uRoulette >= survive) break;
-        beta *= 1 / survive;
-      }
-    }
+    if (!survivesRoulette(depth, rrDepth_, etaScale, u.uRoulette, &beta)) break;
 
     ray = si.spawnRay(s->wi, ray.time);
     ++counters.secondary;
@@ -152,8 +242,10 @@ Rgb PathIntegrator::LiFromHit(const Ray& cameraRay, const Hit* cameraHit, Sample
 // Next-event estimation
 // ---------------------------------------------------------------------------------------------
 
+template <bool kMedia>
 Rgb PathIntegrator::sampleLight(const SurfaceInteraction& si, const Material& material, float time,
-                                float uLight, Vec2f uPoint, RayCounters& counters) const {
+                                float uLight, Vec2f uPoint, Sampler* tracker,
+                                RayCounters& counters) const {
   const LightSampleContext ctx(si, time);
   const std::optional<SampledLight> picked = scene_.lightSampler->sample(ctx, uLight);
   if (!picked || !(picked->p > 0)) return {};
@@ -162,15 +254,48 @@ Rgb PathIntegrator::sampleLight(const SurfaceInteraction& si, const Material& ma
   if (!ls || !(ls->pdf > 0) || !std::isfinite(ls->pdf) || !(maxComponent(ls->L) > 0)) return {};
   // Light must arrive on the side of the geometric surface the BSDF says it can; eval checks
   // the hemispheres (reflection and transmission alike).
-  const Rgb f = material.eval(si, ls->wi);
+  Rgb f = material.eval(si, ls->wi);
   if (!(maxComponent(f) > 0)) return {};
   if (shadows_ && light.castsShadows()) {
     ++counters.shadow;
-    if (scene_.accel->anyHit(shadowRay(ctx, *ls))) return {};
+    const Ray shadow = shadowRay(ctx, *ls);
+    if (scene_.accel->anyHit(shadow)) return {};
+    if constexpr (kMedia) {
+      f *= media_->trackedTransmittance(shadow, shadow.tMax, *tracker);
+      if (!(maxComponent(f) > 0)) return {};
+    } else {
+      (void)tracker;
+    }
   }
   const float lightPdf = picked->p * ls->pdf;
   const float w = ls->delta ? 1.0f : powerHeuristic(lightPdf, material.pdf(si, ls->wi));
   return f * ls->L * (std::abs(dot(si.ns, ls->wi)) * w / lightPdf);
+}
+
+Rgb PathIntegrator::sampleLightInMedium(const LightSampleContext& ctx, Vec3f d, float g,
+                                        float uLight, Vec2f uPoint, Sampler& tracker,
+                                        RayCounters& counters) const {
+  const std::optional<SampledLight> picked = scene_.lightSampler->sample(ctx, uLight);
+  if (!picked || !(picked->p > 0)) return {};
+  const Light& light = *scene_.lights[picked->index];
+  const std::optional<LightSample> ls = light.sampleLi(ctx, uPoint);
+  if (!ls || !(ls->pdf > 0) || !std::isfinite(ls->pdf) || !(maxComponent(ls->L) > 0)) return {};
+  // The phase function stands for f |cos|; it is also the density phase sampling has.
+  const float phase = henyeyGreenstein(dot(ls->wi, d), g);
+  if (!(phase > 0)) return {};
+  Rgb Tr{1, 1, 1};
+  // Surfaces shadow medium points even where no surface is lit (Feature::Shadows unset), so
+  // only the light's own flag decides, as in Whitted's single scattering.
+  if (light.castsShadows()) {
+    ++counters.shadow;
+    const Ray shadow = shadowRay(ctx, *ls);
+    if (scene_.accel->anyHit(shadow)) return {};
+    Tr = media_->trackedTransmittance(shadow, shadow.tMax, tracker);
+    if (!(maxComponent(Tr) > 0)) return {};
+  }
+  const float lightPdf = picked->p * ls->pdf;
+  const float w = ls->delta ? 1.0f : powerHeuristic(lightPdf, phase);
+  return ls->L * Tr * (phase * w / lightPdf);
 }
 
 }  // namespace glint

@@ -27,8 +27,42 @@
 // branch it takes, so bounce k always reads the same dimensions: stratification carries over
 // and results depend only on (pixel, sample, seed).
 //
-// Not yet: participating media (added by the volume change), path regularisation, and ray
-// cones after diffuse bounces (texture footprints keep the camera cone's spread).
+// Participating media (only when the scene has them: the constructor keeps `media_`, and
+// LiFromHit picks the media instantiation of the path loop once per camera sample; without
+// media the loop is the media-free one, with no volume code in it). Every segment of the path
+// (camera ray, bounce, up to the hit or to where it leaves the media) is crossed by delta
+// tracking against the density majorants (MediaScene::sampleScatteringAndEmission):
+//   emission — at every tentative collision the path adds beta x tracking weight x
+//     emission / majorant (pbrt-v4's estimator; unbiased for any majorant), so glowing media
+//     are found by the camera and by every bounce, never by next-event estimation;
+//   passing — beta takes the tracking weight (an unbiased estimate of the transmittance; 1 for
+//     grey media), and the path goes on at the surface or the environment as without media:
+//     emission found there keeps its MIS weight, now times that transmittance estimate;
+//   scattering — a medium vertex (it counts as a bounce against `maxDepth`, so max_depth 1 is
+//     single scattering of direct light): next-event estimation from the medium point
+//     (LightSampleContext::inMedium) with the Henyey–Greenstein phase function in place of
+//     f |cos|, then a phase-sampled direction (weight 1); the two are MIS-weighted against
+//     each other as at surfaces (power heuristic on the directional pdfs, which is unbiased
+//     because both strategies estimate the transmittance on their own: ratio tracking on the
+//     shadow ray, delta tracking on the sampled ray). Roulette as at surfaces.
+// Shadow rays, from surfaces and from medium points, carry the transmittance of the media
+// they cross (MediaScene::trackedTransmittance: ratio tracking whatever volume_estimator says,
+// so the path tracer stays unbiased; homogeneous media exactly). IntegratorSettings::volume:
+// "emission" makes media absorb and emit only (a scattering event ends the path, as Whitted's
+// emission mode); "single" and "multiple" scatter fully, bounded only by maxDepth and
+// roulette — "single" is the settings' default, and the path tracer is the full answer;
+// single scattering is max_depth 1 (or the Whitted integrator).
+//
+// Tracking needs a variable count of random numbers per segment, which would shift the
+// sampler dimensions of every later vertex. So the media instantiation draws one 2D sample at
+// the start of the path (after the integrator's first dimension) and hashes it into the key of
+// a private Sampler whose successive dimensions at sample 0 serve as a hashed random stream
+// (Sampler is a pure function of (key, dimension)): every tracking decision and ratio-tracking
+// shadow ray reads that stream. Vertices still read fixed dimensions, and results depend only
+// on (pixel, sample, seed).
+//
+// Not yet: path regularisation, and ray cones after diffuse bounces (texture footprints keep
+// the camera cone's spread).
 #pragma once
 
 #include <cstdint>
@@ -49,14 +83,27 @@ class PathIntegrator final : public Integrator {
                 PathAovs& aovs) const override;
 
  private:
+  // The path loop; kMedia: the scene has media (`media_` set), tracked along every segment.
+  template <bool kMedia>
+  Rgb tracePath(const Ray& ray, const Hit* hit, Sampler& sampler, RayCounters& counters,
+                PathAovs& aovs) const;
   // One light sampled for the lit point `si` (next-event estimation), MIS-weighted against
-  // the BSDF; `uLight` picks the light, `uPoint` the point on it.
+  // the BSDF; `uLight` picks the light, `uPoint` the point on it. kMedia: shadow rays carry
+  // the media's transmittance, estimated with `tracker`'s numbers.
+  template <bool kMedia>
   Rgb sampleLight(const SurfaceInteraction& si, const Material& material, float time, float uLight,
-                  Vec2f uPoint, RayCounters& counters) const;
+                  Vec2f uPoint, Sampler* tracker, RayCounters& counters) const;
+  // One light sampled for the medium point of `ctx` seen along unit direction `d` (towards the
+  // point), Henyey–Greenstein `g`, MIS-weighted against phase sampling; shadow rays carry the
+  // transmittance (`tracker`'s numbers).
+  Rgb sampleLightInMedium(const LightSampleContext& ctx, Vec3f d, float g, float uLight,
+                          Vec2f uPoint, Sampler& tracker, RayCounters& counters) const;
 
   int maxDepth_, rrDepth_;
   bool shadows_;  // some light casts shadows (Feature::Shadows)
   bool lights_;   // there is a light to sample (else no next-event estimation at all)
+  const MediaScene* media_ = nullptr;  // null without media: the media-free path loop
+  bool mediaScatter_ = true;           // media scatter (volume != "emission")
   RayCone cameraCone_;
   // The environment lights with their indices in scene.lights (the light sampler's pmf
   // needs the index).

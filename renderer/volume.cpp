@@ -150,7 +150,7 @@ MediaScene::Coefficients MediaScene::coefficients(const std::vector<uint32_t>& a
 // ---------------------------------------------------------------------------------------------
 
 Rgb MediaScene::regionTransmittance(const Region& r, const Ray& ray, float t0, float t1,
-                                    Sampler& sampler) const {
+                                    Sampler& sampler, bool track) const {
   const float len = length(ray.d);
   const float s = (t1 - t0) * len;  // world-space length
   const Medium& m = *r.medium;
@@ -158,7 +158,7 @@ Rgb MediaScene::regionTransmittance(const Region& r, const Ray& ray, float t0, f
   if (r.majorant <= 0) return {1, 1, 1};
   const Vec3f dUnit = ray.d / len;
   const Vec3f start = ray.at(t0);
-  if (track_) {
+  if (track) {
     // Ratio tracking (Novák et al. 2014): tentative collisions at the majorant's rate, each
     // multiplying by the probability of it being a null collision.
     Rgb T{1, 1, 1};
@@ -187,12 +187,20 @@ Rgb MediaScene::regionTransmittance(const Region& r, const Ray& ray, float t0, f
 }
 
 Rgb MediaScene::transmittance(const Ray& ray, float tMax, Sampler& sampler) const {
+  return transmittance(ray, tMax, sampler, track_);
+}
+
+Rgb MediaScene::trackedTransmittance(const Ray& ray, float tMax, Sampler& sampler) const {
+  return transmittance(ray, tMax, sampler, true);
+}
+
+Rgb MediaScene::transmittance(const Ray& ray, float tMax, Sampler& sampler, bool track) const {
   Scratch& scratch = transmittanceScratch();
   intervals(ray, tMax, &scratch.intervals);
   // Coefficients of overlapping regions add, so their transmittances multiply.
   Rgb T{1, 1, 1};
   for (const Interval& i : scratch.intervals) {
-    T *= regionTransmittance(regions_[i.region], ray, i.t0, i.t1, sampler);
+    T *= regionTransmittance(regions_[i.region], ray, i.t0, i.t1, sampler, track);
     if (maxComponent(T) <= 0) return {};
   }
   return T;
@@ -326,6 +334,17 @@ VolumeSegment MediaScene::integrate(const RenderScene& scene, const Ray& ray, fl
 // ---------------------------------------------------------------------------------------------
 
 MediumEvent MediaScene::sampleScattering(const Ray& ray, float tMax, Sampler& sampler) const {
+  return deltaTrack(ray, tMax, sampler, nullptr);
+}
+
+MediumEvent MediaScene::sampleScatteringAndEmission(const Ray& ray, float tMax, Sampler& sampler,
+                                                    Rgb* emitted) const {
+  *emitted = {};
+  return deltaTrack(ray, tMax, sampler, emitted);
+}
+
+MediumEvent MediaScene::deltaTrack(const Ray& ray, float tMax, Sampler& sampler,
+                                   Rgb* emitted) const {
   MediumEvent event;
   Scratch& scratch = integrateScratch();
   intervals(ray, tMax, &scratch.intervals);
@@ -339,15 +358,31 @@ MediumEvent MediaScene::sampleScattering(const Ray& ray, float tMax, Sampler& sa
     activeIn(scratch.intervals, a, b, &scratch.active);
     if (scratch.active.empty() || !(b > a)) continue;
     float majorant = 0;
-    for (uint32_t i : scratch.active) majorant += regions_[i].majorant;
-    if (majorant <= 0) continue;
+    bool emits = false, homogeneous = true;
+    for (uint32_t i : scratch.active) {
+      majorant += regions_[i].majorant;
+      emits = emits || regions_[i].medium->emits();
+      homogeneous = homogeneous && regions_[i].medium->homogeneous();
+    }
     const float s = (b - a) * len;
     const Vec3f start = ray.at(a);
+    if (majorant <= 0) {
+      // No extinction (T = 1 here), so no collisions to gather emission at: the integral
+      // itself when constant, else one uniformly placed sample of it.
+      if (emitted && emits) {
+        const float x = homogeneous ? 0 : sampler.get1D() * s;
+        *emitted += event.weight * coefficients(scratch.active, start + dUnit * x).emission * s;
+      }
+      continue;
+    }
     float x = 0;
     for (;;) {
       x -= std::log1p(-sampler.get1D()) / majorant;
       if (x >= s) break;
       const Coefficients c = coefficients(scratch.active, start + dUnit * x);
+      // Collisions come at rate `majorant`: weight x emission / majorant per collision
+      // estimates the integral of T emission, whatever the event chosen below.
+      if (emitted && emits) *emitted += event.weight * c.emission / majorant;
       // Channel-averaged event probabilities (majorant >= every channel's sigma_t, so they
       // sum to <= 1); each event weighs its true coefficient over majorant * its probability,
       // which keeps every channel unbiased and is exactly 1 for grey media.

@@ -80,6 +80,9 @@ class MediaScene {
   // Transmittance along t in [0, tMax] of `ray` (exact for homogeneous media, estimated for
   // heterogeneous ones with the configured estimator).
   Rgb transmittance(const Ray& ray, float tMax, Sampler& sampler) const;
+  // The same, but heterogeneous media always by ratio tracking (unbiased, whatever the
+  // configured estimator): the path tracer's shadow rays.
+  Rgb trackedTransmittance(const Ray& ray, float tMax, Sampler& sampler) const;
 
   // Emission and (single mode) single scattering of the scene's lights along t in [0, tMax]
   // of `ray` (tMax = kInfinity: up to where the ray leaves the last region), with the
@@ -92,6 +95,14 @@ class MediaScene {
   // tracers): E[weight * f(event)] = integral of T(t) sigma_s(t) f(t) dt over scattering
   // events, and E[weight] = T(tMax) over rays that pass. Emission is not included.
   MediumEvent sampleScattering(const Ray& ray, float tMax, Sampler& sampler) const;
+  // sampleScattering plus the media's emission along the way: `*emitted` receives an unbiased
+  // estimate of the integral of T(t) emission(t) dt over t up to the event (or to tMax): at
+  // every tentative collision the tracking weight so far times emission / majorant (pbrt-v4's
+  // estimator), and for stretches without extinction (majorant 0) the exact integral or one
+  // uniformly placed sample of it. Draws the same numbers as sampleScattering where no such
+  // stretch emits.
+  MediumEvent sampleScatteringAndEmission(const Ray& ray, float tMax, Sampler& sampler,
+                                          Rgb* emitted) const;
 
  private:
   struct Region {
@@ -113,8 +124,11 @@ class MediaScene {
   }
   Coefficients coefficients(const std::vector<uint32_t>& active, Vec3f p) const;
   // Transmittance through one region over world-space distance [0, length) from ray.at(t0).
-  Rgb regionTransmittance(const Region& r, const Ray& ray, float t0, float t1,
-                          Sampler& sampler) const;
+  Rgb regionTransmittance(const Region& r, const Ray& ray, float t0, float t1, Sampler& sampler,
+                          bool track) const;
+  Rgb transmittance(const Ray& ray, float tMax, Sampler& sampler, bool track) const;
+  // Delta tracking; emission gathered into `*emitted` when it is not null.
+  MediumEvent deltaTrack(const Ray& ray, float tMax, Sampler& sampler, Rgb* emitted) const;
   // The source term at p (emission + single scattering towards -d), per unit length.
   Rgb source(const RenderScene& scene, const std::vector<uint32_t>& active, Vec3f p, Vec3f d,
              float time, const Coefficients& c, Sampler& sampler, RayCounters& counters) const;

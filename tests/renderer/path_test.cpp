@@ -290,20 +290,29 @@ TEST(PathTracer, AutoChoosesThePathTracerForExtendedLight) {
   EXPECT_TRUE(buildRenderScene(d).features.has(Feature::Indirect));
 }
 
-TEST(PathTracer, RefusesMediaUntilItScattersInThem) {
+TEST(PathTracer, RendersMediaAndAutoPicksItForMultipleScattering) {
   SceneDescription d = pathScene(8, 1, 4, 3);
   d.materials.push_back(lambert({0.5f, 0.5f, 0.5f}));
   d.objects.push_back(sphere({0, 0, 0}, 1, 0));
   d.cameras.push_back(camera({0, 0, 4}, {0, 0, 0}, 40));
+  LightDesc point;
+  point.intensity = 5;
+  point.worldFromLight = Transform::translate({0, 3, 0});
+  d.lights.push_back(point);
   MediumDesc fog;  // the whole scene
   fog.sigmaS = {0.1f, 0.1f, 0.1f};
   d.media.push_back(fog);
   d.render.integrator.type = "auto";
   RenderScene scene = buildRenderScene(d);
-  useUniformEnvironment(&scene, {1, 1, 1});  // would pick the path tracer without media
+  // Point lights and single scattering: Whitted; multiple scattering: the path tracer.
   EXPECT_EQ(resolveIntegratorType(scene, d.render.integrator), "whitted");
+  d.render.integrator.volume = "multiple";
+  EXPECT_EQ(resolveIntegratorType(scene, d.render.integrator), "path");
+  d.render.integrator.volume = "single";
+  useUniformEnvironment(&scene, {1, 1, 1});  // extended light: the path tracer
+  EXPECT_EQ(resolveIntegratorType(scene, d.render.integrator), "path");
   d.render.integrator.type = "path";
-  EXPECT_THROW(makeIntegrator(scene, d.render), std::invalid_argument);
+  EXPECT_NE(dynamic_cast<PathIntegrator*>(makeIntegrator(scene, d.render).get()), nullptr);
 }
 
 // ---------------------------------------------------------------------------------------------
