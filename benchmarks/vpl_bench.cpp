@@ -132,8 +132,8 @@ void BM_PathTracerSameSpp(benchmark::State& state) {
   settings.spp = int(state.range(0));
   Film film;
   for (auto _ : state)
-    film = render(fx.scene, *makeIntegrator(fx.scene, settings), settings,
-                  {.threads = fx.threads}, nullptr);
+    film = render(fx.scene, *makeIntegrator(fx.scene, settings), settings, {.threads = fx.threads},
+                  nullptr);
   const Error e = compare(film, fx.reference);
   state.counters["rmse"] = e.rmse;
   state.counters["bias"] = e.bias;
@@ -151,9 +151,10 @@ BENCHMARK(BM_PathTracerSameSpp)
 int main(int argc, char** argv) {
   const std::string out = glint::bench::initialize(argc, argv);
   benchmark::RunSpecifiedBenchmarks();
-  std::printf("\nInstant radiosity on the Cornell box, %dx%d, %d spp, against the path tracer at "
-              "%d spp\n",
-              glint::kSize, glint::kSize, glint::kSpp, glint::kReferenceSpp);
+  std::printf(
+      "\nInstant radiosity on the Cornell box, %dx%d, %d spp, against the path tracer at "
+      "%d spp\n",
+      glint::kSize, glint::kSize, glint::kSpp, glint::kReferenceSpp);
   std::printf("%8s %8s %8s %10s %10s %10s\n", "paths", "clamp", "VPLs", "seconds", "RMSE",
               "mean bias");
   for (const glint::Row& r : glint::rows())

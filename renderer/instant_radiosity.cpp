@@ -83,7 +83,8 @@ InstantRadiosityIntegrator::InstantRadiosityIntegrator(const RenderScene& scene,
   if (scene.media)
     throw std::invalid_argument(
         "instant radiosity does not render participating media; use --integrator whitted");
-  if (settings.vplPaths <= 0) throw std::invalid_argument("instant radiosity: vpl_paths must be > 0");
+  if (settings.vplPaths <= 0)
+    throw std::invalid_argument("instant radiosity: vpl_paths must be > 0");
   shadows_ = scene.features.has(Feature::Shadows);
   cameraCone_ = scene.camera.pixelCone();
   traceLightPaths(settings.vplPaths, seed);
@@ -158,8 +159,8 @@ void InstantRadiosityIntegrator::traceLightPaths(int paths, uint64_t seed) {
       // |wo.ns| |wi.ng| / (|wo.ng| |wi.ns|) (Veach 1997, 5.3) and no 1/eta^2 at refractions.
       const float cosOg = std::abs(dot(si.wo, si.ng));
       if (!(cosOg > 0)) break;
-      Rgb weight = s->f * (std::abs(dot(si.wo, si.ns)) * std::abs(dot(s->wi, si.ng)) /
-                           (cosOg * s->pdf));
+      Rgb weight =
+          s->f * (std::abs(dot(si.wo, si.ns)) * std::abs(dot(s->wi, si.ng)) / (cosOg * s->pdf));
       if (s->flags & kBsdfTransmission) weight *= s->eta * s->eta;
       if (!(maxComponent(weight) > 0) || !isFinite(weight)) break;
       throughput *= weight;
@@ -251,9 +252,9 @@ Rgb InstantRadiosityIntegrator::shade(const Ray& ray, const Hit* found, const Ra
   return opacity < 1 ? L * opacity + behind * (1 - opacity) : L;
 }
 
-Rgb InstantRadiosityIntegrator::directLight(const SurfaceInteraction& si,
-                                            const Material& material, float time,
-                                            Sampler& sampler, RayCounters& counters) const {
+Rgb InstantRadiosityIntegrator::directLight(const SurfaceInteraction& si, const Material& material,
+                                            float time, Sampler& sampler,
+                                            RayCounters& counters) const {
   Rgb L;
   const LightSampleContext ctx(si, time);
   for (const auto& light : scene_.lights) {

@@ -38,7 +38,14 @@
 // dark), never added. G is in 1/length^2, so the bound depends on the scene's scale: a bound
 // of about 1 / (0.1 x scene size)^2 to 1 / (0.05 x scene size)^2 (for a box of size 1: 100 to
 // 400) removes the splotches and loses a few percent; a bound below 1 / scene size^2 darkens
-// all indirect light. The unit tests measure it against the path tracer.
+// all indirect light. Measured by benchmarks/vpl_bench on the Cornell box (2 wide, 1024 paths,
+// image mean against unclamped): bound 100 loses 0.2%, bound 10 loses 1.0%; the unit tests
+// check that clamping never brightens a pixel.
+//
+// Cost: every lit camera hit traces one shadow ray per VPL (about 3.5 VPLs per path in a box
+// of albedo 0.7), so time grows linearly with vplPaths; the error falls roughly as 1/paths
+// (vpl_bench: RMSE 0.094, 0.038, 0.015, 0.009 for 16, 64, 256, 1024 paths). Without
+// Feature::Shadows (no light casts shadows) VPLs, like the lights, shine through walls.
 //
 // Not handled: participating media (refused), motion (light paths are traced at shutter open,
 // time 0), and light that reaches a diffuse point by a mirror after the gather point's own

@@ -32,12 +32,14 @@ std::string cornellBox(int size, int spp, uint64_t seed, const std::string& inte
                  : R"({"type": "quad", "corner": [-0.3, 1.99, -0.3], "edge_u": [0.6, 0, 0],
                       "edge_v": [0, 0, 0.6], "intensity": 10})";
   return R"({
-    "render": {"width": )" + std::to_string(size) + R"(, "height": )" + std::to_string(size) +
-         R"(, "spp": )" + std::to_string(spp) + R"(, "seed": )" + std::to_string(seed) +
+    "render": {"width": )" +
+         std::to_string(size) + R"(, "height": )" + std::to_string(size) + R"(, "spp": )" +
+         std::to_string(spp) + R"(, "seed": )" + std::to_string(seed) +
          R"(, "camera": "c", "integrator": )" + integrator + R"(},
     "cameras": [{"name": "c", "position": [0, 1, 0.95], "look_at": [0, 1, -1],
                  "yfov_degrees": 70}],
-    "lights": [)" + light + R"(],
+    "lights": [)" +
+         light + R"(],
     "materials": [{"name": "white", "type": "lambert", "diffuse": [0.7, 0.7, 0.7]},
                   {"name": "red", "type": "lambert", "diffuse": [0.7, 0.12, 0.1]},
                   {"name": "green", "type": "lambert", "diffuse": [0.12, 0.6, 0.15]}],
@@ -215,8 +217,8 @@ TEST(InstantRadiosity, ImageIsIdenticalForOneAndTwoThreads) {
 TEST(InstantRadiosity, VplSetDependsOnlyOnTheSeed) {
   const SceneDescription d = describe(cornellBox(8, 1, 4, irSettings(100, 0)));
   const RenderScene scene = buildRenderScene(d);
-  const InstantRadiosityIntegrator a(scene, d.render.integrator, 4), b(scene, d.render.integrator, 4),
-      c(scene, d.render.integrator, 5);
+  const InstantRadiosityIntegrator a(scene, d.render.integrator, 4),
+      b(scene, d.render.integrator, 4), c(scene, d.render.integrator, 5);
   ASSERT_EQ(a.vpls().size(), b.vpls().size());
   // More VPLs than paths: the paths bounce (albedo 0.7, roulette from bounce 3).
   EXPECT_GT(a.vpls().size(), 150u);
@@ -288,12 +290,12 @@ TEST(InstantRadiosity, VplAtTheShadingPointGivesNoNonFiniteRadiance) {
 TEST(InstantRadiosity, SidecarRejectsNonPositivePathCounts) {
   for (const char* paths : {"0", "-3"}) {
     const std::string json = R"({"render": {"integrator": {"type": "instant-radiosity",
-                                 "vpl_paths": )" + std::string(paths) + "}}}";
+                                 "vpl_paths": )" +
+                             std::string(paths) + "}}}";
     SceneDescription d;
-    EXPECT_SCENE_ERROR(test::errorFrom([&] {
-                         applySceneJsonText(json, "scene.json", SceneJsonKind::Scene, &d);
-                       }),
-                       "scene.json", "/render/integrator/vpl_paths", "> 0");
+    EXPECT_SCENE_ERROR(
+        test::errorFrom([&] { applySceneJsonText(json, "scene.json", SceneJsonKind::Scene, &d); }),
+        "scene.json", "/render/integrator/vpl_paths", "> 0");
   }
   SceneDescription d;
   EXPECT_SCENE_ERROR(test::errorFrom([&] {
