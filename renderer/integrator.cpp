@@ -3,6 +3,7 @@
 
 #include <stdexcept>
 
+#include "renderer/instant_radiosity.h"
 #include "renderer/path.h"
 #include "renderer/whitted.h"
 
@@ -85,7 +86,7 @@ Rgb Integrator::Li(const Ray& ray, Sampler& sampler, RayCounters& counters, Path
 }
 
 const std::vector<std::string>& integratorNames() {
-  static const std::vector<std::string> names = {"whitted", "path", "auto"};
+  static const std::vector<std::string> names = {"whitted", "path", "instant-radiosity", "auto"};
   return names;
 }
 
@@ -108,7 +109,9 @@ std::unique_ptr<Integrator> makeIntegrator(const RenderScene& scene, const Rende
   const std::string type = resolveIntegratorType(scene, s);
   if (type == "whitted") return std::make_unique<WhittedIntegrator>(scene, s.maxDepth);
   if (type == "path") return std::make_unique<PathIntegrator>(scene, s);
-  throw std::invalid_argument("unknown integrator '" + s.type + "' (whitted, path, auto)");
+  if (type == "instant-radiosity")
+    return std::make_unique<InstantRadiosityIntegrator>(scene, s, settings.seed);
+  throw std::invalid_argument("unknown integrator '" + s.type + "' (whitted, path, instant-radiosity, auto)");
 }
 
 }  // namespace glint

@@ -696,8 +696,10 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
   scene.features.set(Feature::Lens, lens);
   scene.features.set(Feature::MotionBlur, moving);
   addMedia(desc, &scene);
+  const std::string integratorType = resolveIntegratorType(scene, desc.render.integrator);
   scene.features.set(Feature::Indirect,
-                     resolveIntegratorType(scene, desc.render.integrator) == "path");
+                     integratorType == "path" || integratorType == "instant-radiosity");
+  scene.features.set(Feature::Vpls, integratorType == "instant-radiosity");
 
   auto accelStart = Clock::now();
   scene.accel = makeAccelerator(desc.render.accel, scene.geometry);

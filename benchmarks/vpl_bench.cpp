@@ -1,0 +1,177 @@
+// glint benchmark — instant radiosity: VPL count against time and error. The Cornell-style box
+// of tests/images/scenes/cornell_ir.json (quad light, Lambert walls, a block and a ball) at
+// 32x32, 16 spp, max depth 6, rendered with 16, 64, 256 and 1024 light paths, unclamped, with
+// the G bound 100 the reference scene uses, and with a tight bound of 10 (the box is 2 wide:
+// 10 is below 1 / (0.2 x size)^2, so its bias shows). Each run's time includes tracing the light
+// paths. Error: RMSE of the green channel and the relative bias of the image mean, against the
+// path tracer at 4096 spp on the same box (its own noise: RMSE about 0.0013). No target; the
+// table at the end is the record.
+// Usage: vpl_bench [--out results.json] [google benchmark flags]
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "bench_support.h"
+#include "renderer/instant_radiosity.h"
+#include "renderer/render.h"
+#include "scenes/build.h"
+#include "scenes/sidecar.h"
+
+namespace glint {
+namespace {
+
+constexpr int kSize = 32, kSpp = 16, kReferenceSpp = 4096;
+
+const char* kBox = R"({
+  "render": {"width": 32, "height": 32, "spp": 16, "seed": 3, "camera": "main",
+             "integrator": {"type": "instant-radiosity", "max_depth": 6}},
+  "cameras": [{"name": "main", "position": [0, 1, 0.95], "look_at": [0, 1, -1], "yfov_degrees": 70}],
+  "lights": [{"type": "quad", "corner": [-0.3, 1.99, -0.3], "edge_u": [0.6, 0, 0],
+              "edge_v": [0, 0, 0.6], "intensity": 10}],
+  "materials": [{"name": "white", "type": "lambert", "diffuse": [0.7, 0.7, 0.7]},
+                {"name": "red", "type": "lambert", "diffuse": [0.7, 0.12, 0.1]},
+                {"name": "green", "type": "lambert", "diffuse": [0.12, 0.6, 0.15]}],
+  "objects": [
+    {"type": "quad", "corner": [-1, 0, -1], "edge_u": [2, 0, 0], "edge_v": [0, 0, 2], "material": "white"},
+    {"type": "quad", "corner": [-1, 2, -1], "edge_u": [2, 0, 0], "edge_v": [0, 0, 2], "material": "white"},
+    {"type": "quad", "corner": [-1, 0, -1], "edge_u": [2, 0, 0], "edge_v": [0, 2, 0], "material": "white"},
+    {"type": "quad", "corner": [-1, 0, 1], "edge_u": [2, 0, 0], "edge_v": [0, 2, 0], "material": "white"},
+    {"type": "quad", "corner": [-1, 0, -1], "edge_u": [0, 0, 2], "edge_v": [0, 2, 0], "material": "red"},
+    {"type": "quad", "corner": [1, 0, -1], "edge_u": [0, 0, 2], "edge_v": [0, 2, 0], "material": "green"},
+    {"type": "box", "min": [-0.6, 0, -0.6], "max": [-0.1, 0.9, -0.1], "material": "white"},
+    {"type": "sphere", "center": [0.45, 0.35, -0.3], "radius": 0.35, "material": "white"}]})";
+
+struct Fixture {
+  SceneDescription desc;
+  RenderScene scene;
+  Film reference;
+  int threads = int(std::thread::hardware_concurrency());
+
+  Fixture() {
+    desc.file = "vpl_bench (in code)";
+    applySceneJsonText(kBox, desc.file, SceneJsonKind::Scene, &desc);
+    scene = buildRenderScene(desc);
+    RenderSettings path = desc.render;
+    path.integrator.type = "path";
+    path.spp = kReferenceSpp;
+    path.seed = 11;
+    reference = render(scene, *makeIntegrator(scene, path), path, {.threads = threads}, nullptr);
+  }
+};
+
+Fixture& fixture() {
+  static Fixture f;
+  return f;
+}
+
+struct Error {
+  double rmse = 0, bias = 0;  // RMSE (green), relative bias of the image mean
+};
+Error compare(const Film& f, const Film& ref) {
+  double s = 0, sum = 0, sumRef = 0;
+  for (size_t i = 0; i < f.color.size(); ++i) {
+    const double d = double(f.color[i].y) - ref.color[i].y;
+    s += d * d, sum += f.color[i].y, sumRef += ref.color[i].y;
+  }
+  return {std::sqrt(s / double(f.color.size())), sum / sumRef - 1};
+}
+
+// One row of the summary table.
+struct Row {
+  int paths = 0, clamp = 0;
+  size_t vpls = 0;
+  double seconds = 0;
+  Error error;
+};
+std::vector<Row>& rows() {
+  static std::vector<Row> r;
+  return r;
+}
+
+// state.range(0): light paths; state.range(1): G bound (0 = none).
+void BM_InstantRadiosity(benchmark::State& state) {
+  Fixture& fx = fixture();
+  RenderSettings settings = fx.desc.render;
+  settings.integrator.vplPaths = int(state.range(0));
+  settings.integrator.vplClamp = float(state.range(1));
+  Film film;
+  size_t vpls = 0;
+  RenderStats stats;
+  double seconds = 0;
+  for (auto _ : state) {
+    const auto start = std::chrono::steady_clock::now();
+    InstantRadiosityIntegrator ir(fx.scene, settings.integrator, settings.seed);
+    vpls = ir.vpls().size();
+    film = render(fx.scene, ir, settings, {.threads = fx.threads}, &stats);
+    seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  const Error e = compare(film, fx.reference);
+  rows().push_back({int(state.range(0)), int(state.range(1)), vpls, seconds, e});
+  state.counters["vpls"] = double(vpls);
+  state.counters["rmse"] = e.rmse;
+  state.counters["bias"] = e.bias;
+  state.counters["Mshadow"] = double(stats.rays.shadow) * 1e-6;
+}
+BENCHMARK(BM_InstantRadiosity)
+    ->ArgsProduct({{16, 64, 256, 1024}, {0, 10, 100}})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1)
+    ->UseRealTime();
+
+// The path tracer at the IR runs' spp, for scale: its time and its noise.
+void BM_PathTracerSameSpp(benchmark::State& state) {
+  Fixture& fx = fixture();
+  RenderSettings settings = fx.desc.render;
+  settings.integrator.type = "path";
+  settings.spp = int(state.range(0));
+  Film film;
+  for (auto _ : state)
+    film = render(fx.scene, *makeIntegrator(fx.scene, settings), settings, {.threads = fx.threads},
+                  nullptr);
+  const Error e = compare(film, fx.reference);
+  state.counters["rmse"] = e.rmse;
+  state.counters["bias"] = e.bias;
+}
+BENCHMARK(BM_PathTracerSameSpp)
+    ->Arg(kSpp)
+    ->Arg(16 * kSpp)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1)
+    ->UseRealTime();
+
+}  // namespace
+}  // namespace glint
+
+int main(int argc, char** argv) {
+  const std::string out = glint::bench::initialize(argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  std::printf(
+      "\nInstant radiosity on the Cornell box, %dx%d, %d spp, against the path tracer at "
+      "%d spp\n",
+      glint::kSize, glint::kSize, glint::kSpp, glint::kReferenceSpp);
+  std::printf("%8s %8s %8s %10s %10s %10s\n", "paths", "clamp", "VPLs", "seconds", "RMSE",
+              "mean bias");
+  for (const glint::Row& r : glint::rows())
+    std::printf("%8d %8d %8zu %10.3f %10.4f %+9.2f%%\n", r.paths, r.clamp, r.vpls, r.seconds,
+                r.error.rmse, 100 * r.error.bias);
+  if (!out.empty()) {
+    std::ofstream f(out);
+    f << "[\n";
+    for (size_t i = 0; i < glint::rows().size(); ++i) {
+      const glint::Row& r = glint::rows()[i];
+      f << "  {\"paths\": " << r.paths << ", \"clamp\": " << r.clamp << ", \"vpls\": " << r.vpls
+        << ", \"seconds\": " << r.seconds << ", \"rmse\": " << r.error.rmse
+        << ", \"bias\": " << r.error.bias << "}" << (i + 1 < glint::rows().size() ? "," : "")
+        << "\n";
+    }
+    f << "]\n";
+  }
+  benchmark::Shutdown();
+  return 0;
+}

@@ -1,0 +1,305 @@
+// glint — instant radiosity.
+#include "renderer/instant_radiosity.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace glint {
+
+// ---------------------------------------------------------------------------------------------
+// The Halton sequence
+// ---------------------------------------------------------------------------------------------
+
+namespace {
+
+// The first primes, one per Halton dimension (enough for 5 + 5 x 40 bounces).
+const std::vector<uint32_t>& primes() {
+  static const std::vector<uint32_t> table = [] {
+    std::vector<uint32_t> p;
+    for (uint32_t n = 2; p.size() < 256; ++n) {
+      bool prime = true;
+      for (uint32_t q : p) {
+        if (q * q > n) break;
+        if (n % q == 0) prime = false;
+      }
+      if (prime) p.push_back(n);
+    }
+    return p;
+  }();
+  return table;
+}
+
+// Dimension `dim` of light path `index`: a scrambled Halton coordinate while primes last,
+// then a hash (deep bounces are rare and need no stratification).
+class HaltonPoint {
+ public:
+  HaltonPoint(uint64_t index, uint64_t seed) : index_(index), seed_(seed) {}
+  float get1D() {
+    const uint64_t scramble = mixBits(seed_ ^ mixBits(dim_ + 1));
+    const uint32_t d = dim_++;
+    if (d < primes().size()) return scrambledRadicalInverse(primes()[d], index_, scramble);
+    return fractionToFloatBits(mixBits(scramble ^ (index_ * 0xd1b54a32d192ed03ull)));
+  }
+  Vec2f get2D() {
+    const float x = get1D();
+    return {x, get1D()};
+  }
+
+ private:
+  static float fractionToFloatBits(uint64_t h) { return float(h >> 40) * 0x1p-24f; }
+  uint64_t index_, seed_;
+  uint32_t dim_ = 0;
+};
+
+}  // namespace
+
+float scrambledRadicalInverse(uint32_t base, uint64_t index, uint64_t scramble) {
+  const double invBase = 1.0 / base;
+  double r = 0, weight = invBase;
+  // Digits until they no longer change a float; the shift applies to the trailing zero digits
+  // too, which spreads each point uniformly within its stratum.
+  for (uint64_t digitPos = 0; weight > 1e-9; ++digitPos, weight *= invBase) {
+    const uint64_t digit = index % base;
+    index /= base;
+    const uint64_t shift = mixBits(scramble + digitPos * 0x9e3779b97f4a7c15ull) % base;
+    r += double((digit + shift) % base) * weight;
+  }
+  return std::min(float(r), 0x1.fffffep-1f);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Setup: light paths and their VPLs
+// ---------------------------------------------------------------------------------------------
+
+InstantRadiosityIntegrator::InstantRadiosityIntegrator(const RenderScene& scene,
+                                                       const IntegratorSettings& settings,
+                                                       uint64_t seed)
+    : Integrator(scene),
+      maxDepth_(settings.maxDepth),
+      rrDepth_(settings.rrDepth),
+      clamp_(settings.vplClamp) {
+  // Refuse rather than silently render fog as clear air.
+  if (scene.media)
+    throw std::invalid_argument(
+        "instant radiosity does not render participating media; use --integrator whitted");
+  if (settings.vplPaths <= 0)
+    throw std::invalid_argument("instant radiosity: vpl_paths must be > 0");
+  shadows_ = scene.features.has(Feature::Shadows);
+  cameraCone_ = scene.camera.pixelCone();
+  traceLightPaths(settings.vplPaths, seed);
+}
+
+void InstantRadiosityIntegrator::traceLightPaths(int paths, uint64_t seed) {
+  // A VPL at light-path vertex k lights camera paths of k + 1 bounces.
+  const int lastVertex = maxDepth_ - 1;
+  if (scene_.lights.empty() || lastVertex < 1) return;
+  // Lights by power, as the power light sampler picks them (but independent of the NEE
+  // sampler setting: a BVH sampler needs a receiving point, a light path has none).
+  std::vector<float> power;
+  for (const auto& light : scene_.lights) {
+    const float p = luminance(light->phi());
+    power.push_back(std::isfinite(p) && p > 0 ? p : 0);
+  }
+  const DiscreteDistribution lightDistribution(power);
+  const float invPaths = 1.0f / float(paths);
+
+  for (int path = 0; path < paths; ++path) {
+    // Index 0 of a Halton sequence is the origin in every dimension: start at 1.
+    HaltonPoint u(uint64_t(path) + 1, seed);
+    float pLight = 0;
+    const float uLight = u.get1D();
+    const Vec2f uPos = u.get2D(), uDir = u.get2D();
+    const uint32_t index = lightDistribution.sample(uLight, &pLight);
+    if (!(pLight > 0)) continue;
+    const std::optional<LightLeSample> le = scene_.lights[index]->sampleLe(uPos, uDir, 0);
+    if (!le || !(le->pdfPos > 0) || !(le->pdfDir > 0)) continue;
+    const Rgb power0 = le->beta() * (invPaths / pLight);
+    if (!(maxComponent(power0) > 0) || !isFinite(power0)) continue;
+
+    Rgb throughput{1, 1, 1};  // product of the flux weights since the light (for roulette)
+    Ray ray = le->ray;
+    Hit hit;
+    for (int vertex = 1; vertex <= lastVertex; ++vertex) {
+      // The vertex's Halton dimensions, all drawn whatever happens below.
+      const float uPass = u.get1D();
+      const Vec2f uBsdf = u.get2D();
+      const float uLobe = u.get1D();
+      const float uRoulette = u.get1D();
+
+      ++lightPathRays_;
+      if (!scene_.accel->closestHit(ray, &hit)) break;
+      const uint32_t materialIndex = scene_.materialIndex(hit);
+      const Material& material = *scene_.materials[materialIndex];
+      const MaterialShading& shading = shading_[materialIndex];
+      std::optional<Transform> movingFrame;
+      SurfaceInteraction si = shadingPoint(ray, hit, RayCone{}, materialIndex, &movingFrame);
+
+      // Partly transparent: light passes straight through with probability 1 - opacity.
+      if (shading.transparent && uPass >= material.opacity(si)) {
+        ray = si.spawnRay(ray.d, ray.time);
+        continue;
+      }
+      if (shading.unlit) break;
+
+      // A VPL wherever a non-delta lobe can reflect the light on.
+      if (shading.flags & (kBsdfDiffuse | kBsdfGlossy)) {
+        Vpl& v = vpls_.emplace_back();
+        v.si = si;
+        v.material = materialIndex;
+        v.flux = power0 * throughput;
+        v.vertex = vertex;
+        v.movingFrame = movingFrame;
+      }
+      if (vertex == lastVertex) break;
+
+      std::optional<BsdfSample> s = material.sample(si, uBsdf, uLobe);
+      if (!s || !(s->pdf > 0) || !std::isfinite(s->pdf)) break;
+      // Flux, not radiance, travels along a light path: the shading-normal correction
+      // |wo.ns| |wi.ng| / (|wo.ng| |wi.ns|) (Veach 1997, 5.3) and no 1/eta^2 at refractions.
+      const float cosOg = std::abs(dot(si.wo, si.ng));
+      if (!(cosOg > 0)) break;
+      Rgb weight =
+          s->f * (std::abs(dot(si.wo, si.ns)) * std::abs(dot(s->wi, si.ng)) / (cosOg * s->pdf));
+      if (s->flags & kBsdfTransmission) weight *= s->eta * s->eta;
+      if (!(maxComponent(weight) > 0) || !isFinite(weight)) break;
+      throughput *= weight;
+
+      // Russian roulette on the throughput, as the path tracer does.
+      if (vertex >= rrDepth_) {
+        const float survive = std::clamp(maxComponent(throughput), 0.05f, 1.0f);
+        if (survive < 1) {
+          if (uRoulette >= survive) break;
+          throughput *= 1 / survive;
+        }
+      }
+      ray = si.spawnRay(s->wi, ray.time);
+    }
+  }
+  // The vector has stopped growing: point moving objects' hits at their own frames.
+  for (Vpl& v : vpls_)
+    if (v.movingFrame) v.si.objectFromWorld = &*v.movingFrame;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Gather: Whitted's recursion, lit by the lights and the VPLs
+// ---------------------------------------------------------------------------------------------
+
+Rgb InstantRadiosityIntegrator::LiFromHit(const Ray& ray, const Hit* hit, Sampler& sampler,
+                                          RayCounters& counters, PathAovs& aovs) const {
+  return shade(ray, hit, cameraCone_, 0, sampler, counters, &aovs);
+}
+
+Rgb InstantRadiosityIntegrator::trace(const Ray& ray, const RayCone& cone, int depth,
+                                      Sampler& sampler, RayCounters& counters) const {
+  ++counters.secondary;
+  Hit hit;
+  const bool found = scene_.accel->closestHit(ray, &hit);
+  return shade(ray, found ? &hit : nullptr, cone, depth, sampler, counters, nullptr);
+}
+
+Rgb InstantRadiosityIntegrator::shade(const Ray& ray, const Hit* found, const RayCone& cone,
+                                      int depth, Sampler& sampler, RayCounters& counters,
+                                      PathAovs* aovs) const {
+  if (!found) return scene_.escaped(normalize(ray.d));
+  const Hit& hit = *found;
+  const uint32_t materialIndex = scene_.materialIndex(hit);
+  const Material& material = *scene_.materials[materialIndex];
+  const MaterialShading& shading = shading_[materialIndex];
+  std::optional<Transform> movingFrame;  // a moving object's frame: lives as long as `si`
+  SurfaceInteraction si = shadingPoint(ray, hit, cone, materialIndex, &movingFrame);
+  if (aovs) {
+    aovs->hit = true;
+    if (aovs->wanted) {
+      aovs->albedo = material.albedo(si);
+      aovs->normal = si.ns;
+      aovs->depth = hit.t * length(ray.d);
+    }
+  }
+  const RayCone next{cone.widthAt(hit.t * length(ray.d)), cone.spread};
+
+  // Partly transparent surfaces: the rest of the light comes straight through.
+  const float opacity = shading.transparent ? material.opacity(si) : 1.0f;
+  Rgb behind;
+  if (opacity < 1) {
+    if (depth < maxDepth_)
+      behind = trace(si.spawnRay(ray.d, ray.time), next, depth + 1, sampler, counters);
+    if (opacity <= 0) return behind;
+  }
+
+  Rgb L;
+  if (shading.unlit) {
+    L = material.albedo(si) * std::abs(dot(si.ns, si.wo));
+  } else {
+    L = material.emitted(si);
+    L += directLight(si, material, ray.time, sampler, counters);
+    if (shading.flags & (kBsdfDiffuse | kBsdfGlossy))
+      L += vplLight(si, material, ray.time, counters);
+  }
+  // Mirror and glass: follow the reflected and the refracted ray, each with its own weight.
+  if ((shading.flags & kBsdfSpecular) && depth < maxDepth_) {
+    for (uint32_t lobe : {kBsdfReflection, kBsdfTransmission}) {
+      if (!(shading.flags & lobe)) continue;
+      const Vec2f u = sampler.get2D();
+      const float uLobe = sampler.get1D();
+      std::optional<BsdfSample> s = material.sample(si, u, uLobe, lobe | kBsdfSpecular);
+      if (!s || !(s->flags & kBsdfSpecular) || s->pdf <= 0) continue;
+      const Rgb weight = s->weight(si.ns);
+      if (maxComponent(weight) <= 0) continue;
+      L += weight * trace(si.spawnRay(s->wi, ray.time), next, depth + 1, sampler, counters);
+    }
+  }
+  return opacity < 1 ? L * opacity + behind * (1 - opacity) : L;
+}
+
+Rgb InstantRadiosityIntegrator::directLight(const SurfaceInteraction& si, const Material& material,
+                                            float time, Sampler& sampler,
+                                            RayCounters& counters) const {
+  Rgb L;
+  const LightSampleContext ctx(si, time);
+  for (const auto& light : scene_.lights) {
+    const Vec2f u = light->isDelta() ? Vec2f{0.5f, 0.5f} : sampler.get2D();
+    std::optional<LightSample> ls = light->sampleLi(ctx, u);
+    if (!ls || !(ls->pdf > 0)) continue;
+    const Rgb f = material.eval(si, ls->wi);
+    if (!(maxComponent(f) > 0)) continue;
+    if (shadows_ && light->castsShadows()) {
+      ++counters.shadow;
+      if (scene_.accel->anyHit(shadowRay(ctx, *ls))) continue;
+    }
+    L += f * ls->L * (std::abs(dot(si.ns, ls->wi)) / ls->pdf);
+  }
+  return L;
+}
+
+Rgb InstantRadiosityIntegrator::vplLight(const SurfaceInteraction& si, const Material& material,
+                                         float time, RayCounters& counters) const {
+  Rgb L;
+  const float pointError = length(si.pError);
+  for (const Vpl& v : vpls_) {
+    const Vec3f d = v.si.p - si.p;
+    const float dist2 = dot(d, d);
+    const float dist = std::sqrt(dist2);
+    // The VPL is the shading point itself, as far as rounding can tell: G has no meaning.
+    if (!(dist > pointError + length(v.si.pError)) || !(dist2 > 0)) continue;
+    const Vec3f wi = d / dist;
+    const Rgb f = material.eval(si, wi);
+    if (!(maxComponent(f) > 0)) continue;
+    const Rgb fVpl = scene_.materials[v.material]->eval(v.si, -wi);
+    if (!(maxComponent(fVpl) > 0)) continue;
+    float G = std::abs(dot(si.ns, wi)) * std::abs(dot(v.si.ns, wi)) / dist2;
+    if (clamp_ > 0) G = std::min(G, clamp_);
+    const Rgb contribution = f * fVpl * v.flux * G;
+    if (!(maxComponent(contribution) > 0) || !isFinite(contribution)) continue;
+    if (shadows_) {
+      // Both ends leave their surfaces by their error bounds, as light shadow rays do.
+      const Vec3f target = offsetRayOrigin(v.si.p, v.si.pError, v.si.ng, si.p - v.si.p);
+      ++counters.shadow;
+      if (scene_.accel->anyHit(spawnRayTo(si.p, si.pError, si.ng, target, time))) continue;
+    }
+    L += contribution;
+  }
+  return L;
+}
+
+}  // namespace glint
