@@ -15,8 +15,8 @@
 //    pairs and prints the median of the per-pair time ratios against the 1.03 target.
 //    Limits: the ratio is an upper bound on what unused features cost, since the full renderer
 //    also does work the minimal loop skips that is not a feature (per-pixel variance, ray
-//    counters, NaN/Inf checks, tiles). On a shared machine the pairing cancels slow load drifts but not
-//    a neighbour's burst within one pair; the median over pairs damps those.
+//    counters, NaN/Inf checks, tiles). On a shared machine the pairing cancels slow load drifts but
+//    not a neighbour's burst within one pair; the median over pairs damps those.
 // 2. Used effects. The same scene with one effect switched on at a time (depth of field,
 //    motion blur, a procedural texture, glass, a quad area light, a projective light with a
 //    clouds slide, fog in a box around the objects marched at the default step with single
@@ -32,10 +32,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <vector>
 #include <fstream>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "bench_support.h"
 #include "geometry/interaction.h"
@@ -65,10 +65,14 @@ std::string sceneJson(const Variant& v) {
   return R"({"render": {"width": )" + std::to_string(kWidth) + R"(, "height": )" +
          std::to_string(kHeight) + R"(, "spp": )" + std::to_string(kSpp) +
          R"(, "camera": "c", "integrator": {"type": "whitted", "max_depth": 4}},
-    "cameras": [{"name": "c", )" + v.camera + R"(}],
-    "lights": [)" + v.lights + R"(],
-    "materials": [{"name": "floor", "type": "lambert", )" + v.floor + R"(},
-                  {"name": "ball", )" + v.ball + R"(},
+    "cameras": [{"name": "c", )" +
+         v.camera + R"(}],
+    "lights": [)" +
+         v.lights + R"(],
+    "materials": [{"name": "floor", "type": "lambert", )" +
+         v.floor + R"(},
+                  {"name": "ball", )" +
+         v.ball + R"(},
                   {"name": "grey", "type": "lambert", "diffuse": [0.5, 0.5, 0.5]}],
     "objects": [{"type": "plane", "material": "floor"},
                 {"type": "sphere", "center": [0, 1, 0], "radius": 1, "material": "ball")" +
@@ -184,8 +188,7 @@ void BM_PlainVsMinimal(benchmark::State& state) {
   auto timed = [](auto&& f) {
     const auto t0 = std::chrono::steady_clock::now();
     f();
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-        .count();
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   };
   for (auto _ : state) {
     double m = 0, p = 0;
@@ -231,7 +234,8 @@ Variant lens() {
 Variant motion() {
   Variant v;
   v.camera += R"(, "shutter": [0, 0.5])";
-  v.ballAnimation = R"(, "animation": {"translation": {"keys": [[0, [0, 0, 0]], [1, [0.5, 0, 0]]]}})";
+  v.ballAnimation =
+      R"(, "animation": {"translation": {"keys": [[0, [0, 0, 0]], [1, [0.5, 0, 0]]]}})";
   return v;
 }
 Variant texture() {
@@ -268,8 +272,8 @@ Variant fog() {
   return v;
 }
 
-#define EFFECT(name, variant)                                                                \
-  void BM_Effect_##name(benchmark::State& state) { renderBenchmark(state, variant()); }     \
+#define EFFECT(name, variant)                                                           \
+  void BM_Effect_##name(benchmark::State& state) { renderBenchmark(state, variant()); } \
   BENCHMARK(BM_Effect_##name)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
 
 BENCHMARK(BM_PlainVsMinimal)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(6.0);
@@ -319,8 +323,7 @@ int main(int argc, char** argv) {
       << ",\n  \"spp\": " << glint::kSpp << ",\n  \"threads\": " << glint::threads()
       << ",\n  \"minimal_loop_ms_per_image\": " << minimal
       << ",\n  \"plain_ms_per_image\": " << plain << ",\n  \"ratio\": " << ratio
-      << ",\n  \"pairs\": " << pairs
-      << ",\n  \"target\": 1.03,\n  \"effects\": {\n"
+      << ",\n  \"pairs\": " << pairs << ",\n  \"target\": 1.03,\n  \"effects\": {\n"
       << effects << "\n  }\n}\n";
   }
   return 0;

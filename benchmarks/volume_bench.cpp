@@ -76,9 +76,11 @@ void registerAll() {
         const std::string name = std::string("BM_Volume/") + density + "/" + estimator +
                                  "/tau:" + std::to_string(tau).substr(0, 3);
         const bool noise = std::string(density) == "noise";
-        benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& s) {
-          BM_Volume(s, tau, estimator, noise);
-        })->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(0.5);
+        benchmark::RegisterBenchmark(
+            name.c_str(), [=](benchmark::State& s) { BM_Volume(s, tau, estimator, noise); })
+            ->Unit(benchmark::kMillisecond)
+            ->UseRealTime()
+            ->MinTime(0.5);
       }
 }
 
