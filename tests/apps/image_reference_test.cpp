@@ -55,8 +55,8 @@ TEST_P(ImageReference, MatchesTheStoredReference) {
 
 INSTANTIATE_TEST_SUITE_P(Scenes, ImageReference,
                          testing::Values("primitives", "transforms", "csg", "terrain", "procedural",
-                                         "bump_wall", "glass", "fog", "cornell_ir",
-                                         "cornell_path"),
+                                         "bump_wall", "glass", "fog", "fog_lamps",
+                                         "projective_clouds", "cornell_ir", "cornell_path"),
                          [](const testing::TestParamInfo<const char*>& p) {
                            return std::string(p.param);
                          });
