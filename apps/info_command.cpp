@@ -3,6 +3,7 @@
 
 #include "apps/cli_common.h"
 #include "apps/commands.h"
+#include "renderer/integrator.h"
 #include "scenes/build.h"
 #include "scenes/load.h"
 
@@ -137,10 +138,12 @@ int runInfo(const InfoArgs& args) {
   else
     std::printf("bounds:     (%g, %g, %g) to (%g, %g, %g)\n", b.lower.x, b.lower.y, b.lower.z,
                 b.upper.x, b.upper.y, b.upper.z);
+  std::string integratorLabel = resolveIntegratorType(scene, desc.render.integrator);
+  if (desc.render.integrator.type == "auto") integratorLabel += " (auto)";
   std::printf("image:      %dx%d, %d spp, seed %llu, accel %s, integrator %s\n",
               scene.camera.width(), scene.camera.height(), desc.render.spp,
               (unsigned long long)desc.render.seed, desc.render.accel.c_str(),
-              desc.render.integrator.type.c_str());
+              integratorLabel.c_str());
   auto [animStart, animEnd] = animationRange(desc.nodes);
   size_t animatedNodes = 0;
   for (const NodeDesc& n : desc.nodes) animatedNodes += n.hasTracks();

@@ -39,6 +39,7 @@ struct FrameRecord {
   double time = 0;
   BuildTimings build;
   RenderStats stats;
+  std::vector<Integrator::SetupStat> integratorSetup;  // e.g. instant radiosity's VPLs
 };
 
 // What one render measured: its time, timings, rays and dropped samples.
@@ -55,6 +56,11 @@ nlohmann::json frameJson(const FrameRecord& r) {
   j["mrays_per_second"] =
       r.stats.renderSeconds > 0 ? double(r.stats.rays.total()) / r.stats.renderSeconds * 1e-6 : 0.0;
   j["nonfinite_samples"] = r.stats.nonfiniteSamples;
+  if (!r.integratorSetup.empty()) {
+    nlohmann::json setup = nlohmann::json::object();
+    for (const Integrator::SetupStat& s : r.integratorSetup) setup[s.name] = s.value;
+    j["integrator_setup"] = setup;
+  }
   return j;
 }
 
@@ -64,7 +70,8 @@ nlohmann::json sceneJson(const RenderArgs& args, const SceneDescription& desc,
   nlohmann::json j;
   j["scene"] = args.scene;
   j["accel"] = desc.render.accel;
-  j["integrator"] = desc.render.integrator.type;
+  j["integrator"] = resolveIntegratorType(scene, desc.render.integrator);  // "auto" resolved
+  j["integrator_requested"] = desc.render.integrator.type;
   j["camera"] = scene.cameraName;
   j["width"] = scene.camera.width();
   j["height"] = scene.camera.height();
@@ -133,6 +140,7 @@ int renderAndWrite(const RenderArgs& args, const SceneDescription& desc, const R
   Film film;
   try {
     auto integrator = makeIntegrator(scene, desc.render);
+    record->integratorSetup = integrator->setupStats();
     RenderOptions options;
     options.threads = desc.render.threads;
     options.progress = tileProgress;
@@ -146,7 +154,7 @@ int renderAndWrite(const RenderArgs& args, const SceneDescription& desc, const R
   }
   ImageMetadata meta{args.scene,        desc.render.spp,
                      desc.render.seed,  record->stats.renderSeconds,
-                     desc.render.accel, desc.render.integrator.type};
+                     desc.render.accel, resolveIntegratorType(scene, desc.render.integrator)};
   try {
     for (const std::string& out : outputs) writeImage(out, film, desc.render, meta);
   } catch (const std::exception& e) {

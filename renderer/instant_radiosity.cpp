@@ -78,16 +78,25 @@ InstantRadiosityIntegrator::InstantRadiosityIntegrator(const RenderScene& scene,
     : Integrator(scene),
       maxDepth_(settings.maxDepth),
       rrDepth_(settings.rrDepth),
+      paths_(settings.vplPaths),
       clamp_(settings.vplClamp) {
   // Refuse rather than silently render fog as clear air.
   if (scene.media)
     throw std::invalid_argument(
-        "instant radiosity does not render participating media; use --integrator whitted");
+        "instant radiosity does not render participating media; use --integrator whitted or "
+        "path");
   if (settings.vplPaths <= 0)
     throw std::invalid_argument("instant radiosity: vpl_paths must be > 0");
   shadows_ = scene.features.has(Feature::Shadows);
   cameraCone_ = scene.camera.pixelCone();
   traceLightPaths(settings.vplPaths, seed);
+}
+
+std::vector<Integrator::SetupStat> InstantRadiosityIntegrator::setupStats() const {
+  return {{"vpl_paths", double(paths_)},
+          {"vpls", double(vpls_.size())},
+          {"vpl_clamp", double(clamp_)},
+          {"light_path_rays", double(lightPathRays_)}};
 }
 
 void InstantRadiosityIntegrator::traceLightPaths(int paths, uint64_t seed) {

@@ -84,6 +84,8 @@ class InstantRadiosityIntegrator final : public Integrator {
   const std::vector<Vpl>& vpls() const { return vpls_; }
   // Rays traced to build them (light paths' segments).
   uint64_t lightPathRays() const { return lightPathRays_; }
+  // vpl_paths, vpls, vpl_clamp, light_path_rays.
+  std::vector<SetupStat> setupStats() const override;
 
  private:
   // Traces the light paths and keeps their VPLs.
@@ -102,6 +104,7 @@ class InstantRadiosityIntegrator final : public Integrator {
                RayCounters& counters) const;
 
   int maxDepth_, rrDepth_;
+  int paths_;     // light paths traced
   float clamp_;   // bound on G; 0 = none
   bool shadows_;  // Feature::Shadows: shadow rays at all
   RayCone cameraCone_;

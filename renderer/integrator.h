@@ -64,6 +64,14 @@ class Integrator {
   // The same for a camera ray not yet traced: traces it, counts it, then LiFromHit.
   Rgb Li(const Ray& ray, Sampler& sampler, RayCounters& counters, PathAovs& aovs) const;
 
+  // What the integrator prepared before rendering, for the statistics, as (name, value)
+  // pairs: instant radiosity's VPLs and clamp; nothing for the others.
+  struct SetupStat {
+    std::string name;
+    double value;
+  };
+  virtual std::vector<SetupStat> setupStats() const { return {}; }
+
  protected:
   // The surface details of `hit` for shading with material `materialIndex`: only the
   // attributes that material needs, its object frame and pixel footprint when it reads them,

@@ -63,6 +63,10 @@ PathIntegrator::PathIntegrator(const RenderScene& scene, const IntegratorSetting
   for (const Light* l : scene.infiniteLights)
     for (size_t i = 0; i < scene.lights.size(); ++i)
       if (scene.lights[i].get() == l) infinite_.push_back({l, uint32_t(i)});
+  bsdfFindable_.assign(scene.lights.size(), false);
+  for (const auto& [light, index] : infinite_) bsdfFindable_[index] = true;
+  for (int32_t l : scene.instanceLight)
+    if (l >= 0) bsdfFindable_[size_t(l)] = true;
   if (scene.features.has(Feature::Volumes) && scene.media) {
     media_ = scene.media.get();
     mediaScatter_ = settings.volume != "emission";
@@ -268,7 +272,9 @@ Rgb PathIntegrator::sampleLight(const SurfaceInteraction& si, const Material& ma
     }
   }
   const float lightPdf = picked->p * ls->pdf;
-  const float w = ls->delta ? 1.0f : powerHeuristic(lightPdf, material.pdf(si, ls->wi));
+  const float w = ls->delta || !bsdfFindable_[picked->index]
+                      ? 1.0f
+                      : powerHeuristic(lightPdf, material.pdf(si, ls->wi));
   return f * ls->L * (std::abs(dot(si.ns, ls->wi)) * w / lightPdf);
 }
 
@@ -294,7 +300,8 @@ Rgb PathIntegrator::sampleLightInMedium(const LightSampleContext& ctx, Vec3f d, 
     if (!(maxComponent(Tr) > 0)) return {};
   }
   const float lightPdf = picked->p * ls->pdf;
-  const float w = ls->delta ? 1.0f : powerHeuristic(lightPdf, phase);
+  const float w =
+      ls->delta || !bsdfFindable_[picked->index] ? 1.0f : powerHeuristic(lightPdf, phase);
   return ls->L * Tr * (phase * w / lightPdf);
 }
 

@@ -5,7 +5,8 @@
 // other with multiple importance sampling (Veach's power heuristic, beta = 2):
 //   next-event estimation — one light picked by scene.lightSampler, one point or direction on
 //     it (Light::sampleLi) and a shadow ray; weighted by pmf x pdfLi against the BSDF's pdf
-//     (delta lights: weight 1, no BSDF sample can find them);
+//     (delta lights, and area lights that are not geometry — the sidecar's quad, disk and
+//     sphere lights — weight 1: no BSDF sample can find them);
 //   BSDF sampling — the path's next direction (Material::sample); when it finds an emitting
 //     surface that is a light (RenderScene::areaLight) or escapes into an environment light,
 //     that emission is weighted by the BSDF's pdf against the previous vertex's
@@ -108,6 +109,10 @@ class PathIntegrator final : public Integrator {
   // The environment lights with their indices in scene.lights (the light sampler's pmf
   // needs the index).
   std::vector<std::pair<const Light*, uint32_t>> infinite_;
+  // Per light in scene.lights: can a BSDF sample find it (an environment, or an area light
+  // some instance's emission maps to)? Next-event estimation weights only those by MIS; the
+  // others are its only way in and keep weight 1.
+  std::vector<bool> bsdfFindable_;
 };
 
 // The power heuristic (beta = 2) weight of a sample drawn with density `f` against another

@@ -39,8 +39,9 @@ struct IntegratorSettings {
   int maxDepth = 8;              // bounces: Whitted's mirror/glass recursion, path length
   int rrDepth = 3;               // path: Russian roulette from this many bounces on
   std::string lightSampler = "power";  // next-event estimation: "uniform" | "power" | "bvh"
-  // Participating media (Whitted and instant radiosity; the path tracer scatters any number
-  // of times unless `volume` asks for less).
+  // Participating media. Whitted: emission only, or single scattering ("multiple" acts as
+  // "single"); path: "emission" scatters nothing, the others scatter any number of times
+  // (tracking); instant radiosity refuses scenes with media.
   std::string volume = "single";           // "emission" (absorb and emit) | "single" | "multiple"
   std::string volumeEstimator = "march";   // "march" (fixed steps) | "track" (ratio/delta tracking)
   float volumeStep = 0;                    // march step, world units; 0 = from each medium's size

@@ -4,6 +4,7 @@
 
 #include <OpenImageIO/imagebuf.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -61,6 +62,45 @@ TEST(CliRender, StatsJsonHasEveryField) {
   EXPECT_EQ(j["nonfinite_samples"], 0);
   EXPECT_EQ(j["effects"], nlohmann::json::array({"shadows"}));
   EXPECT_GT(j["mrays_per_second"].get<double>(), 0.0);
+}
+
+// The stats name the integrator that rendered ("auto" resolved; the request kept beside it),
+// and instant radiosity reports the VPLs it built before rendering.
+TEST(CliRender, StatsJsonNamesTheResolvedIntegratorAndItsSetup) {
+  std::string dir = test::scratchDir("cli_stats_integrator");
+  test::CommandResult r = test::runGlint("render " + lambertPlane() +
+                                         " --quiet --spp 1 --integrator auto -o " + dir +
+                                         "/auto.exr --stats " + dir + "/auto.json");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  nlohmann::json j = nlohmann::json::parse(std::ifstream(dir + "/auto.json"));
+  EXPECT_EQ(j["integrator"], "whitted");  // one point light: nothing with an extent
+  EXPECT_EQ(j["integrator_requested"], "auto");
+  EXPECT_FALSE(j.contains("integrator_setup"));
+
+  r = test::runGlint("render " + lambertPlane() +
+                     " --quiet --spp 1 --integrator instant-radiosity -o " + dir +
+                     "/ir.exr --stats " + dir + "/ir.json");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  j = nlohmann::json::parse(std::ifstream(dir + "/ir.json"));
+  EXPECT_EQ(j["integrator"], "instant-radiosity");
+  ASSERT_TRUE(j.contains("integrator_setup")) << j.dump();
+  const nlohmann::json& setup = j["integrator_setup"];
+  EXPECT_EQ(setup["vpl_paths"], 64);  // the default
+  EXPECT_EQ(setup["vpl_clamp"], 0);
+  // A point light over one lit plane: every light path leaves a VPL on the plane (the
+  // light's downward half of the paths, at least), and each VPL took at least one ray.
+  EXPECT_GT(setup["vpls"].get<double>(), 0);
+  EXPECT_LE(setup["vpls"].get<double>(), 64 * 8);
+  EXPECT_GE(setup["light_path_rays"].get<double>(), setup["vpls"].get<double>());
+  EXPECT_NE(std::find(j["effects"].begin(), j["effects"].end(), "virtual point lights"),
+            j["effects"].end())
+      << j["effects"].dump();
+}
+
+TEST(CliInfo, NamesTheIntegratorAutoPicks) {
+  test::CommandResult r = test::runGlint("info " + lambertPlane() + " --integrator auto");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("integrator whitted (auto)"), std::string::npos) << r.out;
 }
 
 TEST(CliRender, CommandLineOverridesTheSidecar) {

@@ -64,10 +64,16 @@ ManyLights makeLights() {
   return s;
 }
 
-// The area lights are emitting objects (geometry and lights at once), so BSDF samples find
-// them and MIS weighs both strategies. They sit above every point light (y >= 3.5 > 3), so
-// no segment from the plane to a point light crosses them, and above the camera's view.
-std::string sceneJson(const ManyLights& s, const std::string& sampler, uint64_t seed, int spp) {
+// How the area lights enter the scene: as emitting objects (geometry and lights at once, so
+// BSDF samples find them and MIS weighs both strategies), or as the sidecar's quad and sphere
+// lights (no geometry: next-event estimation is their only way in, and must not be weighted
+// down for a BSDF strategy that never finds them).
+enum class AreaLights { Objects, Sidecar };
+
+// The area lights sit above every point light (y >= 3.5 > 3), so no segment from the plane to
+// a point light crosses them, and above the camera's view.
+std::string sceneJson(const ManyLights& s, const std::string& sampler, uint64_t seed, int spp,
+                      AreaLights area = AreaLights::Objects) {
   std::ostringstream j;
   j.precision(9);
   auto v = [](Vec3f p) {
@@ -83,20 +89,21 @@ std::string sceneJson(const ManyLights& s, const std::string& sampler, uint64_t 
      "cameras": [{"name": "c", "position": [0, 4, 4], "look_at": [0, 0, 0], "yfov_degrees": 45}],
      "materials": [{"name": "floor", "type": "lambert", "diffuse": [)"
     << kAlbedo << ", " << kAlbedo << ", " << kAlbedo << "]}";
+  const bool objects = area == AreaLights::Objects;
   int m = 0;
-  for (const SphereSpec& l : s.spheres)
+  for (const SphereSpec& l : objects ? s.spheres : std::vector<SphereSpec>{})
     j << R"(, {"name": "e)" << m++ << R"(", "type": "lambert", "diffuse": [0, 0, 0], "emissive": )"
       << v({l.radiance, l.radiance, l.radiance}) << "}";
-  for (const QuadSpec& l : s.quads)
+  for (const QuadSpec& l : objects ? s.quads : std::vector<QuadSpec>{})
     j << R"(, {"name": "e)" << m++ << R"(", "type": "lambert", "diffuse": [0, 0, 0], "emissive": )"
       << v({l.radiance, l.radiance, l.radiance}) << "}";
   j << R"(],
      "objects": [{"type": "plane", "material": "floor"})";
   m = 0;
-  for (const SphereSpec& l : s.spheres)
+  for (const SphereSpec& l : objects ? s.spheres : std::vector<SphereSpec>{})
     j << R"(, {"type": "sphere", "center": )" << v(l.c) << R"(, "radius": )" << l.radius
       << R"(, "material": "e)" << m++ << R"("})";
-  for (const QuadSpec& q : s.quads)
+  for (const QuadSpec& q : objects ? s.quads : std::vector<QuadSpec>{})
     j << R"(, {"type": "quad", "corner": )" << v(q.corner) << R"(, "edge_u": )" << v(q.edgeU)
       << R"(, "edge_v": )" << v(q.edgeV) << R"(, "material": "e)" << m++ << R"("})";
   j << R"(],
@@ -104,6 +111,14 @@ std::string sceneJson(const ManyLights& s, const std::string& sampler, uint64_t 
   for (size_t i = 0; i < s.points.size(); ++i)
     j << (i ? ", " : "") << R"({"type": "point", "position": )" << v(s.points[i].p)
       << R"(, "intensity": )" << s.points[i].intensity << "}";
+  if (!objects) {
+    for (const SphereSpec& l : s.spheres)
+      j << R"(, {"type": "sphere", "position": )" << v(l.c) << R"(, "radius": )" << l.radius
+        << R"(, "intensity": )" << l.radiance << "}";
+    for (const QuadSpec& q : s.quads)
+      j << R"(, {"type": "quad", "corner": )" << v(q.corner) << R"(, "edge_u": )" << v(q.edgeU)
+        << R"(, "edge_v": )" << v(q.edgeV) << R"(, "intensity": )" << q.radiance << "}";
+  }
   j << "]}";
   return j.str();
 }
@@ -183,14 +198,14 @@ struct SeedStatistics {
 };
 
 SeedStatistics renderSeeds(const ManyLights& lights, const std::string& sampler, int seeds,
-                           int spp) {
+                           int spp, AreaLights area = AreaLights::Objects) {
   std::vector<std::vector<double>> perSeed(size_t(seeds), std::vector<double>(kRegions, 0));
   SeedStatistics out;
   std::vector<int> count(kRegions, 0);
   for (int s = 0; s < seeds; ++s) {
     SceneDescription d;
     d.file = "scene.json";
-    applySceneJsonText(sceneJson(lights, sampler, uint64_t(s) + 1, spp), d.file,
+    applySceneJsonText(sceneJson(lights, sampler, uint64_t(s) + 1, spp, area), d.file,
                        SceneJsonKind::Scene, &d);
     RenderScene scene = buildRenderScene(d);
     EXPECT_EQ(scene.lights.size(), 72u);
@@ -266,6 +281,26 @@ TEST(ManyLights, EverySamplerIsUnbiasedAgainstTheClosedForm) {
     // The whole image's standard error is small enough for the check to mean something.
     EXPECT_LT(st.sigma[12], 0.03 * reference[12]);
   }
+}
+
+// The same lights, the area ones as sidecar lights that no ray can hit: next-event estimation
+// alone must carry their full weight (an MIS weight against BSDF sampling here left the
+// render about 4% dark).
+TEST(ManyLights, SidecarAreaLightsAreUnbiasedAgainstTheClosedForm) {
+  const ManyLights lights = makeLights();
+  SceneDescription d;
+  d.file = "scene.json";
+  applySceneJsonText(sceneJson(lights, "power", 1, 1, AreaLights::Sidecar), d.file,
+                     SceneJsonKind::Scene, &d);
+  const RenderScene scene = buildRenderScene(d);
+  const std::vector<double> reference = regionMeans(referenceImage(lights, scene));
+  const SeedStatistics st = renderSeeds(lights, "power", 16, 4, AreaLights::Sidecar);
+  for (int r = 0; r < kRegions; ++r) {
+    EXPECT_GT(st.sigma[r], 0) << "region " << r;
+    EXPECT_NEAR(st.mean[r], reference[r], 4.5 * st.sigma[r] + 2e-3 * reference[r])
+        << "region " << r << " (12 = whole image)";
+  }
+  EXPECT_LT(st.sigma[12], 0.01 * reference[12]);
 }
 
 // The light BVH judges each light from the shading point, so near dim lights are no longer
