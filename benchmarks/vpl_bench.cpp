@@ -4,7 +4,8 @@
 // the G bound 100 the reference scene uses, and with a tight bound of 10 (the box is 2 wide:
 // 10 is below 1 / (0.2 x size)^2, so its bias shows). Each run's time includes tracing the light
 // paths. Error: RMSE of the green channel and the relative bias of the image mean, against the
-// path tracer at 4096 spp on the same box (its own noise: RMSE about 0.0013). No target; the
+// path tracer at 4096 spp on the same box (its own noise: RMSE about 0.0013). The path tracer
+// itself at 16 to 1024 spp gives the other side: its time for the same error. No target; the
 // table at the end is the record.
 // Usage: vpl_bench [--out results.json] [google benchmark flags]
 #include <benchmark/benchmark.h>
@@ -82,9 +83,9 @@ Error compare(const Film& f, const Film& ref) {
   return {std::sqrt(s / double(f.color.size())), sum / sumRef - 1};
 }
 
-// One row of the summary table.
+// One row of the summary table: instant radiosity (paths > 0) or the path tracer (paths = 0).
 struct Row {
-  int paths = 0, clamp = 0;
+  int spp = 0, paths = 0, clamp = 0;
   size_t vpls = 0;
   double seconds = 0;
   Error error;
@@ -112,7 +113,7 @@ void BM_InstantRadiosity(benchmark::State& state) {
     seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
   const Error e = compare(film, fx.reference);
-  rows().push_back({int(state.range(0)), int(state.range(1)), vpls, seconds, e});
+  rows().push_back({settings.spp, int(state.range(0)), int(state.range(1)), vpls, seconds, e});
   state.counters["vpls"] = double(vpls);
   state.counters["rmse"] = e.rmse;
   state.counters["bias"] = e.bias;
@@ -124,23 +125,30 @@ BENCHMARK(BM_InstantRadiosity)
     ->Iterations(1)
     ->UseRealTime();
 
-// The path tracer at the IR runs' spp, for scale: its time and its noise.
-void BM_PathTracerSameSpp(benchmark::State& state) {
+// The path tracer from the IR runs' spp up, for the same error at what time.
+void BM_PathTracer(benchmark::State& state) {
   Fixture& fx = fixture();
   RenderSettings settings = fx.desc.render;
   settings.integrator.type = "path";
   settings.spp = int(state.range(0));
   Film film;
-  for (auto _ : state)
+  double seconds = 0;
+  for (auto _ : state) {
+    const auto start = std::chrono::steady_clock::now();
     film = render(fx.scene, *makeIntegrator(fx.scene, settings), settings, {.threads = fx.threads},
                   nullptr);
+    seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
   const Error e = compare(film, fx.reference);
+  rows().push_back({settings.spp, 0, 0, 0, seconds, e});
   state.counters["rmse"] = e.rmse;
   state.counters["bias"] = e.bias;
 }
-BENCHMARK(BM_PathTracerSameSpp)
+BENCHMARK(BM_PathTracer)
     ->Arg(kSpp)
+    ->Arg(4 * kSpp)
     ->Arg(16 * kSpp)
+    ->Arg(64 * kSpp)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1)
     ->UseRealTime();
@@ -152,20 +160,22 @@ int main(int argc, char** argv) {
   const std::string out = glint::bench::initialize(argc, argv);
   benchmark::RunSpecifiedBenchmarks();
   std::printf(
-      "\nInstant radiosity on the Cornell box, %dx%d, %d spp, against the path tracer at "
-      "%d spp\n",
-      glint::kSize, glint::kSize, glint::kSpp, glint::kReferenceSpp);
-  std::printf("%8s %8s %8s %10s %10s %10s\n", "paths", "clamp", "VPLs", "seconds", "RMSE",
-              "mean bias");
+      "\nInstant radiosity and the path tracer on the Cornell box, %dx%d, against the path "
+      "tracer at %d spp\n",
+      glint::kSize, glint::kSize, glint::kReferenceSpp);
+  std::printf("%-18s %6s %8s %8s %8s %10s %10s %10s\n", "integrator", "spp", "paths", "clamp",
+              "VPLs", "seconds", "RMSE", "mean bias");
   for (const glint::Row& r : glint::rows())
-    std::printf("%8d %8d %8zu %10.3f %10.4f %+9.2f%%\n", r.paths, r.clamp, r.vpls, r.seconds,
-                r.error.rmse, 100 * r.error.bias);
+    std::printf("%-18s %6d %8d %8d %8zu %10.3f %10.4f %+9.2f%%\n",
+                r.paths ? "instant-radiosity" : "path", r.spp, r.paths, r.clamp, r.vpls,
+                r.seconds, r.error.rmse, 100 * r.error.bias);
   if (!out.empty()) {
     std::ofstream f(out);
     f << "[\n";
     for (size_t i = 0; i < glint::rows().size(); ++i) {
       const glint::Row& r = glint::rows()[i];
-      f << "  {\"paths\": " << r.paths << ", \"clamp\": " << r.clamp << ", \"vpls\": " << r.vpls
+      f << "  {\"integrator\": \"" << (r.paths ? "instant-radiosity" : "path")
+        << "\", \"spp\": " << r.spp << ", \"paths\": " << r.paths << ", \"clamp\": " << r.clamp << ", \"vpls\": " << r.vpls
         << ", \"seconds\": " << r.seconds << ", \"rmse\": " << r.error.rmse
         << ", \"bias\": " << r.error.bias << "}" << (i + 1 < glint::rows().size() ? "," : "")
         << "\n";
