@@ -76,6 +76,11 @@ Film render(const RenderScene& scene, const Integrator& integrator, const Render
     ThreadTally& tally = tallies.local();
     const int x0 = (tileIndex % tilesX) * tile, y0 = (tileIndex / tilesX) * tile;
     const int x1 = std::min(x0 + tile, width), y1 = std::min(y0 + tile, height);
+    // A pixel's batch of camera rays and their hits, constructed once per tile: their default
+    // initialisation per pixel was a fifth of this loop's own time at 4 spp. Every element a
+    // pixel reads it writes first (closestHits overwrites each hit whole).
+    Ray rays[kCameraBatch];
+    Hit found[kCameraBatch];
     for (int y = y0; y < y1; ++y)
       for (int x = x0; x < x1; ++x) {
         const size_t index = film.index(x, y);
@@ -92,8 +97,6 @@ Film render(const RenderScene& scene, const Integrator& integrator, const Render
         // packets (they are coherent); each result is then shaded on its own.
         for (uint32_t first = 0; first < spp; first += kCameraBatch) {
           const uint32_t n = std::min(kCameraBatch, spp - first);
-          Ray rays[kCameraBatch];
-          Hit found[kCameraBatch];
           uint32_t fx[kCameraBatch], fy[kCameraBatch];
           sample2DFractionBatch(first, n, filmSeeds, fx, fy);
           if (plain) {

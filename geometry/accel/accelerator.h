@@ -55,7 +55,8 @@ class Accelerator {
   virtual bool anyHit(const Ray& ray) const = 0;
 
   // The closest hits of `count` rays that travel together (one pixel's camera samples):
-  // hits[i].instance == Hit::kInvalid where ray i hits nothing. A backend may trace them as a
+  // hits[i].instance == Hit::kInvalid where ray i hits nothing. Every hits[i] is overwritten
+  // whole (callers reuse the array). A backend may trace them as a
   // packet; its answers then equal closestHit's up to the floating-point rounding of its packet
   // kernel (Embree's differ in the last bits of t or u, v for about 1 hit in 2,000). The
   // default traces them one by one.
