@@ -1,7 +1,8 @@
-// glint — area lights: quads, disks (ellipses), spheres and emissive triangle meshes.
+// glint — area lights: quads, disks (ellipses), spheres, emissive triangle meshes and the
+// surfaces of analytic shapes under any affine placement.
 //
-// Quads, disks and meshes are sampled by area, the density then converted to solid angle
-// (pdf = d^2 / (|cos| area)). Spheres seen from outside are sampled by the cone of directions
+// Quads, disks, meshes and shape surfaces are sampled by area, the density then converted to
+// solid angle (pdf = d^2 / (|cos| area density)). Spheres seen from outside are sampled by the cone of directions
 // they subtend (uniform in the cone, as pbrt does), which wastes no samples on the far side.
 // Emission is one-sided by default (towards the surface normal) or two-sided; an emitting
 // material's light is two-sided, because Material::emitted ignores the side a ray arrives from.
@@ -48,8 +49,15 @@ class AreaLight : public Light {
   // Sidecar lights may opt out of shadows (emitting surfaces always cast them).
   void setCastsShadows(bool castsShadows) { castsShadows_ = castsShadows; }
   float area() const { return area_; }
-  // A uniform point on the surface for u in [0, 1)^2.
+  // A point on the surface for u in [0, 1)^2: uniform by area unless areaDensity says
+  // otherwise.
   virtual AreaPoint samplePoint(Vec2f u) const = 0;
+  // The density of samplePoint per unit world area at a point of unit geometric normal n
+  // (either side): 1 / area for uniform sampling.
+  virtual float areaDensity(Vec3f n) const {
+    (void)n;
+    return 1 / area_;
+  }
 
  protected:
   explicit AreaLight(const AreaEmission& emission)
@@ -102,6 +110,48 @@ class SphereLight final : public AreaLight {
   AreaPoint pointAt(Vec3f n) const;  // the surface point of outward unit normal n
   Vec3f center_;
   float radius_;
+};
+
+// One piece of an analytic shape's surface in the shape's object space, as
+// ShapeSurfaceLight samples it. Its uv follow the shape's own surface() (geometry/shapes/).
+struct SurfacePart {
+  enum class Kind {
+    Parallelogram,  // origin + a edgeU + b edgeV, a, b in [0, 1]; uv = (a, b)
+    Disk,           // centre origin, `radius`, in the plane y = origin.y; normal ±Y; uv (x, z)
+    CylinderSide,   // x^2 + z^2 = radius^2 for 0 <= y <= height; uv (angle / 2pi, y / height)
+    ConeSide,       // base `radius` at y = 0, apex at y = height; uv as the cylinder's
+    Sphere,         // centre origin, `radius`; uv (phi / 2pi around +Y, theta / pi from +Y)
+  };
+  Kind kind = Kind::Parallelogram;
+  Vec3f origin, edgeU, edgeV;
+  Vec3f normal;  // outward unit normal: parallelogram (± cross(edgeU, edgeV)) and disk
+  float radius = 0, height = 0;
+  float area() const;
+};
+
+// The whole surface of an analytic shape (a box's faces, a cylinder's or cone's side and caps,
+// a sphere) placed by any affine `worldFromObject`, also with non-uniform scale or shear.
+// Points are drawn uniformly by *object* area (a part by its area, then a point on it) and
+// mapped to the world; there a surface element of object normal n_o grows by
+// J = |det M| |M^-T n_o| = |det M| / |M^T n| (M: the linear part, n: the world unit normal),
+// so the density per unit world area is |M^T n| / (A_obj |det M|): exact, and uniform again
+// under a similarity. Every point of the closed surface is drawn, also those on the far side
+// that the shape itself hides from the receiver (their shadow rays find the shape): simple and
+// unbiased, at the price of about half the samples of a convex shape seen from outside.
+class ShapeSurfaceLight final : public AreaLight {
+ public:
+  ShapeSurfaceLight(std::vector<SurfacePart> parts, const Transform& worldFromObject,
+                    const AreaEmission& emission);
+  AreaPoint samplePoint(Vec2f u) const override;
+  float areaDensity(Vec3f n) const override;
+  std::optional<LightBounds> bounds() const override;
+
+ private:
+  std::vector<SurfacePart> parts_;
+  Transform world_;
+  DiscreteDistribution byArea_;  // parts by object area
+  float objectArea_ = 0, det_ = 0;
+  Bounds3f bounds_;
 };
 
 // An emissive triangle mesh in world space: a triangle picked by area, then a uniform point in

@@ -3,6 +3,9 @@
 
 #include <cmath>
 
+#include "geometry/shapes/box.h"
+#include "geometry/shapes/cone.h"
+#include "geometry/shapes/cylinder.h"
 #include "geometry/shapes/disk.h"
 #include "geometry/shapes/quad.h"
 #include "geometry/shapes/sphere.h"
@@ -30,7 +33,61 @@ float uniformScale(const Transform& t) {
   return s;
 }
 
-// The area light of an emitting analytic shape, or null when the shape cannot be sampled.
+// The surface of a box, cylinder, cone or sphere as ShapeSurfaceLight parts (object space,
+// uv as the shape's surface() gives them); empty for other shapes.
+std::vector<SurfacePart> surfaceParts(const Shape& shape) {
+  using Kind = SurfacePart::Kind;
+  std::vector<SurfacePart> parts;
+  auto disk = [](Vec3f centre, float radius, Vec3f normal) {
+    SurfacePart p;
+    p.kind = Kind::Disk;
+    p.origin = centre;
+    p.radius = radius;
+    p.normal = normal;
+    return p;
+  };
+  if (auto* b = dynamic_cast<const Box*>(&shape)) {
+    const Vec3f lo = b->lower(), e = b->upper() - b->lower();
+    auto face = [&](Vec3f origin, Vec3f eu, Vec3f ev, Vec3f normal) {
+      SurfacePart p;
+      p.origin = origin, p.edgeU = eu, p.edgeV = ev, p.normal = normal;
+      parts.push_back(p);
+    };
+    // Box::surface's uv: X faces (z, y), Y faces (x, z), Z faces (x, y), from `lower`.
+    const Vec3f ex{e.x, 0, 0}, ey{0, e.y, 0}, ez{0, 0, e.z};
+    face(lo, ez, ey, {-1, 0, 0});
+    face(lo + ex, ez, ey, {1, 0, 0});
+    face(lo, ex, ez, {0, -1, 0});
+    face(lo + ey, ex, ez, {0, 1, 0});
+    face(lo, ex, ey, {0, 0, -1});
+    face(lo + ez, ex, ey, {0, 0, 1});
+  } else if (auto* c = dynamic_cast<const Cylinder*>(&shape)) {
+    SurfacePart side;
+    side.kind = Kind::CylinderSide;
+    side.radius = c->radius(), side.height = c->height();
+    parts.push_back(side);
+    if (c->capped()) {
+      parts.push_back(disk({0, 0, 0}, c->radius(), {0, -1, 0}));
+      parts.push_back(disk({0, c->height(), 0}, c->radius(), {0, 1, 0}));
+    }
+  } else if (auto* k = dynamic_cast<const Cone*>(&shape)) {
+    SurfacePart side;
+    side.kind = Kind::ConeSide;
+    side.radius = k->radius(), side.height = k->height();
+    parts.push_back(side);
+    if (k->capped()) parts.push_back(disk({0, 0, 0}, k->radius(), {0, -1, 0}));
+  } else if (auto* s = dynamic_cast<const Sphere*>(&shape)) {
+    SurfacePart whole;
+    whole.kind = Kind::Sphere;
+    whole.origin = s->center(), whole.radius = s->radius();
+    parts.push_back(whole);
+  }
+  return parts;
+}
+
+// The area light of an emitting analytic shape, or null when the shape cannot be sampled
+// (planes are infinite; CSG trees' surfaces are the parts of their leaves that survive the
+// set operations, with no direct way to draw them uniformly).
 std::unique_ptr<Light> shapeLight(const Shape& shape, const Transform& world,
                                   const AreaEmission& emission) {
   if (auto* q = dynamic_cast<const Quad*>(&shape))
@@ -42,10 +99,14 @@ std::unique_ptr<Light> shapeLight(const Shape& shape, const Transform& world,
                                        world.vector({0, 0, r}), emission);
   }
   if (auto* s = dynamic_cast<const Sphere*>(&shape)) {
+    // A sphere under a similarity is sampled by the cone it subtends; an ellipsoid by area.
     const float scale = uniformScale(world);
-    if (scale == 0) return nullptr;
-    return std::make_unique<SphereLight>(world.point(s->center()), s->radius() * scale, emission);
+    if (scale > 0)
+      return std::make_unique<SphereLight>(world.point(s->center()), s->radius() * scale,
+                                           emission);
   }
+  std::vector<SurfacePart> parts = surfaceParts(shape);
+  if (!parts.empty()) return std::make_unique<ShapeSurfaceLight>(std::move(parts), world, emission);
   return nullptr;
 }
 

@@ -12,6 +12,8 @@ class Box final : public Shape {
 
   const char* typeName() const override { return "box"; }
   Bounds3f bounds() const override { return {lower_, upper_}; }
+  Vec3f lower() const { return lower_; }
+  Vec3f upper() const { return upper_; }
   bool intersect(const Ray& ray, ShapeHit* hit) const override;
   // Parts 0..5 = -X, +X, -Y, +Y, -Z, +Z. uv in [0,1]^2 per face: X faces (z, y), Y faces
   // (x, z), Z faces (x, y), each measured from `lower`.

@@ -18,6 +18,9 @@ class Cylinder final : public Shape {
   // 1 cap at y = 0 (n = -Y), 2 cap at y = height (n = +Y); caps: uv = (x/2r + 1/2, z/2r + 1/2).
   ShapeSurface surface(const Ray& ray, const ShapeHit& hit) const override;
   bool isSolid() const override { return capped_; }
+  float radius() const { return radius_; }
+  float height() const { return height_; }
+  bool capped() const { return capped_; }
   bool span(const Ray& ray, Span* out) const override;
 
  private:

@@ -156,11 +156,11 @@ TEST(SidecarLights, EmittingSurfacesBecomeLights) {
   RenderScene s = buildRenderScene(d);
   ASSERT_EQ(s.instanceLight.size(), 5u);
   EXPECT_EQ(s.instanceLight[0], -1);
-  EXPECT_EQ(s.instanceLight[3], -1);  // a box emits when hit but cannot be sampled
   ASSERT_GE(s.instanceLight[1], 0);
   ASSERT_GE(s.instanceLight[2], 0);
+  ASSERT_GE(s.instanceLight[3], 0);
   ASSERT_GE(s.instanceLight[4], 0);
-  EXPECT_EQ(s.lights.size(), 3u);  // and no headlight
+  EXPECT_EQ(s.lights.size(), 4u);  // and no headlight
   EXPECT_FALSE(s.features.has(Feature::Headlight));
   EXPECT_TRUE(s.features.has(Feature::AreaLights));
   auto* disk = dynamic_cast<const DiskLight*>(s.lights[size_t(s.instanceLight[1])].get());
@@ -171,6 +171,11 @@ TEST(SidecarLights, EmittingSurfacesBecomeLights) {
   auto* sphere = dynamic_cast<const SphereLight*>(s.lights[size_t(s.instanceLight[2])].get());
   ASSERT_NE(sphere, nullptr);
   EXPECT_NEAR(sphere->area(), 4 * kPi, 1e-4f);  // radius 0.5 scaled by 2
+  // The box's six faces, sampled by area.
+  auto* box = dynamic_cast<const ShapeSurfaceLight*>(s.lights[size_t(s.instanceLight[3])].get());
+  ASSERT_NE(box, nullptr);
+  EXPECT_NEAR(box->area(), 6, 1e-4f);
+  EXPECT_NEAR(box->phi().x, 2 * kPi * 2 * 6, 1e-2f);
   auto* quad = dynamic_cast<const QuadLight*>(s.lights[size_t(s.instanceLight[4])].get());
   ASSERT_NE(quad, nullptr);
   // The radiance a light sample carries is the material's emission.
@@ -217,9 +222,9 @@ TEST(SidecarLights, EmissiveMeshesAndTexturedEmission) {
 TEST(SidecarLights, OnlyUnsampledEmittersStillSuppressTheHeadlight) {
   SceneDescription d = apply(R"({
     "materials": [{"name": "glow", "type": "lambert", "emissive": [1, 1, 1]}],
-    "objects": [{"type": "box", "min": [0, 0, 0], "max": [1, 1, 1], "material": "glow"}]})");
+    "objects": [{"type": "plane", "material": "glow"}]})");
   RenderScene s = buildRenderScene(d);
-  EXPECT_TRUE(s.lights.empty());
+  EXPECT_TRUE(s.lights.empty());  // an infinite plane glows when hit but cannot be sampled
   EXPECT_FALSE(s.features.has(Feature::Headlight));
 }
 
