@@ -132,7 +132,7 @@ class Material {
   // Solid-angle density with which sample() (all lobes) returns wi.
   float pdf(const SurfaceInteraction& si, Vec3f wi) const { return pdfBsdf(si, wi); }
 
-  // Radiance emitted towards si.wo.
+  // Radiance emitted towards si.wo. Integrators call it only when traits().emits is set.
   virtual Rgb emitted(const SurfaceInteraction&) const { return {}; }
   // The surface's colour at si: the eyelight colour, and the albedo AOV.
   virtual Rgb albedo(const SurfaceInteraction& si) const = 0;

@@ -39,6 +39,7 @@ struct MaterialShading {
   bool footprint = false;    // filtered textures or bump steps: set the pixel footprint
   bool unlit = false;
   bool transparent = false;  // may let light pass straight through (opacity < 1)
+  bool emits = false;        // Material::emitted can be non-zero
   uint32_t flags = 0;
 };
 

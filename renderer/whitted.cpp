@@ -45,15 +45,15 @@ Rgb WhittedIntegrator::shade(const Ray& ray, const Hit* found, const RayCone& co
       aovs->depth = hit.t * length(ray.d);
     }
   }
-  // The cone at the hit, carried on by every secondary ray from here.
-  const RayCone next{cone.widthAt(hit.t * length(ray.d)), cone.spread};
+  // The cone at the hit, carried on by every secondary ray from here (only they need it).
+  auto next = [&] { return RayCone{cone.widthAt(hit.t * length(ray.d)), cone.spread}; };
 
   // Partly transparent surfaces: the rest of the light comes straight through.
   const float opacity = shading.transparent ? material.opacity(si) : 1.0f;
   Rgb behind;
   if (opacity < 1) {
     if (depth < maxDepth_)
-      behind = trace(si.spawnRay(ray.d, ray.time), next, depth + 1, sampler, counters);
+      behind = trace(si.spawnRay(ray.d, ray.time), next(), depth + 1, sampler, counters);
     if (opacity <= 0) return behind;
   }
 
@@ -61,7 +61,7 @@ Rgb WhittedIntegrator::shade(const Ray& ray, const Hit* found, const RayCone& co
   if (shading.unlit) {
     L = material.albedo(si) * std::abs(dot(si.ns, si.wo));
   } else {
-    L = material.emitted(si);
+    if (shading.emits) L = material.emitted(si);
     L += directLight(si, material, ray.time, sampler, counters);
   }
   // Mirror and glass: follow the reflected and the refracted ray, each with its own weight.
@@ -75,7 +75,7 @@ Rgb WhittedIntegrator::shade(const Ray& ray, const Hit* found, const RayCone& co
       if (!s || !(s->flags & kBsdfSpecular) || s->pdf <= 0) continue;
       const Rgb weight = s->weight(si.ns);
       if (maxComponent(weight) <= 0) continue;
-      L += weight * trace(si.spawnRay(s->wi, ray.time), next, depth + 1, sampler, counters);
+      L += weight * trace(si.spawnRay(s->wi, ray.time), next(), depth + 1, sampler, counters);
     }
   }
   return opacity < 1 ? L * opacity + behind * (1 - opacity) : L;

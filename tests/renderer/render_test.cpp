@@ -156,6 +156,7 @@ TEST(Render, MissingCameraNameIsASceneError) {
 // A material that emits NaN: the film must never see it, and the stats must count it.
 class NanMaterial final : public Material {
  public:
+  NanMaterial() { traits_.emits = true; }  // integrators ask only emitting materials
   Rgb emitted(const SurfaceInteraction& si) const override {
     return si.p.x > 0 ? Rgb{std::nanf(""), 0, 0} : Rgb{1, 1, 1};
   }
