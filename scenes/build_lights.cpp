@@ -175,10 +175,18 @@ std::unique_ptr<Light> makeSidecarLight(const LightDesc& l, const Transform& wor
                                          world.vector({0, l.radius, 0}), emission);
       break;
     case LightType::Sphere: {
-      // An animated sphere light follows its node's translation, and its scale when uniform.
+      // Under a similarity a sphere light; otherwise (non-uniform scale or shear, from its
+      // transform or its node's animation) the ellipsoid it becomes, sampled by area.
       const float scale = uniformScale(world);
-      area = std::make_unique<SphereLight>(world.point({0, 0, 0}),
-                                           l.radius * (scale > 0 ? scale : 1.0f), emission);
+      if (scale > 0) {
+        area = std::make_unique<SphereLight>(world.point({0, 0, 0}), l.radius * scale, emission);
+      } else {
+        SurfacePart sphere;
+        sphere.kind = SurfacePart::Kind::Sphere;
+        sphere.radius = l.radius;
+        area = std::make_unique<ShapeSurfaceLight>(std::vector<SurfacePart>{sphere}, world,
+                                                   emission);
+      }
       break;
     }
     case LightType::Projective:

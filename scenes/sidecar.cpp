@@ -124,16 +124,6 @@ Vec3f someUp(Vec3f dir) {
   return std::abs(d.y) > 0.9f ? Vec3f{1, 0, 0} : Vec3f{0, 1, 0};
 }
 
-// Rejects `others` when "transform" is given, so a frame is never specified twice.
-bool usesTransform(const JsonReader& r, std::initializer_list<const char*> others) {
-  if (!r.has("transform")) return false;
-  for (const char* key : others)
-    if (r.has(key))
-      throw SceneError(r.where(key),
-                       "give either a 'transform' or '" + std::string(key) + "', not both");
-  return true;
-}
-
 // ---------------------------------------------------------------------------------------------
 // cameras
 // ---------------------------------------------------------------------------------------------

@@ -40,6 +40,15 @@ int textureNamed(const SceneDescription& scene, const std::string& name, const S
 
 }  // namespace
 
+bool usesTransform(const JsonReader& r, std::initializer_list<const char*> others) {
+  if (!r.has("transform")) return false;
+  for (const char* key : others)
+    if (r.has(key))
+      throw SceneError(r.where(key),
+                       "give either a 'transform' or '" + std::string(key) + "', not both");
+  return true;
+}
+
 bool isSidecarOnlyLight(LightType type) {
   return type == LightType::Quad || type == LightType::Disk || type == LightType::Sphere ||
          type == LightType::Projective;
@@ -58,11 +67,16 @@ void readSidecarLight(JsonReader& r, const SceneDescription& scene, LightDesc* l
       if (!(length(cross(light->edgeU, light->edgeV)) > 1e-6f * scale))
         throw SceneError(r.where("edge_v"), "must not be zero or parallel to edge_u (the quad "
                                             "would have no area)");
-      light->worldFromLight = Transform();
+      // The corner and edges are in the transform's space when there is one.
+      light->worldFromLight = r.get<Transform>("transform", Transform());
       break;
     }
     case LightType::Disk: {
       light->radius = r.get<float>("radius", kPositive);
+      if (usesTransform(r, {"position", "direction"})) {  // in the frame's XY plane, facing -Z
+        light->worldFromLight = r.get<Transform>("transform");
+        break;
+      }
       const Vec3f position = r.get<Vec3f>("position");
       const Vec3f dir = r.get<Vec3f>("direction");
       light->worldFromLight = aimed(r, position, dir, "direction", std::nullopt);
@@ -70,7 +84,9 @@ void readSidecarLight(JsonReader& r, const SceneDescription& scene, LightDesc* l
     }
     case LightType::Sphere:
       light->radius = r.get<float>("radius", kPositive);
-      light->worldFromLight = Transform::translate(r.get<Vec3f>("position"));
+      light->worldFromLight = usesTransform(r, {"position"})
+                                  ? r.get<Transform>("transform")
+                                  : Transform::translate(r.get<Vec3f>("position"));
       break;
     case LightType::Projective: {
       light->fov = radians(r.get<float>("fov_degrees", 45, {.gt = 0, .lt = 180}));

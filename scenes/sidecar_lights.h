@@ -2,6 +2,7 @@
 // scenes/: sidecar.cpp calls them.)
 #pragma once
 
+#include <initializer_list>
 #include <string>
 
 #include "scenes/description.h"
@@ -9,6 +10,9 @@
 
 namespace glint {
 
+// True when the object has a "transform"; rejects `others` then, so a frame is never given
+// twice.
+bool usesTransform(const JsonReader& r, std::initializer_list<const char*> others);
 // Whether `type` is read by readSidecarLight (quad, disk, sphere, projective).
 bool isSidecarOnlyLight(LightType type);
 // Reads the shape and placement of a quad, disk, sphere or projective light into `light`

@@ -84,6 +84,46 @@ TEST(SidecarLights, ReadsQuadDiskSphereAndProjective) {
   EXPECT_FALSE(s.features.has(Feature::Headlight));
 }
 
+// Area lights placed by a transform: a quad's corner and edges in the light's space, a disk in
+// the frame's XY plane facing -Z, a sphere scaled unevenly into an ellipsoid.
+TEST(SidecarLights, AreaLightsTakeATransform) {
+  SceneDescription d = apply(R"({
+    "lights": [
+      {"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [0, 0, 1],
+       "transform": [{"scale": [2, 1, 3]}, {"translate": [0, 2, 0]}]},
+      {"type": "disk", "radius": 0.5,
+       "transform": [{"rotate": {"axis": [1, 0, 0], "degrees": -90}}, {"translate": [0, 3, 0]}]},
+      {"type": "sphere", "radius": 1, "transform": [{"scale": [1, 1, 2]}, {"translate": [4, 2, 0]}]},
+      {"type": "sphere", "radius": 1, "transform": [{"scale": 0.5}, {"translate": [-4, 2, 0]}]}
+    ], )" + kFloor + "}");
+  RenderScene s = buildRenderScene(d);
+  ASSERT_EQ(s.lights.size(), 4u);
+  auto* quad = dynamic_cast<const QuadLight*>(s.lights[0].get());
+  ASSERT_NE(quad, nullptr);
+  EXPECT_NEAR(quad->area(), 6, 1e-5f);
+  // The XY-plane disk turned to face down: lights the floor below, nothing above.
+  auto* disk = dynamic_cast<const DiskLight*>(s.lights[1].get());
+  ASSERT_NE(disk, nullptr);
+  LightSampleContext below, above;
+  below.p = {0, 0, 0};
+  above.p = {0, 5, 0};
+  EXPECT_TRUE(disk->sampleLi(below, {0.3f, 0.4f}).has_value());
+  EXPECT_FALSE(disk->sampleLi(above, {0.3f, 0.4f}).has_value());
+  // A prolate spheroid of semi-axes 1, 1, 2: area 2 pi (1 + 2 * 2 / e asin e), e^2 = 3/4.
+  auto* ellipsoid = dynamic_cast<const ShapeSurfaceLight*>(s.lights[2].get());
+  ASSERT_NE(ellipsoid, nullptr);
+  const float e = std::sqrt(0.75f);
+  EXPECT_NEAR(ellipsoid->area(), 2 * kPi * (1 + 2 / e * std::asin(e)), 2e-3f * 21.5f);
+  auto* sphere = dynamic_cast<const SphereLight*>(s.lights[3].get());
+  ASSERT_NE(sphere, nullptr);
+  EXPECT_NEAR(sphere->area(), kPi, 1e-5f);
+  // A frame is given once.
+  EXPECT_SCENE_ERROR(
+      applyError(R"({"lights": [{"type": "sphere", "radius": 1, "position": [0, 0, 0],
+                                 "transform": [{"translate": [0, 1, 0]}]}]})"),
+      kFile, "/lights/0/position", "give either a 'transform' or 'position', not both");
+}
+
 TEST(SidecarLights, BadInputNamesThePointer) {
   EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "sphere", "position": [0, 0, 0], "radius": -1}]})"),
                      kFile, "/lights/0/radius", "must be > 0");
