@@ -13,7 +13,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <thread>
 #include <vector>
@@ -29,24 +31,17 @@ namespace {
 
 constexpr int kSize = 32, kSpp = 16, kReferenceSpp = 4096;
 
-const char* kBox = R"({
-  "render": {"width": 32, "height": 32, "spp": 16, "seed": 3, "camera": "main",
-             "integrator": {"type": "instant-radiosity", "max_depth": 6}},
-  "cameras": [{"name": "main", "position": [0, 1, 0.95], "look_at": [0, 1, -1], "yfov_degrees": 70}],
-  "lights": [{"type": "quad", "corner": [-0.3, 1.99, -0.3], "edge_u": [0.6, 0, 0],
-              "edge_v": [0, 0, 0.6], "intensity": 10}],
-  "materials": [{"name": "white", "type": "lambert", "diffuse": [0.7, 0.7, 0.7]},
-                {"name": "red", "type": "lambert", "diffuse": [0.7, 0.12, 0.1]},
-                {"name": "green", "type": "lambert", "diffuse": [0.12, 0.6, 0.15]}],
-  "objects": [
-    {"type": "quad", "corner": [-1, 0, -1], "edge_u": [2, 0, 0], "edge_v": [0, 0, 2], "material": "white"},
-    {"type": "quad", "corner": [-1, 2, -1], "edge_u": [2, 0, 0], "edge_v": [0, 0, 2], "material": "white"},
-    {"type": "quad", "corner": [-1, 0, -1], "edge_u": [2, 0, 0], "edge_v": [0, 2, 0], "material": "white"},
-    {"type": "quad", "corner": [-1, 0, 1], "edge_u": [2, 0, 0], "edge_v": [0, 2, 0], "material": "white"},
-    {"type": "quad", "corner": [-1, 0, -1], "edge_u": [0, 0, 2], "edge_v": [0, 2, 0], "material": "red"},
-    {"type": "quad", "corner": [1, 0, -1], "edge_u": [0, 0, 2], "edge_v": [0, 2, 0], "material": "green"},
-    {"type": "box", "min": [-0.6, 0, -0.6], "max": [-0.1, 0.9, -0.1], "material": "white"},
-    {"type": "sphere", "center": [0.45, 0.35, -0.3], "radius": 0.35, "material": "white"}]})";
+// The box of tests/images/scenes/cornell_ir.json, rendered smaller and with the light paths
+// and clamp each run asks for.
+std::string boxJson() {
+  const std::string path = std::string(GLINT_SOURCE_DIR) + "/tests/images/scenes/cornell_ir.json";
+  std::ifstream in(path);
+  if (!in) {
+    std::fprintf(stderr, "vpl_bench: cannot read %s\n", path.c_str());
+    std::exit(1);
+  }
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
 
 struct Fixture {
   SceneDescription desc;
@@ -55,8 +50,10 @@ struct Fixture {
   int threads = int(std::thread::hardware_concurrency());
 
   Fixture() {
-    desc.file = "vpl_bench (in code)";
-    applySceneJsonText(kBox, desc.file, SceneJsonKind::Scene, &desc);
+    desc.file = "cornell_ir.json";
+    applySceneJsonText(boxJson(), desc.file, SceneJsonKind::Scene, &desc);
+    desc.render.width = desc.render.height = kSize;
+    desc.render.spp = kSpp;
     scene = buildRenderScene(desc);
     RenderSettings path = desc.render;
     path.integrator.type = "path";

@@ -217,14 +217,7 @@ Rgb InstantRadiosityIntegrator::shade(const Ray& ray, const Hit* found, const Ra
   const MaterialShading& shading = shading_[materialIndex];
   std::optional<Transform> movingFrame;  // a moving object's frame: lives as long as `si`
   SurfaceInteraction si = shadingPoint(ray, hit, cone, materialIndex, &movingFrame);
-  if (aovs) {
-    aovs->hit = true;
-    if (aovs->wanted) {
-      aovs->albedo = material.albedo(si);
-      aovs->normal = si.ns;
-      aovs->depth = hit.t * length(ray.d);
-    }
-  }
+  if (aovs) aovs->record(material, si, hit.t * length(ray.d));
   const RayCone next{cone.widthAt(hit.t * length(ray.d)), cone.spread};
 
   // Partly transparent surfaces: the rest of the light comes straight through.

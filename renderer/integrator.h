@@ -30,6 +30,16 @@ struct PathAovs {
   Vec3f normal;
   float depth = 0;
   bool hit = false;
+
+  // Records the first hit (material `m` at `si`, `distance` along the camera ray): `hit`
+  // always, the attributes only when wanted.
+  void record(const Material& m, const SurfaceInteraction& si, float distance) {
+    hit = true;
+    if (!wanted) return;
+    albedo = m.albedo(si);
+    normal = si.ns;
+    depth = distance;
+  }
 };
 
 // What shading a material's hits needs, decided once per material (not per hit).

@@ -105,13 +105,11 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
       // AOVs are the camera ray's first surface, seen through the media or not.
       if (depth == 0 && hit) {
         aovs.hit = true;
-        if (aovs.wanted) {
+        if (aovs.wanted) {  // shaded here only for the AOVs: the medium may hide it
           const uint32_t m = scene_.materialIndex(*hit);
           std::optional<Transform> movingFrame;
           const SurfaceInteraction si = shadingPoint(ray, *hit, cone, m, &movingFrame);
-          aovs.albedo = scene_.materials[m]->albedo(si);
-          aovs.normal = si.ns;
-          aovs.depth = hit->t * length(ray.d);
+          aovs.record(*scene_.materials[m], si, hit->t * length(ray.d));
         }
       }
       // --- The media along the segment: emission, then pass or scatter.
@@ -170,14 +168,7 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
     std::optional<Transform> movingFrame;  // a moving object's frame: lives as long as `si`
     SurfaceInteraction si = shadingPoint(ray, *hit, cone, materialIndex, &movingFrame);
     const float distance = hit->t * length(ray.d);
-    if (!kMedia && depth == 0) {
-      aovs.hit = true;
-      if (aovs.wanted) {
-        aovs.albedo = material.albedo(si);
-        aovs.normal = si.ns;
-        aovs.depth = distance;
-      }
-    }
+    if (!kMedia && depth == 0) aovs.record(material, si, distance);
     cone = RayCone{cone.widthAt(distance), cone.spread};
 
     // The vertex's sampler dimensions, all drawn whatever happens below (kVertexDimensions).

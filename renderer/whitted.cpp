@@ -37,14 +37,7 @@ Rgb WhittedIntegrator::shade(const Ray& ray, const Hit* found, const RayCone& co
   const MaterialShading& shading = shading_[materialIndex];
   std::optional<Transform> movingFrame;  // a moving object's frame: lives as long as `si`
   SurfaceInteraction si = shadingPoint(ray, hit, cone, materialIndex, &movingFrame);
-  if (aovs) {
-    aovs->hit = true;
-    if (aovs->wanted) {
-      aovs->albedo = material.albedo(si);
-      aovs->normal = si.ns;
-      aovs->depth = hit.t * length(ray.d);
-    }
-  }
+  if (aovs) aovs->record(material, si, hit.t * length(ray.d));
   // The cone at the hit, carried on by every secondary ray from here (only they need it).
   auto next = [&] { return RayCone{cone.widthAt(hit.t * length(ray.d)), cone.spread}; };
 

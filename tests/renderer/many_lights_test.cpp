@@ -257,6 +257,25 @@ std::vector<double> regionMeans(const std::vector<double>& image) {
 // Tests
 // ---------------------------------------------------------------------------------------------
 
+// The region means of 16 seeds x 4 spp against the closed form (see below), and the whole
+// image's standard error below `maxSigma` of its reference, so the check means something.
+void expectUnbiased(const ManyLights& lights, const char* sampler, AreaLights area,
+                    double maxSigma) {
+  SceneDescription d;
+  d.file = "scene.json";
+  applySceneJsonText(sceneJson(lights, sampler, 1, 1, area), d.file, SceneJsonKind::Scene, &d);
+  const RenderScene scene = buildRenderScene(d);
+  ASSERT_EQ(scene.camera.width(), kWidth);
+  const std::vector<double> reference = regionMeans(referenceImage(lights, scene));
+  const SeedStatistics st = renderSeeds(lights, sampler, 16, 4, area);
+  for (int r = 0; r < kRegions; ++r) {
+    EXPECT_GT(st.sigma[r], 0) << "region " << r;
+    EXPECT_NEAR(st.mean[r], reference[r], 4.5 * st.sigma[r] + 2e-3 * reference[r])
+        << "region " << r << " (12 = whole image)";
+  }
+  EXPECT_LT(st.sigma[12], maxSigma * reference[12]);
+}
+
 // 16 seeds × 4 spp per sampler. Each region's mean over seeds must lie within 4.5 standard
 // errors (the spread of the 16 per-seed means; Student t with 15 degrees of freedom exceeds
 // 4.5 with probability 4e-4, so 39 comparisons fail by chance about 1.6% of the time for a
@@ -264,22 +283,9 @@ std::vector<double> regionMeans(const std::vector<double>& image) {
 // midpoint rule's own error.
 TEST(ManyLights, EverySamplerIsUnbiasedAgainstTheClosedForm) {
   const ManyLights lights = makeLights();
-  SceneDescription d;
-  d.file = "scene.json";
-  applySceneJsonText(sceneJson(lights, "power", 1, 1), d.file, SceneJsonKind::Scene, &d);
-  const RenderScene scene = buildRenderScene(d);
-  ASSERT_EQ(scene.camera.width(), kWidth);
-  const std::vector<double> reference = regionMeans(referenceImage(lights, scene));
   for (const char* sampler : {"uniform", "power", "bvh"}) {
     SCOPED_TRACE(sampler);
-    const SeedStatistics st = renderSeeds(lights, sampler, 16, 4);
-    for (int r = 0; r < kRegions; ++r) {
-      EXPECT_GT(st.sigma[r], 0) << "region " << r;
-      EXPECT_NEAR(st.mean[r], reference[r], 4.5 * st.sigma[r] + 2e-3 * reference[r])
-          << "region " << r << " (12 = whole image)";
-    }
-    // The whole image's standard error is small enough for the check to mean something.
-    EXPECT_LT(st.sigma[12], 0.03 * reference[12]);
+    expectUnbiased(lights, sampler, AreaLights::Objects, 0.03);
   }
 }
 
@@ -287,20 +293,7 @@ TEST(ManyLights, EverySamplerIsUnbiasedAgainstTheClosedForm) {
 // alone must carry their full weight (an MIS weight against BSDF sampling here left the
 // render about 4% dark).
 TEST(ManyLights, SidecarAreaLightsAreUnbiasedAgainstTheClosedForm) {
-  const ManyLights lights = makeLights();
-  SceneDescription d;
-  d.file = "scene.json";
-  applySceneJsonText(sceneJson(lights, "power", 1, 1, AreaLights::Sidecar), d.file,
-                     SceneJsonKind::Scene, &d);
-  const RenderScene scene = buildRenderScene(d);
-  const std::vector<double> reference = regionMeans(referenceImage(lights, scene));
-  const SeedStatistics st = renderSeeds(lights, "power", 16, 4, AreaLights::Sidecar);
-  for (int r = 0; r < kRegions; ++r) {
-    EXPECT_GT(st.sigma[r], 0) << "region " << r;
-    EXPECT_NEAR(st.mean[r], reference[r], 4.5 * st.sigma[r] + 2e-3 * reference[r])
-        << "region " << r << " (12 = whole image)";
-  }
-  EXPECT_LT(st.sigma[12], 0.01 * reference[12]);
+  expectUnbiased(makeLights(), "power", AreaLights::Sidecar, 0.01);
 }
 
 // The light BVH judges each light from the shading point, so near dim lights are no longer
