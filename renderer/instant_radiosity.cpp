@@ -233,24 +233,16 @@ Rgb InstantRadiosityIntegrator::shade(const Ray& ray, const Hit* found, const Ra
   if (shading.unlit) {
     L = material.albedo(si) * std::abs(dot(si.ns, si.wo));
   } else {
-    L = material.emitted(si);
+    if (shading.emits) L = material.emitted(si);
     L += directLight(si, material, ray.time, sampler, counters);
     if (shading.flags & (kBsdfDiffuse | kBsdfGlossy))
       L += vplLight(si, material, ray.time, counters);
   }
   // Mirror and glass: follow the reflected and the refracted ray, each with its own weight.
-  if ((shading.flags & kBsdfSpecular) && depth < maxDepth_) {
-    for (uint32_t lobe : {kBsdfReflection, kBsdfTransmission}) {
-      if (!(shading.flags & lobe)) continue;
-      const Vec2f u = sampler.get2D();
-      const float uLobe = sampler.get1D();
-      std::optional<BsdfSample> s = material.sample(si, u, uLobe, lobe | kBsdfSpecular);
-      if (!s || !(s->flags & kBsdfSpecular) || s->pdf <= 0) continue;
-      const Rgb weight = s->weight(si.ns);
-      if (maxComponent(weight) <= 0) continue;
-      L += weight * trace(si.spawnRay(s->wi, ray.time), next, depth + 1, sampler, counters);
-    }
-  }
+  if ((shading.flags & kBsdfSpecular) && depth < maxDepth_)
+    L += specularBounces(material, si, shading.flags, ray.time, sampler, [&](const Ray& r) {
+      return trace(r, next, depth + 1, sampler, counters);
+    });
   return opacity < 1 ? L * opacity + behind * (1 - opacity) : L;
 }
 

@@ -93,6 +93,27 @@ class Integrator {
                                   uint32_t materialIndex,
                                   std::optional<Transform>* movingFrame) const;
 
+  // Whitted-style delta bounces at `si`: for each specular lobe (reflection, transmission) in
+  // `flags`, one sample of the material's delta part, its weight times trace(ray) for the
+  // spawned ray. Glossy and diffuse light is the caller's to gather from the lights. Draws
+  // three sampler dimensions per lobe the material has.
+  template <class TraceFn>
+  static Rgb specularBounces(const Material& material, const SurfaceInteraction& si,
+                             uint32_t flags, float time, Sampler& sampler, TraceFn&& trace) {
+    Rgb L;
+    for (uint32_t lobe : {kBsdfReflection, kBsdfTransmission}) {
+      if (!(flags & lobe)) continue;
+      const Vec2f u = sampler.get2D();
+      const float uLobe = sampler.get1D();
+      std::optional<BsdfSample> s = material.sample(si, u, uLobe, lobe | kBsdfSpecular);
+      if (!s || !(s->flags & kBsdfSpecular) || s->pdf <= 0) continue;
+      const Rgb weight = s->weight(si.ns);
+      if (maxComponent(weight) <= 0) continue;
+      L += weight * trace(si.spawnRay(s->wi, time));
+    }
+    return L;
+  }
+
   const RenderScene& scene_;
   std::vector<MaterialShading> shading_;  // per material
 };
