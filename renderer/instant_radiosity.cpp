@@ -75,8 +75,7 @@ float scrambledRadicalInverse(uint32_t base, uint64_t index, uint64_t scramble) 
 InstantRadiosityIntegrator::InstantRadiosityIntegrator(const RenderScene& scene,
                                                        const IntegratorSettings& settings,
                                                        uint64_t seed)
-    : Integrator(scene),
-      maxDepth_(settings.maxDepth),
+    : WhittedIntegrator(scene, settings.maxDepth),
       rrDepth_(settings.rrDepth),
       paths_(settings.vplPaths),
       clamp_(settings.vplClamp) {
@@ -87,8 +86,7 @@ InstantRadiosityIntegrator::InstantRadiosityIntegrator(const RenderScene& scene,
         "path");
   if (settings.vplPaths <= 0)
     throw std::invalid_argument("instant radiosity: vpl_paths must be > 0");
-  shadows_ = scene.features.has(Feature::Shadows);
-  cameraCone_ = scene.camera.pixelCone();
+  indirect_ = true;
   traceLightPaths(settings.vplPaths, seed);
 }
 
@@ -194,80 +192,9 @@ void InstantRadiosityIntegrator::traceLightPaths(int paths, uint64_t seed) {
 // Gather: Whitted's recursion, lit by the lights and the VPLs
 // ---------------------------------------------------------------------------------------------
 
-Rgb InstantRadiosityIntegrator::LiFromHit(const Ray& ray, const Hit* hit, Sampler& sampler,
-                                          RayCounters& counters, PathAovs& aovs) const {
-  return shade(ray, hit, cameraCone_, 0, sampler, counters, &aovs);
-}
-
-Rgb InstantRadiosityIntegrator::trace(const Ray& ray, const RayCone& cone, int depth,
-                                      Sampler& sampler, RayCounters& counters) const {
-  ++counters.secondary;
-  Hit hit;
-  const bool found = scene_.accel->closestHit(ray, &hit);
-  return shade(ray, found ? &hit : nullptr, cone, depth, sampler, counters, nullptr);
-}
-
-Rgb InstantRadiosityIntegrator::shade(const Ray& ray, const Hit* found, const RayCone& cone,
-                                      int depth, Sampler& sampler, RayCounters& counters,
-                                      PathAovs* aovs) const {
-  if (!found) return scene_.escaped(normalize(ray.d));
-  const Hit& hit = *found;
-  const uint32_t materialIndex = scene_.materialIndex(hit);
-  const Material& material = *scene_.materials[materialIndex];
-  const MaterialShading& shading = shading_[materialIndex];
-  std::optional<Transform> movingFrame;  // a moving object's frame: lives as long as `si`
-  SurfaceInteraction si = shadingPoint(ray, hit, cone, materialIndex, &movingFrame);
-  if (aovs) aovs->record(material, si, hit.t * length(ray.d));
-  const RayCone next{cone.widthAt(hit.t * length(ray.d)), cone.spread};
-
-  // Partly transparent surfaces: the rest of the light comes straight through.
-  const float opacity = shading.transparent ? material.opacity(si) : 1.0f;
-  Rgb behind;
-  if (opacity < 1) {
-    if (depth < maxDepth_)
-      behind = trace(si.spawnRay(ray.d, ray.time), next, depth + 1, sampler, counters);
-    if (opacity <= 0) return behind;
-  }
-
-  Rgb L;
-  if (shading.unlit) {
-    L = material.albedo(si) * std::abs(dot(si.ns, si.wo));
-  } else {
-    if (shading.emits) L = material.emitted(si);
-    L += directLight(si, material, ray.time, sampler, counters);
-    if (shading.flags & (kBsdfDiffuse | kBsdfGlossy))
-      L += vplLight(si, material, ray.time, counters);
-  }
-  // Mirror and glass: follow the reflected and the refracted ray, each with its own weight.
-  if ((shading.flags & kBsdfSpecular) && depth < maxDepth_)
-    L += specularBounces(material, si, shading.flags, ray.time, sampler, [&](const Ray& r) {
-      return trace(r, next, depth + 1, sampler, counters);
-    });
-  return opacity < 1 ? L * opacity + behind * (1 - opacity) : L;
-}
-
-Rgb InstantRadiosityIntegrator::directLight(const SurfaceInteraction& si, const Material& material,
-                                            float time, Sampler& sampler,
-                                            RayCounters& counters) const {
-  Rgb L;
-  const LightSampleContext ctx(si, time);
-  for (const auto& light : scene_.lights) {
-    const Vec2f u = light->isDelta() ? Vec2f{0.5f, 0.5f} : sampler.get2D();
-    std::optional<LightSample> ls = light->sampleLi(ctx, u);
-    if (!ls || !(ls->pdf > 0)) continue;
-    const Rgb f = material.eval(si, ls->wi);
-    if (!(maxComponent(f) > 0)) continue;
-    if (shadows_ && light->castsShadows()) {
-      ++counters.shadow;
-      if (scene_.accel->anyHit(shadowRay(ctx, *ls))) continue;
-    }
-    L += f * ls->L * (std::abs(dot(si.ns, ls->wi)) / ls->pdf);
-  }
-  return L;
-}
-
-Rgb InstantRadiosityIntegrator::vplLight(const SurfaceInteraction& si, const Material& material,
-                                         float time, RayCounters& counters) const {
+Rgb InstantRadiosityIntegrator::indirectLight(const SurfaceInteraction& si,
+                                              const Material& material, float time,
+                                              RayCounters& counters) const {
   Rgb L;
   const float pointError = length(si.pError);
   for (const Vpl& v : vpls_) {

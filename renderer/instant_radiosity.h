@@ -59,6 +59,7 @@
 #include <vector>
 
 #include "renderer/integrator.h"
+#include "renderer/whitted.h"
 
 namespace glint {
 
@@ -71,14 +72,14 @@ struct Vpl {
   std::optional<Transform> movingFrame;  // a moving object's frame (si.objectFromWorld)
 };
 
-class InstantRadiosityIntegrator final : public Integrator {
+// Whitted's integrator (renderer/whitted.h: direct light, emission, mirror and glass
+// recursion) with the light of every VPL added at diffuse and glossy points.
+class InstantRadiosityIntegrator final : public WhittedIntegrator {
  public:
   // Traces the light paths (settings.vplPaths, seeded by `seed`). Throws std::invalid_argument
   // for scenes with participating media.
   InstantRadiosityIntegrator(const RenderScene& scene, const IntegratorSettings& settings,
                              uint64_t seed = 0);
-  Rgb LiFromHit(const Ray& ray, const Hit* hit, Sampler& sampler, RayCounters& counters,
-                PathAovs& aovs) const override;
 
   // The VPLs the light paths left.
   const std::vector<Vpl>& vpls() const { return vpls_; }
@@ -90,24 +91,13 @@ class InstantRadiosityIntegrator final : public Integrator {
  private:
   // Traces the light paths and keeps their VPLs.
   void traceLightPaths(int paths, uint64_t seed);
-  // Radiance along `ray`, which hit `hit` (null: escaped), `depth` bounces from the camera.
-  Rgb shade(const Ray& ray, const Hit* hit, const RayCone& cone, int depth, Sampler& sampler,
-            RayCounters& counters, PathAovs* aovs) const;
-  // Traces a secondary ray and shades what it finds.
-  Rgb trace(const Ray& ray, const RayCone& cone, int depth, Sampler& sampler,
-            RayCounters& counters) const;
-  // One sample of every light at `si`, with shadow rays.
-  Rgb directLight(const SurfaceInteraction& si, const Material& material, float time,
-                  Sampler& sampler, RayCounters& counters) const;
   // The light every VPL sends to `si`, with shadow rays.
-  Rgb vplLight(const SurfaceInteraction& si, const Material& material, float time,
-               RayCounters& counters) const;
+  Rgb indirectLight(const SurfaceInteraction& si, const Material& material, float time,
+                    RayCounters& counters) const override;
 
-  int maxDepth_, rrDepth_;
+  int rrDepth_;
   int paths_;     // light paths traced
   float clamp_;   // bound on G; 0 = none
-  bool shadows_;  // Feature::Shadows: shadow rays at all
-  RayCone cameraCone_;
   std::vector<Vpl> vpls_;
   uint64_t lightPathRays_ = 0;
 };

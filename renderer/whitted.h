@@ -20,11 +20,23 @@
 
 namespace glint {
 
-class WhittedIntegrator final : public Integrator {
+class WhittedIntegrator : public Integrator {
  public:
   WhittedIntegrator(const RenderScene& scene, int maxDepth);
   Rgb LiFromHit(const Ray& ray, const Hit* hit, Sampler& sampler, RayCounters& counters,
                 PathAovs& aovs) const override;
+
+ protected:
+  // Light beyond the direct at a diffuse or glossy point (instant radiosity's VPLs), asked
+  // only when `indirect_` is set. Plain Whitted has none.
+  virtual Rgb indirectLight(const SurfaceInteraction& si, const Material& material, float time,
+                            RayCounters& counters) const {
+    (void)si, (void)material, (void)time, (void)counters;
+    return {};
+  }
+  bool indirect_ = false;
+  int maxDepth_;
+  bool shadows_;
 
  private:
   // Radiance along `ray`, which hit `hit` (null: escaped), `depth` bounces from the camera.
@@ -41,8 +53,6 @@ class WhittedIntegrator final : public Integrator {
   Rgb directLight(const SurfaceInteraction& si, const Material& material, float time,
                   Sampler& sampler, RayCounters& counters) const;
 
-  int maxDepth_;
-  bool shadows_;
   const MediaScene* media_;  // null without media: rays take the media-free path
   RayCone cameraCone_;
 };
