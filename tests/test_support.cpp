@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include "renderer/environment_light.h"
+#include "renderer/light_sampler.h"
 #include "scenes/build.h"
 #include "scenes/sidecar.h"
 
@@ -71,6 +73,18 @@ ScopedEnv::~ScopedEnv() {
     ::setenv(name_.c_str(), old_->c_str(), 1);
   else
     ::unsetenv(name_.c_str());
+}
+
+void useUniformEnvironment(RenderScene* scene, Rgb L) {
+  scene->lights.clear();
+  scene->infiniteLights.clear();
+  scene->lights.push_back(std::make_unique<UniformEnvironmentLight>(L));
+  scene->lights.back()->preprocess(scene->geometry.bounds());
+  scene->infiniteLights.push_back(scene->lights.back().get());
+  scene->lightSampler = makeLightSampler("power", scene->lights);
+  scene->features.set(Feature::Headlight, false);
+  scene->features.set(Feature::Environment);
+  scene->features.set(Feature::Shadows);
 }
 
 Rendered renderJson(const std::string& text) {

@@ -20,6 +20,11 @@ struct Rendered {
 // its own integrator on two threads.
 Rendered renderJson(const std::string& text);
 
+// Replaces a built scene's lights (the headlight a scene without lights gets) by a uniform
+// environment of radiance `L`, as the sidecar's environment block would: it lights the
+// scene, casts shadows and replaces the headlight.
+void useUniformEnvironment(RenderScene* scene, Rgb L);
+
 // Folder of the project's own test data (tests/data).
 std::string dataDir();
 // The shared asset folder: $GLINT_ASSETS, else the CMake setting (../shared/assets).

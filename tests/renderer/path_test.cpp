@@ -11,6 +11,7 @@
 #include "renderer/render.h"
 #include "scenes/build.h"
 #include "scenes/sidecar.h"
+#include "test_support.h"
 
 namespace glint {
 namespace {
@@ -56,20 +57,6 @@ SceneDescription pathScene(int size, int spp, int maxDepth, int rrDepth) {
   d.render.integrator.maxDepth = maxDepth;
   d.render.integrator.rrDepth = rrDepth;
   return d;
-}
-
-// Replaces the built scene's lights (the headlight a scene without lights gets) by a uniform
-// environment of radiance `L`, as the sidecar's environment block will.
-void useUniformEnvironment(RenderScene* scene, Rgb L) {
-  scene->lights.clear();
-  scene->infiniteLights.clear();
-  scene->lights.push_back(std::make_unique<UniformEnvironmentLight>(L));
-  scene->lights.back()->preprocess(scene->geometry.bounds());
-  scene->infiniteLights.push_back(scene->lights.back().get());
-  scene->lightSampler = makeLightSampler("power", scene->lights);
-  scene->features.set(Feature::Headlight, false);
-  scene->features.set(Feature::Environment);
-  scene->features.set(Feature::Shadows);
 }
 
 // Removes the headlight a scene without lights gets (emitting surfaces light it alone).
@@ -126,7 +113,7 @@ TEST(PathTracer, FurnaceSphereReflectsItsAlbedo) {
     d.objects.push_back(sphere({0, 0, 0}, 1, 0));
     d.cameras.push_back(camera({0, 0, 4}, {0, 0, 0}, 40));
     RenderScene scene = buildRenderScene(d);
-    useUniformEnvironment(&scene, {1, 1, 1});
+    test::useUniformEnvironment(&scene, {1, 1, 1});
     RenderStats stats;
     Film film = renderPath(scene, d.render, 2, &stats);
     size_t onSphere = 0, onEnvironment = 0;
@@ -256,7 +243,7 @@ TEST(PathTracer, ImageIsIdenticalForOneAndTwoThreads) {
   d.objects.push_back(sphere({1.5f, 1.2f, 0.5f}, 0.4f, 1));
   d.cameras.push_back(camera({0, 0.5f, 4}, {0, 0, 0}, 50));
   RenderScene scene = buildRenderScene(d);
-  useUniformEnvironment(&scene, {0.3f, 0.4f, 0.5f});
+  test::useUniformEnvironment(&scene, {0.3f, 0.4f, 0.5f});
   Film one = renderPath(scene, d.render, 1, nullptr, 16);
   Film two = renderPath(scene, d.render, 2, nullptr, 7);
   ASSERT_EQ(one.color.size(), two.color.size());
@@ -282,7 +269,7 @@ TEST(PathTracer, AutoChoosesThePathTracerForExtendedLight) {
   EXPECT_EQ(resolveIntegratorType(scene, d.render.integrator), "whitted");
   EXPECT_FALSE(scene.features.has(Feature::Indirect));
   EXPECT_EQ(resolveIntegratorType(scene, {.type = "whitted"}), "whitted");
-  useUniformEnvironment(&scene, {1, 1, 1});
+  test::useUniformEnvironment(&scene, {1, 1, 1});
   EXPECT_EQ(resolveIntegratorType(scene, d.render.integrator), "path");
   EXPECT_NE(dynamic_cast<PathIntegrator*>(makeIntegrator(scene, d.render).get()), nullptr);
   // The builder marks indirect light when the path tracer is asked for.
@@ -309,7 +296,7 @@ TEST(PathTracer, RendersMediaAndAutoPicksItForMultipleScattering) {
   d.render.integrator.volume = "multiple";
   EXPECT_EQ(resolveIntegratorType(scene, d.render.integrator), "path");
   d.render.integrator.volume = "single";
-  useUniformEnvironment(&scene, {1, 1, 1});  // extended light: the path tracer
+  test::useUniformEnvironment(&scene, {1, 1, 1});  // extended light: the path tracer
   EXPECT_EQ(resolveIntegratorType(scene, d.render.integrator), "path");
   d.render.integrator.type = "path";
   EXPECT_NE(dynamic_cast<PathIntegrator*>(makeIntegrator(scene, d.render).get()), nullptr);

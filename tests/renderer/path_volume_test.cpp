@@ -12,6 +12,7 @@
 #include "renderer/render.h"
 #include "renderer/volume.h"
 #include "scenes/build.h"
+#include "test_support.h"
 
 namespace glint {
 namespace {
@@ -78,18 +79,6 @@ LightDesc pointLight(Vec3f p, float intensity) {
   l.intensity = intensity;
   l.worldFromLight = Transform::translate(p);
   return l;
-}
-
-// Replaces the built scene's lights by a uniform environment of radiance `L`.
-void useUniformEnvironment(RenderScene* scene, Rgb L) {
-  scene->lights.clear();
-  scene->infiniteLights.clear();
-  scene->lights.push_back(std::make_unique<UniformEnvironmentLight>(L));
-  scene->lights.back()->preprocess(scene->geometry.bounds());
-  scene->infiniteLights.push_back(scene->lights.back().get());
-  scene->lightSampler = makeLightSampler("power", scene->lights);
-  scene->features.set(Feature::Headlight, false);
-  scene->features.set(Feature::Environment);
 }
 
 // Removes every light (the headlight a scene without lights gets included).
@@ -160,7 +149,7 @@ TEST(PathVolume, AbsorbingSlabTransmitsTheExponential) {
     SceneDescription d = mediaScene(16, 64, type);
     d.media.push_back(boxMedium({-1.5f, -1.5f, -0.5f}, {1.5f, 1.5f, 0.5f}, sigmaA, {}));
     RenderScene scene = buildRenderScene(d);
-    useUniformEnvironment(&scene, {1, 1, 1});
+    test::useUniformEnvironment(&scene, {1, 1, 1});
     const Film film = renderWith(scene, d.render);
     const Estimate in = average(film, inside), out = average(film, outside);
     ASSERT_GT(in.n, 50u);
@@ -234,7 +223,7 @@ TEST(PathVolume, MediumFurnaceKeepsRadianceOne) {
     }
     d.media.push_back(m);
     RenderScene scene = buildRenderScene(d);
-    useUniformEnvironment(&scene, {1, 1, 1});
+    test::useUniformEnvironment(&scene, {1, 1, 1});
     const Film film = renderWith(scene, d.render);
     const Estimate all = averageAll(film);
     const Estimate centre = average(film, [](Vec2f p) { return p.x * p.x + p.y * p.y < 1.44f; });
@@ -254,7 +243,7 @@ TEST(PathVolume, AbsorbingFurnaceLiesBetweenTransmittanceAndOne) {
     d.render.integrator.volume = volume;
     d.media.push_back(sphereMedium(1.5f, {0.5f, 0.5f, 0.5f}, {1.5f, 1.5f, 1.5f}));
     RenderScene scene = buildRenderScene(d);
-    useUniformEnvironment(&scene, {1, 1, 1});
+    test::useUniformEnvironment(&scene, {1, 1, 1});
     return average(renderWith(scene, d.render), [](Vec2f p) { return p.x * p.x + p.y * p.y < 1.44f; });
   };
   const Estimate unscattered = render("emission"), full = render("multiple");
