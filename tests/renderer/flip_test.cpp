@@ -204,6 +204,89 @@ TEST(Flip, CsfFilterBlursAWhiteDotSymmetrically) {
   EXPECT_GT(lum(cx + 1, cy), lum(cx + 3, cy));
 }
 
+// The paper's CSF kernel of one opponent channel at (x, y) pixels, normalised to sum 1:
+// Σ a_i √(π/b_i) exp(−π² d² / b_i), d in degrees, on a (2r+1)² window with
+// r = ⌈3 √(b_max / 2π²) · ppd⌉, b_max = 0.04.
+double csfWeight(int channel, int x, int y, double ppd) {
+  const double pi = 3.14159265358979323846;
+  const double p[3][4] = {{1, 0.0047, 0, 1}, {1, 0.0053, 0, 1}, {34.1, 0.04, 13.5, 0.025}};
+  const int r = int(std::ceil(3 * std::sqrt(0.04 / (2 * pi * pi)) * ppd));
+  auto s = [&](int u, int v) {
+    double d2 = (u * u + v * v) / (ppd * ppd);
+    const double* q = p[channel];
+    return q[0] * std::sqrt(pi / q[1]) * std::exp(-pi * pi * d2 / q[1]) +
+           q[2] * std::sqrt(pi / q[3]) * std::exp(-pi * pi * d2 / q[3]);
+  };
+  double sum = 0;
+  for (int v = -r; v <= r; ++v)
+    for (int u = -r; u <= r; ++u) sum += s(u, v);
+  return s(x, y) / sum;
+}
+
+// Linear sRGB ↔ YCxCz (D65), with Lindbloom's matrices.
+D3 ycxczFromLinear(D3 l) {
+  double X = 0.4124564 * l.x + 0.3575761 * l.y + 0.1804375 * l.z;
+  double Y = 0.2126729 * l.x + 0.7151522 * l.y + 0.0721750 * l.z;
+  double Z = 0.0193339 * l.x + 0.1191920 * l.y + 0.9503041 * l.z;
+  X /= 0.9504559, Z /= 1.0890578;
+  return {116 * Y - 16, 500 * (X - Y), 200 * (Y - Z)};
+}
+
+D3 linearFromYcxcz(D3 c) {
+  double Y = (c.x + 16) / 116, X = (Y + c.y / 500) * 0.9504559, Z = (Y - c.z / 200) * 1.0890578;
+  return {3.2404542 * X - 1.5371385 * Y - 0.4985314 * Z,
+          -0.9692660 * X + 1.8760108 * Y + 0.0415560 * Z,
+          0.0556434 * X - 0.2040259 * Y + 1.0572252 * Z};
+}
+
+TEST(Flip, CsfKernelsAreThePapersGaussians) {
+  // An impulse in one opponent channel (Y, Cx or Cz) on a grey: after filtering, that channel
+  // is the background plus the impulse times the paper's 2-D kernel; the others are unchanged.
+  const int w = 41, h = 41, cx = 20, cy = 20;
+  const D3 background = {7.2, 0, 0};  // linear grey 0.2
+  const double impulse = 6;
+  for (double ppd : {30.0, kFlipDefaultPixelsPerDegree})
+    for (int channel = 0; channel < 3; ++channel) {
+      D3 dot = background;
+      (channel == 0 ? dot.x : channel == 1 ? dot.y : dot.z) += impulse;
+      auto encode = [](D3 c) {
+        D3 l = linearFromYcxcz(c);
+        auto e = [](double v) {
+          return float(v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055);
+        };
+        return Rgb{e(l.x), e(l.y), e(l.z)};
+      };
+      Image img = uniform(w, h, encode(background));
+      Rgb d = encode(dot);
+      at(img, w, cx, cy, 0) = d.x, at(img, w, cx, cy, 1) = d.y, at(img, w, cx, cy, 2) = d.z;
+      std::vector<float> f = flipCsfFiltered(img, w, h, ppd);
+      for (auto [x, y] : {std::pair{0, 0}, std::pair{1, 0}, std::pair{0, 3}, std::pair{4, 2}}) {
+        size_t i = 3 * (size_t(cy + y) * w + size_t(cx + x));
+        D3 got = ycxczFromLinear({f[i], f[i + 1], f[i + 2]});
+        double expected = impulse * csfWeight(channel, x, y, ppd);
+        double values[3] = {got.x - background.x, got.y - background.y, got.z - background.z};
+        for (int k = 0; k < 3; ++k)
+          EXPECT_NEAR(values[k], k == channel ? expected : 0.0, 2e-3 + 1e-3 * expected)
+              << "ppd " << ppd << " channel " << channel << " at " << x << "," << y << " out " << k;
+      }
+      // The support is the paper's radius, set by the widest Gaussian (BY's b = 0.04 deg²):
+      // the impulse reaches (r, 0) and not (r + 1, 0), where the result is bit for bit the
+      // background's.
+      const double pi = 3.14159265358979323846;
+      const int r = int(std::ceil(3 * std::sqrt(0.04 / (2 * pi * pi)) * ppd));
+      auto pixel = [&](int x, int y) {
+        size_t i = 3 * (size_t(y) * w + size_t(x));
+        return Rgb{f[i], f[i + 1], f[i + 2]};
+      };
+      Rgb far = pixel(0, 0);
+      if (channel == 2) {
+        EXPECT_FALSE(pixel(cx + r, cy) == far) << "ppd " << ppd;
+      }
+      EXPECT_TRUE(pixel(cx + r + 1, cy) == far) << "ppd " << ppd << " channel " << channel;
+      EXPECT_TRUE(pixel(cx, cy - r - 1) == far) << "ppd " << ppd << " channel " << channel;
+    }
+}
+
 TEST(Flip, ThinLineIsDetectedByTheFeaturePipeline) {
   // A one-pixel vertical line and a wide Gaussian ridge that add the same linear light to a
   // mid-grey image: the CSF blurs both, but only the line has the sharp edges the feature
