@@ -47,7 +47,7 @@ constexpr float kQf = 0.5f;   // exponent on the feature difference
 
 struct Mat3 {
   std::array<double, 9> m;
-  Vec3f operator()(Vec3f v) const {
+  constexpr Vec3f operator()(Vec3f v) const {
     return {float(m[0] * v.x + m[1] * v.y + m[2] * v.z),
             float(m[3] * v.x + m[4] * v.y + m[5] * v.z),
             float(m[6] * v.x + m[7] * v.y + m[8] * v.z)};
@@ -59,7 +59,7 @@ constexpr Mat3 kXyzFromLinear{
      2613072.0 / 12288897.0, 8788810.0 / 12288897.0, 887015.0 / 12288897.0, 1425312.0 / 73733382.0,
      8788810.0 / 73733382.0, 70074185.0 / 73733382.0}};
 
-Mat3 inverse(const Mat3& a) {
+constexpr Mat3 inverse(const Mat3& a) {
   const auto& m = a.m;
   double c00 = m[4] * m[8] - m[5] * m[7], c01 = m[5] * m[6] - m[3] * m[8],
          c02 = m[3] * m[7] - m[4] * m[6];
@@ -69,10 +69,10 @@ Mat3 inverse(const Mat3& a) {
            c02 / det, (m[1] * m[6] - m[0] * m[7]) / det, (m[0] * m[4] - m[1] * m[3]) / det}};
 }
 
-const Mat3 kLinearFromXyz = inverse(kXyzFromLinear);
+constexpr Mat3 kLinearFromXyz = inverse(kXyzFromLinear);
 
-const Vec3f kWhite = kXyzFromLinear({1, 1, 1});  // D65, Y = 1
-const Vec3f kInvWhite = {1 / kWhite.x, 1 / kWhite.y, 1 / kWhite.z};
+constexpr Vec3f kWhite = kXyzFromLinear({1, 1, 1});  // D65, Y = 1
+constexpr Vec3f kInvWhite = {1 / kWhite.x, 1 / kWhite.y, 1 / kWhite.z};
 
 float srgbToLinear(float c) {
   return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
@@ -117,14 +117,17 @@ float hyab(Vec3f a, Vec3f b) {
 
 // The largest HyAB distance in Hunt-adjusted L*a*b* between colours of the RGB cube, pure green
 // against pure blue, raised to qc.
-const float kCmax = std::pow(hyab(huntLabFromLinear({0, 1, 0}), huntLabFromLinear({0, 0, 1})), kQc);
+float cmax() {
+  static const float c =
+      std::pow(hyab(huntLabFromLinear({0, 1, 0}), huntLabFromLinear({0, 0, 1})), kQc);
+  return c;
+}
 
 // Re-maps the distance^qc to [0, 1]: [0, pc·cmax) linearly onto [0, pt), the rest onto [pt, 1],
 // so the small differences that matter get most of the range.
 float remapColorError(float distance) {
-  float e = std::pow(distance, kQc);
-  float knee = kPc * kCmax;
-  return e < knee ? kPt / knee * e : kPt + (e - knee) / (kCmax - knee) * (1 - kPt);
+  const float e = std::pow(distance, kQc), c = cmax(), knee = kPc * c;
+  return e < knee ? kPt / knee * e : kPt + (e - knee) / (c - knee) * (1 - kPt);
 }
 
 // ---- planes and separable filters ------------------------------------------------------------

@@ -118,15 +118,18 @@ TEST(Flip, IsSymmetric) {
 }
 
 TEST(Flip, ErrorMapStaysInTheUnitInterval) {
-  const int w = 37, h = 23;  // odd sizes, smaller than the filters' support
+  // Odd sizes, smaller than the filters' support, down to a single pixel.
+  const std::pair<int, int> sizes[] = {{37, 23}, {1, 1}, {1, 9}, {12, 1}};
   for (unsigned seed = 1; seed <= 4; ++seed) {
+    auto [w, h] = sizes[seed - 1];
     FlipResult r = flipLdr(noise(w, h, seed), noise(w, h, seed + 100), w, h);
+    ASSERT_EQ(r.error.size(), size_t(w) * size_t(h));
     for (float e : r.error) {
       ASSERT_TRUE(std::isfinite(e));
       ASSERT_GE(e, 0.0f);
       ASSERT_LE(e, 1.0f);
     }
-    EXPECT_GT(r.stats.mean, 0.1);  // random noise against random noise is clearly different
+    EXPECT_GT(r.stats.mean, 0.1) << w << "×" << h;  // noise against other noise: clearly different
   }
 }
 
