@@ -355,6 +355,26 @@ TEST(Flip, SinglePixelPointFeatureMatchesTheHandValue) {
   EXPECT_EQ(res.error[0], 0.0f);  // far from the point nothing differs
 }
 
+TEST(Flip, StepEdgeFeatureIsTheLuminanceStep) {
+  // A vertical step from luminance Y0 to Y1 between columns c − 1 and c, against a uniform Y0.
+  // The edge filter across x, dg(x)·g(y), has its positive weights (x < 0) summing to 1 and its
+  // negative ones (x > 0) to −1, so on both columns next to the step it responds with exactly
+  // Y0 − Y1, whatever the viewing distance; the point response there is smaller. Hence
+  // ΔE_f = (ΔY / √2)^0.5 on those columns.
+  const int w = 64, h = 16, c = 32;
+  const float lo = 0.25f, hi = 0.6f;
+  Image ref = uniform(w, h, {lo, lo, lo}), test = ref;
+  for (int y = 0; y < h; ++y)
+    for (int x = c; x < w; ++x)
+      for (int k = 0; k < 3; ++k) at(test, w, x, y, k) = hi;
+  const double expected = std::sqrt((toLinear(hi) - toLinear(lo)) / std::sqrt(2.0));
+  for (double ppd : {20.0, kFlipDefaultPixelsPerDegree, 100.0}) {
+    FlipComponents comp = flipLdrComponents(ref, test, w, h, ppd);
+    for (int y : {0, h / 2, h - 1})
+      for (int x : {c - 1, c}) EXPECT_NEAR(comp.feature[size_t(y) * w + x], expected, 1e-4) << ppd;
+  }
+}
+
 TEST(Flip, RejectsBuffersOfTheWrongSize) {
   Image a = uniform(4, 4, {0.5f, 0.5f, 0.5f});
   Image b = uniform(4, 3, {0.5f, 0.5f, 0.5f});
