@@ -43,6 +43,7 @@ void SceneOverrides::apply(SceneDescription* desc) const {
   if (integrator) r.integrator.type = *integrator;
   if (maxDepth) r.integrator.maxDepth = *maxDepth;
   if (lightSampler) r.integrator.lightSampler = *lightSampler;
+  if (aovs) r.aovs = true;
   if (camera) {
     bool known = std::any_of(desc->cameras.begin(), desc->cameras.end(),
                              [&](const CameraDesc& c) { return c.name == *camera; });

@@ -1,14 +1,23 @@
-// glint — `glint diff A B`: numeric image comparison with idiff's thresholds.
+// glint — `glint diff A B`: numeric image comparison with idiff's thresholds, or statistical
+// (per-pixel z-tests against a reference's mean and variance).
 #include <fmt/format.h>
+
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <exception>
+#include <limits>
 #include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "apps/cli_common.h"
 #include "apps/commands.h"
+#include "renderer/flip.h"
 #include "renderer/image_diff.h"
+#include "renderer/output.h"
+#include "renderer/statistical_diff.h"
 
 namespace glint::app {
 
@@ -17,71 +26,121 @@ namespace {
 struct DiffOptions {
   std::string a, b;
   DiffThresholds thresholds;
+  bool statistical = false;
+  StatisticalThresholds statistics;
+  std::string heatMap;  // statistical mode: where to write the |z| heat map
+  bool flip = false;    // also compute FLIP
+  double pixelsPerDegree = kFlipDefaultPixelsPerDegree;
+  double flipMax = std::numeric_limits<double>::infinity();  // fail above this mean FLIP
+  std::string flipMap;  // where to write FLIP's error map
   bool json = false;
 };
 
-std::string jsonString(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    switch (c) {
-      case '"':
-        out += "\\\"";
-        break;
-      case '\\':
-        out += "\\\\";
-        break;
-      case '\n':
-        out += "\\n";
-        break;
-      case '\t':
-        out += "\\t";
-        break;
-      default:
-        if (static_cast<unsigned char>(c) < 0x20)
-          out += fmt::format("\\u{:04x}", int(c));
-        else
-          out += c;
-    }
+// FLIP of `a` against reference `b`: LDR-FLIP for two display-encoded images (PNG, JPEG, 8/16-bit
+// TIFF), HDR-FLIP for two scene-linear ones (EXR).
+struct FlipReport {
+  bool hdr = false;
+  FlipResult result;
+};
+
+std::vector<float> rgbOf(const DiffImage& image, const std::string& path) {
+  int r = image.channel("R"), g = image.channel("G"), b = image.channel("B");
+  if (r < 0 || g < 0 || b < 0) {
+    if (image.channels < 3) throw ImageReadError(fmt::format("{}: FLIP needs R, G, B", path));
+    r = 0, g = 1, b = 2;
   }
-  return out + "\"";
+  std::vector<float> rgb(size_t(image.width) * size_t(image.height) * 3);
+  for (size_t i = 0; i < rgb.size() / 3; ++i) {
+    const float* p = &image.pixels[i * size_t(image.channels)];
+    rgb[3 * i] = p[r], rgb[3 * i + 1] = p[g], rgb[3 * i + 2] = p[b];
+  }
+  return rgb;
 }
 
-// JSON has no infinity (PSNR of identical images): those become null.
-std::string jsonNumber(double v) { return std::isfinite(v) ? fmt::format("{}", v) : "null"; }
-
-void printJson(const DiffOptions& o, const DiffResult& r) {
-  std::string channels;
-  for (const std::string& c : r.channels)
-    channels += (channels.empty() ? "" : ", ") + jsonString(c);
-  std::string s = "{\n";
-  s += fmt::format("  \"a\": {},\n  \"b\": {},\n", jsonString(o.a), jsonString(o.b));
-  s += fmt::format("  \"verdict\": \"{}\",\n  \"pass\": {},\n", verdictName(r.verdict),
-                   r.verdict != DiffVerdict::Fail);
-  s += fmt::format("  \"size_a\": [{}, {}],\n  \"size_b\": [{}, {}],\n", r.widthA, r.heightA,
-                   r.widthB, r.heightB);
-  s += fmt::format("  \"size_mismatch\": {}", r.sizeMismatch);
-  if (!r.sizeMismatch) {
-    s += fmt::format(",\n  \"channels\": [{}],\n  \"pixels\": {},\n", channels, r.pixels);
-    s += fmt::format("  \"mean_abs_error\": {},\n  \"rmse\": {},\n  \"rel_mse\": {},\n",
-                     jsonNumber(r.meanAbsError), jsonNumber(r.rmse), jsonNumber(r.relMse));
-    s += fmt::format("  \"psnr\": {},\n  \"max_error\": {},\n", jsonNumber(r.psnr),
-                     jsonNumber(r.maxError));
-    s += fmt::format("  \"max_pixel\": [{}, {}],\n  \"max_channel\": {},\n", r.maxX, r.maxY,
-                     jsonString(r.maxChannel));
-    s += fmt::format("  \"fail_threshold\": {},\n  \"fail_percent_allowed\": {},\n",
-                     jsonNumber(o.thresholds.fail), jsonNumber(o.thresholds.failPercent));
-    s += fmt::format("  \"fail_pixels\": {},\n  \"fail_pixel_percent\": {},\n", r.failPixels,
-                     jsonNumber(r.failPixelPercent));
-    s += fmt::format("  \"warn_threshold\": {},\n  \"warn_percent_allowed\": {},\n",
-                     jsonNumber(o.thresholds.warn), jsonNumber(o.thresholds.warnPercent));
-    s += fmt::format("  \"warn_pixels\": {},\n  \"warn_pixel_percent\": {}", r.warnPixels,
-                     jsonNumber(r.warnPixelPercent));
+FlipReport flipImages(const DiffOptions& o) {
+  DiffImage a = readDiffImage(o.a), b = readDiffImage(o.b);
+  if (a.floatingPoint != b.floatingPoint)
+    throw ImageReadError(fmt::format(
+        "{} vs {}: FLIP compares two display-encoded images (PNG, JPEG) or two scene-linear "
+        "ones (EXR), not one of each",
+        o.a, o.b));
+  std::vector<float> rgbA = rgbOf(a, o.a), rgbB = rgbOf(b, o.b);
+  FlipReport report;
+  report.hdr = a.floatingPoint;
+  if (report.hdr) {
+    FlipHdrOptions options;
+    options.pixelsPerDegree = o.pixelsPerDegree;
+    report.result = flipHdr(rgbB, rgbA, a.width, a.height, options);
+  } else {
+    report.result = flipLdr(rgbB, rgbA, a.width, a.height, o.pixelsPerDegree);
   }
-  s += "\n}\n";
-  fmt::print("{}", s);
+  if (!o.flipMap.empty())
+    writeRawImage(o.flipMap, a.width, a.height, 3, flipHeatMap(report.result.error));
+  return report;
 }
 
-void printText(const DiffOptions& o, const DiffResult& r) {
+nlohmann::ordered_json flipJson(const DiffOptions& o, const FlipReport& f) {
+  const FlipStats& s = f.result.stats;
+  nlohmann::ordered_json j;
+  j["mode"] = f.hdr ? "hdr" : "ldr";
+  j["pixels_per_degree"] = o.pixelsPerDegree;
+  if (f.hdr)
+    j["exposures"] = {{"start", f.result.exposures.start},
+                      {"stop", f.result.exposures.stop},
+                      {"count", f.result.exposures.count}};
+  j["mean"] = s.mean;
+  j["weighted_median"] = s.weightedMedian;
+  j["weighted_quartiles"] = {s.weightedQuartile1, s.weightedQuartile3};
+  j["max"] = s.max;
+  j["max_pixel"] = {s.maxX, s.maxY};
+  j["max_mean_allowed"] = o.flipMax;  // null when there is no limit
+  return j;
+}
+
+void printFlipText(const DiffOptions& o, const FlipReport& f) {
+  const FlipStats& s = f.result.stats;
+  std::string how = f.hdr ? fmt::format("HDR, {} exposures {:.2f}..{:.2f}", f.result.exposures.count,
+                                        f.result.exposures.start, f.result.exposures.stop)
+                          : "LDR";
+  fmt::print("  FLIP ({}, {:.3g} pixels/degree): mean {:.4g}, weighted median {:.4g}, max {:.4g} "
+             "@ ({}, {}){}\n",
+             how, o.pixelsPerDegree, s.mean, s.weightedMedian, s.max, s.maxX, s.maxY,
+             std::isfinite(o.flipMax) ? fmt::format(" (limit {:g})", o.flipMax) : "");
+}
+
+void printJson(const DiffOptions& o, const DiffResult& r, const std::optional<FlipReport>& flip) {
+  nlohmann::ordered_json j;
+  j["a"] = o.a;
+  j["b"] = o.b;
+  j["verdict"] = verdictName(r.verdict);
+  j["pass"] = r.verdict != DiffVerdict::Fail;
+  j["size_a"] = {r.widthA, r.heightA};
+  j["size_b"] = {r.widthB, r.heightB};
+  j["size_mismatch"] = r.sizeMismatch;
+  if (!r.sizeMismatch) {  // JSON has no infinity (PSNR of identical images): nlohmann writes null
+    j["channels"] = r.channels;
+    j["pixels"] = r.pixels;
+    j["mean_abs_error"] = r.meanAbsError;
+    j["rmse"] = r.rmse;
+    j["rel_mse"] = r.relMse;
+    j["psnr"] = r.psnr;
+    j["max_error"] = r.maxError;
+    j["max_pixel"] = {r.maxX, r.maxY};
+    j["max_channel"] = r.maxChannel;
+    j["fail_threshold"] = o.thresholds.fail;
+    j["fail_percent_allowed"] = o.thresholds.failPercent;
+    j["fail_pixels"] = r.failPixels;
+    j["fail_pixel_percent"] = r.failPixelPercent;
+    j["warn_threshold"] = o.thresholds.warn;
+    j["warn_percent_allowed"] = o.thresholds.warnPercent;
+    j["warn_pixels"] = r.warnPixels;
+    j["warn_pixel_percent"] = r.warnPixelPercent;
+  }
+  if (flip) j["flip"] = flipJson(o, *flip);
+  fmt::print("{}\n", j.dump(2));
+}
+
+void printText(const DiffOptions& o, const DiffResult& r, const std::optional<FlipReport>& flip) {
   fmt::print("Comparing \"{}\" and \"{}\"\n", o.a, o.b);
   if (r.sizeMismatch) {
     fmt::print("  Resolutions differ: {}x{} vs {}x{}\nFAILURE\n", r.widthA, r.heightA, r.widthB,
@@ -96,24 +155,113 @@ void printText(const DiffOptions& o, const DiffResult& r) {
              o.thresholds.fail);
   fmt::print("  {} pixels ({:.3g}%) over {:g} (warn)\n", r.warnPixels, r.warnPixelPercent,
              o.thresholds.warn);
+  if (flip) printFlipText(o, *flip);
   fmt::print("{}\n", r.verdict == DiffVerdict::Pass   ? "PASS"
                      : r.verdict == DiffVerdict::Warn ? "WARNING"
                                                       : "FAILURE");
 }
 
+void printJson(const DiffOptions& o, const StatisticalResult& r,
+               const std::optional<FlipReport>& flip) {
+  const StatisticalThresholds& t = o.statistics;
+  nlohmann::ordered_json j;
+  j["a"] = o.a;
+  j["b"] = o.b;
+  j["mode"] = "statistical";
+  j["verdict"] = verdictName(r.verdict);
+  j["pass"] = r.verdict != DiffVerdict::Fail;
+  j["size_a"] = {r.widthA, r.heightA};
+  j["size_b"] = {r.widthB, r.heightB};
+  j["size_mismatch"] = r.sizeMismatch;
+  if (!r.sizeMismatch) {
+    j["pixels"] = r.pixels;
+    j["spp"] = {r.sppA, r.sppB};
+    j["variance_model"] = r.varianceModel;
+    j["significance"] = t.significance;
+    j["pixel_z_limit"] = r.pixelZ;
+    j["fail_pixels"] = r.failPixels;
+    j["pass_percent"] = r.passPercent;
+    j["min_pass_percent"] = t.minPassPercent;
+    j["max_z"] = r.maxZ;
+    j["max_z_pixel"] = {r.maxZX, r.maxZY};
+    j["max_z_channel"] = r.maxZChannel;
+    j["mean_z2"] = r.meanZ2;
+    j["global_z"] = r.globalZ;
+    j["global_z_limit"] = r.globalZLimit;
+    j["biased"] = r.biased;
+    j["max_error"] = r.maxError;
+    j["max_error_pixel"] = {r.maxErrorX, r.maxErrorY};
+    j["max_error_allowed"] = t.maxError;  // null when there is no cap
+    j["error_cap_exceeded"] = r.errorCapExceeded;
+    j["non_finite"] = r.nonFinite;
+  }
+  if (flip) j["flip"] = flipJson(o, *flip);
+  fmt::print("{}\n", j.dump(2));
+}
+
+void printText(const DiffOptions& o, const StatisticalResult& r,
+               const std::optional<FlipReport>& flip) {
+  const StatisticalThresholds& t = o.statistics;
+  fmt::print("Comparing \"{}\" with reference \"{}\" statistically\n", o.a, o.b);
+  if (r.sizeMismatch) {
+    fmt::print("  Resolutions differ: {}x{} vs {}x{}\nFAILURE\n", r.widthA, r.heightA, r.widthB,
+               r.heightB);
+    return;
+  }
+  fmt::print("  Noise model: {} variance, {} vs {} spp\n", r.varianceModel, r.sppA, r.sppB);
+  fmt::print("  Pixels passing: {:.3f}% (need {:g}%); {} over |z| = {:.3g}\n", r.passPercent,
+             t.minPassPercent, r.failPixels, r.pixelZ);
+  fmt::print("  Largest |z| = {:.3g} @ ({}, {}, {}); mean z^2 = {:.3g} (about 1 when the noise "
+             "model fits)\n",
+             r.maxZ, r.maxZX, r.maxZY, r.maxZChannel, r.meanZ2);
+  fmt::print("  Global bias z: R {:.3g}, G {:.3g}, B {:.3g} (limit {:.3g}){}\n", r.globalZ[0],
+             r.globalZ[1], r.globalZ[2], r.globalZLimit, r.biased ? ": BIASED" : "");
+  fmt::print("  Largest error |a-b|/max(1,|b|) of a failing pixel = {:.3g} @ ({}, {}){}\n",
+             r.maxError, r.maxErrorX,
+             r.maxErrorY,
+             std::isfinite(t.maxError)
+                 ? fmt::format(" (cap {:g}{})", t.maxError, r.errorCapExceeded ? ": EXCEEDED" : "")
+                 : "");
+  if (r.nonFinite > 0) fmt::print("  {} channel values are NaN or Inf\n", r.nonFinite);
+  if (flip) printFlipText(o, *flip);
+  fmt::print("{}\n", r.verdict == DiffVerdict::Fail ? "FAILURE" : "PASS");
+}
+
+// The verdict, printed, and the exit code: 0 pass (or warn), 1 fail. A mean FLIP above
+// --flip-max fails a comparison that would otherwise pass.
+template <class Result>
+int report(const DiffOptions& o, Result r, const std::optional<FlipReport>& flip) {
+  if (flip && !r.sizeMismatch && flip->result.stats.mean > o.flipMax)
+    r.verdict = DiffVerdict::Fail;
+  if (o.json)
+    printJson(o, r, flip);
+  else
+    printText(o, r, flip);
+  return r.verdict == DiffVerdict::Fail ? 1 : 0;
+}
+
 int runDiff(const DiffOptions& o) {
-  DiffResult r;
+  // A FLIP map or limit asks for FLIP.
+  const bool wantFlip = o.flip || !o.flipMap.empty() || std::isfinite(o.flipMax);
   try {
-    r = diffImages(o.a, o.b, o.thresholds);
+    if (!o.statistical) {
+      DiffResult r = diffImages(o.a, o.b, o.thresholds);
+      std::optional<FlipReport> flip;
+      if (wantFlip && !r.sizeMismatch) flip = flipImages(o);
+      return report(o, r, flip);
+    }
+    StatisticalResult r = diffStatistical(o.a, o.b, o.statistics);
+    if (!o.heatMap.empty() && !r.sizeMismatch) writeZHeatMap(o.heatMap, r);
+    std::optional<FlipReport> flip;
+    if (wantFlip && !r.sizeMismatch) flip = flipImages(o);
+    return report(o, r, flip);
   } catch (const ImageReadError& e) {
     printError(e.what());
     return 2;
+  } catch (const OutputError& e) {
+    printError(e.what());
+    return 1;
   }
-  if (o.json)
-    printJson(o, r);
-  else
-    printText(o, r);
-  return r.verdict == DiffVerdict::Fail ? 1 : 0;
 }
 
 // CLI::NonNegativeNumber prints DBL_MAX in full in its message; this one reads well.
@@ -150,6 +298,43 @@ void addDiffCommand(CLI::App& app, int* exitCode) {
       ->capture_default_str()
       ->check(CLI::Range(0.0, 100.0));
   cmd->add_flag("--json", options->json, "Print the metrics as JSON on stdout");
+  cmd->add_flag("--statistical", options->statistical,
+                "Per-pixel z-tests of A against B's mean and variance (B needs variance.R/G/B, "
+                "as `glint render --aovs` writes), a global bias test and an error cap; the "
+                "idiff thresholds above are then unused");
+  cmd->add_option("--significance", options->statistics.significance,
+                  "Statistical mode: family-wise false-alarm rate (Sidak-corrected per pixel)")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-12, 0.5));
+  cmd->add_option("--min-pass", options->statistics.minPassPercent,
+                  "Statistical mode: percentage of pixels that must pass their test")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 100.0));
+  cmd->add_option("--max-error", options->statistics.maxError,
+                  "Statistical mode: fail when a pixel that fails its z-test has a channel with "
+                  "|a-b|/max(1,|b|) above this (default: no cap)")
+      ->check(kNonNegative);
+  cmd->add_option("--spp-a", options->statistics.sppA,
+                  "Statistical mode: samples per pixel of A (default: its glint:spp)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--spp-b", options->statistics.sppB,
+                  "Statistical mode: samples per pixel of B (default: its glint:spp)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--heatmap", options->heatMap,
+                  "Statistical mode: write a heat map of each pixel's |z| (black, blue, yellow "
+                  "at the failure threshold, red, white) to this PNG/EXR");
+  cmd->add_flag("--flip", options->flip,
+                "Also compute FLIP, a perceptual difference (HPG 2020): LDR-FLIP for two "
+                "PNG/JPEG images, HDR-FLIP for two EXRs");
+  cmd->add_option("--ppd", options->pixelsPerDegree,
+                  "FLIP: pixels per degree of visual angle (default: 0.7 m from a 0.7 m wide "
+                  "3840-pixel monitor)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--flip-max", options->flipMax,
+                  "FLIP: fail when the mean FLIP error exceeds this (default: no limit)")
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--flip-map", options->flipMap,
+                  "FLIP: write the error map (magma colours) to this PNG");
   cmd->callback([options, exitCode] { *exitCode = runDiff(*options); });
 }
 

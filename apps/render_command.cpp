@@ -381,6 +381,9 @@ void addRenderCommand(CLI::App& app, int* exitCode) {
   cmd->add_flag("--resume", args->resume, "skip frames whose outputs already exist");
   cmd->add_flag("-q,--quiet", args->quiet, "no progress bar or summary");
   args->overrides.addOptions(cmd);
+  cmd->add_flag("--aovs", args->overrides.aovs,
+                "EXR output also carries albedo, normal, depth and the variance of each pixel's "
+                "mean (what `glint diff --statistical` needs of a reference)");
   cmd->callback([args, exitCode] { *exitCode = runRender(*args); });
 }
 

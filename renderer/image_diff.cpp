@@ -68,6 +68,28 @@ OIIO::ImageBuf select(const OIIO::ImageBuf& src, const std::vector<int>& order,
 
 }  // namespace
 
+int DiffImage::channel(const std::string& name) const {
+  for (size_t c = 0; c < names.size(); ++c)
+    if (names[c] == name) return int(c);
+  return -1;
+}
+
+DiffImage readDiffImage(const std::string& path) {
+  OIIO::ImageBuf file = readImage(path);
+  const OIIO::ImageSpec& spec = file.spec();
+  DiffImage image;
+  image.width = spec.width;
+  image.height = spec.height * std::max(spec.depth, 1);
+  image.channels = spec.nchannels;
+  image.names = spec.channelnames;
+  image.spp = spec.get_int_attribute("glint:spp", 0);
+  image.floatingPoint = file.nativespec().format.is_floating_point();  // as stored, not as read
+  image.pixels.resize(size_t(image.width) * size_t(image.height) * size_t(image.channels));
+  if (!file.get_pixels(file.roi(), OIIO::TypeDesc::FLOAT, image.pixels.data()))
+    throw ImageReadError(fmt::format("{}: {}", path, file.geterror()));
+  return image;
+}
+
 const char* verdictName(DiffVerdict v) {
   switch (v) {
     case DiffVerdict::Pass:

@@ -43,6 +43,21 @@ struct DiffResult {
   DiffVerdict verdict = DiffVerdict::Pass;
 };
 
+// A whole image as float, for comparisons: interleaved pixels, channel names, and glint's
+// samples-per-pixel attribute (0 when the file has none).
+struct DiffImage {
+  int width = 0, height = 0, channels = 0;
+  std::vector<std::string> names;
+  std::vector<float> pixels;
+  int spp = 0;
+  bool floatingPoint = false;  // stored as float or half (scene-linear), not as integers
+  int channel(const std::string& name) const;  // index, or -1
+};
+
+// Reads `path` (any format OpenImageIO reads; the data window's origin is ignored). Throws
+// ImageReadError naming the file when it is missing, a folder, or unreadable.
+DiffImage readDiffImage(const std::string& path);
+
 // Compares image `a` against reference `b`. Channels R, G, B (and A when both have it) are
 // compared by name; images without named colour channels are compared position by position
 // over the channels both have. Throws ImageReadError.

@@ -243,6 +243,27 @@ void writeDisplayImage(const std::string& path, const Film& film, const ToneMapS
   writeAtomically(path, img);
 }
 
+void writeRawImage(const std::string& path, int width, int height, int channels,
+                   const std::vector<float>& pixels) {
+  Format format = formatOf(path);
+  std::string why;
+  if (format == Format::Unknown) {
+    isSupportedOutput(path, &why);
+    throw OutputError(why);
+  }
+  if (width <= 0 || height <= 0 || channels <= 0 ||
+      pixels.size() != size_t(width) * size_t(height) * size_t(channels))
+    throw OutputError(fmt::format("cannot write '{}': the image is empty", path));
+  Image img;
+  img.pixels = pixels;
+  img.spec = OIIO::ImageSpec(width, height, channels,
+                             format == Format::Exr    ? OIIO::TypeDesc::FLOAT
+                             : format == Format::Tiff ? OIIO::TypeDesc::UINT16
+                                                      : OIIO::TypeDesc::UINT8);
+  img.spec.attribute("Software", "glint");
+  writeAtomically(path, img);
+}
+
 Film readExr(const std::string& path, ImageMetadata* meta) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw ImageReadError(fmt::format("{}: no such file", path));

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "renderer/film.h"
 #include "renderer/image_diff.h"
@@ -43,6 +44,12 @@ void writeImage(const std::string& path, const Film& film, const RenderSettings&
 // for an .exr path: EXR stays scene-linear) or ColorError.
 void writeDisplayImage(const std::string& path, const Film& film, const ToneMapSettings& tonemap,
                        double logAverageLuminance, const ImageMetadata& meta);
+
+// Writes `channels` interleaved float channels per pixel as they are (no colour transform; PNG,
+// JPEG and TIFF quantize [0, 1]): images that are data, such as an error heat map. Atomic like
+// writeImage. Throws OutputError.
+void writeRawImage(const std::string& path, int width, int height, int channels,
+                   const std::vector<float>& pixels);
 
 // Reads a scene-linear EXR (the R, G, B channels, and A when present, else alpha 1) into a film
 // without AOVs; fills *meta from glint's attributes when given. Throws ImageReadError naming

@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <vector>
 
 #include "test_support.h"
@@ -96,6 +99,79 @@ TEST(DiffCommand, JsonReportsTheMetrics) {
   ASSERT_FALSE(j.is_discarded()) << r.out;
   EXPECT_EQ(j["rmse"], 0.0);
   EXPECT_TRUE(j["psnr"].is_null());  // +inf has no JSON spelling
+}
+
+// Statistical mode end to end: a glint reference with variance, renders at lower spp.
+TEST(DiffCommand, StatisticalModeJudgesRendersAgainstAReferenceWithVariance) {
+  std::string dir = test::scratchDir("DiffCommand.StatisticalMode");
+  std::string scene = std::string(GLINT_SOURCE_DIR) + "/tests/images/scenes/cornell_path.json";
+  std::string size = " --width 24 --height 24 --quiet";
+  test::CommandResult r = test::runGlint("render " + q(scene) + size + " --spp 1024 --aovs -o " +
+                                         q(dir + "/ref.exr"));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  r = test::runGlint("render " + q(scene) + size + " --spp 32 --seed 5 -o " + q(dir + "/a.exr"));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  r = test::runGlint("diff " + q(dir + "/a.exr") + " " + q(dir + "/ref.exr") +
+                     " --statistical --json --heatmap " + q(dir + "/heat.png"));
+  EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j.at("mode"), "statistical");
+  EXPECT_EQ(j.at("spp"), nlohmann::json::array({32, 1024}));
+  EXPECT_EQ(j.at("variance_model"), "predicted");
+  EXPECT_TRUE(j.at("max_error_allowed").is_null());  // no cap unless asked
+  EXPECT_TRUE(std::filesystem::exists(dir + "/heat.png"));
+
+  // An image without variance is no reference.
+  r = test::runGlint("diff " + q(dir + "/ref.exr") + " " + q(dir + "/a.exr") + " --statistical");
+  EXPECT_EQ(r.exitCode, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find("a.exr"), std::string::npos) << r.err;
+
+  // A lamp twice as bright fails.
+  std::string text = test::slurp(scene);
+  std::string brighter = std::regex_replace(text, std::regex("\"intensity\": 10"), "\"intensity\": 20");
+  ASSERT_NE(brighter, text);
+  { std::ofstream(dir + "/brighter.json") << brighter; }
+  r = test::runGlint("render " + q(dir + "/brighter.json") + size + " --spp 32 -o " +
+                     q(dir + "/b.exr"));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  r = test::runGlint("diff " + q(dir + "/b.exr") + " " + q(dir + "/ref.exr") + " --statistical");
+  EXPECT_EQ(r.exitCode, 1) << r.out << r.err;
+  EXPECT_NE(r.out.find("BIASED"), std::string::npos) << r.out;
+}
+
+// FLIP: LDR for display images, HDR for EXRs, never one of each; --flip-max fails.
+TEST(DiffCommand, FlipReportsAPerceptualDifference) {
+  Images im = makeImages("DiffCommand.FlipReportsAPerceptualDifference");
+  test::CommandResult r =
+      test::runGlint("diff " + q(im.off) + " " + q(im.ref) + " --flip --json --fail 1");
+  EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j.at("flip").at("mode"), "hdr");
+  EXPECT_GT(j.at("flip").at("mean").get<double>(), 0);
+  EXPECT_EQ(j.at("flip").at("max_pixel"), nlohmann::json::array({3, 0}));
+
+  r = test::runGlint("diff " + q(im.same) + " " + q(im.ref) + " --flip --json");
+  ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out).at("flip").at("mean").get<double>(), 0);
+
+  // Display-referred copies: LDR-FLIP, and a map.
+  for (const char* name : {"off", "ref"}) {
+    r = test::runGlint("tonemap " + q(im.dir + "/" + name + ".exr") + " -o " +
+                       q(im.dir + "/" + name + ".png") + " --quiet");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+  }
+  r = test::runGlint("diff " + q(im.dir + "/off.png") + " " + q(im.dir + "/ref.png") +
+                     " --fail 1 --json --flip-map " + q(im.dir + "/flip.png"));
+  EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out).at("flip").at("mode"), "ldr");
+  EXPECT_TRUE(std::filesystem::exists(im.dir + "/flip.png"));
+
+  r = test::runGlint("diff " + q(im.dir + "/off.png") + " " + q(im.ref) + " --flip");
+  EXPECT_EQ(r.exitCode, 2) << r.out << r.err;
+
+  r = test::runGlint("diff " + q(im.off) + " " + q(im.ref) + " --fail 1 --flip-max 0.0001");
+  EXPECT_EQ(r.exitCode, 1) << r.out << r.err;
+  EXPECT_NE(r.out.find("FLIP"), std::string::npos) << r.out;
 }
 
 }  // namespace
