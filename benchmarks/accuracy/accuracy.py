@@ -20,7 +20,8 @@ seconds) and the error against every reference the method is compared with (`gli
   EFFECT.png      log-log RMSE against seconds, one curve per method, one panel per reference
 
 --quick is the smoke test (ctest `accuracy_quick`): tiny images, two ladder points per method,
-low-spp references, no scene that needs the shared assets, output under --work; --check then
+low-spp references, only the instant-radiosity box unless --effects says otherwise, output
+under --work; --check then
 asserts the outputs exist, hold finite numbers, and that each unbiased method's error falls
 along its ladder. Needs Debian's python3-matplotlib (scripts/setup.sh installs it).
 """
@@ -63,7 +64,7 @@ EFFECTS = [
         "title": "Dragon in a box, quad area light: path tracer on Embree and the kd-trees",
         "asset": "stanford/dragon_vrip_res2.glb",
         "sidecar": "benchmarks/accuracy/dragon_box.glint.json",
-        "width": 160, "height": 120,
+        "width": 128, "height": 96,
         "references": {"path": {"integrator": {"type": "path"}, "spp": 1024}},
         "methods": [
             {"label": "path, Embree", "integrator": {"type": "path"}, "accel": "embree",
@@ -80,7 +81,7 @@ EFFECTS = [
         "name": "glass",
         "title": "Glass ball and its caustic under a small sphere light",
         "scene": "benchmarks/accuracy/glass_caustic.json",
-        "width": 160, "height": 120,
+        "width": 128, "height": 96,
         "references": {"path": {"integrator": {"type": "path"}, "spp": 4096}},
         "methods": [
             {"label": "path", "integrator": {"type": "path"}, "values": [1, 4, 16, 64, 256],
@@ -100,7 +101,7 @@ EFFECTS = [
         "title": "Fog with volumetric shadows: single scattering (march steps, tracking) "
                  "against the path tracer's multiple scattering",
         "scene": "benchmarks/accuracy/fog_shafts.json",
-        "width": 160, "height": 90,
+        "width": 128, "height": 72,
         "references": {
             "single scattering": {"integrator": {"type": "whitted", "volume": "single",
                                                  "volume_estimator": "track"}, "spp": 1024},
@@ -117,6 +118,32 @@ EFFECTS = [
             {"label": "Whitted, march step 0.07",
              "integrator": {"type": "whitted", "volume_estimator": "march", "volume_step": 0.07},
              "values": LADDER},
+            {"label": "Whitted, tracking",
+             "integrator": {"type": "whitted", "volume_estimator": "track"},
+             "values": LADDER, "unbiased": ["single scattering"]},
+            {"label": "path (multiple scattering)", "integrator": {"type": "path", "max_depth": 8},
+             "values": LADDER, "unbiased": ["multiple scattering"]},
+        ],
+    },
+    {
+        "name": "smoke",
+        "title": "Noise-density fog (fBm, 3 octaves): march steps against tracking, and the "
+                 "path tracer's multiple scattering",
+        "scene": "benchmarks/accuracy/fog_noise.json",
+        "width": 128, "height": 72,
+        "references": {
+            "single scattering": {"integrator": {"type": "whitted", "volume": "single",
+                                                 "volume_estimator": "track"}, "spp": 1024},
+            "multiple scattering": {"integrator": {"type": "path", "max_depth": 8},
+                                    "spp": 1024},
+        },
+        "methods": [
+            {"label": "Whitted, march step 0.6",
+             "integrator": {"type": "whitted", "volume_estimator": "march", "volume_step": 0.6},
+             "values": LADDER},
+            {"label": "Whitted, march step 0.2",
+             "integrator": {"type": "whitted", "volume_estimator": "march", "volume_step": 0.2},
+             "values": [1, 4, 16]},
             {"label": "Whitted, tracking",
              "integrator": {"type": "whitted", "volume_estimator": "track"},
              "values": LADDER, "unbiased": ["single scattering"]},
@@ -146,7 +173,7 @@ EFFECTS = [
         "title": "Cornell box (tests/images/scenes/cornell_ir.json): instant radiosity's VPL "
                  "count and clamp against the path tracer",
         "scene": "tests/images/scenes/cornell_ir.json",
-        "width": 128, "height": 128,
+        "width": 64, "height": 64,
         "references": {"path": {"integrator": {"type": "path", "max_depth": 6}, "spp": 4096}},
         "methods": [
             {"label": "path", "integrator": {"type": "path", "max_depth": 6},
@@ -160,12 +187,15 @@ EFFECTS = [
             {"label": "IR, 256 light paths, G clamp 100",
              "integrator": {"type": "instant-radiosity", "max_depth": 6, "vpl_clamp": 100,
                             "vpl_paths": 256},
-             "values": LADDER},
+             "values": [1, 4, 16]},
         ],
     },
 ]
 
 QUICK_WIDTH = 32
+# The smoke test's default: spp and knob ladders, biased and unbiased methods, in few renders
+# (each glint process costs about half a second of start-up).
+QUICK_EFFECTS = ["instant_radiosity"]
 QUICK_REFERENCE_SPP = 64
 
 # ---------------------------------------------------------------------------------------------
@@ -351,6 +381,7 @@ def quick_effect(effect):
 
 
 def measure(args, effect):
+    load_start = list(os.getloadavg())
     refs = {name: reference(args, effect, name, spec)
             for name, spec in effect["references"].items()}
     folder = os.path.join(args.work, effect["name"])
@@ -413,6 +444,9 @@ def measure(args, effect):
     if effect.get("target"):
         result["equal_error"] = equal_error(result, effect["target"])
     result["summary"] = summarise(result)
+    result["measured"] = {"date": datetime.datetime.now().isoformat(timespec="seconds"),
+                          "load_average_start": load_start,
+                          "load_average_end": list(os.getloadavg())}
     return result
 
 
@@ -510,6 +544,17 @@ def fmt_e(x):
     return "—" if x is None else f"{x:.2e}"
 
 
+def measured(eff):
+    m = eff.get("measured")
+    if not m:
+        return ""
+    text = (f"Measured {m['date'].replace('T', ' ')[:16]}, load average "
+            f"{m['load_average_start'][0]:.1f} → {m['load_average_end'][0]:.1f}")
+    if "machine" in m:
+        text += f" (an earlier run: commit `{(m['machine']['commit'] or '?')[:12]}`)"
+    return text + "."
+
+
 def markdown(doc):
     mc = doc["machine"]
     lines = [f"# Accuracy against time ({mc['date'][:10]})", "",
@@ -526,7 +571,7 @@ def markdown(doc):
     for eff in doc["effects"]:
         lines += [f"## {eff['name']}: {eff['title']}", "",
                   f"Scene `{eff['scene']}`, {eff['width']}×{eff['height']}. "
-                  f"Plot: [`{eff['name']}.png`]({eff['name']}.png).", "",
+                  f"Plot: [`{eff['name']}.png`]({eff['name']}.png). " + measured(eff), "",
                   "| reference | integrator | spp | seconds | estimated own RMSE |", "|---|---|---:|---:|---:|"]
         for name, r in eff["references"].items():
             lines.append(f"| {name} | {r['integrator']} | {r['spp']} | {r['seconds']:.1f} | "
@@ -658,8 +703,8 @@ def main():
     ap.add_argument("--glint", default=os.path.join(ROOT, "build", "glint"))
     ap.add_argument("--out", help="default: benchmarks/results/accuracy (--quick: WORK/quick)")
     ap.add_argument("--work", help="references and ladder images (default: BUILD/accuracy)")
-    ap.add_argument("--effects", help="comma-separated names (default: all; --quick: all that "
-                                      "need no shared assets)")
+    ap.add_argument("--effects", help="comma-separated names (default: all; --quick: "
+                                      + ", ".join(QUICK_EFFECTS) + ")")
     ap.add_argument("--quick", action="store_true", help="the smoke test: tiny and fast")
     ap.add_argument("--check", action="store_true", help="assert the outputs hold finite numbers")
     ap.add_argument("--repeat", type=int, default=3, help="timed runs of a render under 2 s")
@@ -683,13 +728,25 @@ def main():
             sys.exit(f"accuracy: unknown effect(s) {unknown}; known: {names}")
         effects = [e for e in EFFECTS if e["name"] in chosen]
     else:
-        effects = [e for e in EFFECTS if not (args.quick and e.get("asset"))]
+        effects = [e for e in EFFECTS if not args.quick or e["name"] in QUICK_EFFECTS]
     if args.quick:
         effects = [quick_effect(e) for e in effects]
         args.repeat = 1
 
     load_start = list(os.getloadavg())
     results = [measure(args, e) for e in effects]
+    # A run of some effects keeps the others' recorded results (and says which run they are from).
+    previous = os.path.join(out, "accuracy.json")
+    if args.effects and os.path.exists(previous):
+        with open(previous) as f:
+            old = json.load(f)
+        if old.get("quick") == args.quick:
+            done = {e["name"] for e in results}
+            kept = {e["name"]: e for e in old["effects"] if e["name"] not in done}
+            for e in kept.values():
+                e.setdefault("measured", {}).setdefault("machine", old["machine"])
+            fresh = {e["name"]: e for e in results}
+            results = [fresh.get(n) or kept[n] for n in names if n in fresh or n in kept]
     doc = {"quick": args.quick, "repeat": args.repeat, "glint": args.glint, "work": args.work,
            "machine": machine(args, load_start), "effects": results}
     with open(os.path.join(out, "accuracy.json"), "w") as f:
