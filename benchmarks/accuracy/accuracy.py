@@ -454,29 +454,45 @@ def curve(method, ref, metric="rmse"):
     return [(p["seconds"], p["error"][ref][metric]) for p in method["points"] if ref in p["error"]]
 
 
+def error_within(points, budget):
+    """The error a method reaches within `budget` seconds: interpolated log-log between its
+    measured points; past its last point, its last error (it could stop there: conservative, no
+    extrapolation); before its first point, None (it has no image yet)."""
+    pts = sorted(points)
+    if not pts or budget < pts[0][0]:
+        return None
+    if budget >= pts[-1][0]:
+        return pts[-1][1]
+    return interpolate_loglog(pts, budget)
+
+
 def summarise(result):
-    """Per reference: the winning method at log-spaced time budgets (among the methods whose
-    measured time range covers the budget: errors are interpolated, never extrapolated), and
-    each method's last error and the local slope of log error over log seconds between its
-    last two points (-0.5 is Monte Carlo's rate; near 0 a floor)."""
+    """Per reference: the winning method at log-spaced time budgets (error_within), and each
+    method's last error and the local slope of log error over log seconds between its last two
+    points (-0.5 is Monte Carlo's rate; near 0 a floor). Effects whose methods each have their
+    own reference (the cameras of lens_motion) get no winners: their errors do not compare."""
     out = {}
     for ref in result["references"]:
         methods = [m for m in result["methods"] if ref in m["refs"]]
-        if len(methods) < 2 and not result.get("equal_error"):
-            pass
         times = [t for m in methods for t, _ in curve(m, ref)]
         budgets = []
-        if times:
+        if times and len(methods) > 1:
             lo, hi = min(times), max(times)
             n = 7
             budgets = [lo * (hi / lo) ** (i / (n - 1)) for i in range(n)] if hi > lo else [lo]
         winners = []
         for b in budgets:
-            best = None
+            reached = []  # (error, seconds at which the method had it, label)
             for m in methods:
-                e = interpolate_loglog(curve(m, ref), b)
-                if e is not None and (best is None or e < best[1]):
-                    best = (m["label"], e)
+                c = curve(m, ref)
+                e = error_within(c, b)
+                if e is not None:
+                    reached.append((e, min(b, max(t for t, _ in c)), m["label"]))
+            best = None
+            if reached:
+                lowest = min(r[0] for r in reached)
+                e, _, label = min((r for r in reached if r[0] <= 1.01 * lowest), key=lambda r: r[1])
+                best = (label, e)
             winners.append({"seconds": b, "method": best[0] if best else None,
                             "rmse": best[1] if best else None})
         per_method = []
@@ -520,6 +536,7 @@ def equal_error(result, target):
 
 
 def machine(args, load_start):
+    """The machine, the build and the commit, taken when the run starts."""
     def git(*a):
         try:
             return subprocess.run(["git", "-C", ROOT, *a], capture_output=True, text=True,
@@ -534,7 +551,7 @@ def machine(args, load_start):
                 if line.startswith("CMAKE_BUILD_TYPE:"):
                     build_type = line.split("=", 1)[1].strip()
     return {"cpu": cpu_model(), "hardware_threads": os.cpu_count(), "threads": args.threads or 0,
-            "load_average_start": load_start, "load_average_end": list(os.getloadavg()),
+            "load_average_start": load_start, "load_average_end": None,
             "commit": git("rev-parse", "HEAD"), "branch": git("rev-parse", "--abbrev-ref", "HEAD"),
             "dirty": bool(git("status", "--porcelain", "--untracked-files=no")),
             "build_type": build_type, "date": datetime.datetime.now().isoformat(timespec="seconds")}
@@ -545,13 +562,18 @@ def fmt_e(x):
 
 
 def measured(eff):
+    """When an effect was measured; effects kept from an earlier run carry that run's machine
+    record instead (date and load average over the whole run)."""
     m = eff.get("measured")
     if not m:
         return ""
-    text = (f"Measured {m['date'].replace('T', ' ')[:16]}, load average "
-            f"{m['load_average_start'][0]:.1f} → {m['load_average_end'][0]:.1f}")
-    if "machine" in m:
-        text += f" (an earlier run: commit `{(m['machine']['commit'] or '?')[:12]}`)"
+    run = m.get("machine")
+    src = m if "date" in m else run
+    text = (f"Measured {src['date'].replace('T', ' ')[:16]}, load average "
+            f"{src['load_average_start'][0]:.1f} → {src['load_average_end'][0]:.1f}")
+    if run:
+        text += (f" (in an earlier run of all effects, glint at commit "
+                 f"`{(run['commit'] or '?')[:12]}`)")
     return text + "."
 
 
@@ -581,11 +603,15 @@ def markdown(doc):
                           f"{g['rmse']:.2e}, relMSE {g['rel_mse']:.2e} (the floor of a method "
                           f"converging to one of them, measured against the other)."]
         for ref, s in eff["summary"].items():
-            lines += ["", f"**Against '{ref}'.** Best method per time budget (errors interpolated "
-                          "log-log between measured points, never extrapolated):", "",
-                      "| budget (s) | best method | its RMSE |", "|---:|---|---:|"]
-            for w in s["winners"]:
-                lines.append(f"| {w['seconds']:.3g} | {w['method'] or '—'} | {fmt_e(w['rmse'])} |")
+            if s["winners"]:
+                lines += ["", f"**Against '{ref}'.** Best method per time budget (a method's "
+                          "error interpolated log-log between its measured points; past its last "
+                          "point, its last error; within 1% of each other, the one that got there "
+                          "first):", "", "| budget (s) | best method | its RMSE |", "|---:|---|---:|"]
+                for w in s["winners"]:
+                    lines.append(f"| {w['seconds']:.3g} | {w['method'] or '—'} | {fmt_e(w['rmse'])} |")
+            else:
+                lines += ["", f"**Against '{ref}'.**"]
             lines += ["", "| method | last seconds | last RMSE | last slope (log RMSE / log s) | "
                           "converges to this reference |", "|---|---:|---:|---:|---|"]
             for m in s["methods"]:
@@ -698,6 +724,17 @@ def check(doc, out):
     return problems
 
 
+def write(doc, out):
+    with open(os.path.join(out, "accuracy.json"), "w") as f:
+        json.dump(doc, f, indent=1)
+    with open(os.path.join(out, "accuracy.md"), "w") as f:
+        f.write(markdown(doc))
+    for eff in doc["effects"]:
+        plot(doc, eff, os.path.join(out, f"{eff['name']}.png"))
+    log(f"accuracy: wrote {out}/accuracy.json, accuracy.md and "
+        f"{', '.join(e['name'] + '.png' for e in doc['effects'])}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--glint", default=os.path.join(ROOT, "build", "glint"))
@@ -710,6 +747,8 @@ def main():
     ap.add_argument("--repeat", type=int, default=3, help="timed runs of a render under 2 s")
     ap.add_argument("--threads", type=int, default=0, help="render threads (0: all)")
     ap.add_argument("--fresh-references", action="store_true", help="ignore cached references")
+    ap.add_argument("--report", action="store_true",
+                    help="render nothing: rewrite accuracy.md and the plots from accuracy.json")
     args = ap.parse_args()
     args.glint = os.path.abspath(args.glint)
     if not os.access(args.glint, os.X_OK):
@@ -733,8 +772,17 @@ def main():
         effects = [quick_effect(e) for e in effects]
         args.repeat = 1
 
-    load_start = list(os.getloadavg())
+    if args.report:
+        with open(os.path.join(out, "accuracy.json")) as f:
+            doc = json.load(f)
+        for eff in doc["effects"]:
+            eff["summary"] = summarise(eff)
+        write(doc, out)
+        return
+
+    run_machine = machine(args, list(os.getloadavg()))
     results = [measure(args, e) for e in effects]
+    run_machine["load_average_end"] = list(os.getloadavg())
     # A run of some effects keeps the others' recorded results (and says which run they are from).
     previous = os.path.join(out, "accuracy.json")
     if args.effects and os.path.exists(previous):
@@ -748,15 +796,8 @@ def main():
             fresh = {e["name"]: e for e in results}
             results = [fresh.get(n) or kept[n] for n in names if n in fresh or n in kept]
     doc = {"quick": args.quick, "repeat": args.repeat, "glint": args.glint, "work": args.work,
-           "machine": machine(args, load_start), "effects": results}
-    with open(os.path.join(out, "accuracy.json"), "w") as f:
-        json.dump(doc, f, indent=1)
-    with open(os.path.join(out, "accuracy.md"), "w") as f:
-        f.write(markdown(doc))
-    for eff in results:
-        plot(doc, eff, os.path.join(out, f"{eff['name']}.png"))
-    log(f"accuracy: wrote {out}/accuracy.json, accuracy.md and "
-        f"{', '.join(e['name'] + '.png' for e in results)}")
+           "machine": run_machine, "effects": results}
+    write(doc, out)
     if args.check:
         problems = check(doc, out)
         for p in problems:
