@@ -19,56 +19,26 @@ at the pinhole's error for the target spp (log-log interpolation between measure
 import argparse
 import datetime
 import json
-import math
 import os
-import subprocess
 import sys
 
 from accel_report import cpu_model  # beside this script
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "accuracy"))
+from accuracy import diff, spp_for_error  # noqa: E402  (the render and diff helpers are shared)
+from accuracy import render as render_with_stats  # noqa: E402
+
 CAMERAS = ["pinhole", "lens", "motion", "lens+motion"]
 
 
-def run(cmd):
-    p = subprocess.run(cmd, capture_output=True, text=True)
-    if p.returncode not in (0, 1):  # diff exits 1 for "fail", which only means "differs"
-        sys.exit(f"failed ({p.returncode}): {' '.join(cmd)}\n{p.stderr}")
-    return p.stdout
-
-
 def render(args, camera, spp, path, repeat=1):
-    """Renders and returns the stats of the fastest of `repeat` runs (the images are identical:
-    same seed), so a busy machine inflates the times less."""
-    stats = path + ".stats.json"
-    best = None
-    for _ in range(repeat):
-        run([args.glint, "render", args.scene, "--camera", camera, "--spp", str(spp),
-             "--seed", "7", "-o", path, "--stats", stats, "--quiet",
-             "--width", str(args.width), "--height", str(args.height)])
-        with open(stats) as f:
-            st = json.load(f)
-        if best is None or st["render_seconds"] < best["render_seconds"]:
-            best = st
-    return best
+    """The stats of the fastest of `repeat` runs (accuracy.render; no early stop here)."""
+    return render_with_stats(args.glint, args.scene, path, spp, args.width, args.height, seed=7,
+                             camera=camera, repeat=repeat, repeat_below=float("inf"))
 
 
 def rmse(args, image, reference):
-    out = run([args.glint, "diff", image, reference, "--json", "--fail", "1e9"])
-    return json.loads(out)["rmse"]
-
-
-def spp_for_error(curve, target):
-    """The spp at which the log-log interpolated error curve crosses `target`."""
-    pts = sorted(curve)
-    for (s0, e0), (s1, e1) in zip(pts, pts[1:]):
-        if e0 >= target >= e1 and e0 > 0 and e1 > 0:
-            f = (math.log(e0) - math.log(target)) / (math.log(e0) - math.log(e1))
-            return math.exp(math.log(s0) + f * (math.log(s1) - math.log(s0)))
-    if pts and target >= pts[0][1]:
-        return float(pts[0][0])
-    # Beyond the ladder: extrapolate with Monte Carlo's 1/sqrt(spp).
-    s, e = pts[-1]
-    return s * (e / target) ** 2
+    return diff(args.glint, image, reference)["rmse"]
 
 
 def main():
