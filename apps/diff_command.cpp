@@ -2,12 +2,11 @@
 // (per-pixel z-tests against a reference's mean and variance).
 #include <fmt/format.h>
 
-#include <nlohmann/json.hpp>
-
 #include <cmath>
 #include <exception>
 #include <limits>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -32,7 +31,7 @@ struct DiffOptions {
   bool flip = false;    // also compute FLIP
   double pixelsPerDegree = kFlipDefaultPixelsPerDegree;
   double flipMax = std::numeric_limits<double>::infinity();  // fail above this mean FLIP
-  std::string flipMap;  // where to write FLIP's error map
+  std::string flipMap;                                       // where to write FLIP's error map
   bool json = false;
 };
 
@@ -99,24 +98,34 @@ nlohmann::ordered_json flipJson(const DiffOptions& o, const FlipReport& f) {
 
 void printFlipText(const DiffOptions& o, const FlipReport& f) {
   const FlipStats& s = f.result.stats;
-  std::string how = f.hdr ? fmt::format("HDR, {} exposures {:.2f}..{:.2f}", f.result.exposures.count,
-                                        f.result.exposures.start, f.result.exposures.stop)
-                          : "LDR";
-  fmt::print("  FLIP ({}, {:.3g} pixels/degree): mean {:.4g}, weighted median {:.4g}, max {:.4g} "
-             "@ ({}, {}){}\n",
-             how, o.pixelsPerDegree, s.mean, s.weightedMedian, s.max, s.maxX, s.maxY,
-             std::isfinite(o.flipMax) ? fmt::format(" (limit {:g})", o.flipMax) : "");
+  std::string how = f.hdr
+                        ? fmt::format("HDR, {} exposures {:.2f}..{:.2f}", f.result.exposures.count,
+                                      f.result.exposures.start, f.result.exposures.stop)
+                        : "LDR";
+  fmt::print(
+      "  FLIP ({}, {:.3g} pixels/degree): mean {:.4g}, weighted median {:.4g}, max {:.4g} "
+      "@ ({}, {}){}\n",
+      how, o.pixelsPerDegree, s.mean, s.weightedMedian, s.max, s.maxX, s.maxY,
+      std::isfinite(o.flipMax) ? fmt::format(" (limit {:g})", o.flipMax) : "");
 }
 
-void printJson(const DiffOptions& o, const DiffResult& r, const std::optional<FlipReport>& flip) {
+// What both modes report first: the files, the verdict and the sizes.
+template <class Result>
+nlohmann::ordered_json jsonHeader(const DiffOptions& o, const Result& r, const char* mode) {
   nlohmann::ordered_json j;
   j["a"] = o.a;
   j["b"] = o.b;
+  if (mode) j["mode"] = mode;
   j["verdict"] = verdictName(r.verdict);
   j["pass"] = r.verdict != DiffVerdict::Fail;
   j["size_a"] = {r.widthA, r.heightA};
   j["size_b"] = {r.widthB, r.heightB};
   j["size_mismatch"] = r.sizeMismatch;
+  return j;
+}
+
+void printJson(const DiffOptions& o, const DiffResult& r, const std::optional<FlipReport>& flip) {
+  nlohmann::ordered_json j = jsonHeader(o, r, nullptr);
   if (!r.sizeMismatch) {  // JSON has no infinity (PSNR of identical images): nlohmann writes null
     j["channels"] = r.channels;
     j["pixels"] = r.pixels;
@@ -164,15 +173,7 @@ void printText(const DiffOptions& o, const DiffResult& r, const std::optional<Fl
 void printJson(const DiffOptions& o, const StatisticalResult& r,
                const std::optional<FlipReport>& flip) {
   const StatisticalThresholds& t = o.statistics;
-  nlohmann::ordered_json j;
-  j["a"] = o.a;
-  j["b"] = o.b;
-  j["mode"] = "statistical";
-  j["verdict"] = verdictName(r.verdict);
-  j["pass"] = r.verdict != DiffVerdict::Fail;
-  j["size_a"] = {r.widthA, r.heightA};
-  j["size_b"] = {r.widthB, r.heightB};
-  j["size_mismatch"] = r.sizeMismatch;
+  nlohmann::ordered_json j = jsonHeader(o, r, "statistical");
   if (!r.sizeMismatch) {
     j["pixels"] = r.pixels;
     j["spp"] = {r.sppA, r.sppB};
@@ -211,14 +212,14 @@ void printText(const DiffOptions& o, const StatisticalResult& r,
   fmt::print("  Noise model: {} variance, {} vs {} spp\n", r.varianceModel, r.sppA, r.sppB);
   fmt::print("  Pixels passing: {:.3f}% (need {:g}%); {} over |z| = {:.3g}\n", r.passPercent,
              t.minPassPercent, r.failPixels, r.pixelZ);
-  fmt::print("  Largest |z| = {:.3g} @ ({}, {}, {}); mean z^2 = {:.3g} (about 1 when the noise "
-             "model fits)\n",
-             r.maxZ, r.maxZX, r.maxZY, r.maxZChannel, r.meanZ2);
+  fmt::print(
+      "  Largest |z| = {:.3g} @ ({}, {}, {}); mean z^2 = {:.3g} (about 1 when the noise "
+      "model fits)\n",
+      r.maxZ, r.maxZX, r.maxZY, r.maxZChannel, r.meanZ2);
   fmt::print("  Global bias z: R {:.3g}, G {:.3g}, B {:.3g} (limit {:.3g}){}\n", r.globalZ[0],
              r.globalZ[1], r.globalZ[2], r.globalZLimit, r.biased ? ": BIASED" : "");
   fmt::print("  Largest error |a-b|/max(1,|b|) of a failing pixel = {:.3g} @ ({}, {}){}\n",
-             r.maxError, r.maxErrorX,
-             r.maxErrorY,
+             r.maxError, r.maxErrorX, r.maxErrorY,
              std::isfinite(t.maxError)
                  ? fmt::format(" (cap {:g}{})", t.maxError, r.errorCapExceeded ? ": EXCEEDED" : "")
                  : "");
@@ -231,8 +232,7 @@ void printText(const DiffOptions& o, const StatisticalResult& r,
 // --flip-max fails a comparison that would otherwise pass.
 template <class Result>
 int report(const DiffOptions& o, Result r, const std::optional<FlipReport>& flip) {
-  if (flip && !r.sizeMismatch && flip->result.stats.mean > o.flipMax)
-    r.verdict = DiffVerdict::Fail;
+  if (flip && !r.sizeMismatch && flip->result.stats.mean > o.flipMax) r.verdict = DiffVerdict::Fail;
   if (o.json)
     printJson(o, r, flip);
   else

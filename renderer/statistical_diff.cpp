@@ -149,8 +149,10 @@ void writeZHeatMap(const std::string& path, const StatisticalResult& result) {
   struct Stop {
     float at, r, g, b;
   };
-  static constexpr Stop kStops[] = {{0.0f, 0, 0, 0},      {0.5f, 0.1f, 0.2f, 0.8f},
-                                    {1.0f, 1, 0.9f, 0.1f}, {1.5f, 0.9f, 0.1f, 0.1f},
+  static constexpr Stop kStops[] = {{0.0f, 0, 0, 0},
+                                    {0.5f, 0.1f, 0.2f, 0.8f},
+                                    {1.0f, 1, 0.9f, 0.1f},
+                                    {1.5f, 0.9f, 0.1f, 0.1f},
                                     {2.0f, 1, 1, 1}};
   const int w = result.widthA, h = result.heightA;
   std::vector<float> pixels(size_t(w) * size_t(h) * 3);

@@ -99,4 +99,33 @@ Rendered renderJson(const std::string& text) {
   return r;
 }
 
+std::string cornellBoxJson(int size, int spp, uint64_t seed, const std::string& integrator,
+                           bool pointLight) {
+  const std::string light =
+      pointLight ? R"({"type": "point", "position": [0, 1.7, 0], "intensity": 3})"
+                 : R"({"type": "quad", "corner": [-0.3, 1.99, -0.3], "edge_u": [0.6, 0, 0],
+                      "edge_v": [0, 0, 0.6], "intensity": 10})";
+  return R"({
+    "render": {"width": )" +
+         std::to_string(size) + R"(, "height": )" + std::to_string(size) + R"(, "spp": )" +
+         std::to_string(spp) + R"(, "seed": )" + std::to_string(seed) +
+         R"(, "camera": "c", "integrator": )" + integrator + R"(},
+    "cameras": [{"name": "c", "position": [0, 1, 0.95], "look_at": [0, 1, -1],
+                 "yfov_degrees": 70}],
+    "lights": [)" +
+         light + R"(],
+    "materials": [{"name": "white", "type": "lambert", "diffuse": [0.7, 0.7, 0.7]},
+                  {"name": "red", "type": "lambert", "diffuse": [0.7, 0.12, 0.1]},
+                  {"name": "green", "type": "lambert", "diffuse": [0.12, 0.6, 0.15]}],
+    "objects": [
+      {"type": "quad", "corner": [-1, 0, -1], "edge_u": [2, 0, 0], "edge_v": [0, 0, 2], "material": "white"},
+      {"type": "quad", "corner": [-1, 2, -1], "edge_u": [2, 0, 0], "edge_v": [0, 0, 2], "material": "white"},
+      {"type": "quad", "corner": [-1, 0, -1], "edge_u": [2, 0, 0], "edge_v": [0, 2, 0], "material": "white"},
+      {"type": "quad", "corner": [-1, 0, 1], "edge_u": [2, 0, 0], "edge_v": [0, 2, 0], "material": "white"},
+      {"type": "quad", "corner": [-1, 0, -1], "edge_u": [0, 0, 2], "edge_v": [0, 2, 0], "material": "red"},
+      {"type": "quad", "corner": [1, 0, -1], "edge_u": [0, 0, 2], "edge_v": [0, 2, 0], "material": "green"},
+      {"type": "box", "min": [-0.6, 0, -0.6], "max": [-0.1, 0.9, -0.1], "material": "white"},
+      {"type": "sphere", "center": [0.45, 0.35, -0.3], "radius": 0.35, "material": "white"}]})";
+}
+
 }  // namespace glint::test

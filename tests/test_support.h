@@ -25,6 +25,14 @@ Rendered renderJson(const std::string& text);
 // scene, casts shadows and replaces the headlight.
 void useUniformEnvironment(RenderScene* scene, Rgb L);
 
+// A glint JSON scene (tests/images/scenes/cornell_path.json in code): a closed box
+// [-1, 1] x [0, 2] x [-1, 1] of Lambert walls (red left, green right, white elsewhere) holding a
+// white block and a white ball, lit by a quad light under the ceiling (or a point light), seen
+// from just inside the front wall, at `size`² pixels. `integrator` is the render block's
+// integrator object (JSON text).
+std::string cornellBoxJson(int size, int spp, uint64_t seed, const std::string& integrator,
+                           bool pointLight = false);
+
 // Folder of the project's own test data (tests/data).
 std::string dataDir();
 // The shared asset folder: $GLINT_ASSETS, else the CMake setting (../shared/assets).

@@ -106,8 +106,8 @@ TEST(DiffCommand, StatisticalModeJudgesRendersAgainstAReferenceWithVariance) {
   std::string dir = test::scratchDir("DiffCommand.StatisticalMode");
   std::string scene = std::string(GLINT_SOURCE_DIR) + "/tests/images/scenes/cornell_path.json";
   std::string size = " --width 24 --height 24 --quiet";
-  test::CommandResult r = test::runGlint("render " + q(scene) + size + " --spp 1024 --aovs -o " +
-                                         q(dir + "/ref.exr"));
+  test::CommandResult r =
+      test::runGlint("render " + q(scene) + size + " --spp 1024 --aovs -o " + q(dir + "/ref.exr"));
   ASSERT_EQ(r.exitCode, 0) << r.err;
   r = test::runGlint("render " + q(scene) + size + " --spp 32 --seed 5 -o " + q(dir + "/a.exr"));
   ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -128,7 +128,8 @@ TEST(DiffCommand, StatisticalModeJudgesRendersAgainstAReferenceWithVariance) {
 
   // A lamp twice as bright fails.
   std::string text = test::slurp(scene);
-  std::string brighter = std::regex_replace(text, std::regex("\"intensity\": 10"), "\"intensity\": 20");
+  std::string brighter =
+      std::regex_replace(text, std::regex("\"intensity\": 10"), "\"intensity\": 20");
   ASSERT_NE(brighter, text);
   { std::ofstream(dir + "/brighter.json") << brighter; }
   r = test::runGlint("render " + q(dir + "/brighter.json") + size + " --spp 32 -o " +

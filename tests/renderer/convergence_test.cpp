@@ -39,6 +39,7 @@
 #include "renderer/render.h"
 #include "scenes/build.h"
 #include "scenes/sidecar.h"
+#include "test_support.h"
 
 namespace glint {
 namespace {
@@ -53,39 +54,14 @@ constexpr double kStratifiedMaxRatio = 8;
 // Scenes and renders
 // ---------------------------------------------------------------------------------------------
 
-// The closed Cornell-style box of tests/images/scenes/cornell_path.json at `size`² pixels:
-// Lambert walls, a block and a ball, a quad light under the ceiling.
-std::string cornellBox(int size, const std::string& integrator) {
-  const std::string n = std::to_string(size);
-  return R"({
-    "render": {"width": )" + n + R"(, "height": )" + n + R"(, "camera": "c", "integrator": )" +
-         integrator + R"(},
-    "cameras": [{"name": "c", "position": [0, 1, 0.95], "look_at": [0, 1, -1],
-                 "yfov_degrees": 70}],
-    "lights": [{"type": "quad", "corner": [-0.3, 1.99, -0.3], "edge_u": [0.6, 0, 0],
-                "edge_v": [0, 0, 0.6], "intensity": 10}],
-    "materials": [{"name": "white", "type": "lambert", "diffuse": [0.7, 0.7, 0.7]},
-                  {"name": "red", "type": "lambert", "diffuse": [0.7, 0.12, 0.1]},
-                  {"name": "green", "type": "lambert", "diffuse": [0.12, 0.6, 0.15]}],
-    "objects": [
-      {"type": "quad", "corner": [-1, 0, -1], "edge_u": [2, 0, 0], "edge_v": [0, 0, 2], "material": "white"},
-      {"type": "quad", "corner": [-1, 2, -1], "edge_u": [2, 0, 0], "edge_v": [0, 0, 2], "material": "white"},
-      {"type": "quad", "corner": [-1, 0, -1], "edge_u": [2, 0, 0], "edge_v": [0, 2, 0], "material": "white"},
-      {"type": "quad", "corner": [-1, 0, 1], "edge_u": [2, 0, 0], "edge_v": [0, 2, 0], "material": "white"},
-      {"type": "quad", "corner": [-1, 0, -1], "edge_u": [0, 0, 2], "edge_v": [0, 2, 0], "material": "red"},
-      {"type": "quad", "corner": [1, 0, -1], "edge_u": [0, 0, 2], "edge_v": [0, 2, 0], "material": "green"},
-      {"type": "box", "min": [-0.6, 0, -0.6], "max": [-0.1, 0.9, -0.1], "material": "white"},
-      {"type": "sphere", "center": [0.45, 0.35, -0.3], "radius": 0.35, "material": "white"}]})";
-}
-
 // A cube of bright, forward-scattering fog (albedo 0.95, optical depth 2.4 across) over a grey
 // floor, lit by a point light above and beside it: much of the light leaving the fog has
 // scattered more than once.
 std::string fogCube(int size, const std::string& integrator) {
   const std::string n = std::to_string(size);
   return R"({
-    "render": {"width": )" + n + R"(, "height": )" + n + R"(, "camera": "c", "integrator": )" +
-         integrator + R"(},
+    "render": {"width": )" +
+         n + R"(, "height": )" + n + R"(, "camera": "c", "integrator": )" + integrator + R"(},
     "cameras": [{"name": "c", "position": [0, 1.2, 3.2], "look_at": [0, 0.5, 0],
                  "yfov_degrees": 40}],
     "lights": [{"type": "point", "position": [1.5, 2.5, 1], "intensity": 12}],
@@ -148,8 +124,8 @@ double expectedRatio(int n, int m) {
 }
 
 struct Rate {
-  double mean = 0;    // mean over seeds of RMSE(N) / RMSE(4N)
-  double spread = 0;  // standard deviation of that mean, from the seeds' scatter
+  double mean = 0;                 // mean over seeds of RMSE(N) / RMSE(4N)
+  double spread = 0;               // standard deviation of that mean, from the seeds' scatter
   double errorN = 0, error4N = 0;  // mean RMSEs
 };
 
@@ -178,8 +154,9 @@ std::vector<Rate> measureRates(const std::vector<const char*>& names,
     Rate& q = rates[r];
     q.mean = sum[r] / kSeeds;
     q.spread = std::sqrt(std::max(0.0, (sumSq[r] - sum[r] * q.mean) / (kSeeds - 1)) / kSeeds);
-    std::printf("[ rate     ] %s: RMSE %d spp %.5f, %d spp %.5f; ratio per seed%s; mean %.3f ± %.3f\n",
-                names[r], n, q.errorN, 4 * n, q.error4N, ratios[r].c_str(), q.mean, q.spread);
+    std::printf(
+        "[ rate     ] %s: RMSE %d spp %.5f, %d spp %.5f; ratio per seed%s; mean %.3f ± %.3f\n",
+        names[r], n, q.errorN, 4 * n, q.error4N, ratios[r].c_str(), q.mean, q.spread);
   }
   return rates;
 }
@@ -190,7 +167,8 @@ std::vector<Rate> measureRates(const std::vector<const char*>& names,
 void expectRate(const Rate& r, double expected, double maxRatio) {
   EXPECT_GE(r.mean, expected - kTolerance) << "slower than Monte Carlo's 1/sqrt(spp)";
   EXPECT_LE(r.mean, maxRatio + kTolerance);
-  EXPECT_LT(r.spread, kMaxRelativeSpread * r.mean) << "the seeds scatter more than kTolerance assumes";
+  EXPECT_LT(r.spread, kMaxRelativeSpread * r.mean)
+      << "the seeds scatter more than kTolerance assumes";
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -204,7 +182,7 @@ constexpr uint64_t kReferenceSeed = 1000;  // independent of the ladder's seeds 
 // The path tracer's converged image of the Cornell box: the unbiased answer of two tests.
 const Setup& pathBox() {
   static const std::unique_ptr<Setup> s =
-      build(cornellBox(kSize, R"({"type": "path", "max_depth": 6})"));
+      build(test::cornellBoxJson(kSize, 1, 0, R"({"type": "path", "max_depth": 6})"));
   return *s;
 }
 const Film& pathBoxReference() {
@@ -216,9 +194,11 @@ TEST(Convergence, PathTracerErrorFallsAsOneOverSqrtSpp) {
   const Film& reference = pathBoxReference();
   const double nEff = effectivePixels(reference);
   const int n = 4;
-  const Rate r = measureRates({"path tracer, Cornell box"}, {&reference}, n,
-                              [](int spp, uint64_t seed) { return renderFilm(pathBox(), spp, seed); })[0];
-  std::printf("[ rate     ] n_eff %.0f, expected ratio %.3f\n", nEff, expectedRatio(n, kReferenceSpp));
+  const Rate r =
+      measureRates({"path tracer, Cornell box"}, {&reference}, n,
+                   [](int spp, uint64_t seed) { return renderFilm(pathBox(), spp, seed); })[0];
+  std::printf("[ rate     ] n_eff %.0f, expected ratio %.3f\n", nEff,
+              expectedRatio(n, kReferenceSpp));
   expectRate(r, expectedRatio(n, kReferenceSpp), kPathTracerMaxRatio);
 }
 
@@ -226,12 +206,14 @@ TEST(Convergence, PathTracerErrorFallsAsOneOverSqrtSpp) {
 // sample per camera sample. Its variance sits mostly in the light sample's dimension pair,
 // which the (0,2)-net stratifies: the ratio is at least Monte Carlo's.
 TEST(Convergence, WhittedAreaLightErrorFallsAtLeastAsOneOverSqrtSpp) {
-  const auto box = build(cornellBox(kSize, R"({"type": "whitted", "max_depth": 6})"));
+  const auto box =
+      build(test::cornellBoxJson(kSize, 1, 0, R"({"type": "whitted", "max_depth": 6})"));
   const Film reference = renderFilm(*box, kReferenceSpp, kReferenceSeed);
   const double nEff = effectivePixels(reference);
   const int n = 4;
-  const Rate r = measureRates({"Whitted, quad light"}, {&reference}, n,
-                              [&](int spp, uint64_t seed) { return renderFilm(*box, spp, seed); })[0];
+  const Rate r =
+      measureRates({"Whitted, quad light"}, {&reference}, n,
+                   [&](int spp, uint64_t seed) { return renderFilm(*box, spp, seed); })[0];
   const double expected = expectedRatio(n, kReferenceSpp);
   std::printf("[ rate     ] n_eff %.0f, Monte Carlo ratio %.3f\n", nEff, expected);
   expectRate(r, expected, kStratifiedMaxRatio);
@@ -247,8 +229,9 @@ TEST(Convergence, WhittedAreaLightErrorFallsAtLeastAsOneOverSqrtSpp) {
 // keeps Monte Carlo's rate; against the path tracer it stops at the VPL set's error plus the
 // clamp's lost energy.
 TEST(Convergence, ClampedInstantRadiosityLevelsOffAtItsBias) {
-  const auto box = build(cornellBox(
-      kSize, R"({"type": "instant-radiosity", "max_depth": 6, "vpl_paths": 16, "vpl_clamp": 10})"));
+  const auto box = build(test::cornellBoxJson(
+      kSize, 1, 0,
+      R"({"type": "instant-radiosity", "max_depth": 6, "vpl_paths": 16, "vpl_clamp": 10})"));
   const InstantRadiosityIntegrator ir(box->scene, box->desc.render.integrator, /*seed=*/7);
   const int ownSpp = 1024;
   const Film own = renderFilm(*box, ir, ownSpp, kReferenceSeed);
@@ -261,8 +244,9 @@ TEST(Convergence, ClampedInstantRadiosityLevelsOffAtItsBias) {
       measureRates({"instant radiosity vs its own limit", "instant radiosity vs the path tracer"},
                    {&own, &pathBoxReference()}, n, film);
   const Rate &self = rates[0], &unbiased = rates[1];
-  std::printf("[ rate     ] gap to the path tracer (RMSE of the converged images) %.5f; n_eff %.0f\n",
-              gap, nEff);
+  std::printf(
+      "[ rate     ] gap to the path tracer (RMSE of the converged images) %.5f; n_eff %.0f\n", gap,
+      nEff);
 
   expectRate(self, expectedRatio(n, ownSpp), kStratifiedMaxRatio);
   // The floor: at 4N spp the error is within 10% of the gap, and the ratio near 1.
@@ -275,8 +259,8 @@ TEST(Convergence, ClampedInstantRadiosityLevelsOffAtItsBias) {
 // Whitted's single scattering (ratio tracking: unbiased for single scattering) against the
 // path tracer, which scatters any number of times in the same fog.
 TEST(Convergence, SingleScatteringLevelsOffBelowMultipleScattering) {
-  const auto single = build(fogCube(
-      kSize, R"({"type": "whitted", "volume": "single", "volume_estimator": "track"})"));
+  const auto single = build(
+      fogCube(kSize, R"({"type": "whitted", "volume": "single", "volume_estimator": "track"})"));
   const auto multiple = build(fogCube(kSize, R"({"type": "path", "max_depth": 32})"));
   const int referenceSpp = 2048;
   const Film own = renderFilm(*single, referenceSpp, kReferenceSeed);
@@ -291,10 +275,12 @@ TEST(Convergence, SingleScatteringLevelsOffBelowMultipleScattering) {
       {&own, &full}, n, film);
   const Rate &self = rates[0], &unbiased = rates[1];
   double sumOwn = 0, sumFull = 0;
-  for (size_t i = 0; i < own.color.size(); ++i) sumOwn += own.color[i].y, sumFull += full.color[i].y;
-  std::printf("[ rate     ] gap single vs multiple scattering: RMSE %.5f, image mean %.4f vs %.4f; "
-              "n_eff %.0f\n", gap, sumOwn / double(own.color.size()),
-              sumFull / double(full.color.size()), nEff);
+  for (size_t i = 0; i < own.color.size(); ++i)
+    sumOwn += own.color[i].y, sumFull += full.color[i].y;
+  std::printf(
+      "[ rate     ] gap single vs multiple scattering: RMSE %.5f, image mean %.4f vs %.4f; "
+      "n_eff %.0f\n",
+      gap, sumOwn / double(own.color.size()), sumFull / double(full.color.size()), nEff);
 
   expectRate(self, expectedRatio(n, referenceSpp), kStratifiedMaxRatio);
   EXPECT_LT(unbiased.mean, 1.2);

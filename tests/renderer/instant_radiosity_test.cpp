@@ -13,46 +13,14 @@
 #include "scene_error_support.h"
 #include "scenes/build.h"
 #include "scenes/sidecar.h"
+#include "test_support.h"
 
 namespace glint {
 namespace {
 
 // ---------------------------------------------------------------------------------------------
-// The box
+// The box (test::cornellBoxJson) and its integrator settings
 // ---------------------------------------------------------------------------------------------
-
-// A closed box [-1, 1] x [0, 2] x [-1, 1] of Lambert walls (red left, green right, white
-// elsewhere) holding a white block and a white ball, lit by a quad light under the ceiling (or
-// a point light), seen from just inside the front wall. `integrator` is the render block's
-// integrator object.
-std::string cornellBox(int size, int spp, uint64_t seed, const std::string& integrator,
-                       bool pointLight = false) {
-  const std::string light =
-      pointLight ? R"({"type": "point", "position": [0, 1.7, 0], "intensity": 3})"
-                 : R"({"type": "quad", "corner": [-0.3, 1.99, -0.3], "edge_u": [0.6, 0, 0],
-                      "edge_v": [0, 0, 0.6], "intensity": 10})";
-  return R"({
-    "render": {"width": )" +
-         std::to_string(size) + R"(, "height": )" + std::to_string(size) + R"(, "spp": )" +
-         std::to_string(spp) + R"(, "seed": )" + std::to_string(seed) +
-         R"(, "camera": "c", "integrator": )" + integrator + R"(},
-    "cameras": [{"name": "c", "position": [0, 1, 0.95], "look_at": [0, 1, -1],
-                 "yfov_degrees": 70}],
-    "lights": [)" +
-         light + R"(],
-    "materials": [{"name": "white", "type": "lambert", "diffuse": [0.7, 0.7, 0.7]},
-                  {"name": "red", "type": "lambert", "diffuse": [0.7, 0.12, 0.1]},
-                  {"name": "green", "type": "lambert", "diffuse": [0.12, 0.6, 0.15]}],
-    "objects": [
-      {"type": "quad", "corner": [-1, 0, -1], "edge_u": [2, 0, 0], "edge_v": [0, 0, 2], "material": "white"},
-      {"type": "quad", "corner": [-1, 2, -1], "edge_u": [2, 0, 0], "edge_v": [0, 0, 2], "material": "white"},
-      {"type": "quad", "corner": [-1, 0, -1], "edge_u": [2, 0, 0], "edge_v": [0, 2, 0], "material": "white"},
-      {"type": "quad", "corner": [-1, 0, 1], "edge_u": [2, 0, 0], "edge_v": [0, 2, 0], "material": "white"},
-      {"type": "quad", "corner": [-1, 0, -1], "edge_u": [0, 0, 2], "edge_v": [0, 2, 0], "material": "red"},
-      {"type": "quad", "corner": [1, 0, -1], "edge_u": [0, 0, 2], "edge_v": [0, 2, 0], "material": "green"},
-      {"type": "box", "min": [-0.6, 0, -0.6], "max": [-0.1, 0.9, -0.1], "material": "white"},
-      {"type": "sphere", "center": [0.45, 0.35, -0.3], "radius": 0.35, "material": "white"}]})";
-}
 
 std::string irSettings(int paths, float clamp, int maxDepth = 6) {
   return R"({"type": "instant-radiosity", "vpl_paths": )" + std::to_string(paths) +
@@ -126,11 +94,11 @@ double rmse(const Film& a, const Film& b) {
 // the two estimates combined, plus 1% for what 5 seeds leave uncertain in the spread itself.
 TEST(InstantRadiosity, UnclampedConvergesToThePathTracer) {
   const int size = 16, seeds = 5;
-  const Rendered reference = renderWith(cornellBox(size, 2048, 1, pathSettings()));
+  const Rendered reference = renderWith(test::cornellBoxJson(size, 2048, 1, pathSettings()));
   EXPECT_EQ(reference.stats.nonfiniteSamples, 0u);
   std::vector<Film> ir;
   for (int s = 0; s < seeds; ++s) {
-    Rendered r = renderWith(cornellBox(size, 16, 10 + s, irSettings(1024, 0)));
+    Rendered r = renderWith(test::cornellBoxJson(size, 16, 10 + s, irSettings(1024, 0)));
     EXPECT_EQ(r.stats.nonfiniteSamples, 0u);
     ir.push_back(std::move(r.film));
   }
@@ -162,10 +130,10 @@ TEST(InstantRadiosity, UnclampedConvergesToThePathTracer) {
 // VPL error dominates at 16 paths (visible splotches), the camera samples' noise at 1024.
 TEST(InstantRadiosity, MoreLightPathsMeanLessError) {
   const int size = 24;
-  const Film reference = renderWith(cornellBox(size, 1024, 1, pathSettings())).film;
+  const Film reference = renderWith(test::cornellBoxJson(size, 1024, 1, pathSettings())).film;
   double previous = 1e30;
   for (int paths : {16, 128, 1024}) {
-    const Film f = renderWith(cornellBox(size, 16, 2, irSettings(paths, 0))).film;
+    const Film f = renderWith(test::cornellBoxJson(size, 16, 2, irSettings(paths, 0))).film;
     const double e = rmse(f, reference);
     EXPECT_LT(e, previous) << paths << " paths";
     previous = e;
@@ -184,8 +152,8 @@ TEST(InstantRadiosity, MoreLightPathsMeanLessError) {
 // image measurably, and stay below the path tracer: clamping only loses energy.
 TEST(InstantRadiosity, ClampingNeverBrightensAPixel) {
   const int size = 24;
-  const Film unclamped = renderWith(cornellBox(size, 4, 3, irSettings(256, 0))).film;
-  const Film clamped = renderWith(cornellBox(size, 4, 3, irSettings(256, 2))).film;
+  const Film unclamped = renderWith(test::cornellBoxJson(size, 4, 3, irSettings(256, 0))).film;
+  const Film clamped = renderWith(test::cornellBoxJson(size, 4, 3, irSettings(256, 2))).film;
   double sumU = 0, sumC = 0;
   size_t darker = 0;
   for (size_t i = 0; i < unclamped.color.size(); ++i) {
@@ -203,7 +171,7 @@ TEST(InstantRadiosity, ClampingNeverBrightensAPixel) {
 // ---------------------------------------------------------------------------------------------
 
 TEST(InstantRadiosity, ImageIsIdenticalForOneAndTwoThreads) {
-  const std::string json = cornellBox(20, 4, 9, irSettings(64, 0));
+  const std::string json = test::cornellBoxJson(20, 4, 9, irSettings(64, 0));
   const Rendered one = renderWith(json, 1, 16);
   const Rendered two = renderWith(json, 2, 7);
   ASSERT_EQ(one.film.color.size(), two.film.color.size());
@@ -215,7 +183,7 @@ TEST(InstantRadiosity, ImageIsIdenticalForOneAndTwoThreads) {
 }
 
 TEST(InstantRadiosity, VplSetDependsOnlyOnTheSeed) {
-  const SceneDescription d = describe(cornellBox(8, 1, 4, irSettings(100, 0)));
+  const SceneDescription d = describe(test::cornellBoxJson(8, 1, 4, irSettings(100, 0)));
   const RenderScene scene = buildRenderScene(d);
   const InstantRadiosityIntegrator a(scene, d.render.integrator, 4),
       b(scene, d.render.integrator, 4), c(scene, d.render.integrator, 5);
@@ -256,7 +224,7 @@ TEST(InstantRadiosity, ScrambledHaltonIsStratified) {
 // where G = cos cos / d^2 is 0/0 or huge. No radiance may come out non-finite, and the
 // provocation must actually happen (some hits land within the error bound of a VPL).
 TEST(InstantRadiosity, VplAtTheShadingPointGivesNoNonFiniteRadiance) {
-  const SceneDescription d = describe(cornellBox(8, 1, 4, irSettings(64, 0)));
+  const SceneDescription d = describe(test::cornellBoxJson(8, 1, 4, irSettings(64, 0)));
   const RenderScene scene = buildRenderScene(d);
   const InstantRadiosityIntegrator ir(scene, d.render.integrator, 4);
   ASSERT_FALSE(ir.vpls().empty());
@@ -278,7 +246,7 @@ TEST(InstantRadiosity, VplAtTheShadingPointGivesNoNonFiniteRadiance) {
   }
   EXPECT_GT(onTop, ir.vpls().size() / 4) << "the test provokes d -> 0";
   // And a whole render of the box, whose corners hold VPLs a hair from other walls.
-  const Rendered r = renderWith(cornellBox(16, 4, 4, irSettings(256, 0)));
+  const Rendered r = renderWith(test::cornellBoxJson(16, 4, 4, irSettings(256, 0)));
   EXPECT_EQ(r.stats.nonfiniteSamples, 0u);
   for (const Rgb& c : r.film.color) ASSERT_TRUE(isFinite(c));
 }
@@ -306,7 +274,7 @@ TEST(InstantRadiosity, SidecarRejectsNonPositivePathCounts) {
 }
 
 TEST(InstantRadiosity, FactoryBuildsItAndAutoNeverPicksIt) {
-  SceneDescription d = describe(cornellBox(8, 1, 4, irSettings(8, 0)));
+  SceneDescription d = describe(test::cornellBoxJson(8, 1, 4, irSettings(8, 0)));
   const RenderScene scene = buildRenderScene(d);
   EXPECT_TRUE(scene.features.has(Feature::Vpls));
   EXPECT_TRUE(scene.features.has(Feature::Indirect));
@@ -323,7 +291,7 @@ TEST(InstantRadiosity, FactoryBuildsItAndAutoNeverPicksIt) {
 
 TEST(InstantRadiosity, MaxDepthOneIsDirectLightOnly) {
   // No VPL can stay within one bounce: the image is Whitted's direct light.
-  const SceneDescription d = describe(cornellBox(12, 4, 4, irSettings(64, 0, 1), true));
+  const SceneDescription d = describe(test::cornellBoxJson(12, 4, 4, irSettings(64, 0, 1), true));
   const RenderScene scene = buildRenderScene(d);
   const InstantRadiosityIntegrator ir(scene, d.render.integrator, 4);
   EXPECT_TRUE(ir.vpls().empty());
