@@ -4,6 +4,8 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 out=${1:?usage: seeds.sh OUT}
+mkdir -p "$out"
+out=$(cd "$out" && pwd)
 rm -rf "$out"
 mkdir -p "$out/csg" "$out/gltf" "$out/sidecar"
 cd "$root"
