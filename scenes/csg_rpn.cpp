@@ -1,6 +1,7 @@
 // glint — the reverse-polish .csg format: a stack machine over token-lines (see csg_rpn.h).
 #include "scenes/csg_rpn.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
@@ -338,10 +339,12 @@ CsgTreeDesc parseCsgRpn(const std::string& text, const std::string& file) {
   CsgTreeDesc tree;
   std::vector<int> stack;      // node indices
   std::vector<int> nodeLines;  // the line of each node
+  std::vector<int> depths;     // the levels of each node's subtree
   for (TokenLine& line : lines) {
     const std::string& token = line.head();
     if (const PrimitiveSpec* spec = findPrimitive(token)) {
       tree.nodes.push_back(parsePrimitive(line, *spec));
+      depths.push_back(1);
     } else if (auto op = kOperators.find(token); op != kOperators.end()) {
       // Report underflow before the transforms: the missing operand is the bigger mistake.
       if (stack.size() < 2)
@@ -352,8 +355,14 @@ CsgTreeDesc parseCsgRpn(const std::string& text, const std::string& file) {
       stack.pop_back();
       int left = stack.back();
       stack.pop_back();
+      int depth = 1 + std::max(depths[size_t(left)], depths[size_t(right)]);
+      if (depth > kMaxCsgDepth)
+        line.fail(inQuotes(token) + " makes the tree " + std::to_string(depth) +
+                  " levels deep; glint reads CSG trees of at most " +
+                  std::to_string(kMaxCsgDepth) + " levels");
       node.children = {left, right};
       tree.nodes.push_back(std::move(node));
+      depths.push_back(depth);
     } else {
       line.fail(withSuggestion("unknown token " + inQuotes(token), token, tokenNames()));
     }

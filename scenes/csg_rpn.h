@@ -38,7 +38,8 @@
 //                                         z' = ZX*x + ZY*y + z
 // The composed transform of a node must be finite and invertible.
 //
-// At the end of the file exactly one node must be left on the stack: the tree's root.
+// At the end of the file exactly one node must be left on the stack: the tree's root. The tree
+// may be at most kMaxCsgDepth (1000) levels deep; a lone primitive is one level.
 //
 //   # a die: a rounded cube minus a pip
 //   box min -1 -1 -1 max 1 1 1 material ivory
@@ -51,7 +52,7 @@
 //   tree.csg:12: stack underflow: 'union' needs 2 operands, the stack holds 1
 // for: stack underflow, operands left over at the end (how many, and the line of the first
 // one), no operand at all, unknown words, missing or repeated keys, bad or non-finite
-// numbers, too few numbers for a key, and the value checks above.
+// numbers, too few numbers for a key, a tree deeper than the limit, and the value checks above.
 #pragma once
 
 #include <string>

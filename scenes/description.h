@@ -241,6 +241,11 @@ struct CsgTreeDesc {
   int root = -1;
 };
 
+// The deepest CSG tree the loaders accept, in levels (a lone leaf is 1). Building and
+// intersecting a tree recurse once per level; a deeper tree is a generated mistake, and it would
+// overflow the stack instead of rendering.
+inline constexpr int kMaxCsgDepth = 1000;
+
 // Fractal terrain (geometry/terrain.h): a square of `size` in the XZ plane, centred on the
 // origin, subdivided `depth` times with midpoint displacement (2 * 4^depth triangles).
 struct TerrainDesc {

@@ -604,6 +604,10 @@ void nodeTransform(const Object& o, Node* node) {
                 Transform::scale(node->scale);
 }
 
+// The deepest node hierarchy glint reads (roots are level 0). glTF sets no limit, but the
+// loader walks the tree recursively, and real rigs stay far below this.
+constexpr int kMaxNodeDepth = 1000;
+
 void readNodes(const Object& root, Document* doc) {
   std::vector<Object> nodes = objects(root, "nodes");
   size_t n = nodes.size();
@@ -640,20 +644,47 @@ void readNodes(const Object& root, Document* doc) {
                                   " (the node graph must be a set of trees)");
       parent[size_t(c)] = int(i);
     }
-  // With one parent each, a cycle is a parent chain that comes back to where it started.
+  // With one parent each, a cycle is a parent chain that comes back to where it started. Each
+  // node's depth is found once, walking up until a root or a node whose depth is known, so a
+  // long chain costs linear time; the loader recurses once per level, hence the depth limit.
+  auto childEntry = [&](size_t node) {  // the pointer of `node` in its parent's children
+    const Node& parentNode = doc->nodes[size_t(parent[node])];
+    size_t k = size_t(std::find(parentNode.children.begin(), parentNode.children.end(),
+                                int(node)) -
+                      parentNode.children.begin());
+    return parentNode.where.child("children").child(k);
+  };
+  std::vector<int> depth(n, -1);  // 0 for roots; -1 = not known yet
+  std::vector<bool> walked(n, false);
+  std::vector<size_t> walk;
   for (size_t i = 0; i < n; ++i) {
-    int p = parent[i];
-    for (size_t steps = 0; p >= 0 && steps <= n; ++steps) {
-      if (size_t(p) == i) {
-        const Node& parentNode = doc->nodes[size_t(parent[i])];
-        size_t k =
-            size_t(std::find(parentNode.children.begin(), parentNode.children.end(), int(i)) -
-                   parentNode.children.begin());
-        throw SceneError(parentNode.where.child("children").child(k),
-                         "node " + std::to_string(i) + " is an ancestor of node " +
-                             std::to_string(parent[i]) + " (cycle in the node graph)");
+    walk.clear();
+    int p = int(i);
+    while (p >= 0 && depth[size_t(p)] < 0) {
+      if (walked[size_t(p)]) {
+        // Back at a node of this walk: p is on a cycle. Name its lowest node, as a reader
+        // scanning the file would meet it first.
+        size_t first = size_t(p);
+        for (int q = parent[size_t(p)]; q != p; q = parent[size_t(q)])
+          first = std::min(first, size_t(q));
+        throw SceneError(childEntry(first), "node " + std::to_string(first) +
+                                                " is an ancestor of node " +
+                                                std::to_string(parent[first]) +
+                                                " (cycle in the node graph)");
       }
+      walked[size_t(p)] = true;
+      walk.push_back(size_t(p));
       p = parent[size_t(p)];
+    }
+    int d = p < 0 ? -1 : depth[size_t(p)];
+    for (auto it = walk.rbegin(); it != walk.rend(); ++it) {
+      depth[*it] = ++d;
+      if (d > kMaxNodeDepth)
+        throw SceneError(childEntry(*it), "node " + std::to_string(*it) + " is nested " +
+                                              std::to_string(d) +
+                                              " levels below its root node; glint reads node "
+                                              "hierarchies at most " +
+                                              std::to_string(kMaxNodeDepth) + " levels deep");
     }
   }
 

@@ -873,7 +873,12 @@ class Loader {
 }  // namespace
 
 void loadGltf(const std::string& path, SceneDescription* scene, const Transform& rootTransform) {
-  std::string bytes = readTextFile(path);  // a missing file is a SceneError naming it
+  // A missing file is a SceneError naming it.
+  loadGltfFromMemory(readTextFile(path), path, scene, rootTransform);
+}
+
+void loadGltfFromMemory(const std::string& bytes, const std::string& path,
+                        SceneDescription* scene, const Transform& rootTransform) {
   std::string ext = fs::path(path).extension().string();
   for (char& c : ext) c = char(std::tolower(uint8_t(c)));
   bool binary = ext == ".glb" || hasGlbMagic(bytes);

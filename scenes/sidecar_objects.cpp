@@ -106,10 +106,15 @@ const std::vector<std::pair<std::string, CsgOp>> kCsgOps = {
     {"difference", CsgOp::Difference},
 };
 
-// One node of a nested JSON tree: {"op": ..., "children": [...]} or a primitive with "type".
-int readCsgNode(JsonReader& r, const SceneDescription& scene, CsgTreeDesc* tree) {
+// One node of a nested JSON tree: {"op": ..., "children": [...]} or a primitive with "type";
+// `depth` is its level (the root is 1).
+int readCsgNode(JsonReader& r, const SceneDescription& scene, CsgTreeDesc* tree, int depth = 1) {
   CsgNodeDesc node;
   node.where = r.where();
+  // Checked before reading on: the recursion below must not get deeper than this.
+  if (depth > kMaxCsgDepth)
+    throw SceneError(r.where(), "CSG tree nested more than " + std::to_string(kMaxCsgDepth) +
+                                    " levels deep (glint's limit)");
   node.parentFromNode = r.get<Transform>("transform", Transform());
   if (r.has("op") == r.has("type"))
     throw SceneError(r.where(), "a CSG node has either 'op' (an operation) or 'type' (a leaf)");
@@ -128,7 +133,7 @@ int readCsgNode(JsonReader& r, const SceneDescription& scene, CsgTreeDesc* tree)
     throw SceneError(r.where("children"), "an operation needs at least two children, got " +
                                               std::to_string(children.size()));
   for (const JsonItem& child : children)
-    node.children.push_back(readCsgNode(r.item(child), scene, tree));
+    node.children.push_back(readCsgNode(r.item(child), scene, tree, depth + 1));
   tree->nodes.push_back(node);
   return int(tree->nodes.size() - 1);
 }

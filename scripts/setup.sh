@@ -12,6 +12,8 @@ PACKAGES=(
   libcli11-dev libfmt-dev
   libgtest-dev libbenchmark-dev
   python3 python3-matplotlib
+  # scripts/sanitize.sh: Clang with its ASan/UBSan/libFuzzer runtimes and llvm-symbolizer
+  clang libclang-rt-14-dev llvm
 )
 
 # One dpkg-query for all packages; anything not reported as installed is missing.

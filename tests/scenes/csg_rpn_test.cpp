@@ -297,6 +297,24 @@ TEST(CsgRpn, MaterialsBelongOnPrimitives) {
 // Files
 // ---------------------------------------------------------------------------------------------
 
+// A left-deep chain of unions `levels` deep, as a file that adds primitives one by one makes.
+std::string unionChain(int levels) {
+  std::string text = "sphere center 0 0 0 radius 1\n";
+  for (int i = 1; i < levels; ++i) text += "sphere center 0 0 0 radius 1\nunion\n";
+  return text;
+}
+
+TEST(CsgRpn, TreesDeeperThanTheLimitAreErrors) {
+  // Issue 8: building and intersecting a CSG tree recurse once per level, so a generated file
+  // with a 100 000-level chain parsed fine and then overflowed the stack.
+  CsgTreeDesc tree = parse(unionChain(kMaxCsgDepth));
+  EXPECT_EQ(tree.nodes.size(), size_t(2 * kMaxCsgDepth - 1));
+  // Level kMaxCsgDepth + 1 is made by the union on line 2 * kMaxCsgDepth + 1.
+  EXPECT_CSG_ERROR(unionChain(kMaxCsgDepth + 1), 2 * kMaxCsgDepth + 1,
+                   "'union' makes the tree 1001 levels deep; glint reads CSG trees of at most "
+                   "1000 levels");
+}
+
 TEST(CsgRpn, LoadsTheDiceExample) {
   std::string path = std::string(GLINT_SOURCE_DIR) + "/scenes/csg/dice.csg";
   CsgTreeDesc tree = loadCsgRpn(path);

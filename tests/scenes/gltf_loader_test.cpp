@@ -6,8 +6,10 @@
 
 #include <cmath>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
 
+#include "scene_error_support.h"
 #include "scenes/build.h"
 #include "test_support.h"
 
@@ -591,6 +593,55 @@ TEST(GltfBadInput, UnsupportedRequiredExtensionIsRejected) {
 TEST(GltfBadInput, NodeCycleIsRejected) {
   expectError(badFile("node_cycle.gltf"), "/nodes/1/children/0",
               "node 0 is an ancestor of node 1 (cycle in the node graph)");
+}
+
+// A chain of `n` nodes, each the only child of the one before; `closed`: the last node's child
+// is node 0, so the chain is one long cycle with no root.
+std::string nodeChain(size_t n, bool closed = false) {
+  nlohmann::json nodes = nlohmann::json::array();
+  for (size_t i = 0; i < n; ++i) {
+    nlohmann::json node = nlohmann::json::object();
+    if (i + 1 < n || closed) node["children"] = {(i + 1) % n};
+    nodes.push_back(node);
+  }
+  nlohmann::json doc = {{"asset", {{"version", "2.0"}}}, {"nodes", nodes}};
+  if (!closed) doc["scenes"] = {{{"nodes", {0}}}};
+  return doc.dump();
+}
+
+TEST(GltfBadInput, NodeHierarchyDeeperThanTheLimitIsRejected) {
+  // Found while fuzzing the loaders (issue 8): a chain of 200 000 nodes ran for minutes in the
+  // cycle check (quadratic in the depth) and would then have overflowed the stack in the
+  // recursive walk that instances the nodes. Now the check is linear and stops at the limit.
+  SceneDescription scene;
+  SceneError e =
+      test::errorFrom([&] { loadGltfFromMemory(nodeChain(100000), "chain.gltf", &scene); });
+  EXPECT_SCENE_ERROR(e, "chain.gltf", "/nodes/1000/children/0",
+                     "node 1001 is nested 1001 levels below its root node; glint reads node "
+                     "hierarchies at most 1000 levels deep");
+  EXPECT_TRUE(scene.nodes.empty() && scene.instances.empty());
+}
+
+TEST(GltfBadInput, LongNodeCycleIsRejected) {
+  SceneDescription scene;
+  SceneError e = test::errorFrom(
+      [&] { loadGltfFromMemory(nodeChain(5000, true), "cycle.gltf", &scene); });
+  EXPECT_SCENE_ERROR(e, "cycle.gltf", "/nodes/4999/children/0",
+                     "node 0 is an ancestor of node 4999 (cycle in the node graph)");
+}
+
+TEST(GltfLoader, NodeHierarchyAtTheDepthLimitLoads) {
+  SceneDescription scene;
+  EXPECT_NO_THROW(loadGltfFromMemory(nodeChain(1001), "chain.gltf", &scene));  // levels 0..1000
+}
+
+TEST(GltfLoader, LoadsFromMemoryLikeFromTheFile) {
+  std::string file = goodFile("no_scenes.glb");
+  SceneDescription fromFile, fromMemory;
+  loadGltf(file, &fromFile);
+  loadGltfFromMemory(test::slurp(file), file, &fromMemory);
+  ASSERT_FALSE(fromFile.meshes.empty());
+  expectSameDescription(fromFile, fromMemory);
 }
 
 TEST(GltfBadInput, SingularNodeMatrixIsRejected) {

@@ -202,6 +202,29 @@ TEST(SidecarObjects, RejectsBadCsgTrees) {
                      kFile, "/objects/0/tree", "operation at its root");
 }
 
+// A nested JSON CSG tree `levels` deep: each operation's first child is the next operation.
+std::string nestedCsgTree(int levels) {
+  const std::string leaf = R"({"type": "sphere", "radius": 1})";
+  std::string tree = leaf;
+  for (int i = 1; i < levels; ++i)
+    tree = R"({"op": "union", "children": [)" + tree + ", " + leaf + "]}";
+  return tree;
+}
+
+TEST(SidecarObjects, CsgTreesDeeperThanTheLimitAreErrors) {
+  // Issue 8: reading a nested tree recursed once per level, so a 50 000-level tree overflowed
+  // the stack; the limit also keeps building and intersecting the tree within the stack.
+  SceneDescription scene = applyObjects(R"([{"type": "csg", "tree": )" +
+                                        nestedCsgTree(kMaxCsgDepth) + "}]");
+  ASSERT_EQ(scene.objects.size(), 1u);
+  EXPECT_EQ(scene.objects[0].csg.nodes.size(), size_t(2 * kMaxCsgDepth - 1));
+  std::string pointer = "/objects/0/tree";
+  for (int level = 1; level <= kMaxCsgDepth; ++level) pointer += "/children/0";
+  EXPECT_SCENE_ERROR(
+      applyError(R"([{"type": "csg", "tree": )" + nestedCsgTree(kMaxCsgDepth + 1) + "}]"), kFile,
+      pointer, "CSG tree nested more than 1000 levels deep");
+}
+
 TEST(SidecarObjects, BuildPlacesShapesAndSetsEffects) {
   SceneDescription s = applyObjects(R"([
     {"type": "plane", "material": "red"},
