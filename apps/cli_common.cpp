@@ -30,6 +30,10 @@ void SceneOverrides::addOptions(CLI::App* cmd) {
   cmd->add_option("--max-depth", maxDepth, "maximum bounces")->check(CLI::NonNegativeNumber);
   cmd->add_option("--light-sampler", lightSampler, "how next-event estimation picks a light")
       ->check(CLI::IsMember(lightSamplerNames()));
+  cmd->add_option("--adaptive", adaptive,
+                  "adaptive sampling: a pixel stops once its relative standard error is below "
+                  "this (0 = off; --spp is then the most a pixel takes)")
+      ->check(CLI::NonNegativeNumber);
 }
 
 void SceneOverrides::apply(SceneDescription* desc) const {
@@ -43,13 +47,15 @@ void SceneOverrides::apply(SceneDescription* desc) const {
   if (integrator) r.integrator.type = *integrator;
   if (maxDepth) r.integrator.maxDepth = *maxDepth;
   if (lightSampler) r.integrator.lightSampler = *lightSampler;
+  if (adaptive) r.adaptive.threshold = *adaptive;
   if (aovs) r.aovs = true;
   if (camera) {
     bool known = std::any_of(desc->cameras.begin(), desc->cameras.end(),
                              [&](const CameraDesc& c) { return c.name == *camera; });
     if (!known) {
       std::string names;
-      for (const CameraDesc& c : desc->cameras) names += (names.empty() ? "'" : ", '") + c.name + "'";
+      for (const CameraDesc& c : desc->cameras)
+        names += (names.empty() ? "'" : ", '") + c.name + "'";
       throw SceneError({"command line", "--camera"},
                        "no camera named '" + *camera + "' in " + desc->file +
                            (names.empty() ? " (it has no cameras)" : " (cameras: " + names + ")"));

@@ -17,10 +17,11 @@ struct SceneOverrides {
   std::optional<uint64_t> seed;
   std::optional<std::string> accel, camera, integrator, lightSampler;
   std::optional<int> maxDepth;
+  std::optional<float> adaptive;  // adaptive sampling threshold
   bool aovs = false;  // EXR output also carries albedo, normal, depth and variance
 
   // Registers --width --height --spp --seed --threads --accel --camera --integrator
-  // --max-depth --light-sampler on `cmd`
+  // --max-depth --light-sampler --adaptive on `cmd`
   // (--aovs is render's own).
   void addOptions(CLI::App* cmd);
   // Applies the given options to desc->render; throws SceneError (location "command line")

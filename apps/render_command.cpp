@@ -56,6 +56,7 @@ nlohmann::json frameJson(const FrameRecord& r) {
   j["mrays_per_second"] =
       r.stats.renderSeconds > 0 ? double(r.stats.rays.total()) / r.stats.renderSeconds * 1e-6 : 0.0;
   j["nonfinite_samples"] = r.stats.nonfiniteSamples;
+  j["mean_spp"] = r.stats.meanSpp;
   if (!r.integratorSetup.empty()) {
     nlohmann::json setup = nlohmann::json::object();
     for (const Integrator::SetupStat& s : r.integratorSetup) setup[s.name] = s.value;
@@ -76,6 +77,9 @@ nlohmann::json sceneJson(const RenderArgs& args, const SceneDescription& desc,
   j["width"] = scene.camera.width();
   j["height"] = scene.camera.height();
   j["spp"] = desc.render.spp;
+  if (desc.render.adaptive.threshold > 0)
+    j["adaptive"] = {{"threshold", desc.render.adaptive.threshold},
+                     {"min_spp", desc.render.adaptive.minSpp}};
   j["seed"] = desc.render.seed;
   j["threads"] = threads;
   j["triangles"] = scene.geometry.instancedTriangleCount();

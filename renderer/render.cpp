@@ -35,6 +35,16 @@ struct PixelMoments {
     }
   }
   Rgb mean(double n) const { return {float(sum[0] / n), float(sum[1] / n), float(sum[2] / n)}; }
+  // The adaptive stopping rule (AdaptiveSettings): every channel's Var[mean] within
+  // threshold² · (mean² + 0.01).
+  bool converged(double n, double threshold2) const {
+    for (int c = 0; c < 3; ++c) {
+      const double mean = sum[c] / n;
+      const double var = std::max(0.0, (sumSq[c] - sum[c] * mean) / ((n - 1) * n));
+      if (var > threshold2 * (mean * mean + 0.01)) return false;
+    }
+    return true;
+  }
   Rgb varianceOfMean(double n) const {
     if (n < 2) return {};
     Rgb v;
@@ -54,6 +64,10 @@ Film render(const RenderScene& scene, const Integrator& integrator, const Render
   const int width = scene.camera.width(), height = scene.camera.height();
   const uint32_t spp = uint32_t(settings.spp);
   const bool aovs = settings.aovs;
+  // Adaptive sampling: checked from minSpp on, at batch ends (multiples of kCameraBatch).
+  const bool adaptive = settings.adaptive.threshold > 0;
+  const double threshold2 = double(settings.adaptive.threshold) * settings.adaptive.threshold;
+  const uint32_t minSpp = uint32_t(std::max(2, settings.adaptive.minSpp));
   // The camera decides whether there is a lens to sample (the scene builder reports it as
   // Feature::Lens); time is sampled only when the builder found something moving.
   const bool lens = scene.camera.hasLens();
@@ -95,8 +109,11 @@ Film render(const RenderScene& scene, const Integrator& integrator, const Render
         Rgb albedo, normal;
         // The pixel's camera rays go to the accelerator in batches, which it may trace as
         // packets (they are coherent); each result is then shaded on its own.
+        uint32_t taken = 0;  // samples drawn: spp, or fewer when adaptive sampling stops early
         for (uint32_t first = 0; first < spp; first += kCameraBatch) {
+          if (adaptive && first >= minSpp && acc.converged(first, threshold2)) break;
           const uint32_t n = std::min(kCameraBatch, spp - first);
+          taken = first + n;
           uint32_t fx[kCameraBatch], fy[kCameraBatch];
           sample2DFractionBatch(first, n, filmSeeds, fx, fy);
           if (plain) {
@@ -141,12 +158,12 @@ Film render(const RenderScene& scene, const Integrator& integrator, const Render
             }
           }
         }
-        film.color[index] = acc.mean(spp);
-        film.variance[index] = acc.varianceOfMean(spp);
-        film.alpha[index] = float(hits / spp);
+        film.color[index] = acc.mean(taken);
+        film.variance[index] = acc.varianceOfMean(taken);
+        film.alpha[index] = float(hits / taken);
         if (aovs) {
-          film.albedo[index] = albedo / float(spp);
-          film.normal[index] = normal / float(spp);
+          film.albedo[index] = albedo / float(taken);
+          film.normal[index] = normal / float(taken);
           film.depth[index] = hits > 0 ? float(depth / hits) : 0.0f;
         }
       }
@@ -172,6 +189,8 @@ Film render(const RenderScene& scene, const Integrator& integrator, const Render
       stats->rays += t.rays;
       stats->nonfiniteSamples += t.nonfinite;
     }
+    // One camera ray per sample.
+    stats->meanSpp = double(stats->rays.camera) / (double(width) * double(height));
   }
   return film;
 }

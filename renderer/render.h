@@ -25,6 +25,7 @@ struct RenderStats {
   int threads = 0;
   RayCounters rays;
   uint64_t nonfiniteSamples = 0;  // NaN/Inf radiance samples: counted, replaced by zero
+  double meanSpp = 0;             // samples a pixel took on average (< spp when adaptive)
 };
 
 struct RenderOptions {

@@ -50,9 +50,23 @@ struct IntegratorSettings {
   float vplClamp = 0;       // bound on the geometry term cos cos / d^2 of a VPL; 0 = no clamp
 };
 
+// Adaptive sampling: a pixel stops drawing samples once its estimate is good enough, so the
+// samples go where the noise is. After `minSpp` samples, and after every batch of 16 from
+// then on, a pixel stops when every channel's variance of the mean satisfies
+//   Var[mean] <= threshold² · (mean² + 0.01),
+// the relative error of the relative MSE metric (Rousselle et al.) that `glint diff` reports;
+// `spp` stays the most any pixel takes. The stopping rule looks at the pixel's own samples
+// only, so the image is still the same for any thread count. It is biased (a pixel that has
+// not yet met a rare bright path looks converged); the bias vanishes as threshold -> 0.
+struct AdaptiveSettings {
+  float threshold = 0;  // 0: off, every pixel takes spp samples
+  int minSpp = 32;      // samples every pixel takes first; at least 2
+};
+
 struct RenderSettings {
   std::optional<int> width, height;  // unset: 640 wide, height from the camera's aspect
-  int spp = 16;
+  int spp = 16;                      // samples per pixel (the most, with adaptive sampling)
+  AdaptiveSettings adaptive;
   uint64_t seed = 0;
   int threads = 0;                   // 0 = all hardware threads
   std::string accel = "embree";

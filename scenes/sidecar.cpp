@@ -57,6 +57,10 @@ void readRender(JsonReader& r, RenderSettings* s) {
   if (auto width = r.optional<int>("width", kPositive)) s->width = width;
   if (auto height = r.optional<int>("height", kPositive)) s->height = height;
   s->spp = r.get<int>("spp", s->spp, kPositive);
+  if (JsonReader* a = r.optionalObject("adaptive")) {
+    s->adaptive.threshold = a->get<float>("threshold", s->adaptive.threshold, kNonNegative);
+    s->adaptive.minSpp = a->get<int>("min_spp", s->adaptive.minSpp, {.ge = 2});
+  }
   s->seed = r.get<uint64_t>("seed", s->seed);
   s->threads = r.get<int>("threads", s->threads, kNonNegative);
   s->accel = r.oneOf("accel", acceleratorNames(), s->accel);

@@ -69,6 +69,9 @@ EFFECTS = [
         "methods": [
             {"label": "path, Embree", "integrator": {"type": "path"}, "accel": "embree",
              "values": LADDER, "unbiased": ["path"]},
+            {"label": "path, Embree, adaptive (16-128 spp)", "integrator": {"type": "path"},
+             "accel": "embree", "knob": "adaptive", "values": [0.4, 0.2, 0.1, 0.05],
+             "spp": 128, "min_spp": 16},
             {"label": "path, SAH kd-tree", "integrator": {"type": "path"}, "accel": "kdtree",
              "values": LADDER, "unbiased": ["path"]},
             {"label": "path, median kd-tree", "integrator": {"type": "path"},
@@ -86,6 +89,10 @@ EFFECTS = [
         "methods": [
             {"label": "path", "integrator": {"type": "path"}, "values": [1, 4, 16, 64, 256],
              "unbiased": ["path"]},
+            # Adaptive sampling: the knob is the threshold, each pixel takes 16 to 256 spp.
+            {"label": "path, adaptive (16-256 spp)", "integrator": {"type": "path"},
+             "knob": "adaptive", "values": [0.4, 0.2, 0.1, 0.05, 0.025], "spp": 256,
+             "min_spp": 16},
             {"label": "instant radiosity, 4 spp, unclamped",
              "integrator": {"type": "instant-radiosity", "vpl_clamp": 0}, "knob": "vpl_paths",
              "values": [16, 64, 256, 1024], "spp": 4},
@@ -290,9 +297,10 @@ def assets_dir():
     return os.environ.get("GLINT_ASSETS") or os.path.join(os.path.dirname(ROOT), "shared", "assets")
 
 
-def scene_with(effect, integrator, work):
-    """The scene (or sidecar) of `effect` with `integrator` merged into render.integrator,
-    written under `work` (named by its content's hash); returns (scene, sidecar, text)."""
+def scene_with(effect, integrator, work, render_keys=None):
+    """The scene (or sidecar) of `effect` with `integrator` merged into render.integrator (and
+    `render_keys`, e.g. adaptive sampling, into render), written under `work` (named by its
+    content's hash); returns (scene, sidecar, text)."""
     base = effect.get("sidecar") or effect["scene"]
     with open(os.path.join(ROOT, base)) as f:
         doc = json.load(f)
@@ -309,6 +317,7 @@ def scene_with(effect, integrator, work):
         merged = {k: v for k, v in current.items() if k in ("max_depth", "rr_depth")}
     merged.update(integrator)
     render_block["integrator"] = merged
+    render_block.update(render_keys or {})
     text = json.dumps(doc, indent=1, sort_keys=True)
     digest = hashlib.sha256(text.encode()).hexdigest()[:16]
     os.makedirs(os.path.join(work, "scenes"), exist_ok=True)
@@ -326,7 +335,8 @@ def scene_with(effect, integrator, work):
 
 
 def render_spec(args, effect, spec, spp, out, repeat):
-    scene, sidecar, _ = scene_with(effect, spec.get("integrator", {}), args.work)
+    scene, sidecar, _ = scene_with(effect, spec.get("integrator", {}), args.work,
+                                   spec.get("render"))
     return render(args.glint, scene, out, spp, effect["width"], effect["height"],
                   seed=spec.get("seed", 1), camera=spec.get("camera"), accel=spec.get("accel"),
                   sidecar=sidecar, threads=args.threads, repeat=repeat)
@@ -394,13 +404,17 @@ def measure(args, effect):
         for value in m["values"]:
             integrator = dict(m.get("integrator", {}))
             spp = value if knob == "spp" else m["spp"]
-            if knob != "spp":
+            render_keys = None
+            if knob == "adaptive":  # adaptive sampling's threshold, at most `spp` per pixel
+                render_keys = {"adaptive": {"threshold": value, "min_spp": m.get("min_spp", 16)}}
+            elif knob != "spp":
                 integrator[knob] = value
-            spec = dict(m, integrator=integrator)
+            spec = dict(m, integrator=integrator, render=render_keys)
             tag = "".join(c if c.isalnum() else "_" for c in m["label"])
             out = os.path.join(folder, f"{tag}_{knob}{value}.exr")
             st = render_spec(args, effect, spec, spp, out, args.repeat)
-            point = {knob: value, "spp": spp, "seconds": seconds(st),
+            point = {knob: value, "spp": spp, "mean_spp": st.get("mean_spp", spp),
+                     "seconds": seconds(st),
                      "render_seconds": st["render_seconds"],
                      "accel_build_seconds": st.get("accel_build_seconds", 0.0),
                      "rays": st["rays"]["total"], "nonfinite_samples": st.get("nonfinite_samples", 0),

@@ -95,9 +95,9 @@ std::vector<LightCase> lightCases() {
     p.kind = kind, p.origin = origin, p.radius = radius, p.height = height, p.normal = normal;
     return p;
   };
-  auto face = [](Vec3f origin, Vec3f eu, Vec3f ev, Vec3f normal) {
+  auto face = [](Vec3f origin, Vec3f edgeU, Vec3f edgeV, Vec3f normal) {
     SurfacePart p;
-    p.origin = origin, p.edgeU = eu, p.edgeV = ev, p.normal = normal;
+    p.origin = origin, p.edgeU = edgeU, p.edgeV = edgeV, p.normal = normal;
     return p;
   };
   const Vec3f lo{-0.5f, -0.3f, -0.4f}, ex{1, 0, 0}, ey{0, 0.6f, 0}, ez{0, 0, 0.8f};

@@ -102,8 +102,8 @@ TEST_P(MotionRender, BlurEqualsTheAverageOfStaticFrames) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Materials, MotionRender, testing::Values(false, true),
-                         [](const testing::TestParamInfo<bool>& info) {
-                           return info.param ? "ObjectSpaceTexture" : "Plain";
+                         [](const testing::TestParamInfo<bool>& p) {
+                           return p.param ? "ObjectSpaceTexture" : "Plain";
                          });
 
 TEST(MotionRenderThreads, SameImageForAnyThreadCount) {
