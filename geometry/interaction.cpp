@@ -60,6 +60,26 @@ void triangleTangents(const TriangleMesh& mesh, const Transform& xf, bool identi
   }
 }
 
+// Embree intersects an instanced mesh by moving the ray into object space itself, in float
+// and without error bounds: the origin o of a ray spawned from p becomes W o (W = M^-1, which
+// Embree inverts in float too), off by about gamma(k) (|W| |o| + |W_t|) on each object axis;
+// M maps that back to world space. Where the cancellation in W o is large (a small triangle
+// far from the origin) this dwarfs p's own error, and without it a spawned ray can start
+// behind the surface Embree sees. k = 3 for the product plus a margin for the inverse.
+Vec3f instanceRayTransformError(const Transform& xf, Vec3f p) {
+  constexpr int kTransformRoundings = 8;
+  const auto& w = xf.inverseMatrix().m;
+  const auto& m = xf.matrix().m;
+  float obj[3];
+  for (int r = 0; r < 3; ++r)
+    obj[r] = gamma(kTransformRoundings) * (std::abs(w[r][0] * p.x) + std::abs(w[r][1] * p.y) +
+                                           std::abs(w[r][2] * p.z) + std::abs(w[r][3]));
+  Vec3f world;
+  for (int r = 0; r < 3; ++r)
+    world[r] = std::abs(m[r][0]) * obj[0] + std::abs(m[r][1]) * obj[1] + std::abs(m[r][2]) * obj[2];
+  return world * (1 + gamma(4));
+}
+
 // A triangle hit on an instance placed by `xf` (its transform at the ray's time when it moves).
 // Inlined twice, for static and moving meshes, so the static path carries no motion code.
 [[gnu::always_inline]] inline SurfaceInteraction triangleInteraction(
@@ -83,19 +103,20 @@ void triangleTangents(const TriangleMesh& mesh, const Transform& xf, bool identi
       si.pError = errObj;
     } else {
       si.p = xf.point(pObj, errObj, &si.pError);
+      si.pError += instanceRayTransformError(xf, si.p);
     }
     if (moves) {
       // Embree evaluated the transform at this time itself; its float slerp and matrix build
-      // agree with ours only to about 1e-6 of the matrix's scale (measured against
-      // rtcGetGeometryTransform), far above one rounding: without this margin a ray spawned
-      // from the point could start behind the surface Embree intersects.
-      constexpr float kMotionRelError = 4e-6f;
+      // agree with ours only to a few 1e-6 of the matrix's scale (more between nearly
+      // parallel rotations), far above one rounding: without this margin a ray spawned from
+      // the point could start behind the surface Embree intersects.
+      const float mismatch = inst.motion.interpolationMismatch(ray.time);
       const auto& m = xf.matrix().m;
       float entry = 0;
       for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) entry = std::max(entry, std::abs(m[r][c]));
-      const float reach = entry * (std::abs(pObj.x) + std::abs(pObj.y) + std::abs(pObj.z));
-      for (int r = 0; r < 3; ++r) si.pError[r] += kMotionRelError * (reach + std::abs(m[r][3]));
+      const float reach = entry * (std::abs(pObj.x) + std::abs(pObj.y) + std::abs(pObj.z) + 1);
+      for (int r = 0; r < 3; ++r) si.pError[r] += mismatch * (reach + std::abs(m[r][3]));
     }
   }
 

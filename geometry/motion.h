@@ -69,6 +69,12 @@ class AnimatedTransform {
   // The transform at normalised shutter time `time` (clamped to [0, 1]). Exactly key i at time
   // i / (n - 1); the first key when not animated.
   Transform at(float time) const;
+  // A bound on how far Embree's own interpolation of these keys at `time` (the transform it
+  // intersected a moving mesh with) may differ from at(time), relative to the matrix's scale:
+  // entry by entry, |M_embree - M| <= bound * (largest linear entry [+ |translation|]). Both
+  // slerp the same way but round differently; between nearly parallel rotations the
+  // difference is amplified by 1 / sin(angle). Zero when not animated.
+  float interpolationMismatch(float time) const;
   // Bounds of `b` swept over the shutter, sampled at the keys and `steps` times between
   // consecutive keys. For framing and statistics only: traversal bounds are Embree's own.
   Bounds3f motionBounds(const Bounds3f& b, int steps = 8) const;

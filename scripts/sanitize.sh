@@ -54,11 +54,6 @@ kHeavyTests='KdTree.MatchesBruteForce*:KdTree.AgreesWithEmbreeOnManyBunnyRays'
 kHeavyTests+=':ImageReference*:*Chi2*:Furnace.*:InstantRadiosity.*'
 kHeavyTests+=':TrowbridgeReitz.SampledVisibleNormalsFollowThePdf'
 kHeavyTests+=':CliFrames.*:CliTonemap.*:CliBenchAccel.*:DiffCommand.*'
-# Not sanitizer reports: these two numerical tests fail when glint is compiled with Clang
-# (40 re-hits in SpawnedRays; 5.3e-6 against a 3e-6 tolerance in AnimatedTransform), found
-# by this stage on its first run and handed on; remove them here once they pass.
-kHeavyTests+=':SpawnedRays.NeverReHitTheirTriangleAtAnyScale'
-kHeavyTests+=':AnimatedTransform.AgreesWithEmbreesInterpolation'
 filter=${SANITIZE_FILTER:-}
 if [[ -z $filter ]]; then
   filter='*'

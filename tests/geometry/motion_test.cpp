@@ -146,8 +146,10 @@ TEST(AnimatedTransform, IdenticalKeysCollapseToStatic) {
   EXPECT_FALSE(AnimatedTransform().isAnimated());
 }
 
-// Our transform at a time must be the one Embree intersected: Embree's slerp uses an
-// approximate acos (error ~1e-6 rad), which a libm acos would miss by far more than rounding.
+// Our transform at a time must be the one Embree intersected, to within the bound
+// interpolationMismatch() states: Embree's slerp uses an approximate acos (error ~1e-6 rad),
+// which a libm acos would miss by far more than rounding, and nearly parallel keys amplify
+// rounding differences. 2000 random key sets, with 3 keys each.
 TEST(AnimatedTransform, AgreesWithEmbreesInterpolation) {
   std::mt19937 rng(8);
   std::uniform_real_distribution<float> u(-1, 1), u01(0, 1);
@@ -155,13 +157,21 @@ TEST(AnimatedTransform, AgreesWithEmbreesInterpolation) {
   RTCScene empty = rtcNewScene(device);
   rtcCommitScene(empty);
   float worst = 0;
-  for (int i = 0; i < 50; ++i) {
+  for (int i = 0; i < 2000; ++i) {
     std::vector<Transform> keys;
-    for (int k = 0; k < 3; ++k)
-      keys.push_back(Transform::translate(Vec3f{u(rng), u(rng), u(rng)} * 3) *
-                     Transform::rotate(150 * u(rng), {u(rng), u(rng), u(rng) + 2}) *
-                     shear(0.3f * u(rng), 0.3f * u(rng), 0.3f * u(rng)) *
-                     Transform::scale({1.5f + u(rng), 1.5f + u(rng), 1.5f + u(rng)}));
+    for (int k = 0; k < 3; ++k) {
+      // One draw per statement or braced list: function arguments and the operands of * are
+      // evaluated in an unspecified order (GCC and Clang differ), which would give each
+      // compiler different keys.
+      const Vec3f t = Vec3f{u(rng), u(rng), u(rng)} * 3;
+      const float angle = 150 * u(rng);
+      Vec3f axis{u(rng), u(rng), u(rng)};
+      axis.z += 2;
+      const Vec3f skew = Vec3f{u(rng), u(rng), u(rng)} * 0.3f;
+      const Vec3f s = Vec3f{u(rng), u(rng), u(rng)} + Vec3f{1.5f, 1.5f, 1.5f};
+      keys.push_back(Transform::translate(t) * Transform::rotate(angle, axis) *
+                     shear(skew.x, skew.y, skew.z) * Transform::scale(s));
+    }
     AnimatedTransform motion(keys);
     RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
     rtcSetGeometryInstancedScene(geom, empty);
@@ -184,16 +194,26 @@ TEST(AnimatedTransform, AgreesWithEmbreesInterpolation) {
       float m[12];  // 3x4 column-major
       rtcGetGeometryTransform(geom, time, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, m);
       const Transform ours = motion.at(time);
+      // Relative to the largest linear entry (the scale at which the rotation was computed);
+      // translations also relative to their own size.
+      const auto& a = ours.matrix().m;
+      float entry = 0;
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) entry = std::max(entry, std::abs(a[r][c]));
       for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 3; ++r)
-          worst = std::max(worst, std::abs(m[c * 3 + r] - ours.matrix().m[r][c]));
+        for (int r = 0; r < 3; ++r) {
+          const float size = c == 3 ? entry + std::abs(a[r][3]) : entry;
+          worst = std::max(worst, std::abs(m[c * 3 + r] - a[r][c]) / size /
+                                      motion.interpolationMismatch(time));
+        }
     }
     rtcReleaseGeometry(geom);
   }
   rtcReleaseScene(empty);
   rtcReleaseDevice(device);
-  // Entries are up to ~5 (translation 3 plus a rotated scale of 2.5): a few float ulps.
-  EXPECT_LT(worst, 3e-6f);
+  // The bound the spawn offsets of moving meshes rely on holds with a margin of 2 (measured:
+  // about 3 over 20000 key sets, many of them between nearly parallel rotations).
+  EXPECT_LT(worst, 0.5f);
 }
 
 // ---- per-key bounds --------------------------------------------------------------------------
