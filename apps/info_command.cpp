@@ -1,8 +1,10 @@
 // glint — `glint info`: what a scene holds and which effects it calls for.
 #include <cstdio>
+#include <map>
 
 #include "apps/cli_common.h"
 #include "apps/commands.h"
+#include "apps/frames.h"
 #include "renderer/integrator.h"
 #include "scenes/build.h"
 #include "scenes/load.h"
@@ -14,6 +16,7 @@ namespace {
 struct InfoArgs {
   std::string scene;
   std::optional<std::string> sidecar;
+  std::optional<std::string> frames;  // --frames A-B[:STEP]
   SceneOverrides overrides;
 };
 
@@ -81,6 +84,60 @@ std::string objectSummary(const ObjectDesc& o) {
       return name + " (terrain, " + std::to_string(2ull << (2 * o.terrain.depth)) + " triangles)";
   }
   return name;
+}
+
+// The effects of every frame of `args.frames` (each built as `glint render --frames` would
+// build it), with the first and last frame each one appears in: an animation's effects come
+// and go (a lens only in the closing shot, motion blur while something moves).
+int printEffectsOverFrames(const InfoArgs& args, double fps) {
+  struct Seen {
+    int first = 0, last = 0, frames = 0;
+  };
+  std::map<std::string, Seen> seen;
+  FrameRange range;
+  int checked = 0;
+  try {
+    range = parseFrameRange(*args.frames);
+  } catch (const std::invalid_argument& e) {
+    printError(std::string("--frames: ") + e.what());
+    return 2;
+  }
+  try {
+    const SceneLoader loader(args.scene, args.sidecar);
+    for (int frame : range.frames()) {
+      SceneDescription d = loader.at(double(frame) / fps);
+      args.overrides.apply(&d);
+      const RenderScene s = buildRenderScene(d);
+      ++checked;
+      for (const std::string& name : s.features.names()) {
+        auto it = seen.try_emplace(name, Seen{frame, frame, 0}).first;
+        it->second.last = frame;
+        ++it->second.frames;
+      }
+    }
+  } catch (const SceneError& e) {
+    printError(e.what());
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    printError(args.scene + ": " + e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    printError(args.scene + ": cannot build the scene: " + std::string(e.what()));
+    return 1;
+  }
+  // Sorted by feature, as the single-frame line is.
+  std::vector<std::string> names;
+  for (uint32_t i = 0; i < uint32_t(Feature::Count); ++i)
+    if (seen.count(featureName(Feature(i)))) names.push_back(featureName(Feature(i)));
+  std::printf("effects over frames %d-%d (every %d, %d frames at %g fps):\n", range.first,
+              range.last, range.step, checked, fps);
+  for (const std::string& name : names) {
+    const Seen& s = seen[name];
+    std::printf("  %-22s frames %d-%d (%d of %d checked)\n", name.c_str(), s.first, s.last,
+                s.frames, checked);
+  }
+  if (names.empty()) std::printf("  none\n");
+  return 0;
 }
 
 int runInfo(const InfoArgs& args) {
@@ -157,6 +214,7 @@ int runInfo(const InfoArgs& args) {
                                       : listNames(
                                             effects, [](const std::string& s) { return s; }, 64)
                                             .c_str());
+  if (args.frames) return printEffectsOverFrames(args, desc.render.fps);
   return 0;
 }
 
@@ -169,6 +227,9 @@ void addInfoCommand(CLI::App& app, int* exitCode) {
   cmd->add_option("scene", args->scene, "a .gltf/.glb scene or a glint .json scene")->required();
   cmd->add_option("--sidecar", args->sidecar,
                   "sidecar JSON (default: NAME.glint.json beside the glTF)");
+  cmd->add_option("--frames", args->frames,
+                  "also list the effects of frames A-B[:STEP] of the animation (at render.fps), "
+                  "each with the first and last frame it appears in");
   args->overrides.addOptions(cmd);
   cmd->callback([args, exitCode] { *exitCode = runInfo(*args); });
 }

@@ -79,11 +79,6 @@ InstantRadiosityIntegrator::InstantRadiosityIntegrator(const RenderScene& scene,
       rrDepth_(settings.rrDepth),
       paths_(settings.vplPaths),
       clamp_(settings.vplClamp) {
-  // Refuse rather than silently render fog as clear air.
-  if (scene.media)
-    throw std::invalid_argument(
-        "instant radiosity does not render participating media; use --integrator whitted or "
-        "path");
   if (settings.vplPaths <= 0)
     throw std::invalid_argument("instant radiosity: vpl_paths must be > 0");
   indirect_ = true;
@@ -125,6 +120,9 @@ void InstantRadiosityIntegrator::traceLightPaths(int paths, uint64_t seed) {
     if (!(maxComponent(power0) > 0) || !isFinite(power0)) continue;
 
     Rgb throughput{1, 1, 1};  // product of the flux weights since the light (for roulette)
+    // Transmittance estimates through heterogeneous media draw their own numbers, from a
+    // stream of the path's own (the Halton dimensions stay the same with or without media).
+    Sampler mediaSampler(mixBits(seed ^ 0x6d656469615f7670ull) ^ uint64_t(path), 0);
     Ray ray = le->ray;
     Hit hit;
     for (int vertex = 1; vertex <= lastVertex; ++vertex) {
@@ -136,6 +134,12 @@ void InstantRadiosityIntegrator::traceLightPaths(int paths, uint64_t seed) {
 
       ++lightPathRays_;
       if (!scene_.accel->closestHit(ray, &hit)) break;
+      if (media()) {
+        // The flux that arrives: the segment's transmittance (estimated, unbiased for
+        // tracking) weights the rest of the path.
+        throughput *= media()->transmittance(ray, hit.t, mediaSampler);
+        if (!(maxComponent(throughput) > 0)) break;
+      }
       const uint32_t materialIndex = scene_.materialIndex(hit);
       const Material& material = *scene_.materials[materialIndex];
       const MaterialShading& shading = shading_[materialIndex];
@@ -194,7 +198,7 @@ void InstantRadiosityIntegrator::traceLightPaths(int paths, uint64_t seed) {
 
 Rgb InstantRadiosityIntegrator::indirectLight(const SurfaceInteraction& si,
                                               const Material& material, float time,
-                                              RayCounters& counters) const {
+                                              Sampler& sampler, RayCounters& counters) const {
   Rgb L;
   const float pointError = length(si.pError);
   for (const Vpl& v : vpls_) {
@@ -216,7 +220,14 @@ Rgb InstantRadiosityIntegrator::indirectLight(const SurfaceInteraction& si,
       // Both ends leave their surfaces by their error bounds, as light shadow rays do.
       const Vec3f target = offsetRayOrigin(v.si.p, v.si.pError, v.si.ng, si.p - v.si.p);
       ++counters.shadow;
-      if (scene_.accel->anyHit(spawnRayTo(si.p, si.pError, si.ng, target, time))) continue;
+      const Ray shadow = spawnRayTo(si.p, si.pError, si.ng, target, time);
+      if (scene_.accel->anyHit(shadow)) continue;
+      if (media()) {
+        const Rgb Tr = media()->transmittance(shadow, shadow.tMax, sampler);
+        if (!(maxComponent(Tr) > 0)) continue;
+        L += contribution * Tr;
+        continue;
+      }
     }
     L += contribution;
   }

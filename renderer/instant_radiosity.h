@@ -47,7 +47,14 @@
 // (vpl_bench: RMSE 0.094, 0.038, 0.015, 0.009 for 16, 64, 256, 1024 paths). Without
 // Feature::Shadows (no light casts shadows) VPLs, like the lights, shine through walls.
 //
-// Not handled: participating media (refused), motion (light paths are traced at shutter open,
+// Participating media are rendered as the Whitted integrator renders them (emission and single
+// scattering of the lights along camera and secondary rays). VPL light is attenuated by the
+// media it crosses, both along the light paths (each segment's transmittance weights the
+// path) and along the VPL shadow rays, but it does not scatter in them: VPLs stand only on
+// surfaces. Fog therefore dims indirect light correctly but shows no in-scattered glow from it
+// (the path tracer's multiple scattering has that).
+//
+// Not handled: motion (light paths are traced at shutter open,
 // time 0), and light that reaches a diffuse point by a mirror after the gather point's own
 // bounce (caustics seen on diffuse surfaces from the camera side): VPLs stand only on
 // non-delta surfaces. `auto` never picks this integrator: its bias and splotches are a
@@ -77,7 +84,7 @@ struct Vpl {
 class InstantRadiosityIntegrator final : public WhittedIntegrator {
  public:
   // Traces the light paths (settings.vplPaths, seeded by `seed`). Throws std::invalid_argument
-  // for scenes with participating media.
+  // when vplPaths <= 0.
   InstantRadiosityIntegrator(const RenderScene& scene, const IntegratorSettings& settings,
                              uint64_t seed = 0);
 
@@ -93,7 +100,7 @@ class InstantRadiosityIntegrator final : public WhittedIntegrator {
   void traceLightPaths(int paths, uint64_t seed);
   // The light every VPL sends to `si`, with shadow rays.
   Rgb indirectLight(const SurfaceInteraction& si, const Material& material, float time,
-                    RayCounters& counters) const override;
+                    Sampler& sampler, RayCounters& counters) const override;
 
   int rrDepth_;
   int paths_;     // light paths traced

@@ -41,7 +41,8 @@ struct IntegratorSettings {
   std::string lightSampler = "power";  // next-event estimation: "uniform" | "power" | "bvh"
   // Participating media. Whitted: emission only, or single scattering ("multiple" acts as
   // "single"); path: "emission" scatters nothing, the others scatter any number of times
-  // (tracking); instant radiosity refuses scenes with media.
+  // (tracking); instant radiosity renders them as Whitted does, its VPL light attenuated by
+  // them but not scattered.
   std::string volume = "single";           // "emission" (absorb and emit) | "single" | "multiple"
   std::string volumeEstimator = "march";   // "march" (fixed steps) | "track" (ratio/delta tracking)
   float volumeStep = 0;                    // march step, world units; 0 = from each medium's size

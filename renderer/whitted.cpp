@@ -57,7 +57,7 @@ Rgb WhittedIntegrator::shade(const Ray& ray, const Hit* found, const RayCone& co
     if (shading.emits) L = material.emitted(si);
     L += directLight(si, material, ray.time, sampler, counters);
     if (indirect_ && (shading.flags & (kBsdfDiffuse | kBsdfGlossy)))
-      L += indirectLight(si, material, ray.time, counters);
+      L += indirectLight(si, material, ray.time, sampler, counters);
   }
   // Mirror and glass: follow the reflected and the refracted ray, each with its own weight.
   if ((shading.flags & kBsdfSpecular) && depth < maxDepth_)

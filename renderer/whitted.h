@@ -30,10 +30,12 @@ class WhittedIntegrator : public Integrator {
   // Light beyond the direct at a diffuse or glossy point (instant radiosity's VPLs), asked
   // only when `indirect_` is set. Plain Whitted has none.
   virtual Rgb indirectLight(const SurfaceInteraction& si, const Material& material, float time,
-                            RayCounters& counters) const {
-    (void)si, (void)material, (void)time, (void)counters;
+                            Sampler& sampler, RayCounters& counters) const {
+    (void)si, (void)material, (void)time, (void)sampler, (void)counters;
     return {};
   }
+  // The scene's media when it has them (Feature::Volumes), else null.
+  const MediaScene* media() const { return media_; }
   bool indirect_ = false;
   int maxDepth_;
   bool shadows_;

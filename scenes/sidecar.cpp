@@ -9,6 +9,7 @@
 #include "scenes/gltf_loader.h"
 #include "scenes/json_reader.h"
 #include "scenes/json_util.h"
+#include "scenes/paths.h"
 #include "scenes/sidecar_lights.h"
 #include "scenes/sidecar_materials.h"
 #include "scenes/sidecar_media.h"
@@ -329,7 +330,6 @@ void readLights(JsonReader& root, SceneDescription* scene) {
 // Reads the "gltf" list; loads the files only when `load` (SceneLoader loads them once and
 // then re-applies the rest of the scene per frame).
 void loadGltfList(JsonReader& root, const std::string& file, SceneDescription* scene, bool load) {
-  fs::path folder = fs::path(file).parent_path();
   for (const JsonItem& entry : root.optionalArray("gltf")) {
     std::string relative;
     SourceLocation at = entry.where;
@@ -345,15 +345,13 @@ void loadGltfList(JsonReader& root, const std::string& file, SceneDescription* s
       throw SceneError(entry.where, "expected a file name or an object with 'file', got " +
                                         jsonTypeName(*entry.value));
     }
-    fs::path path = fs::path(relative).is_absolute() ? fs::path(relative) : folder / relative;
+    fs::path path = resolveScenePath(relative, file);
     std::string ext = path.extension().string();
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
     if (ext != ".gltf" && ext != ".glb")
       throw SceneError(at, "expected a .gltf or .glb file, got '" + relative + "'");
     if (!load) continue;
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec)) throw SceneError(at, "file not found: " + path.string());
-    loadGltf(path.string(), scene, transform);
+    loadGltf(existingScenePath(relative, file, at).string(), scene, transform);
   }
 }
 

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <filesystem>
 
+#include "scenes/paths.h"
+
 namespace glint {
 
 namespace fs = std::filesystem;
@@ -117,11 +119,7 @@ void readEnvironment(JsonReader& root, const std::string& file, SceneDescription
   env.rotation = radians(r->get<float>("rotation_degrees", 0));
   if (r->has("image")) {
     const std::string relative = r->get<std::string>("image");
-    fs::path path = fs::path(relative);
-    if (!path.is_absolute()) path = fs::path(file).parent_path() / path;
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec))
-      throw SceneError(r->where("image"), "file not found: " + path.string());
+    const fs::path path = existingScenePath(relative, file, r->where("image"));
     std::string ext = path.extension().string();
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
     if (ext != ".exr")

@@ -3,6 +3,8 @@
 
 #include <filesystem>
 
+#include "scenes/paths.h"
+
 namespace glint {
 
 namespace fs = std::filesystem;
@@ -62,7 +64,7 @@ void readColors(JsonReader& r, TextureDesc* t) {
   t->colorB = colors[1].as<Rgb>(kNonNegative);
 }
 
-TextureDesc readTexture(JsonReader& r, const fs::path& folder) {
+TextureDesc readTexture(JsonReader& r, const std::string& file) {
   TextureDesc t;
   t.where = r.where();
   t.name = r.get<std::string>("name");
@@ -74,11 +76,7 @@ TextureDesc readTexture(JsonReader& r, const fs::path& folder) {
   if (type == "image") {
     t.kind = TextureKind::ImageFile;
     const std::string relative = r.get<std::string>("file");
-    fs::path path = fs::path(relative).is_absolute() ? fs::path(relative) : folder / relative;
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec))
-      throw SceneError(r.where("file"), "file not found: " + path.string());
-    t.file = path.string();
+    t.file = existingScenePath(relative, file, r.where("file")).string();
     t.encoding = r.oneOf<TextureDesc::Encoding>("colorspace",
                                                 {{"auto", TextureDesc::Encoding::Auto},
                                                  {"srgb", TextureDesc::Encoding::Srgb},
@@ -295,9 +293,8 @@ const char* materialTypeName(MaterialType type) {
 }
 
 void readTextures(JsonReader& root, const std::string& file, SceneDescription* scene) {
-  const fs::path folder = fs::path(file).parent_path();
   for (JsonReader* r : root.objects("textures")) {
-    TextureDesc t = readTexture(*r, folder);
+    TextureDesc t = readTexture(*r, file);
     for (const TextureDesc& other : scene->textures)
       if (other.name == t.name)
         throw SceneError(r->where("name"), "duplicate texture name '" + t.name + "' (also at " +

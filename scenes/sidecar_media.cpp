@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "materials/medium.h"
+#include "scenes/paths.h"
 #include "scenes/sidecar_objects.h"
 
 namespace glint {
@@ -50,12 +51,7 @@ void readGrid(JsonReader& d, const std::string& file, MediumDesc* m) {
                                 "'resolution'");
   if (d.has("file")) {
     const std::string relative = d.get<std::string>("file");
-    const fs::path path = fs::path(relative).is_absolute()
-                              ? fs::path(relative)
-                              : fs::path(file).parent_path() / relative;
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec))
-      throw SceneError(d.where("file"), "file not found: " + path.string());
+    const fs::path path = existingScenePath(relative, file, d.where("file"));
     VolumeGrid grid;
     try {
       grid = readVolFile(path.string());

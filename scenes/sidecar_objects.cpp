@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "scenes/csg_rpn.h"
+#include "scenes/paths.h"
 
 namespace glint {
 
@@ -177,11 +178,7 @@ ObjectDesc readObject(JsonReader& r, const std::string& file, SceneDescription* 
         throw SceneError(r.where("tree"), "a CSG tree needs an operation at its root");
     } else {
       std::string relative = r.get<std::string>("file");
-      fs::path path = fs::path(relative).is_absolute() ? fs::path(relative)
-                                                       : fs::path(file).parent_path() / relative;
-      std::error_code ec;
-      if (!fs::is_regular_file(path, ec))
-        throw SceneError(r.where("file"), "file not found: " + path.string());
+      const fs::path path = existingScenePath(relative, file, r.where("file"));
       obj.csg = loadCsgRpn(path.string());
       resolveCsgMaterials(&obj.csg, scene);
     }

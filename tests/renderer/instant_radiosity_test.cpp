@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -123,6 +125,41 @@ TEST(InstantRadiosity, UnclampedConvergesToThePathTracer) {
           << " path sigma " << ref.sigma;
       EXPECT_GT(ref.mean, 0.05) << "the region is lit";
     }
+  }
+}
+
+// In an absorbing fog (no scattering, so nothing is missing from instant radiosity's model)
+// the VPLs' light is attenuated along the light paths and the VPL shadow rays, and the image
+// converges to the path tracer's, which is some 40% darker than the clear box.
+TEST(InstantRadiosity, AbsorbingFogConvergesToThePathTracer) {
+  const int size = 12, seeds = 3;
+  auto foggy = [](const std::string& json) {
+    nlohmann::json j = nlohmann::json::parse(json);
+    j["media"] = nlohmann::json::array({{{"name", "haze"}, {"sigma_a", 0.35}}});
+    return j.dump();
+  };
+  const Rendered reference =
+      renderWith(foggy(test::cornellBoxJson(size, 2048, 1, pathSettings())));
+  const Rendered clear = renderWith(test::cornellBoxJson(size, 256, 1, pathSettings()));
+  std::vector<Film> ir;
+  for (int s = 0; s < seeds; ++s) {
+    Rendered r = renderWith(foggy(test::cornellBoxJson(size, 16, 20 + s, irSettings(512, 0))));
+    EXPECT_EQ(r.stats.nonfiniteSamples, 0u);
+    ir.push_back(std::move(r.film));
+  }
+  for (int c = 0; c < 3; ++c) {
+    const Estimate ref = regionMean(reference.film, 0, 0, size, size, c);
+    double sum = 0, sumSq = 0;
+    for (const Film& f : ir) {
+      const double m = regionMean(f, 0, 0, size, size, c).mean;
+      sum += m, sumSq += m * m;
+    }
+    const double mean = sum / seeds;
+    const double spread = std::sqrt(std::max(0.0, (sumSq - sum * mean) / (seeds - 1)));
+    const double sigma = std::sqrt(ref.sigma * ref.sigma + spread * spread / seeds);
+    EXPECT_NEAR(mean, ref.mean, 4 * sigma + 0.015 * ref.mean) << "channel " << c;
+    // The fog matters: the clear box is far brighter than the error allowed above.
+    EXPECT_GT(regionMean(clear.film, 0, 0, size, size, c).mean, 1.2 * ref.mean) << "channel " << c;
   }
 }
 
