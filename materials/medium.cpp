@@ -45,15 +45,17 @@ float GridDensity::density(Vec3f p) const {
   return lerp1(f[2], lerp1(f[1], x00, x10), lerp1(f[1], x01, x11));
 }
 
-NoiseDensity::NoiseDensity(float scale, int octaves, float threshold, uint64_t seed)
+NoiseDensity::NoiseDensity(float scale, int octaves, float threshold, uint64_t seed,
+                           Vec3f offset)
     : noise_(seed),
       scale_(scale),
+      offset_(offset),
       octaves_(octaves),
       threshold_(threshold),
       amplitudeSum_(octaveAmplitudeSum(octaves, 0.5f)) {}
 
 float NoiseDensity::density(Vec3f p) const {
-  const float n = std::clamp(0.5f + 0.5f * noise_.fbm(p * scale_, octaves_) / amplitudeSum_,
+  const float n = std::clamp(0.5f + 0.5f * noise_.fbm((p - offset_) * scale_, octaves_) / amplitudeSum_,
                              0.0f, 1.0f);
   return std::max(0.0f, n - threshold_) / (1 - threshold_);
 }

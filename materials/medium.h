@@ -67,17 +67,20 @@ class GridDensity final : public DensityField {
   float max_ = 0;
 };
 
-// Clouds from fractal Perlin noise: n = 0.5 + 0.5 fbm(scale p) / (sum of octave amplitudes),
-// clamped to [0, 1]; density = max(0, n - threshold) / (1 - threshold), in [0, 1].
+// Clouds from fractal Perlin noise: n = 0.5 + 0.5 fbm(scale (p - offset)) / (sum of octave
+// amplitudes), clamped to [0, 1]; density = max(0, n - threshold) / (1 - threshold), in [0, 1].
+// A keyframed offset moves the pattern through its region (smoke rising, clouds drifting).
 class NoiseDensity final : public DensityField {
  public:
-  NoiseDensity(float scale, int octaves, float threshold, uint64_t seed);
+  NoiseDensity(float scale, int octaves, float threshold, uint64_t seed,
+               Vec3f offset = {0, 0, 0});
   float density(Vec3f p) const override;
   float maxDensity(const Bounds3f&) const override { return 1; }
 
  private:
   PerlinNoise noise_;
   float scale_;
+  Vec3f offset_;
   int octaves_;
   float threshold_;
   float amplitudeSum_;

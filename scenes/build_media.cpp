@@ -31,7 +31,7 @@ std::unique_ptr<DensityField> makeDensity(const MediumDesc& m, const Bounds3f& r
                                            m.gridValues, regionBounds);
     case DensityType::Noise:
       return std::make_unique<NoiseDensity>(m.noiseScale, m.noiseOctaves, m.noiseThreshold,
-                                            m.noiseSeed);
+                                            m.noiseSeed, m.noiseOffset);
     case DensityType::Exponential:
       return std::make_unique<ExponentialDensity>(m.up, m.falloff, m.h0);
     case DensityType::Constant:

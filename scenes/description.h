@@ -295,6 +295,7 @@ struct MediumDesc {
   float noiseScale = 1, noiseThreshold = 0;         // noise
   int noiseOctaves = 4;
   uint64_t noiseSeed = 0;
+  Vec3f noiseOffset{0, 0, 0};                       // noise: the pattern moves by this
   Vec3f up{0, 1, 0};                                // exponential
   float falloff = 1, h0 = 0;
   SourceLocation where;

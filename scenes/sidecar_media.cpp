@@ -91,6 +91,7 @@ void readDensity(JsonReader& d, const std::string& file, MediumDesc* m) {
       m->noiseOctaves = d.get<int>("octaves", 4, {.ge = 1, .le = 16});
       m->noiseThreshold = d.get<float>("threshold", 0.0f, {.ge = 0, .lt = 1});
       m->noiseSeed = d.get<uint64_t>("seed", uint64_t(0));
+      m->noiseOffset = d.get<Vec3f>("offset", Vec3f{0, 0, 0});
       break;
     case DensityType::Exponential:
       m->up = d.get<Vec3f>("up", Vec3f{0, 1, 0});

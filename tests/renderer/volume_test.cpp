@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "geometry/shapes/box.h"
 #include "materials/phase.h"
@@ -419,6 +420,23 @@ TEST(VolumeRender, SphereCastsAVolumetricShadow) {
     EXPECT_GT(beside, 0.02) << estimator;
     EXPECT_LT(shaft, 0.6 * beside) << estimator;
   }
+}
+
+// A noise density's offset moves the whole pattern: the field at p + offset is the field
+// without offset at p, and a non-zero offset changes what a fixed point sees (rising smoke).
+TEST(NoiseDensity, OffsetMovesThePattern) {
+  const NoiseDensity still(1.3f, 4, 0.2f, 7);
+  const Vec3f offset{0.25f, 1.5f, -0.75f};
+  const NoiseDensity moved(1.3f, 4, 0.2f, 7, offset);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(-2, 2);
+  int differ = 0;
+  for (int i = 0; i < 200; ++i) {
+    const Vec3f p{u(rng), u(rng), u(rng)};
+    EXPECT_NEAR(moved.density(p + offset), still.density(p), 1e-5f);
+    differ += std::abs(moved.density(p) - still.density(p)) > 1e-3f;
+  }
+  EXPECT_GT(differ, 50);
 }
 
 }  // namespace

@@ -38,7 +38,8 @@ TEST(SidecarMedia, ReadsRegionsCoefficientsAndDensities) {
     {"region": {"type": "box", "min": [0, 0, 0], "max": [1, 2, 3],
                 "transform": [{"translate": [1, 0, 0]}]},
      "emission": [1, 2, 3], "density": {"type": "noise", "scale": 3, "octaves": 2,
-                                        "threshold": 0.4, "seed": 9}},
+                                        "threshold": 0.4, "seed": 9,
+                                        "offset": [0.5, 1, 2]}},
     {"object": "ball", "sigma_a": {"keys": [[0, 1], [1, 3]]},
      "density": {"type": "grid", "resolution": [2, 1, 1], "values": [0, 2]}},
     {"region": {"type": "cylinder", "radius": 1, "height": 2}, "sigma_s": 1,
@@ -63,6 +64,8 @@ TEST(SidecarMedia, ReadsRegionsCoefficientsAndDensities) {
   EXPECT_EQ(s.media[1].noiseOctaves, 2);
   EXPECT_EQ(s.media[1].noiseThreshold, 0.4f);
   EXPECT_EQ(s.media[1].noiseSeed, 9u);
+  EXPECT_EQ(s.media[1].noiseOffset, (Vec3f{0.5f, 1, 2}));
+  EXPECT_EQ(s.media[0].noiseOffset, (Vec3f{0, 0, 0}));  // the default
   EXPECT_EQ(s.media[2].region, MediumDesc::Region::Object);
   EXPECT_EQ(s.media[2].object, 0);
   EXPECT_EQ(s.media[2].sigmaA.x, 1.0f);  // keyframes at the scene time 0
