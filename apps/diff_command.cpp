@@ -56,8 +56,7 @@ std::vector<float> rgbOf(const DiffImage& image, const std::string& path) {
   return rgb;
 }
 
-FlipReport flipImages(const DiffOptions& o) {
-  DiffImage a = readDiffImage(o.a), b = readDiffImage(o.b);
+FlipReport flipImages(const DiffOptions& o, const DiffImage& a, const DiffImage& b) {
   if (a.floatingPoint != b.floatingPoint)
     throw ImageReadError(fmt::format(
         "{} vs {}: FLIP compares two display-encoded images (PNG, JPEG) or two scene-linear "
@@ -247,13 +246,15 @@ int runDiff(const DiffOptions& o) {
     if (!o.statistical) {
       DiffResult r = diffImages(o.a, o.b, o.thresholds);
       std::optional<FlipReport> flip;
-      if (wantFlip && !r.sizeMismatch) flip = flipImages(o);
+      // OpenImageIO's comparison read the files itself; FLIP reads them once more.
+      if (wantFlip && !r.sizeMismatch) flip = flipImages(o, readDiffImage(o.a), readDiffImage(o.b));
       return report(o, r, flip);
     }
-    StatisticalResult r = diffStatistical(o.a, o.b, o.statistics);
+    const DiffImage a = readDiffImage(o.a), b = readDiffImage(o.b);
+    StatisticalResult r = diffStatistical(a, o.a, b, o.b, o.statistics);
     if (!o.heatMap.empty() && !r.sizeMismatch) writeZHeatMap(o.heatMap, r);
     std::optional<FlipReport> flip;
-    if (wantFlip && !r.sizeMismatch) flip = flipImages(o);
+    if (wantFlip && !r.sizeMismatch) flip = flipImages(o, a, b);
     return report(o, r, flip);
   } catch (const ImageReadError& e) {
     printError(e.what());

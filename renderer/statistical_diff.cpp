@@ -46,8 +46,11 @@ double normalTwoSidedQuantile(double p) {
 
 StatisticalResult diffStatistical(const std::string& pathA, const std::string& pathB,
                                   const StatisticalThresholds& t) {
-  DiffImage a = readDiffImage(pathA);
-  DiffImage b = readDiffImage(pathB);
+  return diffStatistical(readDiffImage(pathA), pathA, readDiffImage(pathB), pathB, t);
+}
+
+StatisticalResult diffStatistical(const DiffImage& a, const std::string& pathA, const DiffImage& b,
+                                  const std::string& pathB, const StatisticalThresholds& t) {
   StatisticalResult r;
   r.widthA = a.width, r.heightA = a.height;
   r.widthB = b.width, r.heightB = b.height;

@@ -76,6 +76,10 @@ struct StatisticalResult {
 // channels of its own.
 StatisticalResult diffStatistical(const std::string& a, const std::string& b,
                                   const StatisticalThresholds& t);
+// The same for images already read (`pathA`, `pathB` name them in errors), so that a caller
+// that also runs FLIP reads each file once.
+StatisticalResult diffStatistical(const DiffImage& a, const std::string& pathA, const DiffImage& b,
+                                  const std::string& pathB, const StatisticalThresholds& t);
 
 // The two-sided |z| whose tail probability is p: erfc(|z| / √2) = p.
 double normalTwoSidedQuantile(double p);
