@@ -86,6 +86,25 @@ std::string objectSummary(const ObjectDesc& o) {
   return name;
 }
 
+// Runs `load` (loading and building the scene); errors in the scene are reported and give
+// exit code 2, anything else 1; success gives 0.
+template <class Load>
+int loadingScene(const InfoArgs& args, Load load) {
+  try {
+    load();
+    return 0;
+  } catch (const SceneError& e) {
+    printError(e.what());
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    printError(args.scene + ": " + e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    printError(args.scene + ": cannot build the scene: " + std::string(e.what()));
+    return 1;
+  }
+}
+
 // The effects of every frame of `args.frames` (each built as `glint render --frames` would
 // build it), with the first and last frame each one appears in: an animation's effects come
 // and go (a lens only in the closing shot, motion blur while something moves).
@@ -102,7 +121,7 @@ int printEffectsOverFrames(const InfoArgs& args, double fps) {
     printError(std::string("--frames: ") + e.what());
     return 2;
   }
-  try {
+  const int status = loadingScene(args, [&] {
     const SceneLoader loader(args.scene, args.sidecar);
     for (int frame : range.frames()) {
       SceneDescription d = loader.at(double(frame) / fps);
@@ -115,16 +134,8 @@ int printEffectsOverFrames(const InfoArgs& args, double fps) {
         ++it->second.frames;
       }
     }
-  } catch (const SceneError& e) {
-    printError(e.what());
-    return 2;
-  } catch (const std::invalid_argument& e) {
-    printError(args.scene + ": " + e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    printError(args.scene + ": cannot build the scene: " + std::string(e.what()));
-    return 1;
-  }
+  });
+  if (status != 0) return status;
   // Sorted by feature, as the single-frame line is.
   std::vector<std::string> names;
   for (uint32_t i = 0; i < uint32_t(Feature::Count); ++i)
@@ -143,20 +154,12 @@ int printEffectsOverFrames(const InfoArgs& args, double fps) {
 int runInfo(const InfoArgs& args) {
   SceneDescription desc;
   RenderScene scene;
-  try {
+  const int status = loadingScene(args, [&] {
     desc = loadScene(args.scene, args.sidecar);
     args.overrides.apply(&desc);
     scene = buildRenderScene(desc);
-  } catch (const SceneError& e) {
-    printError(e.what());
-    return 2;
-  } catch (const std::invalid_argument& e) {
-    printError(args.scene + ": " + e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    printError(args.scene + ": cannot build the scene: " + std::string(e.what()));
-    return 1;
-  }
+  });
+  if (status != 0) return status;
   for (const std::string& w : desc.warnings) std::printf("warning: %s\n", w.c_str());
 
   size_t triangles = 0;

@@ -150,6 +150,29 @@ TEST(CliInfo, ListsContentsAndEffects) {
   EXPECT_NE(r.out.find("effects:    shadows\n"), std::string::npos) << r.out;
 }
 
+// Effects that come and go over an animation: a lens whose aperture opens at 1 s is listed
+// from frame 24 on, and a bad frame range is an input error.
+TEST(CliInfo, FramesListEachEffectWithTheFramesItAppearsIn) {
+  const std::string dir = test::scratchDir("cli_info_frames");
+  const std::string scene = dir + "/lens.json";
+  std::ofstream(scene) << R"({
+  "cameras": [{"name": "c", "position": [0, 0, 5], "look_at": [0, 0, 0],
+               "aperture": {"keys": [[0, 0], [0.5, 0], [1, 0.1]]}, "focus_distance": 5}],
+  "objects": [{"type": "sphere", "radius": 1}]})";
+  test::CommandResult r = test::runGlint("info '" + scene + "' --frames 0-48:6");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("effects over frames 0-48 (every 6, 9 frames at 24 fps):"),
+            std::string::npos) << r.out;
+  // At 0.5 s the aperture is still 0; frame 18 (0.75 s) is the first checked with a lens.
+  EXPECT_NE(r.out.find("  depth of field         frames 18-48 (6 of 9 checked)"),
+            std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  analytic               frames 0-48 (9 of 9 checked)"),
+            std::string::npos) << r.out;
+  test::CommandResult bad = test::runGlint("info '" + scene + "' --frames 9-2");
+  EXPECT_EQ(bad.exitCode, 2);
+  EXPECT_NE(bad.err.find("--frames"), std::string::npos) << bad.err;
+}
+
 TEST(CliInfo, SceneWithoutLightsReportsTheHeadlightAndNoShadows) {
   test::CommandResult r =
       test::runGlint("info '" + test::dataDir() + "/scenes/two_instances.gltf'");
