@@ -31,7 +31,8 @@ std::string sharedAssetsFolder() {
 
 fs::path resolveScenePath(const std::string& written, const std::string& jsonFile) {
   std::string rest;
-  if (assetsRelative(written, &rest)) return fs::path(sharedAssetsFolder()) / rest;
+  if (assetsRelative(written, &rest))
+    return (fs::path(sharedAssetsFolder()) / rest).lexically_normal();
   const fs::path path(written);
   return path.is_absolute() ? path : fs::path(jsonFile).parent_path() / path;
 }

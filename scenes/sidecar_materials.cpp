@@ -341,6 +341,9 @@ void readMaterials(JsonReader& root, SceneDescription* scene) {
       if (type && *type == MaterialType::Glass && m.type != MaterialType::Glass) m.roughness = 0;
       if (type) m.type = *type;
       readMaterialParameters(*r, *scene, &m);
+      // Errors found later (when the material is built) belong to the override that set its
+      // final parameters, not to the glTF it came from.
+      m.where = r->where();
     }
     assignToNodes(*r, targets.front(), scene);
   }

@@ -123,6 +123,17 @@ TEST(SidecarMaterials, OverrideSwitchesAGltfMaterialToGlass) {
   EXPECT_FALSE(scene.features.has(Feature::Textures));
 }
 
+// A glTF material overridden into an impossible Phong is reported at the override (the
+// sidecar's file and pointer), where the user can fix it.
+TEST(SidecarMaterials, ErrorsInAnOverrideNameTheOverride) {
+  SceneDescription gltf = gltfLike();
+  gltf.materials[0].where = {"statue.glb", "/materials/0"};
+  const SceneDescription d = apply(R"({"materials": [{"name": "Paint", "type": "phong",
+    "diffuse": [0.9, 0.9, 0.9], "specular": [0.3, 0.3, 0.3]}]})", gltf);
+  EXPECT_SCENE_ERROR(errorFrom([&] { buildRenderScene(d); }), kFile, "/materials/0",
+                     "exceeds 1");
+}
+
 TEST(SidecarMaterials, FeaturesFollowTheMaterials) {
   SceneDescription d = apply(R"({
     "textures": [{"name": "h", "type": "noise"}],
