@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <ostream>
 #include <set>
 #include <sstream>
 #include <string>
@@ -35,6 +36,9 @@ std::vector<Showcase> showcases() {
         "projective light"}},
   };
 }
+
+// ctest prints each case's parameter: its name, not the struct's bytes.
+void PrintTo(const Showcase& s, std::ostream* os) { *os << s.name; }
 
 class ShowcaseScenes : public ::testing::TestWithParam<Showcase> {};
 
