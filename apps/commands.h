@@ -12,5 +12,6 @@ void addInfoCommand(CLI::App& app, int* exitCode);
 void addDiffCommand(CLI::App& app, int* exitCode);
 void addBenchAccelCommand(CLI::App& app, int* exitCode);
 void addTonemapCommand(CLI::App& app, int* exitCode);
+void addAssembleCommand(CLI::App& app, int* exitCode);
 
 }  // namespace glint::app

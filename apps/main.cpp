@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   glint::app::addDiffCommand(app, &exitCode);
   glint::app::addBenchAccelCommand(app, &exitCode);
   glint::app::addTonemapCommand(app, &exitCode);
+  glint::app::addAssembleCommand(app, &exitCode);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

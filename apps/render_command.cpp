@@ -8,6 +8,7 @@
 #include "apps/cli_common.h"
 #include "apps/commands.h"
 #include "apps/frames.h"
+#include "apps/tiles.h"
 #include "renderer/color.h"
 #include "renderer/output.h"
 #include "renderer/progress.h"
@@ -29,6 +30,8 @@ struct RenderArgs {
   std::optional<double> fps;
   std::optional<double> time;  // a single frame's scene time, seconds
   bool resume = false;
+  std::optional<std::string> crop;  // "X0,Y0,X1,Y1"
+  std::optional<std::string> tile;  // "I/N"
   SceneOverrides overrides;
   bool quiet = false;
 };
@@ -148,6 +151,12 @@ int renderAndWrite(const RenderArgs& args, const SceneDescription& desc, const R
     RenderOptions options;
     options.threads = desc.render.threads;
     options.progress = tileProgress;
+    // Arguments were checked in runRender; whether the window fits is known only now.
+    if (args.crop) options.crop = parseCropWindow(*args.crop);
+    if (args.tile) {
+      const TileSpec t = parseTileSpec(*args.tile);
+      options.crop = tileWindow(scene.camera.width(), scene.camera.height(), t.index, t.count);
+    }
     film = render(scene, *integrator, desc.render, options, &record->stats);
   } catch (const std::invalid_argument& e) {
     printError(args.scene + ": " + e.what());
@@ -358,6 +367,27 @@ int runRender(const RenderArgs& args) {
     printError("--resume applies to a sequence (--frames A-B)");
     return 2;
   }
+  if (args.crop || args.tile) {
+    if (args.crop && args.tile) {
+      printError("--crop and --tile exclude each other");
+      return 2;
+    }
+    try {
+      if (args.crop) parseCropWindow(*args.crop);
+      if (args.tile) parseTileSpec(*args.tile);
+    } catch (const std::invalid_argument& e) {
+      printError(e.what());
+      return 2;
+    }
+    // A piece is tone-mapped only once the frame is whole (a per-piece Ward scale would
+    // differ from piece to piece).
+    for (const std::string& out : outputs)
+      if (std::filesystem::path(out).extension() != ".exr") {
+        printError(out + ": --crop and --tile write partial EXRs (the data window of the frame); "
+                         "join them with `glint assemble`, then tone-map");
+        return 2;
+      }
+  }
   if (int code = checkOutputs(outputs)) return code;
   return args.frames ? runSequence(args, outputs) : runSingle(args, outputs);
 }
@@ -383,6 +413,11 @@ void addRenderCommand(CLI::App& app, int* exitCode) {
       "--time", args->time,
       "scene time of a single frame, in seconds (default: the sidecar's render.time, else 0)");
   cmd->add_flag("--resume", args->resume, "skip frames whose outputs already exist");
+  cmd->add_option("--crop", args->crop,
+                  "render only pixels X0,Y0,X1,Y1 (X1, Y1 exclusive) to a partial EXR; "
+                  "`glint assemble` joins the pieces");
+  cmd->add_option("--tile", args->tile,
+                  "render only tile I/N: the I-th (from 0) of N horizontal bands of the frame");
   cmd->add_flag("-q,--quiet", args->quiet, "no progress bar or summary");
   args->overrides.addOptions(cmd);
   cmd->add_flag("--aovs", args->overrides.aovs,

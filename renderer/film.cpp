@@ -3,7 +3,8 @@
 
 namespace glint {
 
-Film::Film(int w, int h, bool aovs) : width(w), height(h), hasAovs(aovs) {
+Film::Film(int w, int h, bool aovs)
+    : width(w), height(h), fullWidth(w), fullHeight(h), hasAovs(aovs) {
   size_t n = size_t(w) * size_t(h);
   color.assign(n, Rgb{});
   variance.assign(n, Rgb{});

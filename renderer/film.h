@@ -13,6 +13,11 @@ namespace glint {
 
 struct Film {
   int width = 0, height = 0;
+  // Where the film lies in the whole image: a crop of a larger frame (glint render --crop /
+  // --tile) starts at (originX, originY) of a fullWidth x fullHeight image; a whole frame has
+  // origin 0 and its own size. EXR output writes it as the data window.
+  int originX = 0, originY = 0;
+  int fullWidth = 0, fullHeight = 0;
   std::vector<Rgb> color;      // mean scene-linear radiance
   std::vector<Rgb> variance;   // variance of the mean (sample variance / n), per channel
   std::vector<float> alpha;    // fraction of samples whose camera ray hit geometry

@@ -76,6 +76,10 @@ Image exrImage(const Film& film, const RenderSettings& settings) {
                              settings.exrHalf ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
   img.spec.channelnames = names;
   img.spec.alpha_channel = 3;
+  // A crop is the data window of the whole frame (the display window).
+  img.spec.x = film.originX, img.spec.y = film.originY;
+  img.spec.full_x = 0, img.spec.full_y = 0;
+  img.spec.full_width = film.fullWidth, img.spec.full_height = film.fullHeight;
   if (film.hasAovs) {
     img.spec.z_channel = 10;
     if (settings.exrHalf) {
@@ -202,6 +206,74 @@ void writeAtomically(const std::string& target, Image& img) {
 }  // namespace
 
 // ---- public API ------------------------------------------------------------------------------
+
+void assembleExr(const std::vector<std::string>& pieces, const std::string& output) {
+  if (pieces.empty()) throw ImageReadError("assemble: no input images");
+  Image whole;
+  std::vector<uint8_t> covered;
+  double seconds = 0;
+  int nch = 0;
+  for (const std::string& path : pieces) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw ImageReadError(fmt::format("{}: cannot read: {}", path, OIIO::geterror()));
+    const OIIO::ImageSpec spec = in->spec();
+    std::vector<float> px(size_t(spec.image_pixels()) * size_t(spec.nchannels));
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, px.data()))
+      throw ImageReadError(fmt::format("{}: cannot read: {}", path, in->geterror()));
+    if (spec.full_x != 0 || spec.full_y != 0 || spec.full_width <= 0 || spec.full_height <= 0)
+      throw ImageReadError(fmt::format("{}: its display window does not start at 0,0", path));
+    seconds += spec.get_float_attribute("glint:render_seconds");
+    if (covered.empty()) {
+      whole.spec = spec;
+      whole.spec.x = whole.spec.y = 0;
+      whole.spec.width = spec.full_width, whole.spec.height = spec.full_height;
+      nch = spec.nchannels;
+      covered.assign(size_t(spec.full_width) * size_t(spec.full_height), 0);
+      whole.pixels.assign(covered.size() * size_t(nch), 0.0f);
+    } else {
+      const OIIO::ImageSpec& first = whole.spec;
+      if (spec.full_width != first.full_width || spec.full_height != first.full_height)
+        throw ImageReadError(fmt::format("{}: a piece of a {}x{} frame, not {}x{} like {}", path,
+                                         spec.full_width, spec.full_height, first.full_width,
+                                         first.full_height, pieces.front()));
+      if (spec.channelnames != first.channelnames)
+        throw ImageReadError(fmt::format("{}: its channels differ from {}'s", path, pieces.front()));
+      const auto attribute = [](const OIIO::ImageSpec& s, const char* key) {
+        const OIIO::ParamValue* p = s.find_attribute(key);
+        return p ? s.metadata_val(*p) : std::string("(none)");
+      };
+      for (const char* key : {"glint:scene", "glint:spp", "glint:seed", "glint:integrator"})
+        if (attribute(spec, key) != attribute(first, key))
+          throw ImageReadError(fmt::format("{}: {} is {}, but {} in {}: not the same render",
+                                           path, key, attribute(spec, key), attribute(first, key),
+                                           pieces.front()));
+    }
+    if (spec.x < 0 || spec.y < 0 || spec.x + spec.width > whole.spec.width ||
+        spec.y + spec.height > whole.spec.height)
+      throw ImageReadError(fmt::format("{}: its data window leaves the frame", path));
+    for (int y = 0; y < spec.height; ++y)
+      for (int x = 0; x < spec.width; ++x) {
+        const size_t to = size_t(spec.y + y) * size_t(whole.spec.width) + size_t(spec.x + x);
+        if (covered[to])
+          throw ImageReadError(fmt::format("{}: pixel {},{} is also in an earlier piece", path,
+                                           spec.x + x, spec.y + y));
+        covered[to] = 1;
+        const float* from = &px[(size_t(y) * size_t(spec.width) + size_t(x)) * size_t(nch)];
+        std::copy(from, from + nch, &whole.pixels[to * size_t(nch)]);
+      }
+  }
+  const size_t missing = size_t(std::count(covered.begin(), covered.end(), uint8_t(0)));
+  if (missing > 0) {
+    const size_t first = size_t(std::find(covered.begin(), covered.end(), uint8_t(0)) - covered.begin());
+    throw ImageReadError(fmt::format("assemble: {} pixel{} of the {}x{} frame in no piece (the "
+                                     "first at {},{})",
+                                     missing, missing == 1 ? "" : "s", whole.spec.width,
+                                     whole.spec.height, first % size_t(whole.spec.width),
+                                     first / size_t(whole.spec.width)));
+  }
+  whole.spec.attribute("glint:render_seconds", OIIO::TypeDesc::DOUBLE, &seconds);
+  writeAtomically(output, whole);
+}
 
 bool isSupportedOutput(const std::string& path, std::string* why) {
   if (formatOf(path) != Format::Unknown) return true;

@@ -51,6 +51,15 @@ void writeDisplayImage(const std::string& path, const Film& film, const ToneMapS
 void writeRawImage(const std::string& path, int width, int height, int channels,
                    const std::vector<float>& pixels);
 
+// Stitches partial EXRs (each a data window of the same whole frame, as `glint render --crop`
+// and `--tile` write them) into one EXR at `output`, written atomically. The pieces must agree
+// on the frame size, the channels and glint's render metadata (scene, spp, seed, integrator),
+// must not overlap, and must cover the whole frame; the result carries the first piece's
+// attributes, with render seconds the sum of the pieces'. Pixel values are copied, never
+// resampled, so an assembled frame is bit-identical to the frame rendered whole. Throws
+// ImageReadError (an unreadable or inconsistent piece, a gap, an overlap) or OutputError.
+void assembleExr(const std::vector<std::string>& pieces, const std::string& output);
+
 // Reads a scene-linear EXR (the R, G, B channels, and A when present, else alpha 1) into a film
 // without AOVs; fills *meta from glint's attributes when given. Throws ImageReadError naming
 // the file when it is missing, unreadable or has no R, G, B channels.

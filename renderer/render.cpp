@@ -6,8 +6,11 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <fmt/format.h>
+
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 #include <thread>
 
 #include "renderer/filter.h"
@@ -59,6 +62,14 @@ constexpr uint32_t kCameraBatch = 16;
 
 }  // namespace
 
+PixelWindow tileWindow(int width, int height, int index, int count) {
+  if (count <= 0 || index < 0 || index >= count || count > height)
+    throw std::invalid_argument(fmt::format(
+        "tile {}/{}: need 0 <= I < N <= the image height ({})", index, count, height));
+  const auto row = [&](int i) { return int(int64_t(i) * height / count); };
+  return {0, row(index), width, row(index + 1)};
+}
+
 Film render(const RenderScene& scene, const Integrator& integrator, const RenderSettings& settings,
             const RenderOptions& options, RenderStats* stats) {
   const int width = scene.camera.width(), height = scene.camera.height();
@@ -74,11 +85,20 @@ Film render(const RenderScene& scene, const Integrator& integrator, const Render
   const bool motion = scene.features.has(Feature::MotionBlur);
   // Neither: the pinhole rays of before, with no per-ray test.
   const bool plain = !lens && !motion && scene.camera.isStaticPinhole();
-  Film film(width, height, aovs);
+  const PixelWindow window = options.crop.value_or(PixelWindow{0, 0, width, height});
+  if (window.x0 < 0 || window.y0 < 0 || window.x1 > width || window.y1 > height ||
+      window.width() <= 0 || window.height() <= 0)
+    throw std::invalid_argument(fmt::format(
+        "crop window {},{},{},{} is empty or outside the {}x{} image", window.x0, window.y0,
+        window.x1, window.y1, width, height));
+  Film film(window.width(), window.height(), aovs);
+  film.originX = window.x0, film.originY = window.y0;
+  film.fullWidth = width, film.fullHeight = height;
   PixelFilter filter(settings.filter);
 
   const int tile = options.tileSize;
-  const int tilesX = (width + tile - 1) / tile, tilesY = (height + tile - 1) / tile;
+  const int tilesX = (window.width() + tile - 1) / tile,
+            tilesY = (window.height() + tile - 1) / tile;
   int threads = options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency());
   if (threads <= 0) threads = 1;
 
@@ -88,8 +108,9 @@ Film render(const RenderScene& scene, const Integrator& integrator, const Render
 
   auto renderTile = [&](int tileIndex) {
     ThreadTally& tally = tallies.local();
-    const int x0 = (tileIndex % tilesX) * tile, y0 = (tileIndex / tilesX) * tile;
-    const int x1 = std::min(x0 + tile, width), y1 = std::min(y0 + tile, height);
+    const int x0 = window.x0 + (tileIndex % tilesX) * tile,
+              y0 = window.y0 + (tileIndex / tilesX) * tile;
+    const int x1 = std::min(x0 + tile, window.x1), y1 = std::min(y0 + tile, window.y1);
     // A pixel's batch of camera rays and their hits, constructed once per tile: their default
     // initialisation per pixel was a fifth of this loop's own time at 4 spp. Every element a
     // pixel reads it writes first (closestHits overwrites each hit whole).
@@ -97,8 +118,11 @@ Film render(const RenderScene& scene, const Integrator& integrator, const Render
     Hit found[kCameraBatch];
     for (int y = y0; y < y1; ++y)
       for (int x = x0; x < x1; ++x) {
-        const size_t index = film.index(x, y);
-        const uint64_t pixelKey = pixelSampleKey(settings.seed, index);
+        // (x, y) is the pixel's place in the whole image, which keys its samples; the film
+        // holds the window.
+        const size_t index = film.index(x - window.x0, y - window.y0);
+        const uint64_t pixelKey =
+            pixelSampleKey(settings.seed, size_t(y) * size_t(width) + size_t(x));
         // The film position, and the lens point where there is one, are 2D dimension pairs
         // whose seeds depend on the pixel only.
         const DimensionSeeds filmSeeds(pixelKey, kFilmDimension);
@@ -190,7 +214,7 @@ Film render(const RenderScene& scene, const Integrator& integrator, const Render
       stats->nonfiniteSamples += t.nonfinite;
     }
     // One camera ray per sample.
-    stats->meanSpp = double(stats->rays.camera) / (double(width) * double(height));
+    stats->meanSpp = double(stats->rays.camera) / (double(film.width) * double(film.height));
   }
   return film;
 }

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 
 #include "renderer/film.h"
 #include "renderer/integrator.h"
@@ -28,15 +29,32 @@ struct RenderStats {
   double meanSpp = 0;             // samples a pixel took on average (< spp when adaptive)
 };
 
+// A rectangle of pixels [x0, x1) x [y0, y1) of the image.
+struct PixelWindow {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  int width() const { return x1 - x0; }
+  int height() const { return y1 - y0; }
+  friend bool operator==(const PixelWindow&, const PixelWindow&) = default;
+};
+
+// The I-th of N horizontal bands of a width x height image (0 <= index < count <= height):
+// rows [floor(I H / N), floor((I + 1) H / N)). A fixed layout, so N tasks rendering tiles 0..N-1
+// cover the frame exactly once.
+PixelWindow tileWindow(int width, int height, int index, int count);
+
 struct RenderOptions {
   int threads = 0;        // 0 = all hardware threads
   bool progress = false;  // draw a progress bar on stderr
   int tileSize = 16;
+  // Render only these pixels (inside the image; not empty). Samples are keyed by the pixel's
+  // place in the whole image, so each pixel is exactly what a whole-frame render gives.
+  std::optional<PixelWindow> crop;
 };
 
-// Renders `scene` with `integrator` at the camera's resolution. Each pixel's samples are
-// addressed by (pixel, sample, seed), so the result does not depend on thread count or tile
-// order. NaN/Inf samples never reach the film.
+// Renders `scene` with `integrator` at the camera's resolution (or its options.crop window: a
+// film of that size at that origin). Each pixel's samples are addressed by (pixel, sample,
+// seed), so the result does not depend on thread count, tile order or cropping. NaN/Inf
+// samples never reach the film. Throws std::invalid_argument for a crop outside the image.
 Film render(const RenderScene& scene, const Integrator& integrator, const RenderSettings& settings,
             const RenderOptions& options, RenderStats* stats);
 
