@@ -35,19 +35,17 @@ int runAssemble(const AssembleArgs& args) {
     printError(args.output + ": glint assemble writes an EXR");
     return 2;
   }
+  std::vector<std::string> files;
   try {
-    assembleExr(pieces(args), args.output);
+    files = pieces(args);
   } catch (const std::invalid_argument& e) {  // a bad pattern, or nothing matches it
     printError(e.what());
     return 2;
-  } catch (const ImageReadError& e) {
-    printError(e.what());
-    return 2;
-  } catch (const OutputError& e) {
-    printError(e.what());
-    return 1;
   }
-  return 0;
+  return runImageCommand([&] {
+    assembleExr(files, args.output);
+    return 0;
+  });
 }
 
 }  // namespace

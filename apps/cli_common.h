@@ -7,6 +7,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "renderer/image_diff.h"
+#include "renderer/output.h"
 #include "scenes/description.h"
 
 namespace glint::app {
@@ -31,6 +33,22 @@ struct SceneOverrides {
 
 // Prints "glint: MESSAGE" to stderr.
 void printError(const std::string& message);
+
+// Runs `work` (a command that reads and writes images) and returns its exit code; an
+// unreadable or unsuitable input (ImageReadError) is printed and gives 2, a failed write
+// (OutputError) 1.
+template <class Work>
+int runImageCommand(Work work) {
+  try {
+    return work();
+  } catch (const ImageReadError& e) {
+    printError(e.what());
+    return 2;
+  } catch (const OutputError& e) {
+    printError(e.what());
+    return 1;
+  }
+}
 
 // Writes `text` to `path` through a temporary file in the same folder and a rename, so a
 // failed write never leaves a half-written file. Throws OutputError (renderer/output.h).

@@ -242,7 +242,7 @@ int report(const DiffOptions& o, Result r, const std::optional<FlipReport>& flip
 int runDiff(const DiffOptions& o) {
   // A FLIP map or limit asks for FLIP.
   const bool wantFlip = o.flip || !o.flipMap.empty() || std::isfinite(o.flipMax);
-  try {
+  return runImageCommand([&] {
     if (!o.statistical) {
       DiffResult r = diffImages(o.a, o.b, o.thresholds);
       std::optional<FlipReport> flip;
@@ -256,13 +256,7 @@ int runDiff(const DiffOptions& o) {
     std::optional<FlipReport> flip;
     if (wantFlip && !r.sizeMismatch) flip = flipImages(o, a, b);
     return report(o, r, flip);
-  } catch (const ImageReadError& e) {
-    printError(e.what());
-    return 2;
-  } catch (const OutputError& e) {
-    printError(e.what());
-    return 1;
-  }
+  });
 }
 
 // CLI::NonNegativeNumber prints DBL_MAX in full in its message; this one reads well.
