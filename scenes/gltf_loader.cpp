@@ -249,13 +249,73 @@ bool refuseWrite(std::string* err, const std::string&, const std::vector<unsigne
   return false;
 }
 
+// The width and height a PNG or JPEG header states; false for other data or a header too short.
+bool imageHeaderSize(const unsigned char* b, int size, uint64_t* width, uint64_t* height) {
+  const auto be32 = [&](int i) { return uint64_t(b[i]) << 24 | uint64_t(b[i + 1]) << 16 | uint64_t(b[i + 2]) << 8 | b[i + 3]; };
+  const auto be16 = [&](int i) { return uint64_t(b[i]) << 8 | b[i + 1]; };
+  if (size >= 24 && b[0] == 0x89 && b[1] == 'P' && b[2] == 'N' && b[3] == 'G') {
+    *width = be32(16), *height = be32(20);
+    return true;
+  }
+  if (size < 4 || b[0] != 0xFF || b[1] != 0xD8) return false;
+  for (int i = 2; i + 9 < size && b[i] == 0xFF;) {
+    const int marker = b[i + 1];
+    if (marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC) {
+      *height = be16(i + 5), *width = be16(i + 7);
+      return true;
+    }
+    i += 2 + int(be16(i + 2));
+  }
+  return false;
+}
+
+// Embedded and referenced images are decoded by tinygltf (stb_image), which allocates what the
+// header claims: a 100-byte PNG stating 60000 x 60000 pixels would ask for gigabytes (found by
+// fuzzing). Larger than this is refused before decoding.
+constexpr uint64_t kMaxImagePixels = uint64_t(1) << 26;  // 8192 x 8192
+
+struct PreserveChannels {  // the layout of tinygltf's LoadImageDataOption
+  bool preserveChannels = true;
+};
+
+bool loadImageWithinLimits(tinygltf::Image* image, const int index, std::string* err,
+                           std::string* warn, int reqWidth, int reqHeight,
+                           const unsigned char* bytes, int size, void*) {
+  // stb_image also reserves what a PNG chunk's length field claims: a chunk cannot be longer
+  // than the data that holds it.
+  if (size >= 8 && bytes[0] == 0x89 && bytes[1] == 'P') {
+    for (int64_t pos = 8; pos + 8 <= size;) {
+      const uint64_t length = uint64_t(bytes[pos]) << 24 | uint64_t(bytes[pos + 1]) << 16 |
+                              uint64_t(bytes[pos + 2]) << 8 | bytes[pos + 3];
+      if (length > uint64_t(size - pos - 8)) {
+        if (err)
+          *err += "image " + std::to_string(index) + ": a PNG chunk claims " +
+                  std::to_string(length) + " bytes, more than the image holds\n";
+        return false;
+      }
+      pos += 12 + int64_t(length);  // length, type, data, CRC
+    }
+  }
+  uint64_t w = 0, h = 0;
+  if (imageHeaderSize(bytes, size, &w, &h) && w * h > kMaxImagePixels) {
+    if (err)
+      *err += "image " + std::to_string(index) + " is " + std::to_string(w) + " x " +
+              std::to_string(h) + " pixels: glint reads glTF images up to " +
+              std::to_string(kMaxImagePixels) + " pixels (8192 x 8192)\n";
+    return false;
+  }
+  static PreserveChannels preserve;
+  return tinygltf::LoadImageData(image, index, err, warn, reqWidth, reqHeight, bytes, size,
+                                 &preserve);
+}
+
 tinygltf::Model decode(const std::string& bytes, bool binary, const fs::path& folder,
                        const std::string& file) {
   FolderGuard guard{folder};
   tinygltf::TinyGLTF loader;
   loader.SetFsCallbacks(
       {&guardedFileExists, &guardedExpandFilePath, &guardedReadWholeFile, &refuseWrite, &guard});
-  loader.SetPreserveImageChannels(true);
+  loader.SetImageLoader(&loadImageWithinLimits, nullptr);
   tinygltf::Model model;
   std::string err, warn;
   auto data = reinterpret_cast<const unsigned char*>(bytes.data());

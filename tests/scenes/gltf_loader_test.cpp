@@ -664,5 +664,54 @@ TEST(GltfBadInput, FailedLoadLeavesSceneUntouched) {
   EXPECT_TRUE(scene.warnings.empty());
 }
 
+// A glTF embedding `png` as a data URI.
+std::string gltfWithEmbeddedPng(const std::string& png) {
+  static const char* kB64 = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string b64;
+  for (size_t i = 0; i < png.size(); i += 3) {
+    uint32_t n = uint32_t(uint8_t(png[i])) << 16;
+    if (i + 1 < png.size()) n |= uint32_t(uint8_t(png[i + 1])) << 8;
+    if (i + 2 < png.size()) n |= uint8_t(png[i + 2]);
+    b64 += kB64[(n >> 18) & 63];
+    b64 += kB64[(n >> 12) & 63];
+    b64 += i + 1 < png.size() ? kB64[(n >> 6) & 63] : '=';
+    b64 += i + 2 < png.size() ? kB64[n & 63] : '=';
+  }
+  return R"({"asset": {"version": "2.0"}, "images": [{"uri": "data:image/png;base64,)" + b64 +
+         R"("}], "scenes": [{"nodes": []}], "scene": 0})";
+}
+
+// A PNG signature and IHDR chunk of the given size, then one chunk whose length field says
+// `nextChunkLength` (its data absent).
+std::string pngHeader(uint32_t width, uint32_t height, uint32_t nextChunkLength) {
+  std::string png = "\x89PNG\r\n\x1a\n";
+  auto be32 = [&](uint32_t v) {
+    for (int shift = 24; shift >= 0; shift -= 8) png += char((v >> shift) & 0xff);
+  };
+  be32(13);
+  png += "IHDR";
+  be32(width);
+  be32(height);
+  png += std::string("\x08\x06\0\0\0", 5);
+  be32(0);  // CRC (stb_image does not check it)
+  be32(nextChunkLength);
+  png += "IDAT";
+  return png;
+}
+
+// Embedded images that would make stb_image allocate gigabytes from a few bytes (found by
+// fuzzing, tests/fuzz) are refused before decoding: a header claiming 60000 x 60000 pixels,
+// and a 2 x 2 image with a chunk claiming 512 MB.
+TEST(GltfLoader, RefusesImagesThatClaimMoreThanTheyHold) {
+  SceneDescription scene;
+  SceneError huge = test::errorFrom(
+      [&] { loadGltfFromMemory(gltfWithEmbeddedPng(pngHeader(60000, 60000, 0)), "a.gltf", &scene); });
+  EXPECT_NE(huge.message().find("60000 x 60000"), std::string::npos) << huge.what();
+  SceneError chunk = test::errorFrom([&] {
+    loadGltfFromMemory(gltfWithEmbeddedPng(pngHeader(2, 2, 536870930)), "b.gltf", &scene);
+  });
+  EXPECT_NE(chunk.message().find("claims 536870930 bytes"), std::string::npos) << chunk.what();
+}
+
 }  // namespace
 }  // namespace glint
