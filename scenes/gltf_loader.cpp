@@ -249,9 +249,14 @@ bool refuseWrite(std::string* err, const std::string&, const std::vector<unsigne
   return false;
 }
 
+// The big-endian 32-bit integer at b (PNG lengths and sizes).
+uint64_t bigEndian32(const unsigned char* b) {
+  return uint64_t(b[0]) << 24 | uint64_t(b[1]) << 16 | uint64_t(b[2]) << 8 | b[3];
+}
+
 // The width and height a PNG or JPEG header states; false for other data or a header too short.
 bool imageHeaderSize(const unsigned char* b, int size, uint64_t* width, uint64_t* height) {
-  const auto be32 = [&](int i) { return uint64_t(b[i]) << 24 | uint64_t(b[i + 1]) << 16 | uint64_t(b[i + 2]) << 8 | b[i + 3]; };
+  const auto be32 = [&](int i) { return bigEndian32(b + i); };
   const auto be16 = [&](int i) { return uint64_t(b[i]) << 8 | b[i + 1]; };
   if (size >= 24 && b[0] == 0x89 && b[1] == 'P' && b[2] == 'N' && b[3] == 'G') {
     *width = be32(16), *height = be32(20);
@@ -285,8 +290,7 @@ bool loadImageWithinLimits(tinygltf::Image* image, const int index, std::string*
   // than the data that holds it.
   if (size >= 8 && bytes[0] == 0x89 && bytes[1] == 'P') {
     for (int64_t pos = 8; pos + 8 <= size;) {
-      const uint64_t length = uint64_t(bytes[pos]) << 24 | uint64_t(bytes[pos + 1]) << 16 |
-                              uint64_t(bytes[pos + 2]) << 8 | bytes[pos + 3];
+      const uint64_t length = bigEndian32(bytes + pos);
       if (length > uint64_t(size - pos - 8)) {
         if (err)
           *err += "image " + std::to_string(index) + ": a PNG chunk claims " +
