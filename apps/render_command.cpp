@@ -30,6 +30,7 @@ struct RenderArgs {
   std::optional<double> fps;
   std::optional<double> time;  // a single frame's scene time, seconds
   bool resume = false;
+  bool listMissing = false;
   std::optional<std::string> crop;  // "X0,Y0,X1,Y1"
   std::optional<std::string> tile;  // "I/N"
   SceneOverrides overrides;
@@ -140,6 +141,17 @@ int checkDisplaySettings(const SceneDescription& desc, const std::vector<std::st
   return 0;
 }
 
+// The pixels --crop or --tile ask for in a width x height frame (the whole frame without them).
+// Throws std::invalid_argument for a tile count above the height (render() checks a crop).
+PixelWindow requestedWindow(const RenderArgs& args, int width, int height) {
+  if (args.tile) {
+    const TileSpec t = parseTileSpec(*args.tile);
+    return tileWindow(width, height, t.index, t.count);
+  }
+  if (args.crop) return parseCropWindow(*args.crop);
+  return PixelWindow{0, 0, width, height};
+}
+
 // Renders one built scene and writes `outputs`; returns the exit code.
 int renderAndWrite(const RenderArgs& args, const SceneDescription& desc, const RenderScene& scene,
                    const std::vector<std::string>& outputs, bool tileProgress,
@@ -152,11 +164,8 @@ int renderAndWrite(const RenderArgs& args, const SceneDescription& desc, const R
     options.threads = desc.render.threads;
     options.progress = tileProgress;
     // Arguments were checked in runRender; whether the window fits is known only now.
-    if (args.crop) options.crop = parseCropWindow(*args.crop);
-    if (args.tile) {
-      const TileSpec t = parseTileSpec(*args.tile);
-      options.crop = tileWindow(scene.camera.width(), scene.camera.height(), t.index, t.count);
-    }
+    if (args.crop || args.tile)
+      options.crop = requestedWindow(args, scene.camera.width(), scene.camera.height());
     film = render(scene, *integrator, desc.render, options, &record->stats);
   } catch (const std::invalid_argument& e) {
     printError(args.scene + ": " + e.what());
@@ -168,6 +177,7 @@ int renderAndWrite(const RenderArgs& args, const SceneDescription& desc, const R
   ImageMetadata meta{args.scene,        desc.render.spp,
                      desc.render.seed,  record->stats.renderSeconds,
                      desc.render.accel, resolveIntegratorType(scene, desc.render.integrator)};
+  meta.time = desc.render.time;
   try {
     for (const std::string& out : outputs) writeImage(out, film, desc.render, meta);
   } catch (const std::exception& e) {
@@ -246,8 +256,9 @@ int runSingle(const RenderArgs& args, const std::vector<std::string>& outputs) {
 }
 
 // A sequence: frame f at time f / fps, one set of outputs per frame from the '#' patterns.
-// Frames are independent renders, so --resume can skip every frame whose outputs all exist
-// (writes are atomic: an existing file is a complete one).
+// Frames are independent renders, so --resume can skip every frame whose outputs are all
+// complete (whyIncomplete: written atomically, for this render, checksum intact) and redo the
+// rest; --list-missing only prints the frames --resume would render.
 int runSequence(const RenderArgs& args, const std::vector<std::string>& patterns) {
   std::vector<int> frames;
   std::vector<FramePattern> outputPatterns;
@@ -281,7 +292,7 @@ int runSequence(const RenderArgs& args, const std::vector<std::string>& patterns
     return reportBuildError(args, std::current_exception());
   }
 
-  const bool terminal = !args.quiet && isTerminal(stderr);
+  const bool terminal = !args.quiet && !args.listMissing && isTerminal(stderr);
   ProgressBar progress("frames", frames.size(), terminal);
   std::vector<FrameRecord> records;
   nlohmann::json first;  // scene-wide statistics, from the first rendered frame
@@ -290,20 +301,51 @@ int runSequence(const RenderArgs& args, const std::vector<std::string>& patterns
   for (int frame : frames) {
     std::vector<std::string> outputs;
     for (const FramePattern& p : outputPatterns) outputs.push_back(p.path(frame));
-    if (args.resume && std::all_of(outputs.begin(), outputs.end(), [](const std::string& o) {
-          return std::filesystem::is_regular_file(o);
-        })) {
-      ++skipped;
-      progress.advance();
-      continue;
-    }
     SceneDescription desc;
-    RenderScene scene;
     FrameRecord record;
     record.frame = frame;
+    record.time = double(frame) / fps;
+    std::vector<std::string> incomplete;  // "path: why" of each output still to write
     try {
-      record.time = double(frame) / fps;
       desc = loadAt(args, *loader, record.time);
+      if (args.resume || args.listMissing) {
+        ExpectedImage expected{.scene = args.scene,
+                               .spp = desc.render.spp,
+                               .seed = desc.render.seed,
+                               .time = desc.render.time};
+        imageSize(desc, &expected.fullWidth, &expected.fullHeight);
+        const PixelWindow w = requestedWindow(args, expected.fullWidth, expected.fullHeight);
+        expected.x0 = w.x0, expected.y0 = w.y0;
+        expected.width = w.width(), expected.height = w.height();
+        for (const std::string& out : outputs)
+          if (std::string why = whyIncomplete(out, expected); !why.empty())
+            incomplete.push_back(out + ": " + why);
+      }
+    } catch (const std::invalid_argument& e) {  // a tile count above the image height
+      progress.finish();
+      printError(args.scene + ": " + e.what());
+      return 2;
+    } catch (...) {
+      progress.finish();
+      return reportBuildError(args, std::current_exception());
+    }
+    if (args.listMissing) {
+      if (!incomplete.empty()) std::printf("%d\n", frame);
+      continue;
+    }
+    if (args.resume) {
+      if (incomplete.empty()) {
+        ++skipped;
+        progress.advance();
+        continue;
+      }
+      if (!args.quiet)
+        for (const std::string& why : incomplete)
+          if (why.find(": missing") == std::string::npos)
+            std::fprintf(stderr, "glint: frame %d: redoing %s\n", frame, why.c_str());
+    }
+    RenderScene scene;
+    try {
       scene = buildRenderScene(desc, &record.build);
     } catch (...) {
       progress.finish();
@@ -326,6 +368,7 @@ int runSequence(const RenderArgs& args, const std::vector<std::string>& patterns
     if (!args.quiet && !terminal) printSummary(outputs, desc, scene, record.stats);
   }
   progress.finish();
+  if (args.listMissing) return 0;
 
   double total = 0;
   nlohmann::json perFrame = nlohmann::json::array();
@@ -363,8 +406,9 @@ int runRender(const RenderArgs& args) {
     printError("--time and --frames exclude each other (frame f is at time f / fps)");
     return 2;
   }
-  if (args.resume && !args.frames) {
-    printError("--resume applies to a sequence (--frames A-B)");
+  if ((args.resume || args.listMissing) && !args.frames) {
+    printError(std::string(args.resume ? "--resume" : "--list-missing") +
+               " applies to a sequence (--frames A-B; one frame: --frames F-F)");
     return 2;
   }
   if (args.crop || args.tile) {
@@ -412,7 +456,11 @@ void addRenderCommand(CLI::App& app, int* exitCode) {
   cmd->add_option(
       "--time", args->time,
       "scene time of a single frame, in seconds (default: the sidecar's render.time, else 0)");
-  cmd->add_flag("--resume", args->resume, "skip frames whose outputs already exist");
+  cmd->add_flag("--resume", args->resume,
+                "skip frames whose outputs are complete (this render's metadata, checksum "
+                "intact); redo missing and partial ones");
+  cmd->add_flag("--list-missing", args->listMissing,
+                "render nothing: print the frames --resume would render, one per line");
   cmd->add_option("--crop", args->crop,
                   "render only pixels X0,Y0,X1,Y1 (X1, Y1 exclusive) to a partial EXR; "
                   "`glint assemble` joins the pieces");

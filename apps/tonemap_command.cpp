@@ -26,6 +26,7 @@
 #include "renderer/output.h"
 #include "renderer/progress.h"
 #include "renderer/tonemap.h"
+#include "scenes/load.h"
 
 namespace fs = std::filesystem;
 
@@ -46,6 +47,8 @@ struct TonemapArgs {
   std::optional<std::string> mp4;
   double fps = 24;
   bool quiet = false;
+  std::optional<std::string> scene;    // take the tone mapping settings from this scene
+  std::optional<std::string> sidecar;  // its sidecar
 };
 
 // A bad command line or input: exit code 2, the message names the file.
@@ -302,6 +305,25 @@ int runTonemap(const TonemapArgs& args) {
 
 }  // namespace
 
+// --scene: the tone mapping the scene asks for (its render.tonemap) for every setting not given
+// on the command line, so a farm's tone-mapping job looks like `glint render -o x.png` would.
+int applySceneSettings(const CLI::App& cmd, TonemapArgs* args) {
+  ToneMapSettings tm;
+  try {
+    tm = SceneLoader(*args->scene, args->sidecar).at().render.tonemap;
+  } catch (const std::exception& e) {  // SceneError, or an unreadable file
+    printError(e.what());
+    return 2;
+  }
+  if (!cmd.count("--operator")) args->op = tm.op;
+  if (!cmd.count("--ldmax")) args->ldmax = tm.wardDisplayMax;
+  if (!cmd.count("--scene-luminance")) args->sceneLuminance = tm.wardSceneLuminance;
+  if (!cmd.count("--exposure")) args->exposure = tm.exposure;
+  if (!cmd.count("--display")) args->display = tm.display;
+  if (!cmd.count("--view")) args->view = tm.view;
+  return 0;
+}
+
 void addTonemapCommand(CLI::App& app, int* exitCode) {
   auto args = std::make_shared<TonemapArgs>();
   CLI::App* cmd = app.add_subcommand(
@@ -335,7 +357,19 @@ void addTonemapCommand(CLI::App& app, int* exitCode) {
       ->check(CLI::PositiveNumber)
       ->needs(mp4);
   cmd->add_flag("-q,--quiet", args->quiet, "no progress bar, statistics or summary");
-  cmd->callback([args, exitCode] { *exitCode = runTonemap(*args); });
+  CLI::Option* scene = cmd->add_option(
+      "--scene", args->scene,
+      "take the settings not given here (operator, Ward luminances, exposure, display, view) "
+      "from this scene's render.tonemap");
+  cmd->add_option("--sidecar", args->sidecar, "the sidecar of --scene's glTF")->needs(scene);
+  cmd->callback([args, exitCode, cmd] {
+    if (args->scene)
+      if (int code = applySceneSettings(*cmd, args.get())) {
+        *exitCode = code;
+        return;
+      }
+    *exitCode = runTonemap(*args);
+  });
 }
 
 }  // namespace glint::app

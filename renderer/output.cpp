@@ -1,6 +1,7 @@
 // glint — writing a Film: scene-linear EXR, or display-referred PNG/JPEG/TIFF; always atomic.
 #include "renderer/output.h"
 
+#include <Imath/half.h>
 #include <OpenImageIO/imageio.h>
 #include <fcntl.h>
 #include <fmt/format.h>
@@ -61,6 +62,8 @@ void addMetadata(OIIO::ImageSpec& spec, const ImageMetadata& meta) {
   spec.attribute("glint:render_seconds", OIIO::TypeDesc::DOUBLE, &seconds);
   spec.attribute("glint:accel", meta.accel);
   spec.attribute("glint:integrator", meta.integrator);
+  double time = meta.time;
+  spec.attribute("glint:time", OIIO::TypeDesc::DOUBLE, &time);
 }
 
 // Scene-linear RGBA (+ AOVs): what a compositor wants, untouched by display settings.
@@ -102,6 +105,12 @@ Image exrImage(const Film& film, const RenderSettings& settings) {
     *p++ = film.depth[i];
     *p++ = film.variance[i].x, *p++ = film.variance[i].y, *p++ = film.variance[i].z;
   }
+  // Round half channels here rather than in OIIO's conversion, so the checksum is of the
+  // values the file holds (the rounding is the same: Imath's, to nearest even).
+  if (settings.exrHalf)
+    for (size_t i = 0; i < img.pixels.size(); ++i)
+      if (!(film.hasAovs && i % size_t(nch) == 10)) img.pixels[i] = float(Imath::half(img.pixels[i]));
+  img.spec.attribute("glint:checksum", pixelChecksum(img.pixels, img.spec.channelnames));
   return img;
 }
 
@@ -242,7 +251,8 @@ void assembleExr(const std::vector<std::string>& pieces, const std::string& outp
         const OIIO::ParamValue* p = s.find_attribute(key);
         return p ? s.metadata_val(*p) : std::string("(none)");
       };
-      for (const char* key : {"glint:scene", "glint:spp", "glint:seed", "glint:integrator"})
+      for (const char* key :
+           {"glint:scene", "glint:spp", "glint:seed", "glint:integrator", "glint:time"})
         if (attribute(spec, key) != attribute(first, key))
           throw ImageReadError(fmt::format("{}: {} is {}, but {} in {}: not the same render",
                                            path, key, attribute(spec, key), attribute(first, key),
@@ -272,7 +282,81 @@ void assembleExr(const std::vector<std::string>& pieces, const std::string& outp
                                      first / size_t(whole.spec.width)));
   }
   whole.spec.attribute("glint:render_seconds", OIIO::TypeDesc::DOUBLE, &seconds);
+  // Read back as float, every value is exactly what the pieces stored: the same checksum as
+  // the frame rendered whole.
+  whole.spec.attribute("glint:checksum", pixelChecksum(whole.pixels, whole.spec.channelnames));
   writeAtomically(output, whole);
+}
+
+std::string pixelChecksum(const std::vector<float>& pixels,
+                          const std::vector<std::string>& channelNames) {
+  uint64_t hash = 0xcbf29ce484222325ull;  // FNV-1a offset basis
+  const auto mix = [&](uint8_t byte) {
+    hash ^= byte;
+    hash *= 0x100000001b3ull;
+  };
+  const size_t nch = channelNames.size();
+  std::vector<size_t> order(nch);
+  for (size_t c = 0; c < nch; ++c) order[c] = c;
+  std::sort(order.begin(), order.end(),
+            [&](size_t a, size_t b) { return channelNames[a] < channelNames[b]; });
+  for (size_t c : order) {
+    for (char ch : channelNames[c]) mix(uint8_t(ch));
+    mix(0);
+    for (size_t i = c; i < pixels.size(); i += nch) {
+      uint32_t bits;
+      std::memcpy(&bits, &pixels[i], sizeof bits);
+      for (int byte = 0; byte < 4; ++byte) mix(uint8_t(bits >> (8 * byte)));  // little-endian
+    }
+  }
+  return fmt::format("{:016x}", hash);
+}
+
+std::string whyIncomplete(const std::string& path, const ExpectedImage& expected) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return "missing";
+  if (!fs::is_regular_file(path, ec)) return "not a regular file";
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) return "cannot read: " + OIIO::geterror();
+  const OIIO::ImageSpec spec = in->spec();
+  const bool exr = formatOf(path) == Format::Exr;
+  if (exr != (std::string(in->format_name()) == "openexr"))
+    return fmt::format("holds a {} image", in->format_name());
+  if (exr) {
+    if (spec.full_width != expected.fullWidth || spec.full_height != expected.fullHeight)
+      return fmt::format("a {}x{} frame, not {}x{}", spec.full_width, spec.full_height,
+                         expected.fullWidth, expected.fullHeight);
+    if (spec.x != expected.x0 || spec.y != expected.y0 || spec.width != expected.width ||
+        spec.height != expected.height)
+      return fmt::format("holds pixels {},{}..{},{}, not {},{}..{},{}", spec.x, spec.y,
+                         spec.x + spec.width, spec.y + spec.height, expected.x0, expected.y0,
+                         expected.x0 + expected.width, expected.y0 + expected.height);
+    const std::string scene = fs::path(spec.get_string_attribute("glint:scene")).filename();
+    if (scene != fs::path(expected.scene).filename().string())
+      return fmt::format("a render of '{}', not '{}'", scene,
+                         fs::path(expected.scene).filename().string());
+    if (int spp = spec.get_int_attribute("glint:spp"); spp != expected.spp)
+      return fmt::format("rendered with {} spp, not {}", spp, expected.spp);
+    const std::string seed = spec.get_string_attribute("glint:seed");
+    if (seed != std::to_string(expected.seed))
+      return fmt::format("rendered with seed {}, not {}", seed.empty() ? "(none)" : seed,
+                         expected.seed);
+    const OIIO::ParamValue* time = spec.find_attribute("glint:time", OIIO::TypeDesc::DOUBLE);
+    if (!time || time->get<double>() != expected.time)
+      return fmt::format("not the frame at time {} s", expected.time);
+  } else if (spec.width != expected.width || spec.height != expected.height) {
+    return fmt::format("{}x{} pixels, not {}x{}", spec.width, spec.height, expected.width,
+                       expected.height);
+  }
+  std::vector<float> pixels(size_t(spec.image_pixels()) * size_t(spec.nchannels));
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, pixels.data()))
+    return "cannot read its pixels: " + in->geterror();
+  if (exr) {
+    const std::string stored = spec.get_string_attribute("glint:checksum");
+    if (stored.empty()) return "no glint:checksum (written by an older glint)";
+    if (stored != pixelChecksum(pixels, spec.channelnames)) return "its pixels do not match glint:checksum";
+  }
+  return "";
 }
 
 bool isSupportedOutput(const std::string& path, std::string* why) {
@@ -364,6 +448,8 @@ Film readExr(const std::string& path, ImageMetadata* meta) {
     meta->renderSeconds = spec.get_float_attribute("glint:render_seconds");
     meta->accel = spec.get_string_attribute("glint:accel");
     meta->integrator = spec.get_string_attribute("glint:integrator");
+    if (const OIIO::ParamValue* t = spec.find_attribute("glint:time", OIIO::TypeDesc::DOUBLE))
+      meta->time = t->get<double>();
   }
   in->close();
 

@@ -20,6 +20,7 @@ struct ImageMetadata {
   double renderSeconds = 0;
   std::string accel;
   std::string integrator;
+  double time = 0;  // the scene time of the frame, seconds
 };
 
 // A failure to write an image (disk full, unwritable folder): exit code 1.
@@ -59,6 +60,30 @@ void writeRawImage(const std::string& path, int width, int height, int channels,
 // resampled, so an assembled frame is bit-identical to the frame rendered whole. Throws
 // ImageReadError (an unreadable or inconsistent piece, a gap, an overlap) or OutputError.
 void assembleExr(const std::vector<std::string>& pieces, const std::string& output);
+
+// What a finished output of one render must show: `glint render --resume` skips a frame only
+// when every output passes.
+struct ExpectedImage {
+  int fullWidth = 0, fullHeight = 0;  // the whole frame
+  int x0 = 0, y0 = 0, width = 0, height = 0;  // the pixels this render wrote (crop or tile)
+  std::string scene;  // compared by file name: the path may be spelled differently
+  int spp = 0;
+  uint64_t seed = 0;
+  double time = 0;
+};
+
+// Empty when `path` is a complete output of the render `expected` describes; else why not
+// ("missing", "cannot read ...", "checksum mismatch ...", "spp is 4, not 16"). An EXR must
+// decode, carry glint's metadata for that render and match the checksum of its pixel values
+// (glint:checksum, written with every EXR); a PNG, JPEG or TIFF must decode at the expected size
+// (PNG checks its own CRC-32 per chunk; these formats cannot carry glint's numeric metadata).
+std::string whyIncomplete(const std::string& path, const ExpectedImage& expected);
+
+// The checksum glint:checksum holds: FNV-1a (64-bit) over each channel in the order of the
+// names (as EXR stores them; readers may interleave them otherwise): the name, then the bits of
+// its values row by row, as the file stores them (half channels rounded to half). 16 hex digits.
+std::string pixelChecksum(const std::vector<float>& pixels,
+                          const std::vector<std::string>& channelNames);
 
 // Reads a scene-linear EXR (the R, G, B channels, and A when present, else alpha 1) into a film
 // without AOVs; fills *meta from glint's attributes when given. Throws ImageReadError naming

@@ -511,6 +511,10 @@ void resolveImageSize(const SceneDescription& desc, const CameraDesc* camera, in
   }
 }
 
+void imageSize(const SceneDescription& desc, int* width, int* height) {
+  resolveImageSize(desc, selectCamera(desc), width, height);
+}
+
 RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings) {
   auto start = Clock::now();
   RenderScene scene;

@@ -23,4 +23,8 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
 void resolveImageSize(const SceneDescription& desc, const CameraDesc* camera, int* width,
                       int* height);
 
+// The image size buildRenderScene gives `desc`, without building it (the camera named in
+// desc.render.camera, else the first). Throws SceneError for an unknown camera name.
+void imageSize(const SceneDescription& desc, int* width, int* height);
+
 }  // namespace glint

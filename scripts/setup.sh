@@ -14,6 +14,8 @@ PACKAGES=(
   python3 python3-matplotlib
   # scripts/sanitize.sh: Clang with its ASan/UBSan/libFuzzer runtimes and llvm-symbolizer
   clang libclang-rt-14-dev llvm
+  # scripts/slurm: the Slurm test and benchmark bring up a one-node cluster on this machine
+  slurmctld slurmd slurm-client munge
 )
 
 # One dpkg-query for all packages; anything not reported as installed is missing.

@@ -147,6 +147,51 @@ TEST(CliFrames, ResumeSkipsCompleteFramesOnly) {
   EXPECT_EQ(stats["frames"][0]["frame"].get<int>(), 1);
 }
 
+// A frame is done only when its file is complete and of this render: a file cut short (a copy
+// from a node that died) or rendered with other settings is redone, and --list-missing names
+// exactly the frames --resume renders.
+TEST(CliFrames, ResumeRedoesPartialAndForeignFrames) {
+  std::string dir = test::scratchDir("CliFrames.ResumePartial");
+  std::string scene = writeMovingBallScene(dir);
+  const std::string out = " -o " + dir + "/f_#.exr";
+  ASSERT_EQ(test::runGlint("render " + scene + " --frames 0-3 --quiet" + out).exitCode, 0);
+  fs::resize_file(dir + "/f_1.exr", fs::file_size(dir + "/f_1.exr") / 2);
+  ASSERT_EQ(test::runGlint("render " + scene + " --frames 2-2 --spp 2 --quiet" + out).exitCode, 0);
+  fs::remove(dir + "/f_3.exr");
+  const auto kept = fs::last_write_time(dir + "/f_0.exr");
+
+  auto list = test::runGlint("render " + scene + " --frames 0-3 --list-missing" + out);
+  ASSERT_EQ(list.exitCode, 0) << list.err;
+  EXPECT_EQ(list.out, "1\n2\n3\n");
+  EXPECT_FALSE(fs::exists(dir + "/f_3.exr")) << "--list-missing rendered";
+
+  auto r = test::runGlint("render " + scene + " --frames 0-3 --resume" + out + " --stats " + dir +
+                          "/stats.json");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.err.find("frame 1: redoing"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("2 spp, not 4"), std::string::npos) << r.err;
+  EXPECT_EQ(fs::last_write_time(dir + "/f_0.exr"), kept) << "a complete frame was rendered again";
+  nlohmann::json stats = readJson(dir + "/stats.json");
+  EXPECT_EQ(stats["frames_rendered"].get<int>(), 3);
+  EXPECT_EQ(stats["frames_skipped"].get<int>(), 1);
+
+  list = test::runGlint("render " + scene + " --frames 0-3 --list-missing" + out);
+  EXPECT_EQ(list.out, "");
+  // Tiles are frames' pieces: a tile's file is complete for its own window only.
+  ASSERT_EQ(test::runGlint("render " + scene + " --frames 0-1 --tile 1/2 --quiet -o " + dir +
+                           "/t1_#.exr")
+                .exitCode,
+            0);
+  EXPECT_EQ(test::runGlint("render " + scene + " --frames 0-1 --tile 1/2 --list-missing -o " +
+                           dir + "/t1_#.exr")
+                .out,
+            "");
+  EXPECT_EQ(test::runGlint("render " + scene + " --frames 0-1 --tile 0/2 --list-missing -o " +
+                           dir + "/t1_#.exr")
+                .out,
+            "0\n1\n");
+}
+
 TEST(CliFrames, BadSequenceArgumentsExitTwo) {
   std::string dir = test::scratchDir("CliFrames.Bad");
   std::string scene = writeMovingBallScene(dir);
@@ -157,6 +202,8 @@ TEST(CliFrames, BadSequenceArgumentsExitTwo) {
       {"--frames 5-2 -o " + dir + "/f_#.exr", "before the first"},
       {"--frames 0-2:0 -o " + dir + "/f_#.exr", "step"},
       {"--resume -o " + dir + "/x.exr", "--resume applies to a sequence"},
+      {"--list-missing -o " + dir + "/x.exr", "--list-missing applies to a sequence"},
+      {"--frames 0-1 --tile 0/17 --resume -o " + dir + "/f_#.exr", "N <= the image height"},
       {"--frames 0-1 --time 0.5 -o " + dir + "/f_#.exr", "exclude each other"},
       {"--frames 0-1 --fps 0 -o " + dir + "/f_#.exr", "--fps must be > 0"},
   };

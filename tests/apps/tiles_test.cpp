@@ -86,6 +86,10 @@ TEST(Tiles, AssembledTilesEqualTheWholeFrameBitForBit) {
   for (size_t i = 0; i < whole.values.size(); ++i)
     differ += std::memcmp(&whole.values[i], &assembled.values[i], sizeof(float)) != 0;
   EXPECT_EQ(differ, 0u);
+  // So the checksum that --resume trusts is the same too.
+  EXPECT_EQ(assembled.spec.get_string_attribute("glint:checksum"),
+            whole.spec.get_string_attribute("glint:checksum"));
+  EXPECT_EQ(assembled.spec.get_string_attribute("glint:checksum").size(), 16u);
 }
 
 TEST(Tiles, ACropIsThatPartOfTheWholeFrame) {

@@ -108,6 +108,38 @@ TEST(CliTonemap, SequenceKeepsBrightnessRatiosPerFrameNormalises) {
   EXPECT_EQ(seq.err.find('\r'), std::string::npos);  // not a terminal: no progress bar
 }
 
+// --scene takes the tone mapping the scene asks for; options on the command line win.
+TEST(CliTonemap, SceneSettingsApplyUnlessGivenOnTheCommandLine) {
+  ScopedEnv noOcio("OCIO", nullptr);
+  std::string dir = test::scratchDir("CliTonemap.SceneSettings");
+  std::string in = writeThreeFrames(dir);
+  const std::string scene = dir + "/scene.json";
+  std::ofstream(scene) << R"({"render": {"tonemap": {"operator": "ward", "view": "Raw",
+    "ward": {"display_max": 50, "scene_luminance": 200}}},
+    "objects": [{"type": "sphere", "radius": 1}]})";
+  test::CommandResult r = test::runGlint("tonemap " + quote(in) + " --sequence --scene " +
+                                         quote(scene) + " -o " + quote(dir + "/a/f_####.png"));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  // Ward by hand with Ldmax 50 and 1.0 = 200 cd/m²: scale m Ldmax / L(1.0), Raw view.
+  double sumLog = 0;
+  for (float v : kLevels) sumLog += std::log(1e-4 + 200.0 * v);
+  const double lwa = std::exp(sumLog / 3);
+  const double m = std::pow((1.219 + std::pow(25.0, 0.4)) / (1.219 + std::pow(lwa, 0.4)), 2.5);
+  EXPECT_NEAR(code8(dir + "/a/f_0003.png"), 0.16 * m * 200.0 / 50.0 * 255, 0.51);
+
+  // --ldmax given: the scene's 50 is not used.
+  r = test::runGlint("tonemap " + quote(in) + " --sequence --ldmax 100 --scene " + quote(scene) +
+                     " -o " + quote(dir + "/b/f_####.png"));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const double m100 =
+      std::pow((1.219 + std::pow(50.0, 0.4)) / (1.219 + std::pow(lwa, 0.4)), 2.5);
+  EXPECT_NEAR(code8(dir + "/b/f_0003.png"), 0.16 * m100 * 200.0 / 100.0 * 255, 0.51);
+
+  r = test::runGlint("tonemap " + quote(in) + " --scene " + quote(dir + "/none.json"));
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("none.json"), std::string::npos) << r.err;
+}
+
 TEST(CliTonemap, AllBlackFrameDoesNotDragTheSequence) {
   ScopedEnv noOcio("OCIO", nullptr);
   std::string dir = test::scratchDir("CliTonemap.AllBlackFrameDoesNotDragTheSequence");
