@@ -3,6 +3,7 @@
 // With --sequence every frame shares one Ward scale, so an animation does not flicker.
 #include <fmt/format.h>
 #include <sys/wait.h>
+#include <tbb/parallel_for.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -238,16 +239,21 @@ int runTonemap(const TonemapArgs& args) {
   // Pass 1 reads every frame before any output is written: a missing or broken frame stops
   // the run with nothing changed, and the sequence statistic needs every frame anyway. Frames
   // are read again in pass 2 rather than kept, so a long sequence needs memory for one frame.
+  // Frames are read and written in parallel (decoding and compressing dominate); each frame's
+  // work is its own, and the first error in frame order is the one reported.
   std::vector<LogLuminanceStats> stats(n);
-  try {
-    for (size_t i = 0; i < n; ++i) {
+  std::vector<std::string> readErrors(n);
+  tbb::parallel_for(size_t(0), n, [&](size_t i) {
+    try {
       Film film = readExr(job.inputs[i]);
       stats[i].add(film.color, tm);
-      progress->advance();
+    } catch (const ImageReadError& e) {
+      readErrors[i] = e.what();
     }
-  } catch (const ImageReadError& e) {
-    return fail(2, e.what());
-  }
+    progress->advance();
+  });
+  for (const std::string& error : readErrors)
+    if (!error.empty()) return fail(2, error);
 
   LogLuminanceStats sequence = sequenceStats(stats);
   std::vector<std::string> report;
@@ -267,25 +273,33 @@ int runTonemap(const TonemapArgs& args) {
     }
   }
 
+  // Exit code and message of a failure, per frame.
+  std::vector<std::pair<int, std::string>> writeErrors(n);
   try {
     if (!job.outputs.empty()) {
       fs::path folder = fs::path(job.outputs.front()).parent_path();
       if (!folder.empty()) fs::create_directories(folder);
     }
-    for (size_t i = 0; i < n; ++i) {
-      ImageMetadata meta;
-      Film film = readExr(job.inputs[i], &meta);
-      double lwa = args.sequence ? sequence.logAverage() : stats[i].logAverage();
-      writeDisplayImage(job.outputs[i], film, tm, lwa, meta);
+    tbb::parallel_for(size_t(0), n, [&](size_t i) {
+      try {
+        ImageMetadata meta;
+        Film film = readExr(job.inputs[i], &meta);
+        double lwa = args.sequence ? sequence.logAverage() : stats[i].logAverage();
+        writeDisplayImage(job.outputs[i], film, tm, lwa, meta);
+      } catch (const ImageReadError& e) {  // changed since pass 1
+        writeErrors[i] = {2, e.what()};
+      } catch (const ColorError& e) {
+        writeErrors[i] = {2, e.what()};
+      } catch (const std::exception& e) {  // OutputError
+        writeErrors[i] = {1, e.what()};
+      }
       progress->advance();
-    }
+    });
+    for (const auto& [code, error] : writeErrors)
+      if (code != 0) return fail(code, error);
     progress->finish();
     if (args.mp4) encodeMp4(*job.ffmpeg, job.outputs, *args.mp4, args.fps);
-  } catch (const ImageReadError& e) {  // changed since pass 1
-    return fail(2, e.what());
-  } catch (const ColorError& e) {
-    return fail(2, e.what());
-  } catch (const std::exception& e) {  // OutputError, or the output folder
+  } catch (const std::exception& e) {  // the output folder, or ffmpeg
     return fail(1, e.what());
   }
 

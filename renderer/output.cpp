@@ -342,8 +342,9 @@ std::string whyIncomplete(const std::string& path, const ExpectedImage& expected
       return fmt::format("rendered with seed {}, not {}", seed.empty() ? "(none)" : seed,
                          expected.seed);
     const OIIO::ParamValue* time = spec.find_attribute("glint:time", OIIO::TypeDesc::DOUBLE);
-    if (!time || time->get<double>() != expected.time)
-      return fmt::format("not the frame at time {} s", expected.time);
+    if (!time) return "no glint:time (written by an older glint)";
+    if (time->get<double>() != expected.time)
+      return fmt::format("the frame at time {} s, not {} s", time->get<double>(), expected.time);
   } else if (spec.width != expected.width || spec.height != expected.height) {
     return fmt::format("{}x{} pixels, not {}x{}", spec.width, spec.height, expected.width,
                        expected.height);

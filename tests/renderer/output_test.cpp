@@ -223,7 +223,7 @@ TEST(Output, CompleteExrPassesAndEachWayOfBeingIncompleteIsNamed) {
     e = expected, e.seed = 1;
     expectReason(e, "seed");
     e = expected, e.time = 0.5;
-    expectReason(e, "time 0.5");
+    expectReason(e, "time 0.375 s, not 0.5 s");
     e = expected, e.y0 = 0;
     expectReason(e, "holds pixels 3,1..7,4");
     e = expected, e.fullWidth = 20;

@@ -7,8 +7,9 @@
 # tiles and thread counts change nothing).
 #
 # Then a failure: one task fails (a wrapper around glint exits 1 the first time it renders frame
-# 5, tile 0), so the jobs that depend on the array never run; the same submission run again
-# submits only that tile, and the frames come out right.
+# 5, tile 0), so the jobs that depend on the array never run (the other frames are there all
+# the same: the last tile of a frame to finish joins it); the same submission run again submits
+# only that tile, and the frames come out right.
 #
 #   slurm_cluster_test.sh GLINT_EXECUTABLE
 # Needs root (slurmd, munged) and the packages scripts/setup.sh installs.
@@ -89,6 +90,13 @@ wait_for "$render_job" "$assemble_job" "$tonemap_job"
 # kill_invalid_depend: what waited on the array is cancelled, not left pending.
 [[ $(states "$assemble_job") == CANCELLED && $(states "$tonemap_job") == CANCELLED ]] ||
   fail "dependent jobs: assemble $(states "$assemble_job"), tonemap $(states "$tonemap_job")"
+
+# The last tile of each frame to finish joined it, though the assemble job never ran: every
+# frame but 5 is there.
+for f in 0 1 2 3 4 6 7; do
+  [[ -f $tmp/out/frames/$(printf 'effects_%04d' "$f").exr ]] || fail "frame $f was not assembled"
+done
+[[ ! -e $tmp/out/frames/effects_0005.exr ]] || fail "frame 5 was assembled with a tile missing"
 
 # --- 2. The same submission again: only the failed tile is rendered.
 rm -f "$tmp"/out/submit/tasks-*.txt
