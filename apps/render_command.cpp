@@ -305,7 +305,7 @@ int runSequence(const RenderArgs& args, const std::vector<std::string>& patterns
     FrameRecord record;
     record.frame = frame;
     record.time = double(frame) / fps;
-    std::vector<std::string> incomplete;  // "path: why" of each output still to write
+    std::vector<std::pair<std::string, std::string>> incomplete;  // output, why: still to write
     try {
       desc = loadAt(args, *loader, record.time);
       if (args.resume || args.listMissing) {
@@ -319,7 +319,7 @@ int runSequence(const RenderArgs& args, const std::vector<std::string>& patterns
         expected.width = w.width(), expected.height = w.height();
         for (const std::string& out : outputs)
           if (std::string why = whyIncomplete(out, expected); !why.empty())
-            incomplete.push_back(out + ": " + why);
+            incomplete.emplace_back(out, why);
       }
     } catch (const std::invalid_argument& e) {  // a tile count above the image height
       progress.finish();
@@ -340,9 +340,10 @@ int runSequence(const RenderArgs& args, const std::vector<std::string>& patterns
         continue;
       }
       if (!args.quiet)
-        for (const std::string& why : incomplete)
-          if (why.find(": missing") == std::string::npos)
-            std::fprintf(stderr, "glint: frame %d: redoing %s\n", frame, why.c_str());
+        for (const auto& [out, why] : incomplete)
+          if (why != "missing")
+            std::fprintf(stderr, "glint: frame %d: redoing %s: %s\n", frame, out.c_str(),
+                         why.c_str());
     }
     RenderScene scene;
     try {

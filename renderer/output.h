@@ -72,8 +72,9 @@ struct ExpectedImage {
   double time = 0;
 };
 
-// Empty when `path` is a complete output of the render `expected` describes; else why not
-// ("missing", "cannot read ...", "checksum mismatch ...", "spp is 4, not 16"). An EXR must
+// Empty when `path` is a complete output of the render `expected` describes; else why not:
+// exactly "missing" when there is no file, else e.g. "cannot read its pixels: ...", "its pixels
+// do not match glint:checksum", "rendered with 4 spp, not 16". An EXR must
 // decode, carry glint's metadata for that render and match the checksum of its pixel values
 // (glint:checksum, written with every EXR); a PNG, JPEG or TIFF must decode at the expected size
 // (PNG checks its own CRC-32 per chunk; these formats cannot carry glint's numeric metadata).
