@@ -428,8 +428,9 @@ int runRender(const RenderArgs& args) {
     // differ from piece to piece).
     for (const std::string& out : outputs)
       if (std::filesystem::path(out).extension() != ".exr") {
-        printError(out + ": --crop and --tile write partial EXRs (the data window of the frame); "
-                         "join them with `glint assemble`, then tone-map");
+        printError(out +
+                   ": --crop and --tile write partial EXRs (the data window of the frame); "
+                   "join them with `glint assemble`, then tone-map");
         return 2;
       }
   }

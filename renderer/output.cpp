@@ -66,6 +66,20 @@ void addMetadata(OIIO::ImageSpec& spec, const ImageMetadata& meta) {
   spec.attribute("glint:time", OIIO::TypeDesc::DOUBLE, &time);
 }
 
+// glint's attributes of an image (what addMetadata wrote); absent ones keep their defaults.
+ImageMetadata metadataOf(const OIIO::ImageSpec& spec) {
+  ImageMetadata meta;
+  meta.scene = spec.get_string_attribute("glint:scene");
+  meta.spp = spec.get_int_attribute("glint:spp");
+  meta.seed = std::strtoull(spec.get_string_attribute("glint:seed", "0").c_str(), nullptr, 10);
+  meta.renderSeconds = spec.get_float_attribute("glint:render_seconds");
+  meta.accel = spec.get_string_attribute("glint:accel");
+  meta.integrator = spec.get_string_attribute("glint:integrator");
+  if (const OIIO::ParamValue* t = spec.find_attribute("glint:time", OIIO::TypeDesc::DOUBLE))
+    meta.time = t->get<double>();
+  return meta;
+}
+
 // Scene-linear RGBA (+ AOVs): what a compositor wants, untouched by display settings.
 Image exrImage(const Film& film, const RenderSettings& settings) {
   std::vector<std::string> names = {"R", "G", "B", "A"};
@@ -109,7 +123,8 @@ Image exrImage(const Film& film, const RenderSettings& settings) {
   // values the file holds (the rounding is the same: Imath's, to nearest even).
   if (settings.exrHalf)
     for (size_t i = 0; i < img.pixels.size(); ++i)
-      if (!(film.hasAovs && i % size_t(nch) == 10)) img.pixels[i] = float(Imath::half(img.pixels[i]));
+      if (int(i % size_t(nch)) != img.spec.z_channel)  // depth stays float
+        img.pixels[i] = float(Imath::half(img.pixels[i]));
   img.spec.attribute("glint:checksum", pixelChecksum(img.pixels, img.spec.channelnames));
   return img;
 }
@@ -246,7 +261,8 @@ void assembleExr(const std::vector<std::string>& pieces, const std::string& outp
                                          spec.full_width, spec.full_height, first.full_width,
                                          first.full_height, pieces.front()));
       if (spec.channelnames != first.channelnames)
-        throw ImageReadError(fmt::format("{}: its channels differ from {}'s", path, pieces.front()));
+        throw ImageReadError(
+            fmt::format("{}: its channels differ from {}'s", path, pieces.front()));
       const auto attribute = [](const OIIO::ImageSpec& s, const char* key) {
         const OIIO::ParamValue* p = s.find_attribute(key);
         return p ? s.metadata_val(*p) : std::string("(none)");
@@ -254,8 +270,8 @@ void assembleExr(const std::vector<std::string>& pieces, const std::string& outp
       for (const char* key :
            {"glint:scene", "glint:spp", "glint:seed", "glint:integrator", "glint:time"})
         if (attribute(spec, key) != attribute(first, key))
-          throw ImageReadError(fmt::format("{}: {} is {}, but {} in {}: not the same render",
-                                           path, key, attribute(spec, key), attribute(first, key),
+          throw ImageReadError(fmt::format("{}: {} is {}, but {} in {}: not the same render", path,
+                                           key, attribute(spec, key), attribute(first, key),
                                            pieces.front()));
     }
     if (spec.x < 0 || spec.y < 0 || spec.x + spec.width > whole.spec.width ||
@@ -274,12 +290,13 @@ void assembleExr(const std::vector<std::string>& pieces, const std::string& outp
   }
   const size_t missing = size_t(std::count(covered.begin(), covered.end(), uint8_t(0)));
   if (missing > 0) {
-    const size_t first = size_t(std::find(covered.begin(), covered.end(), uint8_t(0)) - covered.begin());
-    throw ImageReadError(fmt::format("assemble: {} pixel{} of the {}x{} frame in no piece (the "
-                                     "first at {},{})",
-                                     missing, missing == 1 ? "" : "s", whole.spec.width,
-                                     whole.spec.height, first % size_t(whole.spec.width),
-                                     first / size_t(whole.spec.width)));
+    const size_t first =
+        size_t(std::find(covered.begin(), covered.end(), uint8_t(0)) - covered.begin());
+    throw ImageReadError(
+        fmt::format("assemble: {} pixel{} of the {}x{} frame in no piece (the "
+                    "first at {},{})",
+                    missing, missing == 1 ? "" : "s", whole.spec.width, whole.spec.height,
+                    first % size_t(whole.spec.width), first / size_t(whole.spec.width)));
   }
   whole.spec.attribute("glint:render_seconds", OIIO::TypeDesc::DOUBLE, &seconds);
   // Read back as float, every value is exactly what the pieces stored: the same checksum as
@@ -331,20 +348,21 @@ std::string whyIncomplete(const std::string& path, const ExpectedImage& expected
       return fmt::format("holds pixels {},{}..{},{}, not {},{}..{},{}", spec.x, spec.y,
                          spec.x + spec.width, spec.y + spec.height, expected.x0, expected.y0,
                          expected.x0 + expected.width, expected.y0 + expected.height);
-    const std::string scene = fs::path(spec.get_string_attribute("glint:scene")).filename();
-    if (scene != fs::path(expected.scene).filename().string())
-      return fmt::format("a render of '{}', not '{}'", scene,
-                         fs::path(expected.scene).filename().string());
-    if (int spp = spec.get_int_attribute("glint:spp"); spp != expected.spp)
-      return fmt::format("rendered with {} spp, not {}", spp, expected.spp);
-    const std::string seed = spec.get_string_attribute("glint:seed");
-    if (seed != std::to_string(expected.seed))
-      return fmt::format("rendered with seed {}, not {}", seed.empty() ? "(none)" : seed,
-                         expected.seed);
-    const OIIO::ParamValue* time = spec.find_attribute("glint:time", OIIO::TypeDesc::DOUBLE);
-    if (!time) return "no glint:time (written by an older glint)";
-    if (time->get<double>() != expected.time)
-      return fmt::format("the frame at time {} s, not {} s", time->get<double>(), expected.time);
+    const ImageMetadata meta = metadataOf(spec);
+    const std::string scene = fs::path(meta.scene).filename();
+    const std::string expectedScene = fs::path(expected.scene).filename();
+    if (scene != expectedScene)
+      return fmt::format("a render of '{}', not '{}'", scene, expectedScene);
+    if (meta.spp != expected.spp)
+      return fmt::format("rendered with {} spp, not {}", meta.spp, expected.spp);
+    if (!spec.find_attribute("glint:seed"))
+      return fmt::format("rendered with seed (none), not {}", expected.seed);
+    if (meta.seed != expected.seed)
+      return fmt::format("rendered with seed {}, not {}", meta.seed, expected.seed);
+    if (!spec.find_attribute("glint:time", OIIO::TypeDesc::DOUBLE))
+      return "no glint:time (written by an older glint)";
+    if (meta.time != expected.time)
+      return fmt::format("the frame at time {} s, not {} s", meta.time, expected.time);
   } else if (spec.width != expected.width || spec.height != expected.height) {
     return fmt::format("{}x{} pixels, not {}x{}", spec.width, spec.height, expected.width,
                        expected.height);
@@ -355,7 +373,8 @@ std::string whyIncomplete(const std::string& path, const ExpectedImage& expected
   if (exr) {
     const std::string stored = spec.get_string_attribute("glint:checksum");
     if (stored.empty()) return "no glint:checksum (written by an older glint)";
-    if (stored != pixelChecksum(pixels, spec.channelnames)) return "its pixels do not match glint:checksum";
+    if (stored != pixelChecksum(pixels, spec.channelnames))
+      return "its pixels do not match glint:checksum";
   }
   return "";
 }
@@ -442,16 +461,7 @@ Film readExr(const std::string& path, ImageMetadata* meta) {
   std::vector<float> pixels(size_t(spec.width) * size_t(spec.height) * size_t(nch));
   if (!in->read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, pixels.data()))
     throw ImageReadError(fmt::format("{}: {}", path, in->geterror()));
-  if (meta) {
-    meta->scene = spec.get_string_attribute("glint:scene");
-    meta->spp = spec.get_int_attribute("glint:spp");
-    meta->seed = std::strtoull(spec.get_string_attribute("glint:seed", "0").c_str(), nullptr, 10);
-    meta->renderSeconds = spec.get_float_attribute("glint:render_seconds");
-    meta->accel = spec.get_string_attribute("glint:accel");
-    meta->integrator = spec.get_string_attribute("glint:integrator");
-    if (const OIIO::ParamValue* t = spec.find_attribute("glint:time", OIIO::TypeDesc::DOUBLE))
-      meta->time = t->get<double>();
-  }
+  if (meta) *meta = metadataOf(spec);
   in->close();
 
   Film film(spec.width, spec.height, false);
