@@ -161,10 +161,12 @@ Film minimalRender(const RenderScene& scene, const RenderSettings& settings) {
           computeSurfaceInteraction(scene.geometry, rays[s], hits[s], needs);
       const Material& material = *scene.materials[scene.materialIndex(hits[s])];
       const LightSampleContext ctx(si, 0);
+      TextureLookups lookups(si);
+      const Bsdf bsdf = material.bsdf(si, lookups);
       for (const auto& light : scene.lights) {
         const std::optional<LightSample> ls = light->sampleLi(ctx, {0.5f, 0.5f});
         if (!ls) continue;
-        const Rgb f = material.eval(si, ls->wi);
+        const Rgb f = bsdf.f(ls->wi);
         if (!(maxComponent(f) > 0)) continue;
         if constexpr (kBookkeeping) ++tally.shadow;
         if (scene.accel->anyHit(shadowRay(ctx, *ls))) continue;

@@ -2,8 +2,9 @@
 // noise patterns as the procedural textures and bump maps see them.
 //
 // Per hit, each benchmark does what an integrator does once it has a SurfaceInteraction:
-// perturbNormal (on a copy: it edits the hit), eval towards one light direction, pdf of that
-// direction (the MIS weight of a light sample) and one sample() over all lobes. An unlit
+// perturbNormal (on a copy: it edits the hit), the material's BSDF (its parameters read once),
+// f towards one light direction, pdf of that direction (the MIS weight of a light sample) and
+// one sample() over all lobes. An unlit
 // shader (eyelight) does what Whitted does for it instead: albedo x |cos|. The hits are a fixed
 // pool of 1,024 SurfaceInteractions made once from fixed seeds (see makeHits), so the numbers
 // exclude tracing and computing the interaction, and every run shades the same hits with the
@@ -338,11 +339,13 @@ std::unique_ptr<ShaderSetup> makeSetup(Shader shader, int64_t* lookups = nullptr
 inline float shade(const Material& m, bool unlit, const ShadingInput& in) {
   SurfaceInteraction si = in.si;
   m.perturbNormal(si);
-  if (unlit) return m.albedo(si).x * std::abs(dot(si.ns, si.wo));
-  const Rgb f = m.eval(si, in.wiLight);
-  const float lightPdf = m.pdf(si, in.wiLight);
+  TextureLookups lookups(si);
+  if (unlit) return m.albedo(si, lookups).x * std::abs(dot(si.ns, si.wo));
+  const Bsdf bsdf = m.bsdf(si, lookups);
+  const Rgb f = bsdf.f(in.wiLight);
+  const float lightPdf = bsdf.pdf(in.wiLight);
   float v = f.x + lightPdf;
-  if (std::optional<BsdfSample> s = m.sample(si, in.u, in.uLobe)) v += s->f.x + s->pdf + s->wi.x;
+  if (std::optional<BsdfSample> s = bsdf.sample(in.u, in.uLobe)) v += s->f.x + s->pdf + s->wi.x;
   return v;
 }
 

@@ -1,5 +1,5 @@
 // glint — the course's first shaders: eyelight, Lambert, (energy-normalized) Phong and
-// Blinn-Phong.
+// Blinn-Phong. Their lobes are in bxdfs.h.
 #pragma once
 
 #include "materials/material.h"
@@ -10,8 +10,13 @@ namespace glint {
 class SimpleMaterial : public Material {
  public:
   SimpleMaterial(ColorParam diffuse, ColorParam emission);
-  Rgb emitted(const SurfaceInteraction& si) const override { return emission_.evaluate(si); }
-  Rgb albedo(const SurfaceInteraction& si) const override { return diffuse_.evaluate(si); }
+  Rgb emitted(const SurfaceInteraction& si, TextureLookups& lookups) const override {
+    return emission_.evaluate(si, lookups);
+  }
+  using Material::emitted;
+  Rgb albedo(const SurfaceInteraction& si, TextureLookups& lookups) const override {
+    return diffuse_.evaluate(si, lookups);
+  }
 
  protected:
   ColorParam diffuse_, emission_;
@@ -19,19 +24,16 @@ class SimpleMaterial : public Material {
 
 // Colour x |cos(normal, view)|, independent of lights: the ray tracing course's first shader.
 // With an alpha (setAlpha) it is the course's transparent eyelight: the rest of the light
-// passes through.
+// passes through. It does not scatter: its BSDF is empty.
 class EyelightMaterial final : public SimpleMaterial {
  public:
   explicit EyelightMaterial(ColorParam color) : SimpleMaterial(color, ColorParam{{0, 0, 0}}) {}
   uint32_t flags() const override { return kBsdfUnlit; }
 
  protected:
-  Rgb evalBsdf(const SurfaceInteraction&, Vec3f) const override { return {}; }
-  std::optional<BsdfSample> sampleBsdf(const SurfaceInteraction&, Vec2f, float,
-                                       uint32_t) const override {
-    return std::nullopt;
+  Bsdf makeBsdf(const SurfaceInteraction&, const BsdfFrame&, TextureLookups&) const override {
+    return {};
   }
-  float pdfBsdf(const SurfaceInteraction&, Vec3f) const override { return 0; }
 };
 
 // Ideal diffuse reflection: f = albedo / pi.
@@ -41,38 +43,31 @@ class LambertMaterial final : public SimpleMaterial {
   uint32_t flags() const override { return kBsdfDiffuse | kBsdfReflection; }
 
  protected:
-  Rgb evalBsdf(const SurfaceInteraction& si, Vec3f wi) const override;
-  std::optional<BsdfSample> sampleBsdf(const SurfaceInteraction& si, Vec2f u, float uLobe,
-                                       uint32_t lobes) const override;
-  float pdfBsdf(const SurfaceInteraction& si, Vec3f wi) const override;
+  Bsdf makeBsdf(const SurfaceInteraction& si, const BsdfFrame& frame,
+                TextureLookups& lookups) const override {
+    return Bsdf(frame, DiffuseBxdf{diffuse_.evaluate(si, lookups)});
+  }
 };
 
-// A diffuse lobe plus a cos^n specular lobe, energy-normalized so that kd + ks <= 1 per channel
-// (the scene builder checks it) never reflects more than it receives:
-//   Phong (Lafortune & Willems 1994): ks (n+2)/(2 pi) cos^n(alpha), alpha between wi and the
-//     mirror direction of wo.
-//   Blinn-Phong, in Ashikhmin & Shirley's (2000) normalization:
-//     ks (n+1)/(8 pi) cos^n(theta_h) / ((h.wi) max(cos theta_i, cos theta_o)),
-//     whose cosine-weighted integral is at most 1 for every wo (the classic (n+8)/(8 pi)
-//     factor exceeds 1 near normal incidence).
+// A diffuse lobe plus a cos^n specular lobe (PhongBxdf: Phong or Blinn-Phong), energy-
+// normalized so that kd + ks <= 1 per channel (the scene builder checks it).
 class PhongMaterial final : public SimpleMaterial {
  public:
   PhongMaterial(ColorParam diffuse, Rgb specular, float shininess, ColorParam emission,
-                bool blinn = false);
+                bool blinn = false)
+      : SimpleMaterial(diffuse, emission),
+        specular_(specular),
+        shininess_(shininess),
+        blinn_(blinn) {}
   uint32_t flags() const override { return kBsdfDiffuse | kBsdfGlossy | kBsdfReflection; }
 
  protected:
-  Rgb evalBsdf(const SurfaceInteraction& si, Vec3f wi) const override;
-  std::optional<BsdfSample> sampleBsdf(const SurfaceInteraction& si, Vec2f u, float uLobe,
-                                       uint32_t lobes) const override;
-  float pdfBsdf(const SurfaceInteraction& si, Vec3f wi) const override;
+  Bsdf makeBsdf(const SurfaceInteraction& si, const BsdfFrame& frame,
+                TextureLookups& lookups) const override {
+    return Bsdf(frame, PhongBxdf(diffuse_.evaluate(si, lookups), specular_, shininess_, blinn_));
+  }
 
  private:
-  // Probability of sampling the specular lobe, from the lobes' relative weights.
-  float specularProbability(const SurfaceInteraction& si) const;
-  // The specular lobe's value (without ks) and its sampling density, for wi.
-  float specularLobe(const SurfaceInteraction& si, Vec3f wi) const;
-  float specularPdf(const SurfaceInteraction& si, Vec3f wi) const;
   Rgb specular_;
   float shininess_;
   bool blinn_;

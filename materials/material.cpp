@@ -1,28 +1,7 @@
-// glint — what every material shares: the terminator term, traits, normal modifiers.
+// glint — what every material shares: traits, normal modifiers, alpha.
 #include "materials/material.h"
 
 namespace glint {
-
-float terminatorShadowing(Vec3f ng, Vec3f ns, Vec3f wi) {
-  const float cosNs = dot(ns, wi), cosNg = dot(ng, wi), cosNsNg = dot(ns, ng);
-  if (cosNs <= 0 || cosNg <= 0 || cosNsNg <= 0) return cosNg > 0 ? 1.0f : 0.0f;
-  const float g = std::min(1.0f, cosNg / (cosNs * cosNsNg));
-  return -g * g * g + g * g + g;  // the smooth form of the paper's eq. 4
-}
-
-Rgb Material::eval(const SurfaceInteraction& si, Vec3f wi) const {
-  Rgb f = evalBsdf(si, wi);
-  if (normalModifier_ && dot(wi, si.ng) > 0) f *= terminatorShadowing(si.ng, si.ns, wi);
-  return f;
-}
-
-std::optional<BsdfSample> Material::sample(const SurfaceInteraction& si, Vec2f u, float uLobe,
-                                           uint32_t lobes) const {
-  std::optional<BsdfSample> s = sampleBsdf(si, u, uLobe, lobes);
-  if (s && normalModifier_ && !(s->flags & kBsdfSpecular) && dot(s->wi, si.ng) > 0)
-    s->f *= terminatorShadowing(si.ng, si.ns, s->wi);
-  return s;
-}
 
 void Material::setNormalModifier(std::unique_ptr<NormalModifier> m) {
   normalModifier_ = std::move(m);
@@ -43,9 +22,9 @@ void Material::setAlpha(AlphaMode mode, float factor, float cutoff, const ColorP
   uses(source);
 }
 
-float Material::opacity(const SurfaceInteraction& si) const {
+float Material::opacity(const SurfaceInteraction& si, TextureLookups& lookups) const {
   if (alphaMode_ == AlphaMode::Opaque) return 1;
-  const float a = alphaSource_.alpha(si, alphaFactor_);
+  const float a = alphaSource_.alpha(si, alphaFactor_, lookups);
   if (alphaMode_ == AlphaMode::Mask) return a >= alphaCutoff_ ? 1.0f : 0.0f;
   return std::clamp(a, 0.0f, 1.0f);
 }

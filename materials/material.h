@@ -1,47 +1,30 @@
-// glint — the material (shader) interface shared by every integrator.
+// glint — the material interface shared by every integrator.
 //
-// One interface serves the Whitted integrator, the path tracer and instant radiosity alike:
-// evaluate f(wo, wi), sample wi with its pdf, and the pdf alone (for MIS). Directions are
-// world-space unit vectors; wo is si.wo. f excludes the cosine factor.
-//
-// The public calls are non-virtual (they add what every material shares: the shadow-terminator
-// term of perturbed normals); each material implements the protected `evalBsdf`, `sampleBsdf`
-// and `pdfBsdf`. Per hit, an integrator calls `perturbNormal` once (bump, normal map, snow)
-// before anything else.
+// A material is a recipe: its parameters (colours, roughness, transmission, alpha, emission),
+// each a constant or a texture. Once per hit an integrator asks it for what it needs, in this
+// order, through one TextureLookups of that hit, so each texture is read once however many
+// parameters share it (pbrt-v4's Material::GetBSDF; yocto-gl's material_point):
+//   perturbNormal(si)          bump, normal map or snow: the shading normal (Integrator does
+//                              this in shadingPoint);
+//   opacity(si, lookups)       only for materials with traits().transparency: a path passing
+//                              straight through needs nothing more;
+//   bsdf(si, lookups)          the scattering function at the hit, a small value whose f,
+//                              sample and pdf never read a texture (materials/bsdf.h);
+//   emitted / albedo(si, ...)  the emission (traits().emits), the albedo AOV and eyelight colour.
+// Opacity, BSDF and emission are separate calls rather than one record so that a path passing
+// through an alpha cut-out, or a hit on a surface that does not emit, pays for none of the rest;
+// the shared TextureLookups keeps that from costing repeated lookups.
 #pragma once
 
 #include <cstdint>
 #include <memory>
-#include <optional>
 #include <vector>
 
 #include "geometry/interaction.h"
+#include "materials/bsdf.h"
 #include "materials/texture.h"
 
 namespace glint {
-
-enum BsdfFlags : uint32_t {
-  kBsdfNone = 0,
-  kBsdfUnlit = 1u << 0,  // not lit by lights: colour x |cos| towards the eye (eyelight)
-  kBsdfDiffuse = 1u << 1,
-  kBsdfGlossy = 1u << 2,
-  kBsdfSpecular = 1u << 3,  // delta lobes (mirror, glass): eval and pdf are zero
-  kBsdfReflection = 1u << 4,
-  kBsdfTransmission = 1u << 5,
-};
-// Both hemispheres: the default lobe selection of Material::sample.
-inline constexpr uint32_t kBsdfAllLobes = kBsdfReflection | kBsdfTransmission;
-
-struct BsdfSample {
-  Rgb f;  // f(wo, wi), without the cosine
-  Vec3f wi;
-  float pdf = 0;  // solid-angle density (for delta lobes: the discrete probability)
-  uint32_t flags = kBsdfNone;
-  float eta = 1;  // relative index of refraction crossed (transmission), else 1
-
-  // The path throughput factor f |cos| / pdf along ns.
-  Rgb weight(Vec3f ns) const { return f * (std::abs(dot(wi, ns)) / pdf); }
-};
 
 // A colour parameter: constant factor x optional texture x optional vertex colour (glTF
 // multiplies all three).
@@ -50,19 +33,19 @@ struct ColorParam {
   const Texture* texture = nullptr;  // owned by the render scene
   bool useVertexColor = false;
 
-  Rgb evaluate(const SurfaceInteraction& si) const {
+  Rgb evaluate(const SurfaceInteraction& si, TextureLookups& lookups) const {
     Rgb c = factor;
     if (texture) {
-      Vec4f t = texture->evaluate(TexturePoint(si));
+      const Vec4f t = lookups(texture);
       c *= Rgb{t.x, t.y, t.z};
     }
     if (useVertexColor) c *= Rgb{si.color.x, si.color.y, si.color.z};
     return c;
   }
   // The alpha that goes with the colour (glTF base colour alpha x texture alpha x COLOR_0.a).
-  float alpha(const SurfaceInteraction& si, float factorAlpha) const {
+  float alpha(const SurfaceInteraction& si, float factorAlpha, TextureLookups& lookups) const {
     float a = factorAlpha;
-    if (texture) a *= texture->evaluate(TexturePoint(si)).w;
+    if (texture) a *= lookups(texture).w;
     if (useVertexColor) a *= si.color.w;
     return a;
   }
@@ -75,11 +58,10 @@ struct FloatParam {
   const Texture* texture = nullptr;
   int channel = -1;
 
-  float evaluate(const SurfaceInteraction& si) const {
+  float evaluate(TextureLookups& lookups) const {
     if (!texture) return factor;
-    TexturePoint tp(si);
-    if (channel < 0) return factor * texture->scalar(tp);
-    return factor * texture->evaluate(tp)[channel];
+    const Vec4f c = lookups(texture);
+    return factor * (channel < 0 ? luminance({c.x, c.y, c.z}) : c[channel]);
   }
 };
 
@@ -120,25 +102,32 @@ class Material {
   void perturbNormal(SurfaceInteraction& si) const {
     if (normalModifier_) normalModifier_->apply(si);
   }
-  // f(wo, wi) at si (no cosine). Zero for delta lobes and for unlit materials.
-  Rgb eval(const SurfaceInteraction& si, Vec3f wi) const;
-  // Samples wi given two uniform numbers for the direction and one for the lobe choice,
-  // restricted to the hemispheres in `lobes` (kBsdfReflection, kBsdfTransmission or both):
-  // pdf and f are then those of the restricted choice, so an integrator may follow the
-  // reflected and the transmitted lobe separately (Whitted) or pick one (path tracing).
-  // kBsdfSpecular in `lobes` further restricts the choice to delta lobes.
-  std::optional<BsdfSample> sample(const SurfaceInteraction& si, Vec2f u, float uLobe,
-                                   uint32_t lobes = kBsdfAllLobes) const;
-  // Solid-angle density with which sample() (all lobes) returns wi.
-  float pdf(const SurfaceInteraction& si, Vec3f wi) const { return pdfBsdf(si, wi); }
-
+  // The BSDF at si, in the frame of si.ns (already perturbed), every parameter read once.
+  // Bumped surfaces get the shadow-terminator term (terminatorShadowing) in f and sample.
+  Bsdf bsdf(const SurfaceInteraction& si, TextureLookups& lookups) const {
+    return makeBsdf(si, BsdfFrame(si, normalModifier_ != nullptr), lookups);
+  }
+  // The same with lookups of its own (tests, and points that are not otherwise shaded).
+  Bsdf bsdf(const SurfaceInteraction& si) const {
+    TextureLookups lookups(si);
+    return bsdf(si, lookups);
+  }
   // Radiance emitted towards si.wo. Integrators call it only when traits().emits is set.
-  virtual Rgb emitted(const SurfaceInteraction&) const { return {}; }
+  virtual Rgb emitted(const SurfaceInteraction& si, TextureLookups& lookups) const {
+    (void)si, (void)lookups;
+    return {};
+  }
+  // The same at a point that is not otherwise shaded (a point sampled on an emitting surface).
+  Rgb emitted(const SurfaceInteraction& si) const {
+    TextureLookups lookups(si);
+    return emitted(si, lookups);
+  }
   // The surface's colour at si: the eyelight colour, and the albedo AOV.
-  virtual Rgb albedo(const SurfaceInteraction& si) const = 0;
+  virtual Rgb albedo(const SurfaceInteraction& si, TextureLookups& lookups) const = 0;
   // The fraction of light the surface stops; the rest passes straight through it (glTF alpha,
   // transparent eyelight). 1 for opaque materials.
-  float opacity(const SurfaceInteraction& si) const;
+  float opacity(const SurfaceInteraction& si, TextureLookups& lookups) const;
+  // The kinds of lobes the material can have anywhere (a BSDF's flags() are its hit's).
   virtual uint32_t flags() const = 0;
   const MaterialTraits& traits() const { return traits_; }
 
@@ -149,10 +138,9 @@ class Material {
   void setAlpha(AlphaMode mode, float factor, float cutoff, const ColorParam& source);
 
  protected:
-  virtual Rgb evalBsdf(const SurfaceInteraction& si, Vec3f wi) const = 0;
-  virtual std::optional<BsdfSample> sampleBsdf(const SurfaceInteraction& si, Vec2f u, float uLobe,
-                                               uint32_t lobes) const = 0;
-  virtual float pdfBsdf(const SurfaceInteraction& si, Vec3f wi) const = 0;
+  // The material's lobes at si in `frame` (built from si.ns and si.wo).
+  virtual Bsdf makeBsdf(const SurfaceInteraction& si, const BsdfFrame& frame,
+                        TextureLookups& lookups) const = 0;
 
   // Derived constructors record what they read.
   void uses(const ColorParam& c);
@@ -166,11 +154,5 @@ class Material {
   float alphaFactor_ = 1, alphaCutoff_ = 0.5f;
   ColorParam alphaSource_;
 };
-
-// Chiang, Li and Burley (2019), "Taming the Shadow Terminator": a shadowing term for shading
-// normals that differ from the geometric one, smooth and 1 wherever ns = ng. Multiplying the
-// reflected light by it removes the hard terminator that bump maps otherwise show on lit
-// spheres, at the price of slightly darkening strongly bumped grazing regions.
-float terminatorShadowing(Vec3f ng, Vec3f ns, Vec3f wi);
 
 }  // namespace glint

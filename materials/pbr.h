@@ -1,5 +1,6 @@
-// glint — glTF's metallic-roughness material as a microfacet BSDF (Trowbridge–Reitz / GGX with
-// height-correlated Smith masking and visible-normal sampling, microfacet.h).
+// glint — glTF's metallic-roughness material: the recipe whose lobes, PbrBxdf (bxdfs.h), are a
+// microfacet BSDF (Trowbridge–Reitz / GGX with height-correlated Smith masking and
+// visible-normal sampling, microfacet.h).
 //
 // The model is the glTF 2.0 specification's (Appendix B) with KHR_materials_transmission and
 // KHR_materials_ior:
@@ -37,22 +38,20 @@ struct PbrParams {
 class PbrMaterial final : public Material {
  public:
   explicit PbrMaterial(const PbrParams& params);
-  Rgb emitted(const SurfaceInteraction& si) const override { return p_.emission.evaluate(si); }
-  Rgb albedo(const SurfaceInteraction& si) const override { return p_.baseColor.evaluate(si); }
+  Rgb emitted(const SurfaceInteraction& si, TextureLookups& lookups) const override {
+    return p_.emission.evaluate(si, lookups);
+  }
+  using Material::emitted;
+  Rgb albedo(const SurfaceInteraction& si, TextureLookups& lookups) const override {
+    return p_.baseColor.evaluate(si, lookups);
+  }
   uint32_t flags() const override { return flags_; }
 
  protected:
-  Rgb evalBsdf(const SurfaceInteraction& si, Vec3f wi) const override;
-  std::optional<BsdfSample> sampleBsdf(const SurfaceInteraction& si, Vec2f u, float uLobe,
-                                       uint32_t lobes) const override;
-  float pdfBsdf(const SurfaceInteraction& si, Vec3f wi) const override;
+  Bsdf makeBsdf(const SurfaceInteraction& si, const BsdfFrame& frame,
+                TextureLookups& lookups) const override;
 
  private:
-  struct Lobes;  // the parameters and lobe probabilities at one hit
-  Lobes lobesAt(const SurfaceInteraction& si, uint32_t allowed) const;
-  Rgb evalLocal(const Lobes& l, Vec3f wo, Vec3f wi) const;
-  float pdfLocal(const Lobes& l, Vec3f wo, Vec3f wi) const;
-
   PbrParams p_;
   uint32_t flags_;
 };

@@ -1,4 +1,4 @@
-// glint — perfect mirror and dielectric glass.
+// glint — perfect mirror and dielectric glass (their lobes: MirrorBxdf, GlassBxdf in bxdfs.h).
 //
 // Glass follows Snell's law with the exact dielectric Fresnel reflectance (scattering.h) and
 // total internal reflection. Which side is outside comes from the hit (SurfaceInteraction::
@@ -14,15 +14,19 @@ namespace glint {
 // Reflects everything into the mirror direction, tinted by `reflectance`.
 class MirrorMaterial final : public Material {
  public:
-  explicit MirrorMaterial(ColorParam reflectance);
-  Rgb albedo(const SurfaceInteraction& si) const override { return reflectance_.evaluate(si); }
+  explicit MirrorMaterial(ColorParam reflectance) : reflectance_(reflectance) {
+    uses(reflectance_);
+  }
+  Rgb albedo(const SurfaceInteraction& si, TextureLookups& lookups) const override {
+    return reflectance_.evaluate(si, lookups);
+  }
   uint32_t flags() const override { return kBsdfSpecular | kBsdfReflection; }
 
  protected:
-  Rgb evalBsdf(const SurfaceInteraction&, Vec3f) const override { return {}; }
-  std::optional<BsdfSample> sampleBsdf(const SurfaceInteraction& si, Vec2f u, float uLobe,
-                                       uint32_t lobes) const override;
-  float pdfBsdf(const SurfaceInteraction&, Vec3f) const override { return 0; }
+  Bsdf makeBsdf(const SurfaceInteraction& si, const BsdfFrame& frame,
+                TextureLookups& lookups) const override {
+    return Bsdf(frame, MirrorBxdf{reflectance_.evaluate(si, lookups)});
+  }
 
  private:
   ColorParam reflectance_;
@@ -33,16 +37,23 @@ class MirrorMaterial final : public Material {
 // refracted light (not the reflection, which stays white as on real glass).
 class GlassMaterial final : public Material {
  public:
-  GlassMaterial(float ior, ColorParam transmittance);
-  Rgb albedo(const SurfaceInteraction& si) const override { return transmittance_.evaluate(si); }
+  GlassMaterial(float ior, ColorParam transmittance) : ior_(ior), transmittance_(transmittance) {
+    uses(transmittance_);
+    traits_.refraction = true;
+  }
+  Rgb albedo(const SurfaceInteraction& si, TextureLookups& lookups) const override {
+    return transmittance_.evaluate(si, lookups);
+  }
   uint32_t flags() const override { return kBsdfSpecular | kBsdfReflection | kBsdfTransmission; }
   float ior() const { return ior_; }
 
  protected:
-  Rgb evalBsdf(const SurfaceInteraction&, Vec3f) const override { return {}; }
-  std::optional<BsdfSample> sampleBsdf(const SurfaceInteraction& si, Vec2f u, float uLobe,
-                                       uint32_t lobes) const override;
-  float pdfBsdf(const SurfaceInteraction&, Vec3f) const override { return 0; }
+  Bsdf makeBsdf(const SurfaceInteraction& si, const BsdfFrame& frame,
+                TextureLookups& lookups) const override {
+    // eta across the interface for light leaving wo's side.
+    return Bsdf(frame,
+                GlassBxdf{si.frontFace ? ior_ : 1 / ior_, transmittance_.evaluate(si, lookups)});
+  }
 
  private:
   float ior_;

@@ -88,6 +88,17 @@ Vec4f CheckerTexture::evaluate(const TexturePoint& tp) const {
   return {c.x, c.y, c.z, 1};
 }
 
+Vec4f TextureLookups::operator()(const Texture* texture) {
+  for (int i = 0; i < used_; ++i)
+    if (keys_[i] == texture) return values_[i];
+  const Vec4f v = texture->evaluate(point_);
+  if (used_ < kSlots) {
+    keys_[used_] = texture;
+    values_[used_++] = v;
+  }
+  return v;
+}
+
 float srgbToLinear(float v) {
   return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
 }

@@ -94,6 +94,25 @@ class Texture {
   virtual bool isImage() const { return false; }
 };
 
+// The textures read at one shading point, each looked up once however many of a material's
+// parameters use it (glTF's base colour and its alpha, metallic and roughness from one image,
+// the albedo AOV and the BSDF's colour). One lives on the integrator's stack per hit; the
+// point is fixed when it is made (a perturbed shading normal does not move it).
+class TextureLookups {
+ public:
+  explicit TextureLookups(const SurfaceInteraction& si) : point_(si) {}
+  // The texture's value at the point, looked up on first use.
+  Vec4f operator()(const Texture* texture);
+  const TexturePoint& point() const { return point_; }
+
+ private:
+  static constexpr int kSlots = 6;  // more distinct textures than this are looked up each time
+  TexturePoint point_;
+  const Texture* keys_[kSlots];
+  Vec4f values_[kSlots];
+  int used_ = 0;
+};
+
 // A checkerboard of two colours over the 2D mapping (unit squares), or over the 3D mapping
 // (unit cubes) when `solid`.
 class CheckerTexture final : public Texture {

@@ -145,26 +145,28 @@ void InstantRadiosityIntegrator::traceLightPaths(int paths, uint64_t seed) {
       const MaterialShading& shading = shading_[materialIndex];
       std::optional<Transform> movingFrame;
       SurfaceInteraction si = shadingPoint(ray, hit, RayCone{}, materialIndex, &movingFrame);
+      TextureLookups lookups(si);
 
       // Partly transparent: light passes straight through with probability 1 - opacity.
-      if (shading.transparent && uPass >= material.opacity(si)) {
+      if (shading.transparent && uPass >= material.opacity(si, lookups)) {
         ray = si.spawnRay(ray.d, ray.time);
         continue;
       }
       if (shading.unlit) break;
+      const Bsdf bsdf = material.bsdf(si, lookups);
 
-      // A VPL wherever a non-delta lobe can reflect the light on.
+      // A VPL wherever a non-delta lobe can reflect the light on; it keeps its BSDF.
       if (shading.flags & (kBsdfDiffuse | kBsdfGlossy)) {
         Vpl& v = vpls_.emplace_back();
         v.si = si;
-        v.material = materialIndex;
+        v.si.objectFromWorld = nullptr;  // may point to movingFrame, which ends here
+        v.bsdf = bsdf;
         v.flux = power0 * throughput;
         v.vertex = vertex;
-        v.movingFrame = movingFrame;
       }
       if (vertex == lastVertex) break;
 
-      std::optional<BsdfSample> s = material.sample(si, uBsdf, uLobe);
+      std::optional<BsdfSample> s = bsdf.sample(uBsdf, uLobe);
       if (!s || !(s->pdf > 0) || !std::isfinite(s->pdf)) break;
       // Flux, not radiance, travels along a light path: the shading-normal correction
       // |wo.ns| |wi.ng| / (|wo.ng| |wi.ns|) (Veach 1997, 5.3) and no 1/eta^2 at refractions.
@@ -187,18 +189,15 @@ void InstantRadiosityIntegrator::traceLightPaths(int paths, uint64_t seed) {
       ray = si.spawnRay(s->wi, ray.time);
     }
   }
-  // The vector has stopped growing: point moving objects' hits at their own frames.
-  for (Vpl& v : vpls_)
-    if (v.movingFrame) v.si.objectFromWorld = &*v.movingFrame;
 }
 
 // ---------------------------------------------------------------------------------------------
 // Gather: Whitted's recursion, lit by the lights and the VPLs
 // ---------------------------------------------------------------------------------------------
 
-Rgb InstantRadiosityIntegrator::indirectLight(const SurfaceInteraction& si,
-                                              const Material& material, float time,
-                                              Sampler& sampler, RayCounters& counters) const {
+Rgb InstantRadiosityIntegrator::indirectLight(const SurfaceInteraction& si, const Bsdf& bsdf,
+                                              float time, Sampler& sampler,
+                                              RayCounters& counters) const {
   Rgb L;
   const float pointError = length(si.pError);
   for (const Vpl& v : vpls_) {
@@ -208,9 +207,9 @@ Rgb InstantRadiosityIntegrator::indirectLight(const SurfaceInteraction& si,
     // The VPL is the shading point itself, as far as rounding can tell: G has no meaning.
     if (!(dist > pointError + length(v.si.pError)) || !(dist2 > 0)) continue;
     const Vec3f wi = d / dist;
-    const Rgb f = material.eval(si, wi);
+    const Rgb f = bsdf.f(wi);
     if (!(maxComponent(f) > 0)) continue;
-    const Rgb fVpl = scene_.materials[v.material]->eval(v.si, -wi);
+    const Rgb fVpl = v.bsdf.f(-wi);
     if (!(maxComponent(fVpl) > 0)) continue;
     float G = std::abs(dot(si.ns, wi)) * std::abs(dot(v.si.ns, wi)) / dist2;
     if (clamp_ > 0) G = std::min(G, clamp_);

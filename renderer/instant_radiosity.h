@@ -14,8 +14,8 @@
 // seed: never on the thread count.
 //
 // Every vertex where a path meets a surface with a diffuse or glossy lobe becomes a VPL: its
-// flux (the path's power / vplPaths), the incoming direction, and the full SurfaceInteraction
-// with its material, so the VPL reflects with the real BSDF f(wo_vpl, ·) towards a gather
+// flux (the path's power / vplPaths), the incoming direction, the full SurfaceInteraction and
+// the BSDF made there, so the VPL reflects with the real BSDF f(wo_vpl, ·) towards a gather
 // point (glossy VPLs included). Paths continue by BSDF sampling (flux transport: shading-
 // normal correction, no 1/eta^2 at refractions) with Russian roulette from `rrDepth`, and pass
 // through mirrors and glass without leaving a VPL there, so light focused by glass still
@@ -72,11 +72,11 @@ namespace glint {
 
 // One virtual point light: where a light path left power on a surface.
 struct Vpl {
-  SurfaceInteraction si;  // the surface there; si.wo points back along the light path
-  uint32_t material = 0;  // index in scene.materials
+  SurfaceInteraction si;  // the surface there; si.wo points back along the light path (its
+                          // objectFromWorld is cleared: the BSDF needs no textures)
+  Bsdf bsdf;              // the surface's BSDF there, with wo = si.wo
   Rgb flux;               // the path's power there, divided by the number of paths
   int vertex = 1;         // which vertex of its light path (1: the first surface hit)
-  std::optional<Transform> movingFrame;  // a moving object's frame (si.objectFromWorld)
 };
 
 // Whitted's integrator (renderer/whitted.h: direct light, emission, mirror and glass
@@ -99,12 +99,12 @@ class InstantRadiosityIntegrator final : public WhittedIntegrator {
   // Traces the light paths and keeps their VPLs.
   void traceLightPaths(int paths, uint64_t seed);
   // The light every VPL sends to `si`, with shadow rays.
-  Rgb indirectLight(const SurfaceInteraction& si, const Material& material, float time,
-                    Sampler& sampler, RayCounters& counters) const override;
+  Rgb indirectLight(const SurfaceInteraction& si, const Bsdf& bsdf, float time, Sampler& sampler,
+                    RayCounters& counters) const override;
 
   int rrDepth_;
-  int paths_;     // light paths traced
-  float clamp_;   // bound on G; 0 = none
+  int paths_;    // light paths traced
+  float clamp_;  // bound on G; 0 = none
   std::vector<Vpl> vpls_;
   uint64_t lightPathRays_ = 0;
 };

@@ -7,21 +7,12 @@
 #include <string>
 #include <vector>
 
+#include "renderer/ray_counters.h"
 #include "renderer/sampler.h"
 #include "renderer/scene.h"
 #include "renderer/settings.h"
 
 namespace glint {
-
-// Rays traced, by kind; summed over threads for --stats.
-struct RayCounters {
-  uint64_t camera = 0, shadow = 0, secondary = 0;
-  RayCounters& operator+=(const RayCounters& o) {
-    camera += o.camera, shadow += o.shadow, secondary += o.secondary;
-    return *this;
-  }
-  uint64_t total() const { return camera + shadow + secondary; }
-};
 
 // First-hit attributes: `hit` always (for alpha); the rest only when `wanted` (AOV output).
 struct PathAovs {
@@ -31,12 +22,13 @@ struct PathAovs {
   float depth = 0;
   bool hit = false;
 
-  // Records the first hit (material `m` at `si`, `distance` along the camera ray): `hit`
-  // always, the attributes only when wanted.
-  void record(const Material& m, const SurfaceInteraction& si, float distance) {
+  // Records the first hit (material `m` at `si`, its textures read through `lookups`,
+  // `distance` along the camera ray): `hit` always, the attributes only when wanted.
+  void record(const Material& m, const SurfaceInteraction& si, TextureLookups& lookups,
+              float distance) {
     hit = true;
     if (!wanted) return;
-    albedo = m.albedo(si);
+    albedo = m.albedo(si, lookups);
     normal = si.ns;
     depth = distance;
   }
@@ -94,18 +86,18 @@ class Integrator {
                                   std::optional<Transform>* movingFrame) const;
 
   // Whitted-style delta bounces at `si`: for each specular lobe (reflection, transmission) in
-  // `flags`, one sample of the material's delta part, its weight times trace(ray) for the
-  // spawned ray. Glossy and diffuse light is the caller's to gather from the lights. Draws
-  // three sampler dimensions per lobe the material has.
+  // `flags` (the material's, so that every hit on it draws the same dimensions), one sample of
+  // the BSDF's delta part, its weight times trace(ray) for the spawned ray. Glossy and diffuse
+  // light is the caller's to gather from the lights. Draws three sampler dimensions per lobe.
   template <class TraceFn>
-  static Rgb specularBounces(const Material& material, const SurfaceInteraction& si,
-                             uint32_t flags, float time, Sampler& sampler, TraceFn&& trace) {
+  static Rgb specularBounces(const Bsdf& bsdf, const SurfaceInteraction& si, uint32_t flags,
+                             float time, Sampler& sampler, TraceFn&& trace) {
     Rgb L;
     for (uint32_t lobe : {kBsdfReflection, kBsdfTransmission}) {
       if (!(flags & lobe)) continue;
       const Vec2f u = sampler.get2D();
       const float uLobe = sampler.get1D();
-      std::optional<BsdfSample> s = material.sample(si, u, uLobe, lobe | kBsdfSpecular);
+      std::optional<BsdfSample> s = bsdf.sample(u, uLobe, lobe | kBsdfSpecular);
       if (!s || !(s->flags & kBsdfSpecular) || s->pdf <= 0) continue;
       const Rgb weight = s->weight(si.ns);
       if (maxComponent(weight) <= 0) continue;
@@ -124,7 +116,8 @@ class Integrator {
 std::string resolveIntegratorType(const RenderScene& scene, const IntegratorSettings& settings);
 // Builds the integrator settings.integrator.type names for `scene` ("auto" resolved as
 // above). Throws std::invalid_argument for unknown names.
-std::unique_ptr<Integrator> makeIntegrator(const RenderScene& scene, const RenderSettings& settings);
+std::unique_ptr<Integrator> makeIntegrator(const RenderScene& scene,
+                                           const RenderSettings& settings);
 // The names makeIntegrator accepts.
 const std::vector<std::string>& integratorNames();
 

@@ -6,16 +6,10 @@
 #include <optional>
 
 #include "materials/phase.h"
+#include "renderer/direct_light.h"
 #include "renderer/volume.h"
 
 namespace glint {
-
-float powerHeuristic(float f, float g) {
-  const float f2 = f * f, g2 = g * g;
-  if (std::isinf(f2)) return 1;
-  if (!(f2 + g2 > 0) || !std::isfinite(g2)) return 0;
-  return f2 / (f2 + g2);
-}
 
 namespace {
 
@@ -71,6 +65,8 @@ PathIntegrator::PathIntegrator(const RenderScene& scene, const IntegratorSetting
     media_ = scene.media.get();
     mediaScatter_ = settings.volume != "emission";
   }
+  emissionFindable_ = !infinite_.empty() || maxComponent(scene.background) > 0 || media_;
+  for (const MaterialShading& s : shading_) emissionFindable_ = emissionFindable_ || s.emits;
 }
 
 Rgb PathIntegrator::LiFromHit(const Ray& ray, const Hit* hit, Sampler& sampler,
@@ -109,7 +105,8 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
           const uint32_t m = scene_.materialIndex(*hit);
           std::optional<Transform> movingFrame;
           const SurfaceInteraction si = shadingPoint(ray, *hit, cone, m, &movingFrame);
-          aovs.record(*scene_.materials[m], si, hit->t * length(ray.d));
+          TextureLookups lookups(si);
+          aovs.record(*scene_.materials[m], si, lookups, hit->t * length(ray.d));
         }
       }
       // --- The media along the segment: emission, then pass or scatter.
@@ -127,8 +124,8 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
         const LightSampleContext ctx = LightSampleContext::inMedium(ray.at(event.t), ray.time);
         cone = RayCone{cone.widthAt(event.t * len), cone.spread};
         if (lights_)
-          L += beta * sampleLightInMedium(ctx, d, event.g, u.uLight, u.uLightPoint, tracker,
-                                          counters);
+          L += beta *
+               sampleLightInMedium(ctx, d, event.g, u.uLight, u.uLightPoint, tracker, counters);
         // The phase function sampled exactly: weight phase / pdf = 1.
         float phasePdf = 0;
         const Vec3f wi = sampleHenyeyGreenstein(d, event.g, u.uBsdf, &phasePdf);
@@ -167,8 +164,9 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
     const MaterialShading& shading = shading_[materialIndex];
     std::optional<Transform> movingFrame;  // a moving object's frame: lives as long as `si`
     SurfaceInteraction si = shadingPoint(ray, *hit, cone, materialIndex, &movingFrame);
+    TextureLookups lookups(si);  // each texture read once at this vertex
     const float distance = hit->t * length(ray.d);
-    if (!kMedia && depth == 0) aovs.record(material, si, distance);
+    if (!kMedia && depth == 0) aovs.record(material, si, lookups, distance);
     cone = RayCone{cone.widthAt(distance), cone.spread};
 
     // The vertex's sampler dimensions, all drawn whatever happens below (kVertexDimensions).
@@ -177,7 +175,7 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
     // --- Partly transparent: pass straight through with probability 1 - opacity (beta
     // unchanged: the probability and the weight cancel). The previous vertex stays the MIS
     // reference, since the direction does not change.
-    if (shading.transparent && u.uPass >= material.opacity(si)) {
+    if (shading.transparent && u.uPass >= material.opacity(si, lookups)) {
       if (depth >= maxDepth_) break;
       ray = si.spawnRay(ray.d, ray.time);
       ++counters.secondary;
@@ -186,13 +184,13 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
     }
 
     if (shading.unlit) {
-      L += beta * material.albedo(si) * std::abs(dot(si.ns, si.wo));
+      L += beta * material.albedo(si, lookups) * std::abs(dot(si.ns, si.wo));
       break;
     }
 
     // --- Emission found by the camera or a BSDF sample.
-    if (material.traits().emits) {
-      const Rgb Le = material.emitted(si);
+    if (shading.emits) {
+      const Rgb Le = material.emitted(si, lookups);
       if (maxComponent(Le) > 0) {
         uint32_t index = 0;
         const Light* area = scene_.areaLight(*hit, &index);
@@ -207,13 +205,16 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
     }
     if (depth >= maxDepth_) break;
 
+    // The material's parameters, read once for next-event estimation and the next direction.
+    const Bsdf bsdf = material.bsdf(si, lookups);
+
     // --- Next-event estimation, at surfaces with a non-delta lobe.
     if (lights_ && (shading.flags & (kBsdfDiffuse | kBsdfGlossy)))
-      L += beta * sampleLight<kMedia>(si, material, ray.time, u.uLight, u.uLightPoint, &tracker,
-                                      counters);
+      L += beta *
+           sampleLight<kMedia>(si, bsdf, ray.time, u.uLight, u.uLightPoint, &tracker, counters);
 
     // --- The next direction.
-    std::optional<BsdfSample> s = material.sample(si, u.uBsdf, u.uLobe);
+    std::optional<BsdfSample> s = bsdf.sample(u.uBsdf, u.uLobe);
     if (!s || !(s->pdf > 0) || !std::isfinite(s->pdf)) break;
     const Rgb weight = s->weight(si.ns);
     if (!(maxComponent(weight) > 0) || !isFinite(weight)) break;
@@ -222,6 +223,10 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
     bsdfPdf = s->pdf;
     prev = LightSampleContext(si, ray.time);
     if (s->flags & kBsdfTransmission) etaScale *= s->eta * s->eta;
+
+    // The last bounce can only add the emission it finds: where nothing can be found (no
+    // emitting surface, environment, background or medium), tracing it is wasted.
+    if (depth + 1 >= maxDepth_ && !emissionFindable_) break;
 
     // --- Russian roulette: survive with the throughput's largest component, clamped.
     if (!survivesRoulette(depth, rrDepth_, etaScale, u.uRoulette, &beta)) break;
@@ -238,35 +243,33 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
 // ---------------------------------------------------------------------------------------------
 
 template <bool kMedia>
-Rgb PathIntegrator::sampleLight(const SurfaceInteraction& si, const Material& material, float time,
+Rgb PathIntegrator::sampleLight(const SurfaceInteraction& si, const Bsdf& bsdf, float time,
                                 float uLight, Vec2f uPoint, Sampler* tracker,
                                 RayCounters& counters) const {
   const LightSampleContext ctx(si, time);
   const std::optional<SampledLight> picked = scene_.lightSampler->sample(ctx, uLight);
   if (!picked || !(picked->p > 0)) return {};
+  // Light must arrive on the side of the geometric surface the BSDF says it can; f checks the
+  // hemispheres (reflection and transmission alike).
+  auto scatter = [&](Vec3f wi, float* pdf) -> Rgb {
+    const Rgb f = bsdf.f(wi);
+    if (pdf && maxComponent(f) > 0) *pdf = bsdf.pdf(wi);
+    return f * std::abs(dot(si.ns, wi));
+  };
+  const DirectLightOptions options{
+      .pmf = picked->p, .shadows = shadows_, .mis = bsdfFindable_[picked->index]};
   const Light& light = *scene_.lights[picked->index];
-  const std::optional<LightSample> ls = light.sampleLi(ctx, uPoint);
-  if (!ls || !(ls->pdf > 0) || !std::isfinite(ls->pdf) || !(maxComponent(ls->L) > 0)) return {};
-  // Light must arrive on the side of the geometric surface the BSDF says it can; eval checks
-  // the hemispheres (reflection and transmission alike).
-  Rgb f = material.eval(si, ls->wi);
-  if (!(maxComponent(f) > 0)) return {};
-  if (shadows_ && light.castsShadows()) {
-    ++counters.shadow;
-    const Ray shadow = shadowRay(ctx, *ls);
-    if (scene_.accel->anyHit(shadow)) return {};
-    if constexpr (kMedia) {
-      f *= media_->trackedTransmittance(shadow, shadow.tMax, *tracker);
-      if (!(maxComponent(f) > 0)) return {};
-    } else {
-      (void)tracker;
-    }
+  if constexpr (kMedia) {
+    return sampleDirectLight(
+        scene_, ctx, light, uPoint, options, scatter,
+        [&](const Ray& shadow) {
+          return media_->trackedTransmittance(shadow, shadow.tMax, *tracker);
+        },
+        counters);
+  } else {
+    (void)tracker;
+    return sampleDirectLight(scene_, ctx, light, uPoint, options, scatter, noMedia, counters);
   }
-  const float lightPdf = picked->p * ls->pdf;
-  const float w = ls->delta || !bsdfFindable_[picked->index]
-                      ? 1.0f
-                      : powerHeuristic(lightPdf, material.pdf(si, ls->wi));
-  return f * ls->L * (std::abs(dot(si.ns, ls->wi)) * w / lightPdf);
 }
 
 Rgb PathIntegrator::sampleLightInMedium(const LightSampleContext& ctx, Vec3f d, float g,
@@ -274,26 +277,20 @@ Rgb PathIntegrator::sampleLightInMedium(const LightSampleContext& ctx, Vec3f d, 
                                         RayCounters& counters) const {
   const std::optional<SampledLight> picked = scene_.lightSampler->sample(ctx, uLight);
   if (!picked || !(picked->p > 0)) return {};
-  const Light& light = *scene_.lights[picked->index];
-  const std::optional<LightSample> ls = light.sampleLi(ctx, uPoint);
-  if (!ls || !(ls->pdf > 0) || !std::isfinite(ls->pdf) || !(maxComponent(ls->L) > 0)) return {};
   // The phase function stands for f |cos|; it is also the density phase sampling has.
-  const float phase = henyeyGreenstein(dot(ls->wi, d), g);
-  if (!(phase > 0)) return {};
-  Rgb Tr{1, 1, 1};
+  auto scatter = [&](Vec3f wi, float* pdf) -> Rgb {
+    const float phase = henyeyGreenstein(dot(wi, d), g);
+    if (pdf) *pdf = phase;
+    return Rgb{phase, phase, phase};
+  };
   // Surfaces shadow medium points even where no surface is lit (Feature::Shadows unset), so
   // only the light's own flag decides, as in Whitted's single scattering.
-  if (light.castsShadows()) {
-    ++counters.shadow;
-    const Ray shadow = shadowRay(ctx, *ls);
-    if (scene_.accel->anyHit(shadow)) return {};
-    Tr = media_->trackedTransmittance(shadow, shadow.tMax, tracker);
-    if (!(maxComponent(Tr) > 0)) return {};
-  }
-  const float lightPdf = picked->p * ls->pdf;
-  const float w =
-      ls->delta || !bsdfFindable_[picked->index] ? 1.0f : powerHeuristic(lightPdf, phase);
-  return ls->L * Tr * (phase * w / lightPdf);
+  const DirectLightOptions options{
+      .pmf = picked->p, .shadows = true, .mis = bsdfFindable_[picked->index]};
+  return sampleDirectLight(
+      scene_, ctx, *scene_.lights[picked->index], uPoint, options, scatter,
+      [&](const Ray& shadow) { return media_->trackedTransmittance(shadow, shadow.tMax, tracker); },
+      counters);
 }
 
 }  // namespace glint

@@ -7,13 +7,14 @@
 //     it (Light::sampleLi) and a shadow ray; weighted by pmf x pdfLi against the BSDF's pdf
 //     (delta lights, and area lights that are not geometry — the sidecar's quad, disk and
 //     sphere lights — weight 1: no BSDF sample can find them);
-//   BSDF sampling — the path's next direction (Material::sample); when it finds an emitting
+//   BSDF sampling — the path's next direction (Bsdf::sample); when it finds an emitting
 //     surface that is a light (RenderScene::areaLight) or escapes into an environment light,
 //     that emission is weighted by the BSDF's pdf against the previous vertex's
 //     pmf x pdfLi. Camera rays and delta (mirror, glass) bounces take emission with weight 1,
 //     as do emitting surfaces that are not lights and the plain background (NEE never
 //     samples them).
-// Paths end after `maxDepth` bounces (0: only what the camera sees emitting) or by Russian
+// Paths end after `maxDepth` bounces (0: only what the camera sees emitting; the last bounce
+// is not traced when nothing in the scene can be found by it) or by Russian
 // roulette from `rrDepth` bounces on: survival probability = the largest throughput component
 // (undoing radiance's 1/eta^2 at refractions), clamped to [0.05, 1], so bright paths are
 // never cut and dim ones not boosted more than 20x.
@@ -92,7 +93,7 @@ class PathIntegrator final : public Integrator {
   // the BSDF; `uLight` picks the light, `uPoint` the point on it. kMedia: shadow rays carry
   // the media's transmittance, estimated with `tracker`'s numbers.
   template <bool kMedia>
-  Rgb sampleLight(const SurfaceInteraction& si, const Material& material, float time, float uLight,
+  Rgb sampleLight(const SurfaceInteraction& si, const Bsdf& bsdf, float time, float uLight,
                   Vec2f uPoint, Sampler* tracker, RayCounters& counters) const;
   // One light sampled for the medium point of `ctx` seen along unit direction `d` (towards the
   // point), Henyey–Greenstein `g`, MIS-weighted against phase sampling; shadow rays carry the
@@ -105,6 +106,9 @@ class PathIntegrator final : public Integrator {
   bool lights_;   // there is a light to sample (else no next-event estimation at all)
   const MediaScene* media_ = nullptr;  // null without media: the media-free path loop
   bool mediaScatter_ = true;           // media scatter (volume != "emission")
+  // Can a BSDF-sampled ray find light at all (an emitting surface, an environment, a
+  // non-black background, media)? If not, the last bounce is not traced.
+  bool emissionFindable_ = true;
   RayCone cameraCone_;
   // The environment lights with their indices in scene.lights (the light sampler's pmf
   // needs the index).
@@ -114,9 +118,5 @@ class PathIntegrator final : public Integrator {
   // others are its only way in and keep weight 1.
   std::vector<bool> bsdfFindable_;
 };
-
-// The power heuristic (beta = 2) weight of a sample drawn with density `f` against another
-// strategy of density `g`: f^2 / (f^2 + g^2); 1 when f^2 overflows, 0 when both vanish.
-float powerHeuristic(float f, float g);
 
 }  // namespace glint

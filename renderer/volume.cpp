@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "materials/phase.h"
+#include "renderer/direct_light.h"
 #include "renderer/integrator.h"
 #include "renderer/scene.h"
 
@@ -216,27 +217,21 @@ Rgb MediaScene::source(const RenderScene& scene, const std::vector<uint32_t>& ac
   Rgb S = c.emission;
   if (!single_ || maxComponent(c.sigmaS) <= 0) return S;
   const LightSampleContext ctx = LightSampleContext::inMedium(p, time);
-  for (const auto& light : scene.lights) {
-    const Vec2f u = light->isDelta() ? Vec2f{0.5f, 0.5f} : sampler.get2D();
-    std::optional<LightSample> ls = light->sampleLi(ctx, u);
-    if (!ls || ls->pdf <= 0 || maxComponent(ls->L) <= 0) continue;
-    // Each region scatters with its own phase function.
-    Rgb scatter;
-    const float cosTheta = dot(ls->wi, d);
+  // Each region scatters with its own phase function.
+  auto scatter = [&](Vec3f wi, float*) -> Rgb {
+    Rgb sum;
+    const float cosTheta = dot(wi, d);
     for (uint32_t i : active) {
       const Region& r = regions_[i];
       if (!r.medium->scatters()) continue;
-      scatter += r.medium->sigmaS * (density(r, p) * henyeyGreenstein(cosTheta, r.medium->g));
+      sum += r.medium->sigmaS * (density(r, p) * henyeyGreenstein(cosTheta, r.medium->g));
     }
-    if (maxComponent(scatter) <= 0) continue;
-    Rgb Tr{1, 1, 1};
-    if (light->castsShadows()) {
-      const Ray shadow = shadowRay(ctx, *ls);
-      ++counters.shadow;
-      if (scene.accel->anyHit(shadow)) continue;
-      Tr = transmittance(shadow, shadow.tMax, sampler);
-    }
-    S += scatter * ls->L * Tr / ls->pdf;
+    return sum;
+  };
+  auto tr = [&](const Ray& shadow) { return transmittance(shadow, shadow.tMax, sampler); };
+  for (const auto& light : scene.lights) {
+    const Vec2f u = light->isDelta() ? Vec2f{0.5f, 0.5f} : sampler.get2D();
+    S += sampleDirectLight(scene, ctx, *light, u, DirectLightOptions{}, scatter, tr, counters);
   }
   return S;
 }
@@ -406,8 +401,8 @@ MediumEvent MediaScene::deltaTrack(const Ray& ray, float tMax, Sampler& sampler,
       }
       const float pNull = 1 - pAbsorb - pScatter;
       if (pNull <= 0) continue;  // only by rounding: then sigma_t = majorant, a weight of 1
-      event.weight *= max(Rgb{0, 0, 0}, Rgb{majorant, majorant, majorant} - c.sigmaT) /
-                      (majorant * pNull);
+      event.weight *=
+          max(Rgb{0, 0, 0}, Rgb{majorant, majorant, majorant} - c.sigmaT) / (majorant * pNull);
     }
   }
   return event;

@@ -3,6 +3,8 @@
 
 #include <optional>
 
+#include "renderer/direct_light.h"
+
 namespace glint {
 
 WhittedIntegrator::WhittedIntegrator(const RenderScene& scene, int maxDepth)
@@ -37,12 +39,13 @@ Rgb WhittedIntegrator::shade(const Ray& ray, const Hit* found, const RayCone& co
   const MaterialShading& shading = shading_[materialIndex];
   std::optional<Transform> movingFrame;  // a moving object's frame: lives as long as `si`
   SurfaceInteraction si = shadingPoint(ray, hit, cone, materialIndex, &movingFrame);
-  if (aovs) aovs->record(material, si, hit.t * length(ray.d));
+  TextureLookups lookups(si);
+  if (aovs) aovs->record(material, si, lookups, hit.t * length(ray.d));
   // The cone at the hit, carried on by every secondary ray from here (only they need it).
   auto next = [&] { return RayCone{cone.widthAt(hit.t * length(ray.d)), cone.spread}; };
 
   // Partly transparent surfaces: the rest of the light comes straight through.
-  const float opacity = shading.transparent ? material.opacity(si) : 1.0f;
+  const float opacity = shading.transparent ? material.opacity(si, lookups) : 1.0f;
   Rgb behind;
   if (opacity < 1) {
     if (depth < maxDepth_)
@@ -52,24 +55,24 @@ Rgb WhittedIntegrator::shade(const Ray& ray, const Hit* found, const RayCone& co
 
   Rgb L;
   if (shading.unlit) {
-    L = material.albedo(si) * std::abs(dot(si.ns, si.wo));
-  } else {
-    if (shading.emits) L = material.emitted(si);
-    L += directLight(si, material, ray.time, sampler, counters);
-    if (indirect_ && (shading.flags & (kBsdfDiffuse | kBsdfGlossy)))
-      L += indirectLight(si, material, ray.time, sampler, counters);
+    L = material.albedo(si, lookups) * std::abs(dot(si.ns, si.wo));
+    return opacity < 1 ? L * opacity + behind * (1 - opacity) : L;
   }
+  const Bsdf bsdf = material.bsdf(si, lookups);
+  if (shading.emits) L = material.emitted(si, lookups);
+  L += directLight(si, bsdf, ray.time, sampler, counters);
+  if (indirect_ && (shading.flags & (kBsdfDiffuse | kBsdfGlossy)))
+    L += indirectLight(si, bsdf, ray.time, sampler, counters);
   // Mirror and glass: follow the reflected and the refracted ray, each with its own weight.
   if ((shading.flags & kBsdfSpecular) && depth < maxDepth_)
-    L += specularBounces(material, si, shading.flags, ray.time, sampler, [&](const Ray& r) {
+    L += specularBounces(bsdf, si, shading.flags, ray.time, sampler, [&](const Ray& r) {
       return trace(r, next(), depth + 1, sampler, counters);
     });
   return opacity < 1 ? L * opacity + behind * (1 - opacity) : L;
 }
 
-Rgb WhittedIntegrator::throughMedia(const Ray& ray, const Hit* hit, const RayCone& cone,
-                                    int depth, Sampler& sampler, RayCounters& counters,
-                                    PathAovs* aovs) const {
+Rgb WhittedIntegrator::throughMedia(const Ray& ray, const Hit* hit, const RayCone& cone, int depth,
+                                    Sampler& sampler, RayCounters& counters, PathAovs* aovs) const {
   const VolumeSegment seg =
       media_->integrate(scene_, ray, hit ? hit->t : kInfinity, sampler, counters);
   // Behind an opaque medium the surface cannot be seen: no need to shade it (AOVs aside).
@@ -77,29 +80,26 @@ Rgb WhittedIntegrator::throughMedia(const Ray& ray, const Hit* hit, const RayCon
   return seg.T * shade(ray, hit, cone, depth, sampler, counters, aovs) + seg.L;
 }
 
-Rgb WhittedIntegrator::directLight(const SurfaceInteraction& si, const Material& material,
-                                   float time, Sampler& sampler, RayCounters& counters) const {
+Rgb WhittedIntegrator::directLight(const SurfaceInteraction& si, const Bsdf& bsdf, float time,
+                                   Sampler& sampler, RayCounters& counters) const {
   Rgb L;
   const LightSampleContext ctx(si, time);
+  // Reflected light only: Whitted's shadow rays stop at glass, so nothing arrives from behind.
+  auto scatter = [&](Vec3f wi, float*) -> Rgb {
+    const float cosTheta = dot(si.ns, wi);
+    if (cosTheta <= 0 || dot(si.ng, wi) <= 0) return {};
+    return bsdf.f(wi) * cosTheta;
+  };
+  const DirectLightOptions options{.pmf = 1, .shadows = shadows_, .mis = false};
   for (const auto& light : scene_.lights) {
-    Vec2f u = light->isDelta() ? Vec2f{0.5f, 0.5f} : sampler.get2D();
-    std::optional<LightSample> ls = light->sampleLi(ctx, u);
-    if (!ls || ls->pdf <= 0) continue;
-    float cosTheta = dot(si.ns, ls->wi);
-    if (cosTheta <= 0 || dot(si.ng, ls->wi) <= 0) continue;
-    Rgb f = material.eval(si, ls->wi);
-    if (maxComponent(f) <= 0) continue;
-    if (shadows_ && light->castsShadows()) {
-      Ray shadow = shadowRay(ctx, *ls);
-      ++counters.shadow;
-      if (scene_.accel->anyHit(shadow)) continue;
-      if (media_) {
-        const Rgb Tr = media_->transmittance(shadow, shadow.tMax, sampler);
-        if (maxComponent(Tr) <= 0) continue;
-        f *= Tr;
-      }
-    }
-    L += f * ls->L * (cosTheta / ls->pdf);
+    const Vec2f u = light->isDelta() ? Vec2f{0.5f, 0.5f} : sampler.get2D();
+    if (media_)
+      L += sampleDirectLight(
+          scene_, ctx, *light, u, options, scatter,
+          [&](const Ray& shadow) { return media_->transmittance(shadow, shadow.tMax, sampler); },
+          counters);
+    else
+      L += sampleDirectLight(scene_, ctx, *light, u, options, scatter, noMedia, counters);
   }
   return L;
 }

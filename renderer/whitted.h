@@ -29,9 +29,9 @@ class WhittedIntegrator : public Integrator {
  protected:
   // Light beyond the direct at a diffuse or glossy point (instant radiosity's VPLs), asked
   // only when `indirect_` is set. Plain Whitted has none.
-  virtual Rgb indirectLight(const SurfaceInteraction& si, const Material& material, float time,
+  virtual Rgb indirectLight(const SurfaceInteraction& si, const Bsdf& bsdf, float time,
                             Sampler& sampler, RayCounters& counters) const {
-    (void)si, (void)material, (void)time, (void)sampler, (void)counters;
+    (void)si, (void)bsdf, (void)time, (void)sampler, (void)counters;
     return {};
   }
   // The scene's media when it has them (Feature::Volumes), else null.
@@ -49,11 +49,11 @@ class WhittedIntegrator : public Integrator {
   Rgb trace(const Ray& ray, const RayCone& cone, int depth, Sampler& sampler,
             RayCounters& counters) const;
   // The radiance `surface` (found at `hit`, null: escaped) seen through the media along `ray`.
-  Rgb throughMedia(const Ray& ray, const Hit* hit, const RayCone& cone, int depth,
-                   Sampler& sampler, RayCounters& counters, PathAovs* aovs) const;
+  Rgb throughMedia(const Ray& ray, const Hit* hit, const RayCone& cone, int depth, Sampler& sampler,
+                   RayCounters& counters, PathAovs* aovs) const;
   // Direct light at a lit surface point: sum over all lights, shadow rays when enabled.
-  Rgb directLight(const SurfaceInteraction& si, const Material& material, float time,
-                  Sampler& sampler, RayCounters& counters) const;
+  Rgb directLight(const SurfaceInteraction& si, const Bsdf& bsdf, float time, Sampler& sampler,
+                  RayCounters& counters) const;
 
   const MediaScene* media_;  // null without media: rays take the media-free path
   RayCone cameraCone_;

@@ -100,11 +100,11 @@ test::Chi2Result runChi2(const Material& m, const SurfaceInteraction& si,
   std::string firstMismatch;
   test::Chi2Result r = test::chi2Test(
       [&](Vec2f u, float uLobe) -> std::optional<Vec3f> {
-        std::optional<BsdfSample> s = m.sample(si, u, uLobe);
+        std::optional<BsdfSample> s = m.bsdf(si).sample(u, uLobe);
         if (!s) return std::nullopt;
         if (s->flags & kBsdfSpecular) ++deltas;
-        const Rgb f = m.eval(si, s->wi);
-        const float p = m.pdf(si, s->wi);
+        const Rgb f = m.bsdf(si).f(s->wi);
+        const float p = m.bsdf(si).pdf(s->wi);
         const float relative = 1e-3f + 2e-6f / std::abs(dot(s->wi, si.ns));
         for (int c = 0; c < 3; ++c)
           if (!(std::abs(s->f[c] - f[c]) <= relative * f[c] + 1e-6f)) {
@@ -118,7 +118,7 @@ test::Chi2Result runChi2(const Material& m, const SurfaceInteraction& si,
         }
         return s->wi;
       },
-      [&](Vec3f wi) { return m.pdf(si, wi); }, options);
+      [&](Vec3f wi) { return m.bsdf(si).pdf(wi); }, options);
   EXPECT_EQ(deltas, 0) << what;
   EXPECT_LE(mismatchedF, options.sampleCount / 10'000) << what << ": " << firstMismatch;
   EXPECT_LE(mismatchedPdf, options.sampleCount / 10'000) << what << ": " << firstMismatch;
@@ -216,7 +216,7 @@ TEST(PbrSampling, PdfIsPositiveWhereverFIs) {
           const float z = 1 - 2 * uniform(), phi = 2 * kPi * uniform();
           const float r = std::sqrt(std::max(0.0f, 1 - z * z));
           const Vec3f wi = {r * std::cos(phi), r * std::sin(phi), z};
-          if (maxComponent(pbr.eval(si, wi)) > 0 && !(pbr.pdf(si, wi) > 0)) ++uncovered;
+          if (maxComponent(pbr.bsdf(si).f(wi)) > 0 && !(pbr.bsdf(si).pdf(wi) > 0)) ++uncovered;
         }
         EXPECT_EQ(uncovered, 0) << describe(c, si, degrees, 0);
       }
@@ -234,11 +234,11 @@ TEST(PbrChi2, NoticesAWrongRoughness) {
   options.sampleCount = kSamples;
   test::Chi2Result r = test::chi2Test(
       [&](Vec2f u, float uLobe) -> std::optional<Vec3f> {
-        std::optional<BsdfSample> s = sampled.sample(si, u, uLobe);
+        std::optional<BsdfSample> s = sampled.bsdf(si).sample(u, uLobe);
         if (!s) return std::nullopt;
         return s->wi;
       },
-      [&](Vec3f wi) { return claimed.pdf(si, wi); }, options);
+      [&](Vec3f wi) { return claimed.bsdf(si).pdf(wi); }, options);
   EXPECT_FALSE(r.passed) << r.message;
 }
 

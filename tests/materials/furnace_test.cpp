@@ -98,7 +98,7 @@ Estimate albedoBySampling(const Material& m, const SurfaceInteraction& si, int s
   for (int i = 0; i < samples; ++i) {
     const Vec2f u{uniformFloat(rng), uniformFloat(rng)};
     const float uLobe = uniformFloat(rng);
-    std::optional<BsdfSample> s = m.sample(si, u, uLobe, lobes);
+    std::optional<BsdfSample> s = m.bsdf(si).sample(u, uLobe, lobes);
     if (!s) {
       acc.add(0);
       continue;
@@ -128,7 +128,7 @@ Estimate albedoByUniformSampling(const Material& m, const SurfaceInteraction& si
     const float z = 1 - 2 * uniformFloat(rng), phi = 2 * kPi * uniformFloat(rng);
     const float r = std::sqrt(std::max(0.0f, 1 - z * z));
     const Vec3f wi = Frame::fromZ(si.ns).fromLocal({r * std::cos(phi), r * std::sin(phi), z});
-    double w = double(m.eval(si, wi).y) * std::abs(dot(wi, si.ns)) * 4 * kPi;
+    double w = double(m.bsdf(si).f(wi).y) * std::abs(dot(wi, si.ns)) * 4 * kPi;
     if (dot(wi, si.ns) < 0) w *= double(etaBelow) * etaBelow;
     if (!std::isfinite(w) || w < 0) {
       acc.addBad();
@@ -255,7 +255,7 @@ TEST(Furnace, WhiteMirrorReflectsEverything) {
     for (float c : kViewCosines)
       for (bool front : {true, false}) {
         const SurfaceInteraction si = makeSurface(n, viewWithCos(c), front);
-        std::optional<BsdfSample> s = mirror.sample(si, {0.3f, 0.4f}, 0.5f);
+        std::optional<BsdfSample> s = mirror.bsdf(si).sample({0.3f, 0.4f}, 0.5f);
         ASSERT_TRUE(s) << describeView(si);
         EXPECT_NEAR(s->weight(si.ns).y, 1, 1e-6) << describeView(si);
         EXPECT_EQ(s->pdf, 1);
@@ -277,8 +277,9 @@ TEST(Furnace, SmoothGlassConservesEnergyPerDirection) {
           const SurfaceInteraction si = makeSurface(n, viewWithCos(c), front);
           const std::string what = "ior " + std::to_string(ior) + ", " + describeView(si);
           const float eta = front ? ior : 1 / ior;
-          std::optional<BsdfSample> r = glass.sample(si, {0.5f, 0.5f}, 0.5f, kBsdfReflection);
-          std::optional<BsdfSample> t = glass.sample(si, {0.5f, 0.5f}, 0.5f, kBsdfTransmission);
+          std::optional<BsdfSample> r = glass.bsdf(si).sample({0.5f, 0.5f}, 0.5f, kBsdfReflection);
+          std::optional<BsdfSample> t =
+              glass.bsdf(si).sample({0.5f, 0.5f}, 0.5f, kBsdfTransmission);
           ASSERT_TRUE(r) << what;
           const double R = r->weight(si.ns).y;
           double T = 0;
@@ -292,7 +293,7 @@ TEST(Furnace, SmoothGlassConservesEnergyPerDirection) {
           constexpr int kGrid = 10'000;
           double sum = 0;
           for (int i = 0; i < kGrid; ++i) {
-            std::optional<BsdfSample> s = glass.sample(si, {0.5f, 0.5f}, (i + 0.5f) / kGrid);
+            std::optional<BsdfSample> s = glass.bsdf(si).sample({0.5f, 0.5f}, (i + 0.5f) / kGrid);
             ASSERT_TRUE(s) << what;
             sum += s->weight(si.ns).y;
           }

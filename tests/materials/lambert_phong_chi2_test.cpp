@@ -142,13 +142,13 @@ test::Chi2Result testMaterial(const Material& m, const SurfaceInteraction& si,
   int mismatches = 0;
   test::Chi2Result r = test::chi2Test(
       [&](Vec2f u, float uLobe) -> std::optional<Vec3f> {
-        std::optional<BsdfSample> s = m.sample(si, u, uLobe);
+        std::optional<BsdfSample> s = m.bsdf(si).sample(u, uLobe);
         if (!s) return std::nullopt;
-        const float p = m.pdf(si, s->wi);
+        const float p = m.bsdf(si).pdf(s->wi);
         if (!(std::abs(s->pdf - p) <= 1e-3f * p)) ++mismatches;
         return s->wi;
       },
-      [&](Vec3f wi) { return m.pdf(si, wi); }, options);
+      [&](Vec3f wi) { return m.bsdf(si).pdf(wi); }, options);
   EXPECT_EQ(mismatches, 0) << "samples whose reported pdf differs from pdf()";
   return r;
 }

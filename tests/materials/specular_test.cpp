@@ -65,7 +65,7 @@ TEST(Mirror, ReflectsIntoTheMirrorDirectionWithItsTint) {
       const SurfaceInteraction si = makeSurface(n, viewAtDegrees(degrees), true);
       const std::string what = std::to_string(degrees) + " degrees";
       for (float uLobe : {0.0f, 0.5f, 0.999f}) {
-        std::optional<BsdfSample> s = mirror.sample(si, {0.2f, 0.7f}, uLobe);
+        std::optional<BsdfSample> s = mirror.bsdf(si).sample({0.2f, 0.7f}, uLobe);
         ASSERT_TRUE(s) << what;
         expectDirection(s->wi, 2 * dot(si.wo, n) * n - si.wo, what);
         EXPECT_EQ(s->flags, kBsdfSpecular | kBsdfReflection);
@@ -75,10 +75,10 @@ TEST(Mirror, ReflectsIntoTheMirrorDirectionWithItsTint) {
         EXPECT_NEAR(w.y, 0.5f, 1e-6f) << what;
         EXPECT_NEAR(w.z, 0.2f, 1e-6f) << what;
         // Delta lobes: eval and pdf are zero, even in the mirror direction itself.
-        EXPECT_EQ(mirror.eval(si, s->wi), Rgb{}) << what;
-        EXPECT_EQ(mirror.pdf(si, s->wi), 0) << what;
+        EXPECT_EQ(mirror.bsdf(si).f(s->wi), Rgb{}) << what;
+        EXPECT_EQ(mirror.bsdf(si).pdf(s->wi), 0) << what;
       }
-      EXPECT_FALSE(mirror.sample(si, {0.2f, 0.7f}, 0.5f, kBsdfTransmission)) << what;
+      EXPECT_FALSE(mirror.bsdf(si).sample({0.2f, 0.7f}, 0.5f, kBsdfTransmission)) << what;
     }
 }
 
@@ -90,17 +90,17 @@ TEST(Glass, ReflectsFourPercentAtNormalIncidence) {
   GlassMaterial glass(1.5f, kWhite);
   for (bool front : {true, false}) {
     const SurfaceInteraction si = makeSurface({0, 0, 1}, {0, 0, 1}, front);
-    std::optional<BsdfSample> r = glass.sample(si, {0.5f, 0.5f}, 0.0f);
+    std::optional<BsdfSample> r = glass.bsdf(si).sample({0.5f, 0.5f}, 0.0f);
     ASSERT_TRUE(r);
     EXPECT_TRUE(r->flags & kBsdfReflection);
     EXPECT_NEAR(r->pdf, 0.04f, 1e-6f);
     EXPECT_NEAR(r->weight(si.ns).y, 1, 1e-5f);  // F / P(reflection)
     // Reflection-only (Whitted): weight F = 0.04.
-    std::optional<BsdfSample> ro = glass.sample(si, {0.5f, 0.5f}, 0.7f, kBsdfReflection);
+    std::optional<BsdfSample> ro = glass.bsdf(si).sample({0.5f, 0.5f}, 0.7f, kBsdfReflection);
     ASSERT_TRUE(ro);
     EXPECT_EQ(ro->pdf, 1);
     EXPECT_NEAR(ro->weight(si.ns).y, 0.04f, 1e-6f);
-    std::optional<BsdfSample> t = glass.sample(si, {0.5f, 0.5f}, 0.5f);
+    std::optional<BsdfSample> t = glass.bsdf(si).sample({0.5f, 0.5f}, 0.5f);
     ASSERT_TRUE(t);
     EXPECT_TRUE(t->flags & kBsdfTransmission);
     EXPECT_NEAR(t->pdf, 0.96f, 1e-6f);
@@ -126,7 +126,7 @@ TEST(Glass, PicksLobesWithFresnelProbabilitiesAndExactDirections) {
           const float F = fresnelDielectric(cosO, eta);
           int reflections = 0, transmissions = 0;
           for (int i = 0; i < kGrid; ++i) {
-            std::optional<BsdfSample> s = glass.sample(si, {0.3f, 0.3f}, (i + 0.5f) / kGrid);
+            std::optional<BsdfSample> s = glass.bsdf(si).sample({0.3f, 0.3f}, (i + 0.5f) / kGrid);
             ASSERT_TRUE(s) << what;
             ASSERT_TRUE(s->flags & kBsdfSpecular);
             if (s->flags & kBsdfReflection) {
@@ -147,8 +147,8 @@ TEST(Glass, PicksLobesWithFresnelProbabilitiesAndExactDirections) {
                 EXPECT_NEAR(length(s->wi + n * cosT), sinI / eta, 2e-6f) << what;
               }
             }
-            EXPECT_EQ(glass.eval(si, s->wi), Rgb{}) << what;
-            EXPECT_EQ(glass.pdf(si, s->wi), 0) << what;
+            EXPECT_EQ(glass.bsdf(si).f(s->wi), Rgb{}) << what;
+            EXPECT_EQ(glass.bsdf(si).pdf(s->wi), 0) << what;
           }
           EXPECT_NEAR(double(reflections) / kGrid, F, 1.0 / kGrid + 1e-6) << what;
           EXPECT_EQ(reflections + transmissions, kGrid);
@@ -165,10 +165,10 @@ TEST(Glass, TotalInternalReflectionFromInside) {
     for (float degrees : {42.5f, 50.0f, 70.0f, 89.0f}) {
       const SurfaceInteraction si = makeSurface(n, viewAtDegrees(degrees), false);
       const std::string what = std::to_string(degrees) + " degrees";
-      EXPECT_FALSE(glass.sample(si, {0.5f, 0.5f}, 0.99f, kBsdfTransmission)) << what;
+      EXPECT_FALSE(glass.bsdf(si).sample({0.5f, 0.5f}, 0.99f, kBsdfTransmission)) << what;
       for (uint32_t lobes : {kBsdfAllLobes, uint32_t(kBsdfReflection)})
         for (float uLobe : {0.0f, 0.5f, 0.9999f}) {
-          std::optional<BsdfSample> s = glass.sample(si, {0.5f, 0.5f}, uLobe, lobes);
+          std::optional<BsdfSample> s = glass.bsdf(si).sample({0.5f, 0.5f}, uLobe, lobes);
           ASSERT_TRUE(s) << what;
           EXPECT_EQ(s->flags, kBsdfSpecular | kBsdfReflection) << what;
           EXPECT_EQ(s->pdf, 1) << what;
@@ -179,10 +179,10 @@ TEST(Glass, TotalInternalReflectionFromInside) {
         }
     }
     const SurfaceInteraction below = makeSurface(n, viewAtDegrees(41.0f), false);
-    EXPECT_TRUE(glass.sample(below, {0.5f, 0.5f}, 0.99f, kBsdfTransmission));
+    EXPECT_TRUE(glass.bsdf(below).sample({0.5f, 0.5f}, 0.99f, kBsdfTransmission));
     // From outside there is never total internal reflection.
     const SurfaceInteraction outside = makeSurface(n, viewAtDegrees(70.0f), true);
-    EXPECT_TRUE(glass.sample(outside, {0.5f, 0.5f}, 0.99f, kBsdfTransmission));
+    EXPECT_TRUE(glass.bsdf(outside).sample({0.5f, 0.5f}, 0.99f, kBsdfTransmission));
   }
 }
 
@@ -200,12 +200,14 @@ TEST(Glass, LobeMasksGiveWhittedWeights) {
                                    (front ? " front" : " back");
           const float eta = front ? ior : 1 / ior;
           const float F = fresnelDielectric(dot(si.wo, n), eta);
-          std::optional<BsdfSample> r = glass.sample(si, {0.1f, 0.9f}, 0.999f, kBsdfReflection);
+          std::optional<BsdfSample> r =
+              glass.bsdf(si).sample({0.1f, 0.9f}, 0.999f, kBsdfReflection);
           ASSERT_TRUE(r) << what;
           EXPECT_EQ(r->pdf, 1);
           const Rgb wr = r->weight(si.ns);
           for (int c = 0; c < 3; ++c) EXPECT_NEAR(wr[c], F, 1e-6f) << what;
-          std::optional<BsdfSample> t = glass.sample(si, {0.1f, 0.9f}, 0.0f, kBsdfTransmission);
+          std::optional<BsdfSample> t =
+              glass.bsdf(si).sample({0.1f, 0.9f}, 0.0f, kBsdfTransmission);
           if (F >= 1) {
             EXPECT_FALSE(t) << what;
             continue;
@@ -262,7 +264,7 @@ TEST(SmoothPbr, SpecularMaskGivesTheDeltaLobeWeights) {
             const Rgb expectedR =
                 schlickReference(base, cosO) * metallic + Rgb{1, 1, 1} * ((1 - metallic) * F);
             std::optional<BsdfSample> r =
-                pbr.sample(si, {0.4f, 0.6f}, 0.5f, kBsdfSpecular | kBsdfReflection);
+                pbr.bsdf(si).sample({0.4f, 0.6f}, 0.5f, kBsdfSpecular | kBsdfReflection);
             ASSERT_TRUE(r) << what;
             EXPECT_EQ(r->flags, kBsdfSpecular | kBsdfReflection) << what;
             EXPECT_NEAR(r->pdf, 1, 1e-6f) << what;
@@ -271,7 +273,7 @@ TEST(SmoothPbr, SpecularMaskGivesTheDeltaLobeWeights) {
             for (int c = 0; c < 3; ++c) EXPECT_NEAR(wr[c], expectedR[c], 1e-5f) << what;
 
             std::optional<BsdfSample> t =
-                pbr.sample(si, {0.4f, 0.6f}, 0.5f, kBsdfSpecular | kBsdfTransmission);
+                pbr.bsdf(si).sample({0.4f, 0.6f}, 0.5f, kBsdfSpecular | kBsdfTransmission);
             const float Tweight = (1 - metallic) * transmission * (1 - F);
             if (Tweight <= 0) {
               EXPECT_FALSE(t) << what;
@@ -292,8 +294,8 @@ TEST(SmoothPbr, SpecularMaskGivesTheDeltaLobeWeights) {
             constexpr int kGrid = 2000;
             int reflections = 0;
             for (int i = 0; i < kGrid; ++i) {
-              std::optional<BsdfSample> s =
-                  pbr.sample(si, {0.4f, 0.6f}, (i + 0.5f) / kGrid, kBsdfSpecular | kBsdfAllLobes);
+              std::optional<BsdfSample> s = pbr.bsdf(si).sample({0.4f, 0.6f}, (i + 0.5f) / kGrid,
+                                                                kBsdfSpecular | kBsdfAllLobes);
               ASSERT_TRUE(s) << what;
               ASSERT_TRUE(s->flags & kBsdfSpecular) << what;
               if (s->flags & kBsdfReflection) ++reflections;
@@ -303,7 +305,7 @@ TEST(SmoothPbr, SpecularMaskGivesTheDeltaLobeWeights) {
                 << what;
 
             // Only the specular bit: neither hemisphere is allowed.
-            EXPECT_FALSE(pbr.sample(si, {0.4f, 0.6f}, 0.5f, kBsdfSpecular)) << what;
+            EXPECT_FALSE(pbr.bsdf(si).sample({0.4f, 0.6f}, 0.5f, kBsdfSpecular)) << what;
           }
 }
 
@@ -320,7 +322,7 @@ TEST(SmoothPbr, DeltaSamplesAreExcludedFromEvalAndPdf) {
       const float F = fresnelDielectric(dot(si.wo, n), 1.5f);
       int delta = 0;
       for (int i = 0; i < 1000; ++i) {
-        std::optional<BsdfSample> s = pbr.sample(si, {0.37f, 0.61f}, (i + 0.5f) / 1000);
+        std::optional<BsdfSample> s = pbr.bsdf(si).sample({0.37f, 0.61f}, (i + 0.5f) / 1000);
         ASSERT_TRUE(s);
         if (s->flags & kBsdfSpecular) {
           ++delta;
@@ -337,9 +339,9 @@ TEST(SmoothPbr, DeltaSamplesAreExcludedFromEvalAndPdf) {
       // The metal has no diffuse lobe: eval and pdf are zero everywhere, even in the mirror
       // direction.
       const Vec3f mirror = 2 * dot(si.wo, n) * n - si.wo;
-      EXPECT_EQ(metal.eval(si, mirror), Rgb{});
-      EXPECT_EQ(metal.pdf(si, mirror), 0);
-      std::optional<BsdfSample> m = metal.sample(si, {0.5f, 0.5f}, 0.5f);
+      EXPECT_EQ(metal.bsdf(si).f(mirror), Rgb{});
+      EXPECT_EQ(metal.bsdf(si).pdf(mirror), 0);
+      std::optional<BsdfSample> m = metal.bsdf(si).sample({0.5f, 0.5f}, 0.5f);
       ASSERT_TRUE(m);
       EXPECT_EQ(m->pdf, 1);
       expectDirection(m->wi, mirror, "metal");
@@ -351,7 +353,7 @@ TEST(RoughPbr, HasNoDeltaLobes) {
   EXPECT_FALSE(pbr.flags() & kBsdfSpecular);
   const SurfaceInteraction si = makeSurface({0, 0, 1}, viewAtDegrees(30), true);
   for (float uLobe : {0.01f, 0.5f, 0.99f})
-    EXPECT_FALSE(pbr.sample(si, {0.5f, 0.5f}, uLobe, kBsdfSpecular | kBsdfAllLobes));
+    EXPECT_FALSE(pbr.bsdf(si).sample({0.5f, 0.5f}, uLobe, kBsdfSpecular | kBsdfAllLobes));
 }
 
 }  // namespace

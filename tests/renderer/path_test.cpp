@@ -8,6 +8,7 @@
 
 #include <cmath>
 
+#include "renderer/direct_light.h"
 #include "renderer/render.h"
 #include "scenes/build.h"
 #include "scenes/sidecar.h"

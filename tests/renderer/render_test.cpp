@@ -1,8 +1,9 @@
 // Render tests on scenes built in code: closed-form radiance, determinism across thread
 // counts, NaN/Inf handling, the headlight.
+#include "renderer/render.h"
+
 #include <gtest/gtest.h>
 
-#include "renderer/render.h"
 #include "scenes/build.h"
 
 namespace glint {
@@ -157,19 +158,16 @@ TEST(Render, MissingCameraNameIsASceneError) {
 class NanMaterial final : public Material {
  public:
   NanMaterial() { traits_.emits = true; }  // integrators ask only emitting materials
-  Rgb emitted(const SurfaceInteraction& si) const override {
+  Rgb emitted(const SurfaceInteraction& si, TextureLookups&) const override {
     return si.p.x > 0 ? Rgb{std::nanf(""), 0, 0} : Rgb{1, 1, 1};
   }
-  Rgb albedo(const SurfaceInteraction&) const override { return {}; }
+  Rgb albedo(const SurfaceInteraction&, TextureLookups&) const override { return {}; }
   uint32_t flags() const override { return kBsdfDiffuse; }
 
  protected:
-  Rgb evalBsdf(const SurfaceInteraction&, Vec3f) const override { return {}; }
-  std::optional<BsdfSample> sampleBsdf(const SurfaceInteraction&, Vec2f, float,
-                                       uint32_t) const override {
-    return std::nullopt;
+  Bsdf makeBsdf(const SurfaceInteraction&, const BsdfFrame&, TextureLookups&) const override {
+    return {};
   }
-  float pdfBsdf(const SurfaceInteraction&, Vec3f) const override { return 0; }
 };
 
 TEST(Render, NanSamplesAreCountedAndNeverReachTheFilm) {

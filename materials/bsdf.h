@@ -1,0 +1,75 @@
+// glint — the BSDF at one hit: a shading frame plus one BxDF whose parameters the material has
+// already read (materials/bxdfs.h). What every integrator evaluates, samples and weighs by MIS;
+// it never reads a texture and never allocates, so integrators may call it as often as they
+// like (once per light in Whitted, twice per VPL in instant radiosity) and keep it (a VPL
+// keeps the BSDF of its vertex).
+//
+// Directions here are world-space unit vectors pointing away from the surface; wo is fixed
+// when the BSDF is made. Bsdf adds to the BxDF what depends on the geometric normal:
+//   - reflection must stay on wo's side of the geometric surface and transmission must cross
+//     it, or light would leak through a surface whose shading normal is tilted (f, pdf and
+//     sample agree on this);
+//   - a delta reflection about a strongly tilted shading normal that points into the surface
+//     is folded back above the geometric plane (a lost ray shows as a black fringe on mirrors);
+//   - bumped surfaces multiply f by the shadow-terminator term (Chiang et al. 2019).
+#pragma once
+
+#include <optional>
+#include <variant>
+
+#include "geometry/interaction.h"
+#include "materials/bxdfs.h"
+
+namespace glint {
+
+// The shading frame of a hit: ns (+Z), the geometric normal, and wo in local coordinates.
+struct BsdfFrame {
+  Frame frame;
+  Vec3f ng;
+  Vec3f wo;                 // local
+  bool terminator = false;  // apply the shadow-terminator term (the normal was perturbed)
+
+  BsdfFrame() = default;
+  BsdfFrame(const SurfaceInteraction& si, bool perturbed)
+      : frame(Frame::fromZ(si.ns)), ng(si.ng), wo(frame.toLocal(si.wo)), terminator(perturbed) {}
+};
+
+class Bsdf {
+ public:
+  using Lobes =
+      std::variant<std::monostate, DiffuseBxdf, PhongBxdf, MirrorBxdf, GlassBxdf, PbrBxdf>;
+
+  // No scattering at all (unlit materials): f, pdf zero, sample() fails, flags() none.
+  Bsdf() = default;
+  Bsdf(const BsdfFrame& frame, Lobes lobes) : frame_(frame), lobes_(std::move(lobes)) {}
+
+  // f(wo, wi) without the cosine; zero for delta lobes.
+  Rgb f(Vec3f wi) const;
+  // Samples wi given two uniform numbers for the direction and one for the lobe choice,
+  // restricted to `lobes` (see bxdfs.h).
+  std::optional<BsdfSample> sample(Vec2f u, float uLobe, uint32_t lobes = kBsdfAllLobes) const;
+  // Solid-angle density with which sample() (all lobes) returns wi.
+  float pdf(Vec3f wi) const;
+  // The kinds of lobes at this hit (kBsdfNone when it does not scatter).
+  uint32_t flags() const;
+  // The shading normal the BSDF is built around.
+  Vec3f ns() const { return frame_.frame.n; }
+
+ private:
+  // Whether world direction wi (local z `z`) is on the geometric side its lobe needs.
+  bool consistentSide(Vec3f wi, float z) const {
+    const float g = dot(wi, frame_.ng);
+    return z > 0 ? g > 0 : g < 0;
+  }
+
+  BsdfFrame frame_;
+  Lobes lobes_;
+};
+
+// Chiang, Li and Burley (2019), "Taming the Shadow Terminator": a shadowing term for shading
+// normals that differ from the geometric one, smooth and 1 wherever ns = ng. Multiplying the
+// reflected light by it removes the hard terminator that bump maps otherwise show on lit
+// spheres, at the price of slightly darkening strongly bumped grazing regions.
+float terminatorShadowing(Vec3f ng, Vec3f ns, Vec3f wi);
+
+}  // namespace glint

@@ -1,0 +1,140 @@
+// glint — the scattering functions (BxDFs) a material's BSDF is made of, in the local shading
+// frame: the shading normal is +Z, every direction is a unit vector pointing away from the
+// surface, and wo is the direction towards the viewer. f excludes the cosine factor.
+//
+// A BxDF is a small value holding parameters already read from the material's textures (the
+// material's `bsdf` makes one per hit, materials/material.h); none of its functions reads a
+// texture or allocates. Each offers the same four calls:
+//   f(wo, wi)                        the BSDF value (zero for delta lobes),
+//   sample(wo, u, uLobe, lobes)      a direction with f and pdf, restricted to `lobes`,
+//   pdf(wo, wi)                      the solid-angle density of sample() over all lobes,
+//   flags()                          which kinds of lobes it has at this hit.
+// Which side of the *geometric* surface a direction lies on is Bsdf's business (bsdf.h): a
+// BxDF only knows the shading frame.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+
+#include "geometry/math.h"
+
+namespace glint {
+
+enum BsdfFlags : uint32_t {
+  kBsdfNone = 0,
+  kBsdfUnlit = 1u << 0,  // not lit by lights: colour x |cos| towards the eye (eyelight)
+  kBsdfDiffuse = 1u << 1,
+  kBsdfGlossy = 1u << 2,
+  kBsdfSpecular = 1u << 3,  // delta lobes (mirror, glass): f and pdf are zero
+  kBsdfReflection = 1u << 4,
+  kBsdfTransmission = 1u << 5,
+};
+// Both hemispheres: the default lobe selection of sample().
+inline constexpr uint32_t kBsdfAllLobes = kBsdfReflection | kBsdfTransmission;
+
+struct BsdfSample {
+  Rgb f;  // f(wo, wi), without the cosine
+  Vec3f wi;
+  float pdf = 0;  // solid-angle density (for delta lobes: the discrete probability)
+  uint32_t flags = kBsdfNone;
+  float eta = 1;  // relative index of refraction crossed (transmission), else 1
+
+  // The path throughput factor f |cos| / pdf along the normal n.
+  Rgb weight(Vec3f n) const { return f * (std::abs(dot(wi, n)) / pdf); }
+};
+
+// The lobe restriction of sample(): `lobes` holds kBsdfReflection and/or kBsdfTransmission
+// (the hemispheres allowed) and optionally kBsdfSpecular (delta lobes only). pdf and f are
+// then those of the restricted choice, so an integrator may follow the reflected and the
+// transmitted lobe separately (Whitted) or pick one (path tracing).
+
+// Ideal diffuse reflection: f = R / pi.
+struct DiffuseBxdf {
+  Rgb R;
+
+  Rgb f(Vec3f wo, Vec3f wi) const;
+  std::optional<BsdfSample> sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes) const;
+  float pdf(Vec3f wo, Vec3f wi) const;
+  uint32_t flags() const { return kBsdfDiffuse | kBsdfReflection; }
+};
+
+// A diffuse lobe plus an energy-normalised cos^n specular lobe (kd + ks <= 1 per channel never
+// reflects more than it receives; the scene builder checks it):
+//   Phong (Lafortune & Willems 1994): ks (n+2)/(2 pi) cos^n(alpha), alpha between wi and the
+//     mirror direction of wo.
+//   Blinn-Phong, in Ashikhmin & Shirley's (2000) normalisation:
+//     ks (n+1)/(8 pi) cos^n(theta_h) / ((h.wi) max(cos theta_i, cos theta_o)),
+//     whose cosine-weighted integral is at most 1 for every wo (the classic (n+8)/(8 pi)
+//     factor exceeds 1 near normal incidence).
+// The specular lobe is sampled with probability ks / (kd + ks) (luminances).
+struct PhongBxdf {
+  Rgb kd, ks;
+  float shininess = 1;
+  bool blinn = false;
+  float pSpecular = 0;  // set by the constructor
+
+  PhongBxdf(Rgb kd, Rgb ks, float shininess, bool blinn);
+  Rgb f(Vec3f wo, Vec3f wi) const;
+  std::optional<BsdfSample> sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes) const;
+  float pdf(Vec3f wo, Vec3f wi) const;
+  uint32_t flags() const { return kBsdfDiffuse | kBsdfGlossy | kBsdfReflection; }
+
+ private:
+  // f and pdf together: both need cos^n, which differs between them by a constant.
+  Rgb evaluate(Vec3f wo, Vec3f wi, float* pdf) const;
+};
+
+// Reflects everything into the mirror direction, tinted by R.
+struct MirrorBxdf {
+  Rgb R;
+
+  Rgb f(Vec3f, Vec3f) const { return {}; }
+  std::optional<BsdfSample> sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes) const;
+  float pdf(Vec3f, Vec3f) const { return 0; }
+  uint32_t flags() const { return kBsdfSpecular | kBsdfReflection; }
+};
+
+// A smooth dielectric interface (Snell's law, exact Fresnel, total internal reflection). eta is
+// the relative index across the surface for light leaving wo's side: the material's index
+// when the ray arrives on the front face, its inverse from inside. T tints the refracted
+// light; radiance crossing is scaled by 1/eta^2 (compressed into a narrower cone).
+struct GlassBxdf {
+  float eta = 1.5f;
+  Rgb T{1, 1, 1};
+
+  Rgb f(Vec3f, Vec3f) const { return {}; }
+  std::optional<BsdfSample> sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes) const;
+  float pdf(Vec3f, Vec3f) const { return 0; }
+  uint32_t flags() const { return kBsdfSpecular | kBsdfReflection | kBsdfTransmission; }
+};
+
+// glTF's metallic-roughness model with KHR_materials_transmission and _ior (see pbr.h for the
+// model and its one deliberate change): GGX reflection (Schlick-tinted for the metal, exact
+// Fresnel for the dielectric), a diffuse layer weighted by 1 - F(wo.n), and GGX refraction.
+// Below alpha 1e-3 the reflection and refraction are delta lobes. The lobe weights (Fresnel at
+// wo) are computed once, by the constructor.
+struct PbrBxdf {
+  // base: base colour; roughness: perceptual, in [0, 1]; metallic, transmission in [0, 1];
+  // eta: relative index across the surface seen from wo's side.
+  PbrBxdf(Vec3f wo, Rgb base, float metallic, float roughness, float transmission, float eta);
+  Rgb f(Vec3f wo, Vec3f wi) const;
+  std::optional<BsdfSample> sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes) const;
+  float pdf(Vec3f wo, Vec3f wi) const;
+  uint32_t flags() const;
+
+  Rgb base;
+  float metallic = 0, transmission = 0, alpha = 1, eta = 1.5f;
+  bool smooth = false;  // alpha below the delta threshold: specular lobes are deltas
+
+ private:
+  // f and pdf together (they share D, G and the half vector), for the unrestricted pdf.
+  Rgb evaluate(Vec3f wo, Vec3f wi, float* pdf) const;
+  // The lobe probabilities for a restricted sample(): specular, diffuse, transmission.
+  void lobeProbabilities(uint32_t lobes, float* pSpec, float* pDiff, float* pTrans) const;
+  // Unnormalised lobe weights at wo (Fresnel), and their normalised probabilities.
+  float wSpec_ = 0, wDiff_ = 0, wTrans_ = 0;
+  float pSpec_ = 0, pDiff_ = 0, pTrans_ = 0;
+  float fresnelWo_ = 0;  // the dielectric Fresnel reflectance at wo
+};
+
+}  // namespace glint
