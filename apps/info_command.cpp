@@ -198,7 +198,7 @@ int runInfo(const InfoArgs& args) {
   else
     std::printf("bounds:     (%g, %g, %g) to (%g, %g, %g)\n", b.lower.x, b.lower.y, b.lower.z,
                 b.upper.x, b.upper.y, b.upper.z);
-  std::string integratorLabel = resolveIntegratorType(scene, desc.render.integrator);
+  std::string integratorLabel = integratorName(resolveIntegrator(scene, desc.render.integrator));
   if (desc.render.integrator.type == "auto") integratorLabel += " (auto)";
   std::printf("image:      %dx%d, %d spp, seed %llu, accel %s, integrator %s\n",
               scene.camera.width(), scene.camera.height(), desc.render.spp,

@@ -75,7 +75,7 @@ nlohmann::json sceneJson(const RenderArgs& args, const SceneDescription& desc,
   nlohmann::json j;
   j["scene"] = args.scene;
   j["accel"] = desc.render.accel;
-  j["integrator"] = resolveIntegratorType(scene, desc.render.integrator);  // "auto" resolved
+  j["integrator"] = integratorName(resolveIntegrator(scene, desc.render.integrator));  // "auto" resolved
   j["integrator_requested"] = desc.render.integrator.type;
   j["camera"] = scene.cameraName;
   j["width"] = scene.camera.width();
@@ -176,7 +176,7 @@ int renderAndWrite(const RenderArgs& args, const SceneDescription& desc, const R
   }
   ImageMetadata meta{args.scene,        desc.render.spp,
                      desc.render.seed,  record->stats.renderSeconds,
-                     desc.render.accel, resolveIntegratorType(scene, desc.render.integrator)};
+                     desc.render.accel, integratorName(resolveIntegrator(scene, desc.render.integrator))};
   meta.time = desc.render.time;
   try {
     for (const std::string& out : outputs) writeImage(out, film, desc.render, meta);

@@ -91,28 +91,49 @@ const std::vector<std::string>& integratorNames() {
   return names;
 }
 
-std::string resolveIntegratorType(const RenderScene& scene, const IntegratorSettings& settings) {
-  if (settings.type != "auto") return settings.type;
+IntegratorKind resolveIntegrator(const RenderScene& scene, const IntegratorSettings& settings) {
+  if (settings.type == "whitted") return IntegratorKind::Whitted;
+  if (settings.type == "path") return IntegratorKind::Path;
+  if (settings.type == "instant-radiosity") return IntegratorKind::InstantRadiosity;
+  if (settings.type != "auto")
+    throw std::invalid_argument("unknown integrator '" + settings.type +
+                                "' (whitted, path, instant-radiosity, auto)");
   // Media asking for multiple scattering need the path tracer (Whitted scatters once); other
   // media go by the light rule below (Whitted's marched single scattering is the low-noise
   // answer for point lights).
-  if (scene.media && settings.volume == "multiple") return "path";
+  if (scene.media && settings.volume == "multiple") return IntegratorKind::Path;
   // Light with an extent (area, emitting surfaces, the environment) is what Whitted's hard
   // shadows cannot render; point, spot and directional lights it renders exactly.
   bool extended = !scene.infiniteLights.empty();
   for (int32_t l : scene.instanceLight) extended = extended || l >= 0;
   for (const auto& light : scene.lights) extended = extended || !light->isDelta();
-  return extended ? "path" : "whitted";
+  return extended ? IntegratorKind::Path : IntegratorKind::Whitted;
 }
 
-std::unique_ptr<Integrator> makeIntegrator(const RenderScene& scene, const RenderSettings& settings) {
+const char* integratorName(IntegratorKind kind) {
+  switch (kind) {
+    case IntegratorKind::Whitted:
+      return "whitted";
+    case IntegratorKind::Path:
+      return "path";
+    case IntegratorKind::InstantRadiosity:
+      return "instant-radiosity";
+  }
+  return "?";
+}
+
+std::unique_ptr<Integrator> makeIntegrator(const RenderScene& scene,
+                                           const RenderSettings& settings) {
   const IntegratorSettings& s = settings.integrator;
-  const std::string type = resolveIntegratorType(scene, s);
-  if (type == "whitted") return std::make_unique<WhittedIntegrator>(scene, s.maxDepth);
-  if (type == "path") return std::make_unique<PathIntegrator>(scene, s);
-  if (type == "instant-radiosity")
-    return std::make_unique<InstantRadiosityIntegrator>(scene, s, settings.seed);
-  throw std::invalid_argument("unknown integrator '" + s.type + "' (whitted, path, instant-radiosity, auto)");
+  switch (resolveIntegrator(scene, s)) {
+    case IntegratorKind::Whitted:
+      return std::make_unique<WhittedIntegrator>(scene, s.maxDepth);
+    case IntegratorKind::Path:
+      return std::make_unique<PathIntegrator>(scene, s);
+    case IntegratorKind::InstantRadiosity:
+      return std::make_unique<InstantRadiosityIntegrator>(scene, s, settings.seed);
+  }
+  return nullptr;
 }
 
 }  // namespace glint

@@ -110,10 +110,16 @@ class Integrator {
   std::vector<MaterialShading> shading_;  // per material
 };
 
-// The integrator settings.type asks for, with "auto" resolved for `scene`: "path" when the
-// scene has light with an extent (an environment, emitting surfaces that are lights, any
-// non-delta light), else "whitted". Other names are returned as they are.
-std::string resolveIntegratorType(const RenderScene& scene, const IntegratorSettings& settings);
+// The integrators there are.
+enum class IntegratorKind { Whitted, Path, InstantRadiosity };
+
+// The integrator settings.type asks for, with "auto" resolved for `scene`: the path tracer when
+// the scene has light with an extent (an environment, emitting surfaces that are lights, any
+// non-delta light) or media asked to scatter multiply, else Whitted. Throws
+// std::invalid_argument for unknown names (the loaders accept only integratorNames()).
+IntegratorKind resolveIntegrator(const RenderScene& scene, const IntegratorSettings& settings);
+// "whitted", "path", "instant-radiosity": the name the settings use.
+const char* integratorName(IntegratorKind kind);
 // Builds the integrator settings.integrator.type names for `scene` ("auto" resolved as
 // above). Throws std::invalid_argument for unknown names.
 std::unique_ptr<Integrator> makeIntegrator(const RenderScene& scene,

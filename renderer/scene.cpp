@@ -2,6 +2,7 @@
 #include "renderer/scene.h"
 
 #include "geometry/csg.h"
+#include "renderer/integrator.h"
 #include "renderer/projective_light.h"
 
 namespace glint {
@@ -22,8 +23,16 @@ void addMaterialFeatures(const Material& mat, SceneFeatures* f, bool* anyLit) {
 
 }  // namespace
 
-SceneFeatures detectFeatures(const RenderScene& scene) {
+SceneFeatures detectFeatures(const RenderScene& scene, const IntegratorSettings& integrator,
+                             const BuildNotes& notes) {
   SceneFeatures f;
+  f.set(Feature::Headlight, notes.headlight);
+  f.set(Feature::Terrain, notes.terrain);
+  f.set(Feature::Lens, scene.camera.hasLens());
+  bool moving = scene.camera.isMoving();
+  for (const Instance& inst : scene.geometry.instances) moving = moving || inst.moves();
+  f.set(Feature::MotionBlur, moving);
+  f.set(Feature::Volumes, scene.media != nullptr);
   std::vector<uint32_t> uses(scene.geometry.meshes.size(), 0);
   bool anyLit = false;
   for (const Instance& inst : scene.geometry.instances) {
@@ -47,6 +56,9 @@ SceneFeatures detectFeatures(const RenderScene& scene) {
     if (light->kind() == LightKind::Infinite) f.set(Feature::Environment);
     if (dynamic_cast<const ProjectiveLight*>(light.get())) f.set(Feature::Projective);
   }
+  const IntegratorKind kind = resolveIntegrator(scene, integrator);
+  f.set(Feature::Indirect, kind != IntegratorKind::Whitted);
+  f.set(Feature::Vpls, kind == IntegratorKind::InstantRadiosity);
   return f;
 }
 

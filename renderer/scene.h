@@ -12,6 +12,7 @@
 #include "renderer/features.h"
 #include "renderer/light.h"
 #include "renderer/light_sampler.h"
+#include "renderer/settings.h"
 #include "renderer/volume.h"
 
 namespace glint {
@@ -32,7 +33,7 @@ struct RenderScene {
   // Per instance, the index in `lights` of the area light it is (an emissive mesh or shape),
   // or -1; empty when no surface emits.
   std::vector<int32_t> instanceLight;
-  std::vector<const Light*> infiniteLights;  // the environment lights among `lights`
+  std::vector<const Light*> infiniteLights;    // the environment lights among `lights`
   std::unique_ptr<LightSampler> lightSampler;  // over `lights`, for next-event estimation
   Camera camera;
   std::string cameraName;
@@ -65,8 +66,17 @@ struct RenderScene {
   }
 };
 
-// Derives the features from the built scene (materials, lights, instancing). The builder calls
-// it once; flags it cannot see (e.g. Headlight) are set by the builder itself.
-SceneFeatures detectFeatures(const RenderScene& scene);
+// What the builder made that the built scene does not show by itself.
+struct BuildNotes {
+  bool headlight = false;  // the scene had no lights; the builder added one
+  bool terrain = false;    // a fractal terrain was meshed
+};
 
+// The scene's effects, decided in this one place once everything is built (geometry,
+// materials, camera, lights, media): what the materials read and do, what lights there are,
+// lens and motion from the camera and the instances, media, and what the integrator
+// `integrator` resolves to follows (indirect light, VPLs). Every optional code path asks the
+// result, never the parts.
+SceneFeatures detectFeatures(const RenderScene& scene, const IntegratorSettings& integrator,
+                             const BuildNotes& notes);
 }  // namespace glint

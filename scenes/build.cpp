@@ -515,45 +515,46 @@ void imageSize(const SceneDescription& desc, int* width, int* height) {
   resolveImageSize(desc, selectCamera(desc), width, height);
 }
 
-RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings) {
-  auto start = Clock::now();
-  RenderScene scene;
-  scene.background = desc.render.background;
-  // The frame's shutter decides what moves; without a camera (one is framed below) there is
-  // no shutter and nothing moves.
-  const CameraDesc* selected = selectCamera(desc);
-  ShutterTimes shutter{desc.render.time, desc.render.time};
-  if (selected) {
-    shutter.open += selected->shutterOpen;
-    shutter.close += selected->shutterClose;
-  }
-  bool moving = false;  // anything moves during the shutter
+// ---------------------------------------------------------------------------------------------
+// The render scene, step by step (pbrt-v4's CreateMaterials / CreateLights / CreateAggregate)
+// ---------------------------------------------------------------------------------------------
 
-  // --- Geometry: bake single placements into world space; keep shared meshes instanced. A
-  // mesh that nodes give different materials is one geometry mesh per material.
+namespace {
+
+// What the geometry step leaves for the material step: which description material each
+// geometry mesh and each analytic shape's slot takes.
+struct GeometryMaterials {
+  struct Mesh {
+    int material;  // description material, -1 = default
+    bool colors;   // the mesh has vertex colours
+  };
+  std::vector<Mesh> meshes;                  // per geometry mesh
+  std::vector<std::vector<int>> shapeSlots;  // per geometry shape: per material slot
+  bool terrain = false;                      // a fractal terrain was meshed
+};
+
+// The description's glTF instances into scene->geometry: single static placements are baked
+// into world space, shared or moving meshes instanced. A mesh that nodes give different
+// materials is one geometry mesh per material.
+void buildMeshes(const SceneDescription& desc, const ShutterTimes& shutter, RenderScene* scene,
+                 GeometryMaterials* materials) {
   using MeshKey = std::pair<int, int>;  // (description mesh, node material or -1)
   std::map<MeshKey, uint32_t> uses;
   for (const InstanceDesc& inst : desc.instances) ++uses[{inst.mesh, inst.material}];
   std::map<MeshKey, uint32_t> meshIndex;
-  struct MeshMaterial {
-    int material;  // description material, -1 = default
-    bool colors;
-  };
-  std::vector<MeshMaterial> meshMaterials;  // per geometry mesh
   for (const InstanceDesc& inst : desc.instances) {
     const MeshDesc& md = desc.meshes[size_t(inst.mesh)];
     const MeshKey key{inst.mesh, inst.material};
     AnimatedTransform motion = placementOverShutter(
         desc.nodes, inst.transformNode, inst.nodeFromObject, inst.worldFromObject, shutter);
     const Transform& world = motion.key(0);
-    moving = moving || motion.isAnimated();
     // A moving mesh keeps its object space: Embree moves it as an instance.
     const bool bake = uses[key] == 1 && !motion.isAnimated();
-    scene.objectFromWorld.push_back(world.inverse());
+    scene->objectFromWorld.push_back(world.inverse());
     if (auto it = meshIndex.find(key); !bake && it != meshIndex.end()) {
       Instance placed{it->second, world};
       placed.motion = motion;
-      scene.geometry.instances.push_back(placed);
+      scene->geometry.instances.push_back(placed);
       continue;
     }
     TriangleMesh mesh;
@@ -573,24 +574,25 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
       }
       placement = Transform();
     }
-    meshIndex[key] = uint32_t(scene.geometry.meshes.size());
-    meshMaterials.push_back({inst.material >= 0 ? inst.material : md.material, !md.colors.empty()});
-    scene.geometry.meshes.push_back(std::move(mesh));
-    Instance placed{uint32_t(scene.geometry.meshes.size() - 1), placement};
+    meshIndex[key] = uint32_t(scene->geometry.meshes.size());
+    materials->meshes.push_back(
+        {inst.material >= 0 ? inst.material : md.material, !md.colors.empty()});
+    scene->geometry.meshes.push_back(std::move(mesh));
+    Instance placed{uint32_t(scene->geometry.meshes.size() - 1), placement};
     if (motion.isAnimated()) placed.motion = motion;
-    scene.geometry.instances.push_back(placed);
+    scene->geometry.instances.push_back(placed);
   }
+}
 
-  // --- Analytic objects: shapes and CSG trees stay in object space under their transform;
-  // terrain becomes a triangle mesh, baked into world space.
-  std::vector<std::vector<int>> shapeMaterialDescs;  // per geometry shape: per slot
-  bool terrain = false;
+// The sidecar's objects into scene->geometry: shapes and CSG trees stay in object space under
+// their transform; terrain becomes a triangle mesh, baked into world space.
+void buildObjects(const SceneDescription& desc, const ShutterTimes& shutter, RenderScene* scene,
+                  GeometryMaterials* materials) {
   for (const ObjectDesc& obj : desc.objects) {
     AnimatedTransform motion = placementOverShutter(
         desc.nodes, obj.transformNode, obj.nodeFromObject, obj.worldFromObject, shutter);
     const Transform& world = motion.key(0);
-    moving = moving || motion.isAnimated();
-    scene.objectFromWorld.push_back(world.inverse());
+    scene->objectFromWorld.push_back(world.inverse());
     if (obj.kind == ObjectKind::Terrain) {
       TriangleMesh mesh = makeFractalTerrain(terrainParams(obj.terrain));
       Instance placed{0, Transform()};
@@ -601,11 +603,11 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
         for (Vec3f& p : mesh.positions) p = world.point(p);
         for (Vec3f& n : mesh.normals) n = normalize(world.normal(n));
       }
-      meshMaterials.push_back({obj.material, false});
-      scene.geometry.meshes.push_back(std::move(mesh));
-      placed.mesh = uint32_t(scene.geometry.meshes.size() - 1);
-      scene.geometry.instances.push_back(placed);
-      terrain = true;
+      materials->meshes.push_back({obj.material, false});
+      scene->geometry.meshes.push_back(std::move(mesh));
+      placed.mesh = uint32_t(scene->geometry.meshes.size() - 1);
+      scene->geometry.instances.push_back(placed);
+      materials->terrain = true;
       continue;
     }
     std::vector<int> slots;
@@ -622,16 +624,19 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
       slots.push_back(obj.material);
     }
     Instance inst;
-    inst.shape = uint32_t(scene.geometry.shapes.size());
+    inst.shape = uint32_t(scene->geometry.shapes.size());
     inst.worldFromObject = world;
     if (motion.isAnimated()) inst.motion = motion;
-    scene.geometry.shapes.push_back(std::move(shape));
-    scene.geometry.instances.push_back(inst);
-    shapeMaterialDescs.push_back(std::move(slots));
+    scene->geometry.shapes.push_back(std::move(shape));
+    scene->geometry.instances.push_back(inst);
+    materials->shapeSlots.push_back(std::move(slots));
   }
+}
 
-  // --- Materials: one per description material (and per vertex-colour use), plus a default.
-  TextureCache textures(desc, &scene);
+// One render material per description material (and per vertex-colour use), plus a default,
+// assigned to the meshes and shape slots.
+void buildMaterials(const SceneDescription& desc, const GeometryMaterials& geometry,
+                    TextureCache& textures, RenderScene* scene) {
   std::map<std::pair<int, bool>, uint32_t> materialIndex;
   auto materialFor = [&](int material, bool colors) -> uint32_t {
     auto key = std::make_pair(material, colors);
@@ -641,69 +646,91 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
     fallback.type = MaterialType::Lambert;
     fallback.baseColor = {0.8f, 0.8f, 0.8f};
     const MaterialDesc& md = material >= 0 ? desc.materials[size_t(material)] : fallback;
-    scene.materials.push_back(makeMaterial(md, colors, textures));
-    return materialIndex[key] = uint32_t(scene.materials.size() - 1);
+    scene->materials.push_back(makeMaterial(md, colors, textures));
+    return materialIndex[key] = uint32_t(scene->materials.size() - 1);
   };
-  for (const MeshMaterial& m : meshMaterials)
-    scene.meshMaterial.push_back(materialFor(m.material, m.colors));
-  for (const std::vector<int>& slots : shapeMaterialDescs) {
+  for (const GeometryMaterials::Mesh& m : geometry.meshes)
+    scene->meshMaterial.push_back(materialFor(m.material, m.colors));
+  for (const std::vector<int>& slots : geometry.shapeSlots) {
     std::vector<uint32_t> materials;
     for (int m : slots) materials.push_back(materialFor(m, false));
-    scene.shapeMaterials.push_back(std::move(materials));
+    scene->shapeMaterials.push_back(std::move(materials));
   }
+}
 
-  // --- Camera and image size.
+// The selected camera (or one framing the geometry, when the scene names none) with its lens
+// and its placement over the shutter.
+void buildCamera(const SceneDescription& desc, const CameraDesc* selected,
+                 const ShutterTimes& shutter, RenderScene* scene) {
   int width = 0, height = 0;
   resolveImageSize(desc, selected, &width, &height);
   CameraDesc framing;
   if (!selected) {
-    framing = framingCamera(scene.geometry.bounds(), float(width) / float(height));
+    framing = framingCamera(scene->geometry.bounds(), float(width) / float(height));
     selected = &framing;
   }
-  scene.cameraName = selected->name;
+  scene->cameraName = selected->name;
   AnimatedTransform worldFromCamera =
       placementOverShutter(desc.nodes, selected->transformNode, selected->nodeFromCamera,
                            selected->worldFromCamera, shutter);
-  moving = moving || worldFromCamera.isAnimated();
   if (selected->type == CameraType::Perspective)
-    scene.camera = Camera::perspective(worldFromCamera, selected->yfov, width, height,
-                                       selected->znear, selected->zfar);
-  else
-    scene.camera = Camera::orthographic(worldFromCamera, selected->ymag, width, height,
+    scene->camera = Camera::perspective(worldFromCamera, selected->yfov, width, height,
                                         selected->znear, selected->zfar);
-  const bool lens = selected->apertureRadius > 0;
-  if (lens)
-    scene.camera.setLens({selected->apertureRadius, selected->focusDistance,
-                          selected->apertureBlades, selected->apertureRotation});
+  else
+    scene->camera = Camera::orthographic(worldFromCamera, selected->ymag, width, height,
+                                         selected->znear, selected->zfar);
+  if (selected->apertureRadius > 0)
+    scene->camera.setLens({selected->apertureRadius, selected->focusDistance,
+                           selected->apertureBlades, selected->apertureRotation});
+}
 
-  // --- Lights (emitting surfaces too); a headlight when there are none, so a scene is never
-  // black.
-  addLights(desc, shutter, &textures, &scene);
-  if (desc.environment) scene.lights.push_back(makeEnvironmentLight(*desc.environment));
-  const bool emits = addEmissiveSurfaceLights(&scene);
-  bool headlight = scene.lights.empty() && !emits;
+// Every light (emitting surfaces too) and the sampler that picks among them; a headlight when
+// there are none, so a scene is never black. Returns whether the headlight was added.
+bool buildLights(const SceneDescription& desc, const ShutterTimes& shutter, TextureCache& textures,
+                 RenderScene* scene) {
+  addLights(desc, shutter, &textures, scene);
+  if (desc.environment) scene->lights.push_back(makeEnvironmentLight(*desc.environment));
+  const bool emits = addEmissiveSurfaceLights(scene);
+  const bool headlight = scene->lights.empty() && !emits;
   if (headlight)
     // Irradiance pi: a white Lambert surface facing the camera has radiance 1.
-    scene.lights.push_back(std::make_unique<DirectionalLight>(
-        scene.camera.forward(), Rgb{kPi, kPi, kPi}, /*castsShadows=*/false));
+    scene->lights.push_back(std::make_unique<DirectionalLight>(
+        scene->camera.forward(), Rgb{kPi, kPi, kPi}, /*castsShadows=*/false));
   // Lights at infinity learn the scene's extent; then the sampler that picks among them.
-  const Bounds3f sceneExtent = scene.geometry.bounds();
-  for (auto& light : scene.lights) {
+  const Bounds3f sceneExtent = scene->geometry.bounds();
+  for (auto& light : scene->lights) {
     light->preprocess(sceneExtent);
-    if (light->kind() == LightKind::Infinite) scene.infiniteLights.push_back(light.get());
+    if (light->kind() == LightKind::Infinite) scene->infiniteLights.push_back(light.get());
   }
-  scene.lightSampler = makeLightSampler(desc.render.integrator.lightSampler, scene.lights);
+  scene->lightSampler = makeLightSampler(desc.render.integrator.lightSampler, scene->lights);
+  return headlight;
+}
 
-  scene.features = detectFeatures(scene);
-  scene.features.set(Feature::Headlight, headlight);
-  scene.features.set(Feature::Terrain, terrain);
-  scene.features.set(Feature::Lens, lens);
-  scene.features.set(Feature::MotionBlur, moving);
+}  // namespace
+
+RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings) {
+  auto start = Clock::now();
+  RenderScene scene;
+  scene.background = desc.render.background;
+  // The frame's shutter decides what moves; without a camera (one is framed below) there is
+  // no shutter and nothing moves.
+  const CameraDesc* selected = selectCamera(desc);
+  ShutterTimes shutter{desc.render.time, desc.render.time};
+  if (selected) {
+    shutter.open += selected->shutterOpen;
+    shutter.close += selected->shutterClose;
+  }
+  GeometryMaterials geometryMaterials;
+  buildMeshes(desc, shutter, &scene, &geometryMaterials);
+  buildObjects(desc, shutter, &scene, &geometryMaterials);
+  TextureCache textures(desc, &scene);
+  buildMaterials(desc, geometryMaterials, textures, &scene);
+  buildCamera(desc, selected, shutter, &scene);
+  BuildNotes notes;
+  notes.headlight = buildLights(desc, shutter, textures, &scene);
+  notes.terrain = geometryMaterials.terrain;
   addMedia(desc, &scene);
-  const std::string integratorType = resolveIntegratorType(scene, desc.render.integrator);
-  scene.features.set(Feature::Indirect,
-                     integratorType == "path" || integratorType == "instant-radiosity");
-  scene.features.set(Feature::Vpls, integratorType == "instant-radiosity");
+  scene.features = detectFeatures(scene, desc.render.integrator, notes);
 
   auto accelStart = Clock::now();
   scene.accel = makeAccelerator(desc.render.accel, scene.geometry);

@@ -82,7 +82,6 @@ void addMedia(const SceneDescription& desc, RenderScene* scene) {
     }
   }
   scene->media = std::move(media);
-  scene->features.set(Feature::Volumes);
 }
 
 }  // namespace glint

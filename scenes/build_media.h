@@ -6,8 +6,8 @@
 
 namespace glint {
 
-// Builds scene->media from desc.media and sets Feature::Volumes; leaves scene->media null (and
-// the feature off) when there are none, so media-free scenes take the media-free paths. Call
+// Builds scene->media from desc.media; leaves scene->media null when there are none, so
+// media-free scenes take the media-free paths (detectFeatures sets Feature::Volumes). Call
 // once the geometry, camera and lights are built: a medium filling the whole scene fills the
 // box around them (bounded geometry, camera position, finite lights), enlarged by 1% of its
 // diagonal, so escaping rays cross a finite amount of it.

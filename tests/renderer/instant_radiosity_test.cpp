@@ -319,7 +319,7 @@ TEST(InstantRadiosity, FactoryBuildsItAndAutoNeverPicksIt) {
             nullptr);
   d.render.integrator.type = "auto";
   const RenderScene autoScene = buildRenderScene(d);
-  EXPECT_EQ(resolveIntegratorType(autoScene, d.render.integrator), "path");
+  EXPECT_EQ(resolveIntegrator(autoScene, d.render.integrator), IntegratorKind::Path);
   EXPECT_FALSE(autoScene.features.has(Feature::Vpls));
   const auto& names = integratorNames();
   EXPECT_NE(std::find(names.begin(), names.end(), "instant-radiosity"), names.end());

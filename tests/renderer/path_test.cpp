@@ -207,7 +207,7 @@ TEST(PathTracer, AgreesWithWhittedOnDirectLight) {
   d.file = "scene.json";
   applySceneJsonText(json, d.file, SceneJsonKind::Scene, &d);
   RenderScene scene = buildRenderScene(d);
-  EXPECT_EQ(resolveIntegratorType(scene, {.type = "auto"}), "whitted");
+  EXPECT_EQ(resolveIntegrator(scene, {.type = "auto"}), IntegratorKind::Whitted);
   auto whitted = makeIntegrator(scene, d.render);
   Film reference = render(scene, *whitted, d.render, {.threads = 2}, nullptr);
   RenderStats stats;
@@ -267,11 +267,11 @@ TEST(PathTracer, AutoChoosesThePathTracerForExtendedLight) {
   d.lights.push_back(point);
   RenderScene scene = buildRenderScene(d);
   // Point lights only: Whitted renders them exactly.
-  EXPECT_EQ(resolveIntegratorType(scene, d.render.integrator), "whitted");
+  EXPECT_EQ(resolveIntegrator(scene, d.render.integrator), IntegratorKind::Whitted);
   EXPECT_FALSE(scene.features.has(Feature::Indirect));
-  EXPECT_EQ(resolveIntegratorType(scene, {.type = "whitted"}), "whitted");
+  EXPECT_EQ(resolveIntegrator(scene, {.type = "whitted"}), IntegratorKind::Whitted);
   test::useUniformEnvironment(&scene, {1, 1, 1});
-  EXPECT_EQ(resolveIntegratorType(scene, d.render.integrator), "path");
+  EXPECT_EQ(resolveIntegrator(scene, d.render.integrator), IntegratorKind::Path);
   EXPECT_NE(dynamic_cast<PathIntegrator*>(makeIntegrator(scene, d.render).get()), nullptr);
   // The builder marks indirect light when the path tracer is asked for.
   d.render.integrator.type = "path";
@@ -293,12 +293,12 @@ TEST(PathTracer, RendersMediaAndAutoPicksItForMultipleScattering) {
   d.render.integrator.type = "auto";
   RenderScene scene = buildRenderScene(d);
   // Point lights and single scattering: Whitted; multiple scattering: the path tracer.
-  EXPECT_EQ(resolveIntegratorType(scene, d.render.integrator), "whitted");
+  EXPECT_EQ(resolveIntegrator(scene, d.render.integrator), IntegratorKind::Whitted);
   d.render.integrator.volume = "multiple";
-  EXPECT_EQ(resolveIntegratorType(scene, d.render.integrator), "path");
+  EXPECT_EQ(resolveIntegrator(scene, d.render.integrator), IntegratorKind::Path);
   d.render.integrator.volume = "single";
   test::useUniformEnvironment(&scene, {1, 1, 1});  // extended light: the path tracer
-  EXPECT_EQ(resolveIntegratorType(scene, d.render.integrator), "path");
+  EXPECT_EQ(resolveIntegrator(scene, d.render.integrator), IntegratorKind::Path);
   d.render.integrator.type = "path";
   EXPECT_NE(dynamic_cast<PathIntegrator*>(makeIntegrator(scene, d.render).get()), nullptr);
 }
