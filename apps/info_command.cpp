@@ -193,6 +193,10 @@ int runInfo(const InfoArgs& args) {
                 return (l.name.empty() ? std::string("(unnamed)") : l.name) + " (" +
                        lightTypeName(l.type) + ")";
               }).c_str());
+  // Emitting surfaces that are not lights: next-event estimation never samples them.
+  for (const RenderScene::UnsampledEmitter& e : scene.unsampledEmitters)
+    std::printf("unsampled emitter: instance %u (%s): %s\n", e.instance, e.shape.c_str(),
+                e.reason.c_str());
   if (b.empty())
     std::printf("bounds:     empty\n");
   else
