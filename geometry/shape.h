@@ -53,11 +53,11 @@ struct ShapeSurface {
 
 // A point drawn on a shape's surface.
 struct ShapeSample {
-  Vec3f p;       // on the surface
-  Vec3f pError;  // conservative bound on |p - exact point|, per axis
-  Vec3f n;       // unit normal: outward for solids, as surface() reports it for open surfaces
-  Vec2f uv;      // the uv surface() gives at p
-  float pdf = 0; // density per unit area (in the space the shape was asked in)
+  Vec3f p;        // on the surface
+  Vec3f pError;   // conservative bound on |p - exact point|, per axis
+  Vec3f n;        // unit normal: outward for solids, as surface() reports it for open surfaces
+  Vec2f uv;       // the uv surface() gives at p
+  float pdf = 0;  // density per unit area (in the space the shape was asked in)
 };
 
 // Where a ray's line crosses a solid's boundary.

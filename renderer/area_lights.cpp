@@ -69,8 +69,8 @@ void AreaLight::finish() {
     for (int j = 0; j < kGrid; ++j)
       for (int i = 0; i < kGrid; ++i) {
         Vec3f ns;
-        if (auto a = samplePoint(nullptr, {(float(i) + 0.5f) / kGrid, (float(j) + 0.5f) / kGrid},
-                                 &ns))
+        if (auto a =
+                samplePoint(nullptr, {(float(i) + 0.5f) / kGrid, (float(j) + 0.5f) / kGrid}, &ns))
           sum += emission_.at(a->p, a->n, ns, a->uv, a->n);
       }
   const Rgb mean = sum * (1.0f / float(kGrid * kGrid));

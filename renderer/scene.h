@@ -40,7 +40,7 @@ struct RenderScene {
     std::string reason;
   };
   std::vector<UnsampledEmitter> unsampledEmitters;
-  std::vector<const Light*> infiniteLights;  // the environment lights among `lights`
+  std::vector<const Light*> infiniteLights;    // the environment lights among `lights`
   std::unique_ptr<LightSampler> lightSampler;  // over `lights`, for next-event estimation
   Camera camera;
   std::string cameraName;

@@ -44,8 +44,8 @@ bool addEmissiveSurfaceLights(RenderScene* scene) {
   for (uint32_t i = 0; i < g.instances.size(); ++i) {
     const Instance& inst = g.instances[i];
     // A shape emits when any of its materials does (CSG trees have one per leaf).
-    const uint32_t m = inst.isShape() ? scene->shapeMaterials[inst.shape].front()
-                                      : scene->meshMaterial[inst.mesh];
+    const uint32_t m =
+        inst.isShape() ? scene->shapeMaterials[inst.shape].front() : scene->meshMaterial[inst.mesh];
     bool emits = scene->materials[m]->traits().emits;
     if (inst.isShape())
       for (uint32_t sm : scene->shapeMaterials[inst.shape])
@@ -109,7 +109,8 @@ std::unique_ptr<Light> makeSidecarLight(const LightDesc& l, const Transform& wor
 }
 
 std::unique_ptr<Light> makeEnvironmentLight(const EnvironmentDesc& env) {
-  if (env.image.empty()) return std::make_unique<UniformEnvironmentLight>(env.color * env.intensity);
+  if (env.image.empty())
+    return std::make_unique<UniformEnvironmentLight>(env.color * env.intensity);
   Film film;
   try {
     film = readExr(env.image);

@@ -82,7 +82,8 @@ constexpr unsigned kAllFaces = 0x3f;
 
 double Box::faceArea(int face) const {
   const int axis = face / 2;
-  return (double(upper_[kU[axis]]) - lower_[kU[axis]]) * (double(upper_[kV[axis]]) - lower_[kV[axis]]);
+  return (double(upper_[kU[axis]]) - lower_[kU[axis]]) *
+         (double(upper_[kV[axis]]) - lower_[kV[axis]]);
 }
 
 float Box::area() const {

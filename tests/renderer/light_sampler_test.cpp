@@ -1,5 +1,7 @@
 // Light samplers: probabilities sum to 1, sampling frequencies match them, and the power
 // sampler weighs area lights by their power.
+#include "renderer/light_sampler.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,7 +11,6 @@
 #include "geometry/shapes/quad.h"
 #include "geometry/shapes/sphere.h"
 #include "renderer/area_lights.h"
-#include "renderer/light_sampler.h"
 
 namespace glint {
 namespace {
@@ -49,8 +50,10 @@ TEST(PowerLightSampler, PicksAreaLightsByPower) {
   AreaEmission dim, bright;
   dim.radiance = {1, 1, 1};
   bright.radiance = {3, 3, 3};
-  lights.push_back(makeShapeLight(std::make_unique<Quad>(Vec3f{0, 1, 0}, Vec3f{1, 0, 0}, Vec3f{0, 0, 1}), {}, dim));
-  lights.push_back(makeShapeLight(std::make_unique<Quad>(Vec3f{0, 1, 0}, Vec3f{2, 0, 0}, Vec3f{0, 0, 1}), {}, bright));
+  lights.push_back(makeShapeLight(
+      std::make_unique<Quad>(Vec3f{0, 1, 0}, Vec3f{1, 0, 0}, Vec3f{0, 0, 1}), {}, dim));
+  lights.push_back(makeShapeLight(
+      std::make_unique<Quad>(Vec3f{0, 1, 0}, Vec3f{2, 0, 0}, Vec3f{0, 0, 1}), {}, bright));
   lights.push_back(makeShapeLight(std::make_unique<Sphere>(Vec3f{0, 3, 0}, 0.5f), {}, dim));
   auto sampler = makeLightSampler("power", lights);
   LightSampleContext ctx;
@@ -90,14 +93,15 @@ std::vector<std::unique_ptr<Light>> manyLights(bool withInfinite) {
         lights.push_back(std::make_unique<PointLight>(p, Rgb{pos(rng), 1, 1}, 0, true));
         break;
       case 1:
-        lights.push_back(std::make_unique<SpotLight>(p, Vec3f{uni(rng), -3, uni(rng)},
-                                                     Rgb{2, 2, 2}, 0.2f, 0.6f, 0, true));
+        lights.push_back(std::make_unique<SpotLight>(p, Vec3f{uni(rng), -3, uni(rng)}, Rgb{2, 2, 2},
+                                                     0.2f, 0.6f, 0, true));
         break;
       case 2: {
         AreaEmission e;
         e.radiance = {pos(rng), pos(rng), 1};
         e.twoSided = i % 8 == 2;
-        lights.push_back(makeShapeLight(std::make_unique<Quad>(p, Vec3f{0.5f, 0, 0}, Vec3f{0, 0.1f, 0.5f}), {}, e));
+        lights.push_back(makeShapeLight(
+            std::make_unique<Quad>(p, Vec3f{0.5f, 0, 0}, Vec3f{0, 0.1f, 0.5f}), {}, e));
         break;
       }
       default: {

@@ -64,34 +64,57 @@ std::vector<LightCase> lightCases() {
   const Vec3f c{-0.5f, 2, -0.75f}, eu{1, 0, 0}, ev{0, 0.2f, 1.5f};  // tilted, facing down-ish
   // cross(eu, ev) = (0, -1.5, 0.2): the emitting side is below.
   auto quad = [&] { return std::make_unique<Quad>(c, eu, ev); };
-  cases.push_back({"quad", makeShapeLight(quad(), {}, constant({1, 2, 3}, false)), quad(),
-                   {0.2f, 0, 0.1f}, {0, 1, 0}});
-  cases.push_back({"quad two-sided", makeShapeLight(quad(), {}, constant({1, 1, 1}, true)),
-                   quad(), {0.3f, 3, 0}, {0, -1, 0}});
+  cases.push_back({"quad",
+                   makeShapeLight(quad(), {}, constant({1, 2, 3}, false)),
+                   quad(),
+                   {0.2f, 0, 0.1f},
+                   {0, 1, 0}});
+  cases.push_back({"quad two-sided",
+                   makeShapeLight(quad(), {}, constant({1, 1, 1}, true)),
+                   quad(),
+                   {0.3f, 3, 0},
+                   {0, -1, 0}});
   // The disk shape: radius 0.8 at the origin, normal +Y; the receiver is above.
   cases.push_back({"disk",
                    makeShapeLight(std::make_unique<Disk>(0.8f), {}, constant({2, 1, 1}, false)),
-                   std::make_unique<Disk>(0.8f), {0.3f, 1.5f, -0.2f}, {0, -1, 0}});
+                   std::make_unique<Disk>(0.8f),
+                   {0.3f, 1.5f, -0.2f},
+                   {0, -1, 0}});
   auto sphere = [](Vec3f c, float r) { return std::make_unique<Sphere>(c, r); };
   cases.push_back({"sphere outside",
                    makeShapeLight(sphere({1, 2, 0}, 0.5f), {}, constant({1, 1, 2}, false)),
-                   sphere({1, 2, 0}, 0.5f), {0, 0, 0}, {0, 1, 0}});
+                   sphere({1, 2, 0}, 0.5f),
+                   {0, 0, 0},
+                   {0, 1, 0}});
   cases.push_back({"sphere far",
                    makeShapeLight(sphere({0, 6, 0}, 0.5f), {}, constant({1, 1, 1}, false)),
-                   sphere({0, 6, 0}, 0.5f), {0, 0, 0}, {0, 1, 0}});
+                   sphere({0, 6, 0}, 0.5f),
+                   {0, 0, 0},
+                   {0, 1, 0}});
   cases.push_back({"sphere inside",
                    makeShapeLight(sphere({0, 0, 0}, 2.0f), {}, constant({1, 1, 1}, true)),
-                   sphere({0, 0, 0}, 2.0f), {0.5f, -0.3f, 0.2f}, {}});
+                   sphere({0, 0, 0}, 2.0f),
+                   {0.5f, -0.3f, 0.2f},
+                   {}});
   // Inside a glowing box: every face, from a point in a medium.
   auto room = [] { return std::make_unique<Box>(Vec3f{-1, -0.5f, -2}, Vec3f{1, 1.5f, 1}); };
-  cases.push_back({"box inside", makeShapeLight(room(), {}, constant({1, 1, 1}, true)), room(),
-                   {0.2f, -0.1f, 0.3f}, {}});
-  cases.push_back({"mesh", meshQuad(c, eu, ev, constant({1, 2, 3}, false)), quad(),
-                   {0.2f, 0, 0.1f}, {0, 1, 0}});
+  cases.push_back({"box inside",
+                   makeShapeLight(room(), {}, constant({1, 1, 1}, true)),
+                   room(),
+                   {0.2f, -0.1f, 0.3f},
+                   {}});
+  cases.push_back({"mesh",
+                   meshQuad(c, eu, ev, constant({1, 2, 3}, false)),
+                   quad(),
+                   {0.2f, 0, 0.1f},
+                   {0, 1, 0}});
   // One-sided, so that samples anywhere but the side the receiver sees would come back empty.
   for (const char* name : {"box", "cylinder", "cone", "ellipsoid"}) {
-    LightCase lc{name, makeShapeLight(closedShape(name), kSheared, constant({1, 2, 1}, false)),
-                 closedShape(name), {0, 0, 0}, {0, 1, 0}};
+    LightCase lc{name,
+                 makeShapeLight(closedShape(name), kSheared, constant({1, 2, 1}, false)),
+                 closedShape(name),
+                 {0, 0, 0},
+                 {0, 1, 0}};
     lc.world = kSheared;
     lc.closed = true;
     cases.push_back(std::move(lc));
@@ -237,9 +260,9 @@ TEST(AreaLights, SquareIrradianceMatchesClosedForm) {
   const float a = 0.5f, L = 3;
   for (float h : {0.25f, 1.0f, 4.0f}) {
     SCOPED_TRACE(h);
-    auto quad = makeShapeLight(std::make_unique<Quad>(Vec3f{-a, h, -a}, Vec3f{2 * a, 0, 0},
-                                                      Vec3f{0, 0, 2 * a}),
-                               {}, constant({L, L, L}, false));
+    auto quad = makeShapeLight(
+        std::make_unique<Quad>(Vec3f{-a, h, -a}, Vec3f{2 * a, 0, 0}, Vec3f{0, 0, 2 * a}), {},
+        constant({L, L, L}, false));
     LightSampleContext ctx;
     ctx.n = ctx.ns = {0, 1, 0};
     const float X = a / h, s = std::sqrt(1 + X * X);

@@ -55,7 +55,8 @@ TEST(SidecarLights, ReadsQuadDiskSphereAndProjective) {
        "fov_degrees": 30, "texture": "clouds",
        "attenuation": {"keys": [[0, 0], [2, 1]]}}
     ],
-    "render": {"time": 1}, )" + kFloor + "}");
+    "render": {"time": 1}, )" +
+                             kFloor + "}");
   ASSERT_EQ(d.lights.size(), 4u);
   EXPECT_EQ(d.lights[0].type, LightType::Quad);
   EXPECT_TRUE(d.lights[0].twoSided);
@@ -133,26 +134,45 @@ TEST(SidecarLights, AreaLightsTakeATransform) {
 }
 
 TEST(SidecarLights, BadInputNamesThePointer) {
-  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "sphere", "position": [0, 0, 0], "radius": -1}]})"),
-                     kFile, "/lights/0/radius", "must be > 0");
-  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "disk", "position": [0, 0, 0], "direction": [0, 1, 0], "radius": 0}]})"),
-                     kFile, "/lights/0/radius", "must be > 0");
-  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [2, 0, 0]}]})"),
-                     kFile, "/lights/0/edge_v", "no area");
-  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [0, 0, 0]}]})"),
-                     kFile, "/lights/0/edge_v", "no area");
-  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "disk", "position": [0, 0, 0], "direction": [0, 0, 0], "radius": 1}]})"),
-                     kFile, "/lights/0/direction", "must not be zero");
-  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [0, 1, 0], "range": 3}]})"),
-                     kFile, "/lights/0/range", "unknown key");
-  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "projective", "position": [0, 0, 0], "direction": [0, -1, 0], "attenuation": 1.5}]})"),
-                     kFile, "/lights/0/attenuation", "must be >= 0 and <= 1");
-  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "projective", "position": [0, 0, 0], "direction": [0, -1, 0], "texture": "nope"}]})"),
-                     kFile, "/lights/0/texture", "no texture named 'nope'");
-  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "projective", "position": [0, 0, 0], "direction": [0, -1, 0], "up": [0, 2, 0]}]})"),
-                     kFile, "/lights/0/up", "not parallel");
-  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "projective", "position": [0, 0, 0], "direction": [0, -1, 0], "fov_degrees": 180}]})"),
-                     kFile, "/lights/0/fov_degrees", "< 180");
+  EXPECT_SCENE_ERROR(
+      applyError(R"({"lights": [{"type": "sphere", "position": [0, 0, 0], "radius": -1}]})"), kFile,
+      "/lights/0/radius", "must be > 0");
+  EXPECT_SCENE_ERROR(
+      applyError(
+          R"({"lights": [{"type": "disk", "position": [0, 0, 0], "direction": [0, 1, 0], "radius": 0}]})"),
+      kFile, "/lights/0/radius", "must be > 0");
+  EXPECT_SCENE_ERROR(
+      applyError(
+          R"({"lights": [{"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [2, 0, 0]}]})"),
+      kFile, "/lights/0/edge_v", "no area");
+  EXPECT_SCENE_ERROR(
+      applyError(
+          R"({"lights": [{"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [0, 0, 0]}]})"),
+      kFile, "/lights/0/edge_v", "no area");
+  EXPECT_SCENE_ERROR(
+      applyError(
+          R"({"lights": [{"type": "disk", "position": [0, 0, 0], "direction": [0, 0, 0], "radius": 1}]})"),
+      kFile, "/lights/0/direction", "must not be zero");
+  EXPECT_SCENE_ERROR(
+      applyError(
+          R"({"lights": [{"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [0, 1, 0], "range": 3}]})"),
+      kFile, "/lights/0/range", "unknown key");
+  EXPECT_SCENE_ERROR(
+      applyError(
+          R"({"lights": [{"type": "projective", "position": [0, 0, 0], "direction": [0, -1, 0], "attenuation": 1.5}]})"),
+      kFile, "/lights/0/attenuation", "must be >= 0 and <= 1");
+  EXPECT_SCENE_ERROR(
+      applyError(
+          R"({"lights": [{"type": "projective", "position": [0, 0, 0], "direction": [0, -1, 0], "texture": "nope"}]})"),
+      kFile, "/lights/0/texture", "no texture named 'nope'");
+  EXPECT_SCENE_ERROR(
+      applyError(
+          R"({"lights": [{"type": "projective", "position": [0, 0, 0], "direction": [0, -1, 0], "up": [0, 2, 0]}]})"),
+      kFile, "/lights/0/up", "not parallel");
+  EXPECT_SCENE_ERROR(
+      applyError(
+          R"({"lights": [{"type": "projective", "position": [0, 0, 0], "direction": [0, -1, 0], "fov_degrees": 180}]})"),
+      kFile, "/lights/0/fov_degrees", "< 180");
   EXPECT_SCENE_ERROR(applyError(R"({"environment": {"image": "missing.exr"}})"), kFile,
                      "/environment/image", "file not found");
   EXPECT_SCENE_ERROR(applyError(R"({"environment": {"color": [1, 1, 1], "image": "sky.exr"}})"),
@@ -164,7 +184,8 @@ TEST(SidecarLights, BadInputNamesThePointer) {
 }
 
 TEST(SidecarLights, ConstantEnvironmentLightsTheScene) {
-  SceneDescription d = apply(R"({"environment": {"color": [0.5, 1, 2], "intensity": 2}, )" + kFloor + "}");
+  SceneDescription d =
+      apply(R"({"environment": {"color": [0.5, 1, 2], "intensity": 2}, )" + kFloor + "}");
   ASSERT_TRUE(d.environment.has_value());
   RenderScene s = buildRenderScene(d);
   ASSERT_EQ(s.infiniteLights.size(), 1u);
@@ -179,9 +200,10 @@ TEST(SidecarLights, ImageEnvironmentIsReadFromAnExr) {
   for (size_t i = 0; i < film.color.size(); ++i) film.color[i] = Rgb{float(i), 1, 0.5f};
   writeImage(dir + "/sky.exr", film, RenderSettings{}, {});
   SceneDescription d;
-  applySceneJsonText(R"({"environment": {"image": "sky.exr", "intensity": 3, "rotation_degrees": 90}, )" +
-                         kFloor + "}",
-                     dir + "/scene.json", SceneJsonKind::Scene, &d);
+  applySceneJsonText(
+      R"({"environment": {"image": "sky.exr", "intensity": 3, "rotation_degrees": 90}, )" + kFloor +
+          "}",
+      dir + "/scene.json", SceneJsonKind::Scene, &d);
   RenderScene s = buildRenderScene(d);
   ASSERT_EQ(s.infiniteLights.size(), 1u);
   auto* env = dynamic_cast<const ImageEnvironmentLight*>(s.infiniteLights[0]);
