@@ -193,6 +193,10 @@ int runInfo(const InfoArgs& args) {
                 return (l.name.empty() ? std::string("(unnamed)") : l.name) + " (" +
                        lightTypeName(l.type) + ")";
               }).c_str());
+  // Emitting surfaces that are not lights: next-event estimation never samples them.
+  for (const RenderScene::UnsampledEmitter& e : scene.unsampledEmitters)
+    std::printf("unsampled emitter: instance %u (%s): %s\n", e.instance, e.shape.c_str(),
+                e.reason.c_str());
   if (b.empty())
     std::printf("bounds:     empty\n");
   else
@@ -208,9 +212,10 @@ int runInfo(const InfoArgs& args) {
   size_t animatedNodes = 0;
   for (const NodeDesc& n : desc.nodes) animatedNodes += n.hasTracks();
   if (animatedNodes > 0)
-    std::printf("animation:  %zu animated node%s, keys from %g s to %g s (frames %g to %g at %g fps)\n",
-                animatedNodes, animatedNodes == 1 ? "" : "s", animStart, animEnd,
-                animStart * desc.render.fps, animEnd * desc.render.fps, desc.render.fps);
+    std::printf(
+        "animation:  %zu animated node%s, keys from %g s to %g s (frames %g to %g at %g fps)\n",
+        animatedNodes, animatedNodes == 1 ? "" : "s", animStart, animEnd,
+        animStart * desc.render.fps, animEnd * desc.render.fps, desc.render.fps);
   std::vector<std::string> effects = scene.features.names();
   std::printf("effects:    %s\n", effects.empty()
                                       ? "none"

@@ -5,6 +5,18 @@
 // only for t and a `part` (which face, side or cap was hit); surface details (point with its
 // rounding-error bound, normal, uv, dp/du, dp/dv) are computed once, for the final hit.
 //
+// Sampling (area lights): a shape reports its area, draws points uniformly by area, and, for a
+// receiving point, draws only from the part of its surface that point may see (closed convex
+// solids skip the faces turned away; a sphere samples the cone it subtends). Every density is
+// per unit area in the space the shape is asked in: unlike solid angle, area density follows an
+// affine placement exactly (times the Jacobian, see PlacedShape), so the light converts to solid
+// angle once, in world space. Shapes that cannot be sampled (the infinite plane, CSG trees) have
+// area() == 0.
+//
+// Adding a shape: one header + one .cpp in geometry/shapes/ (intersection, surface and sampling
+// side by side, one uv convention); it is then an area light when it emits, with no change to
+// renderer/ (see geometry/README.md for the loader's registration).
+//
 // Robustness contract (tested in tests/geometry/shapes_test.cpp): a hit is reported only when
 // its t is certainly greater than ray.tMin once t's own rounding error is accounted for, so a
 // ray spawned from a hit (origin offset past the hit point's error bound, see ray.h) never
@@ -13,6 +25,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 
 #include "geometry/math.h"
 #include "geometry/ray.h"
@@ -36,6 +49,15 @@ struct ShapeSurface {
                      // documented by the shape (the renderer shades both sides)
   Vec2f uv;          // surface parameterisation (see each shape)
   Vec3f dpdu, dpdv;  // partial derivatives of p with respect to uv (bump mapping)
+};
+
+// A point drawn on a shape's surface.
+struct ShapeSample {
+  Vec3f p;        // on the surface
+  Vec3f pError;   // conservative bound on |p - exact point|, per axis
+  Vec3f n;        // unit normal: outward for solids, as surface() reports it for open surfaces
+  Vec2f uv;       // the uv surface() gives at p
+  float pdf = 0;  // density per unit area (in the space the shape was asked in)
 };
 
 // Where a ray's line crosses a solid's boundary.
@@ -85,6 +107,28 @@ class Shape {
   }
   // Number of material slots (CSG: one per leaf).
   virtual uint32_t materialSlotCount() const { return 1; }
+
+  // Surface area; 0 when the shape cannot be sampled (and so cannot be an area light).
+  virtual float area() const { return 0; }
+  // A point uniform by area for u in [0, 1)^2; nullopt when area() == 0.
+  virtual std::optional<ShapeSample> sample(Vec2f u) const {
+    (void)u;
+    return std::nullopt;
+  }
+  // A point for a receiver at `ref`, drawn from the part of the surface ref may see (default:
+  // all of it, by area); pdf per unit area.
+  virtual std::optional<ShapeSample> sample(Vec3f ref, Vec2f u) const {
+    (void)ref;
+    return sample(u);
+  }
+  // The density per unit area of sample(ref, ·) at the surface point p (0 where it never draws).
+  virtual float pdf(Vec3f ref, Vec3f p) const {
+    (void)ref, (void)p;
+    const float a = area();
+    return a > 0 ? 1 / a : 0.0f;
+  }
+  // The unit normal of a flat shape (quad, disk), zero for others: bounds a light's emission.
+  virtual Vec3f flatNormal() const { return {}; }
 };
 
 // True when `b` has an infinite component (an unbounded shape).
@@ -113,7 +157,27 @@ class PlacedShape {
   ShapeSurface surface(const Ray& ray, const ShapeHit& hit) const;
   bool span(const Ray& ray, Span* out) const;
 
+  // Sampling in the destination space (see Shape): densities per unit destination area, the
+  // object density divided by the placement's area Jacobian |det M| |M^-T n_object| at the
+  // point. Exact for any affine placement.
+  // The destination area: exact under a similarity, else a stratified estimate (not cheap).
+  float area() const;
+  std::optional<ShapeSample> sample(Vec2f u) const;
+  // `ref` in the destination space; visibility is affine-invariant, so the shape decides it in
+  // object space.
+  std::optional<ShapeSample> sample(Vec3f ref, Vec2f u) const;
+  // The density of sample(ref, ·) at the destination surface point p with unit normal n
+  // (either sign).
+  float pdf(Vec3f ref, Vec3f p, Vec3f n) const;
+  // The shape's flat normal in the destination space (zero for curved shapes).
+  Vec3f flatNormal() const;
+
  private:
+  // A destination-space point in object space (double inverse, then rounded).
+  Vec3f objectPoint(Vec3f p) const;
+  // An object-space sample moved to the destination space.
+  ShapeSample toDestination(const ShapeSample& s) const;
+
   // `ray` in object space, with its origin moved forward past the transform's rounding error;
   // `dt` receives the t offset to add to object-space t values.
   Ray toObject(const Ray& ray, float* dt) const;
@@ -123,6 +187,7 @@ class PlacedShape {
   bool identity_;
   double inverse_[3][3];    // of placement_'s 3x3 part, in double (see the constructor)
   double inverseRelError_;  // relative error bound of each inverse_ entry
+  double absDet_;           // |det| of placement_'s 3x3 part
 };
 
 }  // namespace glint

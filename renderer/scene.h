@@ -33,6 +33,14 @@ struct RenderScene {
   // Per instance, the index in `lights` of the area light it is (an emissive mesh or shape),
   // or -1; empty when no surface emits.
   std::vector<int32_t> instanceLight;
+  // Emitting surfaces next-event estimation cannot sample (no lights: they glow only where
+  // rays hit them), with the reason, for `glint info`.
+  struct UnsampledEmitter {
+    uint32_t instance;
+    std::string shape;  // the shape's typeName
+    std::string reason;
+  };
+  std::vector<UnsampledEmitter> unsampledEmitters;
   std::vector<const Light*> infiniteLights;    // the environment lights among `lights`
   std::unique_ptr<LightSampler> lightSampler;  // over `lights`, for next-event estimation
   Camera camera;

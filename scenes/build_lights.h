@@ -7,11 +7,10 @@
 namespace glint {
 
 // Adds one area light per emitting instance of scene->geometry (materials already built) and
-// fills scene->instanceLight. Triangle meshes become TriangleMeshLights; analytic quads, disks
-// and spheres (under a similarity transform) the matching area light, placed by the instance
-// transform at the middle of the shutter. Other analytic shapes (box, cylinder, cone, plane,
-// CSG trees, non-uniformly scaled spheres) still emit when a ray hits them but cannot be
-// sampled, so they are not lights. Returns true when any surface emits (lights or not).
+// fills scene->instanceLight: the instance's mesh or placed shape (at the middle of the
+// shutter) with the material's emission. Shapes that cannot be sampled (planes, CSG trees)
+// still emit when a ray hits them but are not lights; they are listed in
+// scene->unsampledEmitters with the reason. Returns true when any surface emits.
 bool addEmissiveSurfaceLights(RenderScene* scene);
 
 // The light of a sidecar quad, disk, sphere or projective light placed by `worldFromLight`;

@@ -67,3 +67,85 @@ ShapeSurface Box::surface(const Ray& ray, const ShapeHit& hit) const {
 }
 
 }  // namespace glint
+
+// --- Sampling ---------------------------------------------------------------------------------
+
+namespace glint {
+
+using namespace prim;
+
+namespace {
+// (u, v) axes per face axis, as surface() measures them: X -> (z, y), Y -> (x, z), Z -> (x, y).
+constexpr int kU[3] = {2, 0, 0}, kV[3] = {1, 2, 1};
+constexpr unsigned kAllFaces = 0x3f;
+}  // namespace
+
+double Box::faceArea(int face) const {
+  const int axis = face / 2;
+  return (double(upper_[kU[axis]]) - lower_[kU[axis]]) *
+         (double(upper_[kV[axis]]) - lower_[kV[axis]]);
+}
+
+float Box::area() const {
+  double a = 0;
+  for (int f = 0; f < 6; ++f) a += faceArea(f);
+  return float(a);
+}
+
+unsigned Box::facesSeenFrom(Vec3f ref) const {
+  unsigned faces = 0;
+  for (int a = 0; a < 3; ++a) {
+    if (ref[a] < lower_[a]) faces |= 1u << (2 * a);
+    if (ref[a] > upper_[a]) faces |= 1u << (2 * a + 1);
+  }
+  return faces ? faces : kAllFaces;
+}
+
+std::optional<ShapeSample> Box::sampleFaces(unsigned faces, Vec2f u) const {
+  double areas[6], total = 0;
+  for (int f = 0; f < 6; ++f) total += areas[f] = (faces >> f & 1) ? faceArea(f) : 0.0;
+  const int face = pickPart(areas, 6, total, &u.x);
+  const int axis = face / 2, ua = kU[axis], va = kV[axis];
+  V3 p;
+  double pd[3];
+  pd[axis] = face % 2 ? upper_[axis] : lower_[axis];
+  pd[ua] = lower_[ua] + double(u.x) * (double(upper_[ua]) - lower_[ua]);
+  pd[va] = lower_[va] + double(u.y) * (double(upper_[va]) - lower_[va]);
+  p = {pd[0], pd[1], pd[2]};
+  ShapeSample s;
+  V3 slack = abs(p) * gammaD(4);
+  double sl[3] = {slack.x, slack.y, slack.z};
+  sl[axis] = 0;  // exact: the face plane is a float
+  s.p = roundedPoint(p, {sl[0], sl[1], sl[2]}, &s.pError);
+  // Clamped onto the face like surface()'s points, so the uv stays in [0, 1].
+  for (int i = 0; i < 3; ++i) s.p[i] = std::clamp(s.p[i], lower_[i], upper_[i]);
+  s.n = {};
+  s.n[axis] = face % 2 ? 1.0f : -1.0f;
+  s.uv = u;
+  s.pdf = float(1 / total);
+  return s;
+}
+
+std::optional<ShapeSample> Box::sample(Vec2f u) const { return sampleFaces(kAllFaces, u); }
+
+std::optional<ShapeSample> Box::sample(Vec3f ref, Vec2f u) const {
+  return sampleFaces(facesSeenFrom(ref), u);
+}
+
+float Box::pdf(Vec3f ref, Vec3f p) const {
+  // The face p lies on: the nearest face plane (the hit normal's sign cannot say which side).
+  int face = 0;
+  float nearest = kInfinity;
+  for (int f = 0; f < 6; ++f) {
+    const float d = std::abs(p[f / 2] - (f % 2 ? upper_[f / 2] : lower_[f / 2]));
+    if (d < nearest) nearest = d, face = f;
+  }
+  const unsigned faces = facesSeenFrom(ref);
+  if (!(faces >> face & 1)) return 0;
+  double total = 0;
+  for (int f = 0; f < 6; ++f)
+    if (faces >> f & 1) total += faceArea(f);
+  return float(1 / total);
+}
+
+}  // namespace glint

@@ -20,8 +20,20 @@ class Box final : public Shape {
   ShapeSurface surface(const Ray& ray, const ShapeHit& hit) const override;
   bool isSolid() const override { return true; }
   bool span(const Ray& ray, Span* out) const override;
+  float area() const override;
+  std::optional<ShapeSample> sample(Vec2f u) const override;
+  // From outside: uniform by area over the faces turned towards `ref` (the others are hidden
+  // behind them); from inside: all faces.
+  std::optional<ShapeSample> sample(Vec3f ref, Vec2f u) const override;
+  float pdf(Vec3f ref, Vec3f p) const override;
 
  private:
+  // Bit f set for the faces f (parts) whose outside holds ref; all six when none does.
+  unsigned facesSeenFrom(Vec3f ref) const;
+  // A point uniform by area over the faces in `faces`.
+  std::optional<ShapeSample> sampleFaces(unsigned faces, Vec2f u) const;
+  double faceArea(int face) const;
+
   Vec3f lower_, upper_;
 };
 

@@ -7,6 +7,7 @@
 #include <limits>
 #include <numbers>
 
+#include "geometry/sampling.h"
 #include "geometry/shapes/primitive_math.h"
 
 namespace glint {
@@ -146,6 +147,91 @@ ShapeSurface Cone::surface(const Ray& ray, const ShapeHit& hit) const {
   s.dpdu = {2 * radius_, 0, 0};
   s.dpdv = {0, 0, 2 * radius_};
   return s;
+}
+
+}  // namespace glint
+
+// --- Sampling ---------------------------------------------------------------------------------
+
+namespace glint {
+
+using namespace prim;
+
+Cone::Visible Cone::visibleFrom(Vec3f ref) const {
+  Visible v;
+  if (!capped_) {
+    v.caps = 0;
+    return v;  // an open cone shows its inside through the base: all of it
+  }
+  // dot(n, p) = k h along every generator (n ∝ (cos phi, k, sin phi), k = r / h), so they face
+  // ref where rho cos(phi - phiRef) > k (h - y).
+  const double k = double(radius_) / height_;
+  const double rho = std::sqrt(double(ref.x) * ref.x + double(ref.z) * ref.z);
+  Visible seen;
+  seen.phi0 = angleAroundY(ref.x, ref.z);
+  seen.halfAngle = visibleHalfAngle(k * (height_ - double(ref.y)), rho);
+  seen.caps = ref.y < 0 ? 0b10u : 0u;
+  return seen.halfAngle > 0 || seen.caps ? seen : v;  // inside: everything
+}
+
+double Cone::visibleAreas(const Visible& v, double areas[2]) const {
+  const double r = radius_, h = height_;
+  areas[0] = v.halfAngle * r * std::sqrt(r * r + h * h);  // of pi r L for the whole side
+  areas[1] = (v.caps & 0b10) ? kPiD * r * r : 0.0;
+  return areas[0] + areas[1];
+}
+
+float Cone::area() const {
+  double areas[2];
+  return float(visibleAreas(Visible{kPiD, kPiD, capped_ ? 0b10u : 0u}, areas));
+}
+
+std::optional<ShapeSample> Cone::sampleVisible(const Visible& v, Vec2f u) const {
+  double areas[2];
+  const double total = visibleAreas(v, areas);
+  const int part = pickPart(areas, 2, total, &u.x);
+  const double r = radius_, h = height_;
+  ShapeSample s;
+  s.pdf = float(1 / total);
+  if (part == 0) {
+    // The area within distance t of the apex grows as t^2: t = sqrt(u) is uniform by area.
+    const double t = std::sqrt(double(u.x));
+    const double phi = v.phi0 + v.halfAngle * (2 * double(u.y) - 1);
+    const double c = std::cos(phi), sn = std::sin(phi), y = h * (1 - t);
+    const double slack = gammaD(8) * (r + h);
+    s.p = roundedPoint({r * t * c, y, r * t * sn}, {slack, slack, slack}, &s.pError);
+    s.n = normalized({h * c, r, h * sn});
+    s.uv = {float(angleAroundY(c, sn) / (2 * kPiD)), float(y / h)};
+    return s;
+  }
+  const Vec2f q = sampleConcentricDisk(u);
+  const double x = q.x * r, z = q.y * r;
+  s.p = roundedDiskPoint(x, 0, z, r, gammaD(8) * r, &s.pError);
+  s.n = {0, -1, 0};
+  s.uv = {std::clamp(float(x / (2 * r) + 0.5), 0.0f, 1.0f),
+          std::clamp(float(z / (2 * r) + 0.5), 0.0f, 1.0f)};
+  return s;
+}
+
+std::optional<ShapeSample> Cone::sample(Vec2f u) const {
+  return sampleVisible(Visible{kPiD, kPiD, capped_ ? 0b10u : 0u}, u);
+}
+
+std::optional<ShapeSample> Cone::sample(Vec3f ref, Vec2f u) const {
+  return sampleVisible(visibleFrom(ref), u);
+}
+
+float Cone::pdf(Vec3f ref, Vec3f p) const {
+  const Visible v = visibleFrom(ref);
+  double areas[2];
+  const double total = visibleAreas(v, areas);
+  // The part p lies on: the nearer of the side and the base plane.
+  const double r = radius_, h = height_, k = r / h;
+  const double rho = std::sqrt(double(p.x) * p.x + double(p.z) * p.z);
+  const double dSide = std::abs(rho - k * (h - p.y)) / std::sqrt(1 + k * k);
+  if (capped_ && std::abs(p.y) < dSide) return areas[1] > 0 ? float(1 / total) : 0.0f;
+  const double off = std::remainder(angleAroundY(p.x, p.z) - v.phi0, 2 * kPiD);
+  return std::abs(off) <= v.halfAngle ? float(1 / total) : 0.0f;
 }
 
 }  // namespace glint

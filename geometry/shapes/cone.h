@@ -22,8 +22,24 @@ class Cone final : public Shape {
   float height() const { return height_; }
   bool capped() const { return capped_; }
   bool span(const Ray& ray, Span* out) const override;
+  float area() const override;
+  std::optional<ShapeSample> sample(Vec2f u) const override;
+  // Capped, from outside: uniform by area over what faces `ref`, the side's generators within
+  // an angle of ref's own and the cap ref is beyond; otherwise the whole surface.
+  std::optional<ShapeSample> sample(Vec3f ref, Vec2f u) const override;
+  float pdf(Vec3f ref, Vec3f p) const override;
 
  private:
+  // What a receiver may see: the side for angles phi0 +- halfAngle, and caps (bit per part).
+  struct Visible {
+    double phi0 = kPi, halfAngle = kPi;
+    unsigned caps = 0b10;
+  };
+  Visible visibleFrom(Vec3f ref) const;
+  // Areas of the visible side and caps, indexed by part; returns the total.
+  double visibleAreas(const Visible& v, double areas[2]) const;
+  std::optional<ShapeSample> sampleVisible(const Visible& v, Vec2f u) const;
+
   // The part of the line inside the infinite solid cone below the apex (y <= height), as
   // crossings; `tRoot` receives the double t of each finite crossing (NaN for +-inf).
   bool nappeSpan(const Ray& ray, Span* out, double tRoot[2]) const;

@@ -5,6 +5,7 @@
 #include <cassert>
 #include <numbers>
 
+#include "geometry/sampling.h"
 #include "geometry/shapes/primitive_math.h"
 
 namespace glint {
@@ -87,6 +88,92 @@ ShapeSurface Cylinder::surface(const Ray& ray, const ShapeHit& hit) const {
   s.dpdu = {2 * radius_, 0, 0};
   s.dpdv = {0, 0, 2 * radius_};
   return s;
+}
+
+}  // namespace glint
+
+// --- Sampling ---------------------------------------------------------------------------------
+
+namespace glint {
+
+using namespace prim;
+
+Cylinder::Visible Cylinder::visibleFrom(Vec3f ref) const {
+  Visible v;
+  if (!capped_) {
+    v.caps = 0;
+    return v;  // an open tube shows its inside through the ends: all of it
+  }
+  // dot(n, p) = r along every generator, so they face ref where rho cos(phi - phiRef) > r.
+  const double rho = std::sqrt(double(ref.x) * ref.x + double(ref.z) * ref.z);
+  Visible seen;
+  seen.phi0 = angleAroundY(ref.x, ref.z);
+  seen.halfAngle = visibleHalfAngle(radius_, rho);
+  seen.caps = (ref.y < 0 ? 0b010u : 0u) | (ref.y > height_ ? 0b100u : 0u);
+  return seen.halfAngle > 0 || seen.caps ? seen : v;  // inside: everything
+}
+
+double Cylinder::visibleAreas(const Visible& v, double areas[3]) const {
+  const double r = radius_, capArea = kPiD * r * r;
+  areas[0] = 2 * v.halfAngle * r * height_;
+  areas[1] = (v.caps & 0b010) ? capArea : 0.0;
+  areas[2] = (v.caps & 0b100) ? capArea : 0.0;
+  return areas[0] + areas[1] + areas[2];
+}
+
+float Cylinder::area() const {
+  double areas[3];
+  return float(visibleAreas(Visible{kPiD, kPiD, capped_ ? 0b110u : 0u}, areas));
+}
+
+std::optional<ShapeSample> Cylinder::sampleVisible(const Visible& v, Vec2f u) const {
+  double areas[3];
+  const double total = visibleAreas(v, areas);
+  const int part = pickPart(areas, 3, total, &u.x);
+  const double r = radius_, h = height_;
+  ShapeSample s;
+  s.pdf = float(1 / total);
+  if (part == 0) {
+    const double phi = v.phi0 + v.halfAngle * (2 * double(u.y) - 1);
+    const double x = r * std::cos(phi), z = r * std::sin(phi), y = h * u.x;
+    const double slack = gammaD(8) * (r + h);
+    s.p = roundedPoint({x, y, z}, {slack, slack, slack}, &s.pError);
+    s.n = normalized({x, 0, z});
+    s.uv = {float(angleAroundY(x, z) / (2 * kPiD)), u.x};
+    return s;
+  }
+  const Vec2f q = sampleConcentricDisk(u);
+  const double x = q.x * r, z = q.y * r;
+  s.p = roundedDiskPoint(x, part == 1 ? 0.0 : h, z, r, gammaD(8) * r, &s.pError);
+  s.n = {0, part == 1 ? -1.0f : 1.0f, 0};
+  s.uv = {std::clamp(float(x / (2 * r) + 0.5), 0.0f, 1.0f),
+          std::clamp(float(z / (2 * r) + 0.5), 0.0f, 1.0f)};
+  return s;
+}
+
+std::optional<ShapeSample> Cylinder::sample(Vec2f u) const {
+  return sampleVisible(Visible{kPiD, kPiD, capped_ ? 0b110u : 0u}, u);
+}
+
+std::optional<ShapeSample> Cylinder::sample(Vec3f ref, Vec2f u) const {
+  return sampleVisible(visibleFrom(ref), u);
+}
+
+float Cylinder::pdf(Vec3f ref, Vec3f p) const {
+  const Visible v = visibleFrom(ref);
+  double areas[3];
+  const double total = visibleAreas(v, areas);
+  // The part p lies on: the nearest of the side and the cap planes.
+  const double rho = std::sqrt(double(p.x) * p.x + double(p.z) * p.z);
+  const double dSide = std::abs(rho - radius_);
+  int part = 0;
+  if (capped_ && std::min(std::abs(p.y), std::abs(p.y - height_)) < dSide)
+    part = std::abs(p.y) < std::abs(p.y - height_) ? 1 : 2;
+  if (part == 0) {
+    const double off = std::remainder(angleAroundY(p.x, p.z) - v.phi0, 2 * kPiD);
+    return std::abs(off) <= v.halfAngle ? float(1 / total) : 0.0f;
+  }
+  return areas[part] > 0 ? float(1 / total) : 0.0f;
 }
 
 }  // namespace glint

@@ -3,6 +3,7 @@
 
 #include <cassert>
 
+#include "geometry/sampling.h"
 #include "geometry/shapes/primitive_math.h"
 
 namespace glint {
@@ -35,6 +36,24 @@ ShapeSurface Disk::surface(const Ray& ray, const ShapeHit& hit) const {
           std::clamp(float(z / (2 * r) + 0.5), 0.0f, 1.0f)};
   s.dpdu = {2 * radius_, 0, 0};
   s.dpdv = {0, 0, 2 * radius_};
+  return s;
+}
+
+}  // namespace glint
+
+// --- Sampling ---------------------------------------------------------------------------------
+
+namespace glint {
+
+std::optional<ShapeSample> Disk::sample(Vec2f u) const {
+  const Vec2f q = sampleConcentricDisk(u);
+  const double r = radius_, x = q.x * r, z = q.y * r;
+  ShapeSample s;
+  s.p = prim::roundedDiskPoint(x, 0, z, r, prim::gammaD(8) * r, &s.pError);
+  s.n = {0, 1, 0};
+  s.uv = {std::clamp(float(x / (2 * r) + 0.5), 0.0f, 1.0f),
+          std::clamp(float(z / (2 * r) + 0.5), 0.0f, 1.0f)};
+  s.pdf = 1 / area();
   return s;
 }
 

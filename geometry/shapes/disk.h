@@ -15,6 +15,10 @@ class Disk final : public Shape {
   bool intersect(const Ray& ray, ShapeHit* hit) const override;
   // n = +Y (both sides are hittable); uv = (x/2r + 1/2, z/2r + 1/2). Part 0.
   ShapeSurface surface(const Ray& ray, const ShapeHit& hit) const override;
+  float area() const override { return kPi * radius_ * radius_; }
+  // Uniform by the concentric map (stratified u stay stratified).
+  std::optional<ShapeSample> sample(Vec2f u) const override;
+  Vec3f flatNormal() const override { return {0, 1, 0}; }
 
   float radius() const { return radius_; }
 

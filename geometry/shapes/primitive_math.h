@@ -209,6 +209,34 @@ inline bool intersectSpans(const Span& a, const Span& b, Span* out) {
   return true;
 }
 
+// --- Sampling helpers -------------------------------------------------------------------------
+
+// Picks one of `n` parts with probability area / total (parts of area 0 never), returning its
+// index and rescaling *u to [0, 1) within it for reuse.
+inline int pickPart(const double* areas, int n, double total, float* u) {
+  double x = double(*u) * total;
+  int i = 0;
+  while (i < n - 1 && (x >= areas[i] || areas[i] == 0)) x -= areas[i++];
+  *u = areas[i] > 0 ? std::min(float(x / areas[i]), 0x1.fffffep-1f) : 0.0f;
+  return i;
+}
+
+// The half-width of the range of angles phi around the receiver's own (atan2(z, x) of it)
+// where the generators of a surface of revolution face a receiver at distance `rho` from the
+// axis: rho cos(phi - phiRef) > c, with c = r for a cylinder and k (h - y) for a cone
+// (dot(n, p) is constant along a generator). In [0, pi].
+inline double visibleHalfAngle(double c, double rho) {
+  if (!(rho > 0)) return c < 0 ? kPiD : 0.0;
+  const double x = c / rho;
+  return x <= -1 ? kPiD : (x >= 1 ? 0.0 : std::acos(x));
+}
+
+// The angle of (x, z) around +Y from +X towards +Z, in [0, 2pi): the surfaces' u.
+inline double angleAroundY(double x, double z) {
+  double phi = std::atan2(z, x);
+  return phi < 0 ? phi + 2 * kPiD : phi;
+}
+
 inline Vec3f toFloat(V3 v) { return v.toFloat(); }
 inline Vec3f normalized(V3 v) { return (v * (1 / std::sqrt(dot(v, v)))).toFloat(); }
 

@@ -84,3 +84,24 @@ ShapeSurface Quad::surface(const Ray& ray, const ShapeHit& hit) const {
 }
 
 }  // namespace glint
+
+// --- Sampling ---------------------------------------------------------------------------------
+
+namespace glint {
+
+using namespace prim;
+
+float Quad::area() const { return length(cross(edgeU_, edgeV_)); }
+
+std::optional<ShapeSample> Quad::sample(Vec2f u) const {
+  const V3 c(corner_), eu(edgeU_), ev(edgeV_);
+  ShapeSample s;
+  const double slack = gammaD(4) * dot(abs(c) + abs(eu) + abs(ev), V3(1, 1, 1));
+  s.p = roundedPoint(c + eu * double(u.x) + ev * double(u.y), {slack, slack, slack}, &s.pError);
+  s.n = normal_;
+  s.uv = u;
+  s.pdf = 1 / area();
+  return s;
+}
+
+}  // namespace glint

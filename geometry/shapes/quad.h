@@ -16,6 +16,10 @@ class Quad final : public Shape {
   // n = normalize(cross(edgeU, edgeV)) (both sides hittable); uv = (a, b); dpdu = edgeU,
   // dpdv = edgeV. Part 0.
   ShapeSurface surface(const Ray& ray, const ShapeHit& hit) const override;
+  float area() const override;
+  // Uniform: (a, b) = u, so uv = u.
+  std::optional<ShapeSample> sample(Vec2f u) const override;
+  Vec3f flatNormal() const override { return normal_; }
 
   Vec3f corner() const { return corner_; }
   Vec3f edgeU() const { return edgeU_; }

@@ -68,3 +68,89 @@ ShapeSurface Sphere::surface(const Ray& ray, const ShapeHit& hit) const {
 }
 
 }  // namespace glint
+
+// --- Sampling ---------------------------------------------------------------------------------
+
+namespace glint {
+
+using namespace prim;
+
+namespace {
+// The cone a sphere subtends from a point at squared distance d2 > r^2 from its centre: the
+// solid angle 2 pi (1 - cos), with 1 - cos as sin^2 / (1 + cos), which keeps its precision for
+// distant spheres (where 1 - cos would cancel to nothing).
+struct SubtendedCone {
+  double sin2Max, cosMax, oneMinusCosMax;
+  SubtendedCone(double d2, double r) {
+    sin2Max = r * r / d2;
+    cosMax = std::sqrt(std::max(0.0, 1 - sin2Max));
+    oneMinusCosMax = sin2Max / (1 + cosMax);
+  }
+  double solidAngle() const { return 2 * kPiD * oneMinusCosMax; }
+};
+
+// The area density at unit-normal point (n) p of directions uniform in a cone of solid angle
+// omega from ref: cos / (dist^2 omega), 0 on the side turned away.
+float coneAreaDensity(V3 ref, V3 p, V3 n, double omega) {
+  const V3 d = ref - p;
+  const double dist2 = dot(d, d), c = dot(n, d);
+  return c > 0 ? float(c / (std::sqrt(dist2) * dist2 * omega)) : 0.0f;
+}
+
+// The point of a sphere in unit outward direction `dir`, with surface()'s uv.
+ShapeSample pointAt(Vec3f center, float radius, V3 dir) {
+  const V3 c(center), rel = dir * double(radius);
+  ShapeSample s;
+  const double slack = gammaD(8) * (std::abs(c.x) + std::abs(c.y) + std::abs(c.z) + radius);
+  s.p = roundedPoint(c + rel, {slack, slack, slack}, &s.pError);
+  s.n = dir.toFloat();
+  // surface()'s uv: around +Y from +X towards +Z, and down from +Y.
+  s.uv = {float(angleAroundY(dir.x, dir.z) / (2 * kPiD)),
+          float(std::acos(std::clamp(dir.y, -1.0, 1.0)) / kPiD)};
+  return s;
+}
+}  // namespace
+
+std::optional<ShapeSample> Sphere::sample(Vec2f u) const {
+  const double y = 1 - 2 * double(u.x), rho = std::sqrt(std::max(0.0, 1 - y * y));
+  const double phi = 2 * kPiD * u.y;
+  ShapeSample s = pointAt(center_, radius_, {rho * std::cos(phi), y, rho * std::sin(phi)});
+  s.pdf = 1 / area();
+  return s;
+}
+
+std::optional<ShapeSample> Sphere::sample(Vec3f ref, Vec2f u) const {
+  const V3 c(center_), f = V3(ref) - c;
+  const double d2 = dot(f, f), r = radius_;
+  if (d2 <= r * r) return sample(u);
+  // A uniform direction in the cone, then the point it first meets on the sphere, found from
+  // the angle alpha at the centre rather than by intersecting a ray (inaccurate at the edge).
+  const SubtendedCone cone(d2, r);
+  // With t = 1 - cos(theta) uniform in [0, 1 - cosMax], sin^2 = t (2 - t) without cancellation.
+  const double t = u.x * cone.oneMinusCosMax;
+  const double cosTheta = 1 - t, sin2Theta = t * (2 - t);
+  const double cosAlpha = sin2Theta / std::sqrt(cone.sin2Max) +
+                          cosTheta * std::sqrt(std::max(0.0, 1 - sin2Theta / cone.sin2Max));
+  const double sinAlpha = std::sqrt(std::max(0.0, 1 - cosAlpha * cosAlpha));
+  const double phi = 2 * kPiD * u.y;
+  // An orthonormal frame around w = (ref - c) / |ref - c| (Duff et al.'s branchless basis).
+  const V3 w = f * (1 / std::sqrt(d2));
+  const double sign = std::copysign(1.0, w.z), a = -1 / (sign + w.z), b = w.x * w.y * a;
+  const V3 e1(1 + sign * w.x * w.x * a, sign * b, -sign * w.x), e2(b, sign + w.y * w.y * a, -w.y);
+  V3 dir = e1 * (sinAlpha * std::cos(phi)) + e2 * (sinAlpha * std::sin(phi)) + w * cosAlpha;
+  dir = dir * (1 / std::sqrt(dot(dir, dir)));
+  ShapeSample s = pointAt(center_, radius_, dir);
+  s.pdf = coneAreaDensity(V3(ref), c + dir * r, dir, cone.solidAngle());
+  return s;
+}
+
+float Sphere::pdf(Vec3f ref, Vec3f p) const {
+  const V3 c(center_), f = V3(ref) - c;
+  const double d2 = dot(f, f), r = radius_;
+  if (d2 <= r * r) return 1 / area();
+  const V3 rel = V3(p) - c;
+  const V3 n = rel * (1 / std::sqrt(dot(rel, rel)));
+  return coneAreaDensity(V3(ref), c + n * r, n, SubtendedCone(d2, r).solidAngle());
+}
+
+}  // namespace glint

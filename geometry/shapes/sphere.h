@@ -17,6 +17,12 @@ class Sphere final : public Shape {
   ShapeSurface surface(const Ray& ray, const ShapeHit& hit) const override;
   bool isSolid() const override { return true; }
   bool span(const Ray& ray, Span* out) const override;
+  float area() const override { return 4 * kPi * radius_ * radius_; }
+  std::optional<ShapeSample> sample(Vec2f u) const override;
+  // From outside: a uniform direction in the cone the sphere subtends (pbrt's method), so only
+  // the cap facing `ref` is drawn; from inside: uniform by area.
+  std::optional<ShapeSample> sample(Vec3f ref, Vec2f u) const override;
+  float pdf(Vec3f ref, Vec3f p) const override;
 
   Vec3f center() const { return center_; }
   float radius() const { return radius_; }

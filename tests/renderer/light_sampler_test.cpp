@@ -1,13 +1,16 @@
 // Light samplers: probabilities sum to 1, sampling frequencies match them, and the power
 // sampler weighs area lights by their power.
+#include "renderer/light_sampler.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <random>
 
+#include "geometry/shapes/quad.h"
+#include "geometry/shapes/sphere.h"
 #include "renderer/area_lights.h"
-#include "renderer/light_sampler.h"
 
 namespace glint {
 namespace {
@@ -47,9 +50,11 @@ TEST(PowerLightSampler, PicksAreaLightsByPower) {
   AreaEmission dim, bright;
   dim.radiance = {1, 1, 1};
   bright.radiance = {3, 3, 3};
-  lights.push_back(std::make_unique<QuadLight>(Vec3f{0, 1, 0}, Vec3f{1, 0, 0}, Vec3f{0, 0, 1}, dim));
-  lights.push_back(std::make_unique<QuadLight>(Vec3f{0, 1, 0}, Vec3f{2, 0, 0}, Vec3f{0, 0, 1}, bright));
-  lights.push_back(std::make_unique<SphereLight>(Vec3f{0, 3, 0}, 0.5f, dim));
+  lights.push_back(makeShapeLight(
+      std::make_unique<Quad>(Vec3f{0, 1, 0}, Vec3f{1, 0, 0}, Vec3f{0, 0, 1}), {}, dim));
+  lights.push_back(makeShapeLight(
+      std::make_unique<Quad>(Vec3f{0, 1, 0}, Vec3f{2, 0, 0}, Vec3f{0, 0, 1}), {}, bright));
+  lights.push_back(makeShapeLight(std::make_unique<Sphere>(Vec3f{0, 3, 0}, 0.5f), {}, dim));
   auto sampler = makeLightSampler("power", lights);
   LightSampleContext ctx;
   // Powers: pi * 1 * 1, pi * 3 * 2, pi * 1 * 4 pi 0.25 = pi^2.
@@ -88,20 +93,21 @@ std::vector<std::unique_ptr<Light>> manyLights(bool withInfinite) {
         lights.push_back(std::make_unique<PointLight>(p, Rgb{pos(rng), 1, 1}, 0, true));
         break;
       case 1:
-        lights.push_back(std::make_unique<SpotLight>(p, Vec3f{uni(rng), -3, uni(rng)},
-                                                     Rgb{2, 2, 2}, 0.2f, 0.6f, 0, true));
+        lights.push_back(std::make_unique<SpotLight>(p, Vec3f{uni(rng), -3, uni(rng)}, Rgb{2, 2, 2},
+                                                     0.2f, 0.6f, 0, true));
         break;
       case 2: {
         AreaEmission e;
         e.radiance = {pos(rng), pos(rng), 1};
         e.twoSided = i % 8 == 2;
-        lights.push_back(std::make_unique<QuadLight>(p, Vec3f{0.5f, 0, 0}, Vec3f{0, 0.1f, 0.5f}, e));
+        lights.push_back(makeShapeLight(
+            std::make_unique<Quad>(p, Vec3f{0.5f, 0, 0}, Vec3f{0, 0.1f, 0.5f}), {}, e));
         break;
       }
       default: {
         AreaEmission e;
         e.radiance = {1, pos(rng), 1};
-        lights.push_back(std::make_unique<SphereLight>(p, 0.2f, e));
+        lights.push_back(makeShapeLight(std::make_unique<Sphere>(p, 0.2f), {}, e));
       }
     }
   }

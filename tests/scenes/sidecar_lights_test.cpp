@@ -31,6 +31,14 @@ SceneError applyError(const std::string& text) {
   return errorFrom([&] { applySceneJsonText(text, kFile, SceneJsonKind::Scene, &scene); });
 }
 
+// The light as an area light over a shape of type `shape` (null: a triangle mesh), or null.
+const AreaLight* areaLightOf(const Light* light, const char* shape) {
+  auto* area = dynamic_cast<const AreaLight*>(light);
+  if (!area) return nullptr;
+  if (!shape) return area->shape() ? nullptr : area;
+  return area->shape() && std::string(area->shape()->shape().typeName()) == shape ? area : nullptr;
+}
+
 // A floor quad, so the scene has geometry.
 const std::string kFloor =
     R"("objects": [{"type": "quad", "corner": [-2, 0, 2], "edge_u": [4, 0, 0], "edge_v": [0, 0, -4]}])";
@@ -47,7 +55,8 @@ TEST(SidecarLights, ReadsQuadDiskSphereAndProjective) {
        "fov_degrees": 30, "texture": "clouds",
        "attenuation": {"keys": [[0, 0], [2, 1]]}}
     ],
-    "render": {"time": 1}, )" + kFloor + "}");
+    "render": {"time": 1}, )" +
+                             kFloor + "}");
   ASSERT_EQ(d.lights.size(), 4u);
   EXPECT_EQ(d.lights[0].type, LightType::Quad);
   EXPECT_TRUE(d.lights[0].twoSided);
@@ -62,13 +71,13 @@ TEST(SidecarLights, ReadsQuadDiskSphereAndProjective) {
 
   RenderScene s = buildRenderScene(d);
   ASSERT_EQ(s.lights.size(), 4u);
-  auto* quad = dynamic_cast<const QuadLight*>(s.lights[0].get());
+  auto* quad = areaLightOf(s.lights[0].get(), "quad");
   ASSERT_NE(quad, nullptr);
   EXPECT_NEAR(quad->area(), 1, 1e-6f);
   // Radiance 4 (1, 0.5, 0.25), both sides, area 1: phi = 2 pi L.
   EXPECT_NEAR(quad->phi().x, 2 * kPi * 4, 1e-3f);
   // The disk faces down: it lights the floor below, not a point above.
-  auto* disk = dynamic_cast<const DiskLight*>(s.lights[1].get());
+  auto* disk = areaLightOf(s.lights[1].get(), "disk");
   ASSERT_NE(disk, nullptr);
   EXPECT_NEAR(disk->area(), kPi * 0.25f, 1e-5f);
   LightSampleContext below, above;
@@ -76,7 +85,7 @@ TEST(SidecarLights, ReadsQuadDiskSphereAndProjective) {
   above.p = {0, 4, 0};
   EXPECT_TRUE(disk->sampleLi(below, {0.3f, 0.4f}).has_value());
   EXPECT_FALSE(disk->sampleLi(above, {0.3f, 0.4f}).has_value());
-  EXPECT_NE(dynamic_cast<const SphereLight*>(s.lights[2].get()), nullptr);
+  EXPECT_NE(areaLightOf(s.lights[2].get(), "sphere"), nullptr);
   EXPECT_NE(dynamic_cast<const ProjectiveLight*>(s.lights[3].get()), nullptr);
   EXPECT_TRUE(s.features.has(Feature::AreaLights));
   EXPECT_TRUE(s.features.has(Feature::Projective));
@@ -98,11 +107,11 @@ TEST(SidecarLights, AreaLightsTakeATransform) {
     ], )" + kFloor + "}");
   RenderScene s = buildRenderScene(d);
   ASSERT_EQ(s.lights.size(), 4u);
-  auto* quad = dynamic_cast<const QuadLight*>(s.lights[0].get());
+  auto* quad = areaLightOf(s.lights[0].get(), "quad");
   ASSERT_NE(quad, nullptr);
   EXPECT_NEAR(quad->area(), 6, 1e-5f);
   // The XY-plane disk turned to face down: lights the floor below, nothing above.
-  auto* disk = dynamic_cast<const DiskLight*>(s.lights[1].get());
+  auto* disk = areaLightOf(s.lights[1].get(), "disk");
   ASSERT_NE(disk, nullptr);
   LightSampleContext below, above;
   below.p = {0, 0, 0};
@@ -110,11 +119,11 @@ TEST(SidecarLights, AreaLightsTakeATransform) {
   EXPECT_TRUE(disk->sampleLi(below, {0.3f, 0.4f}).has_value());
   EXPECT_FALSE(disk->sampleLi(above, {0.3f, 0.4f}).has_value());
   // A prolate spheroid of semi-axes 1, 1, 2: area 2 pi (1 + 2 * 2 / e asin e), e^2 = 3/4.
-  auto* ellipsoid = dynamic_cast<const ShapeSurfaceLight*>(s.lights[2].get());
+  auto* ellipsoid = areaLightOf(s.lights[2].get(), "sphere");
   ASSERT_NE(ellipsoid, nullptr);
   const float e = std::sqrt(0.75f);
   EXPECT_NEAR(ellipsoid->area(), 2 * kPi * (1 + 2 / e * std::asin(e)), 2e-3f * 21.5f);
-  auto* sphere = dynamic_cast<const SphereLight*>(s.lights[3].get());
+  auto* sphere = areaLightOf(s.lights[3].get(), "sphere");
   ASSERT_NE(sphere, nullptr);
   EXPECT_NEAR(sphere->area(), kPi, 1e-5f);
   // A frame is given once.
@@ -125,26 +134,45 @@ TEST(SidecarLights, AreaLightsTakeATransform) {
 }
 
 TEST(SidecarLights, BadInputNamesThePointer) {
-  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "sphere", "position": [0, 0, 0], "radius": -1}]})"),
-                     kFile, "/lights/0/radius", "must be > 0");
-  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "disk", "position": [0, 0, 0], "direction": [0, 1, 0], "radius": 0}]})"),
-                     kFile, "/lights/0/radius", "must be > 0");
-  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [2, 0, 0]}]})"),
-                     kFile, "/lights/0/edge_v", "no area");
-  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [0, 0, 0]}]})"),
-                     kFile, "/lights/0/edge_v", "no area");
-  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "disk", "position": [0, 0, 0], "direction": [0, 0, 0], "radius": 1}]})"),
-                     kFile, "/lights/0/direction", "must not be zero");
-  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [0, 1, 0], "range": 3}]})"),
-                     kFile, "/lights/0/range", "unknown key");
-  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "projective", "position": [0, 0, 0], "direction": [0, -1, 0], "attenuation": 1.5}]})"),
-                     kFile, "/lights/0/attenuation", "must be >= 0 and <= 1");
-  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "projective", "position": [0, 0, 0], "direction": [0, -1, 0], "texture": "nope"}]})"),
-                     kFile, "/lights/0/texture", "no texture named 'nope'");
-  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "projective", "position": [0, 0, 0], "direction": [0, -1, 0], "up": [0, 2, 0]}]})"),
-                     kFile, "/lights/0/up", "not parallel");
-  EXPECT_SCENE_ERROR(applyError(R"({"lights": [{"type": "projective", "position": [0, 0, 0], "direction": [0, -1, 0], "fov_degrees": 180}]})"),
-                     kFile, "/lights/0/fov_degrees", "< 180");
+  EXPECT_SCENE_ERROR(
+      applyError(R"({"lights": [{"type": "sphere", "position": [0, 0, 0], "radius": -1}]})"), kFile,
+      "/lights/0/radius", "must be > 0");
+  EXPECT_SCENE_ERROR(
+      applyError(
+          R"({"lights": [{"type": "disk", "position": [0, 0, 0], "direction": [0, 1, 0], "radius": 0}]})"),
+      kFile, "/lights/0/radius", "must be > 0");
+  EXPECT_SCENE_ERROR(
+      applyError(
+          R"({"lights": [{"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [2, 0, 0]}]})"),
+      kFile, "/lights/0/edge_v", "no area");
+  EXPECT_SCENE_ERROR(
+      applyError(
+          R"({"lights": [{"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [0, 0, 0]}]})"),
+      kFile, "/lights/0/edge_v", "no area");
+  EXPECT_SCENE_ERROR(
+      applyError(
+          R"({"lights": [{"type": "disk", "position": [0, 0, 0], "direction": [0, 0, 0], "radius": 1}]})"),
+      kFile, "/lights/0/direction", "must not be zero");
+  EXPECT_SCENE_ERROR(
+      applyError(
+          R"({"lights": [{"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [0, 1, 0], "range": 3}]})"),
+      kFile, "/lights/0/range", "unknown key");
+  EXPECT_SCENE_ERROR(
+      applyError(
+          R"({"lights": [{"type": "projective", "position": [0, 0, 0], "direction": [0, -1, 0], "attenuation": 1.5}]})"),
+      kFile, "/lights/0/attenuation", "must be >= 0 and <= 1");
+  EXPECT_SCENE_ERROR(
+      applyError(
+          R"({"lights": [{"type": "projective", "position": [0, 0, 0], "direction": [0, -1, 0], "texture": "nope"}]})"),
+      kFile, "/lights/0/texture", "no texture named 'nope'");
+  EXPECT_SCENE_ERROR(
+      applyError(
+          R"({"lights": [{"type": "projective", "position": [0, 0, 0], "direction": [0, -1, 0], "up": [0, 2, 0]}]})"),
+      kFile, "/lights/0/up", "not parallel");
+  EXPECT_SCENE_ERROR(
+      applyError(
+          R"({"lights": [{"type": "projective", "position": [0, 0, 0], "direction": [0, -1, 0], "fov_degrees": 180}]})"),
+      kFile, "/lights/0/fov_degrees", "< 180");
   EXPECT_SCENE_ERROR(applyError(R"({"environment": {"image": "missing.exr"}})"), kFile,
                      "/environment/image", "file not found");
   EXPECT_SCENE_ERROR(applyError(R"({"environment": {"color": [1, 1, 1], "image": "sky.exr"}})"),
@@ -156,7 +184,8 @@ TEST(SidecarLights, BadInputNamesThePointer) {
 }
 
 TEST(SidecarLights, ConstantEnvironmentLightsTheScene) {
-  SceneDescription d = apply(R"({"environment": {"color": [0.5, 1, 2], "intensity": 2}, )" + kFloor + "}");
+  SceneDescription d =
+      apply(R"({"environment": {"color": [0.5, 1, 2], "intensity": 2}, )" + kFloor + "}");
   ASSERT_TRUE(d.environment.has_value());
   RenderScene s = buildRenderScene(d);
   ASSERT_EQ(s.infiniteLights.size(), 1u);
@@ -171,9 +200,10 @@ TEST(SidecarLights, ImageEnvironmentIsReadFromAnExr) {
   for (size_t i = 0; i < film.color.size(); ++i) film.color[i] = Rgb{float(i), 1, 0.5f};
   writeImage(dir + "/sky.exr", film, RenderSettings{}, {});
   SceneDescription d;
-  applySceneJsonText(R"({"environment": {"image": "sky.exr", "intensity": 3, "rotation_degrees": 90}, )" +
-                         kFloor + "}",
-                     dir + "/scene.json", SceneJsonKind::Scene, &d);
+  applySceneJsonText(
+      R"({"environment": {"image": "sky.exr", "intensity": 3, "rotation_degrees": 90}, )" + kFloor +
+          "}",
+      dir + "/scene.json", SceneJsonKind::Scene, &d);
   RenderScene s = buildRenderScene(d);
   ASSERT_EQ(s.infiniteLights.size(), 1u);
   auto* env = dynamic_cast<const ImageEnvironmentLight*>(s.infiniteLights[0]);
@@ -203,20 +233,20 @@ TEST(SidecarLights, EmittingSurfacesBecomeLights) {
   EXPECT_EQ(s.lights.size(), 4u);  // and no headlight
   EXPECT_FALSE(s.features.has(Feature::Headlight));
   EXPECT_TRUE(s.features.has(Feature::AreaLights));
-  auto* disk = dynamic_cast<const DiskLight*>(s.lights[size_t(s.instanceLight[1])].get());
+  auto* disk = areaLightOf(s.lights[size_t(s.instanceLight[1])].get(), "disk");
   ASSERT_NE(disk, nullptr);
   EXPECT_NEAR(disk->area(), kPi * 0.25f, 1e-5f);
   // Two-sided radiance 2 over the area: phi = 2 pi L A.
   EXPECT_NEAR(disk->phi().x, 2 * kPi * 2 * disk->area(), 1e-3f);
-  auto* sphere = dynamic_cast<const SphereLight*>(s.lights[size_t(s.instanceLight[2])].get());
+  auto* sphere = areaLightOf(s.lights[size_t(s.instanceLight[2])].get(), "sphere");
   ASSERT_NE(sphere, nullptr);
   EXPECT_NEAR(sphere->area(), 4 * kPi, 1e-4f);  // radius 0.5 scaled by 2
   // The box's six faces, sampled by area.
-  auto* box = dynamic_cast<const ShapeSurfaceLight*>(s.lights[size_t(s.instanceLight[3])].get());
+  auto* box = areaLightOf(s.lights[size_t(s.instanceLight[3])].get(), "box");
   ASSERT_NE(box, nullptr);
   EXPECT_NEAR(box->area(), 6, 1e-4f);
   EXPECT_NEAR(box->phi().x, 2 * kPi * 2 * 6, 1e-2f);
-  auto* quad = dynamic_cast<const QuadLight*>(s.lights[size_t(s.instanceLight[4])].get());
+  auto* quad = areaLightOf(s.lights[size_t(s.instanceLight[4])].get(), "quad");
   ASSERT_NE(quad, nullptr);
   // The radiance a light sample carries is the material's emission.
   LightSampleContext ctx;
@@ -239,12 +269,12 @@ TEST(SidecarLights, EmissiveMeshesAndTexturedEmission) {
     ]})");
   RenderScene s = buildRenderScene(d);
   ASSERT_EQ(s.instanceLight.size(), 2u);
-  auto* mesh = dynamic_cast<const TriangleMeshLight*>(s.lights[size_t(s.instanceLight[0])].get());
+  auto* mesh = areaLightOf(s.lights[size_t(s.instanceLight[0])].get(), nullptr);
   ASSERT_NE(mesh, nullptr);
   EXPECT_GE(mesh->area(), 4.0f);  // at least its footprint
   EXPECT_NEAR(mesh->phi().x, 2 * kPi * 2 * mesh->area(), 1e-3f * mesh->phi().x);
   // The quad's light carries the texture at the sampled uv, as a camera hit there sees it.
-  auto* quad = dynamic_cast<const QuadLight*>(s.lights[size_t(s.instanceLight[1])].get());
+  auto* quad = areaLightOf(s.lights[size_t(s.instanceLight[1])].get(), "quad");
   ASSERT_NE(quad, nullptr);
   LightSampleContext ctx;
   ctx.p = {0.5f, 0, 0.5f};
@@ -266,6 +296,25 @@ TEST(SidecarLights, OnlyUnsampledEmittersStillSuppressTheHeadlight) {
   RenderScene s = buildRenderScene(d);
   EXPECT_TRUE(s.lights.empty());  // an infinite plane glows when hit but cannot be sampled
   EXPECT_FALSE(s.features.has(Feature::Headlight));
+  // ... and is listed, with the reason, for `glint info`.
+  ASSERT_EQ(s.unsampledEmitters.size(), 1u);
+  EXPECT_EQ(s.unsampledEmitters[0].shape, "plane");
+  EXPECT_NE(s.unsampledEmitters[0].reason.find("unbounded"), std::string::npos);
+}
+
+TEST(SidecarLights, EmittingCsgTreesAreListedAsUnsampled) {
+  SceneDescription d = apply(R"({
+    "materials": [{"name": "glow", "type": "lambert", "emissive": [1, 1, 1]}],
+    "objects": [{"type": "csg", "material": "glow", "tree": {"op": "union", "children": [
+      {"type": "box", "min": [0, 0, 0], "max": [1, 1, 1]}, {"type": "sphere", "radius": 0.5}]}},
+      {"type": "sphere", "radius": 0.5, "material": "glow", "transform": [{"translate": [3, 0, 0]}]}]})");
+  RenderScene s = buildRenderScene(d);
+  ASSERT_EQ(s.lights.size(), 1u);  // the sphere
+  EXPECT_EQ(s.instanceLight[0], -1);
+  ASSERT_EQ(s.unsampledEmitters.size(), 1u);
+  EXPECT_EQ(s.unsampledEmitters[0].instance, 0u);
+  EXPECT_EQ(s.unsampledEmitters[0].shape, "csg");
+  EXPECT_NE(s.unsampledEmitters[0].reason.find("CSG"), std::string::npos);
 }
 
 }  // namespace
