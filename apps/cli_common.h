@@ -2,13 +2,11 @@
 // text output.
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <optional>
 #include <string>
 
-#include <CLI/CLI.hpp>
-
-#include "renderer/image_diff.h"
-#include "renderer/output.h"
+#include "image/io.h"
 #include "scenes/description.h"
 
 namespace glint::app {
@@ -20,7 +18,7 @@ struct SceneOverrides {
   std::optional<std::string> accel, camera, integrator, lightSampler;
   std::optional<int> maxDepth;
   std::optional<float> adaptive;  // adaptive sampling threshold
-  bool aovs = false;  // EXR output also carries albedo, normal, depth and variance
+  bool aovs = false;              // EXR output also carries albedo, normal, depth and variance
 
   // Registers --width --height --spp --seed --threads --accel --camera --integrator
   // --max-depth --light-sampler --adaptive on `cmd`
@@ -51,7 +49,7 @@ int runImageCommand(Work work) {
 }
 
 // Writes `text` to `path` through a temporary file in the same folder and a rename, so a
-// failed write never leaves a half-written file. Throws OutputError (renderer/output.h).
+// failed write never leaves a half-written file. Throws OutputError (image/io.h).
 void writeTextAtomically(const std::string& path, const std::string& text);
 
 }  // namespace glint::app

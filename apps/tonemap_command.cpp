@@ -23,10 +23,10 @@
 #include "apps/cli_common.h"
 #include "apps/commands.h"
 #include "apps/frames.h"
-#include "renderer/color.h"
-#include "renderer/output.h"
+#include "image/color.h"
+#include "image/output.h"
+#include "image/tonemap.h"
 #include "renderer/progress.h"
-#include "renderer/tonemap.h"
 #include "scenes/load.h"
 
 namespace fs = std::filesystem;
