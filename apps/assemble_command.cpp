@@ -116,10 +116,8 @@ int runAssemble(const AssembleArgs& args) {
     printError(e.what());
     return 2;
   }
-  return runImageCommand([&] {
-    assembleExr(files, args.output);
-    return 0;
-  });
+  assembleExr(files, args.output);  // ImageReadError and OutputError go to main
+  return 0;
 }
 
 }  // namespace

@@ -32,22 +32,6 @@ struct SceneOverrides {
 // Prints "glint: MESSAGE" to stderr.
 void printError(const std::string& message);
 
-// Runs `work` (a command that reads and writes images) and returns its exit code; an
-// unreadable or unsuitable input (ImageReadError) is printed and gives 2, a failed write
-// (OutputError) 1.
-template <class Work>
-int runImageCommand(Work work) {
-  try {
-    return work();
-  } catch (const ImageReadError& e) {
-    printError(e.what());
-    return 2;
-  } catch (const OutputError& e) {
-    printError(e.what());
-    return 1;
-  }
-}
-
 // Writes `text` to `path` through a temporary file in the same folder and a rename, so a
 // failed write never leaves a half-written file. Throws OutputError (image/io.h).
 void writeTextAtomically(const std::string& path, const std::string& text);

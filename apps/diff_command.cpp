@@ -242,21 +242,20 @@ int report(const DiffOptions& o, Result r, const std::optional<FlipReport>& flip
 int runDiff(const DiffOptions& o) {
   // A FLIP map or limit asks for FLIP.
   const bool wantFlip = o.flip || !o.flipMap.empty() || std::isfinite(o.flipMax);
-  return runImageCommand([&] {
-    if (!o.statistical) {
-      DiffResult r = diffImages(o.a, o.b, o.thresholds);
-      std::optional<FlipReport> flip;
-      // OpenImageIO's comparison read the files itself; FLIP reads them once more.
-      if (wantFlip && !r.sizeMismatch) flip = flipImages(o, readImage(o.a), readImage(o.b));
-      return report(o, r, flip);
-    }
-    const Image a = readImage(o.a), b = readImage(o.b);
-    StatisticalResult r = diffStatistical(a, o.a, b, o.b, o.statistics);
-    if (!o.heatMap.empty() && !r.sizeMismatch) writeZHeatMap(o.heatMap, r);
+  // An unreadable image (ImageReadError) or a failed write (OutputError) goes to main.
+  if (!o.statistical) {
+    DiffResult r = diffImages(o.a, o.b, o.thresholds);
     std::optional<FlipReport> flip;
-    if (wantFlip && !r.sizeMismatch) flip = flipImages(o, a, b);
+    // OpenImageIO's comparison read the files itself; FLIP reads them once more.
+    if (wantFlip && !r.sizeMismatch) flip = flipImages(o, readImage(o.a), readImage(o.b));
     return report(o, r, flip);
-  });
+  }
+  const Image a = readImage(o.a), b = readImage(o.b);
+  StatisticalResult r = diffStatistical(a, o.a, b, o.b, o.statistics);
+  if (!o.heatMap.empty() && !r.sizeMismatch) writeZHeatMap(o.heatMap, r);
+  std::optional<FlipReport> flip;
+  if (wantFlip && !r.sizeMismatch) flip = flipImages(o, a, b);
+  return report(o, r, flip);
 }
 
 // CLI::NonNegativeNumber prints DBL_MAX in full in its message; this one reads well.

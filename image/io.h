@@ -7,24 +7,25 @@
 #pragma once
 
 #include <cstdint>
-#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "common/error.h"
+
 namespace glint {
 
-// An image that cannot be read or used: missing or unreadable file, unsuitable contents.
-// what() names the file.
-class ImageReadError : public std::runtime_error {
+// An image that cannot be read or used: missing or unreadable file, unsuitable contents
+// (bad input, exit code 2). what() names the file.
+class ImageReadError : public InputError {
  public:
-  using std::runtime_error::runtime_error;
+  using InputError::InputError;
 };
 
-// A failure to write an image (disk full, unwritable folder): exit code 1.
-class OutputError : public std::runtime_error {
+// A failure to write an image or file (disk full, unwritable folder): exit code 1.
+class OutputError : public FailureError {
  public:
-  using std::runtime_error::runtime_error;
+  using FailureError::FailureError;
 };
 
 // glint's attributes of a rendered image (glint:scene, glint:spp, ...).
