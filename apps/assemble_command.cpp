@@ -1,5 +1,9 @@
 // glint — `glint assemble`: joins the partial EXRs of `glint render --crop/--tile` into the
 // whole frame.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -7,8 +11,7 @@
 #include "apps/cli_common.h"
 #include "apps/commands.h"
 #include "apps/frames.h"
-#include "renderer/image_diff.h"
-#include "renderer/output.h"
+#include "image/io.h"
 
 namespace glint::app {
 
@@ -18,6 +21,77 @@ struct AssembleArgs {
   std::vector<std::string> inputs;  // files, or one pattern with a run of '#' for the tile
   std::string output;
 };
+
+// Stitches partial EXRs (each a data window of the same whole frame, as `glint render --crop`
+// and `--tile` write them) into one EXR at `output`, written atomically. The pieces must agree
+// on the frame size, the channels and glint's render metadata (scene, spp, seed, integrator),
+// must not overlap, and must cover the whole frame; the result carries the first piece's
+// metadata, with render seconds the sum of the pieces'. Pixel values are copied, never
+// resampled, so an assembled frame is bit-identical to the frame rendered whole. Throws
+// ImageReadError (an unreadable or inconsistent piece, a gap, an overlap) or OutputError.
+void assembleExr(const std::vector<std::string>& pieces, const std::string& output) {
+  if (pieces.empty()) throw ImageReadError("assemble: no input images");
+  Image whole;
+  std::vector<uint8_t> covered;
+  double seconds = 0;
+  int nch = 0;
+  for (const std::string& path : pieces) {
+    const Image piece = readImage(path);
+    if (piece.fullX != 0 || piece.fullY != 0 || piece.fullWidth <= 0 || piece.fullHeight <= 0)
+      throw ImageReadError(fmt::format("{}: its display window does not start at 0,0", path));
+    seconds += piece.meta.renderSeconds;
+    if (covered.empty()) {
+      whole = piece;  // the first piece's channels, storage and metadata
+      whole.x = whole.y = 0;
+      whole.width = piece.fullWidth, whole.height = piece.fullHeight;
+      nch = piece.channels;
+      covered.assign(size_t(piece.fullWidth) * size_t(piece.fullHeight), 0);
+      whole.pixels.assign(covered.size() * size_t(nch), 0.0f);
+    } else {
+      if (piece.fullWidth != whole.fullWidth || piece.fullHeight != whole.fullHeight)
+        throw ImageReadError(fmt::format("{}: a piece of a {}x{} frame, not {}x{} like {}", path,
+                                         piece.fullWidth, piece.fullHeight, whole.fullWidth,
+                                         whole.fullHeight, pieces.front()));
+      if (piece.names != whole.names)
+        throw ImageReadError(
+            fmt::format("{}: its channels differ from {}'s", path, pieces.front()));
+      for (const char* key :
+           {"glint:scene", "glint:spp", "glint:seed", "glint:integrator", "glint:time"})
+        if (piece.attribute(key) != whole.attribute(key))
+          throw ImageReadError(fmt::format("{}: {} is {}, but {} in {}: not the same render", path,
+                                           key, piece.attribute(key), whole.attribute(key),
+                                           pieces.front()));
+    }
+    if (piece.x < 0 || piece.y < 0 || piece.x + piece.width > whole.width ||
+        piece.y + piece.height > whole.height)
+      throw ImageReadError(fmt::format("{}: its data window leaves the frame", path));
+    for (int y = 0; y < piece.height; ++y)
+      for (int x = 0; x < piece.width; ++x) {
+        const size_t to = size_t(piece.y + y) * size_t(whole.width) + size_t(piece.x + x);
+        if (covered[to])
+          throw ImageReadError(fmt::format("{}: pixel {},{} is also in an earlier piece", path,
+                                           piece.x + x, piece.y + y));
+        covered[to] = 1;
+        const float* from =
+            &piece.pixels[(size_t(y) * size_t(piece.width) + size_t(x)) * size_t(nch)];
+        std::copy(from, from + nch, &whole.pixels[to * size_t(nch)]);
+      }
+  }
+  const size_t missing = size_t(std::count(covered.begin(), covered.end(), uint8_t(0)));
+  if (missing > 0) {
+    const size_t first =
+        size_t(std::find(covered.begin(), covered.end(), uint8_t(0)) - covered.begin());
+    throw ImageReadError(
+        fmt::format("assemble: {} pixel{} of the {}x{} frame in no piece (the "
+                    "first at {},{})",
+                    missing, missing == 1 ? "" : "s", whole.width, whole.height,
+                    first % size_t(whole.width), first / size_t(whole.width)));
+  }
+  whole.meta.renderSeconds = seconds;
+  // Read back as float, every value is exactly what the pieces stored: the writer's checksum is
+  // that of the frame rendered whole.
+  writeImageFile(output, std::move(whole));
+}
 
 // The pieces: the files given, where a single argument with a run of '#' stands for every
 // existing file it matches (tiles/frame_0001_##.exr: the tile numbers).
@@ -42,10 +116,8 @@ int runAssemble(const AssembleArgs& args) {
     printError(e.what());
     return 2;
   }
-  return runImageCommand([&] {
-    assembleExr(files, args.output);
-    return 0;
-  });
+  assembleExr(files, args.output);  // ImageReadError and OutputError go to main
+  return 0;
 }
 
 }  // namespace

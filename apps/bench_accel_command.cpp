@@ -31,6 +31,7 @@
 
 #include "apps/cli_common.h"
 #include "apps/commands.h"
+#include "benchmarks/bare_embree.h"
 #include "geometry/accel/embree_accel.h"
 #include "geometry/interaction.h"
 #include "geometry/sampling.h"
@@ -209,7 +210,7 @@ double bareEmbreeSeconds(const std::vector<Ray>& rays, RTCScene rtc, tbb::task_a
     *hits = tbb::parallel_reduce(
         tbb::blocked_range<size_t>(0, rays.size(), 4096), uint64_t(0),
         [&](const tbb::blocked_range<size_t>& r, uint64_t count) {
-          return count + EmbreeAccelerator::bareIntersect1(rtc, rays.data() + r.begin(), r.size());
+          return count + bench::bareIntersect1(rtc, rays.data() + r.begin(), r.size());
         },
         std::plus<uint64_t>());
     end = Clock::now();

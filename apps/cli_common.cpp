@@ -9,9 +9,9 @@
 #include <fstream>
 
 #include "geometry/accel/accelerator.h"
+#include "image/output.h"
 #include "renderer/integrator.h"
 #include "renderer/light_sampler.h"
-#include "renderer/output.h"
 
 namespace glint::app {
 

@@ -2,13 +2,11 @@
 // text output.
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <optional>
 #include <string>
 
-#include <CLI/CLI.hpp>
-
-#include "renderer/image_diff.h"
-#include "renderer/output.h"
+#include "image/io.h"
 #include "scenes/description.h"
 
 namespace glint::app {
@@ -20,7 +18,7 @@ struct SceneOverrides {
   std::optional<std::string> accel, camera, integrator, lightSampler;
   std::optional<int> maxDepth;
   std::optional<float> adaptive;  // adaptive sampling threshold
-  bool aovs = false;  // EXR output also carries albedo, normal, depth and variance
+  bool aovs = false;              // EXR output also carries albedo, normal, depth and variance
 
   // Registers --width --height --spp --seed --threads --accel --camera --integrator
   // --max-depth --light-sampler --adaptive on `cmd`
@@ -34,24 +32,8 @@ struct SceneOverrides {
 // Prints "glint: MESSAGE" to stderr.
 void printError(const std::string& message);
 
-// Runs `work` (a command that reads and writes images) and returns its exit code; an
-// unreadable or unsuitable input (ImageReadError) is printed and gives 2, a failed write
-// (OutputError) 1.
-template <class Work>
-int runImageCommand(Work work) {
-  try {
-    return work();
-  } catch (const ImageReadError& e) {
-    printError(e.what());
-    return 2;
-  } catch (const OutputError& e) {
-    printError(e.what());
-    return 1;
-  }
-}
-
 // Writes `text` to `path` through a temporary file in the same folder and a rename, so a
-// failed write never leaves a half-written file. Throws OutputError (renderer/output.h).
+// failed write never leaves a half-written file. Throws OutputError (image/io.h).
 void writeTextAtomically(const std::string& path, const std::string& text);
 
 }  // namespace glint::app

@@ -13,10 +13,10 @@
 
 #include "apps/cli_common.h"
 #include "apps/commands.h"
-#include "renderer/flip.h"
-#include "renderer/image_diff.h"
-#include "renderer/output.h"
-#include "renderer/statistical_diff.h"
+#include "image/diff.h"
+#include "image/flip.h"
+#include "image/output.h"
+#include "image/statistical.h"
 
 namespace glint::app {
 
@@ -42,7 +42,7 @@ struct FlipReport {
   FlipResult result;
 };
 
-std::vector<float> rgbOf(const DiffImage& image, const std::string& path) {
+std::vector<float> rgbOf(const Image& image, const std::string& path) {
   int r = image.channel("R"), g = image.channel("G"), b = image.channel("B");
   if (r < 0 || g < 0 || b < 0) {
     if (image.channels < 3) throw ImageReadError(fmt::format("{}: FLIP needs R, G, B", path));
@@ -56,7 +56,7 @@ std::vector<float> rgbOf(const DiffImage& image, const std::string& path) {
   return rgb;
 }
 
-FlipReport flipImages(const DiffOptions& o, const DiffImage& a, const DiffImage& b) {
+FlipReport flipImages(const DiffOptions& o, const Image& a, const Image& b) {
   if (a.floatingPoint != b.floatingPoint)
     throw ImageReadError(fmt::format(
         "{} vs {}: FLIP compares two display-encoded images (PNG, JPEG) or two scene-linear "
@@ -242,21 +242,20 @@ int report(const DiffOptions& o, Result r, const std::optional<FlipReport>& flip
 int runDiff(const DiffOptions& o) {
   // A FLIP map or limit asks for FLIP.
   const bool wantFlip = o.flip || !o.flipMap.empty() || std::isfinite(o.flipMax);
-  return runImageCommand([&] {
-    if (!o.statistical) {
-      DiffResult r = diffImages(o.a, o.b, o.thresholds);
-      std::optional<FlipReport> flip;
-      // OpenImageIO's comparison read the files itself; FLIP reads them once more.
-      if (wantFlip && !r.sizeMismatch) flip = flipImages(o, readDiffImage(o.a), readDiffImage(o.b));
-      return report(o, r, flip);
-    }
-    const DiffImage a = readDiffImage(o.a), b = readDiffImage(o.b);
-    StatisticalResult r = diffStatistical(a, o.a, b, o.b, o.statistics);
-    if (!o.heatMap.empty() && !r.sizeMismatch) writeZHeatMap(o.heatMap, r);
+  // An unreadable image (ImageReadError) or a failed write (OutputError) goes to main.
+  if (!o.statistical) {
+    DiffResult r = diffImages(o.a, o.b, o.thresholds);
     std::optional<FlipReport> flip;
-    if (wantFlip && !r.sizeMismatch) flip = flipImages(o, a, b);
+    // OpenImageIO's comparison read the files itself; FLIP reads them once more.
+    if (wantFlip && !r.sizeMismatch) flip = flipImages(o, readImage(o.a), readImage(o.b));
     return report(o, r, flip);
-  });
+  }
+  const Image a = readImage(o.a), b = readImage(o.b);
+  StatisticalResult r = diffStatistical(a, o.a, b, o.b, o.statistics);
+  if (!o.heatMap.empty() && !r.sizeMismatch) writeZHeatMap(o.heatMap, r);
+  std::optional<FlipReport> flip;
+  if (wantFlip && !r.sizeMismatch) flip = flipImages(o, a, b);
+  return report(o, r, flip);
 }
 
 // CLI::NonNegativeNumber prints DBL_MAX in full in its message; this one reads well.

@@ -5,6 +5,7 @@
 #include <exception>
 
 #include "apps/commands.h"
+#include "common/error.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"glint: a ray tracer for glTF 2.0 scenes with a sidecar JSON, on Intel Embree"};
@@ -28,8 +29,12 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     app.exit(e);  // prints the usage error
     return 2;
+  } catch (const glint::Error& e) {
+    // The one place an error becomes an exit code: bad input 2, a failure 1 (common/error.h).
+    std::fprintf(stderr, "glint: %s\n", e.what());
+    return e.exitCode();
   } catch (const std::exception& e) {
-    // Commands report their own errors; this is the last line of defence against a crash.
+    // Anything else is a bug; this is the last line of defence against a crash.
     std::fprintf(stderr, "glint: internal error: %s\n", e.what());
     return 1;
   }

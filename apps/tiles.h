@@ -1,5 +1,6 @@
 // glint — pieces of a frame for distributed rendering: the arguments of `glint render --crop
-// X0,Y0,X1,Y1` and `--tile I/N` (renderer/output.h's assembleExr stitches the pieces).
+// X0,Y0,X1,Y1` and `--tile I/N` (`glint assemble`, apps/assemble_command.cpp, stitches the
+// pieces).
 #pragma once
 
 #include <string>
@@ -19,6 +20,5 @@ struct TileSpec {
   int index = 0, count = 1;
 };
 TileSpec parseTileSpec(const std::string& text);
-
 
 }  // namespace glint::app

@@ -23,10 +23,10 @@
 #include "apps/cli_common.h"
 #include "apps/commands.h"
 #include "apps/frames.h"
-#include "renderer/color.h"
-#include "renderer/output.h"
+#include "image/color.h"
+#include "image/output.h"
+#include "image/tonemap.h"
 #include "renderer/progress.h"
-#include "renderer/tonemap.h"
 #include "scenes/load.h"
 
 namespace fs = std::filesystem;
@@ -50,11 +50,6 @@ struct TonemapArgs {
   bool quiet = false;
   std::optional<std::string> scene;    // take the tone mapping settings from this scene
   std::optional<std::string> sidecar;  // its sidecar
-};
-
-// A bad command line or input: exit code 2, the message names the file.
-struct UsageError {
-  std::string message;
 };
 
 std::string lowerExtension(const std::string& path) {
@@ -141,14 +136,14 @@ struct Job {
   std::optional<std::string> ffmpeg;
 };
 
-// Everything that can be checked without reading pixels; throws UsageError or ColorError.
+// Everything that can be checked without reading pixels; throws InputError (ColorError among them).
 Job plan(const TonemapArgs& args) {
   Job job;
   if (!isKnownToneMapOperator(args.op))
-    throw UsageError{
-        fmt::format("unknown tone-map operator '{}'; available: 'none', 'ward'", args.op)};
+    throw InputError(
+        fmt::format("unknown tone-map operator '{}'; available: 'none', 'ward'", args.op));
   if (args.sequence && args.op != "ward")
-    throw UsageError{"--sequence shares Ward's scale between frames; it needs --operator ward"};
+    throw InputError("--sequence shares Ward's scale between frames; it needs --operator ward");
   job.tonemap.op = args.op;
   job.tonemap.exposure = args.exposure;
   job.tonemap.wardDisplayMax = args.ldmax;
@@ -162,31 +157,31 @@ Job plan(const TonemapArgs& args) {
       args.output ? *args.output : fs::path(args.input).replace_extension(".png").string();
   FramePattern out = parseFramePattern(outText);
   if (in.isPattern() != out.isPattern())
-    throw UsageError{fmt::format(
+    throw InputError(fmt::format(
         "mismatched patterns: input '{}' {} a '#' frame pattern but output '{}' {}", args.input,
-        in.isPattern() ? "is" : "is not", outText, out.isPattern() ? "is" : "is not")};
+        in.isPattern() ? "is" : "is not", outText, out.isPattern() ? "is" : "is not"));
   if (lowerExtension(args.input) != ".exr")
-    throw UsageError{
-        fmt::format("'{}': tonemap reads scene-linear OpenEXR (.exr) images", args.input)};
+    throw InputError(
+        fmt::format("'{}': tonemap reads scene-linear OpenEXR (.exr) images", args.input));
   std::string why;
-  if (!isSupportedOutput(outText, &why)) throw UsageError{why};
+  if (!isSupportedOutput(outText, &why)) throw InputError(why);
   if (lowerExtension(outText) == ".exr")
-    throw UsageError{fmt::format(
+    throw InputError(fmt::format(
         "'{}': tone-mapped output is display-referred (.png, .jpg, .tif); EXR stays scene-linear",
-        outText)};
+        outText));
   if (args.frames && !in.isPattern())
-    throw UsageError{fmt::format("--frames needs a '#' frame pattern, not '{}'", args.input)};
+    throw InputError(fmt::format("--frames needs a '#' frame pattern, not '{}'", args.input));
 
   if (args.mp4) {
     if (lowerExtension(outText) != ".png")
-      throw UsageError{fmt::format("--mp4 encodes the PNG frames; '{}' is not .png", outText)};
+      throw InputError(fmt::format("--mp4 encodes the PNG frames; '{}' is not .png", outText));
     if (lowerExtension(*args.mp4) != ".mp4")
-      throw UsageError{fmt::format("--mp4 '{}': the file name must end in .mp4", *args.mp4)};
+      throw InputError(fmt::format("--mp4 '{}': the file name must end in .mp4", *args.mp4));
     job.ffmpeg = findOnPath("ffmpeg");
     if (!job.ffmpeg)
-      throw UsageError{
+      throw InputError(
           "ffmpeg not found on PATH; install it (apt install ffmpeg) or encode the PNGs "
-          "yourself"};
+          "yourself");
   }
 
   if (in.isPattern()) {
@@ -198,7 +193,7 @@ Job plan(const TonemapArgs& args) {
     }
   } else {
     std::error_code ec;
-    if (!fs::exists(args.input, ec)) throw UsageError{fmt::format("{}: no such file", args.input)};
+    if (!fs::exists(args.input, ec)) throw InputError(fmt::format("{}: no such file", args.input));
     job.inputs.push_back(args.input);
     job.outputs.push_back(outText);
   }
@@ -215,16 +210,10 @@ int runTonemap(const TonemapArgs& args) {
   Job job;
   try {
     job = plan(args);
-  } catch (const UsageError& e) {
-    printError(e.message);
-    return 2;
   } catch (const std::invalid_argument& e) {  // frame patterns and ranges
     printError(e.what());
     return 2;
-  } catch (const ColorError& e) {
-    printError(e.what());
-    return 2;
-  }
+  }  // InputError (a bad command line or scene, ColorError) goes to main
   const ToneMapSettings& tm = job.tonemap;
   const size_t n = job.inputs.size();
   // Held by pointer so an error can end the bar's line before the message is printed.

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <vector>
 
-#include "renderer/flip.h"
+#include "image/flip.h"
 
 namespace glint {
 namespace {

@@ -21,6 +21,7 @@
 #include <string>
 #include <thread>
 
+#include "bare_embree.h"
 #include "bench_support.h"
 #include "geometry/accel/embree_accel.h"
 #include "renderer/filter.h"
@@ -98,8 +99,7 @@ uint64_t bareEmbreePass(const Fixture& f) {
     hits = tbb::parallel_reduce(
         tbb::blocked_range<size_t>(0, f.rays.size(), 4096), uint64_t(0),
         [&](const tbb::blocked_range<size_t>& r, uint64_t count) {
-          return count +
-                 EmbreeAccelerator::bareIntersect1(rtc, f.rays.data() + r.begin(), r.size());
+          return count + bench::bareIntersect1(rtc, f.rays.data() + r.begin(), r.size());
         },
         std::plus<uint64_t>());
   });

@@ -1,5 +1,9 @@
 // glint — image textures through OpenImageIO's TextureSystem.
 //
+// Texture files do not go through image/io.h's reader, which decodes a whole image at once:
+// the TextureSystem pages big files in tiles within a memory budget and makes MIP levels on
+// demand for filtered lookups (and materials/ sits below image/ in the rooms).
+//
 // How images reach the TextureSystem (OpenImageIO 2.4):
 // - Linear files go to the ImageCache by path, untouched: it opens them on demand, reads them
 //   in 64x64 tiles ("autotile") within a memory budget ("max_memory_MB"), and makes the MIP

@@ -28,8 +28,8 @@ struct ToneMapSettings {
   // `sceneLuminance` cd/m^2; the display's maximum is `displayMax` cd/m^2.
   float wardDisplayMax = 100.0f;
   float wardSceneLuminance = 100.0f;
-  std::string display;            // OCIO display; empty = the config's default
-  std::string view;               // OCIO view; empty = the display's default
+  std::string display;            // colour-managed display (image/color.h); empty = default
+  std::string view;               // view of that display; empty = the display's default
 };
 
 // Light transport: the render block's "integrator" (a name, or an object with "type" and the

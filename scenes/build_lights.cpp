@@ -8,7 +8,7 @@
 #include "geometry/shapes/sphere.h"
 #include "renderer/area_lights.h"
 #include "renderer/environment_light.h"
-#include "renderer/output.h"
+#include "image/output.h"
 #include "renderer/projective_light.h"
 #include "scenes/errors.h"
 

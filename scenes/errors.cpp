@@ -33,8 +33,6 @@ std::string SourceLocation::str() const {
 }
 
 SceneError::SceneError(SourceLocation where, const std::string& message)
-    : std::runtime_error(where.str() + ": " + message),
-      where_(std::move(where)),
-      message_(message) {}
+    : InputError(where.str() + ": " + message), where_(std::move(where)), message_(message) {}
 
 }  // namespace glint

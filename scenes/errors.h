@@ -1,8 +1,9 @@
 // glint — errors in user input, carried with their source location until main prints them.
 #pragma once
 
-#include <stdexcept>
 #include <string>
+
+#include "common/error.h"
 
 namespace glint {
 
@@ -18,9 +19,9 @@ struct SourceLocation {
 };
 
 // A problem with the user's input. what() is the one-line message main prints:
-// "scene.json: /objects/3/radius: must be > 0". Loaders throw it; main catches it once and
-// exits with code 2. Never thrown through an Embree callback.
-class SceneError : public std::runtime_error {
+// "scene.json: /objects/3/radius: must be > 0". Loaders throw it; main catches it once (as an
+// InputError, common/error.h) and exits with code 2. Never thrown through an Embree callback.
+class SceneError : public InputError {
  public:
   SceneError(SourceLocation where, const std::string& message);
   const SourceLocation& where() const { return where_; }

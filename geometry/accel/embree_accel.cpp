@@ -237,25 +237,6 @@ void EmbreeAccelerator::closestHits(const Ray* rays, Hit* hits, int count) const
   }
 }
 
-uint64_t EmbreeAccelerator::bareIntersect1(RTCScene scene, const Ray* rays, size_t count) {
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  uint64_t hits = 0;
-  for (size_t i = 0; i < count; ++i) {
-    const Ray& ray = rays[i];
-    RTCRayHit rh;
-    rh.ray.org_x = ray.o.x, rh.ray.org_y = ray.o.y, rh.ray.org_z = ray.o.z;
-    rh.ray.dir_x = ray.d.x, rh.ray.dir_y = ray.d.y, rh.ray.dir_z = ray.d.z;
-    rh.ray.tnear = ray.tMin, rh.ray.tfar = ray.tMax, rh.ray.time = ray.time;
-    rh.ray.mask = ~0u, rh.ray.id = 0, rh.ray.flags = 0;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(scene, &context, &rh);
-    hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-  }
-  return hits;
-}
-
 bool EmbreeAccelerator::anyHit(const Ray& ray) const {
   if (!unbounded_.empty() && unbounded_.anyHit(ray)) return true;
   RTCIntersectContext context;

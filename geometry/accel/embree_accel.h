@@ -56,9 +56,6 @@ class EmbreeAccelerator final : public Accelerator {
 
   // The raw top-level scene, for benchmarks that measure Embree alone.
   RTCScene rtcScene() const { return scene_; }
-  // The benchmarks' reference: a bare rtcIntersect1 loop over `count` rays (RTCRayHit set up
-  // and nothing else: no glint code per ray). Returns how many hit. Thread-safe.
-  static uint64_t bareIntersect1(RTCScene scene, const Ray* rays, size_t count);
   // Maps a top-level geometry ID (of a direct mesh or an instance) to the instance index.
   uint32_t instanceOfGeometry(unsigned geomID) const { return instanceOfGeom_[geomID]; }
   // How many geometries were built with time steps (moving instances and shapes): 0 for a

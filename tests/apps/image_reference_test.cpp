@@ -2,7 +2,7 @@
 // by `glint render` at a few spp and compared by `glint diff --statistical` with a reference
 // rendered at 64x the spp that stores each pixel's mean and the variance of that mean
 // (tests/images/references/NAME.exr). The comparison is a per-pixel z-test with a Šidák
-// correction, a global bias test and a hard cap on any pixel's error (renderer/statistical_diff.h):
+// correction, a global bias test and a hard cap on any pixel's error (image/statistical.h):
 // it tolerates noise and the last-bit differences between CPUs (Embree picks SSE/AVX2/AVX-512
 // kernels at run time) and nothing more; tests below check that it does fail a visibly
 // different scene and a 3 % darker one.
@@ -28,7 +28,7 @@
 #include <regex>
 #include <sstream>
 
-#include "renderer/image_diff.h"
+#include "image/diff.h"
 #include "test_support.h"
 
 namespace glint {
@@ -148,10 +148,10 @@ TEST(ImageReferenceFiles, CarryVarianceAtTheStatedSpp) {
   std::ifstream in(imagesDir() + "/references.json");
   const int factor = nlohmann::json::parse(in).at("reference_spp_factor");
   for (const ReferenceCase& c : manifest().cases) {
-    DiffImage image = readDiffImage(imagesDir() + "/references/" + c.name + ".exr");
+    Image image = readImage(imagesDir() + "/references/" + c.name + ".exr");
     EXPECT_EQ(image.width, c.width) << c.name;
     EXPECT_EQ(image.height, c.height) << c.name;
-    EXPECT_EQ(image.spp, factor * c.spp) << c.name;
+    EXPECT_EQ(image.meta.spp, factor * c.spp) << c.name;
     for (const char* channel : {"R", "G", "B", "variance.R", "variance.G", "variance.B"})
       EXPECT_GE(image.channel(channel), 0) << c.name << " has no " << channel;
   }

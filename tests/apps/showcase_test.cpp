@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "renderer/image_diff.h"
+#include "image/diff.h"
 #include "test_support.h"
 
 namespace glint {
@@ -56,7 +56,7 @@ TEST_P(ShowcaseScenes, FramesRenderFinite) {
   const std::vector<std::string> files = test::listFolder(dir);
   ASSERT_GE(files.size(), 3u) << "frames written";
   for (const std::string& f : files) {
-    const DiffImage image = readDiffImage(dir + "/" + f);
+    const Image image = readImage(dir + "/" + f);
     double sum = 0;
     size_t bad = 0;
     for (float v : image.pixels) {

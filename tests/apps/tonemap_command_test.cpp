@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "renderer/output.h"
+#include "image/output.h"
 #include "test_support.h"
 
 namespace glint {
@@ -131,8 +131,7 @@ TEST(CliTonemap, SceneSettingsApplyUnlessGivenOnTheCommandLine) {
   r = test::runGlint("tonemap " + quote(in) + " --sequence --ldmax 100 --scene " + quote(scene) +
                      " -o " + quote(dir + "/b/f_####.png"));
   ASSERT_EQ(r.exitCode, 0) << r.err;
-  const double m100 =
-      std::pow((1.219 + std::pow(50.0, 0.4)) / (1.219 + std::pow(lwa, 0.4)), 2.5);
+  const double m100 = std::pow((1.219 + std::pow(50.0, 0.4)) / (1.219 + std::pow(lwa, 0.4)), 2.5);
   EXPECT_NEAR(code8(dir + "/b/f_0003.png"), 0.16 * m100 * 200.0 / 100.0 * 255, 0.51);
 
   r = test::runGlint("tonemap " + quote(in) + " --scene " + quote(dir + "/none.json"));

@@ -7,7 +7,7 @@
 #include "renderer/area_lights.h"
 #include "renderer/environment_light.h"
 #include "renderer/film.h"
-#include "renderer/output.h"
+#include "image/output.h"
 #include "renderer/projective_light.h"
 #include "scene_error_support.h"
 #include "scenes/build.h"

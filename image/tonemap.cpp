@@ -1,11 +1,11 @@
 // glint — exposure and Ward (1994) contrast-based tone mapping.
-#include "renderer/tonemap.h"
+#include "image/tonemap.h"
 
 #include <fmt/format.h>
 
 #include <cmath>
 
-#include "renderer/color.h"
+#include "image/color.h"
 
 namespace glint {
 

@@ -1,7 +1,7 @@
-// Tests for renderer/statistical_diff: the z-test model on synthetic renders whose noise is
+// Tests for image/statistical: the z-test model on synthetic renders whose noise is
 // known, the multiple-comparison correction, the global bias test, the error cap, and the
 // inputs it refuses.
-#include "renderer/statistical_diff.h"
+#include "image/statistical.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>

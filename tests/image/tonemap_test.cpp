@@ -1,5 +1,5 @@
-// Tests for renderer/tonemap: exposure and Ward's (1994) contrast-based scale factor.
-#include "renderer/tonemap.h"
+// Tests for image/tonemap: exposure and Ward's (1994) contrast-based scale factor.
+#include "image/tonemap.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
@@ -9,8 +9,8 @@
 #include <span>
 #include <vector>
 
-#include "renderer/color.h"
-#include "renderer/output.h"
+#include "image/color.h"
+#include "image/output.h"
 #include "test_support.h"
 
 namespace glint {

@@ -1,5 +1,6 @@
-// glint — numeric image comparison on OpenImageIO's ImageBufAlgo.
-#include "renderer/image_diff.h"
+// glint — numeric image comparison: images from image/io.h's reader, compared with
+// OpenImageIO's ImageBufAlgo (idiff's own metrics).
+#include "image/diff.h"
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
@@ -7,28 +8,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <limits>
 
 namespace glint {
 
 namespace {
-
-OIIO::ImageBuf readImage(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec))
-    throw ImageReadError(fmt::format("{}: no such file", path));
-  if (std::filesystem::is_directory(path, ec))
-    throw ImageReadError(fmt::format("{}: is a folder, not an image", path));
-  OIIO::ImageBuf image(path);
-  // Read everything now, as float, so a truncated file fails here and not half-way through.
-  if (!image.read(0, 0, /*force=*/true, OIIO::TypeDesc::FLOAT) || image.has_error()) {
-    std::string why = image.geterror();
-    if (why.empty()) why = "cannot read the image";
-    throw ImageReadError(fmt::format("{}: {}", path, why));
-  }
-  return image;
-}
 
 // Channel indices (into a and b) of the channels to compare, and their names.
 struct ChannelMap {
@@ -36,10 +20,10 @@ struct ChannelMap {
   std::vector<std::string> names;
 };
 
-ChannelMap commonChannels(const OIIO::ImageSpec& a, const OIIO::ImageSpec& b) {
+ChannelMap commonChannels(const Image& a, const Image& b) {
   ChannelMap map;
   for (const char* name : {"R", "G", "B", "A"}) {
-    int ia = a.channelindex(name), ib = b.channelindex(name);
+    int ia = a.channel(name), ib = b.channel(name);
     if (ia >= 0 && ib >= 0) {
       map.a.push_back(ia);
       map.b.push_back(ib);
@@ -47,48 +31,31 @@ ChannelMap commonChannels(const OIIO::ImageSpec& a, const OIIO::ImageSpec& b) {
     }
   }
   if (map.names.empty()) {  // e.g. two greyscale images ("Y"): compare by position
-    int n = std::min(a.nchannels, b.nchannels);
+    int n = std::min(a.channels, b.channels);
     for (int c = 0; c < n; ++c) {
       map.a.push_back(c);
       map.b.push_back(c);
-      map.names.push_back(a.channel_name(c));
+      map.names.push_back(a.names[size_t(c)]);
     }
   }
   return map;
 }
 
-OIIO::ImageBuf select(const OIIO::ImageBuf& src, const std::vector<int>& order,
-                      const std::string& path) {
-  OIIO::ImageBuf out = OIIO::ImageBufAlgo::channels(src, int(order.size()), order);
-  if (out.has_error()) throw ImageReadError(fmt::format("{}: {}", path, out.geterror()));
-  // Compare the pixel grids, whatever the files' data-window origins.
-  out.set_origin(0, 0);
+// The channels `order` of `image` as an ImageBuf at origin 0,0: the pixel grids are compared,
+// whatever the files' data-window origins.
+OIIO::ImageBuf select(const Image& image, const std::vector<int>& order) {
+  const int nch = int(order.size());
+  OIIO::ImageBuf out(OIIO::ImageSpec(image.width, image.height, nch, OIIO::TypeDesc::FLOAT));
+  std::vector<float> px(image.pixelCount() * size_t(nch));
+  for (size_t i = 0; i < image.pixelCount(); ++i)
+    for (int c = 0; c < nch; ++c)
+      px[i * size_t(nch) + size_t(c)] =
+          image.pixels[i * size_t(image.channels) + size_t(order[size_t(c)])];
+  out.set_pixels(out.roi(), OIIO::TypeDesc::FLOAT, px.data());
   return out;
 }
 
 }  // namespace
-
-int DiffImage::channel(const std::string& name) const {
-  for (size_t c = 0; c < names.size(); ++c)
-    if (names[c] == name) return int(c);
-  return -1;
-}
-
-DiffImage readDiffImage(const std::string& path) {
-  OIIO::ImageBuf file = readImage(path);
-  const OIIO::ImageSpec& spec = file.spec();
-  DiffImage image;
-  image.width = spec.width;
-  image.height = spec.height * std::max(spec.depth, 1);
-  image.channels = spec.nchannels;
-  image.names = spec.channelnames;
-  image.spp = spec.get_int_attribute("glint:spp", 0);
-  image.floatingPoint = file.nativespec().format.is_floating_point();  // as stored, not as read
-  image.pixels.resize(size_t(image.width) * size_t(image.height) * size_t(image.channels));
-  if (!file.get_pixels(file.roi(), OIIO::TypeDesc::FLOAT, image.pixels.data()))
-    throw ImageReadError(fmt::format("{}: {}", path, file.geterror()));
-  return image;
-}
 
 const char* verdictName(DiffVerdict v) {
   switch (v) {
@@ -103,26 +70,24 @@ const char* verdictName(DiffVerdict v) {
 }
 
 DiffResult diffImages(const std::string& pathA, const std::string& pathB, const DiffThresholds& t) {
-  OIIO::ImageBuf fileA = readImage(pathA);
-  OIIO::ImageBuf fileB = readImage(pathB);
-  const OIIO::ImageSpec& specA = fileA.spec();
-  const OIIO::ImageSpec& specB = fileB.spec();
+  const Image fileA = readImage(pathA);
+  const Image fileB = readImage(pathB);
 
   DiffResult r;
-  r.widthA = specA.width, r.heightA = specA.height;
-  r.widthB = specB.width, r.heightB = specB.height;
-  if (r.widthA != r.widthB || r.heightA != r.heightB || specA.depth != specB.depth) {
+  r.widthA = fileA.width, r.heightA = fileA.height / fileA.depth;
+  r.widthB = fileB.width, r.heightB = fileB.height / fileB.depth;
+  if (r.widthA != r.widthB || r.heightA != r.heightB || fileA.depth != fileB.depth) {
     r.sizeMismatch = true;
     r.verdict = DiffVerdict::Fail;
     return r;
   }
-  ChannelMap map = commonChannels(specA, specB);
+  ChannelMap map = commonChannels(fileA, fileB);
   if (map.names.empty())
     throw ImageReadError(fmt::format("{}: no channels in common with {}", pathA, pathB));
   r.channels = map.names;
-  OIIO::ImageBuf A = select(fileA, map.a, pathA);
-  OIIO::ImageBuf B = select(fileB, map.b, pathB);
-  r.pixels = uint64_t(r.widthA) * uint64_t(r.heightA) * uint64_t(std::max(specA.depth, 1));
+  OIIO::ImageBuf A = select(fileA, map.a);
+  OIIO::ImageBuf B = select(fileB, map.b);
+  r.pixels = uint64_t(fileA.pixelCount());
 
   namespace IBA = OIIO::ImageBufAlgo;
   IBA::CompareResults cr = IBA::compare(A, B, float(t.fail), float(t.warn));

@@ -1,13 +1,13 @@
 // glint — statistical image comparison: per-pixel z-tests with a Šidák correction, a global
 // bias test and a hard error cap (see statistical_diff.h for the model).
-#include "renderer/statistical_diff.h"
+#include "image/statistical.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 
-#include "renderer/output.h"
+#include "image/output.h"
 
 namespace glint {
 
@@ -17,7 +17,7 @@ constexpr const char* kColor[3] = {"R", "G", "B"};
 constexpr const char* kVariance[3] = {"variance.R", "variance.G", "variance.B"};
 
 // Channel indices of R, G, B (or variance.R/G/B) in `image`; empty when one is missing.
-std::vector<int> channelsOf(const DiffImage& image, const char* const (&names)[3]) {
+std::vector<int> channelsOf(const Image& image, const char* const (&names)[3]) {
   std::vector<int> index;
   for (const char* name : names) {
     int c = image.channel(name);
@@ -46,10 +46,10 @@ double normalTwoSidedQuantile(double p) {
 
 StatisticalResult diffStatistical(const std::string& pathA, const std::string& pathB,
                                   const StatisticalThresholds& t) {
-  return diffStatistical(readDiffImage(pathA), pathA, readDiffImage(pathB), pathB, t);
+  return diffStatistical(readImage(pathA), pathA, readImage(pathB), pathB, t);
 }
 
-StatisticalResult diffStatistical(const DiffImage& a, const std::string& pathA, const DiffImage& b,
+StatisticalResult diffStatistical(const Image& a, const std::string& pathA, const Image& b,
                                   const std::string& pathB, const StatisticalThresholds& t) {
   StatisticalResult r;
   r.widthA = a.width, r.heightA = a.height;
@@ -68,8 +68,8 @@ StatisticalResult diffStatistical(const DiffImage& a, const std::string& pathA, 
         "{}: the reference has no variance.R/G/B channels (render it with `glint render "
         "--aovs`)",
         pathB));
-  r.sppA = t.sppA > 0 ? t.sppA : a.spp;
-  r.sppB = t.sppB > 0 ? t.sppB : b.spp;
+  r.sppA = t.sppA > 0 ? t.sppA : a.meta.spp;
+  r.sppB = t.sppB > 0 ? t.sppB : b.meta.spp;
   const bool predicted = r.sppA > 0 && r.sppB > 0;
   const bool own = !varA.empty();
   if (!predicted && !own)

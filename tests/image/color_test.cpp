@@ -1,5 +1,5 @@
-// Tests for renderer/color: the shipped OCIO config, $OCIO, display/view lookup and transforms.
-#include "renderer/color.h"
+// Tests for image/color: the shipped OCIO config, $OCIO, display/view lookup and transforms.
+#include "image/color.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
@@ -12,7 +12,7 @@
 #include <optional>
 #include <vector>
 
-#include "renderer/output.h"
+#include "image/output.h"
 #include "test_support.h"
 
 namespace glint {

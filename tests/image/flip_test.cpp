@@ -1,11 +1,11 @@
-// Tests for renderer/flip: LDR-FLIP and HDR-FLIP (Andersson et al. 2020, 2021) on image pairs
+// Tests for image/flip: LDR-FLIP and HDR-FLIP (Andersson et al. 2020, 2021) on image pairs
 // whose answer is known by hand or by an independent computation in this file.
 //
 // No published reference numbers are checked: the FLIP authors' reference pairs and expected
 // pooled values ship as images this repository does not carry. The closed-form cases below
 // (uniform images, where FLIP reduces to the re-mapped HyAB distance) are computed here from
-// textbook colour constants, independently of renderer/flip.cpp.
-#include "renderer/flip.h"
+// textbook colour constants, independently of image/flip.cpp.
+#include "image/flip.h"
 
 #include <gtest/gtest.h>
 

@@ -6,18 +6,19 @@
 #pragma once
 
 #include <span>
-#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "common/error.h"
 
 namespace glint {
 
 // Bad colour settings: an OCIO config that does not load, an unknown display or view, an
 // unknown tone-map operator. It is the user's input, so the CLI exits with code 2.
-class ColorError : public std::runtime_error {
+class ColorError : public InputError {
  public:
-  using std::runtime_error::runtime_error;
+  using InputError::InputError;
 };
 
 struct DisplayViews {

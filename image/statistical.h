@@ -35,7 +35,7 @@
 #include <string>
 #include <vector>
 
-#include "renderer/image_diff.h"
+#include "image/diff.h"
 
 namespace glint {
 
@@ -78,7 +78,7 @@ StatisticalResult diffStatistical(const std::string& a, const std::string& b,
                                   const StatisticalThresholds& t);
 // The same for images already read (`pathA`, `pathB` name them in errors), so that a caller
 // that also runs FLIP reads each file once.
-StatisticalResult diffStatistical(const DiffImage& a, const std::string& pathA, const DiffImage& b,
+StatisticalResult diffStatistical(const Image& a, const std::string& pathA, const Image& b,
                                   const std::string& pathB, const StatisticalThresholds& t);
 
 // The two-sided |z| whose tail probability is p: erfc(|z| / √2) = p.

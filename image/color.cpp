@@ -1,5 +1,5 @@
 // glint — colour management through OpenColorIO.
-#include "renderer/color.h"
+#include "image/color.h"
 
 #include <OpenColorIO/OpenColorIO.h>
 #include <fmt/format.h>

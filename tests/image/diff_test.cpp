@@ -1,5 +1,5 @@
-// Tests for renderer/image_diff: metrics on known image pairs and idiff's pass/fail rule.
-#include "renderer/image_diff.h"
+// Tests for image/diff: metrics on known image pairs and idiff's pass/fail rule.
+#include "image/diff.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>

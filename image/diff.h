@@ -4,17 +4,12 @@
 #pragma once
 
 #include <cstdint>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
-namespace glint {
+#include "image/io.h"
 
-// An image that cannot be compared: missing or unreadable file. what() names the file.
-class ImageReadError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
+namespace glint {
 
 struct DiffThresholds {    // defaults as idiff's
   double fail = 1e-6;      // absolute error above which a pixel fails
@@ -42,21 +37,6 @@ struct DiffResult {
   double failPixelPercent = 0, warnPixelPercent = 0;
   DiffVerdict verdict = DiffVerdict::Pass;
 };
-
-// A whole image as float, for comparisons: interleaved pixels, channel names, and glint's
-// samples-per-pixel attribute (0 when the file has none).
-struct DiffImage {
-  int width = 0, height = 0, channels = 0;
-  std::vector<std::string> names;
-  std::vector<float> pixels;
-  int spp = 0;
-  bool floatingPoint = false;  // stored as float or half (scene-linear), not as integers
-  int channel(const std::string& name) const;  // index, or -1
-};
-
-// Reads `path` (any format OpenImageIO reads; the data window's origin is ignored). Throws
-// ImageReadError naming the file when it is missing, a folder, or unreadable.
-DiffImage readDiffImage(const std::string& path);
 
 // Compares image `a` against reference `b`. Channels R, G, B (and A when both have it) are
 // compared by name; images without named colour channels are compared position by position

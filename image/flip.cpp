@@ -1,6 +1,6 @@
 // glint — LDR- and HDR-FLIP (Andersson et al. 2020, 2021); see flip.h for the references and
 // the deviations from them.
-#include "renderer/flip.h"
+#include "image/flip.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
