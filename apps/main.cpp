@@ -5,7 +5,7 @@
 #include <exception>
 
 #include "apps/commands.h"
-#include "common/error.h"
+#include "geometry/error.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"glint: a ray tracer for glTF 2.0 scenes with a sidecar JSON, on Intel Embree"};
@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
     app.exit(e);  // prints the usage error
     return 2;
   } catch (const glint::Error& e) {
-    // The one place an error becomes an exit code: bad input 2, a failure 1 (common/error.h).
+    // The one place an error becomes an exit code: bad input 2, a failure 1 (geometry/error.h).
     std::fprintf(stderr, "glint: %s\n", e.what());
     return e.exitCode();
   } catch (const std::exception& e) {

@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include "common/error.h"
+#include "geometry/error.h"
 
 namespace glint {
 

@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "common/error.h"
+#include "geometry/error.h"
 
 namespace glint {
 
@@ -20,7 +20,7 @@ struct SourceLocation {
 
 // A problem with the user's input. what() is the one-line message main prints:
 // "scene.json: /objects/3/radius: must be > 0". Loaders throw it; main catches it once (as an
-// InputError, common/error.h) and exits with code 2. Never thrown through an Embree callback.
+// InputError, geometry/error.h) and exits with code 2. Never thrown through an Embree callback.
 class SceneError : public InputError {
  public:
   SceneError(SourceLocation where, const std::string& message);

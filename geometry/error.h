@@ -1,9 +1,9 @@
 // glint — the one error vocabulary. What went wrong decides the exit code, and apps/main.cpp
 // maps it once: bad input → 2, a render or comparison that could not be done → 1.
 //
-// Header-only and outside the rooms (no library): every room that reports a user error
-// (geometry's accelerator names, renderer's settings, image/, scenes/, apps/) must see it, and a
-// base class needs nothing to link.
+// Header-only, in geometry/ because that is the lowest room: every room that reports a user
+// error (geometry's accelerator names, renderer's settings, image/, scenes/, apps/) must see it,
+// the project's layout has no room of shared utilities, and a base class needs nothing to link.
 #pragma once
 
 #include <stdexcept>
