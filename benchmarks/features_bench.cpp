@@ -7,7 +7,7 @@
 //    renderer/features.h), so "compiled out" is a hand-written Whitted for opaque Lambert
 //    surfaces and point lights over the same parts — the static pinhole ray, the same sample
 //    addressing and filter, the same accelerator (closestHits in packets of 16, anyHit for
-//    shadows), computeSurfaceInteraction, Material::eval and Light::sampleLi — with no
+//    shadows), computeSurfaceInteraction, Material::bsdf and Light::sampleLi — with no
 //    feature test anywhere (minimalRender). With kBookkeeping it also does what render() does
 //    that is not a feature (tiles, per-pixel moments for the variance, alpha, NaN/Inf checks,
 //    ray counters): that is the renderer with every unused feature compiled out, the target's

@@ -2,8 +2,8 @@
 //
 // All of them work on SurfaceInteraction::dpdu / dpdv, which every primitive provides
 // (triangles from their UVs, analytic shapes from their own parameterisation, CSG leaves from
-// the leaf that was hit), and leave ns in ng's hemisphere. Material::eval then multiplies by
-// the shadow-terminator term (material.h) so that strongly tilted normals do not show a hard
+// the leaf that was hit), and leave ns in ng's hemisphere. The BSDF then multiplies by
+// the shadow-terminator term (bsdf.h) so that strongly tilted normals do not show a hard
 // terminator.
 #pragma once
 

@@ -146,8 +146,9 @@ def srgb_to_linear(c8):
 # PNG encoding (8-bit RGB, filter 0, one IDAT)
 # ---------------------------------------------------------------------------------------------
 
-def encode_png(width, height, pixel):
-    """pixel(x, y) -> (r, g, b) bytes 0..255; y = 0 is the top row."""
+def encode_png(width, height, pixel, alpha=False, level=9):
+    """pixel(x, y) -> (r, g, b) bytes 0..255 (with a fourth, alpha, when `alpha`); y = 0 is the
+    top row. `level`: zlib's compression level."""
     raw = bytearray()
     for y in range(height):
         raw.append(0)  # filter type None
@@ -158,9 +159,10 @@ def encode_png(width, height, pixel):
         return (struct.pack(">I", len(data)) + kind + data
                 + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF))
 
-    ihdr = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
+    color_type = 6 if alpha else 2  # RGBA or RGB
+    ihdr = struct.pack(">IIBBBBB", width, height, 8, color_type, 0, 0, 0)
     return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr)
-            + chunk(b"IDAT", zlib.compress(bytes(raw), 9)) + chunk(b"IEND", b""))
+            + chunk(b"IDAT", zlib.compress(bytes(raw), level)) + chunk(b"IEND", b""))
 
 
 def hash01(x, y, seed=0):

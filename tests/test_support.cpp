@@ -128,4 +128,24 @@ std::string cornellBoxJson(int size, int spp, uint64_t seed, const std::string& 
       {"type": "sphere", "center": [0.45, 0.35, -0.3], "radius": 0.35, "material": "white"}]})";
 }
 
+Film constantFilm(int w, int h, Rgb c, bool aovs) {
+  Film film(w, h, aovs);
+  for (size_t i = 0; i < film.color.size(); ++i) {
+    film.color[i] = c;
+    film.alpha[i] = 1;
+  }
+  return film;
+}
+
+ImageMetadata sampleMetadata() {
+  ImageMetadata meta;
+  meta.scene = "scenes/cornell.gltf";
+  meta.spp = 64;
+  meta.seed = 18446744073709551557ull;  // needs all 64 bits
+  meta.renderSeconds = 12.5;
+  meta.accel = "embree";
+  meta.integrator = "path";
+  return meta;
+}
+
 }  // namespace glint::test

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "image/output.h"
 #include "renderer/render.h"
 
 namespace glint::test {
@@ -65,5 +66,10 @@ class ScopedEnv {
   std::string name_;
   std::optional<std::string> old_;
 };
+
+// A w x h film of colour c, alpha 1 (with empty AOV channels when `aovs`).
+Film constantFilm(int w, int h, Rgb c, bool aovs = false);
+// Metadata with every field set (a 64-bit seed that needs all its bits).
+ImageMetadata sampleMetadata();
 
 }  // namespace glint::test

@@ -16,29 +16,15 @@ import argparse
 import json
 import math
 import os
-import struct
 import sys
-import zlib
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts"))
 import make_scenes as ms  # noqa: E402
 
 
 def png_rgba(width, height, pixel):
-    """8-bit RGBA PNG; pixel(x, y) -> 4 bytes."""
-    raw = bytearray()
-    for y in range(height):
-        raw.append(0)
-        for x in range(width):
-            raw.extend(pixel(x, y))
-
-    def chunk(kind, data):
-        return (struct.pack(">I", len(data)) + kind + data
-                + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF))
-
-    ihdr = struct.pack(">IIBBBBB", width, height, 8, 6, 0, 0, 0)
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr)
-            + chunk(b"IDAT", zlib.compress(bytes(raw), 6)) + chunk(b"IEND", b""))
+    """8-bit RGBA PNG; pixel(x, y) -> 4 bytes (make_scenes' encoder, faster compression)."""
+    return ms.encode_png(width, height, pixel, alpha=True, level=6)
 
 
 def write(path, data):

@@ -204,12 +204,8 @@ std::optional<ShapeSample> Cone::sampleVisible(const Visible& v, Vec2f u) const 
     s.uv = {float(angleAroundY(c, sn) / (2 * kPiD)), float(y / h)};
     return s;
   }
-  const Vec2f q = sampleConcentricDisk(u);
-  const double x = q.x * r, z = q.y * r;
-  s.p = roundedDiskPoint(x, 0, z, r, gammaD(8) * r, &s.pError);
-  s.n = {0, -1, 0};
-  s.uv = {std::clamp(float(x / (2 * r) + 0.5), 0.0f, 1.0f),
-          std::clamp(float(z / (2 * r) + 0.5), 0.0f, 1.0f)};
+  s = sampleCap(u, r, 0, -1);
+  s.pdf = float(1 / total);
   return s;
 }
 

@@ -142,12 +142,8 @@ std::optional<ShapeSample> Cylinder::sampleVisible(const Visible& v, Vec2f u) co
     s.uv = {float(angleAroundY(x, z) / (2 * kPiD)), u.x};
     return s;
   }
-  const Vec2f q = sampleConcentricDisk(u);
-  const double x = q.x * r, z = q.y * r;
-  s.p = roundedDiskPoint(x, part == 1 ? 0.0 : h, z, r, gammaD(8) * r, &s.pError);
-  s.n = {0, part == 1 ? -1.0f : 1.0f, 0};
-  s.uv = {std::clamp(float(x / (2 * r) + 0.5), 0.0f, 1.0f),
-          std::clamp(float(z / (2 * r) + 0.5), 0.0f, 1.0f)};
+  s = part == 1 ? sampleCap(u, r, 0, -1) : sampleCap(u, r, h, 1);
+  s.pdf = float(1 / total);
   return s;
 }
 

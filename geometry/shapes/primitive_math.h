@@ -6,12 +6,14 @@
 // at about one float ULP of t. The final rounding to float is added to every bound exactly.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
 
 #include "geometry/math.h"
 #include "geometry/ray.h"
+#include "geometry/sampling.h"
 #include "geometry/shape.h"
 
 namespace glint::prim {
@@ -108,6 +110,20 @@ inline Vec3f roundedDiskPoint(double x, double y, double z, double r, double sla
   error->x = nextFloatUp(error->x + std::abs(p.x - float(x)));
   error->z = nextFloatUp(error->z + std::abs(p.z - float(z)));
   return p;
+}
+
+// A uniform point on the cap of radius r in the plane y, facing `normalY` (+1 or -1): the
+// cylinder's and the cone's caps, with the uv their surface() gives (x and z mapped to [0, 1]).
+// The caller sets the pdf.
+inline ShapeSample sampleCap(Vec2f u, double r, double y, float normalY) {
+  ShapeSample s;
+  const Vec2f q = sampleConcentricDisk(u);
+  const double x = q.x * r, z = q.y * r;
+  s.p = roundedDiskPoint(x, y, z, r, gammaD(8) * r, &s.pError);
+  s.n = {0, normalY, 0};
+  s.uv = {std::clamp(float(x / (2 * r) + 0.5), 0.0f, 1.0f),
+          std::clamp(float(z / (2 * r) + 0.5), 0.0f, 1.0f)};
+  return s;
 }
 
 // Roots t0 <= t1 of A t^2 + 2 B t + C = 0, each with an absolute error bound.

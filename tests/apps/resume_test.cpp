@@ -14,25 +14,8 @@ namespace fs = std::filesystem;
 namespace glint::app {
 namespace {
 
-Film constantFilm(int w, int h, Rgb c, bool aovs = false) {
-  Film film(w, h, aovs);
-  for (size_t i = 0; i < film.color.size(); ++i) {
-    film.color[i] = c;
-    film.alpha[i] = 1;
-  }
-  return film;
-}
-
-ImageMetadata sampleMetadata() {
-  ImageMetadata meta;
-  meta.scene = "scenes/cornell.gltf";
-  meta.spp = 64;
-  meta.seed = 18446744073709551557ull;  // needs all 64 bits
-  meta.renderSeconds = 12.5;
-  meta.accel = "embree";
-  meta.integrator = "path";
-  return meta;
-}
+using test::constantFilm;
+using test::sampleMetadata;
 
 Film aovFilm() {
   Film film(4, 3, true);
