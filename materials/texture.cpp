@@ -91,6 +91,10 @@ Vec4f CheckerTexture::evaluate(const TexturePoint& tp) const {
 Vec4f TextureLookups::operator()(const Texture* texture) {
   for (int i = 0; i < used_; ++i)
     if (keys_[i] == texture) return values_[i];
+  if (!pointSet_) {
+    point_ = TexturePoint(si_);
+    pointSet_ = true;
+  }
   const Vec4f v = texture->evaluate(point_);
   if (used_ < kSlots) {
     keys_[used_] = texture;

@@ -100,17 +100,20 @@ class Texture {
 // point is fixed when it is made (a perturbed shading normal does not move it).
 class TextureLookups {
  public:
-  explicit TextureLookups(const SurfaceInteraction& si) : point_(si) {}
+  // `si` must outlive this; its texture point (p, uv, footprint, frame) is read at the first
+  // lookup, so a material that reads no texture pays nothing.
+  explicit TextureLookups(const SurfaceInteraction& si) : si_(si) {}
   // The texture's value at the point, looked up on first use.
   Vec4f operator()(const Texture* texture);
-  const TexturePoint& point() const { return point_; }
 
  private:
   static constexpr int kSlots = 6;  // more distinct textures than this are looked up each time
+  const SurfaceInteraction& si_;
   TexturePoint point_;
   const Texture* keys_[kSlots];
   Vec4f values_[kSlots];
   int used_ = 0;
+  bool pointSet_ = false;
 };
 
 // A checkerboard of two colours over the 2D mapping (unit squares), or over the 3D mapping
