@@ -148,4 +148,20 @@ ImageMetadata sampleMetadata() {
   return meta;
 }
 
+Film aovFilm() {
+  Film film(4, 3, true);
+  for (int y = 0; y < film.height; ++y)
+    for (int x = 0; x < film.width; ++x) {
+      size_t i = film.index(x, y);
+      float v = float(i) / 16.0f;  // exact in half as well as float
+      film.color[i] = {v, v + 0.25f, v + 0.5f};
+      film.alpha[i] = 0.75f;
+      film.albedo[i] = {0.125f, 0.25f, v};
+      film.normal[i] = {0, -1, 0.5f};
+      film.depth[i] = 1000.0f + float(i) + 0.125f;  // not representable in half
+      film.variance[i] = {v * 0.5f, 0.0625f, 2.0f};
+    }
+  return film;
+}
+
 }  // namespace glint::test

@@ -69,6 +69,9 @@ class ScopedEnv {
 
 // A w x h film of colour c, alpha 1 (with empty AOV channels when `aovs`).
 Film constantFilm(int w, int h, Rgb c, bool aovs = false);
+// A 4 x 3 film with AOVs whose every channel differs (a swapped channel cannot pass), with
+// values exact in half and a depth that is not.
+Film aovFilm();
 // Metadata with every field set (a 64-bit seed that needs all its bits).
 ImageMetadata sampleMetadata();
 
