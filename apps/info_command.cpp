@@ -49,32 +49,12 @@ std::string listNames(const std::vector<T>& items, F name, size_t limit = 8) {
   return s;
 }
 
-const char* shapeTypeName(ShapeType t) {
-  switch (t) {
-    case ShapeType::Sphere:
-      return "sphere";
-    case ShapeType::Box:
-      return "box";
-    case ShapeType::Cylinder:
-      return "cylinder";
-    case ShapeType::Cone:
-      return "cone";
-    case ShapeType::Plane:
-      return "plane";
-    case ShapeType::Disk:
-      return "disk";
-    case ShapeType::Quad:
-      return "quad";
-  }
-  return "?";
-}
-
 // "ball (sphere)", "dice (csg, 7 leaves)", "mountain (terrain, 32768 triangles)".
 std::string objectSummary(const ObjectDesc& o) {
   std::string name = o.name.empty() ? std::string("(unnamed)") : o.name;
   switch (o.kind) {
     case ObjectKind::Shape:
-      return name + " (" + shapeTypeName(o.shape.type) + ")";
+      return name + " (" + o.shape->typeName() + ")";
     case ObjectKind::Csg: {
       size_t leaves = 0;
       for (const CsgNodeDesc& n : o.csg.nodes) leaves += n.op == CsgOp::Leaf;

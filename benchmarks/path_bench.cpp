@@ -16,6 +16,8 @@
 #include <thread>
 
 #include "bench_support.h"
+#include "geometry/shapes/box.h"
+#include "geometry/shapes/quad.h"
 #include "renderer/render.h"
 #include "scenes/build.h"
 #include "scenes/load.h"
@@ -66,18 +68,15 @@ struct Fixture {
     desc.materials.push_back(lamp);
     ObjectDesc room;
     room.name = "room";
-    room.shape.type = ShapeType::Box;
-    room.shape.lower = {centre.x - r, b.lower.y, centre.z - r};
-    room.shape.upper = {centre.x + r, b.lower.y + 1.5f * r, centre.z + r};
+    const Vec3f roomUpper{centre.x + r, b.lower.y + 1.5f * r, centre.z + r};
+    room.shape = std::make_shared<Box>(Vec3f{centre.x - r, b.lower.y, centre.z - r}, roomUpper);
     room.material = 1;
     desc.objects.push_back(room);
     ObjectDesc patch;
     patch.name = "lamp";
-    patch.shape.type = ShapeType::Quad;
-    const float ceiling = room.shape.upper.y - 1e-3f * r;
-    patch.shape.corner = {centre.x - 0.25f * r, ceiling, centre.z - 0.25f * r};
-    patch.shape.edgeU = {0.5f * r, 0, 0};
-    patch.shape.edgeV = {0, 0, 0.5f * r};
+    const float ceiling = roomUpper.y - 1e-3f * r;
+    patch.shape = std::make_shared<Quad>(Vec3f{centre.x - 0.25f * r, ceiling, centre.z - 0.25f * r},
+                                         Vec3f{0.5f * r, 0, 0}, Vec3f{0, 0, 0.5f * r});
     patch.material = 2;
     desc.objects.push_back(patch);
     LightDesc bulb;
@@ -149,8 +148,7 @@ int main(int argc, char** argv) {
   std::printf(
       "\npath tracer, dragon in a box: %.2f Mrays/s, %.3f Mpaths/s (%d threads)\n"
       "rays per frame: camera %llu, secondary %llu, shadow %llu; non-finite samples %llu\n",
-      mrays, mpaths, glint::fixture().threads,
-      static_cast<unsigned long long>(s.rays.camera),
+      mrays, mpaths, glint::fixture().threads, static_cast<unsigned long long>(s.rays.camera),
       static_cast<unsigned long long>(s.rays.secondary),
       static_cast<unsigned long long>(s.rays.shadow),
       static_cast<unsigned long long>(s.nonfiniteSamples));
@@ -161,8 +159,7 @@ int main(int argc, char** argv) {
       << ",\n  \"spp\": " << glint::kSpp << ",\n  \"max_depth\": " << glint::kMaxDepth
       << ",\n  \"threads\": " << glint::fixture().threads
       << ",\n  \"path_mrays_per_second\": " << mrays
-      << ",\n  \"path_mpaths_per_second\": " << mpaths
-      << ",\n  \"camera_rays\": " << s.rays.camera
+      << ",\n  \"path_mpaths_per_second\": " << mpaths << ",\n  \"camera_rays\": " << s.rays.camera
       << ",\n  \"secondary_rays\": " << s.rays.secondary
       << ",\n  \"shadow_rays\": " << s.rays.shadow
       << ",\n  \"nonfinite_samples\": " << s.nonfiniteSamples << "\n}\n";

@@ -110,6 +110,21 @@ uint32_t CsgShape::addLeaf(std::unique_ptr<Shape> shape, const Transform& treeFr
   return uint32_t(nodes_.size() - 1);
 }
 
+std::unique_ptr<Shape> CsgShape::clone() const {
+  auto copy = std::make_unique<CsgShape>();
+  copy->nodes_ = nodes_;
+  copy->nodeBounds_ = nodeBounds_;
+  copy->root_ = root_;
+  copy->bounds_ = bounds_;
+  for (const Leaf& leaf : leaves_) {
+    std::unique_ptr<Shape> shape = leaf.shape->clone();
+    const Shape* raw = shape.get();
+    copy->leaves_.push_back(
+        Leaf{std::move(shape), PlacedShape(raw, leaf.placed.placement()), leaf.flipNormal});
+  }
+  return copy;
+}
+
 uint32_t CsgShape::addOperation(CsgOperation op, std::vector<uint32_t> children) {
   assert(children.size() >= 2);
   Node node;

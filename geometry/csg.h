@@ -43,6 +43,7 @@ class CsgShape final : public Shape {
 
   // ---- Shape
   const char* typeName() const override { return "csg"; }
+  std::unique_ptr<Shape> clone() const override;  // a deep copy: each leaf cloned
   Bounds3f bounds() const override { return bounds_; }
   bool intersect(const Ray& ray, ShapeHit* hit) const override;
   ShapeSurface surface(const Ray& ray, const ShapeHit& hit) const override;

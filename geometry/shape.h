@@ -13,9 +13,9 @@
 // angle once, in world space. Shapes that cannot be sampled (the infinite plane, CSG trees) have
 // area() == 0.
 //
-// Adding a shape: one header + one .cpp in geometry/shapes/ (intersection, surface and sampling
-// side by side, one uv convention); it is then an area light when it emits, with no change to
-// renderer/ (see geometry/README.md for the loader's registration).
+// Adding a shape: one header + one .cpp in geometry/shapes/ (intersection, surface, sampling and
+// parameter reading side by side, one uv convention) and one line in geometry/shapes/
+// registry.cpp; scene files, area lights and `glint info` then know it (geometry/README.md).
 //
 // Robustness contract (tested in tests/geometry/shapes_test.cpp): a hit is reported only when
 // its t is certainly greater than ray.tMin once t's own rounding error is accounted for, so a
@@ -79,6 +79,9 @@ class Shape {
   virtual ~Shape() = default;
   // "sphere", "box", ... for messages and `glint info`.
   virtual const char* typeName() const = 0;
+  // An independent copy (a scene description keeps the shapes its loader made and checked;
+  // each build of a render scene takes its own).
+  virtual std::unique_ptr<Shape> clone() const = 0;
   // Object-space bounds. Unbounded shapes (the infinite plane) have infinite components;
   // accelerators keep such shapes out of their hierarchies and test them directly.
   virtual Bounds3f bounds() const = 0;

@@ -7,13 +7,6 @@
 #include <map>
 
 #include "geometry/csg.h"
-#include "geometry/shapes/box.h"
-#include "geometry/shapes/cone.h"
-#include "geometry/shapes/cylinder.h"
-#include "geometry/shapes/disk.h"
-#include "geometry/shapes/plane.h"
-#include "geometry/shapes/quad.h"
-#include "geometry/shapes/sphere.h"
 #include "geometry/terrain.h"
 #include "materials/basic_materials.h"
 #include "materials/bump.h"
@@ -35,26 +28,6 @@ using Clock = std::chrono::steady_clock;
 // Analytic objects
 // ---------------------------------------------------------------------------------------------
 
-std::unique_ptr<Shape> makeShape(const ShapeDesc& d) {
-  switch (d.type) {
-    case ShapeType::Sphere:
-      return std::make_unique<Sphere>(d.center, d.radius);
-    case ShapeType::Box:
-      return std::make_unique<Box>(d.lower, d.upper);
-    case ShapeType::Cylinder:
-      return std::make_unique<Cylinder>(d.radius, d.height, d.capped);
-    case ShapeType::Cone:
-      return std::make_unique<Cone>(d.radius, d.height, d.capped);
-    case ShapeType::Plane:
-      return std::make_unique<Plane>(d.point, d.normal, d.uvScale);
-    case ShapeType::Disk:
-      return std::make_unique<Disk>(d.radius);
-    case ShapeType::Quad:
-    default:
-      return std::make_unique<Quad>(d.corner, d.edgeU, d.edgeV);
-  }
-}
-
 CsgOperation csgOperation(CsgOp op) {
   switch (op) {
     case CsgOp::Intersection:
@@ -74,7 +47,7 @@ uint32_t addCsgNode(const CsgTreeDesc& tree, int node, const Transform& treeFrom
   Transform treeFromNode = treeFromParent * n.parentFromNode;
   if (n.op == CsgOp::Leaf) {
     leafMaterials->push_back(n.material);
-    return csg->addLeaf(makeShape(n.shape), treeFromNode);
+    return csg->addLeaf(n.shape->clone(), treeFromNode);
   }
   std::vector<uint32_t> children;
   for (int c : n.children)
@@ -620,7 +593,7 @@ void buildObjects(const SceneDescription& desc, const ShutterTimes& shutter, Ren
         if (m < 0) m = obj.material;
       shape = std::move(csg);
     } else {
-      shape = makeShape(obj.shape);
+      shape = obj.shape->clone();
       slots.push_back(obj.material);
     }
     Instance inst;

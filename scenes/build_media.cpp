@@ -1,34 +1,15 @@
 // glint — media descriptions to render-time media.
 #include "scenes/build_media.h"
 
-#include "geometry/shapes/box.h"
-#include "geometry/shapes/cone.h"
-#include "geometry/shapes/cylinder.h"
-#include "geometry/shapes/sphere.h"
-
 namespace glint {
 
 namespace {
 
-std::unique_ptr<Shape> makeRegionShape(const ShapeDesc& d) {
-  switch (d.type) {
-    case ShapeType::Box:
-      return std::make_unique<Box>(d.lower, d.upper);
-    case ShapeType::Cylinder:
-      return std::make_unique<Cylinder>(d.radius, d.height, true);
-    case ShapeType::Cone:
-      return std::make_unique<Cone>(d.radius, d.height, true);
-    case ShapeType::Sphere:
-    default:  // the loader admits only the solids above
-      return std::make_unique<Sphere>(d.center, d.radius);
-  }
-}
-
 std::unique_ptr<DensityField> makeDensity(const MediumDesc& m, const Bounds3f& regionBounds) {
   switch (m.density) {
     case DensityType::Grid:
-      return std::make_unique<GridDensity>(m.gridRes[0], m.gridRes[1], m.gridRes[2],
-                                           m.gridValues, regionBounds);
+      return std::make_unique<GridDensity>(m.gridRes[0], m.gridRes[1], m.gridRes[2], m.gridValues,
+                                           regionBounds);
     case DensityType::Noise:
       return std::make_unique<NoiseDensity>(m.noiseScale, m.noiseOctaves, m.noiseThreshold,
                                             m.noiseSeed, m.noiseOffset);
@@ -73,7 +54,7 @@ void addMedia(const SceneDescription& desc, RenderScene* scene) {
         const bool object = m.region == MediumDesc::Region::Object;
         // An object's region is where the object is at the frame's time.
         const ObjectDesc* obj = object ? &desc.objects[size_t(m.object)] : nullptr;
-        std::unique_ptr<Shape> shape = makeRegionShape(obj ? obj->shape : m.shape);
+        std::unique_ptr<Shape> shape = (obj ? obj->shape : m.shape)->clone();
         medium->density = makeDensity(m, shape->bounds());
         media->addRegion(std::move(medium), std::move(shape),
                          obj ? obj->worldFromObject : m.worldFromRegion);

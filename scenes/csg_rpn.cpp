@@ -10,8 +10,10 @@
 #include <map>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 #include <vector>
 
+#include "geometry/shapes/registry.h"
 #include "scenes/json_reader.h"  // closestMatch
 
 namespace glint {
@@ -27,19 +29,26 @@ struct KeySpec {
   int count;  // numbers after the key
 };
 
+// A registered shape the format can name (geometry/shapes/registry.h): the solids.
 struct PrimitiveSpec {
   std::string name;
-  ShapeType type;
+  const ShapeKind* kind;
   std::vector<KeySpec> keys;  // all required
 };
 
-const std::vector<PrimitiveSpec> kPrimitives = {
-    {"sphere", ShapeType::Sphere, {{"center", 3}, {"radius", 1}}},
-    {"box", ShapeType::Box, {{"min", 3}, {"max", 3}}},
-    {"cylinder", ShapeType::Cylinder, {{"radius", 1}, {"height", 1}}},
-    {"cone", ShapeType::Cone, {{"radius", 1}, {"height", 1}}},
-    {"plane", ShapeType::Plane, {{"point", 3}, {"normal", 3}}},
-};
+const std::vector<PrimitiveSpec>& primitives() {
+  static const std::vector<PrimitiveSpec> specs = [] {
+    std::vector<PrimitiveSpec> out;
+    for (const ShapeKind& kind : shapeKinds()) {
+      if (kind.csgKeys.empty()) continue;  // never a solid, so never a leaf
+      PrimitiveSpec spec{kind.name, &kind, {}};
+      for (const ShapeKey& key : kind.csgKeys) spec.keys.push_back({key.name, key.count});
+      out.push_back(std::move(spec));
+    }
+    return out;
+  }();
+  return specs;
+}
 
 const std::map<std::string, CsgOp> kOperators = {{"union", CsgOp::Union},
                                                  {"intersection", CsgOp::Intersection},
@@ -51,7 +60,7 @@ const std::vector<KeySpec> kTransformOps = {
 const std::string kMaterial = "material";
 
 const PrimitiveSpec* findPrimitive(const std::string& word) {
-  for (const PrimitiveSpec& p : kPrimitives)
+  for (const PrimitiveSpec& p : primitives())
     if (p.name == word) return &p;
   return nullptr;
 }
@@ -67,7 +76,7 @@ bool isKeyword(const std::string& word) {
   if (findPrimitive(word) || kOperators.count(word) || findKey(kTransformOps, word) ||
       word == kMaterial)
     return true;
-  for (const PrimitiveSpec& p : kPrimitives)
+  for (const PrimitiveSpec& p : primitives())
     if (findKey(p.keys, word)) return true;
   return false;
 }
@@ -212,11 +221,54 @@ void checkTransform(const TokenLine& line, const Transform& t) {
 
 Vec3f vec3(const std::vector<float>& v) { return {v[0], v[1], v[2]}; }
 
-std::string str(Vec3f v) {
-  std::ostringstream out;
-  out << "(" << v.x << ", " << v.y << ", " << v.z << ")";
-  return out.str();
-}
+// A primitive's parameters from the numbers its line gave each key (all of the shape's
+// .csg keys are present; any other key takes the shape's default, e.g. cylinders are capped).
+// Errors at file:line.
+class CsgShapeParameters final : public ShapeParameters {
+ public:
+  CsgShapeParameters(const TokenLine& line, const std::string& shape,
+                     const std::map<std::string, std::vector<float>>& values)
+      : line_(line), shape_(shape), values_(values) {}
+
+  float positive(const char* key, std::optional<float> fallback) override {
+    const std::vector<float>* v = find(key);
+    if (!v) return defaultOf(key, fallback);
+    if (!((*v)[0] > 0)) {
+      std::ostringstream out;
+      out << inQuotes(key) << " must be > 0, got " << (*v)[0];
+      line_.fail(out.str());
+    }
+    return (*v)[0];
+  }
+  Vec3f vector(const char* key, std::optional<Vec3f> fallback) override {
+    const std::vector<float>* v = find(key);
+    return v ? vec3(*v) : defaultOf(key, fallback);
+  }
+  bool flag(const char*, bool fallback) override { return fallback; }
+  [[noreturn]] void invalid(const char* key, const std::string& message) override {
+    line_.fail(shape_ + " " + inQuotes(key) + " " + message);
+  }
+
+ private:
+  // The key's numbers; nullptr for a key the format does not write (the default applies; a
+  // required key missing from the shape's .csg keys is a mistake in the registry).
+  const std::vector<float>* find(const char* key) const {
+    auto it = values_.find(key);
+    return it == values_.end() ? nullptr : &it->second;
+  }
+
+  template <class T>
+  static T defaultOf(const char* key, std::optional<T> fallback) {
+    if (!fallback)
+      throw std::logic_error(std::string("shape registry: required key '") + key +
+                             "' is missing from the shape's .csg keys");
+    return *fallback;
+  }
+
+  const TokenLine& line_;
+  const std::string& shape_;
+  const std::map<std::string, std::vector<float>>& values_;
+};
 
 CsgNodeDesc parsePrimitive(TokenLine& line, const PrimitiveSpec& spec) {
   CsgNodeDesc node;
@@ -252,48 +304,9 @@ CsgNodeDesc parsePrimitive(TokenLine& line, const PrimitiveSpec& spec) {
       line.fail(inQuotes(spec.name) + " needs " + inQuotes(k.name) + " (" + numbers(k.count) + ")");
   checkTransform(line, node.parentFromNode);
 
-  auto positive = [&](const std::string& key) {
-    float v = values[key][0];
-    if (!(v > 0)) {
-      std::ostringstream out;
-      out << inQuotes(key) << " must be > 0, got " << v;
-      line.fail(out.str());
-    }
-    return v;
-  };
-  ShapeDesc& shape = node.shape;
-  shape.type = spec.type;
-  switch (spec.type) {
-    case ShapeType::Sphere:
-      shape.center = vec3(values["center"]);
-      shape.radius = positive("radius");
-      break;
-    case ShapeType::Box:
-      shape.lower = vec3(values["min"]);
-      shape.upper = vec3(values["max"]);
-      if (!(shape.lower.x < shape.upper.x && shape.lower.y < shape.upper.y &&
-            shape.lower.z < shape.upper.z))
-        line.fail("box 'min' must be < 'max' on every axis, got min " + str(shape.lower) +
-                  ", max " + str(shape.upper));
-      break;
-    case ShapeType::Cylinder:
-    case ShapeType::Cone:
-      shape.radius = positive("radius");
-      shape.height = positive("height");
-      shape.capped = true;  // a CSG leaf must be a closed solid
-      break;
-    case ShapeType::Plane: {
-      shape.point = vec3(values["point"]);
-      Vec3f n = vec3(values["normal"]);
-      if (n == Vec3f{}) line.fail("plane 'normal' must not be zero");
-      // Normalize in double: tiny or huge components would under- or overflow in float.
-      double len = std::sqrt(double(n.x) * n.x + double(n.y) * n.y + double(n.z) * n.z);
-      shape.normal = {float(n.x / len), float(n.y / len), float(n.z / len)};
-      break;
-    }
-    default:
-      break;  // disks and quads are not solids: no .csg keyword makes them
-  }
+  CsgShapeParameters params(line, spec.name, values);
+  node.shape = spec.kind->create(params);
+  if (!node.shape->isSolid()) line.fail(inQuotes(spec.name) + " is not a closed solid here");
   return node;
 }
 
@@ -322,7 +335,7 @@ CsgNodeDesc parseOperator(TokenLine& line, CsgOp op) {
 
 std::vector<std::string> tokenNames() {
   std::vector<std::string> names;
-  for (const PrimitiveSpec& p : kPrimitives) names.push_back(p.name);
+  for (const PrimitiveSpec& p : primitives()) names.push_back(p.name);
   for (const auto& [name, op] : kOperators) names.push_back(name);
   return names;
 }
@@ -358,8 +371,8 @@ CsgTreeDesc parseCsgRpn(const std::string& text, const std::string& file) {
       int depth = 1 + std::max(depths[size_t(left)], depths[size_t(right)]);
       if (depth > kMaxCsgDepth)
         line.fail(inQuotes(token) + " makes the tree " + std::to_string(depth) +
-                  " levels deep; glint reads CSG trees of at most " +
-                  std::to_string(kMaxCsgDepth) + " levels");
+                  " levels deep; glint reads CSG trees of at most " + std::to_string(kMaxCsgDepth) +
+                  " levels");
       node.children = {left, right};
       tree.nodes.push_back(std::move(node));
       depths.push_back(depth);

@@ -6,11 +6,13 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "geometry/math.h"
+#include "geometry/shape.h"
 #include "renderer/settings.h"
 #include "scenes/animation.h"
 #include "scenes/errors.h"
@@ -205,21 +207,10 @@ struct InstanceDesc {
 // Analytic objects (sidecar "objects"): primitives, CSG trees, fractal terrain
 // ---------------------------------------------------------------------------------------------
 
-enum class ShapeType { Sphere, Box, Cylinder, Cone, Plane, Disk, Quad };
-
-// One analytic primitive in its own object space (geometry/shapes/ documents each). Only the
-// fields of `type` are meaningful; the loader validates them (finite, sizes > 0).
-struct ShapeDesc {
-  ShapeType type = ShapeType::Sphere;
-  Vec3f center{0, 0, 0};                    // sphere
-  float radius = 1;                         // sphere, cylinder, cone (base), disk
-  Vec3f lower{-1, -1, -1}, upper{1, 1, 1};  // box
-  float height = 1;                         // cylinder, cone: along +Y from y = 0
-  bool capped = true;                       // cylinder, cone
-  Vec3f point{0, 0, 0}, normal{0, 1, 0};    // plane: the solid is the half-space behind normal
-  float uvScale = 1;                        // plane: world units per texture tile
-  Vec3f corner{-0.5f, 0, 0.5f}, edgeU{1, 0, 0}, edgeV{0, 0, -1};  // quad (parallelogram)
-};
+// An analytic primitive in its own object space. The loader makes and checks it through the
+// shape registry (geometry/shapes/registry.h), so a description holds only valid shapes; each
+// build of a render scene takes its own copy (Shape::clone).
+using ShapeRef = std::shared_ptr<const Shape>;
 
 enum class CsgOp { Leaf, Union, Intersection, Difference };
 
@@ -229,7 +220,7 @@ enum class CsgOp { Leaf, Union, Intersection, Difference };
 struct CsgNodeDesc {
   CsgOp op = CsgOp::Leaf;
   std::vector<int> children;  // indices into CsgTreeDesc::nodes
-  ShapeDesc shape;            // leaves
+  ShapeRef shape;             // leaves: a solid (Shape::isSolid)
   int material = -1;          // leaves: index into SceneDescription::materials, -1 = the object's
   std::string materialName;   // as written in a .csg file; resolved to `material` by the loader
   Transform parentFromNode;   // this node's transform within its parent (identity by default)
@@ -262,7 +253,7 @@ enum class ObjectKind { Shape, Csg, Terrain };
 struct ObjectDesc {
   std::string name;
   ObjectKind kind = ObjectKind::Shape;
-  ShapeDesc shape;
+  ShapeRef shape;  // ObjectKind::Shape
   CsgTreeDesc csg;
   TerrainDesc terrain;
   int material = -1;  // index into materials, -1 = the default material
@@ -283,20 +274,20 @@ enum class DensityType { Constant, Grid, Noise, Exponential };
 struct MediumDesc {
   std::string name;
   enum class Region { Scene, Shape, Object } region = Region::Scene;
-  ShapeDesc shape;            // Region::Shape (a solid: sphere, box, capped cylinder or cone)
+  ShapeRef shape;  // Region::Shape: a bounded solid (sphere, box, capped cylinder or cone)
   Transform worldFromRegion;  // Region::Shape
   int object = -1;            // Region::Object: index into SceneDescription::objects
   Rgb sigmaA{0, 0, 0}, sigmaS{0, 0, 0}, emission{0, 0, 0};
   float g = 0;
   DensityType density = DensityType::Constant;
-  float value = 1;                                  // constant
-  int gridRes[3] = {0, 0, 0};                       // grid (x fastest in gridValues)
+  float value = 1;             // constant
+  int gridRes[3] = {0, 0, 0};  // grid (x fastest in gridValues)
   std::vector<float> gridValues;
-  float noiseScale = 1, noiseThreshold = 0;         // noise
+  float noiseScale = 1, noiseThreshold = 0;  // noise
   int noiseOctaves = 4;
   uint64_t noiseSeed = 0;
-  Vec3f noiseOffset{0, 0, 0};                       // noise: the pattern moves by this
-  Vec3f up{0, 1, 0};                                // exponential
+  Vec3f noiseOffset{0, 0, 0};  // noise: the pattern moves by this
+  Vec3f up{0, 1, 0};           // exponential
   float falloff = 1, h0 = 0;
   SourceLocation where;
 };

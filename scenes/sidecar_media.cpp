@@ -14,12 +14,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::vector<std::pair<std::string, ShapeType>> kRegionShapes = {
-    {"sphere", ShapeType::Sphere},
-    {"box", ShapeType::Box},
-    {"cylinder", ShapeType::Cylinder},
-    {"cone", ShapeType::Cone},
-};
+// A medium's region: a solid with finite bounds (Shape::isSolid, so convex; the plane's
+// half-space is unbounded).
+bool isBoundedSolid(const Shape& shape) { return shape.isSolid() && !isUnbounded(shape.bounds()); }
 
 const std::vector<std::pair<std::string, DensityType>> kDensityTypes = {
     {"constant", DensityType::Constant},
@@ -47,8 +44,9 @@ Rgb readCoefficient(JsonReader& r, std::string_view key) {
 
 void readGrid(JsonReader& d, const std::string& file, MediumDesc* m) {
   if (d.has("file") == d.has("values"))
-    throw SceneError(d.where(), "a grid density has either 'file' (.vol) or 'values' with "
-                                "'resolution'");
+    throw SceneError(d.where(),
+                     "a grid density has either 'file' (.vol) or 'values' with "
+                     "'resolution'");
   if (d.has("file")) {
     const std::string relative = d.get<std::string>("file");
     const fs::path path = existingScenePath(relative, file, d.where("file"));
@@ -121,20 +119,27 @@ MediumDesc readMedium(JsonReader& r, const std::string& file, const SceneDescrip
   m.where = r.where();
   m.name = r.get<std::string>("name", "");
   if (r.has("region") && r.has("object"))
-    throw SceneError(r.where(), "a medium has 'region' (a solid), 'object' (an object's solid) "
-                                "or neither (the whole scene), not both");
+    throw SceneError(r.where(),
+                     "a medium has 'region' (a solid), 'object' (an object's solid) "
+                     "or neither (the whole scene), not both");
   if (JsonReader* region = r.optionalObject("region")) {
     m.region = MediumDesc::Region::Shape;
-    m.shape = readShape(*region, region->oneOf<ShapeType>("type", kRegionShapes));
-    if (!isSolid(m.shape))
-      throw SceneError(region->where(), "a region must be a closed solid (capped cylinder or "
-                                        "cone)");
+    const ShapeKind& kind = *findShapeKind(region->oneOf("type", shapeNames()));
+    m.shape = readShape(*region, kind);
+    if (!isBoundedSolid(*m.shape)) {
+      // The type itself is wrong when no parameters could make it a bounded solid.
+      const bool typeIsWrong = kind.csgKeys.empty() || isUnbounded(m.shape->bounds());
+      throw SceneError(typeIsWrong ? region->where("type") : region->where(),
+                       "a region must be a bounded closed solid (sphere, box, capped cylinder "
+                       "or cone), not " +
+                           std::string(typeIsWrong ? "a " : "an open ") + kind.name);
+    }
     m.worldFromRegion = region->get<Transform>("transform", Transform());
   } else if (r.has("object")) {
     m.region = MediumDesc::Region::Object;
     m.object = objectByName(scene, r.get<std::string>("object"), r.where("object"));
     const ObjectDesc& obj = scene.objects[size_t(m.object)];
-    if (obj.kind != ObjectKind::Shape || !isSolid(obj.shape) || obj.shape.type == ShapeType::Plane)
+    if (obj.kind != ObjectKind::Shape || !isBoundedSolid(*obj.shape))
       throw SceneError(r.where("object"), "object '" + obj.name +
                                               "' is not a bounded convex solid (sphere, box, "
                                               "capped cylinder or cone)");

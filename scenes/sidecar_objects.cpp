@@ -12,12 +12,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::vector<std::pair<std::string, ShapeType>> kShapeTypes = {
-    {"sphere", ShapeType::Sphere}, {"box", ShapeType::Box},     {"cylinder", ShapeType::Cylinder},
-    {"cone", ShapeType::Cone},     {"plane", ShapeType::Plane}, {"disk", ShapeType::Disk},
-    {"quad", ShapeType::Quad},
-};
-
 // The index of the material called `name`, or a SceneError at `where`.
 int materialByName(const SceneDescription& scene, const std::string& name,
                    const SourceLocation& where) {
@@ -38,65 +32,38 @@ int readMaterialRef(JsonReader& r, const SceneDescription& scene) {
 
 }  // namespace
 
-// The fields of one primitive (the "type" key is read by the caller).
-ShapeDesc readShape(JsonReader& r, ShapeType type) {
-  ShapeDesc s;
-  s.type = type;
-  switch (type) {
-    case ShapeType::Sphere:
-      s.center = r.get<Vec3f>("center", Vec3f{0, 0, 0});
-      s.radius = r.get<float>("radius", kPositive);
-      break;
-    case ShapeType::Box: {
-      s.lower = r.get<Vec3f>("min");
-      s.upper = r.get<Vec3f>("max");
-      for (int i = 0; i < 3; ++i)
-        if (!(s.lower[i] < s.upper[i]))
-          throw SceneError(r.where("max"), "must be greater than 'min' in every component");
-      break;
-    }
-    case ShapeType::Cylinder:
-    case ShapeType::Cone:
-      s.radius = r.get<float>("radius", kPositive);
-      s.height = r.get<float>("height", kPositive);
-      s.capped = r.get<bool>("capped", true);
-      break;
-    case ShapeType::Plane:
-      s.point = r.get<Vec3f>("point", Vec3f{0, 0, 0});
-      s.normal = r.get<Vec3f>("normal", Vec3f{0, 1, 0});
-      if (s.normal == Vec3f{}) throw SceneError(r.where("normal"), "must not be zero");
-      s.normal = normalize(s.normal);
-      s.uvScale = r.get<float>("uv_scale", 1.0f, kPositive);
-      break;
-    case ShapeType::Disk:
-      s.radius = r.get<float>("radius", kPositive);
-      break;
-    case ShapeType::Quad: {
-      s.corner = r.get<Vec3f>("corner");
-      s.edgeU = r.get<Vec3f>("edge_u");
-      s.edgeV = r.get<Vec3f>("edge_v");
-      Vec3f n = cross(s.edgeU, s.edgeV);
-      // Relative test: the edges span a parallelogram of non-zero area.
-      if (!(length(n) > 1e-6f * length(s.edgeU) * length(s.edgeV)))
-        throw SceneError(r.where("edge_v"), "must not be parallel to 'edge_u' (or zero)");
-      break;
-    }
+namespace {
+
+// A shape's parameters from its JSON object; errors at the key's JSON pointer.
+class JsonShapeParameters final : public ShapeParameters {
+ public:
+  explicit JsonShapeParameters(JsonReader& r) : r_(r) {}
+  float positive(const char* key, std::optional<float> fallback) override {
+    return fallback ? r_.get<float>(key, *fallback, kPositive) : r_.get<float>(key, kPositive);
   }
-  return s;
+  Vec3f vector(const char* key, std::optional<Vec3f> fallback) override {
+    return fallback ? r_.get<Vec3f>(key, *fallback) : r_.get<Vec3f>(key);
+  }
+  bool flag(const char* key, bool fallback) override { return r_.get<bool>(key, fallback); }
+  [[noreturn]] void invalid(const char* key, const std::string& message) override {
+    throw SceneError(r_.where(key), message);
+  }
+
+ private:
+  JsonReader& r_;
+};
+
+}  // namespace
+
+std::vector<std::string> shapeNames() {
+  std::vector<std::string> names;
+  for (const ShapeKind& kind : shapeKinds()) names.push_back(kind.name);
+  return names;
 }
 
-bool isSolid(const ShapeDesc& s) {
-  switch (s.type) {
-    case ShapeType::Sphere:
-    case ShapeType::Box:
-    case ShapeType::Plane:
-      return true;
-    case ShapeType::Cylinder:
-    case ShapeType::Cone:
-      return s.capped;
-    default:
-      return false;
-  }
+ShapeRef readShape(JsonReader& r, const ShapeKind& kind) {
+  JsonShapeParameters params(r);
+  return kind.create(params);
 }
 
 namespace {
@@ -120,8 +87,8 @@ int readCsgNode(JsonReader& r, const SceneDescription& scene, CsgTreeDesc* tree,
   if (r.has("op") == r.has("type"))
     throw SceneError(r.where(), "a CSG node has either 'op' (an operation) or 'type' (a leaf)");
   if (r.has("type")) {
-    node.shape = readShape(r, r.oneOf<ShapeType>("type", kShapeTypes));
-    if (!isSolid(node.shape))
+    node.shape = readShape(r, *findShapeKind(r.oneOf("type", shapeNames())));
+    if (!node.shape->isSolid())
       throw SceneError(r.where("type"),
                        "CSG leaves must be solids (sphere, box, capped cylinder or cone, plane)");
     node.material = readMaterialRef(r, scene);
@@ -187,19 +154,16 @@ ObjectDesc readObject(JsonReader& r, const std::string& file, SceneDescription* 
     obj.terrain = readTerrain(r);
   } else {
     obj.kind = ObjectKind::Shape;
-    std::vector<std::string> names = {"csg", "terrain"};
-    for (const auto& t : kShapeTypes) names.push_back(t.first);
-    ShapeType shapeType = ShapeType::Sphere;
-    bool known = false;
-    for (const auto& t : kShapeTypes)
-      if (t.first == type) shapeType = t.second, known = true;
-    if (!known) {
+    const ShapeKind* kind = findShapeKind(type);
+    if (!kind) {
+      std::vector<std::string> names = {"csg", "terrain"};
+      for (const std::string& name : shapeNames()) names.push_back(name);
       std::string message = "unknown object type '" + type + "'";
       if (std::string guess = closestMatch(type, names); !guess.empty())
         message += "; did you mean '" + guess + "'?";
       throw SceneError(r.where("type"), message);
     }
-    obj.shape = readShape(r, shapeType);
+    obj.shape = readShape(r, *kind);
   }
   return obj;
 }

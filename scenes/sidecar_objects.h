@@ -4,7 +4,9 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
+#include "geometry/shapes/registry.h"
 #include "scenes/description.h"
 #include "scenes/json_reader.h"
 
@@ -14,10 +16,10 @@ namespace glint {
 // are relative to it). Material names must exist in scene->materials.
 void readObjects(JsonReader& root, const std::string& file, SceneDescription* scene);
 
-// The keys of one primitive of type `type` (the caller reads "type" itself).
-ShapeDesc readShape(JsonReader& r, ShapeType type);
-// Whether a primitive is a closed convex solid (CSG leaves, medium regions).
-bool isSolid(const ShapeDesc& s);
+// The registered shape keywords (geometry/shapes/registry.h), for "type" keys.
+std::vector<std::string> shapeNames();
+// One primitive of `kind` from its keys (the caller reads "type" itself).
+ShapeRef readShape(JsonReader& r, const ShapeKind& kind);
 
 // The optional "animation" of an object, camera or light: translation, rotation and scale
 // keyframes (T(t) · R(t) · S(t), applied after the item's own transform), as a NodeDesc

@@ -2,10 +2,13 @@
 // rendering a scene given as JSON text.
 #pragma once
 
+#include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "geometry/shape.h"
 #include "image/output.h"
 #include "renderer/render.h"
 
@@ -74,5 +77,16 @@ Film constantFilm(int w, int h, Rgb c, bool aovs = false);
 Film aovFilm();
 // Metadata with every field set (a 64-bit seed that needs all its bits).
 ImageMetadata sampleMetadata();
+
+// The shape a scene description holds, as the type the test expects; throws (so the test
+// fails, with the type it got) when it is another.
+template <class T>
+const T& shapeAs(const std::shared_ptr<const Shape>& shape) {
+  const T* typed = dynamic_cast<const T*>(shape.get());
+  if (!typed)
+    throw std::runtime_error(std::string("the description holds a ") +
+                             (shape ? shape->typeName() : "null shape"));
+  return *typed;
+}
 
 }  // namespace glint::test

@@ -2,6 +2,8 @@
 #include "geometry/shapes/box.h"
 
 #include <cassert>
+#include <cstdio>
+#include <string>
 
 #include "geometry/shapes/primitive_math.h"
 
@@ -146,6 +148,24 @@ float Box::pdf(Vec3f ref, Vec3f p) const {
   for (int f = 0; f < 6; ++f)
     if (faces >> f & 1) total += faceArea(f);
   return float(1 / total);
+}
+
+namespace {
+// "(x, y, z)" for messages.
+std::string toString(Vec3f v) {
+  char text[96];
+  std::snprintf(text, sizeof text, "(%g, %g, %g)", v.x, v.y, v.z);
+  return text;
+}
+}  // namespace
+
+std::unique_ptr<Shape> Box::create(ShapeParameters& params) {
+  const Vec3f lower = params.vector("min"), upper = params.vector("max");
+  for (int i = 0; i < 3; ++i)
+    if (!(lower[i] < upper[i]))
+      params.invalid("max", "must be greater than 'min' in every component, got min " +
+                                toString(lower) + ", max " + toString(upper));
+  return std::make_unique<Box>(lower, upper);
 }
 
 }  // namespace glint

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "geometry/shape.h"
+#include "geometry/shapes/registry.h"
 
 namespace glint {
 
@@ -9,6 +10,10 @@ class Box final : public Shape {
  public:
   // lower < upper in every axis, all finite.
   Box(Vec3f lower, Vec3f upper);
+
+  // Reads and checks this shape's parameters (keyword "box", geometry/shapes/registry.h).
+  static std::unique_ptr<Shape> create(ShapeParameters& params);
+  std::unique_ptr<Shape> clone() const override { return std::make_unique<Box>(*this); }
 
   const char* typeName() const override { return "box"; }
   Bounds3f bounds() const override { return {lower_, upper_}; }

@@ -230,4 +230,9 @@ float Cone::pdf(Vec3f ref, Vec3f p) const {
   return std::abs(off) <= v.halfAngle ? float(1 / total) : 0.0f;
 }
 
+std::unique_ptr<Shape> Cone::create(ShapeParameters& params) {
+  const float radius = params.positive("radius"), height = params.positive("height");
+  return std::make_unique<Cone>(radius, height, params.flag("capped", true));
+}
+
 }  // namespace glint

@@ -172,4 +172,9 @@ float Cylinder::pdf(Vec3f ref, Vec3f p) const {
   return areas[part] > 0 ? float(1 / total) : 0.0f;
 }
 
+std::unique_ptr<Shape> Cylinder::create(ShapeParameters& params) {
+  const float radius = params.positive("radius"), height = params.positive("height");
+  return std::make_unique<Cylinder>(radius, height, params.flag("capped", true));
+}
+
 }  // namespace glint

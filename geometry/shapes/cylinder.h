@@ -3,6 +3,7 @@
 #pragma once
 
 #include "geometry/shape.h"
+#include "geometry/shapes/registry.h"
 
 namespace glint {
 
@@ -10,6 +11,10 @@ class Cylinder final : public Shape {
  public:
   // radius, height > 0 and finite.
   Cylinder(float radius, float height, bool capped);
+
+  // Reads and checks this shape's parameters (keyword "cylinder", geometry/shapes/registry.h).
+  static std::unique_ptr<Shape> create(ShapeParameters& params);
+  std::unique_ptr<Shape> clone() const override { return std::make_unique<Cylinder>(*this); }
 
   const char* typeName() const override { return "cylinder"; }
   Bounds3f bounds() const override;

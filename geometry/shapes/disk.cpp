@@ -57,4 +57,8 @@ std::optional<ShapeSample> Disk::sample(Vec2f u) const {
   return s;
 }
 
+std::unique_ptr<Shape> Disk::create(ShapeParameters& params) {
+  return std::make_unique<Disk>(params.positive("radius"));
+}
+
 }  // namespace glint

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "geometry/shape.h"
+#include "geometry/shapes/registry.h"
 
 namespace glint {
 
@@ -9,6 +10,10 @@ class Disk final : public Shape {
  public:
   // radius > 0 and finite.
   explicit Disk(float radius);
+
+  // Reads and checks this shape's parameters (keyword "disk", geometry/shapes/registry.h).
+  static std::unique_ptr<Shape> create(ShapeParameters& params);
+  std::unique_ptr<Shape> clone() const override { return std::make_unique<Disk>(*this); }
 
   const char* typeName() const override { return "disk"; }
   Bounds3f bounds() const override { return {{-radius_, 0, -radius_}, {radius_, 0, radius_}}; }

@@ -2,6 +2,7 @@
 #include "geometry/shapes/plane.h"
 
 #include <cassert>
+#include <cmath>
 
 #include "geometry/shapes/primitive_math.h"
 
@@ -56,6 +57,16 @@ ShapeSurface Plane::surface(const Ray& ray, const ShapeHit& hit) const {
   s.dpdu = frame_.s * uvScale_;
   s.dpdv = frame_.t * uvScale_;
   return s;
+}
+
+std::unique_ptr<Shape> Plane::create(ShapeParameters& params) {
+  const Vec3f point = params.vector("point", Vec3f{0, 0, 0});
+  const Vec3f n = params.vector("normal", Vec3f{0, 1, 0});
+  if (n == Vec3f{}) params.invalid("normal", "must not be zero");
+  // Normalized in double: tiny or huge components would under- or overflow in float.
+  const double len = std::sqrt(double(n.x) * n.x + double(n.y) * n.y + double(n.z) * n.z);
+  const Vec3f unit{float(n.x / len), float(n.y / len), float(n.z / len)};
+  return std::make_unique<Plane>(point, unit, params.positive("uv_scale", 1.0f));
 }
 
 }  // namespace glint

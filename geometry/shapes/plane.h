@@ -2,6 +2,7 @@
 #pragma once
 
 #include "geometry/shape.h"
+#include "geometry/shapes/registry.h"
 
 namespace glint {
 
@@ -9,6 +10,10 @@ class Plane final : public Shape {
  public:
   // `normal` non-zero (normalized here), `point` finite, `uvScale` > 0.
   Plane(Vec3f point, Vec3f normal, float uvScale);
+
+  // Reads and checks this shape's parameters (keyword "plane", geometry/shapes/registry.h).
+  static std::unique_ptr<Shape> create(ShapeParameters& params);
+  std::unique_ptr<Shape> clone() const override { return std::make_unique<Plane>(*this); }
 
   const char* typeName() const override { return "plane"; }
   // All-infinite: the plane is unbounded.
@@ -20,6 +25,10 @@ class Plane final : public Shape {
   bool isSolid() const override { return true; }
   // (-inf, t] or [t, +inf) for a crossing line; a parallel line is all inside or missing.
   bool span(const Ray& ray, Span* out) const override;
+
+  Vec3f point() const { return point_; }
+  Vec3f normal() const { return normal_; }
+  float uvScale() const { return uvScale_; }
 
  private:
   Vec3f point_, normal_;

@@ -104,4 +104,13 @@ std::optional<ShapeSample> Quad::sample(Vec2f u) const {
   return s;
 }
 
+std::unique_ptr<Shape> Quad::create(ShapeParameters& params) {
+  const Vec3f corner = params.vector("corner");
+  const Vec3f edgeU = params.vector("edge_u"), edgeV = params.vector("edge_v");
+  // Relative test: the edges span a parallelogram of non-zero area.
+  if (!(length(cross(edgeU, edgeV)) > 1e-6f * length(edgeU) * length(edgeV)))
+    params.invalid("edge_v", "must not be parallel to 'edge_u' (or zero)");
+  return std::make_unique<Quad>(corner, edgeU, edgeV);
+}
+
 }  // namespace glint

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "geometry/shape.h"
+#include "geometry/shapes/registry.h"
 
 namespace glint {
 
@@ -9,6 +10,10 @@ class Quad final : public Shape {
  public:
   // Finite, with non-parallel edges.
   Quad(Vec3f corner, Vec3f edgeU, Vec3f edgeV);
+
+  // Reads and checks this shape's parameters (keyword "quad", geometry/shapes/registry.h).
+  static std::unique_ptr<Shape> create(ShapeParameters& params);
+  std::unique_ptr<Shape> clone() const override { return std::make_unique<Quad>(*this); }
 
   const char* typeName() const override { return "quad"; }
   Bounds3f bounds() const override;

@@ -153,4 +153,9 @@ float Sphere::pdf(Vec3f ref, Vec3f p) const {
   return coneAreaDensity(V3(ref), c + n * r, n, SubtendedCone(d2, r).solidAngle());
 }
 
+std::unique_ptr<Shape> Sphere::create(ShapeParameters& params) {
+  const Vec3f center = params.vector("center", Vec3f{0, 0, 0});
+  return std::make_unique<Sphere>(center, params.positive("radius"));
+}
+
 }  // namespace glint

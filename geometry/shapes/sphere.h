@@ -2,6 +2,7 @@
 #pragma once
 
 #include "geometry/shape.h"
+#include "geometry/shapes/registry.h"
 
 namespace glint {
 
@@ -9,6 +10,10 @@ class Sphere final : public Shape {
  public:
   // `radius` > 0 and finite.
   Sphere(Vec3f center, float radius);
+
+  // Reads and checks this shape's parameters (keyword "sphere", geometry/shapes/registry.h).
+  static std::unique_ptr<Shape> create(ShapeParameters& params);
+  std::unique_ptr<Shape> clone() const override { return std::make_unique<Sphere>(*this); }
 
   const char* typeName() const override { return "sphere"; }
   Bounds3f bounds() const override;

@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "geometry/shapes/sphere.h"
 #include "renderer/render.h"
 #include "scenes/build.h"
 
@@ -38,8 +39,7 @@ SceneDescription movingBall(float shutterClose, double time, bool textured = fal
   d.nodes.push_back(node);
   ObjectDesc ball;
   ball.kind = ObjectKind::Shape;
-  ball.shape.type = ShapeType::Sphere;
-  ball.shape.radius = 0.5f;
+  ball.shape = std::make_shared<Sphere>(Vec3f{0, 0, 0}, 0.5f);
   ball.material = 0;
   ball.transformNode = 0;
   d.objects.push_back(ball);

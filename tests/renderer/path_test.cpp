@@ -8,6 +8,8 @@
 
 #include <cmath>
 
+#include "geometry/shapes/plane.h"
+#include "geometry/shapes/sphere.h"
 #include "renderer/direct_light.h"
 #include "renderer/render.h"
 #include "scenes/build.h"
@@ -33,9 +35,7 @@ MaterialDesc lambert(Rgb albedo, Rgb emissive = {0, 0, 0}) {
 ObjectDesc sphere(Vec3f center, float radius, int material) {
   ObjectDesc o;
   o.name = "sphere";
-  o.shape.type = ShapeType::Sphere;
-  o.shape.center = center;
-  o.shape.radius = radius;
+  o.shape = std::make_shared<Sphere>(center, radius);
   o.material = material;
   return o;
 }
@@ -324,7 +324,7 @@ TEST(PathTracer, ProvocativeSceneProducesNoNonFiniteSamples) {
   d.materials.push_back(lambert({0.5f, 0.5f, 0.5f}, {5, 5, 5}));
   d.materials.push_back(lambert({0.5f, 0.5f, 0.5f}));
   ObjectDesc plane;
-  plane.shape.type = ShapeType::Plane;
+  plane.shape = std::make_shared<Plane>(Vec3f{0, 0, 0}, Vec3f{0, 1, 0}, 1.0f);
   plane.material = 0;
   d.objects.push_back(plane);
   d.objects.push_back(sphere({0, 1, -3}, 1, 2));

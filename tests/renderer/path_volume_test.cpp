@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "geometry/shapes/box.h"
+#include "geometry/shapes/sphere.h"
 #include "renderer/path.h"
 #include "renderer/render.h"
 #include "renderer/volume.h"
@@ -54,9 +56,7 @@ MediumDesc boxMedium(Vec3f lower, Vec3f upper, Rgb sigmaA, Rgb sigmaS, Rgb emiss
   MediumDesc m;
   m.name = "box";
   m.region = MediumDesc::Region::Shape;
-  m.shape.type = ShapeType::Box;
-  m.shape.lower = lower;
-  m.shape.upper = upper;
+  m.shape = std::make_shared<Box>(lower, upper);
   m.sigmaA = sigmaA, m.sigmaS = sigmaS, m.emission = emission, m.g = g;
   return m;
 }
@@ -66,9 +66,7 @@ MediumDesc sphereMedium(float radius, Rgb sigmaA, Rgb sigmaS, Rgb emission = {},
   MediumDesc m;
   m.name = "ball";
   m.region = MediumDesc::Region::Shape;
-  m.shape.type = ShapeType::Sphere;
-  m.shape.center = {0, 0, 0};
-  m.shape.radius = radius;
+  m.shape = std::make_shared<Sphere>(Vec3f{0, 0, 0}, radius);
   m.sigmaA = sigmaA, m.sigmaS = sigmaS, m.emission = emission, m.g = g;
   return m;
 }
@@ -178,8 +176,7 @@ TEST(PathVolume, EmittingSlabMatchesTheClosedForm) {
       // In the emission mode scattering only extinguishes, so it joins sigma_t there.
       const bool emissionMode = std::string(volume) == "emission";
       const Rgb sigmaS = emissionMode ? sigmaA * 0.5f : Rgb{};
-      d.media.push_back(
-          boxMedium({-1.5f, -1.5f, -0.5f}, {1.5f, 1.5f, 0.5f}, sigmaA, sigmaS, Le));
+      d.media.push_back(boxMedium({-1.5f, -1.5f, -0.5f}, {1.5f, 1.5f, 0.5f}, sigmaA, sigmaS, Le));
       RenderScene scene = buildRenderScene(d);
       dropLights(&scene);
       const Film film = renderWith(scene, d.render);
@@ -244,7 +241,8 @@ TEST(PathVolume, AbsorbingFurnaceLiesBetweenTransmittanceAndOne) {
     d.media.push_back(sphereMedium(1.5f, {0.5f, 0.5f, 0.5f}, {1.5f, 1.5f, 1.5f}));
     RenderScene scene = buildRenderScene(d);
     test::useUniformEnvironment(&scene, {1, 1, 1});
-    return average(renderWith(scene, d.render), [](Vec2f p) { return p.x * p.x + p.y * p.y < 1.44f; });
+    return average(renderWith(scene, d.render),
+                   [](Vec2f p) { return p.x * p.x + p.y * p.y < 1.44f; });
   };
   const Estimate unscattered = render("emission"), full = render("multiple");
   EXPECT_GT(full.mean.y, unscattered.mean.y + 4 * (full.sigma.y + unscattered.sigma.y));
@@ -295,10 +293,10 @@ TEST(PathVolume, MaxDepthOneIsWhittedsSingleScattering) {
     EXPECT_NEAR(path.mean.y, whitted.mean.y,
                 4 * std::sqrt(path.sigma.y * path.sigma.y + whitted.sigma.y * whitted.sigma.y))
         << (wall ? "wall" : "fog only");
-    std::printf("[ fog     ] single scattering%s: path (max_depth 1) %.5f +- %.5f, "
-                "whitted %.5f +- %.5f\n",
-                wall ? " + wall" : "", path.mean.y, path.sigma.y, whitted.mean.y,
-                whitted.sigma.y);
+    std::printf(
+        "[ fog     ] single scattering%s: path (max_depth 1) %.5f +- %.5f, "
+        "whitted %.5f +- %.5f\n",
+        wall ? " + wall" : "", path.mean.y, path.sigma.y, whitted.mean.y, whitted.sigma.y);
   }
 }
 
@@ -336,9 +334,7 @@ SceneDescription busyFog(int size, int spp) {
   d.materials.push_back(white);
   ObjectDesc ball;
   ball.name = "ball";
-  ball.shape.type = ShapeType::Sphere;
-  ball.shape.center = {0.3f, -0.2f, 0};
-  ball.shape.radius = 0.7f;
+  ball.shape = std::make_shared<Sphere>(Vec3f{0.3f, -0.2f, 0}, 0.7f);
   ball.material = 0;
   d.objects.push_back(ball);
   d.lights.push_back(pointLight({0.5f, 2.5f, 1}, 8));

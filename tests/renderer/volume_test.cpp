@@ -1,15 +1,17 @@
 // Participating media: transmittance and emission against closed forms, single scattering
 // against a numerically integrated reference, and rendered scenes (density 0, a volumetric
 // shadow, scenes without media).
+#include "renderer/volume.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
 #include "geometry/shapes/box.h"
+#include "geometry/shapes/sphere.h"
 #include "materials/phase.h"
 #include "renderer/render.h"
-#include "renderer/volume.h"
 #include "scenes/build.h"
 
 namespace glint {
@@ -97,8 +99,8 @@ TEST(Volume, HeterogeneousEstimatorsMatchTheExponential) {
   {
     // Marching a constant field sums equal steps: exact up to rounding.
     MediaScene media(settingsFor("march"));
-    addSlab(&media, makeMedium({0.3f, 0.3f, 0.3f}, {0.4f, 0.4f, 0.4f}, {}, 0,
-                               constantGrid(density)));
+    addSlab(&media,
+            makeMedium({0.3f, 0.3f, 0.3f}, {0.4f, 0.4f, 0.4f}, {}, 0, constantGrid(density)));
     Sampler sampler(1, 0);
     EXPECT_NEAR(media.transmittance(kAcross, kInfinity, sampler).y, exact, 1e-5f);
   }
@@ -110,9 +112,8 @@ TEST(Volume, HeterogeneousEstimatorsMatchTheExponential) {
     addSlab(&media, makeMedium({0.3f, 0.3f, 0.3f}, {0.4f, 0.4f, 0.4f}, {}, 0,
                                grid ? constantGrid(density)
                                     : std::make_unique<NoiseDensity>(1.3f, 4, 0.2f, 7)));
-    auto [mean, error] = meanAndError(20000, [&](Sampler& s) {
-      return media.transmittance(kAcross, kInfinity, s);
-    });
+    auto [mean, error] =
+        meanAndError(20000, [&](Sampler& s) { return media.transmittance(kAcross, kInfinity, s); });
     float expected = exact;
     if (!grid) {
       MediaScene fine(settingsFor("march", "single", 0.001f));
@@ -203,7 +204,7 @@ struct LitMedium {
     desc.lights.push_back(light);
     MediumDesc medium;
     medium.region = MediumDesc::Region::Shape;
-    medium.shape.type = ShapeType::Box;
+    medium.shape = std::make_shared<Box>(Vec3f{-1, -1, -1}, Vec3f{1, 1, 1});
     medium.sigmaA = {kSigmaA, kSigmaA, kSigmaA};
     medium.sigmaS = {kSigmaS, kSigmaS, kSigmaS};
     medium.g = kG;
@@ -264,8 +265,8 @@ TEST(Volume, DeltaTrackingScattersWithTheRightProbability) {
   // P(absorbed) the rest, and every weight is exactly 1.
   const float sa = 0.3f, ss = 0.6f, st = sa + ss;
   MediaScene media(settingsFor("track"));
-  addSlab(&media, makeMedium({sa, sa, sa}, {ss, ss, ss}, {}, 0.4f,
-                             std::make_unique<ConstantDensity>(1)));
+  addSlab(&media,
+          makeMedium({sa, sa, sa}, {ss, ss, ss}, {}, 0.4f, std::make_unique<ConstantDensity>(1)));
   const int n = 100000;
   int scattered = 0, passed = 0;
   for (int i = 0; i < n; ++i) {
@@ -310,9 +311,7 @@ SceneDescription shadowScene(int size) {
   d.instances.push_back({0, Transform(), "floor", {}});
   ObjectDesc ball;
   ball.name = "ball";
-  ball.shape.type = ShapeType::Sphere;
-  ball.shape.center = {0, 1.5f, 0};
-  ball.shape.radius = 0.6f;
+  ball.shape = std::make_shared<Sphere>(Vec3f{0, 1.5f, 0}, 0.6f);
   ball.material = 0;
   d.objects.push_back(ball);
   CameraDesc cam;
@@ -334,9 +333,7 @@ MediumDesc fogBox(float density) {
   MediumDesc m;
   m.name = "fog";
   m.region = MediumDesc::Region::Shape;
-  m.shape.type = ShapeType::Box;
-  m.shape.lower = {-2, -1, -1};
-  m.shape.upper = {2, 1, 1};
+  m.shape = std::make_shared<Box>(Vec3f{-2, -1, -1}, Vec3f{2, 1, 1});
   m.sigmaA = {0.05f, 0.05f, 0.05f};
   m.sigmaS = {0.4f, 0.4f, 0.4f};
   m.value = density;

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "geometry/shapes/sphere.h"
 #include "scene_error_support.h"
 #include "scenes/gltf_loader.h"
 #include "scenes/load.h"
@@ -611,7 +612,7 @@ TEST(SceneLoader, JsonSceneLoadsItsGltfOnce) {
   SceneLoader loader(dir + "/scene.json");
   fs::remove(dir + "/move.gltf");
   SceneDescription s = loader.at(1.0);
-  EXPECT_FLOAT_EQ(s.objects.at(0).shape.radius, 2);
+  EXPECT_FLOAT_EQ(test::shapeAs<Sphere>(s.objects.at(0).shape).radius(), 2);
   EXPECT_EQ(s.cameras.size(), 2u);
   expectNear(cameraNamed(s, "Eye").worldFromCamera.point({}), {3, 0, 0});
 }

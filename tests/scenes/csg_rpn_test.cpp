@@ -9,6 +9,11 @@
 #include <set>
 #include <string>
 
+#include "geometry/shapes/box.h"
+#include "geometry/shapes/cone.h"
+#include "geometry/shapes/cylinder.h"
+#include "geometry/shapes/plane.h"
+#include "geometry/shapes/sphere.h"
 #include "scene_error_support.h"
 #include "test_support.h"
 
@@ -70,9 +75,9 @@ TEST(CsgRpn, ParsesOperatorsIntoATreeWithLeftAndRightChildren) {
 
   const CsgNodeDesc& lensLeft = tree.nodes[0];
   EXPECT_EQ(lensLeft.op, CsgOp::Leaf);
-  EXPECT_EQ(lensLeft.shape.type, ShapeType::Sphere);
-  EXPECT_EQ(lensLeft.shape.center, (Vec3f{-0.5f, 0, 0}));
-  EXPECT_EQ(lensLeft.shape.radius, 1);
+  EXPECT_STREQ(lensLeft.shape->typeName(), "sphere");
+  EXPECT_EQ(test::shapeAs<Sphere>(lensLeft.shape).center(), (Vec3f{-0.5f, 0, 0}));
+  EXPECT_EQ(test::shapeAs<Sphere>(lensLeft.shape).radius(), 1);
   EXPECT_EQ(lensLeft.materialName, "glass");
   EXPECT_EQ(lensLeft.material, -1);
   EXPECT_TRUE(lensLeft.children.empty());
@@ -80,7 +85,8 @@ TEST(CsgRpn, ParsesOperatorsIntoATreeWithLeftAndRightChildren) {
   EXPECT_EQ(lensLeft.where.file, "tree.csg:2");
   EXPECT_EQ(lensLeft.where.pointer, "");
 
-  EXPECT_EQ(tree.nodes[1].shape.center, (Vec3f{0.5f, 0, 0}));  // keys in any order
+  EXPECT_EQ(test::shapeAs<Sphere>(tree.nodes[1].shape).center(),
+            (Vec3f{0.5f, 0, 0}));  // keys in any order
   EXPECT_EQ(tree.nodes[1].materialName, "");
 
   EXPECT_EQ(tree.nodes[2].op, CsgOp::Intersection);
@@ -88,10 +94,10 @@ TEST(CsgRpn, ParsesOperatorsIntoATreeWithLeftAndRightChildren) {
   EXPECT_EQ(tree.nodes[2].where.file, "tree.csg:4");
 
   const CsgNodeDesc& drill = tree.nodes[3];
-  EXPECT_EQ(drill.shape.type, ShapeType::Cylinder);
-  EXPECT_EQ(drill.shape.radius, 0.25f);
-  EXPECT_EQ(drill.shape.height, 2);
-  EXPECT_TRUE(drill.shape.capped);
+  EXPECT_STREQ(drill.shape->typeName(), "cylinder");
+  EXPECT_EQ(test::shapeAs<Cylinder>(drill.shape).radius(), 0.25f);
+  EXPECT_EQ(test::shapeAs<Cylinder>(drill.shape).height(), 2);
+  EXPECT_TRUE(test::shapeAs<Cylinder>(drill.shape).capped());
   EXPECT_EQ(drill.materialName, "steel");
   expectSameTransform(drill.parentFromNode,
                       Transform::translate({0, 0, -1}) * Transform::rotate(90, {1, 0, 0}));
@@ -99,10 +105,10 @@ TEST(CsgRpn, ParsesOperatorsIntoATreeWithLeftAndRightChildren) {
   EXPECT_EQ(tree.nodes[4].op, CsgOp::Difference);
   EXPECT_EQ(tree.nodes[4].children, (std::vector<int>{2, 3}));  // lens minus drill
 
-  EXPECT_EQ(tree.nodes[5].shape.type, ShapeType::Cone);
-  EXPECT_EQ(tree.nodes[5].shape.radius, 0.5f);
-  EXPECT_EQ(tree.nodes[5].shape.height, 1);
-  EXPECT_TRUE(tree.nodes[5].shape.capped);
+  EXPECT_STREQ(tree.nodes[5].shape->typeName(), "cone");
+  EXPECT_EQ(test::shapeAs<Cone>(tree.nodes[5].shape).radius(), 0.5f);
+  EXPECT_EQ(test::shapeAs<Cone>(tree.nodes[5].shape).height(), 1);
+  EXPECT_TRUE(test::shapeAs<Cone>(tree.nodes[5].shape).capped());
 
   const CsgNodeDesc& root = tree.nodes[6];
   EXPECT_EQ(root.op, CsgOp::Union);
@@ -117,12 +123,12 @@ TEST(CsgRpn, ParsesBoxAndPlane) {
       "plane normal 0 2 0 point 0 0.5 0\n"
       "intersection\n");
   ASSERT_EQ(tree.nodes.size(), 3u);
-  EXPECT_EQ(tree.nodes[0].shape.type, ShapeType::Box);
-  EXPECT_EQ(tree.nodes[0].shape.lower, (Vec3f{-1, -2, -3}));
-  EXPECT_EQ(tree.nodes[0].shape.upper, (Vec3f{1, 2, 3}));
-  EXPECT_EQ(tree.nodes[1].shape.type, ShapeType::Plane);
-  EXPECT_EQ(tree.nodes[1].shape.point, (Vec3f{0, 0.5f, 0}));
-  EXPECT_EQ(tree.nodes[1].shape.normal, (Vec3f{0, 1, 0}));  // normalized
+  EXPECT_STREQ(tree.nodes[0].shape->typeName(), "box");
+  EXPECT_EQ(test::shapeAs<Box>(tree.nodes[0].shape).lower(), (Vec3f{-1, -2, -3}));
+  EXPECT_EQ(test::shapeAs<Box>(tree.nodes[0].shape).upper(), (Vec3f{1, 2, 3}));
+  EXPECT_STREQ(tree.nodes[1].shape->typeName(), "plane");
+  EXPECT_EQ(test::shapeAs<Plane>(tree.nodes[1].shape).point(), (Vec3f{0, 0.5f, 0}));
+  EXPECT_EQ(test::shapeAs<Plane>(tree.nodes[1].shape).normal(), (Vec3f{0, 1, 0}));  // normalized
   EXPECT_EQ(tree.root, 2);
 }
 
@@ -159,7 +165,7 @@ TEST(CsgRpn, ShearFollowsTheDocumentedLayout) {
 
 TEST(CsgRpn, ReadsDecimalNumberForms) {
   CsgTreeDesc tree = parse("sphere center +1.5 -.25 2e-3 radius 1 scale 1E2 .5 3.\n");
-  EXPECT_EQ(tree.nodes[0].shape.center, (Vec3f{1.5f, -0.25f, 0.002f}));
+  EXPECT_EQ(test::shapeAs<Sphere>(tree.nodes[0].shape).center(), (Vec3f{1.5f, -0.25f, 0.002f}));
   // 1e-999 underflows to (near) zero: finite, so only the radius check rejects it.
   EXPECT_CSG_ERROR("sphere center 0 0 0 radius 1e-999\n", 1, "'radius' must be > 0");
   expectNear(tree.nodes[0].parentFromNode.point({1, 1, 1}), {100, 0.5f, 3});
@@ -178,7 +184,7 @@ TEST(CsgRpn, IgnoresCommentsBlankLinesAndSpacing) {
   ASSERT_EQ(tree.nodes.size(), 3u);
   EXPECT_EQ(tree.nodes[0].where.file, "tree.csg:4");
   EXPECT_EQ(tree.nodes[1].where.file, "tree.csg:6");
-  EXPECT_EQ(tree.nodes[1].shape.center, (Vec3f{1, 0, 0}));
+  EXPECT_EQ(test::shapeAs<Sphere>(tree.nodes[1].shape).center(), (Vec3f{1, 0, 0}));
   EXPECT_EQ(tree.nodes[2].where.file, "tree.csg:7");
   EXPECT_EQ(tree.nodes[2].op, CsgOp::Union);
 }
@@ -262,7 +268,8 @@ TEST(CsgRpn, SizesMustBePositive) {
   EXPECT_CSG_ERROR("sphere center 0 0 0 radius 0\n", 1, "'radius' must be > 0, got 0");
   EXPECT_CSG_ERROR("cylinder radius 1 height -2\n", 1, "'height' must be > 0, got -2");
   EXPECT_CSG_ERROR("cone radius -1 height 1\n", 1, "'radius' must be > 0, got -1");
-  EXPECT_CSG_ERROR("box min 0 0 0 max 1 0 1\n", 1, "box 'min' must be < 'max' on every axis");
+  EXPECT_CSG_ERROR("box min 0 0 0 max 1 0 1\n", 1,
+                   "box 'max' must be greater than 'min' in every component");
   EXPECT_CSG_ERROR("box min 0 0 0 max 1 1 -1\n", 1, "min (0, 0, 0), max (1, 1, -1)");
 }
 
@@ -329,12 +336,12 @@ TEST(CsgRpn, LoadsTheDiceExample) {
   int pips = 0, node = tree.root;
   while (tree.nodes[node].op == CsgOp::Difference) {
     const CsgNodeDesc& pip = tree.nodes[tree.nodes[node].children[1]];
-    EXPECT_EQ(pip.shape.type, ShapeType::Sphere);
+    EXPECT_STREQ(pip.shape->typeName(), "sphere");
     EXPECT_EQ(pip.materialName, "ink");
     EXPECT_EQ(pip.material, -1);
     for (int axis = 0; axis < 3; ++axis)
-      if (std::abs(pip.shape.center[axis]) == 1)
-        faces.insert(axis * 2 + (pip.shape.center[axis] > 0));
+      if (std::abs(test::shapeAs<Sphere>(pip.shape).center()[axis]) == 1)
+        faces.insert(axis * 2 + (test::shapeAs<Sphere>(pip.shape).center()[axis] > 0));
     ++pips;
     node = tree.nodes[node].children[0];
   }
@@ -343,8 +350,8 @@ TEST(CsgRpn, LoadsTheDiceExample) {
   // The rounded cube: a box intersected with a sphere.
   const CsgNodeDesc& body = tree.nodes[node];
   ASSERT_EQ(body.op, CsgOp::Intersection);
-  EXPECT_EQ(tree.nodes[body.children[0]].shape.type, ShapeType::Box);
-  EXPECT_EQ(tree.nodes[body.children[1]].shape.type, ShapeType::Sphere);
+  EXPECT_STREQ(tree.nodes[body.children[0]].shape->typeName(), "box");
+  EXPECT_STREQ(tree.nodes[body.children[1]].shape->typeName(), "sphere");
   EXPECT_EQ(tree.nodes[body.children[0]].materialName, "ivory");
 }
 

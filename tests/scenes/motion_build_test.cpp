@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "geometry/shapes/sphere.h"
 #include "scenes/build.h"
 
 namespace glint {
@@ -22,8 +23,7 @@ SceneDescription movingSphere(std::vector<float> times, std::vector<Vec3f> posit
   ObjectDesc ball;
   ball.name = "ball";
   ball.kind = ObjectKind::Shape;
-  ball.shape.type = ShapeType::Sphere;
-  ball.shape.radius = 0.5f;
+  ball.shape = std::make_shared<Sphere>(Vec3f{0, 0, 0}, 0.5f);
   ball.transformNode = 0;
   d.objects.push_back(ball);
   CameraDesc cam;
@@ -102,7 +102,8 @@ TEST(MotionBuild, FullTurnIsSampledFinelyEnoughForSlerp) {
     float h = deg * kPi / 360.0f;
     n.rotationTrack.values.push_back({0, std::sin(h), 0, std::cos(h)});
   }
-  d.objects[0].shape.center = {1, 0, 0};  // off the axis, so the turn moves it
+  d.objects[0].shape =
+      std::make_shared<Sphere>(Vec3f{1, 0, 0}, 0.5f);  // off the axis, so the turn moves it
   RenderScene s = buildRenderScene(d);
   const AnimatedTransform& m = s.geometry.instances[0].motion;
   ASSERT_TRUE(m.isAnimated());

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "geometry/shapes/cylinder.h"
 #include "materials/medium.h"
 #include "scene_error_support.h"
 #include "scenes/build.h"
@@ -58,7 +59,7 @@ TEST(SidecarMedia, ReadsRegionsCoefficientsAndDensities) {
   EXPECT_EQ(fog.h0, 1.0f);
   EXPECT_EQ(fog.where.pointer, "/media/0");
   EXPECT_EQ(s.media[1].region, MediumDesc::Region::Shape);
-  EXPECT_EQ(s.media[1].shape.type, ShapeType::Box);
+  EXPECT_STREQ(s.media[1].shape->typeName(), "box");
   EXPECT_EQ(s.media[1].worldFromRegion.point({0, 0, 0}), (Vec3f{1, 0, 0}));
   EXPECT_EQ(s.media[1].emission, (Rgb{1, 2, 3}));
   EXPECT_EQ(s.media[1].noiseOctaves, 2);
@@ -71,7 +72,7 @@ TEST(SidecarMedia, ReadsRegionsCoefficientsAndDensities) {
   EXPECT_EQ(s.media[2].sigmaA.x, 1.0f);  // keyframes at the scene time 0
   EXPECT_EQ(s.media[2].gridValues, (std::vector<float>{0, 2}));
   EXPECT_EQ(s.media[3].value, 0.5f);
-  EXPECT_TRUE(s.media[3].shape.capped);
+  EXPECT_TRUE(test::shapeAs<Cylinder>(s.media[3].shape).capped());
 }
 
 TEST(SidecarMedia, BuildsMediaAndSetsTheFeature) {
@@ -129,13 +130,12 @@ TEST(SidecarMedia, ReadsVolFiles) {
 
 TEST(SidecarMedia, RejectsBadInput) {
   EXPECT_SCENE_ERROR(applyError(R"([{"sigma_a": -1}])"), kFile, "/media/0/sigma_a", ">= 0");
-  EXPECT_SCENE_ERROR(applyError(R"([{"sigma_s": [0.1, -0.2, 0]}])"), kFile,
-                     "/media/0/sigma_s/1", ">= 0");
+  EXPECT_SCENE_ERROR(applyError(R"([{"sigma_s": [0.1, -0.2, 0]}])"), kFile, "/media/0/sigma_s/1",
+                     ">= 0");
   EXPECT_SCENE_ERROR(applyError(R"([{"emission": [1, 2]}])"), kFile, "/media/0/emission", "");
   EXPECT_SCENE_ERROR(applyError(R"([{"g": 1}])"), kFile, "/media/0/g", "< 1");
   EXPECT_SCENE_ERROR(applyError(R"([{"g": -1.5}])"), kFile, "/media/0/g", "> -1");
-  EXPECT_SCENE_ERROR(applyError(R"([{"sigma_t": 1}])"), kFile, "/media/0/sigma_t",
-                     "unknown key");
+  EXPECT_SCENE_ERROR(applyError(R"([{"sigma_t": 1}])"), kFile, "/media/0/sigma_t", "unknown key");
   EXPECT_SCENE_ERROR(applyError(R"([{"density": {"type": "fractal"}}])"), kFile,
                      "/media/0/density/type", "");
   EXPECT_SCENE_ERROR(applyError(R"([{"density": {"type": "constant", "valeu": 2}}])"), kFile,
@@ -150,8 +150,8 @@ TEST(SidecarMedia, RejectsBadInput) {
   EXPECT_SCENE_ERROR(
       applyError(R"([{"density": {"type": "grid", "resolution": [1, 1, 1], "values": [-1]}}])"),
       kFile, "/media/0/density/values/0", ">= 0");
-  EXPECT_SCENE_ERROR(applyError(R"([{"density": {"type": "grid"}}])"), kFile,
-                     "/media/0/density", "either 'file'");
+  EXPECT_SCENE_ERROR(applyError(R"([{"density": {"type": "grid"}}])"), kFile, "/media/0/density",
+                     "either 'file'");
   EXPECT_SCENE_ERROR(applyError(R"([{"region": {"type": "disk", "radius": 1}}])"), kFile,
                      "/media/0/region/type", "");
   EXPECT_SCENE_ERROR(

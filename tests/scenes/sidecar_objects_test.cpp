@@ -6,6 +6,12 @@
 #include <fstream>
 #include <functional>
 
+#include "geometry/shapes/box.h"
+#include "geometry/shapes/cone.h"
+#include "geometry/shapes/cylinder.h"
+#include "geometry/shapes/disk.h"
+#include "geometry/shapes/plane.h"
+#include "geometry/shapes/sphere.h"
 #include "scene_error_support.h"
 #include "scenes/build.h"
 #include "scenes/sidecar.h"
@@ -44,17 +50,17 @@ TEST(SidecarObjects, ReadsEveryPrimitive) {
   ])");
   ASSERT_EQ(s.objects.size(), 7u);
   EXPECT_EQ(s.objects[0].name, "a");
-  EXPECT_EQ(s.objects[0].shape.type, ShapeType::Sphere);
-  EXPECT_EQ(s.objects[0].shape.center, (Vec3f{1, 2, 3}));
+  EXPECT_STREQ(s.objects[0].shape->typeName(), "sphere");
+  EXPECT_EQ(test::shapeAs<Sphere>(s.objects[0].shape).center(), (Vec3f{1, 2, 3}));
   EXPECT_EQ(s.objects[0].material, 0);
   EXPECT_EQ(s.objects[0].where.pointer, "/objects/0");
-  EXPECT_EQ(s.objects[1].shape.upper, (Vec3f{1, 2, 3}));
-  EXPECT_FALSE(s.objects[2].shape.capped);
-  EXPECT_TRUE(s.objects[3].shape.capped);
-  EXPECT_EQ(s.objects[4].shape.normal, (Vec3f{0, 1, 0}));  // normalised
-  EXPECT_EQ(s.objects[4].shape.uvScale, 4.0f);
-  EXPECT_EQ(s.objects[5].shape.radius, 3.0f);
-  EXPECT_EQ(s.objects[6].shape.type, ShapeType::Quad);
+  EXPECT_EQ(test::shapeAs<Box>(s.objects[1].shape).upper(), (Vec3f{1, 2, 3}));
+  EXPECT_FALSE(test::shapeAs<Cylinder>(s.objects[2].shape).capped());
+  EXPECT_TRUE(test::shapeAs<Cone>(s.objects[3].shape).capped());
+  EXPECT_EQ(test::shapeAs<Plane>(s.objects[4].shape).normal(), (Vec3f{0, 1, 0}));  // normalised
+  EXPECT_EQ(test::shapeAs<Plane>(s.objects[4].shape).uvScale(), 4.0f);
+  EXPECT_EQ(test::shapeAs<Disk>(s.objects[5].shape).radius(), 3.0f);
+  EXPECT_STREQ(s.objects[6].shape->typeName(), "quad");
   EXPECT_EQ(s.objects[6].material, -1);
 }
 
@@ -79,7 +85,7 @@ TEST(SidecarObjects, ReadsANestedCsgTree) {
   const CsgNodeDesc& root = t.nodes[size_t(t.root)];
   EXPECT_EQ(root.op, CsgOp::Difference);
   ASSERT_EQ(root.children.size(), 2u);
-  EXPECT_EQ(t.nodes[size_t(root.children[0])].shape.type, ShapeType::Box);
+  EXPECT_STREQ(t.nodes[size_t(root.children[0])].shape->typeName(), "box");
   const CsgNodeDesc& u = t.nodes[size_t(root.children[1])];
   EXPECT_EQ(u.op, CsgOp::Union);
   EXPECT_EQ(u.parentFromNode.point({0, 0, 0}), (Vec3f{0, 1, 0}));
@@ -214,8 +220,8 @@ std::string nestedCsgTree(int levels) {
 TEST(SidecarObjects, CsgTreesDeeperThanTheLimitAreErrors) {
   // Issue 8: reading a nested tree recursed once per level, so a 50 000-level tree overflowed
   // the stack; the limit also keeps building and intersecting the tree within the stack.
-  SceneDescription scene = applyObjects(R"([{"type": "csg", "tree": )" +
-                                        nestedCsgTree(kMaxCsgDepth) + "}]");
+  SceneDescription scene =
+      applyObjects(R"([{"type": "csg", "tree": )" + nestedCsgTree(kMaxCsgDepth) + "}]");
   ASSERT_EQ(scene.objects.size(), 1u);
   EXPECT_EQ(scene.objects[0].csg.nodes.size(), size_t(2 * kMaxCsgDepth - 1));
   std::string pointer = "/objects/0/tree";
