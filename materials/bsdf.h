@@ -43,13 +43,23 @@ class Bsdf {
   Bsdf() = default;
   Bsdf(const BsdfFrame& frame, Lobes lobes) : frame_(frame), lobes_(std::move(lobes)) {}
 
-  // f(wo, wi) without the cosine; zero for delta lobes.
-  Rgb f(Vec3f wi) const;
+  // f(wo, wi) without the cosine (zero for delta lobes), and in *pdf the solid-angle density
+  // with which sample() (all lobes) returns wi: one evaluation for both (MIS needs both).
+  Rgb evaluate(Vec3f wi, float* pdf) const;
+  // f alone.
+  Rgb f(Vec3f wi) const {
+    float unused;
+    return evaluate(wi, &unused);
+  }
   // Samples wi given two uniform numbers for the direction and one for the lobe choice,
   // restricted to `lobes` (see bxdfs.h).
   std::optional<BsdfSample> sample(Vec2f u, float uLobe, uint32_t lobes = kBsdfAllLobes) const;
-  // Solid-angle density with which sample() (all lobes) returns wi.
-  float pdf(Vec3f wi) const;
+  // The density alone.
+  float pdf(Vec3f wi) const {
+    float p;
+    evaluate(wi, &p);
+    return p;
+  }
   // The kinds of lobes at this hit (kBsdfNone when it does not scatter).
   uint32_t flags() const;
   // The shading normal the BSDF is built around.

@@ -33,9 +33,10 @@ Rgb schlick(Rgb f0, float cosTheta) {
 // Diffuse
 // ---------------------------------------------------------------------------------------------
 
-Rgb DiffuseBxdf::f(Vec3f, Vec3f wi) const { return wi.z > 0 ? R * kInvPi : Rgb{}; }
-
-float DiffuseBxdf::pdf(Vec3f, Vec3f wi) const { return cosineHemispherePdf(wi.z); }
+Rgb DiffuseBxdf::evaluate(Vec3f, Vec3f wi, float* pdf) const {
+  *pdf = cosineHemispherePdf(wi.z);
+  return wi.z > 0 ? R * kInvPi : Rgb{};
+}
 
 std::optional<BsdfSample> DiffuseBxdf::sample(Vec3f, Vec2f u, float, uint32_t lobes) const {
   if (!(lobes & kBsdfReflection) || (lobes & kBsdfSpecular)) return std::nullopt;
@@ -84,17 +85,6 @@ Rgb PhongBxdf::evaluate(Vec3f wo, Vec3f wi, float* pdf) const {
   }
   *pdf = (1 - pSpecular) * cosineHemispherePdf(wi.z) + pSpecular * lobePdf;
   return kd * kInvPi + ks * lobe;
-}
-
-Rgb PhongBxdf::f(Vec3f wo, Vec3f wi) const {
-  float unused;
-  return evaluate(wo, wi, &unused);
-}
-
-float PhongBxdf::pdf(Vec3f wo, Vec3f wi) const {
-  float p;
-  evaluate(wo, wi, &p);
-  return p;
 }
 
 std::optional<BsdfSample> PhongBxdf::sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes) const {
@@ -278,17 +268,6 @@ Rgb PbrBxdf::evaluate(Vec3f wo, Vec3f wi, float* pdf) const {
   return e.f;
 }
 
-Rgb PbrBxdf::f(Vec3f wo, Vec3f wi) const {
-  float unused;
-  return evaluate(wo, wi, &unused);
-}
-
-float PbrBxdf::pdf(Vec3f wo, Vec3f wi) const {
-  float p;
-  evaluate(wo, wi, &p);
-  return p;
-}
-
 std::optional<BsdfSample> PbrBxdf::sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes) const {
   float pSpec, pDiff, pTrans;
   lobeProbabilities(lobes, &pSpec, &pDiff, &pTrans);
@@ -355,7 +334,8 @@ float terminatorShadowing(Vec3f ng, Vec3f ns, Vec3f wi) {
   return -g * g * g + g * g + g;  // the smooth form of the paper's eq. 4
 }
 
-Rgb Bsdf::f(Vec3f wi) const {
+Rgb Bsdf::evaluate(Vec3f wi, float* pdf) const {
+  *pdf = 0;
   if (std::holds_alternative<std::monostate>(lobes_)) return {};
   const Vec3f local = frame_.frame.toLocal(wi);
   if (!consistentSide(wi, local.z)) return {};
@@ -364,26 +344,12 @@ Rgb Bsdf::f(Vec3f wi) const {
         if constexpr (std::is_same_v<std::decay_t<decltype(b)>, std::monostate>)
           return {};
         else
-          return b.f(frame_.wo, local);
+          return b.evaluate(frame_.wo, local, pdf);
       },
       lobes_);
   if (frame_.terminator && dot(wi, frame_.ng) > 0)
     f *= terminatorShadowing(frame_.ng, frame_.frame.n, wi);
   return f;
-}
-
-float Bsdf::pdf(Vec3f wi) const {
-  if (std::holds_alternative<std::monostate>(lobes_)) return 0;
-  const Vec3f local = frame_.frame.toLocal(wi);
-  if (!consistentSide(wi, local.z)) return 0;
-  return std::visit(
-      [&](const auto& b) -> float {
-        if constexpr (std::is_same_v<std::decay_t<decltype(b)>, std::monostate>)
-          return 0;
-        else
-          return b.pdf(frame_.wo, local);
-      },
-      lobes_);
 }
 
 std::optional<BsdfSample> Bsdf::sample(Vec2f u, float uLobe, uint32_t lobes) const {

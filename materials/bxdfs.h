@@ -4,10 +4,12 @@
 //
 // A BxDF is a small value holding parameters already read from the material's textures (the
 // material's `bsdf` makes one per hit, materials/material.h); none of its functions reads a
-// texture or allocates. Each offers the same four calls:
-//   f(wo, wi)                        the BSDF value (zero for delta lobes),
+// texture or allocates. Each offers the same three calls:
+//   evaluate(wo, wi, &pdf)           the BSDF value f (zero for delta lobes), and in pdf the
+//                                    solid-angle density of sample() over all lobes: together,
+//                                    because both need the same terms (cos^n, GGX D and G) and
+//                                    next-event estimation with MIS needs both,
 //   sample(wo, u, uLobe, lobes)      a direction with f and pdf, restricted to `lobes`,
-//   pdf(wo, wi)                      the solid-angle density of sample() over all lobes,
 //   flags()                          which kinds of lobes it has at this hit.
 // Which side of the *geometric* surface a direction lies on is Bsdf's business (bsdf.h): a
 // BxDF only knows the shading frame.
@@ -52,9 +54,8 @@ struct BsdfSample {
 struct DiffuseBxdf {
   Rgb R;
 
-  Rgb f(Vec3f wo, Vec3f wi) const;
+  Rgb evaluate(Vec3f wo, Vec3f wi, float* pdf) const;
   std::optional<BsdfSample> sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes) const;
-  float pdf(Vec3f wo, Vec3f wi) const;
   uint32_t flags() const { return kBsdfDiffuse | kBsdfReflection; }
 };
 
@@ -74,23 +75,17 @@ struct PhongBxdf {
   float pSpecular = 0;  // set by the constructor
 
   PhongBxdf(Rgb kd, Rgb ks, float shininess, bool blinn);
-  Rgb f(Vec3f wo, Vec3f wi) const;
-  std::optional<BsdfSample> sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes) const;
-  float pdf(Vec3f wo, Vec3f wi) const;
-  uint32_t flags() const { return kBsdfDiffuse | kBsdfGlossy | kBsdfReflection; }
-
- private:
-  // f and pdf together: both need cos^n, which differs between them by a constant.
   Rgb evaluate(Vec3f wo, Vec3f wi, float* pdf) const;
+  std::optional<BsdfSample> sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes) const;
+  uint32_t flags() const { return kBsdfDiffuse | kBsdfGlossy | kBsdfReflection; }
 };
 
 // Reflects everything into the mirror direction, tinted by R.
 struct MirrorBxdf {
   Rgb R;
 
-  Rgb f(Vec3f, Vec3f) const { return {}; }
+  Rgb evaluate(Vec3f, Vec3f, float* pdf) const { return *pdf = 0, Rgb{}; }
   std::optional<BsdfSample> sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes) const;
-  float pdf(Vec3f, Vec3f) const { return 0; }
   uint32_t flags() const { return kBsdfSpecular | kBsdfReflection; }
 };
 
@@ -102,9 +97,8 @@ struct GlassBxdf {
   float eta = 1.5f;
   Rgb T{1, 1, 1};
 
-  Rgb f(Vec3f, Vec3f) const { return {}; }
+  Rgb evaluate(Vec3f, Vec3f, float* pdf) const { return *pdf = 0, Rgb{}; }
   std::optional<BsdfSample> sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes) const;
-  float pdf(Vec3f, Vec3f) const { return 0; }
   uint32_t flags() const { return kBsdfSpecular | kBsdfReflection | kBsdfTransmission; }
 };
 
@@ -117,9 +111,9 @@ struct PbrBxdf {
   // base: base colour; roughness: perceptual, in [0, 1]; metallic, transmission in [0, 1];
   // eta: relative index across the surface seen from wo's side.
   PbrBxdf(Vec3f wo, Rgb base, float metallic, float roughness, float transmission, float eta);
-  Rgb f(Vec3f wo, Vec3f wi) const;
+  // f and pdf share D, G and the half vector.
+  Rgb evaluate(Vec3f wo, Vec3f wi, float* pdf) const;
   std::optional<BsdfSample> sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes) const;
-  float pdf(Vec3f wo, Vec3f wi) const;
   uint32_t flags() const;
 
   Rgb base;
@@ -127,8 +121,6 @@ struct PbrBxdf {
   bool smooth = false;  // alpha below the delta threshold: specular lobes are deltas
 
  private:
-  // f and pdf together (they share D, G and the half vector), for the unrestricted pdf.
-  Rgb evaluate(Vec3f wo, Vec3f wi, float* pdf) const;
   // The lobe probabilities for a restricted sample(): specular, diffuse, transmission.
   void lobeProbabilities(uint32_t lobes, float* pSpec, float* pDiff, float* pTrans) const;
   // Unnormalised lobe weights at wo (Fresnel), and their normalised probabilities.

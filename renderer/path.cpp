@@ -252,8 +252,7 @@ Rgb PathIntegrator::sampleLight(const SurfaceInteraction& si, const Bsdf& bsdf, 
   // Light must arrive on the side of the geometric surface the BSDF says it can; f checks the
   // hemispheres (reflection and transmission alike).
   auto scatter = [&](Vec3f wi, float* pdf) -> Rgb {
-    const Rgb f = bsdf.f(wi);
-    if (pdf && maxComponent(f) > 0) *pdf = bsdf.pdf(wi);
+    const Rgb f = pdf ? bsdf.evaluate(wi, pdf) : bsdf.f(wi);
     return f * std::abs(dot(si.ns, wi));
   };
   const DirectLightOptions options{

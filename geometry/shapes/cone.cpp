@@ -157,24 +157,15 @@ namespace glint {
 
 using namespace prim;
 
-Cone::Visible Cone::visibleFrom(Vec3f ref) const {
-  Visible v;
-  if (!capped_) {
-    v.caps = 0;
-    return v;  // an open cone shows its inside through the base: all of it
-  }
+RevolvedView Cone::visibleFrom(Vec3f ref) const {
+  if (!capped_) return {};  // an open cone shows its inside through the base: all of it
   // dot(n, p) = k h along every generator (n ∝ (cos phi, k, sin phi), k = r / h), so they face
   // ref where rho cos(phi - phiRef) > k (h - y).
   const double k = double(radius_) / height_;
-  const double rho = std::sqrt(double(ref.x) * ref.x + double(ref.z) * ref.z);
-  Visible seen;
-  seen.phi0 = angleAroundY(ref.x, ref.z);
-  seen.halfAngle = visibleHalfAngle(k * (height_ - double(ref.y)), rho);
-  seen.caps = ref.y < 0 ? 0b10u : 0u;
-  return seen.halfAngle > 0 || seen.caps ? seen : v;  // inside: everything
+  return revolvedView(ref, k * (height_ - double(ref.y)), ref.y < 0 ? 0b10u : 0u, 0b10u);
 }
 
-double Cone::visibleAreas(const Visible& v, double areas[2]) const {
+double Cone::visibleAreas(const RevolvedView& v, double areas[2]) const {
   const double r = radius_, h = height_;
   areas[0] = v.halfAngle * r * std::sqrt(r * r + h * h);  // of pi r L for the whole side
   areas[1] = (v.caps & 0b10) ? kPiD * r * r : 0.0;
@@ -183,10 +174,10 @@ double Cone::visibleAreas(const Visible& v, double areas[2]) const {
 
 float Cone::area() const {
   double areas[2];
-  return float(visibleAreas(Visible{kPiD, kPiD, capped_ ? 0b10u : 0u}, areas));
+  return float(visibleAreas(RevolvedView{kPiD, kPiD, capped_ ? 0b10u : 0u}, areas));
 }
 
-std::optional<ShapeSample> Cone::sampleVisible(const Visible& v, Vec2f u) const {
+std::optional<ShapeSample> Cone::sampleVisible(const RevolvedView& v, Vec2f u) const {
   double areas[2];
   const double total = visibleAreas(v, areas);
   const int part = pickPart(areas, 2, total, &u.x);
@@ -210,7 +201,7 @@ std::optional<ShapeSample> Cone::sampleVisible(const Visible& v, Vec2f u) const 
 }
 
 std::optional<ShapeSample> Cone::sample(Vec2f u) const {
-  return sampleVisible(Visible{kPiD, kPiD, capped_ ? 0b10u : 0u}, u);
+  return sampleVisible(RevolvedView{kPiD, kPiD, capped_ ? 0b10u : 0u}, u);
 }
 
 std::optional<ShapeSample> Cone::sample(Vec3f ref, Vec2f u) const {
@@ -218,16 +209,14 @@ std::optional<ShapeSample> Cone::sample(Vec3f ref, Vec2f u) const {
 }
 
 float Cone::pdf(Vec3f ref, Vec3f p) const {
-  const Visible v = visibleFrom(ref);
+  const RevolvedView v = visibleFrom(ref);
   double areas[2];
   const double total = visibleAreas(v, areas);
   // The part p lies on: the nearer of the side and the base plane.
   const double r = radius_, h = height_, k = r / h;
   const double rho = std::sqrt(double(p.x) * p.x + double(p.z) * p.z);
   const double dSide = std::abs(rho - k * (h - p.y)) / std::sqrt(1 + k * k);
-  if (capped_ && std::abs(p.y) < dSide) return areas[1] > 0 ? float(1 / total) : 0.0f;
-  const double off = std::remainder(angleAroundY(p.x, p.z) - v.phi0, 2 * kPiD);
-  return std::abs(off) <= v.halfAngle ? float(1 / total) : 0.0f;
+  return revolvedPdf(v, areas, total, capped_ && std::abs(p.y) < dSide ? 1 : 0, p);
 }
 
 std::unique_ptr<Shape> Cone::create(ShapeParameters& params) {

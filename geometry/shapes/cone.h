@@ -7,6 +7,10 @@
 
 namespace glint {
 
+namespace prim {
+struct RevolvedView;
+}
+
 class Cone final : public Shape {
  public:
   // radius, height > 0 and finite.
@@ -35,15 +39,11 @@ class Cone final : public Shape {
   float pdf(Vec3f ref, Vec3f p) const override;
 
  private:
-  // What a receiver may see: the side for angles phi0 +- halfAngle, and caps (bit per part).
-  struct Visible {
-    double phi0 = kPi, halfAngle = kPi;
-    unsigned caps = 0b10;
-  };
-  Visible visibleFrom(Vec3f ref) const;
+  // What a receiver at `ref` may see (primitive_math.h: the side's generators and caps).
+  prim::RevolvedView visibleFrom(Vec3f ref) const;
   // Areas of the visible side and caps, indexed by part; returns the total.
-  double visibleAreas(const Visible& v, double areas[2]) const;
-  std::optional<ShapeSample> sampleVisible(const Visible& v, Vec2f u) const;
+  double visibleAreas(const prim::RevolvedView& v, double areas[2]) const;
+  std::optional<ShapeSample> sampleVisible(const prim::RevolvedView& v, Vec2f u) const;
 
   // The part of the line inside the infinite solid cone below the apex (y <= height), as
   // crossings; `tRoot` receives the double t of each finite crossing (NaN for +-inf).

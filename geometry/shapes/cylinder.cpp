@@ -98,22 +98,14 @@ namespace glint {
 
 using namespace prim;
 
-Cylinder::Visible Cylinder::visibleFrom(Vec3f ref) const {
-  Visible v;
-  if (!capped_) {
-    v.caps = 0;
-    return v;  // an open tube shows its inside through the ends: all of it
-  }
+RevolvedView Cylinder::visibleFrom(Vec3f ref) const {
+  if (!capped_) return {};  // an open tube shows its inside through the ends: all of it
   // dot(n, p) = r along every generator, so they face ref where rho cos(phi - phiRef) > r.
-  const double rho = std::sqrt(double(ref.x) * ref.x + double(ref.z) * ref.z);
-  Visible seen;
-  seen.phi0 = angleAroundY(ref.x, ref.z);
-  seen.halfAngle = visibleHalfAngle(radius_, rho);
-  seen.caps = (ref.y < 0 ? 0b010u : 0u) | (ref.y > height_ ? 0b100u : 0u);
-  return seen.halfAngle > 0 || seen.caps ? seen : v;  // inside: everything
+  const unsigned caps = (ref.y < 0 ? 0b010u : 0u) | (ref.y > height_ ? 0b100u : 0u);
+  return revolvedView(ref, radius_, caps, 0b110u);
 }
 
-double Cylinder::visibleAreas(const Visible& v, double areas[3]) const {
+double Cylinder::visibleAreas(const RevolvedView& v, double areas[3]) const {
   const double r = radius_, capArea = kPiD * r * r;
   areas[0] = 2 * v.halfAngle * r * height_;
   areas[1] = (v.caps & 0b010) ? capArea : 0.0;
@@ -123,10 +115,10 @@ double Cylinder::visibleAreas(const Visible& v, double areas[3]) const {
 
 float Cylinder::area() const {
   double areas[3];
-  return float(visibleAreas(Visible{kPiD, kPiD, capped_ ? 0b110u : 0u}, areas));
+  return float(visibleAreas(RevolvedView{kPiD, kPiD, capped_ ? 0b110u : 0u}, areas));
 }
 
-std::optional<ShapeSample> Cylinder::sampleVisible(const Visible& v, Vec2f u) const {
+std::optional<ShapeSample> Cylinder::sampleVisible(const RevolvedView& v, Vec2f u) const {
   double areas[3];
   const double total = visibleAreas(v, areas);
   const int part = pickPart(areas, 3, total, &u.x);
@@ -148,7 +140,7 @@ std::optional<ShapeSample> Cylinder::sampleVisible(const Visible& v, Vec2f u) co
 }
 
 std::optional<ShapeSample> Cylinder::sample(Vec2f u) const {
-  return sampleVisible(Visible{kPiD, kPiD, capped_ ? 0b110u : 0u}, u);
+  return sampleVisible(RevolvedView{kPiD, kPiD, capped_ ? 0b110u : 0u}, u);
 }
 
 std::optional<ShapeSample> Cylinder::sample(Vec3f ref, Vec2f u) const {
@@ -156,7 +148,7 @@ std::optional<ShapeSample> Cylinder::sample(Vec3f ref, Vec2f u) const {
 }
 
 float Cylinder::pdf(Vec3f ref, Vec3f p) const {
-  const Visible v = visibleFrom(ref);
+  const RevolvedView v = visibleFrom(ref);
   double areas[3];
   const double total = visibleAreas(v, areas);
   // The part p lies on: the nearest of the side and the cap planes.
@@ -165,11 +157,7 @@ float Cylinder::pdf(Vec3f ref, Vec3f p) const {
   int part = 0;
   if (capped_ && std::min(std::abs(p.y), std::abs(p.y - height_)) < dSide)
     part = std::abs(p.y) < std::abs(p.y - height_) ? 1 : 2;
-  if (part == 0) {
-    const double off = std::remainder(angleAroundY(p.x, p.z) - v.phi0, 2 * kPiD);
-    return std::abs(off) <= v.halfAngle ? float(1 / total) : 0.0f;
-  }
-  return areas[part] > 0 ? float(1 / total) : 0.0f;
+  return revolvedPdf(v, areas, total, part, p);
 }
 
 std::unique_ptr<Shape> Cylinder::create(ShapeParameters& params) {

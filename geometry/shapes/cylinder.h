@@ -7,6 +7,10 @@
 
 namespace glint {
 
+namespace prim {
+struct RevolvedView;
+}
+
 class Cylinder final : public Shape {
  public:
   // radius, height > 0 and finite.
@@ -35,15 +39,11 @@ class Cylinder final : public Shape {
   float pdf(Vec3f ref, Vec3f p) const override;
 
  private:
-  // What a receiver may see: the side for angles phi0 +- halfAngle, and caps (bit per part).
-  struct Visible {
-    double phi0 = kPi, halfAngle = kPi;
-    unsigned caps = 0b110;
-  };
-  Visible visibleFrom(Vec3f ref) const;
+  // What a receiver at `ref` may see (primitive_math.h: the side's generators and caps).
+  prim::RevolvedView visibleFrom(Vec3f ref) const;
   // Areas of the visible side and caps, indexed by part; returns the total.
-  double visibleAreas(const Visible& v, double areas[3]) const;
-  std::optional<ShapeSample> sampleVisible(const Visible& v, Vec2f u) const;
+  double visibleAreas(const prim::RevolvedView& v, double areas[3]) const;
+  std::optional<ShapeSample> sampleVisible(const prim::RevolvedView& v, Vec2f u) const;
 
   // The infinite cylinder's span of the line (the whole line for a ray along the axis inside).
   bool sideSpan(const Ray& ray, Span* out, double* t0, double* t1) const;

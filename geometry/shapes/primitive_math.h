@@ -253,6 +253,36 @@ inline double angleAroundY(double x, double z) {
   return phi < 0 ? phi + 2 * kPiD : phi;
 }
 
+// What a receiver may see of a solid of revolution about +Y (cylinder, cone): the side's
+// generators for angles phi0 +- halfAngle, and the caps, one bit per part (part 0 is the side).
+// The default is the whole side.
+struct RevolvedView {
+  double phi0 = kPiD, halfAngle = kPiD;
+  unsigned caps = 0;
+
+  // Whether the side point (x, z) is on one of the visible generators.
+  bool seesSide(double x, double z) const {
+    return std::abs(std::remainder(angleAroundY(x, z) - phi0, 2 * kPiD)) <= halfAngle;
+  }
+};
+
+// The view from `ref` of a capped solid of revolution whose generators face ref where
+// rho cos(phi - phiRef) > c (see visibleHalfAngle), with `caps` the caps ref is beyond; a
+// receiver that sees neither side nor caps is inside and sees everything (`allCaps`).
+inline RevolvedView revolvedView(Vec3f ref, double c, unsigned caps, unsigned allCaps) {
+  const double rho = std::sqrt(double(ref.x) * ref.x + double(ref.z) * ref.z);
+  RevolvedView seen{angleAroundY(ref.x, ref.z), visibleHalfAngle(c, rho), caps};
+  return seen.halfAngle > 0 || seen.caps ? seen : RevolvedView{kPiD, kPiD, allCaps};
+}
+
+// The density of a uniform-by-area draw over the visible parts (`areas`, by part, summing to
+// `total`) at the surface point p on `part`.
+inline float revolvedPdf(const RevolvedView& view, const double* areas, double total, int part,
+                         Vec3f p) {
+  const bool seen = part == 0 ? view.seesSide(p.x, p.z) : areas[part] > 0;
+  return seen ? float(1 / total) : 0.0f;
+}
+
 inline Vec3f toFloat(V3 v) { return v.toFloat(); }
 inline Vec3f normalized(V3 v) { return (v * (1 / std::sqrt(dot(v, v)))).toFloat(); }
 
