@@ -94,7 +94,8 @@ void assembleExr(const std::vector<std::string>& pieces, const std::string& outp
 }
 
 // The pieces: the files given, where a single argument with a run of '#' stands for every
-// existing file it matches (tiles/frame_0001_##.exr: the tile numbers).
+// existing file it matches (tiles/frame_0001_##.exr: the tile numbers). Throws InputError for
+// a bad pattern or one that matches nothing.
 std::vector<std::string> pieces(const AssembleArgs& args) {
   if (args.inputs.size() != 1) return args.inputs;
   const FramePattern pattern = parseFramePattern(args.inputs.front());
@@ -104,25 +105,15 @@ std::vector<std::string> pieces(const AssembleArgs& args) {
   return files;
 }
 
-int runAssemble(const AssembleArgs& args) {
-  if (std::filesystem::path(args.output).extension() != ".exr") {
-    printError(args.output + ": glint assemble writes an EXR");
-    return 2;
-  }
-  std::vector<std::string> files;
-  try {
-    files = pieces(args);
-  } catch (const std::invalid_argument& e) {  // a bad pattern, or nothing matches it
-    printError(e.what());
-    return 2;
-  }
-  assembleExr(files, args.output);  // ImageReadError and OutputError go to main
-  return 0;
+void runAssemble(const AssembleArgs& args) {
+  if (std::filesystem::path(args.output).extension() != ".exr")
+    throw InputError(args.output + ": glint assemble writes an EXR");
+  assembleExr(pieces(args), args.output);
 }
 
 }  // namespace
 
-void addAssembleCommand(CLI::App& app, int* exitCode) {
+void addAssembleCommand(CLI::App& app) {
   auto args = std::make_shared<AssembleArgs>();
   CLI::App* cmd = app.add_subcommand(
       "assemble", "join the partial EXRs of `glint render --crop/--tile` into the whole frame");
@@ -130,7 +121,7 @@ void addAssembleCommand(CLI::App& app, int* exitCode) {
                   "the pieces: EXR files, or one pattern such as 'tiles/f_0001_##.exr'")
       ->required();
   cmd->add_option("-o,--output", args->output, "the whole frame (.exr)")->required();
-  cmd->callback([args, exitCode] { *exitCode = runAssemble(*args); });
+  cmd->callback([args] { runAssemble(*args); });
 }
 
 }  // namespace glint::app

@@ -27,6 +27,7 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <optional>
+#include <stdexcept>
 #include <thread>
 
 #include "apps/cli_common.h"
@@ -293,7 +294,7 @@ void printTable(const BenchArgs& a, size_t triangles, int threads, size_t camera
 // The command
 // ---------------------------------------------------------------------------------------------
 
-int runBenchAccel(const BenchArgs& args) {
+void runBenchAccel(const BenchArgs& args) {
   std::vector<std::string> names;
   for (const std::string& n : args.accels.empty() ? acceleratorNames() : args.accels)
     if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
@@ -306,30 +307,22 @@ int runBenchAccel(const BenchArgs& args) {
   // the reference backend is always Embree, whatever the sidecar asks for.
   SceneDescription desc;
   RenderScene scene;
-  try {
+  namingFile(args.mesh, "cannot build the scene", [&] {
     note("loading " + args.mesh);
     desc = loadScene(args.mesh);
     desc.objects.clear();
     if (args.subsample) subsampleTriangles(&desc, args.subsample);
     desc.render.accel = "embree";
     scene = buildRenderScene(desc);
-    if (scene.geometry.instancedTriangleCount() == 0)
-      throw SceneError({args.mesh, ""}, "has no triangles to benchmark");
-    if (!(length(scene.geometry.bounds().diagonal()) > 0))
-      throw SceneError({args.mesh, ""}, "all its triangles are in one point");
-  } catch (const SceneError& e) {
-    printError(e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    printError(args.mesh + ": cannot build the scene: " + std::string(e.what()));
-    return 1;
-  }
+  });
+  if (scene.geometry.instancedTriangleCount() == 0)
+    throw SceneError({args.mesh, ""}, "has no triangles to benchmark");
+  if (!(length(scene.geometry.bounds().diagonal()) > 0))
+    throw SceneError({args.mesh, ""}, "all its triangles are in one point");
   size_t triangles = scene.geometry.instancedTriangleCount();
   const auto* embree = dynamic_cast<const EmbreeAccelerator*>(scene.accel.get());
-  if (!embree) {
-    printError("internal error: the reference accelerator is not Embree");
-    return 1;
-  }
+  // desc.render.accel is "embree" above: anything else is a bug (main: "internal error").
+  if (!embree) throw std::logic_error("the reference accelerator is not Embree");
 
   int threads =
       args.threads > 0 ? args.threads : std::max(1, int(std::thread::hardware_concurrency()));
@@ -346,7 +339,8 @@ int runBenchAccel(const BenchArgs& args) {
       mrays(camRays.size(), bareEmbreeSeconds(camRays, embree->rtcScene(), arena, &bareHits));
 
   std::vector<BackendResult> results;
-  try {
+  // The names were checked by CLI11; a build that fails (a kd-tree too big) names the mesh.
+  namingFile(args.mesh, "", [&] {
     for (const std::string& name : names) {
       BackendResult r;
       r.name = name;
@@ -377,33 +371,20 @@ int runBenchAccel(const BenchArgs& args) {
       r.occlusionMrays = mrays(occRays.size(), occSeconds);
       results.push_back(r);
     }
-  } catch (const std::invalid_argument& e) {  // a name the factory does not know
-    printError(e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    printError(args.mesh + ": " + e.what());
-    return 1;
-  }
+  });
 
   printTable(args, triangles, threads, camRays.size(), occRays.size(), referenceHits, bare,
              results);
   if (bareHits != referenceHits)
     std::printf("note: the bare loop hit %llu camera rays, glint's Embree backend %llu\n",
                 (unsigned long long)bareHits, (unsigned long long)referenceHits);
-  if (args.json) {
-    try {
-      writeTextAtomically(*args.json, resultsJson(args, triangles, threads, bare, results));
-    } catch (const std::exception& e) {
-      printError(e.what());
-      return 1;
-    }
-  }
-  return 0;
+  if (args.json)
+    writeTextAtomically(*args.json, resultsJson(args, triangles, threads, bare, results));
 }
 
 }  // namespace
 
-void addBenchAccelCommand(CLI::App& app, int* exitCode) {
+void addBenchAccelCommand(CLI::App& app) {
   auto args = std::make_shared<BenchArgs>();
   CLI::App* cmd = app.add_subcommand(
       "bench-accel", "compare the acceleration backends on one mesh: build time, size, ray rates");
@@ -432,7 +413,7 @@ void addBenchAccelCommand(CLI::App& app, int* exitCode) {
   cmd->add_flag("--embree-high-quality", args->embreeHighQuality,
                 "also time Embree's high-quality BVH build (adds high_quality_build_seconds to "
                 "the embree entry of the JSON)");
-  cmd->callback([args, exitCode] { *exitCode = runBenchAccel(*args); });
+  cmd->callback([args] { runBenchAccel(*args); });
 }
 
 }  // namespace glint::app

@@ -4,7 +4,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
@@ -64,8 +63,25 @@ void SceneOverrides::apply(SceneDescription* desc) const {
   }
 }
 
-void printError(const std::string& message) {
-  std::fprintf(stderr, "glint: %s\n", message.c_str());
+void namingFile(const std::string& file, const std::string& doing,
+                const std::function<void()>& work) {
+  try {
+    work();
+  } catch (const SceneError&) {
+    throw;  // names its file and JSON pointer already
+  } catch (const InputError& e) {
+    throw InputError(file + ": " + e.what());
+  } catch (const std::exception& e) {
+    throw FailureError(file + ": " + (doing.empty() ? "" : doing + ": ") + e.what());
+  }
+}
+
+void createOutputFolder(const std::string& path) {
+  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  std::error_code ec;
+  if (!folder.empty() && !std::filesystem::is_directory(folder, ec) &&
+      !std::filesystem::create_directories(folder, ec))
+    throw OutputError(path + ": cannot create the folder " + folder.string() + ": " + ec.message());
 }
 
 void writeTextAtomically(const std::string& path, const std::string& text) {

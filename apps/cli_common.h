@@ -1,8 +1,9 @@
-// glint — pieces shared by the subcommands: scene options, overrides, error reporting, atomic
-// text output.
+// glint — pieces shared by the subcommands: scene options, overrides, naming the scene in an
+// error, output folders, atomic text output.
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -29,8 +30,18 @@ struct SceneOverrides {
   void apply(SceneDescription* desc) const;
 };
 
-// Prints "glint: MESSAGE" to stderr.
-void printError(const std::string& message);
+// Runs `work`, which loads, builds or renders `file`, so that its errors name the file: a bad
+// input that does not name it already (a renderer setting, a tile count above the image height)
+// becomes the InputError "FILE: message"; anything else that is not a SceneError becomes the
+// failure "FILE: DOING: message" (or "FILE: message" without `doing`). The renderer cannot say
+// which file its settings came from; this is where the commands add it, and main.cpp alone turns
+// the error into an exit code.
+void namingFile(const std::string& file, const std::string& doing,
+                const std::function<void()>& work);
+
+// Creates the folder an output `path` goes into when it is missing (a sequence usually goes
+// into a folder of its own: -o out/frame_####.exr). Throws OutputError.
+void createOutputFolder(const std::string& path);
 
 // Writes `text` to `path` through a temporary file in the same folder and a rename, so a
 // failed write never leaves a half-written file. Throws OutputError (image/io.h).

@@ -227,19 +227,20 @@ void printText(const DiffOptions& o, const StatisticalResult& r,
   fmt::print("{}\n", r.verdict == DiffVerdict::Fail ? "FAILURE" : "PASS");
 }
 
-// The verdict, printed, and the exit code: 0 pass (or warn), 1 fail. A mean FLIP above
+// Prints the verdict; true when the images differ (a warning passes). A mean FLIP above
 // --flip-max fails a comparison that would otherwise pass.
 template <class Result>
-int report(const DiffOptions& o, Result r, const std::optional<FlipReport>& flip) {
+bool report(const DiffOptions& o, Result r, const std::optional<FlipReport>& flip) {
   if (flip && !r.sizeMismatch && flip->result.stats.mean > o.flipMax) r.verdict = DiffVerdict::Fail;
   if (o.json)
     printJson(o, r, flip);
   else
     printText(o, r, flip);
-  return r.verdict == DiffVerdict::Fail ? 1 : 0;
+  return r.verdict == DiffVerdict::Fail;
 }
 
-int runDiff(const DiffOptions& o) {
+// True when the images differ.
+bool runDiff(const DiffOptions& o) {
   // A FLIP map or limit asks for FLIP.
   const bool wantFlip = o.flip || !o.flipMap.empty() || std::isfinite(o.flipMax);
   // An unreadable image (ImageReadError) or a failed write (OutputError) goes to main.
@@ -271,7 +272,7 @@ const CLI::Validator kNonNegative(
 
 }  // namespace
 
-void addDiffCommand(CLI::App& app, int* exitCode) {
+void addDiffCommand(CLI::App& app, bool* differ) {
   auto options = std::make_shared<DiffOptions>();
   CLI::App* cmd = app.add_subcommand(
       "diff", "Compare two images; exit 0 pass, 1 fail (or different sizes), 2 bad input");
@@ -329,7 +330,7 @@ void addDiffCommand(CLI::App& app, int* exitCode) {
       ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--flip-map", options->flipMap,
                   "FLIP: write the error map (magma colours) to this PNG");
-  cmd->callback([options, exitCode] { *exitCode = runDiff(*options); });
+  cmd->callback([options, differ] { *differ = runDiff(*options); });
 }
 
 }  // namespace glint::app

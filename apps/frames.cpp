@@ -6,7 +6,8 @@
 #include <algorithm>
 #include <cctype>
 #include <regex>
-#include <stdexcept>
+
+#include "geometry/error.h"
 
 namespace glint::app {
 
@@ -26,18 +27,16 @@ FrameRange parseFrameRange(const std::string& text) {
   static const std::regex re(R"(^(\d{1,9})(?:-(\d{1,9}))?(?::(\d{1,9}))?$)");
   std::smatch m;
   if (!std::regex_match(text, m, re))
-    throw std::invalid_argument(fmt::format("--frames '{}': expected A-B[:STEP] or A", text));
+    throw InputError(fmt::format("--frames '{}': expected A-B[:STEP] or A", text));
   FrameRange r;
   r.first = std::stoi(m[1]);
   r.last = m[2].matched ? std::stoi(m[2]) : r.first;
   r.step = m[3].matched ? std::stoi(m[3]) : 1;
   if (r.last < r.first)
-    throw std::invalid_argument(
-        fmt::format("--frames '{}': the last frame is before the first", text));
-  if (r.step < 1)
-    throw std::invalid_argument(fmt::format("--frames '{}': the step must be >= 1", text));
+    throw InputError(fmt::format("--frames '{}': the last frame is before the first", text));
+  if (r.step < 1) throw InputError(fmt::format("--frames '{}': the step must be >= 1", text));
   if ((r.last - r.first) / r.step >= kMaxFrames)
-    throw std::invalid_argument(
+    throw InputError(
         fmt::format("--frames '{}': more than {} frames in one run", text, kMaxFrames));
   return r;
 }
@@ -53,13 +52,13 @@ FramePattern parseFramePattern(const std::string& text) {
   fs::path path(text);
   std::string name = path.filename().string();
   if (path.parent_path().string().find('#') != std::string::npos)
-    throw std::invalid_argument(fmt::format("'{}': '#' may only stand in the file name", text));
+    throw InputError(fmt::format("'{}': '#' may only stand in the file name", text));
   size_t first = name.find('#');
   if (first == std::string::npos) return p;
   size_t last = name.find_first_not_of('#', first);
   if (last == std::string::npos) last = name.size();
   if (name.find('#', last) != std::string::npos)
-    throw std::invalid_argument(fmt::format("'{}': more than one run of '#'", text));
+    throw InputError(fmt::format("'{}': more than one run of '#'", text));
   p.folder = path.parent_path();
   p.head = name.substr(0, first);
   p.tail = name.substr(last);
@@ -73,8 +72,8 @@ std::vector<int> findFrames(const FramePattern& p, const std::optional<FrameRang
   std::error_code ec;
   fs::directory_iterator it(folder, ec);
   if (ec)
-    throw std::invalid_argument(fmt::format("no frames match '{}': cannot list folder '{}': {}",
-                                            p.text, folder.string(), ec.message()));
+    throw InputError(fmt::format("no frames match '{}': cannot list folder '{}': {}", p.text,
+                                 folder.string(), ec.message()));
   for (const fs::directory_entry& entry : it) {
     std::string name = entry.path().filename().string();
     if (name.size() < p.head.size() + p.tail.size() + size_t(p.width)) continue;
@@ -91,9 +90,9 @@ std::vector<int> findFrames(const FramePattern& p, const std::optional<FrameRang
   }
   std::sort(frames.begin(), frames.end());
   if (frames.empty())
-    throw std::invalid_argument(range ? fmt::format("no frames match '{}' in --frames {}-{}:{}",
-                                                    p.text, range->first, range->last, range->step)
-                                      : fmt::format("no frames match '{}'", p.text));
+    throw InputError(range ? fmt::format("no frames match '{}' in --frames {}-{}:{}", p.text,
+                                         range->first, range->last, range->step)
+                           : fmt::format("no frames match '{}'", p.text));
   return frames;
 }
 

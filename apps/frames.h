@@ -21,8 +21,8 @@ struct FrameRange {
   std::vector<int> frames() const;
 };
 
-// "A-B[:STEP]" or a single "A", with 0 <= A <= B and STEP >= 1. Throws std::invalid_argument
-// naming what is wrong.
+// "A-B[:STEP]" or a single "A", with 0 <= A <= B and STEP >= 1. Throws InputError naming
+// what is wrong.
 FrameRange parseFrameRange(const std::string& text);
 
 struct FramePattern {
@@ -36,14 +36,14 @@ struct FramePattern {
   std::string path(int frame) const;
 };
 
-// Splits `text` around its run of '#'. Throws std::invalid_argument for '#' in a folder name
-// or two runs in the file name.
+// Splits `text` around its run of '#'. Throws InputError for '#' in a folder name or two runs
+// in the file name.
 FramePattern parseFramePattern(const std::string& text);
 
 // The existing frames of `pattern`, sorted, restricted to `range` when given. A name matches
 // only with the number written as the pattern writes it (padded to the run's width), so
-// 'f_1.exr' and 'f_00001.exr' are not frame 1 of 'f_####.exr'. Throws std::invalid_argument
-// when none match or the folder cannot be listed.
+// 'f_1.exr' and 'f_00001.exr' are not frame 1 of 'f_####.exr'. Throws InputError when none
+// match or the folder cannot be listed.
 std::vector<int> findFrames(const FramePattern& pattern, const std::optional<FrameRange>& range);
 
 }  // namespace glint::app

@@ -66,42 +66,17 @@ std::string objectSummary(const ObjectDesc& o) {
   return name;
 }
 
-// Runs `load` (loading and building the scene); errors in the scene are reported and give
-// exit code 2, anything else 1; success gives 0.
-template <class Load>
-int loadingScene(const InfoArgs& args, Load load) {
-  try {
-    load();
-    return 0;
-  } catch (const SceneError& e) {
-    printError(e.what());
-    return 2;
-  } catch (const std::invalid_argument& e) {
-    printError(args.scene + ": " + e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    printError(args.scene + ": cannot build the scene: " + std::string(e.what()));
-    return 1;
-  }
-}
-
 // The effects of every frame of `args.frames` (each built as `glint render --frames` would
 // build it), with the first and last frame each one appears in: an animation's effects come
 // and go (a lens only in the closing shot, motion blur while something moves).
-int printEffectsOverFrames(const InfoArgs& args, double fps) {
+void printEffectsOverFrames(const InfoArgs& args, double fps) {
   struct Seen {
     int first = 0, last = 0, frames = 0;
   };
   std::map<std::string, Seen> seen;
-  FrameRange range;
+  const FrameRange range = parseFrameRange(*args.frames);
   int checked = 0;
-  try {
-    range = parseFrameRange(*args.frames);
-  } catch (const std::invalid_argument& e) {
-    printError(std::string("--frames: ") + e.what());
-    return 2;
-  }
-  const int status = loadingScene(args, [&] {
+  namingFile(args.scene, "cannot build the scene", [&] {
     const SceneLoader loader(args.scene, args.sidecar);
     for (int frame : range.frames()) {
       SceneDescription d = loader.at(double(frame) / fps);
@@ -115,7 +90,6 @@ int printEffectsOverFrames(const InfoArgs& args, double fps) {
       }
     }
   });
-  if (status != 0) return status;
   // Sorted by feature, as the single-frame line is.
   std::vector<std::string> names;
   for (uint32_t i = 0; i < uint32_t(Feature::Count); ++i)
@@ -128,18 +102,16 @@ int printEffectsOverFrames(const InfoArgs& args, double fps) {
                 s.frames, checked);
   }
   if (names.empty()) std::printf("  none\n");
-  return 0;
 }
 
-int runInfo(const InfoArgs& args) {
+void runInfo(const InfoArgs& args) {
   SceneDescription desc;
   RenderScene scene;
-  const int status = loadingScene(args, [&] {
+  namingFile(args.scene, "cannot build the scene", [&] {
     desc = loadScene(args.scene, args.sidecar);
     args.overrides.apply(&desc);
     scene = buildRenderScene(desc);
   });
-  if (status != 0) return status;
   for (const std::string& w : desc.warnings) std::printf("warning: %s\n", w.c_str());
 
   size_t triangles = 0;
@@ -202,13 +174,12 @@ int runInfo(const InfoArgs& args) {
                                       : listNames(
                                             effects, [](const std::string& s) { return s; }, 64)
                                             .c_str());
-  if (args.frames) return printEffectsOverFrames(args, desc.render.fps);
-  return 0;
+  if (args.frames) printEffectsOverFrames(args, desc.render.fps);
 }
 
 }  // namespace
 
-void addInfoCommand(CLI::App& app, int* exitCode) {
+void addInfoCommand(CLI::App& app) {
   auto args = std::make_shared<InfoArgs>();
   CLI::App* cmd =
       app.add_subcommand("info", "print what a scene holds and the effects it calls for");
@@ -219,7 +190,7 @@ void addInfoCommand(CLI::App& app, int* exitCode) {
                   "also list the effects of frames A-B[:STEP] of the animation (at render.fps), "
                   "each with the first and last frame it appears in");
   args->overrides.addOptions(cmd);
-  cmd->callback([args, exitCode] { *exitCode = runInfo(*args); });
+  cmd->callback([args] { runInfo(*args); });
 }
 
 }  // namespace glint::app

@@ -1,6 +1,8 @@
-// glint — command line entry point: `glint render | info | diff | bench-accel`.
+// glint — command line entry point: `glint render | info | diff | bench-accel | tonemap |
+// assemble`.
 //
-// Exit codes: 0 success, 1 render/compare failure, 2 bad input or usage.
+// Exit codes: 0 success, 1 a render or write that failed or images that differ, 2 bad input or
+// usage. They are decided here and nowhere else.
 #include <cstdio>
 #include <exception>
 
@@ -11,20 +13,16 @@ int main(int argc, char** argv) {
   CLI::App app{"glint: a ray tracer for glTF 2.0 scenes with a sidecar JSON, on Intel Embree"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "glint 0.1.0");
-  int exitCode = 0;
-  glint::app::addRenderCommand(app, &exitCode);
-  glint::app::addInfoCommand(app, &exitCode);
-  glint::app::addDiffCommand(app, &exitCode);
-  glint::app::addBenchAccelCommand(app, &exitCode);
-  glint::app::addTonemapCommand(app, &exitCode);
-  glint::app::addAssembleCommand(app, &exitCode);
+  bool imagesDiffer = false;
+  glint::app::addRenderCommand(app);
+  glint::app::addInfoCommand(app);
+  glint::app::addDiffCommand(app, &imagesDiffer);
+  glint::app::addBenchAccelCommand(app);
+  glint::app::addTonemapCommand(app);
+  glint::app::addAssembleCommand(app);
   try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForVersion& e) {
+    app.parse(argc, argv);           // runs the subcommand
+  } catch (const CLI::Success& e) {  // --help, --help-all, --version
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     app.exit(e);  // prints the usage error
@@ -38,5 +36,5 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "glint: internal error: %s\n", e.what());
     return 1;
   }
-  return exitCode;
+  return imagesDiffer ? 1 : 0;
 }

@@ -109,41 +109,25 @@ SceneDescription loadAt(const RenderArgs& args, const SceneLoader& loader,
   return desc;
 }
 
-// Exit code of a failed load or build; prints the error.
-int reportBuildError(const RenderArgs& args, const std::exception_ptr& error) {
-  try {
-    std::rethrow_exception(error);
-  } catch (const SceneError& e) {
-    printError(e.what());
-    return 2;
-  } catch (const std::invalid_argument& e) {  // unknown integrator/accelerator/filter names
-    printError(args.scene + ": " + e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    printError(args.scene + ": cannot build the scene: " + std::string(e.what()));
-    return 1;
-  }
-}
-
 // Display settings are only used when writing, after the render: check them before it.
-int checkDisplaySettings(const SceneDescription& desc, const std::vector<std::string>& outputs) {
+// Throws SceneError.
+void checkDisplaySettings(const SceneDescription& desc, const std::vector<std::string>& outputs) {
   bool displayReferred = std::any_of(outputs.begin(), outputs.end(), [](const std::string& o) {
     return std::filesystem::path(o).extension() != ".exr";
   });
-  if (!displayReferred) return 0;
+  if (!displayReferred) return;
+  const SourceLocation where{desc.file, "/render/tonemap"};
+  if (!isKnownToneMapOperator(desc.render.tonemap.op))
+    throw SceneError(where, "unknown tone mapping operator '" + desc.render.tonemap.op + "'");
   try {
-    if (!isKnownToneMapOperator(desc.render.tonemap.op))
-      throw ColorError("unknown tone mapping operator '" + desc.render.tonemap.op + "'");
     resolveDisplayView(desc.render.tonemap.display, desc.render.tonemap.view);
-  } catch (const ColorError& e) {
-    printError(desc.file + ": /render/tonemap: " + e.what());
-    return 2;
+  } catch (const ColorError& e) {  // OpenColorIO's config does not know the display or view
+    throw SceneError(where, e.what());
   }
-  return 0;
 }
 
 // The pixels --crop or --tile ask for in a width x height frame (the whole frame without them).
-// Throws std::invalid_argument for a tile count above the height (render() checks a crop).
+// Throws InputError for a tile count above the height (render() checks a crop).
 PixelWindow requestedWindow(const RenderArgs& args, int width, int height) {
   if (args.tile) {
     const TileSpec t = parseTileSpec(*args.tile);
@@ -153,12 +137,12 @@ PixelWindow requestedWindow(const RenderArgs& args, int width, int height) {
   return PixelWindow{0, 0, width, height};
 }
 
-// Renders one built scene and writes `outputs`; returns the exit code.
-int renderAndWrite(const RenderArgs& args, const SceneDescription& desc, const RenderScene& scene,
-                   const std::vector<std::string>& outputs, bool tileProgress,
-                   FrameRecord* record) {
+// Renders one built scene and writes `outputs`.
+void renderAndWrite(const RenderArgs& args, const SceneDescription& desc,
+                    const RenderScene& scene, const std::vector<std::string>& outputs,
+                    bool tileProgress, FrameRecord* record) {
   Film film;
-  try {
+  namingFile(args.scene, "render failed", [&] {
     auto integrator = makeIntegrator(scene, desc.render);
     record->integratorSetup = integrator->setupStats();
     RenderOptions options;
@@ -168,24 +152,12 @@ int renderAndWrite(const RenderArgs& args, const SceneDescription& desc, const R
     if (args.crop || args.tile)
       options.crop = requestedWindow(args, scene.camera.width(), scene.camera.height());
     film = render(scene, *integrator, desc.render, options, &record->stats);
-  } catch (const std::invalid_argument& e) {
-    printError(args.scene + ": " + e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    printError(args.scene + ": render failed: " + std::string(e.what()));
-    return 1;
-  }
+  });
   ImageMetadata meta{args.scene,        desc.render.spp,
                      desc.render.seed,  record->stats.renderSeconds,
                      desc.render.accel, integratorName(resolveIntegrator(scene, desc.render.integrator))};
   meta.time = desc.render.time;
-  try {
-    for (const std::string& out : outputs) writeImage(out, film, desc.render, meta);
-  } catch (const std::exception& e) {
-    printError(e.what());
-    return 1;
-  }
-  return 0;
+  for (const std::string& out : outputs) writeImage(out, film, desc.render, meta);
 }
 
 void printSummary(const std::vector<std::string>& outputs, const SceneDescription& desc,
@@ -202,98 +174,65 @@ void printSummary(const std::vector<std::string>& outputs, const SceneDescriptio
                mrays, dropped.c_str());
 }
 
-// Checks the formats and creates missing output folders (a sequence usually goes into a
-// folder of its own: -o out/frame_####.exr).
-int checkOutputs(const std::vector<std::string>& outputs) {
+// Checks the formats (InputError) and creates missing output folders (OutputError).
+void checkOutputs(const std::vector<std::string>& outputs) {
   for (const std::string& out : outputs) {
     std::string why;
-    if (!isSupportedOutput(out, &why)) {
-      printError(out + ": " + why);
-      return 2;
-    }
-    std::filesystem::path folder = std::filesystem::path(out).parent_path();
-    std::error_code ec;
-    if (!folder.empty() && !std::filesystem::is_directory(folder, ec) &&
-        !std::filesystem::create_directories(folder, ec)) {
-      printError(out + ": cannot create the folder " + folder.string() + ": " + ec.message());
-      return 1;
-    }
+    if (!isSupportedOutput(out, &why)) throw InputError(out + ": " + why);
+    createOutputFolder(out);
   }
-  return 0;
 }
 
-int runSingle(const RenderArgs& args, const std::vector<std::string>& outputs) {
+void runSingle(const RenderArgs& args, const std::vector<std::string>& outputs) {
   SceneDescription desc;
   RenderScene scene;
   FrameRecord record;
-  try {
+  namingFile(args.scene, "cannot build the scene", [&] {
     SceneLoader loader(args.scene, args.sidecar);
     desc = loadAt(args, loader, args.time);
     record.time = desc.render.time;
     scene = buildRenderScene(desc, &record.build);
-  } catch (...) {
-    return reportBuildError(args, std::current_exception());
-  }
-  if (int code = checkDisplaySettings(desc, outputs)) return code;
+  });
+  checkDisplaySettings(desc, outputs);
   if (!args.quiet)
     for (const std::string& w : desc.warnings)
       std::fprintf(stderr, "glint: warning: %s\n", w.c_str());
-  if (int code =
-          renderAndWrite(args, desc, scene, outputs, !args.quiet && isTerminal(stderr), &record))
-    return code;
-  try {
-    if (args.statsPath)
-      writeTextAtomically(*args.statsPath, [&] {
-        nlohmann::json j = sceneJson(args, desc, scene, record.stats.threads);
-        j.update(frameJson(record));
-        return j.dump(2) + "\n";
-      }());
-  } catch (const std::exception& e) {
-    printError(e.what());
-    return 1;
-  }
+  renderAndWrite(args, desc, scene, outputs, !args.quiet && isTerminal(stderr), &record);
+  if (args.statsPath)
+    writeTextAtomically(*args.statsPath, [&] {
+      nlohmann::json j = sceneJson(args, desc, scene, record.stats.threads);
+      j.update(frameJson(record));
+      return j.dump(2) + "\n";
+    }());
   if (!args.quiet) printSummary(outputs, desc, scene, record.stats);
-  return 0;
 }
 
 // A sequence: frame f at time f / fps, one set of outputs per frame from the '#' patterns.
 // Frames are independent renders, so --resume can skip every frame whose outputs are all
 // complete (whyIncomplete: written atomically, for this render, checksum intact) and redo the
 // rest; --list-missing only prints the frames --resume would render.
-int runSequence(const RenderArgs& args, const std::vector<std::string>& patterns) {
-  std::vector<int> frames;
+void runSequence(const RenderArgs& args, const std::vector<std::string>& patterns) {
+  const std::vector<int> frames = parseFrameRange(*args.frames).frames();
   std::vector<FramePattern> outputPatterns;
-  try {
-    frames = parseFrameRange(*args.frames).frames();
-    for (const std::string& p : patterns) outputPatterns.push_back(parseFramePattern(p));
-  } catch (const std::invalid_argument& e) {
-    printError(e.what());
-    return 2;
-  }
+  for (const std::string& p : patterns) outputPatterns.push_back(parseFramePattern(p));
   if (frames.size() > 1)
     for (const FramePattern& p : outputPatterns)
-      if (!p.isPattern()) {
-        printError("-o " + p.text + ": a sequence of " + std::to_string(frames.size()) +
-                   " frames needs a '#' run for the frame number, e.g. frame_####.exr");
-        return 2;
-      }
-  if (args.fps && !(*args.fps > 0)) {
-    printError("--fps must be > 0");
-    return 2;
-  }
+      if (!p.isPattern())
+        throw InputError("-o " + p.text + ": a sequence of " + std::to_string(frames.size()) +
+                         " frames needs a '#' run for the frame number, e.g. frame_####.exr");
+  if (args.fps && !(*args.fps > 0)) throw InputError("--fps must be > 0");
 
   // The files are read once; each frame re-evaluates the sidecar at its time. fps may come
   // from the sidecar: read it before deciding the frames' times.
   std::optional<SceneLoader> loader;
   double fps = 0;
-  try {
+  namingFile(args.scene, "cannot build the scene", [&] {
     loader.emplace(args.scene, args.sidecar);
     fps = args.fps ? *args.fps : loader->at().render.fps;
-  } catch (...) {
-    return reportBuildError(args, std::current_exception());
-  }
+  });
 
   const bool terminal = !args.quiet && !args.listMissing && isTerminal(stderr);
+  // An error ends the run: unwinding ends the bar's line before main prints the message.
   ProgressBar progress("frames", frames.size(), terminal);
   std::vector<FrameRecord> records;
   nlohmann::json first;  // scene-wide statistics, from the first rendered frame
@@ -307,7 +246,7 @@ int runSequence(const RenderArgs& args, const std::vector<std::string>& patterns
     record.frame = frame;
     record.time = double(frame) / fps;
     std::vector<std::pair<std::string, std::string>> incomplete;  // output, why: still to write
-    try {
+    namingFile(args.scene, "cannot build the scene", [&] {
       desc = loadAt(args, *loader, record.time);
       if (args.resume || args.listMissing) {
         ExpectedImage expected{.scene = args.scene,
@@ -322,14 +261,7 @@ int runSequence(const RenderArgs& args, const std::vector<std::string>& patterns
           if (std::string why = whyIncomplete(out, expected); !why.empty())
             incomplete.emplace_back(out, why);
       }
-    } catch (const std::invalid_argument& e) {  // a tile count above the image height
-      progress.finish();
-      printError(args.scene + ": " + e.what());
-      return 2;
-    } catch (...) {
-      progress.finish();
-      return reportBuildError(args, std::current_exception());
-    }
+    });
     if (args.listMissing) {
       if (!incomplete.empty()) std::printf("%d\n", frame);
       continue;
@@ -347,30 +279,23 @@ int runSequence(const RenderArgs& args, const std::vector<std::string>& patterns
                          why.c_str());
     }
     RenderScene scene;
-    try {
-      scene = buildRenderScene(desc, &record.build);
-    } catch (...) {
-      progress.finish();
-      return reportBuildError(args, std::current_exception());
-    }
+    namingFile(args.scene, "cannot build the scene",
+               [&] { scene = buildRenderScene(desc, &record.build); });
     if (records.empty()) {
-      if (int code = checkDisplaySettings(desc, outputs)) return code;
+      checkDisplaySettings(desc, outputs);
       if (!args.quiet && !warned)
         for (const std::string& w : desc.warnings)
           std::fprintf(stderr, "glint: warning: %s\n", w.c_str());
       warned = true;
     }
-    if (int code = renderAndWrite(args, desc, scene, outputs, false, &record)) {
-      progress.finish();
-      return code;
-    }
+    renderAndWrite(args, desc, scene, outputs, false, &record);
     if (records.empty()) first = sceneJson(args, desc, scene, record.stats.threads);
     records.push_back(record);
     progress.advance();
     if (!args.quiet && !terminal) printSummary(outputs, desc, scene, record.stats);
   }
   progress.finish();
-  if (args.listMissing) return 0;
+  if (args.listMissing) return;
 
   double total = 0;
   nlohmann::json perFrame = nlohmann::json::array();
@@ -379,69 +304,55 @@ int runSequence(const RenderArgs& args, const std::vector<std::string>& patterns
     perFrame.push_back(frameJson(r));
     perFrame.back()["frame"] = r.frame;
   }
-  try {
-    if (args.statsPath) {
-      nlohmann::json j = first.is_null() ? nlohmann::json::object() : first;
-      j["scene"] = args.scene;
-      j["frames"] = perFrame;
-      j["frames_rendered"] = records.size();
-      j["frames_skipped"] = skipped;
-      j["render_seconds_total"] = total;
-      writeTextAtomically(*args.statsPath, j.dump(2) + "\n");
-    }
-  } catch (const std::exception& e) {
-    printError(e.what());
-    return 1;
+  if (args.statsPath) {
+    nlohmann::json j = first.is_null() ? nlohmann::json::object() : first;
+    j["scene"] = args.scene;
+    j["frames"] = perFrame;
+    j["frames_rendered"] = records.size();
+    j["frames_skipped"] = skipped;
+    j["render_seconds_total"] = total;
+    writeTextAtomically(*args.statsPath, j.dump(2) + "\n");
   }
   if (!args.quiet)
     std::fprintf(stderr, "glint: rendered %zu frame%s (%d skipped, already complete) in %.2f s\n",
                  records.size(), records.size() == 1 ? "" : "s", skipped, total);
-  return 0;
 }
 
-int runRender(const RenderArgs& args) {
+// Throws InputError for options that cannot work together, SceneError for the scene, and a
+// FailureError (OutputError among them) for a render or write that failed: main.cpp decides
+// the exit code.
+void runRender(const RenderArgs& args) {
   std::vector<std::string> outputs = args.outputs;
   if (outputs.empty())
     outputs.push_back(std::filesystem::path(args.scene).stem().string() +
                       (args.frames ? "_####.exr" : ".exr"));
-  if (args.time && args.frames) {
-    printError("--time and --frames exclude each other (frame f is at time f / fps)");
-    return 2;
-  }
-  if ((args.resume || args.listMissing) && !args.frames) {
-    printError(std::string(args.resume ? "--resume" : "--list-missing") +
-               " applies to a sequence (--frames A-B; one frame: --frames F-F)");
-    return 2;
-  }
+  if (args.time && args.frames)
+    throw InputError("--time and --frames exclude each other (frame f is at time f / fps)");
+  if ((args.resume || args.listMissing) && !args.frames)
+    throw InputError(std::string(args.resume ? "--resume" : "--list-missing") +
+                     " applies to a sequence (--frames A-B; one frame: --frames F-F)");
   if (args.crop || args.tile) {
-    if (args.crop && args.tile) {
-      printError("--crop and --tile exclude each other");
-      return 2;
-    }
-    try {
-      if (args.crop) parseCropWindow(*args.crop);
-      if (args.tile) parseTileSpec(*args.tile);
-    } catch (const std::invalid_argument& e) {
-      printError(e.what());
-      return 2;
-    }
+    if (args.crop && args.tile) throw InputError("--crop and --tile exclude each other");
+    if (args.crop) parseCropWindow(*args.crop);
+    if (args.tile) parseTileSpec(*args.tile);
     // A piece is tone-mapped only once the frame is whole (a per-piece Ward scale would
     // differ from piece to piece).
     for (const std::string& out : outputs)
-      if (std::filesystem::path(out).extension() != ".exr") {
-        printError(out +
-                   ": --crop and --tile write partial EXRs (the data window of the frame); "
-                   "join them with `glint assemble`, then tone-map");
-        return 2;
-      }
+      if (std::filesystem::path(out).extension() != ".exr")
+        throw InputError(out +
+                         ": --crop and --tile write partial EXRs (the data window of the frame); "
+                         "join them with `glint assemble`, then tone-map");
   }
-  if (int code = checkOutputs(outputs)) return code;
-  return args.frames ? runSequence(args, outputs) : runSingle(args, outputs);
+  checkOutputs(outputs);
+  if (args.frames)
+    runSequence(args, outputs);
+  else
+    runSingle(args, outputs);
 }
 
 }  // namespace
 
-void addRenderCommand(CLI::App& app, int* exitCode) {
+void addRenderCommand(CLI::App& app) {
   auto args = std::make_shared<RenderArgs>();
   CLI::App* cmd =
       app.add_subcommand("render", "render a scene to EXR (scene-linear) or PNG/JPEG/TIFF");
@@ -474,7 +385,7 @@ void addRenderCommand(CLI::App& app, int* exitCode) {
   cmd->add_flag("--aovs", args->overrides.aovs,
                 "EXR output also carries albedo, normal, depth and the variance of each pixel's "
                 "mean (what `glint diff --statistical` needs of a reference)");
-  cmd->callback([args, exitCode] { *exitCode = runRender(*args); });
+  cmd->callback([args] { runRender(*args); });
 }
 
 }  // namespace glint::app

@@ -2,7 +2,8 @@
 #include "apps/tiles.h"
 
 #include <charconv>
-#include <stdexcept>
+
+#include "geometry/error.h"
 
 namespace glint::app {
 
@@ -28,21 +29,20 @@ bool parseInts(const std::string& text, char separator, std::vector<int>* out) {
 PixelWindow parseCropWindow(const std::string& text) {
   std::vector<int> v;
   if (!parseInts(text, ',', &v) || v.size() != 4)
-    throw std::invalid_argument("--crop: expected X0,Y0,X1,Y1 (four integers), got '" + text +
-                                "'");
+    throw InputError("--crop: expected X0,Y0,X1,Y1 (four integers), got '" + text + "'");
   const PixelWindow w{v[0], v[1], v[2], v[3]};
   if (w.x0 < 0 || w.y0 < 0 || w.x1 <= w.x0 || w.y1 <= w.y0)
-    throw std::invalid_argument("--crop: need 0 <= X0 < X1 and 0 <= Y0 < Y1, got '" + text + "'");
+    throw InputError("--crop: need 0 <= X0 < X1 and 0 <= Y0 < Y1, got '" + text + "'");
   return w;
 }
 
 TileSpec parseTileSpec(const std::string& text) {
   std::vector<int> v;
   if (!parseInts(text, '/', &v) || v.size() != 2)
-    throw std::invalid_argument("--tile: expected I/N (two integers), got '" + text + "'");
+    throw InputError("--tile: expected I/N (two integers), got '" + text + "'");
   const TileSpec t{v[0], v[1]};
   if (t.count < 1 || t.index < 0 || t.index >= t.count)
-    throw std::invalid_argument("--tile: need 0 <= I < N, got '" + text + "'");
+    throw InputError("--tile: need 0 <= I < N, got '" + text + "'");
   return t;
 }
 

@@ -11,6 +11,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -206,24 +207,20 @@ std::string describeWard(const ToneMapSettings& tm, double lwa) {
       wardScaleFactor(lwa, tm.wardDisplayMax), toneMapScale(tm, lwa));
 }
 
-int runTonemap(const TonemapArgs& args) {
-  Job job;
-  try {
-    job = plan(args);
-  } catch (const std::invalid_argument& e) {  // frame patterns and ranges
-    printError(e.what());
-    return 2;
-  }  // InputError (a bad command line or scene, ColorError) goes to main
+// The first error of a parallel pass in frame order, whichever thread met it first.
+void rethrowFirst(const std::vector<std::exception_ptr>& errors) {
+  for (const std::exception_ptr& error : errors)
+    if (error) std::rethrow_exception(error);
+}
+
+// Throws InputError (ImageReadError, ColorError) for bad input and OutputError for a failed
+// write: main.cpp decides the exit code.
+void runTonemap(const TonemapArgs& args) {
+  const Job job = plan(args);
   const ToneMapSettings& tm = job.tonemap;
   const size_t n = job.inputs.size();
-  // Held by pointer so an error can end the bar's line before the message is printed.
-  auto progress =
-      std::make_unique<ProgressBar>("tonemap", 2 * n, !args.quiet && isTerminal(stderr));
-  auto fail = [&](int code, const std::string& message) {
-    progress.reset();
-    printError(message);
-    return code;
-  };
+  // An error ends the run: unwinding ends the bar's line before main prints the message.
+  ProgressBar progress("tonemap", 2 * n, !args.quiet && isTerminal(stderr));
 
   // Pass 1 reads every frame before any output is written: a missing or broken frame stops
   // the run with nothing changed, and the sequence statistic needs every frame anyway. Frames
@@ -231,18 +228,17 @@ int runTonemap(const TonemapArgs& args) {
   // Frames are read and written in parallel (decoding and compressing dominate); each frame's
   // work is its own, and the first error in frame order is the one reported.
   std::vector<LogLuminanceStats> stats(n);
-  std::vector<std::string> readErrors(n);
+  std::vector<std::exception_ptr> readErrors(n);
   tbb::parallel_for(size_t(0), n, [&](size_t i) {
     try {
       Film film = readExr(job.inputs[i]);
       stats[i].add(film.color, tm);
-    } catch (const ImageReadError& e) {
-      readErrors[i] = e.what();
+    } catch (const ImageReadError&) {
+      readErrors[i] = std::current_exception();
     }
-    progress->advance();
+    progress.advance();
   });
-  for (const std::string& error : readErrors)
-    if (!error.empty()) return fail(2, error);
+  rethrowFirst(readErrors);
 
   LogLuminanceStats sequence = sequenceStats(stats);
   std::vector<std::string> report;
@@ -262,35 +258,23 @@ int runTonemap(const TonemapArgs& args) {
     }
   }
 
-  // Exit code and message of a failure, per frame.
-  std::vector<std::pair<int, std::string>> writeErrors(n);
-  try {
-    if (!job.outputs.empty()) {
-      fs::path folder = fs::path(job.outputs.front()).parent_path();
-      if (!folder.empty()) fs::create_directories(folder);
+  if (!job.outputs.empty()) createOutputFolder(job.outputs.front());
+  // An ImageReadError (a frame changed since pass 1), ColorError or OutputError, per frame.
+  std::vector<std::exception_ptr> writeErrors(n);
+  tbb::parallel_for(size_t(0), n, [&](size_t i) {
+    try {
+      ImageMetadata meta;
+      Film film = readExr(job.inputs[i], &meta);
+      double lwa = args.sequence ? sequence.logAverage() : stats[i].logAverage();
+      writeDisplayImage(job.outputs[i], film, tm, lwa, meta);
+    } catch (const std::exception&) {
+      writeErrors[i] = std::current_exception();
     }
-    tbb::parallel_for(size_t(0), n, [&](size_t i) {
-      try {
-        ImageMetadata meta;
-        Film film = readExr(job.inputs[i], &meta);
-        double lwa = args.sequence ? sequence.logAverage() : stats[i].logAverage();
-        writeDisplayImage(job.outputs[i], film, tm, lwa, meta);
-      } catch (const ImageReadError& e) {  // changed since pass 1
-        writeErrors[i] = {2, e.what()};
-      } catch (const ColorError& e) {
-        writeErrors[i] = {2, e.what()};
-      } catch (const std::exception& e) {  // OutputError
-        writeErrors[i] = {1, e.what()};
-      }
-      progress->advance();
-    });
-    for (const auto& [code, error] : writeErrors)
-      if (code != 0) return fail(code, error);
-    progress->finish();
-    if (args.mp4) encodeMp4(*job.ffmpeg, job.outputs, *args.mp4, args.fps);
-  } catch (const std::exception& e) {  // the output folder, or ffmpeg
-    return fail(1, e.what());
-  }
+    progress.advance();
+  });
+  rethrowFirst(writeErrors);
+  progress.finish();
+  if (args.mp4) encodeMp4(*job.ffmpeg, job.outputs, *args.mp4, args.fps);
 
   if (!args.quiet) {
     for (const std::string& line : report) fmt::print("{}\n", line);
@@ -303,31 +287,24 @@ int runTonemap(const TonemapArgs& args) {
                n > 1 ? fmt::format(" … {} ({} frames)", job.outputs.back(), n) : "",
                args.mp4 ? " and " + *args.mp4 : "");
   }
-  return 0;
 }
 
 }  // namespace
 
 // --scene: the tone mapping the scene asks for (its render.tonemap) for every setting not given
 // on the command line, so a farm's tone-mapping job looks like `glint render -o x.png` would.
-int applySceneSettings(const CLI::App& cmd, TonemapArgs* args) {
-  ToneMapSettings tm;
-  try {
-    tm = SceneLoader(*args->scene, args->sidecar).at().render.tonemap;
-  } catch (const std::exception& e) {  // SceneError, or an unreadable file
-    printError(e.what());
-    return 2;
-  }
+// Throws SceneError.
+void applySceneSettings(const CLI::App& cmd, TonemapArgs* args) {
+  const ToneMapSettings tm = SceneLoader(*args->scene, args->sidecar).at().render.tonemap;
   if (!cmd.count("--operator")) args->op = tm.op;
   if (!cmd.count("--ldmax")) args->ldmax = tm.wardDisplayMax;
   if (!cmd.count("--scene-luminance")) args->sceneLuminance = tm.wardSceneLuminance;
   if (!cmd.count("--exposure")) args->exposure = tm.exposure;
   if (!cmd.count("--display")) args->display = tm.display;
   if (!cmd.count("--view")) args->view = tm.view;
-  return 0;
 }
 
-void addTonemapCommand(CLI::App& app, int* exitCode) {
+void addTonemapCommand(CLI::App& app) {
   auto args = std::make_shared<TonemapArgs>();
   CLI::App* cmd = app.add_subcommand(
       "tonemap", "tone-map scene-linear EXR frames to PNG/JPEG/TIFF (one file or a sequence)");
@@ -365,13 +342,9 @@ void addTonemapCommand(CLI::App& app, int* exitCode) {
       "take the settings not given here (operator, Ward luminances, exposure, display, view) "
       "from this scene's render.tonemap");
   cmd->add_option("--sidecar", args->sidecar, "the sidecar of --scene's glTF")->needs(scene);
-  cmd->callback([args, exitCode, cmd] {
-    if (args->scene)
-      if (int code = applySceneSettings(*cmd, args.get())) {
-        *exitCode = code;
-        return;
-      }
-    *exitCode = runTonemap(*args);
+  cmd->callback([args, cmd] {
+    if (args->scene) applySceneSettings(*cmd, args.get());
+    runTonemap(*args);
   });
 }
 

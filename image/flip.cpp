@@ -370,16 +370,15 @@ void prepare(std::span<const float> srgb, int w, int h, const Filters& f, Prepar
 
 void checkInputs(std::span<const float> a, std::span<const float> b, int w, int h, double ppd) {
   if (w <= 0 || h <= 0)
-    throw std::invalid_argument("FLIP: image size " + std::to_string(w) + "×" + std::to_string(h) +
-                                " is not positive");
+    throw std::logic_error("FLIP: image size " + std::to_string(w) + "×" + std::to_string(h) +
+                           " is not positive");
   size_t n = size_t(w) * size_t(h) * 3;
   if (a.size() != n || b.size() != n)
-    throw std::invalid_argument("FLIP: RGB buffers of " + std::to_string(a.size()) + " and " +
-                                std::to_string(b.size()) + " floats for a " + std::to_string(w) +
-                                "×" + std::to_string(h) + " image (" + std::to_string(n) +
-                                " expected)");
+    throw std::logic_error("FLIP: RGB buffers of " + std::to_string(a.size()) + " and " +
+                           std::to_string(b.size()) + " floats for a " + std::to_string(w) + "×" +
+                           std::to_string(h) + " image (" + std::to_string(n) + " expected)");
   if (!(ppd > 0) || !std::isfinite(ppd))
-    throw std::invalid_argument("FLIP: pixels per degree must be positive");
+    throw std::logic_error("FLIP: pixels per degree must be positive");
 }
 
 // Everything one LDR-FLIP evaluation needs, kept for the next (HDR-FLIP's exposures).
@@ -553,8 +552,8 @@ FlipResult flipHdr(std::span<const float> reference, std::span<const float> test
   if (options.startExposure) e.start = *options.startExposure;
   if (options.stopExposure) e.stop = *options.stopExposure;
   if (!(e.start <= e.stop))
-    throw std::invalid_argument("HDR-FLIP: start exposure " + std::to_string(e.start) +
-                                " is after stop exposure " + std::to_string(e.stop));
+    throw std::logic_error("HDR-FLIP: start exposure " + std::to_string(e.start) +
+                           " is after stop exposure " + std::to_string(e.stop));
   e.count = options.exposureCount > 0 ? options.exposureCount
             : e.start == e.stop       ? 1
                                       : std::max(2, int(std::ceil(e.stop - e.start)));

@@ -73,9 +73,10 @@ struct FlipComponents {
 // ---- LDR-FLIP --------------------------------------------------------------------------------
 //
 // Images are interleaved RGB floats, width · height · 3, row-major: display-referred sRGB-encoded
-// values in [0, 1]. Throws std::invalid_argument when a buffer's size is not width · height · 3,
-// the size is not positive or pixelsPerDegree is not positive. LDR-FLIP is symmetric in its two
-// images.
+// values in [0, 1]. Throws std::logic_error when a buffer's size is not width · height · 3, the
+// size is not positive or pixelsPerDegree is not positive: callers check their input first
+// (glint diff compares the sizes, CLI11 checks --ppd), so these are bugs. LDR-FLIP is symmetric
+// in its two images.
 
 // The LDR-FLIP error map of `test` against `reference`, and its pooled values.
 FlipResult flipLdr(std::span<const float> reference, std::span<const float> test, int width,
@@ -117,8 +118,8 @@ struct FlipHdrOptions {
 
 // The HDR-FLIP error map of two scene-linear images (interleaved RGB, as above): the per-pixel
 // maximum of LDR-FLIP over the tone-mapped, sRGB-encoded exposures. Not symmetric: the exposure
-// range comes from `reference`. Throws std::invalid_argument as flipLdr, and when the start
-// exposure is after the stop exposure.
+// range comes from `reference`. Throws std::logic_error as flipLdr, and when the start exposure
+// is after the stop exposure.
 FlipResult flipHdr(std::span<const float> reference, std::span<const float> test, int width,
                    int height, const FlipHdrOptions& options = {});
 

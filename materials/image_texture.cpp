@@ -370,10 +370,9 @@ TextureImages::Handle TextureImages::addPixels(const std::string& name, int widt
                                                ColorEncoding enc) {
   if (width <= 0 || height <= 0 || channels < 1 || channels > 4 ||
       pixels.size() != size_t(width) * size_t(height) * size_t(channels))
-    throw std::invalid_argument(name + ": " + std::to_string(pixels.size()) +
-                                " floats do not make a " + std::to_string(width) + "x" +
-                                std::to_string(height) + " image of " + std::to_string(channels) +
-                                " channels");
+    throw std::logic_error(name + ": " + std::to_string(pixels.size()) + " floats do not make a " +
+                           std::to_string(width) + "x" + std::to_string(height) + " image of " +
+                           std::to_string(channels) + " channels");
   auto src = std::make_shared<Source>();
   src->spec = OIIO::ImageSpec(width, height, channels, OIIO::TypeFloat);
   if (channels == 2) {
@@ -395,7 +394,7 @@ TextureImages::Handle TextureImages::addPixels(const std::string& name, int widt
   {
     std::lock_guard lock(impl_->mutex);
     if (!impl_->names.insert(name).second)
-      throw std::invalid_argument(name + ": an image of this name was already added");
+      throw std::logic_error(name + ": an image of this name was already added");
     impl_->registered.push_back(key);
   }
   Registry::add(key, std::move(src));
@@ -484,7 +483,7 @@ ImageTexture::ImageTexture(const TextureImages& images, TextureImages::Handle h,
       wrapS_(wrapS),
       wrapT_(wrapT),
       filter_(filter) {
-  if (!h.valid()) throw std::invalid_argument("ImageTexture: invalid image handle");
+  if (!h.valid()) throw std::logic_error("ImageTexture: invalid image handle");
 }
 
 Vec4f ImageTexture::evaluate(const TexturePoint& tp) const {

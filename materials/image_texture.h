@@ -39,7 +39,8 @@ class TextureImages {
 
   // Pixels already decoded in memory: `channels` (1..4) floats per pixel, as stored (sRGB-encoded
   // when enc == Srgb), rows top to bottom. `name` names the image in messages and must be unique
-  // within this set. Throws std::invalid_argument on bad sizes or a repeated name.
+  // within this set. Throws std::logic_error on bad sizes or a repeated name: the scene builder
+  // makes both from decoded images, so either is a bug.
   Handle addPixels(const std::string& name, int width, int height, int channels,
                    const std::vector<float>& pixels, ColorEncoding enc);
   // An image file (PNG, JPEG, EXR, TIFF, ...), read on demand by the cache. Throws

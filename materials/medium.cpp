@@ -17,7 +17,7 @@ GridDensity::GridDensity(int nx, int ny, int nz, std::vector<float> values,
                          const Bounds3f& bounds)
     : nx_(nx), ny_(ny), nz_(nz), values_(std::move(values)), bounds_(bounds) {
   if (nx < 1 || ny < 1 || nz < 1 || values_.size() != size_t(nx) * size_t(ny) * size_t(nz))
-    throw std::invalid_argument("GridDensity: the value count does not match the resolution");
+    throw std::logic_error("GridDensity: the value count does not match the resolution");
   for (float& v : values_) {
     if (!std::isfinite(v) || v < 0) v = 0;
     max_ = std::max(max_, v);

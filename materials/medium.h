@@ -55,6 +55,7 @@ class ConstantDensity final : public DensityField {
 // trilinear in between, clamped to the boundary nodes outside. Values < 0 are read as 0.
 class GridDensity final : public DensityField {
  public:
+  // Throws std::logic_error when values.size() is not nx * ny * nz (the loader checks it).
   GridDensity(int nx, int ny, int nz, std::vector<float> values, const Bounds3f& bounds);
   float density(Vec3f p) const override;
   float maxDensity(const Bounds3f&) const override { return max_; }

@@ -2,9 +2,9 @@
 #include "renderer/camera.h"
 
 #include <cmath>
-#include <stdexcept>
 #include <string>
 
+#include "geometry/error.h"
 #include "geometry/sampling.h"
 
 namespace glint {
@@ -44,16 +44,16 @@ void Camera::setCommon(const AnimatedTransform& worldFromCamera, int width, int 
 
 void Camera::setLens(const ThinLens& lens) {
   if (!(lens.radius >= 0) || !std::isfinite(lens.radius))
-    throw std::invalid_argument("thin lens: aperture radius must be finite and >= 0, got " +
-                                std::to_string(lens.radius));
+    throw InputError("thin lens: aperture radius must be finite and >= 0, got " +
+                     std::to_string(lens.radius));
   if (lens.radius > 0 && (!(lens.focusDistance > 0) || !std::isfinite(lens.focusDistance)))
-    throw std::invalid_argument("thin lens: focus distance must be finite and > 0, got " +
-                                std::to_string(lens.focusDistance));
+    throw InputError("thin lens: focus distance must be finite and > 0, got " +
+                     std::to_string(lens.focusDistance));
   if (lens.blades != 0 && lens.blades < 3)
-    throw std::invalid_argument("thin lens: a polygonal aperture needs >= 3 blades, got " +
-                                std::to_string(lens.blades));
+    throw InputError("thin lens: a polygonal aperture needs >= 3 blades, got " +
+                     std::to_string(lens.blades));
   if (!std::isfinite(lens.rotation))
-    throw std::invalid_argument("thin lens: aperture rotation must be finite");
+    throw InputError("thin lens: aperture rotation must be finite");
   lens_ = lens;
   pinhole_ = !moving_ && !hasLens();
   // ThinLens::rotation 0 means a vertex straight up.

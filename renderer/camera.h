@@ -71,9 +71,9 @@ class Camera {
     return orthographic(AnimatedTransform(worldFromCamera), ymag, width, height, znear, zfar);
   }
 
-  // Adds (or, with radius 0, removes) a thin lens; both projections take one. Throws
-  // std::invalid_argument for a negative or non-finite radius, a focus distance that is not
-  // positive and finite while radius > 0, or 1-2 blades: the scene builder validates first.
+  // Adds (or, with radius 0, removes) a thin lens; both projections take one. Throws InputError
+  // for a negative or non-finite radius, a focus distance that is not positive and finite while
+  // radius > 0, or 1-2 blades: the scene builder validates first.
   void setLens(const ThinLens& lens);
   const ThinLens& lens() const { return lens_; }
   bool hasLens() const { return lens_.radius > 0; }

@@ -3,13 +3,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
+
+#include "geometry/error.h"
 
 namespace glint {
 
 PixelFilter::PixelFilter(const FilterSettings& s) : radius_(s.radius) {
-  if (!(s.radius > 0) || !std::isfinite(s.radius))
-    throw std::invalid_argument("filter radius must be > 0");
+  if (!(s.radius > 0) || !std::isfinite(s.radius)) throw InputError("filter radius must be > 0");
   if (s.type == "box") {
     kind_ = Kind::Box;
   } else if (s.type == "tent") {
@@ -37,7 +37,7 @@ PixelFilter::PixelFilter(const FilterSettings& s) : radius_(s.radius) {
       inverseCdf_[size_t(i)] = float((2 * (double(k) + t) / kCdfSize - 1) * radius_);
     }
   } else {
-    throw std::invalid_argument("unknown filter '" + s.type + "' (box, tent, gaussian)");
+    throw InputError("unknown filter '" + s.type + "' (box, tent, gaussian)");
   }
 }
 

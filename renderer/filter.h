@@ -18,7 +18,7 @@ namespace glint {
 
 class PixelFilter {
  public:
-  // Throws std::invalid_argument for an unknown type or a radius that is not > 0.
+  // Throws InputError for an unknown type or a radius that is not > 0.
   explicit PixelFilter(const FilterSettings& settings);
   // Offset from the pixel centre, in pixels, for a uniform sample u in [0,1)^2.
   Vec2f sampleOffset(Vec2f u) const { return {sample1D(u.x), sample1D(u.y)}; }

@@ -3,7 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
+
+#include "geometry/error.h"
 
 namespace glint {
 
@@ -79,8 +80,7 @@ InstantRadiosityIntegrator::InstantRadiosityIntegrator(const RenderScene& scene,
       rrDepth_(settings.rrDepth),
       paths_(settings.vplPaths),
       clamp_(settings.vplClamp) {
-  if (settings.vplPaths <= 0)
-    throw std::invalid_argument("instant radiosity: vpl_paths must be > 0");
+  if (settings.vplPaths <= 0) throw InputError("instant radiosity: vpl_paths must be > 0");
   indirect_ = true;
   traceLightPaths(settings.vplPaths, seed);
 }

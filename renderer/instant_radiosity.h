@@ -83,8 +83,8 @@ struct Vpl {
 // recursion) with the light of every VPL added at diffuse and glossy points.
 class InstantRadiosityIntegrator final : public WhittedIntegrator {
  public:
-  // Traces the light paths (settings.vplPaths, seeded by `seed`). Throws std::invalid_argument
-  // when vplPaths <= 0.
+  // Traces the light paths (settings.vplPaths, seeded by `seed`). Throws InputError when
+  // vplPaths <= 0.
   InstantRadiosityIntegrator(const RenderScene& scene, const IntegratorSettings& settings,
                              uint64_t seed = 0);
 

@@ -1,8 +1,7 @@
 // glint — what every integrator shares, and the integrator factory.
 #include "renderer/integrator.h"
 
-#include <stdexcept>
-
+#include "geometry/error.h"
 #include "renderer/instant_radiosity.h"
 #include "renderer/path.h"
 #include "renderer/whitted.h"
@@ -96,8 +95,8 @@ IntegratorKind resolveIntegrator(const RenderScene& scene, const IntegratorSetti
   if (settings.type == "path") return IntegratorKind::Path;
   if (settings.type == "instant-radiosity") return IntegratorKind::InstantRadiosity;
   if (settings.type != "auto")
-    throw std::invalid_argument("unknown integrator '" + settings.type +
-                                "' (whitted, path, instant-radiosity, auto)");
+    throw InputError("unknown integrator '" + settings.type +
+                     "' (whitted, path, instant-radiosity, auto)");
   // Media asking for multiple scattering need the path tracer (Whitted scatters once); other
   // media go by the light rule below (Whitted's marched single scattering is the low-noise
   // answer for point lights).

@@ -116,12 +116,12 @@ enum class IntegratorKind { Whitted, Path, InstantRadiosity };
 // The integrator settings.type asks for, with "auto" resolved for `scene`: the path tracer when
 // the scene has light with an extent (an environment, emitting surfaces that are lights, any
 // non-delta light) or media asked to scatter multiply, else Whitted. Throws
-// std::invalid_argument for unknown names (the loaders accept only integratorNames()).
+// InputError for unknown names (the loaders accept only integratorNames()).
 IntegratorKind resolveIntegrator(const RenderScene& scene, const IntegratorSettings& settings);
 // "whitted", "path", "instant-radiosity": the name the settings use.
 const char* integratorName(IntegratorKind kind);
 // Builds the integrator settings.integrator.type names for `scene` ("auto" resolved as
-// above). Throws std::invalid_argument for unknown names.
+// above). Throws InputError for unknown names.
 std::unique_ptr<Integrator> makeIntegrator(const RenderScene& scene,
                                            const RenderSettings& settings);
 // The names makeIntegrator accepts.

@@ -3,8 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 
+#include "geometry/error.h"
 #include "renderer/light_bvh.h"
 
 namespace glint {
@@ -82,7 +82,7 @@ std::unique_ptr<LightSampler> makeLightSampler(const std::string& name,
   if (name == "uniform") return std::make_unique<UniformLightSampler>(lights.size());
   if (name == "power") return std::make_unique<PowerLightSampler>(lights);
   if (name == "bvh") return std::make_unique<BvhLightSampler>(lights);
-  throw std::invalid_argument("unknown light sampler '" + name + "' (uniform, power, bvh)");
+  throw InputError("unknown light sampler '" + name + "' (uniform, power, bvh)");
 }
 
 }  // namespace glint

@@ -72,7 +72,7 @@ class PowerLightSampler final : public LightSampler {
   DiscreteDistribution distribution_;
 };
 
-// The sampler called `name` ("uniform", "power"); throws std::invalid_argument otherwise.
+// The sampler called `name` ("uniform", "power"); throws InputError otherwise.
 std::unique_ptr<LightSampler> makeLightSampler(const std::string& name,
                                                const std::vector<std::unique_ptr<Light>>& lights);
 // The names makeLightSampler accepts.

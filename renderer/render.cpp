@@ -10,9 +10,9 @@
 
 #include <chrono>
 #include <cmath>
-#include <stdexcept>
 #include <thread>
 
+#include "geometry/error.h"
 #include "renderer/filter.h"
 #include "renderer/progress.h"
 
@@ -64,8 +64,8 @@ constexpr uint32_t kCameraBatch = 16;
 
 PixelWindow tileWindow(int width, int height, int index, int count) {
   if (count <= 0 || index < 0 || index >= count || count > height)
-    throw std::invalid_argument(fmt::format(
-        "tile {}/{}: need 0 <= I < N <= the image height ({})", index, count, height));
+    throw InputError(
+        fmt::format("tile {}/{}: need 0 <= I < N <= the image height ({})", index, count, height));
   const auto row = [&](int i) { return int(int64_t(i) * height / count); };
   return {0, row(index), width, row(index + 1)};
 }
@@ -88,9 +88,8 @@ Film render(const RenderScene& scene, const Integrator& integrator, const Render
   const PixelWindow window = options.crop.value_or(PixelWindow{0, 0, width, height});
   if (window.x0 < 0 || window.y0 < 0 || window.x1 > width || window.y1 > height ||
       window.width() <= 0 || window.height() <= 0)
-    throw std::invalid_argument(fmt::format(
-        "crop window {},{},{},{} is empty or outside the {}x{} image", window.x0, window.y0,
-        window.x1, window.y1, width, height));
+    throw InputError(fmt::format("crop window {},{},{},{} is empty or outside the {}x{} image",
+                                 window.x0, window.y0, window.x1, window.y1, width, height));
   Film film(window.width(), window.height(), aovs);
   film.originX = window.x0, film.originY = window.y0;
   film.fullWidth = width, film.fullHeight = height;

@@ -39,7 +39,7 @@ struct PixelWindow {
 
 // The I-th of N horizontal bands of a width x height image (0 <= index < count <= height):
 // rows [floor(I H / N), floor((I + 1) H / N)). A fixed layout, so N tasks rendering tiles 0..N-1
-// cover the frame exactly once.
+// cover the frame exactly once. Throws InputError for an index or count outside those bounds.
 PixelWindow tileWindow(int width, int height, int index, int count);
 
 struct RenderOptions {
@@ -54,7 +54,7 @@ struct RenderOptions {
 // Renders `scene` with `integrator` at the camera's resolution (or its options.crop window: a
 // film of that size at that origin). Each pixel's samples are addressed by (pixel, sample,
 // seed), so the result does not depend on thread count, tile order or cropping. NaN/Inf
-// samples never reach the film. Throws std::invalid_argument for a crop outside the image.
+// samples never reach the film. Throws InputError for a crop outside the image.
 Film render(const RenderScene& scene, const Integrator& integrator, const RenderSettings& settings,
             const RenderOptions& options, RenderStats* stats);
 

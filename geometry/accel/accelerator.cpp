@@ -1,10 +1,9 @@
 // glint — the accelerator factory: backends chosen by name.
 #include "geometry/accel/accelerator.h"
 
-#include <stdexcept>
-
 #include "geometry/accel/embree_accel.h"
 #include "geometry/accel/kdtree.h"
+#include "geometry/error.h"
 
 namespace glint {
 
@@ -13,7 +12,7 @@ std::unique_ptr<Accelerator> makeAccelerator(const std::string& name, const Geom
   if (name == "kdtree") return std::make_unique<KdTreeAccelerator>(scene, KdSplitMethod::Sah);
   if (name == "kdtree-median")
     return std::make_unique<KdTreeAccelerator>(scene, KdSplitMethod::Median);
-  throw std::invalid_argument("unknown accelerator '" + name + "'");
+  throw InputError("unknown accelerator '" + name + "'");
 }
 
 std::vector<std::string> acceleratorNames() { return {"embree", "kdtree", "kdtree-median"}; }

@@ -67,7 +67,8 @@ class Accelerator {
 };
 
 // Builds the backend called `name` over `scene`, which must outlive the accelerator.
-// Throws std::invalid_argument for an unknown name and std::runtime_error if the build fails.
+// Throws InputError (geometry/error.h) for an unknown name and std::runtime_error if the build
+// fails.
 std::unique_ptr<Accelerator> makeAccelerator(const std::string& name, const GeometryScene& scene);
 
 // The names makeAccelerator accepts.

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "geometry/error.h"
 #include "test_support.h"
 
 namespace glint::app {
@@ -28,7 +29,7 @@ TEST(Frames, BadRangesAreRejectedWithTheReason) {
     try {
       parseFrameRange(bad);
       ADD_FAILURE() << "accepted '" << bad << "'";
-    } catch (const std::invalid_argument& e) {
+    } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find("--frames"), std::string::npos) << e.what();
     }
   }
@@ -40,8 +41,8 @@ TEST(Frames, PatternsArePaddedToTheRunOfHashes) {
   EXPECT_EQ(parseFramePattern("f##.png").path(12345), "f12345.png");  // wider: in full
   EXPECT_EQ(parseFramePattern("still.exr").path(3), "still.exr");
   EXPECT_FALSE(parseFramePattern("still.exr").isPattern());
-  EXPECT_THROW(parseFramePattern("a#/b_###.exr"), std::invalid_argument);
-  EXPECT_THROW(parseFramePattern("f_##_##.exr"), std::invalid_argument);
+  EXPECT_THROW(parseFramePattern("a#/b_###.exr"), InputError);
+  EXPECT_THROW(parseFramePattern("f_##_##.exr"), InputError);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "geometry/error.h"
 #include "test_support.h"
 
 namespace glint::app {
@@ -42,9 +43,9 @@ TEST(Tiles, ArgumentsAreCheckedWithTheReason) {
   EXPECT_EQ(parseTileSpec("2/5").count, 5);
   for (const char* bad : {"", "1,2,3", "1,2,3,4,5", "3,0,3,4", "0,5,4,2", "-1,0,2,2", "a,b,c,d",
                           "1,2,3,4x"})
-    EXPECT_THROW(parseCropWindow(bad), std::invalid_argument) << bad;
+    EXPECT_THROW(parseCropWindow(bad), InputError) << bad;
   for (const char* bad : {"", "1", "3/3", "-1/2", "0/0", "1/2/3", "x/2"})
-    EXPECT_THROW(parseTileSpec(bad), std::invalid_argument) << bad;
+    EXPECT_THROW(parseTileSpec(bad), InputError) << bad;
   // Bands cover the image exactly, in order.
   int next = 0;
   for (int i = 0; i < 7; ++i) {
@@ -55,7 +56,7 @@ TEST(Tiles, ArgumentsAreCheckedWithTheReason) {
     next = w.y1;
   }
   EXPECT_EQ(next, 30);
-  EXPECT_THROW(tileWindow(50, 30, 0, 31), std::invalid_argument);
+  EXPECT_THROW(tileWindow(50, 30, 0, 31), InputError);
 }
 
 TEST(Tiles, AssembledTilesEqualTheWholeFrameBitForBit) {

@@ -5,6 +5,7 @@
 #include <random>
 
 #include "geometry/accel/accelerator.h"
+#include "geometry/error.h"
 #include "geometry/interaction.h"
 
 namespace glint {
@@ -123,7 +124,7 @@ TEST(EmbreeAccelerator, EmptySceneMissesEverything) {
 
 TEST(EmbreeAccelerator, UnknownBackendNameIsRejected) {
   GeometryScene scene;
-  EXPECT_THROW(makeAccelerator("octree", scene), std::invalid_argument);
+  EXPECT_THROW(makeAccelerator("octree", scene), InputError);
 }
 
 TEST(EmbreeAccelerator, RespectsTminAndTmax) {

@@ -378,10 +378,10 @@ TEST(Flip, StepEdgeFeatureIsTheLuminanceStep) {
 TEST(Flip, RejectsBuffersOfTheWrongSize) {
   Image a = uniform(4, 4, {0.5f, 0.5f, 0.5f});
   Image b = uniform(4, 3, {0.5f, 0.5f, 0.5f});
-  EXPECT_THROW(flipLdr(a, b, 4, 4), std::invalid_argument);
-  EXPECT_THROW(flipLdr(a, a, 0, 4), std::invalid_argument);
-  EXPECT_THROW(flipLdr(a, a, 4, 4, 0.0), std::invalid_argument);
-  EXPECT_THROW(flipHdr(a, b, 4, 4), std::invalid_argument);
+  EXPECT_THROW(flipLdr(a, b, 4, 4), std::logic_error);
+  EXPECT_THROW(flipLdr(a, a, 0, 4), std::logic_error);
+  EXPECT_THROW(flipLdr(a, a, 4, 4, 0.0), std::logic_error);
+  EXPECT_THROW(flipHdr(a, b, 4, 4), std::logic_error);
 }
 
 TEST(Flip, NonFiniteInputCountsAsZero) {
@@ -541,7 +541,7 @@ TEST(Flip, HdrDefaultsAndIdenticalImages) {
   FlipHdrOptions backwards;
   backwards.startExposure = 2;
   backwards.stopExposure = 1;
-  EXPECT_THROW(flipHdr(ref, ref, w, h, backwards), std::invalid_argument);
+  EXPECT_THROW(flipHdr(ref, ref, w, h, backwards), std::logic_error);
 }
 
 }  // namespace

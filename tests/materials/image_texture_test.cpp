@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <stdexcept>
 #include <thread>
 
 #include "test_support.h"
@@ -256,12 +257,11 @@ TEST(TextureImages, MipmapKeepsTheMeanOfOddSizedImages) {
 TEST(TextureImages, RejectsBadPixelBuffersAndRepeatedNames) {
   TextureImages images;
   EXPECT_THROW(images.addPixels("short", 2, 2, 3, std::vector<float>(11), ColorEncoding::Linear),
-               std::invalid_argument);
+               std::logic_error);
   EXPECT_THROW(images.addPixels("five", 1, 1, 5, std::vector<float>(5), ColorEncoding::Linear),
-               std::invalid_argument);
+               std::logic_error);
   images.addPixels("a", 1, 1, 1, {0.5f}, ColorEncoding::Linear);
-  EXPECT_THROW(images.addPixels("a", 1, 1, 1, {0.5f}, ColorEncoding::Linear),
-               std::invalid_argument);
+  EXPECT_THROW(images.addPixels("a", 1, 1, 1, {0.5f}, ColorEncoding::Linear), std::logic_error);
 }
 
 TEST(TextureImages, SameNameInTwoSetsServesEachItsOwnPixels) {
@@ -495,7 +495,7 @@ TEST(ImageTexture, UvScaleAndOffsetRepeatTheImage) {
   EXPECT_TRUE(needs.footprint);
   EXPECT_THROW(ImageTexture(images, TextureImages::Handle{}, m, TextureWrap::Repeat,
                             TextureWrap::Repeat, TextureFilter::Linear),
-               std::invalid_argument);
+               std::logic_error);
 }
 
 }  // namespace

@@ -4,7 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <random>
-#include <stdexcept>
+
+#include "geometry/error.h"
 
 namespace glint {
 namespace {
@@ -142,11 +143,11 @@ TEST(Camera, PolygonalApertureHasItsVertexUpAndTurnsWithRotation) {
 
 TEST(Camera, InvalidLensIsRejected) {
   Camera c = Camera::perspective(Transform(), 0.8f, 32, 32, 0, kInfinity);
-  EXPECT_THROW(c.setLens({-0.1f, 2, 0, 0}), std::invalid_argument);
-  EXPECT_THROW(c.setLens({0.1f, 0, 0, 0}), std::invalid_argument);
-  EXPECT_THROW(c.setLens({0.1f, kInfinity, 0, 0}), std::invalid_argument);
-  EXPECT_THROW(c.setLens({0.1f, 2, 2, 0}), std::invalid_argument);
-  EXPECT_THROW(c.setLens({std::nanf(""), 2, 0, 0}), std::invalid_argument);
+  EXPECT_THROW(c.setLens({-0.1f, 2, 0, 0}), InputError);
+  EXPECT_THROW(c.setLens({0.1f, 0, 0, 0}), InputError);
+  EXPECT_THROW(c.setLens({0.1f, kInfinity, 0, 0}), InputError);
+  EXPECT_THROW(c.setLens({0.1f, 2, 2, 0}), InputError);
+  EXPECT_THROW(c.setLens({std::nanf(""), 2, 0, 0}), InputError);
   EXPECT_FALSE(c.hasLens());
   c.setLens({0.1f, 2, 3, 0});
   EXPECT_TRUE(c.hasLens());

@@ -1,6 +1,7 @@
 // Tests for importance-sampled pixel filters: support and moments.
 #include <gtest/gtest.h>
 
+#include "geometry/error.h"
 #include "renderer/filter.h"
 
 namespace glint {
@@ -54,9 +55,9 @@ TEST(PixelFilter, GaussianStaysWithinRadiusWithSigmaNearRadiusOverThree) {
 }
 
 TEST(PixelFilter, RejectsUnknownTypesAndBadRadii) {
-  EXPECT_THROW(PixelFilter({"mitchel", 1.0f}), std::invalid_argument);
-  EXPECT_THROW(PixelFilter({"box", 0.0f}), std::invalid_argument);
-  EXPECT_THROW(PixelFilter({"box", -1.0f}), std::invalid_argument);
+  EXPECT_THROW(PixelFilter({"mitchel", 1.0f}), InputError);
+  EXPECT_THROW(PixelFilter({"box", 0.0f}), InputError);
+  EXPECT_THROW(PixelFilter({"box", -1.0f}), InputError);
 }
 
 TEST(PixelFilter, FractionAndFloatSamplesAgreeBitForBit) {
