@@ -342,8 +342,9 @@ inline float shade(const Material& m, bool unlit, const ShadingInput& in) {
   TextureLookups lookups(si);
   if (unlit) return m.albedo(si, lookups).x * std::abs(dot(si.ns, si.wo));
   const Bsdf bsdf = m.bsdf(si, lookups);
-  const Rgb f = bsdf.f(in.wiLight);
-  const float lightPdf = bsdf.pdf(in.wiLight);
+  // f and pdf towards the light in one evaluation, as next-event estimation with MIS asks.
+  float lightPdf = 0;
+  const Rgb f = bsdf.evaluate(in.wiLight, &lightPdf);
   float v = f.x + lightPdf;
   if (std::optional<BsdfSample> s = bsdf.sample(in.u, in.uLobe)) v += s->f.x + s->pdf + s->wi.x;
   return v;
