@@ -133,40 +133,48 @@ std::vector<Vec3f> receiversAround(const PlacedShape& s) {
           c + m * Vec3f{0.05f, -0.02f, 0.03f}};  // inside the solids
 }
 
-// For a receiver, the density integrates to one over the surface (checked with uniform points:
-// A E[pdf]), every drawn point has the density pdf() reports there, and for closed shapes every
-// drawn point is visible from the receiver.
-TEST(ShapeSampling, ReceiverDensityIsNormalisedAndMatchesItsPoints) {
-  std::mt19937 rng(2);
-  std::uniform_real_distribution<float> uni(0.0f, 0.999999f);
+// Calls check(shape, placed, receiver) for every sampled shape, placement and receiver.
+template <class Check>
+void forEachReceiver(Check&& check) {
   for (const SampledShape& s : shapes())
     for (const Transform& world : placements()) {
       SCOPED_TRACE(s.name);
       const PlacedShape placed(s.shape.get(), world);
       for (Vec3f ref : receiversAround(placed)) {
         SCOPED_TRACE(ref.x);
-        // Stratified uniform points: sum of pdf(ref, p) / pdf_uniform(p) / N -> 1.
-        constexpr int kGrid = 200;
-        double integral = 0;
-        for (int j = 0; j < kGrid; ++j)
-          for (int i = 0; i < kGrid; ++i) {
-            auto p = placed.sample({(i + uni(rng)) / kGrid, (j + uni(rng)) / kGrid});
-            integral += placed.pdf(ref, p->p, p->n) / p->pdf;
-          }
-        EXPECT_NEAR(integral / (kGrid * kGrid), 1.0, 0.01);
-        int hidden = 0;
-        for (int i = 0; i < 2000; ++i) {
-          auto p = placed.sample(ref, {uni(rng), uni(rng)});
-          ASSERT_TRUE(p.has_value());
-          ASSERT_GT(p->pdf, 0);
-          EXPECT_NEAR(placed.pdf(ref, p->p, p->n), p->pdf, 1e-3f * p->pdf);
-          // Hidden: the shape is met well before the point on the way from the receiver.
-          auto hit = trace(placed, ref, p->p - ref);
-          hidden += s.closed && (!hit || length(hit->p - p->p) > 1e-3f * length(p->p - ref));
-        }
-        EXPECT_LE(hidden, 10);  // silhouette rounding only
+        check(s, placed, ref);
       }
     }
+}
+
+// For a receiver, the density integrates to one over the surface (checked with uniform points:
+// A E[pdf]), every drawn point has the density pdf() reports there, and for closed shapes every
+// drawn point is visible from the receiver.
+TEST(ShapeSampling, ReceiverDensityIsNormalisedAndMatchesItsPoints) {
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<float> uni(0.0f, 0.999999f);
+  forEachReceiver([&](const SampledShape& s, const PlacedShape& placed, Vec3f ref) {
+    // Stratified uniform points: sum of pdf(ref, p) / pdf_uniform(p) / N -> 1.
+    constexpr int kGrid = 200;
+    double integral = 0;
+    for (int j = 0; j < kGrid; ++j)
+      for (int i = 0; i < kGrid; ++i) {
+        auto p = placed.sample({(i + uni(rng)) / kGrid, (j + uni(rng)) / kGrid});
+        integral += placed.pdf(ref, p->p, p->n) / p->pdf;
+      }
+    EXPECT_NEAR(integral / (kGrid * kGrid), 1.0, 0.01);
+    int hidden = 0;
+    for (int i = 0; i < 2000; ++i) {
+      auto p = placed.sample(ref, {uni(rng), uni(rng)});
+      ASSERT_TRUE(p.has_value());
+      ASSERT_GT(p->pdf, 0);
+      EXPECT_NEAR(placed.pdf(ref, p->p, p->n), p->pdf, 1e-3f * p->pdf);
+      // Hidden: the shape is met well before the point on the way from the receiver.
+      auto hit = trace(placed, ref, p->p - ref);
+      hidden += s.closed && (!hit || length(hit->p - p->p) > 1e-3f * length(p->p - ref));
+    }
+    EXPECT_LE(hidden, 10);  // silhouette rounding only
+  });
 }
 
 // Unbiasedness: every point a ray from the receiver can reach first has a non-zero density,
@@ -174,27 +182,22 @@ TEST(ShapeSampling, ReceiverDensityIsNormalisedAndMatchesItsPoints) {
 TEST(ShapeSampling, EveryVisiblePointCanBeDrawn) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> uni(0.0f, 0.999999f);
-  for (const SampledShape& s : shapes())
-    for (const Transform& world : placements()) {
-      SCOPED_TRACE(s.name);
-      const PlacedShape placed(s.shape.get(), world);
-      for (Vec3f ref : receiversAround(placed)) {
-        int hits = 0, missed = 0;
-        for (int i = 0; i < 4000; ++i) {
-          // Directions towards the shape's bounds, jittered over them.
-          const Bounds3f b = placed.bounds();
-          const Vec3f target{b.lower.x + uni(rng) * (b.upper.x - b.lower.x),
-                             b.lower.y + uni(rng) * (b.upper.y - b.lower.y),
-                             b.lower.z + uni(rng) * (b.upper.z - b.lower.z)};
-          auto hit = trace(placed, ref, target - ref);
-          if (!hit) continue;
-          ++hits;
-          missed += !(placed.pdf(ref, hit->p, hit->n) > 0);
-        }
-        EXPECT_GT(hits, 100);
-        EXPECT_LE(missed, hits / 500);  // edges and silhouettes only
-      }
+  forEachReceiver([&](const SampledShape&, const PlacedShape& placed, Vec3f ref) {
+    int hits = 0, missed = 0;
+    for (int i = 0; i < 4000; ++i) {
+      // Directions towards the shape's bounds, jittered over them.
+      const Bounds3f b = placed.bounds();
+      const Vec3f target{b.lower.x + uni(rng) * (b.upper.x - b.lower.x),
+                         b.lower.y + uni(rng) * (b.upper.y - b.lower.y),
+                         b.lower.z + uni(rng) * (b.upper.z - b.lower.z)};
+      auto hit = trace(placed, ref, target - ref);
+      if (!hit) continue;
+      ++hits;
+      missed += !(placed.pdf(ref, hit->p, hit->n) > 0);
     }
+    EXPECT_GT(hits, 100);
+    EXPECT_LE(missed, hits / 500);  // edges and silhouettes only
+  });
 }
 
 // The sphere seen from outside: uniform in the subtended cone, so the solid-angle density

@@ -69,24 +69,31 @@ using test::slurp;
 using test::aovFilm;
 
 void expectAovFilm(const ReadImage& r, const Film& film) {
+  // Each EXR channel and the film value it must hold exactly.
+  struct Channel {
+    const char* name;
+    float (*value)(const Film&, size_t);
+  };
+  static const Channel channels[] = {
+      {"R", [](const Film& f, size_t i) { return f.color[i].x; }},
+      {"G", [](const Film& f, size_t i) { return f.color[i].y; }},
+      {"B", [](const Film& f, size_t i) { return f.color[i].z; }},
+      {"A", [](const Film& f, size_t i) { return f.alpha[i]; }},
+      {"albedo.R", [](const Film& f, size_t i) { return f.albedo[i].x; }},
+      {"albedo.G", [](const Film& f, size_t i) { return f.albedo[i].y; }},
+      {"albedo.B", [](const Film& f, size_t i) { return f.albedo[i].z; }},
+      {"N.X", [](const Film& f, size_t i) { return f.normal[i].x; }},
+      {"N.Y", [](const Film& f, size_t i) { return f.normal[i].y; }},
+      {"N.Z", [](const Film& f, size_t i) { return f.normal[i].z; }},
+      {"Z", [](const Film& f, size_t i) { return f.depth[i]; }},
+      {"variance.R", [](const Film& f, size_t i) { return f.variance[i].x; }},
+      {"variance.G", [](const Film& f, size_t i) { return f.variance[i].y; }},
+      {"variance.B", [](const Film& f, size_t i) { return f.variance[i].z; }},
+  };
   for (int y = 0; y < film.height; ++y)
-    for (int x = 0; x < film.width; ++x) {
-      size_t i = film.index(x, y);
-      EXPECT_EQ(r.at(x, y, "R"), film.color[i].x);
-      EXPECT_EQ(r.at(x, y, "G"), film.color[i].y);
-      EXPECT_EQ(r.at(x, y, "B"), film.color[i].z);
-      EXPECT_EQ(r.at(x, y, "A"), film.alpha[i]);
-      EXPECT_EQ(r.at(x, y, "albedo.R"), film.albedo[i].x);
-      EXPECT_EQ(r.at(x, y, "albedo.G"), film.albedo[i].y);
-      EXPECT_EQ(r.at(x, y, "albedo.B"), film.albedo[i].z);
-      EXPECT_EQ(r.at(x, y, "N.X"), film.normal[i].x);
-      EXPECT_EQ(r.at(x, y, "N.Y"), film.normal[i].y);
-      EXPECT_EQ(r.at(x, y, "N.Z"), film.normal[i].z);
-      EXPECT_EQ(r.at(x, y, "Z"), film.depth[i]);
-      EXPECT_EQ(r.at(x, y, "variance.R"), film.variance[i].x);
-      EXPECT_EQ(r.at(x, y, "variance.G"), film.variance[i].y);
-      EXPECT_EQ(r.at(x, y, "variance.B"), film.variance[i].z);
-    }
+    for (int x = 0; x < film.width; ++x)
+      for (const Channel& c : channels)
+        EXPECT_EQ(r.at(x, y, c.name), c.value(film, film.index(x, y))) << c.name;
 }
 
 void expectMetadata(const OIIO::ImageSpec& spec) {

@@ -4,10 +4,10 @@
 
 #include <filesystem>
 
+#include "image/output.h"
 #include "renderer/area_lights.h"
 #include "renderer/environment_light.h"
 #include "renderer/film.h"
-#include "image/output.h"
 #include "renderer/projective_light.h"
 #include "scene_error_support.h"
 #include "scenes/build.h"
@@ -134,53 +134,42 @@ TEST(SidecarLights, AreaLightsTakeATransform) {
 }
 
 TEST(SidecarLights, BadInputNamesThePointer) {
-  EXPECT_SCENE_ERROR(
-      applyError(R"({"lights": [{"type": "sphere", "position": [0, 0, 0], "radius": -1}]})"), kFile,
-      "/lights/0/radius", "must be > 0");
-  EXPECT_SCENE_ERROR(
-      applyError(
-          R"({"lights": [{"type": "disk", "position": [0, 0, 0], "direction": [0, 1, 0], "radius": 0}]})"),
-      kFile, "/lights/0/radius", "must be > 0");
-  EXPECT_SCENE_ERROR(
-      applyError(
-          R"({"lights": [{"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [2, 0, 0]}]})"),
-      kFile, "/lights/0/edge_v", "no area");
-  EXPECT_SCENE_ERROR(
-      applyError(
-          R"({"lights": [{"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [0, 0, 0]}]})"),
-      kFile, "/lights/0/edge_v", "no area");
-  EXPECT_SCENE_ERROR(
-      applyError(
-          R"({"lights": [{"type": "disk", "position": [0, 0, 0], "direction": [0, 0, 0], "radius": 1}]})"),
-      kFile, "/lights/0/direction", "must not be zero");
-  EXPECT_SCENE_ERROR(
-      applyError(
-          R"({"lights": [{"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [0, 1, 0], "range": 3}]})"),
-      kFile, "/lights/0/range", "unknown key");
-  EXPECT_SCENE_ERROR(
-      applyError(
-          R"({"lights": [{"type": "projective", "position": [0, 0, 0], "direction": [0, -1, 0], "attenuation": 1.5}]})"),
-      kFile, "/lights/0/attenuation", "must be >= 0 and <= 1");
-  EXPECT_SCENE_ERROR(
-      applyError(
-          R"({"lights": [{"type": "projective", "position": [0, 0, 0], "direction": [0, -1, 0], "texture": "nope"}]})"),
-      kFile, "/lights/0/texture", "no texture named 'nope'");
-  EXPECT_SCENE_ERROR(
-      applyError(
-          R"({"lights": [{"type": "projective", "position": [0, 0, 0], "direction": [0, -1, 0], "up": [0, 2, 0]}]})"),
-      kFile, "/lights/0/up", "not parallel");
-  EXPECT_SCENE_ERROR(
-      applyError(
-          R"({"lights": [{"type": "projective", "position": [0, 0, 0], "direction": [0, -1, 0], "fov_degrees": 180}]})"),
-      kFile, "/lights/0/fov_degrees", "< 180");
-  EXPECT_SCENE_ERROR(applyError(R"({"environment": {"image": "missing.exr"}})"), kFile,
-                     "/environment/image", "file not found");
-  EXPECT_SCENE_ERROR(applyError(R"({"environment": {"color": [1, 1, 1], "image": "sky.exr"}})"),
-                     kFile, "/environment/image", "not both");
-  EXPECT_SCENE_ERROR(applyError(R"({"environment": {"color": [1, -1, 1]}})"), kFile,
-                     "/environment/color/1", ">= 0");
-  EXPECT_SCENE_ERROR(applyError(R"({"environment": {"colour": [1, 1, 1]}})"), kFile,
-                     "/environment/colour", "unknown key");
+  struct Case {
+    const char* json;
+    const char* pointer;
+    const char* phrase;
+  };
+  const Case cases[] = {
+      {R"({"lights": [{"type": "sphere", "position": [0, 0, 0], "radius": -1}]})",
+       "/lights/0/radius", "must be > 0"},
+      {R"({"lights": [{"type": "disk", "position": [0, 0, 0], "direction": [0, 1, 0], "radius": 0}]})",
+       "/lights/0/radius", "must be > 0"},
+      {R"({"lights": [{"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [2, 0, 0]}]})",
+       "/lights/0/edge_v", "no area"},
+      {R"({"lights": [{"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [0, 0, 0]}]})",
+       "/lights/0/edge_v", "no area"},
+      {R"({"lights": [{"type": "disk", "position": [0, 0, 0], "direction": [0, 0, 0], "radius": 1}]})",
+       "/lights/0/direction", "must not be zero"},
+      {R"({"lights": [{"type": "quad", "corner": [0, 0, 0], "edge_u": [1, 0, 0], "edge_v": [0, 1, 0], "range": 3}]})",
+       "/lights/0/range", "unknown key"},
+      {R"({"lights": [{"type": "projective", "position": [0, 0, 0], "direction": [0, -1, 0], "attenuation": 1.5}]})",
+       "/lights/0/attenuation", "must be >= 0 and <= 1"},
+      {R"({"lights": [{"type": "projective", "position": [0, 0, 0], "direction": [0, -1, 0], "texture": "nope"}]})",
+       "/lights/0/texture", "no texture named 'nope'"},
+      {R"({"lights": [{"type": "projective", "position": [0, 0, 0], "direction": [0, -1, 0], "up": [0, 2, 0]}]})",
+       "/lights/0/up", "not parallel"},
+      {R"({"lights": [{"type": "projective", "position": [0, 0, 0], "direction": [0, -1, 0], "fov_degrees": 180}]})",
+       "/lights/0/fov_degrees", "< 180"},
+      {R"({"environment": {"image": "missing.exr"}})", "/environment/image", "file not found"},
+      {R"({"environment": {"color": [1, 1, 1], "image": "sky.exr"}})", "/environment/image",
+       "not both"},
+      {R"({"environment": {"color": [1, -1, 1]}})", "/environment/color/1", ">= 0"},
+      {R"({"environment": {"colour": [1, 1, 1]}})", "/environment/colour", "unknown key"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.json);
+    EXPECT_SCENE_ERROR(applyError(c.json), kFile, c.pointer, c.phrase);
+  }
 }
 
 TEST(SidecarLights, ConstantEnvironmentLightsTheScene) {
