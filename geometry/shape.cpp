@@ -6,6 +6,15 @@ namespace glint {
 
 PlacedShape::PlacedShape(const Shape* shape, const Transform& placement)
     : shape_(shape), placement_(placement), identity_(placement.isIdentity()) {
+  if (identity_) {
+    // Every member function takes the shortcut for an identity placement before it reads the
+    // inverse; shapes placed by no transform are common (and placed once per hit).
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) inverse_[r][c] = r == c;
+    inverseRelError_ = 0;
+    absDet_ = 1;
+    return;
+  }
   // The inverse of the float matrix as given (not its rounded float inverse), in double, once:
   // the adjugate's entries are exact products of floats, then one division each.
   const auto& m = placement_.matrix().m;
