@@ -2,6 +2,7 @@
 #include "materials/texture.h"
 
 #include <cmath>
+#include <new>
 
 namespace glint {
 
@@ -92,13 +93,13 @@ Vec4f TextureLookups::operator()(const Texture* texture) {
   for (int i = 0; i < used_; ++i)
     if (keys_[i] == texture) return values_[i];
   if (!pointSet_) {
-    point_ = TexturePoint(si_);
+    new (&point_) TexturePoint(si_);
     pointSet_ = true;
   }
   const Vec4f v = texture->evaluate(point_);
   if (used_ < kSlots) {
     keys_[used_] = texture;
-    values_[used_++] = v;
+    new (&values_[used_++]) Vec4f(v);
   }
   return v;
 }

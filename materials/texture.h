@@ -9,6 +9,7 @@
 
 #include <memory>
 #include <string>
+#include <type_traits>
 
 #include "geometry/interaction.h"
 
@@ -102,16 +103,26 @@ class TextureLookups {
  public:
   // `si` must outlive this; its texture point (p, uv, footprint, frame) is read at the first
   // lookup, so a material that reads no texture pays nothing.
-  explicit TextureLookups(const SurfaceInteraction& si) : si_(si) {}
+  explicit TextureLookups(const SurfaceInteraction& si) : si_(si) {
+    static_assert(std::is_trivially_destructible_v<TexturePoint> &&
+                  std::is_trivially_destructible_v<Vec4f>);
+  }
   // The texture's value at the point, looked up on first use.
   Vec4f operator()(const Texture* texture);
 
  private:
   static constexpr int kSlots = 6;  // more distinct textures than this are looked up each time
   const SurfaceInteraction& si_;
-  TexturePoint point_;
+  // The texture point and the cached values are constructed when first written: every hit
+  // makes a TextureLookups, and most materials read no texture (zero-filling these was ~160
+  // bytes per hit for nothing).
+  union {
+    TexturePoint point_;
+  };
+  union {
+    Vec4f values_[kSlots];
+  };
   const Texture* keys_[kSlots];
-  Vec4f values_[kSlots];
   int used_ = 0;
   bool pointSet_ = false;
 };

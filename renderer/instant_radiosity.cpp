@@ -143,7 +143,7 @@ void InstantRadiosityIntegrator::traceLightPaths(int paths, uint64_t seed) {
       const uint32_t materialIndex = scene_.materialIndex(hit);
       const Material& material = *scene_.materials[materialIndex];
       const MaterialShading& shading = shading_[materialIndex];
-      std::optional<Transform> movingFrame;
+      MovingFrame movingFrame;
       SurfaceInteraction si = shadingPoint(ray, hit, RayCone{}, materialIndex, &movingFrame);
       TextureLookups lookups(si);
 

@@ -59,14 +59,14 @@ Integrator::Integrator(const RenderScene& scene) : scene_(scene) {
 
 SurfaceInteraction Integrator::shadingPoint(const Ray& ray, const Hit& hit, const RayCone& cone,
                                             uint32_t materialIndex,
-                                            std::optional<Transform>* movingFrame) const {
+                                            MovingFrame* movingFrame) const {
   const MaterialShading& s = shading_[materialIndex];
   SurfaceInteraction si = computeSurfaceInteraction(scene_.geometry, ray, hit, s.needs);
   if (s.objectSpace) {
     // A moving object's texture moves with it: its frame at the ray's time.
     const Instance& inst = scene_.geometry.instances[hit.instance];
     if (inst.moves())
-      si.objectFromWorld = &movingFrame->emplace(inst.worldFromObjectAt(ray.time).inverse());
+      si.objectFromWorld = movingFrame->set(inst.worldFromObjectAt(ray.time).inverse());
     else
       si.objectFromWorld = &scene_.objectFromWorld[hit.instance];
   }

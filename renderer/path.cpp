@@ -103,7 +103,7 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
         aovs.hit = true;
         if (aovs.wanted) {  // shaded here only for the AOVs: the medium may hide it
           const uint32_t m = scene_.materialIndex(*hit);
-          std::optional<Transform> movingFrame;
+          MovingFrame movingFrame;
           const SurfaceInteraction si = shadingPoint(ray, *hit, cone, m, &movingFrame);
           TextureLookups lookups(si);
           aovs.record(*scene_.materials[m], si, lookups, hit->t * length(ray.d));
@@ -162,7 +162,7 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
     const uint32_t materialIndex = scene_.materialIndex(*hit);
     const Material& material = *scene_.materials[materialIndex];
     const MaterialShading& shading = shading_[materialIndex];
-    std::optional<Transform> movingFrame;  // a moving object's frame: lives as long as `si`
+    MovingFrame movingFrame;  // a moving object's frame: lives as long as `si`
     SurfaceInteraction si = shadingPoint(ray, *hit, cone, materialIndex, &movingFrame);
     TextureLookups lookups(si);  // each texture read once at this vertex
     const float distance = hit->t * length(ray.d);

@@ -37,7 +37,7 @@ Rgb WhittedIntegrator::shade(const Ray& ray, const Hit* found, const RayCone& co
   const uint32_t materialIndex = scene_.materialIndex(hit);
   const Material& material = *scene_.materials[materialIndex];
   const MaterialShading& shading = shading_[materialIndex];
-  std::optional<Transform> movingFrame;  // a moving object's frame: lives as long as `si`
+  MovingFrame movingFrame;  // a moving object's frame: lives as long as `si`
   SurfaceInteraction si = shadingPoint(ray, hit, cone, materialIndex, &movingFrame);
   TextureLookups lookups(si);
   if (aovs) aovs->record(material, si, lookups, hit.t * length(ray.d));
