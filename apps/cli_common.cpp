@@ -11,6 +11,7 @@
 #include "image/output.h"
 #include "renderer/integrator.h"
 #include "renderer/light_sampler.h"
+#include "scenes/sidecar_lights.h"
 
 namespace glint::app {
 
@@ -33,6 +34,14 @@ void SceneOverrides::addOptions(CLI::App* cmd) {
                   "adaptive sampling: a pixel stops once its relative standard error is below "
                   "this (0 = off; --spp is then the most a pixel takes)")
       ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--env", env,
+                  "environment light: 'studio' (the built-in default) or an equirectangular "
+                  ".exr/.hdr file; replaces the scene's");
+  cmd->add_option("--env-strength", envStrength, "multiplies the environment")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--env-rotation", envRotation, "turns the environment about +Y (degrees)");
+  cmd->add_flag("--no-default-light", noDefaultLight,
+                "no studio light for a scene without lights of its own");
 }
 
 void SceneOverrides::apply(SceneDescription* desc) const {
@@ -48,6 +57,35 @@ void SceneOverrides::apply(SceneDescription* desc) const {
   if (lightSampler) r.integrator.lightSampler = *lightSampler;
   if (adaptive) r.adaptive.threshold = *adaptive;
   if (aovs) r.aovs = true;
+  if (noDefaultLight) r.defaultLight = false;
+  if (env) {
+    EnvironmentDesc e;
+    e.where = {"command line", "--env"};
+    if (*env == "studio") {
+      e.studio = true;
+    } else {
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(*env, ec))
+        throw SceneError(e.where, "no such file '" + *env + "'");
+      if (!isEnvironmentImagePath(*env))
+        throw SceneError(e.where, "expected 'studio' or a scene-linear image, OpenEXR (.exr) or "
+                                  "Radiance (.hdr), got '" + *env + "'");
+      e.image = *env;
+    }
+    desc->environment = e;
+  }
+  if ((envStrength || envRotation) && !desc->environment) {
+    // Tuning the light a scene without one gets: make the studio explicit.
+    if (!r.defaultLight)
+      throw SceneError({"command line", envStrength ? "--env-strength" : "--env-rotation"},
+                       "there is no environment to tune (--no-default-light, and the scene has "
+                       "none; give --env)");
+    desc->environment = EnvironmentDesc{};
+    desc->environment->studio = true;
+    desc->environment->where = {"command line", "--env"};
+  }
+  if (envStrength) desc->environment->intensity = *envStrength;
+  if (envRotation) desc->environment->rotation = *envRotation * (kPi / 180.0f);
   if (camera) {
     bool known = std::any_of(desc->cameras.begin(), desc->cameras.end(),
                              [&](const CameraDesc& c) { return c.name == *camera; });

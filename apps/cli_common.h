@@ -20,9 +20,13 @@ struct SceneOverrides {
   std::optional<int> maxDepth;
   std::optional<float> adaptive;  // adaptive sampling threshold
   bool aovs = false;              // EXR output also carries albedo, normal, depth and variance
+  std::optional<std::string> env;  // "studio" or an .exr/.hdr file: replaces the environment
+  std::optional<float> envStrength, envRotation;  // the environment's intensity, degrees
+  bool noDefaultLight = false;
 
   // Registers --width --height --spp --seed --threads --accel --camera --integrator
-  // --max-depth --light-sampler --adaptive on `cmd`
+  // --max-depth --light-sampler --adaptive --env --env-strength --env-rotation
+  // --no-default-light on `cmd`
   // (--aovs is render's own).
   void addOptions(CLI::App* cmd);
   // Applies the given options to desc->render; throws SceneError (location "command line")

@@ -88,6 +88,9 @@ struct MaterialTraits {
   bool bump = false;          // perturbs the shading normal
   bool transparency = false;  // lets light pass straight through (alpha, transparent eyelight)
   bool refraction = false;    // transmits with refraction (glass, glTF transmission)
+  // A rough metal: it reflects its surroundings through a glossy lobe, which Whitted (highlights
+  // from point lights only) cannot render; `--integrator auto` then picks the path tracer.
+  bool glossyMetal = false;
   TextureNeeds needs;         // surface attributes its textures read
 };
 

@@ -23,6 +23,8 @@ PbrMaterial::PbrMaterial(const PbrParams& params) : p_(params) {
   if (p_.roughness.texture || smoothFactor) flags_ |= kBsdfSpecular;
   if (p_.roughness.texture || !smoothFactor) flags_ |= kBsdfGlossy;
   if (transmits) flags_ |= kBsdfTransmission;
+  traits_.glossyMetal =
+      (flags_ & kBsdfGlossy) && (p_.metallic.texture || p_.metallic.factor > 0);
 }
 
 Bsdf PbrMaterial::makeBsdf(const SurfaceInteraction& si, const BsdfFrame& frame,

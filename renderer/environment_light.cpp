@@ -80,13 +80,27 @@ ImageEnvironmentLight::ImageEnvironmentLight(int width, int height, std::vector<
       scale_(scale),
       cosRot_(std::cos(rotation)),
       sinRot_(std::sin(rotation)) {
-  // Luminance times sin(theta): the map's rows shrink towards the poles.
-  std::vector<float> f(size_t(width) * size_t(height));
+  // The sampling density per pixel cell: the largest luminance of the pixels the bilinear
+  // lookup blends anywhere in the cell (the cell and its 8 neighbours, wrapping in u), times
+  // sin(theta) because the map's rows shrink towards the poles. Le is bilinear, so its support
+  // reaches half a pixel into the neighbours of every bright pixel; taking the maximum keeps
+  // the density non-zero wherever Le is (MIS and the estimate stay unbiased) at the price of a
+  // density a little wider than the light.
+  std::vector<float> lum(size_t(width) * size_t(height));
+  for (size_t i = 0; i < lum.size(); ++i) lum[i] = std::max(0.0f, luminance(pixels_[i]));
+  std::vector<float> f(lum.size());
   for (int y = 0; y < height; ++y) {
     const float sinTheta = std::sin(kPi * (float(y) + 0.5f) / float(height));
     for (int x = 0; x < width; ++x) {
-      const size_t i = size_t(y) * size_t(width) + size_t(x);
-      f[i] = std::max(0.0f, luminance(pixels_[i])) * sinTheta;
+      float m = 0;
+      for (int dy = -1; dy <= 1; ++dy) {
+        const int yy = std::clamp(y + dy, 0, height - 1);
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int xx = (x + dx + width) % width;
+          m = std::max(m, lum[size_t(yy) * size_t(width) + size_t(xx)]);
+        }
+      }
+      f[size_t(y) * size_t(width) + size_t(x)] = m * sinTheta;
     }
   }
   distribution_ = Distribution2D(f, width, height);
@@ -118,9 +132,17 @@ Vec3f ImageEnvironmentLight::directionOf(Vec2f uv) const {
 }
 
 Rgb ImageEnvironmentLight::pixel(Vec2f uv) const {
-  const int x = std::min(int(uv.x * float(width_)), width_ - 1);
-  const int y = std::min(int(uv.y * float(height_)), height_ - 1);
-  return pixels_[size_t(y) * size_t(width_) + size_t(x)] * scale_;
+  // Bilinear between pixel centres: wraps around in u (the seam at the back), clamps in v
+  // (the poles).
+  const float fx = uv.x * float(width_) - 0.5f, fy = uv.y * float(height_) - 0.5f;
+  const float x0f = std::floor(fx), y0f = std::floor(fy);
+  const float tx = fx - x0f, ty = fy - y0f;
+  const int x0 = (int(x0f) + width_) % width_, x1 = (x0 + 1) % width_;
+  const int y0 = std::clamp(int(y0f), 0, height_ - 1), y1 = std::clamp(int(y0f) + 1, 0, height_ - 1);
+  auto at = [&](int x, int y) { return pixels_[size_t(y) * size_t(width_) + size_t(x)]; };
+  const Rgb top = at(x0, y0) * (1 - tx) + at(x1, y0) * tx;
+  const Rgb bottom = at(x0, y1) * (1 - tx) + at(x1, y1) * tx;
+  return (top * (1 - ty) + bottom * ty) * scale_;
 }
 
 float ImageEnvironmentLight::pdfOf(Vec2f uv) const {
@@ -176,6 +198,61 @@ Rgb ImageEnvironmentLight::phi() const {
     for (int x = 0; x < width_; ++x) sum += pixels_[size_t(y) * size_t(width_) + size_t(x)] * dOmega;
   }
   return sum * (scale_ * kPi * sceneRadius_ * sceneRadius_);
+}
+
+// --- The studio -------------------------------------------------------------------------------
+
+namespace {
+
+// 0 below e0, 1 above e1, smooth in between.
+float smoothstep(float e0, float e1, float x) {
+  const float t = std::clamp((x - e0) / (e1 - e0), 0.0f, 1.0f);
+  return t * t * (3 - 2 * t);
+}
+
+// A round light of angular radius `radius` (radians) about unit `axis`, with a soft edge.
+float disc(Vec3f d, Vec3f axis, float radius, float edge) {
+  const float angle = std::acos(std::clamp(dot(d, axis), -1.0f, 1.0f));
+  return 1 - smoothstep(radius - edge, radius + edge, angle);
+}
+
+float studioRadiance(Vec3f d) {
+  constexpr float kDegree = kPi / 180;
+  // Sky: 0.45 at the horizon to 0.75 at the zenith; floor 0.15; 6 degrees of blend between.
+  const float sky = 0.45f + 0.3f * std::max(d.y, 0.0f);
+  const float aboveHorizon = smoothstep(-0.05f, 0.05f, d.y);
+  float L = 0.15f * (1 - aboveHorizon) + sky * aboveHorizon;
+  // Key: a softbox of 12 degrees radius, 40 degrees up, front left.
+  static const Vec3f key = normalize(Vec3f{-0.55f, 0.65f, 0.5f});
+  L += 10.0f * disc(d, key, 12 * kDegree, 1.5f * kDegree);
+  // Rim: 7 degrees radius, 20 degrees up, behind right.
+  static const Vec3f rim = normalize(Vec3f{0.7f, 0.35f, -0.6f});
+  L += 4.0f * disc(d, rim, 7 * kDegree, 1.5f * kDegree);
+  return L;
+}
+
+}  // namespace
+
+std::vector<Rgb> studioEnvironment(int width, int height) {
+  // The map as ImageEnvironmentLight reads it (centre towards -Z, u towards +X, row 0 up),
+  // sampled at pixel centres, then scaled so the cosine-weighted integral over the upper
+  // hemisphere (irradiance of a surface facing +Y) is pi.
+  const ImageEnvironmentLight frame(1, 1, {Rgb{1, 1, 1}}, 1, 0);
+  std::vector<float> L(size_t(width) * size_t(height));
+  double irradiance = 0;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const Vec2f uv{(float(x) + 0.5f) / float(width), (float(y) + 0.5f) / float(height)};
+      const Vec3f d = frame.directionOf(uv);
+      const float v = studioRadiance(d);
+      L[size_t(y) * size_t(width) + size_t(x)] = v;
+      const double dOmega = (2 * kPi / width) * (kPi / height) * std::sin(kPi * uv.y);
+      if (d.y > 0) irradiance += double(v) * d.y * dOmega;
+    }
+  const float scale = float(kPi / irradiance);
+  std::vector<Rgb> pixels(L.size());
+  for (size_t i = 0; i < L.size(); ++i) pixels[i] = Rgb{L[i], L[i], L[i]} * scale;
+  return pixels;
 }
 
 }  // namespace glint

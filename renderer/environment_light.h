@@ -42,8 +42,9 @@ class Distribution2D {
 
 // Radiance from an equirectangular image (`width` x `height` RGB, row 0 at the top, +Y up):
 // the image's centre looks down -Z, u grows towards +X; `rotation` (radians) turns the map
-// about +Y. Radiance is the nearest pixel times `scale`, so the piecewise-constant sampling
-// density is non-zero wherever the radiance is.
+// about +Y. Radiance is the bilinear interpolation of the pixels times `scale`; the
+// piecewise-constant sampling density follows the luminance, widened by one pixel so that it is
+// non-zero wherever the interpolated radiance is.
 class ImageEnvironmentLight final : public Light {
  public:
   ImageEnvironmentLight(int width, int height, std::vector<Rgb> pixels, float scale,
@@ -70,5 +71,15 @@ class ImageEnvironmentLight final : public Light {
   Vec3f sceneCenter_;
   float sceneRadius_ = 1;
 };
+
+// The studio: glint's default environment, an equirectangular map (`width` x `height`, the
+// layout ImageEnvironmentLight reads) of a neutral grey room. A bright round softbox above and
+// to the front left of the default camera (towards -X, +Y, +Z: a glTF asset faces +Z) gives a
+// soft shadow and a highlight on metals; a dimmer strip behind and to the right gives rough and
+// metallic surfaces a rim; a sky that brightens towards the zenith and a darker floor below the
+// horizon give reflections a horizon line. All of it is grey (R = G = B), so it does not tint an
+// asset's colours, and it is scaled so that a white Lambert surface facing up reflects
+// radiance 1 (irradiance pi), as glint's earlier headlight did for a surface facing it.
+std::vector<Rgb> studioEnvironment(int width, int height);
 
 }  // namespace glint

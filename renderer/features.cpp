@@ -15,8 +15,8 @@ const char* featureName(Feature f) {
       return "emission";
     case Feature::Instancing:
       return "instancing";
-    case Feature::Headlight:
-      return "headlight";
+    case Feature::DefaultLight:
+      return "default light";
     case Feature::Analytic:
       return "analytic";
     case Feature::Csg:

@@ -18,7 +18,7 @@ enum class Feature : uint32_t {
   VertexColors,  // some material reads COLOR_0
   Emission,      // some material emits light
   Instancing,    // some mesh is placed more than once
-  Headlight,     // the scene had no lights; a headlight was added
+  DefaultLight,  // the scene brought no light; the studio environment lights it
   Analytic,      // analytic primitives (Embree user geometry)
   Csg,           // constructive solid geometry trees
   Terrain,       // fractal terrain

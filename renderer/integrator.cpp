@@ -106,6 +106,10 @@ IntegratorKind resolveIntegrator(const RenderScene& scene, const IntegratorSetti
   bool extended = !scene.infiniteLights.empty();
   for (int32_t l : scene.instanceLight) extended = extended || l >= 0;
   for (const auto& light : scene.lights) extended = extended || !light->isDelta();
+  // A rough metal reflects the rest of the scene through a glossy lobe, which Whitted renders
+  // only as highlights of point lights: it looks black elsewhere.
+  for (const auto& material : scene.materials)
+    extended = extended || material->traits().glossyMetal;
   return extended ? IntegratorKind::Path : IntegratorKind::Whitted;
 }
 

@@ -26,7 +26,7 @@ void addMaterialFeatures(const Material& mat, SceneFeatures* f, bool* anyLit) {
 SceneFeatures detectFeatures(const RenderScene& scene, const IntegratorSettings& integrator,
                              const BuildNotes& notes) {
   SceneFeatures f;
-  f.set(Feature::Headlight, notes.headlight);
+  f.set(Feature::DefaultLight, notes.defaultLight);
   f.set(Feature::Terrain, notes.terrain);
   f.set(Feature::Lens, scene.camera.hasLens());
   bool moving = scene.camera.isMoving();

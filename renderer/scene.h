@@ -76,7 +76,7 @@ struct RenderScene {
 
 // What the builder made that the built scene does not show by itself.
 struct BuildNotes {
-  bool headlight = false;  // the scene had no lights; the builder added one
+  bool defaultLight = false;  // the scene brought no light; the builder added the studio
   bool terrain = false;    // a fractal terrain was meshed
 };
 

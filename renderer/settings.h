@@ -35,7 +35,7 @@ struct ToneMapSettings {
 // Light transport: the render block's "integrator" (a name, or an object with "type" and the
 // keys below) and `--integrator`.
 struct IntegratorSettings {
-  std::string type = "whitted";  // "whitted" | "path" | "instant-radiosity" | "auto"
+  std::string type = "auto";  // "whitted" | "path" | "instant-radiosity" | "auto"
   int maxDepth = 8;              // bounces: Whitted's mirror/glass recursion, path length
   int rrDepth = 3;               // path: Russian roulette from this many bounces on
   std::string lightSampler = "power";  // next-event estimation: "uniform" | "power" | "bvh"
@@ -78,6 +78,10 @@ struct RenderSettings {
   FilterSettings filter;
   ToneMapSettings tonemap;
   Rgb background{0, 0, 0};           // radiance of rays that leave the scene
+  // A scene with no light (no punctual, area or environment light, and a black background;
+  // emitting surfaces do not count) is lit by the studio environment. False: it stays dark
+  // but for its emitters (--no-default-light, sidecar "default_light": false).
+  bool defaultLight = true;
   bool exrHalf = false;              // write EXR as half instead of float
   bool aovs = false;                 // add albedo, normal and depth channels to EXR output
 };

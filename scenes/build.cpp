@@ -631,15 +631,47 @@ void buildMaterials(const SceneDescription& desc, const GeometryMaterials& geome
   }
 }
 
-// The selected camera (or one framing the geometry, when the scene names none) with its lens
-// and its placement over the shutter.
+// What the automatic camera frames: the geometry where it is now (`now`), grown by where every
+// animated mesh and shape goes over the whole animation, so that every frame of a sequence gets
+// the same camera (framing each frame's own bounds zooms in and out). The animation is sampled
+// at 129 evenly spaced times plus every key time; a shape between the samples can poke out by
+// the distance it travels in 1/128 of the animation. Animated CSG trees and terrain count only
+// where they are now.
+Bounds3f framingBounds(const SceneDescription& desc, const Bounds3f& now) {
+  Bounds3f b = now;
+  const auto [t0, t1] = animationRange(desc.nodes);
+  if (!(t1 > t0)) return b;
+  std::vector<double> times;
+  for (int i = 0; i <= 128; ++i) times.push_back(t0 + (t1 - t0) * i / 128);
+  for (const NodeDesc& n : desc.nodes)
+    for (const auto* track : {&n.translationTrack.times, &n.rotationTrack.times,
+                              &n.scaleTrack.times, &n.angleTrack.times})
+      for (float t : *track) times.push_back(t);
+  std::vector<Bounds3f> meshBounds(desc.meshes.size());
+  for (size_t i = 0; i < desc.meshes.size(); ++i)
+    for (Vec3f p : desc.meshes[i].positions) meshBounds[i].extend(p);
+  auto sweep = [&](int node, const Transform& nodeFromItem, const Bounds3f& local) {
+    if (node < 0 || local.empty() || isUnbounded(local) || !isAnimated(desc.nodes, node)) return;
+    for (double t : times) b.extend((worldFromNode(desc.nodes, node, t) * nodeFromItem).bounds(local));
+  };
+  for (const InstanceDesc& inst : desc.instances)
+    if (inst.mesh >= 0 && size_t(inst.mesh) < meshBounds.size())
+      sweep(inst.transformNode, inst.nodeFromObject, meshBounds[size_t(inst.mesh)]);
+  for (const ObjectDesc& o : desc.objects)
+    if (o.kind == ObjectKind::Shape && o.shape) sweep(o.transformNode, o.nodeFromObject, o.shape->bounds());
+  return b;
+}
+
+// The selected camera (or one framing the geometry over the whole animation, when the scene
+// names none) with its lens and its placement over the shutter.
 void buildCamera(const SceneDescription& desc, const CameraDesc* selected,
                  const ShutterTimes& shutter, RenderScene* scene) {
   int width = 0, height = 0;
   resolveImageSize(desc, selected, &width, &height);
   CameraDesc framing;
   if (!selected) {
-    framing = framingCamera(scene->geometry.bounds(), float(width) / float(height));
+    framing = framingCamera(framingBounds(desc, scene->geometry.bounds()),
+                            float(width) / float(height));
     selected = &framing;
   }
   scene->cameraName = selected->name;
@@ -657,18 +689,22 @@ void buildCamera(const SceneDescription& desc, const CameraDesc* selected,
                            selected->apertureBlades, selected->apertureRotation});
 }
 
-// Every light (emitting surfaces too) and the sampler that picks among them; a headlight when
-// there are none, so a scene is never black. Returns whether the headlight was added.
+// Every light (emitting surfaces too) and the sampler that picks among them; the studio
+// environment when the scene brings no light of its own (RenderSettings::defaultLight), so a
+// file without lights still gets a good first image. Returns whether the studio was added.
 bool buildLights(const SceneDescription& desc, const ShutterTimes& shutter, TextureCache& textures,
                  RenderScene* scene) {
   addLights(desc, shutter, &textures, scene);
   if (desc.environment) scene->lights.push_back(makeEnvironmentLight(*desc.environment));
-  const bool emits = addEmissiveSurfaceLights(scene);
-  const bool headlight = scene->lights.empty() && !emits;
-  if (headlight)
-    // Irradiance pi: a white Lambert surface facing the camera has radiance 1.
-    scene->lights.push_back(std::make_unique<DirectionalLight>(
-        scene->camera.forward(), Rgb{kPi, kPi, kPi}, /*castsShadows=*/false));
+  // Emitting surfaces do not count: a glowing visor must not leave the rest of a helmet black.
+  const bool defaultLight = scene->lights.empty() && desc.render.defaultLight &&
+                            maxComponent(desc.render.background) <= 0;
+  if (defaultLight) {
+    EnvironmentDesc studio;
+    studio.studio = true;
+    scene->lights.push_back(makeEnvironmentLight(studio));
+  }
+  addEmissiveSurfaceLights(scene);
   // Lights at infinity learn the scene's extent; then the sampler that picks among them.
   const Bounds3f sceneExtent = scene->geometry.bounds();
   for (auto& light : scene->lights) {
@@ -676,7 +712,7 @@ bool buildLights(const SceneDescription& desc, const ShutterTimes& shutter, Text
     if (light->kind() == LightKind::Infinite) scene->infiniteLights.push_back(light.get());
   }
   scene->lightSampler = makeLightSampler(desc.render.integrator.lightSampler, scene->lights);
-  return headlight;
+  return defaultLight;
 }
 
 }  // namespace
@@ -700,7 +736,7 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
   buildMaterials(desc, geometryMaterials, textures, &scene);
   buildCamera(desc, selected, shutter, &scene);
   BuildNotes notes;
-  notes.headlight = buildLights(desc, shutter, textures, &scene);
+  notes.defaultLight = buildLights(desc, shutter, textures, &scene);
   notes.terrain = geometryMaterials.terrain;
   addMedia(desc, &scene);
   scene.features = detectFeatures(scene, desc.render.integrator, notes);

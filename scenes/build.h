@@ -12,8 +12,9 @@ struct BuildTimings {
 };
 
 // Resolves the image size and camera, bakes single placements into world space (meshes placed
-// several times stay instanced), creates materials, textures and lights (a headlight when the
-// scene has none, a camera framing the bounds when it has no camera), computes SceneFeatures
+// several times stay instanced), creates materials, textures and lights (the studio environment
+// when the scene brings no light, a camera framing the bounds over the whole animation when it
+// has no camera), computes SceneFeatures
 // and builds the accelerator named in desc.render.accel. Throws SceneError for problems only
 // visible now (unknown camera name, inconsistent sizes).
 RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings = nullptr);

@@ -6,9 +6,9 @@
 #include "geometry/shapes/disk.h"
 #include "geometry/shapes/quad.h"
 #include "geometry/shapes/sphere.h"
+#include "image/io.h"
 #include "renderer/area_lights.h"
 #include "renderer/environment_light.h"
-#include "image/output.h"
 #include "renderer/projective_light.h"
 #include "scenes/errors.h"
 
@@ -109,15 +109,37 @@ std::unique_ptr<Light> makeSidecarLight(const LightDesc& l, const Transform& wor
 }
 
 std::unique_ptr<Light> makeEnvironmentLight(const EnvironmentDesc& env) {
+  if (env.studio) {
+    // 512 x 256: the softbox's 12-degree radius spans 34 pixels, enough for a smooth edge.
+    constexpr int kWidth = 512, kHeight = 256;
+    return std::make_unique<ImageEnvironmentLight>(
+        kWidth, kHeight, studioEnvironment(kWidth, kHeight), env.intensity, env.rotation);
+  }
   if (env.image.empty())
     return std::make_unique<UniformEnvironmentLight>(env.color * env.intensity);
-  Film film;
+  std::vector<Rgb> pixels;
+  Image image;
   try {
-    film = readExr(env.image);
+    image = readImage(env.image);
+    if (image.format != "openexr" && image.format != "hdr")
+      throw ImageReadError(env.image + ": is not a scene-linear image (OpenEXR or Radiance .hdr) but " +
+                           image.format);
+    const int r = image.channel("R"), g = image.channel("G"), b = image.channel("B");
+    if (r < 0 || g < 0 || b < 0) throw ImageReadError(env.image + ": has no R, G, B channels");
+    if (image.width <= 0 || image.height <= 0 || image.depth > 1)
+      throw ImageReadError(env.image + ": not a 2D image");
+    pixels.resize(image.pixelCount());
+    const size_t n = size_t(image.channels);
+    for (size_t i = 0; i < pixels.size(); ++i) {
+      const float* p = &image.pixels[i * n];
+      pixels[i] = Rgb{p[r], p[g], p[b]};
+    }
   } catch (const std::exception& e) {
-    throw SceneError(env.where.child("image"), e.what());
+    // The sidecar's "image" key, or the command line's --env itself.
+    throw SceneError(env.where.file == "command line" ? env.where : env.where.child("image"),
+                     e.what());
   }
-  return std::make_unique<ImageEnvironmentLight>(film.width, film.height, std::move(film.color),
+  return std::make_unique<ImageEnvironmentLight>(image.width, image.height, std::move(pixels),
                                                  env.intensity, env.rotation);
 }
 

@@ -181,11 +181,14 @@ struct LightDesc {
   SourceLocation where;
 };
 
-// The environment at infinity (sidecar "environment"): a constant colour or an equirectangular
-// EXR, times intensity, turned by `rotation` (radians) about +Y.
+// The environment at infinity (sidecar "environment", or --env): a constant colour, an
+// equirectangular image (OpenEXR or Radiance .hdr) or the built-in studio
+// (renderer/environment_light.h, also the default light of a scene without lights), times
+// intensity, turned by `rotation` (radians) about +Y.
 struct EnvironmentDesc {
   Rgb color{1, 1, 1};
-  std::string image;  // path of the EXR (resolved against the sidecar's folder); "" = colour
+  std::string image;    // path of the image (resolved against the sidecar's folder)
+  bool studio = false;  // the built-in studio (then `image` is empty)
   float intensity = 1;
   float rotation = 0;
   SourceLocation where;

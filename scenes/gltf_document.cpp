@@ -838,19 +838,63 @@ void readAnimations(const Object& root, Document* doc) {
   }
 }
 
-// Extensions glint implements; any other extension in extensionsRequired is an error.
+// Extensions glint implements; any other extension in extensionsRequired is an error, and one
+// in extensionsUsed a warning.
 const char* const kSupportedExtensions[] = {"KHR_lights_punctual",
                                             "KHR_materials_emissive_strength",
                                             "KHR_materials_transmission", "KHR_materials_ior"};
 
-void checkRequiredExtensions(const Object& root) {
+bool isSupportedExtension(const std::string& name) {
+  return std::find(std::begin(kSupportedExtensions), std::end(kSupportedExtensions), name) !=
+         std::end(kSupportedExtensions);
+}
+
+// What glint does without an extension it does not implement, for the warning.
+std::string whatIsIgnored(const std::string& name) {
+  static const std::pair<const char*, const char*> kKnown[] = {
+      {"KHR_texture_transform", "textures use their untransformed UVs"},
+      {"KHR_materials_unlit", "unlit materials are shaded as metallic-roughness"},
+      {"KHR_materials_clearcoat", "no clear coat layer"},
+      {"KHR_materials_sheen", "no sheen"},
+      {"KHR_materials_specular", "the default dielectric specular (F0 0.04, white)"},
+      {"KHR_materials_volume", "no absorption inside transmissive objects"},
+      {"KHR_materials_iridescence", "no thin-film iridescence"},
+      {"KHR_materials_anisotropy", "isotropic roughness"},
+      {"KHR_materials_dispersion", "one index of refraction for every wavelength"},
+      {"KHR_materials_diffuse_transmission", "no light through thin diffuse surfaces"},
+      {"KHR_materials_variants", "the default material of every primitive"},
+      {"KHR_materials_pbrSpecularGlossiness", "the metallic-roughness parameters, if any"},
+      {"EXT_mesh_gpu_instancing", "each node is drawn once, without its instances"},
+      {"KHR_xmp_json_ld", "metadata only"},
+      {"KHR_animation_pointer", "animated material and camera properties stay at rest"},
+  };
+  for (const auto& [known, ignored] : kKnown)
+    if (name == known) return ignored;
+  return "whatever it adds";
+}
+
+std::string supportedExtensionList() {
+  std::string list;
+  for (const char* e : kSupportedExtensions) list += (list.empty() ? "" : ", ") + std::string(e);
+  return list;
+}
+
+void checkExtensions(const Object& root, std::vector<std::string>* warnings) {
   for (auto& [value, loc] : root.array("extensionsRequired")) {
     if (!value->is_string())
       throw SceneError(loc, "expected a string, got " + jsonTypeName(*value));
     std::string name = value->get<std::string>();
-    if (std::find(std::begin(kSupportedExtensions), std::end(kSupportedExtensions), name) ==
-        std::end(kSupportedExtensions))
-      throw SceneError(loc, "unsupported extension '" + name + "'");
+    if (!isSupportedExtension(name))
+      throw SceneError(loc, "unsupported extension '" + name + "' is required (glint supports " +
+                                supportedExtensionList() + ")");
+  }
+  for (auto& [value, loc] : root.array("extensionsUsed")) {
+    if (!value->is_string())
+      throw SceneError(loc, "expected a string, got " + jsonTypeName(*value));
+    std::string name = value->get<std::string>();
+    if (!isSupportedExtension(name))
+      warnings->push_back(loc.str() + ": extension '" + name + "' is not supported; ignored: " +
+                          whatIsIgnored(name));
   }
 }
 
@@ -911,7 +955,7 @@ Document readDocument(const json& rootValue, const std::string& file) {
   if (version.rfind("2.", 0) != 0)
     throw SceneError(asset.at("version"),
                      "unsupported glTF version '" + version + "' (glint reads 2.x)");
-  checkRequiredExtensions(root);
+  checkExtensions(root, &doc.warnings);
   readBuffers(root, &doc);
   readBufferViews(root, &doc);
   readAccessors(root, &doc);

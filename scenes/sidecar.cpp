@@ -75,6 +75,7 @@ void readRender(JsonReader& r, RenderSettings* s) {
     s->filter.radius = f->get<float>("radius", s->filter.radius, kPositive);
   }
   s->background = r.get<Rgb>("background", s->background, kNonNegative);
+  s->defaultLight = r.get<bool>("default_light", s->defaultLight);
   if (JsonReader* e = r.optionalObject("exr")) {
     s->exrHalf = e->get<bool>("half", s->exrHalf);
     s->aovs = e->get<bool>("aovs", s->aovs);

@@ -3,6 +3,8 @@
 
 #include <cmath>
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "scenes/paths.h"
 
@@ -112,21 +114,37 @@ void readEnvironment(JsonReader& root, const std::string& file, SceneDescription
   if (!r) return;
   EnvironmentDesc env;
   env.where = r->where();
-  if (r->has("color") && r->has("image"))
-    throw SceneError(r->where("image"), "give either a 'color' or an 'image', not both");
+  std::vector<std::string> given;
+  for (const char* key : {"color", "image", "preset"})
+    if (r->has(key)) given.push_back(key);
+  if (given.size() > 1)
+    throw SceneError(r->where(given[1]), "give one of 'color', 'image' and 'preset', not " +
+                                             std::string(given.size() == 2 ? "both" : "all three"));
   env.color = r->get<Rgb>("color", env.color, kNonNegative);
   env.intensity = r->get<float>("intensity", env.intensity, kNonNegative);
   env.rotation = radians(r->get<float>("rotation_degrees", 0));
+  if (r->has("preset")) {
+    const std::string preset = r->get<std::string>("preset");
+    if (preset != "studio")
+      throw SceneError(r->where("preset"), "unknown preset '" + preset + "' (studio)");
+    env.studio = true;
+  }
   if (r->has("image")) {
     const std::string relative = r->get<std::string>("image");
     const fs::path path = existingScenePath(relative, file, r->where("image"));
-    std::string ext = path.extension().string();
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    if (ext != ".exr")
-      throw SceneError(r->where("image"), "expected an OpenEXR (.exr) image, got '" + relative + "'");
+    if (!isEnvironmentImagePath(path.string()))
+      throw SceneError(r->where("image"),
+                       "expected a scene-linear image, OpenEXR (.exr) or Radiance (.hdr), got '" +
+                           relative + "'");
     env.image = path.string();
   }
   scene->environment = env;
+}
+
+bool isEnvironmentImagePath(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".exr" || ext == ".hdr";
 }
 
 }  // namespace glint

@@ -20,5 +20,8 @@ bool isSidecarOnlyLight(LightType type);
 void readSidecarLight(JsonReader& r, const SceneDescription& scene, LightDesc* light);
 // Reads root["environment"] (image paths relative to `file`'s folder).
 void readEnvironment(JsonReader& root, const std::string& file, SceneDescription* scene);
+// Whether `path` names an image an environment can be read from: scene-linear, OpenEXR (.exr)
+// or Radiance (.hdr), by its extension.
+bool isEnvironmentImagePath(const std::string& path);
 
 }  // namespace glint

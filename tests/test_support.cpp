@@ -82,7 +82,7 @@ void useUniformEnvironment(RenderScene* scene, Rgb L) {
   scene->lights.back()->preprocess(scene->geometry.bounds());
   scene->infiniteLights.push_back(scene->lights.back().get());
   scene->lightSampler = makeLightSampler("power", scene->lights);
-  scene->features.set(Feature::Headlight, false);
+  scene->features.set(Feature::DefaultLight, false);
   scene->features.set(Feature::Environment);
   scene->features.set(Feature::Shadows);
 }

@@ -24,9 +24,9 @@ struct Rendered {
 // its own integrator on two threads.
 Rendered renderJson(const std::string& text);
 
-// Replaces a built scene's lights (the headlight a scene without lights gets) by a uniform
+// Replaces a built scene's lights (the studio a scene without lights gets) by a uniform
 // environment of radiance `L`, as the sidecar's environment block would: it lights the
-// scene, casts shadows and replaces the headlight.
+// scene, casts shadows and replaces the default light.
 void useUniformEnvironment(RenderScene* scene, Rgb L);
 
 // A glint JSON scene (tests/images/scenes/cornell_path.json in code): a closed box

@@ -60,7 +60,7 @@ namespace fs = std::filesystem;
 std::string writeMovingBallScene(const std::string& dir) {
   std::string path = dir + "/moving_ball.json";
   std::ofstream(path) << R"({
-  "render": {"width": 32, "height": 16, "spp": 4, "fps": 2,
+  "render": {"width": 32, "height": 16, "spp": 4, "fps": 2, "default_light": false,
              "filter": {"type": "box", "radius": 0.5}},
   "cameras": [{"name": "front", "type": "orthographic", "xmag": 2, "ymag": 1,
                "position": [0, 0, 5], "look_at": [0, 0, 0]}],

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "image/output.h"
 #include "test_support.h"
 
 namespace glint {
@@ -173,13 +174,45 @@ TEST(CliInfo, FramesListEachEffectWithTheFramesItAppearsIn) {
   EXPECT_NE(bad.err.find("--frames"), std::string::npos) << bad.err;
 }
 
-TEST(CliInfo, SceneWithoutLightsReportsTheHeadlightAndNoShadows) {
-  test::CommandResult r =
-      test::runGlint("info '" + test::dataDir() + "/scenes/two_instances.gltf'");
+TEST(CliInfo, SceneWithoutLightsReportsTheDefaultLight) {
+  const std::string scene = test::dataDir() + "/scenes/two_instances.gltf";
+  test::CommandResult r = test::runGlint("info '" + scene + "'");
   ASSERT_EQ(r.exitCode, 0) << r.err;
-  EXPECT_NE(r.out.find("headlight"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("default light"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("environment light"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("instancing"), std::string::npos) << r.out;
-  EXPECT_EQ(r.out.find("shadows"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("path (auto)"), std::string::npos) << r.out;
+  // Switched off: no light at all, so nothing casts shadows and Whitted is enough.
+  test::CommandResult off = test::runGlint("info '" + scene + "' --no-default-light");
+  ASSERT_EQ(off.exitCode, 0) << off.err;
+  EXPECT_EQ(off.out.find("default light"), std::string::npos) << off.out;
+  EXPECT_EQ(off.out.find("shadows"), std::string::npos) << off.out;
+  EXPECT_NE(off.out.find("whitted (auto)"), std::string::npos) << off.out;
+}
+
+TEST(CliRender, EnvironmentOptions) {
+  const std::string dir = test::scratchDir("cli_env");
+  const std::string scene = test::dataDir() + "/scenes/two_instances.gltf";
+  // The studio, twice as strong, turned: a 16 x 11 render twice as bright in the mean.
+  const std::string common = " --width 16 --spp 16 --quiet --seed 3";
+  ASSERT_EQ(test::runGlint("render '" + scene + "' -o '" + dir + "/a.exr'" + common).exitCode, 0);
+  test::CommandResult twice = test::runGlint("render '" + scene + "' -o '" + dir + "/b.exr'" +
+                                             common + " --env studio --env-strength 2");
+  ASSERT_EQ(twice.exitCode, 0) << twice.err;
+  const Film a = readExr(dir + "/a.exr"), b = readExr(dir + "/b.exr");
+  double sa = 0, sb = 0;
+  for (size_t i = 0; i < a.color.size(); ++i) sa += a.color[i].y, sb += b.color[i].y;
+  EXPECT_NEAR(sb / sa, 2.0, 1e-3);  // same samples, every light term doubled
+  // Bad values: exit 2, naming the option.
+  for (const std::string& bad : {std::string(" --env nowhere.exr"), std::string(" --env '") +
+                                     scene + "'",
+                                 std::string(" --no-default-light --env-strength 2")}) {
+    test::CommandResult r =
+        test::runGlint("render '" + scene + "' -o '" + dir + "/c.exr'" + common + bad);
+    EXPECT_EQ(r.exitCode, 2) << bad;
+    EXPECT_NE(r.err.find("--env"), std::string::npos) << r.err;
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir + "/c.exr"));
 }
 
 }  // namespace

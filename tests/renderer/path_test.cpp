@@ -57,15 +57,8 @@ SceneDescription pathScene(int size, int spp, int maxDepth, int rrDepth) {
   d.render.integrator.type = "path";
   d.render.integrator.maxDepth = maxDepth;
   d.render.integrator.rrDepth = rrDepth;
+  d.render.defaultLight = false;  // the scenes here are lit by what they hold
   return d;
-}
-
-// Removes the headlight a scene without lights gets (emitting surfaces light it alone).
-void dropHeadlight(RenderScene* scene) {
-  if (!scene->features.has(Feature::Headlight)) return;
-  scene->lights.clear();
-  scene->lightSampler = makeLightSampler("power", scene->lights);
-  scene->features.set(Feature::Headlight, false);
 }
 
 Film renderPath(const RenderScene& scene, const RenderSettings& settings, int threads = 2,
@@ -153,7 +146,6 @@ Estimate renderEnclosure(float a, float Le, int maxDepth, int rrDepth, uint64_t 
   d.objects.push_back(sphere({0, 0, 0}, 2, 0));
   d.cameras.push_back(camera({0.3f, -0.2f, 0.5f}, {1, 0, -1}, 60));
   RenderScene scene = buildRenderScene(d);
-  dropHeadlight(&scene);
   RenderStats stats;
   Film film = renderPath(scene, d.render, 2, &stats);
   EXPECT_EQ(stats.nonfiniteSamples, 0u);

@@ -79,12 +79,13 @@ LightDesc pointLight(Vec3f p, float intensity) {
   return l;
 }
 
-// Removes every light (the headlight a scene without lights gets included).
+// Removes every light (the studio a scene without lights gets included).
 void dropLights(RenderScene* scene) {
   scene->lights.clear();
   scene->infiniteLights.clear();
   scene->lightSampler = makeLightSampler("power", scene->lights);
-  scene->features.set(Feature::Headlight, false);
+  scene->features.set(Feature::DefaultLight, false);
+  scene->features.set(Feature::Environment, false);
 }
 
 Film renderWith(const RenderScene& scene, const RenderSettings& settings, int threads = 2,

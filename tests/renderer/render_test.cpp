@@ -1,5 +1,5 @@
 // Render tests on scenes built in code: closed-form radiance, determinism across thread
-// counts, NaN/Inf handling, the headlight.
+// counts, NaN/Inf handling, the default studio light.
 #include "renderer/render.h"
 
 #include <gtest/gtest.h>
@@ -131,15 +131,25 @@ TEST(Render, ShadowsDarkenWhatIsBehindAnOccluder) {
   EXPECT_GT(film.color[film.index(1, 1)].y, 0.1f);
 }
 
-TEST(Render, SceneWithoutLightsGetsAHeadlight) {
+TEST(Render, SceneWithoutLightsGetsTheStudio) {
   SceneDescription d = lambertPlaneScene(1.0f, 10, 2, 16);
   d.lights.clear();
+  d.render.spp = 64;
   RenderScene scene = buildRenderScene(d);
-  EXPECT_TRUE(scene.features.has(Feature::Headlight));
-  EXPECT_FALSE(scene.features.has(Feature::Shadows));
+  EXPECT_TRUE(scene.features.has(Feature::DefaultLight));
+  EXPECT_TRUE(scene.features.has(Feature::Environment));
+  EXPECT_EQ(resolveIntegrator(scene, d.render.integrator), IntegratorKind::Path);
   Film film = renderDescription(d, 2);
-  // White Lambert facing the headlight: radiance 1.
-  EXPECT_NEAR(film.color[film.index(8, 8)].y, 1.0f, 1e-4f);
+  // A white Lambert plane facing up under the studio (scaled to irradiance pi from above):
+  // radiance 1, within the noise of 16 x 16 x 64 samples.
+  double sum = 0;
+  for (const Rgb& c : film.color) sum += c.y;
+  EXPECT_NEAR(sum / double(film.color.size()), 1.0, 0.03);
+  // Off: the plane is black.
+  d.render.defaultLight = false;
+  EXPECT_FALSE(buildRenderScene(d).features.has(Feature::DefaultLight));
+  Film dark = renderDescription(d, 2);
+  EXPECT_EQ(dark.color[dark.index(8, 8)].y, 0.0f);
 }
 
 TEST(Render, MissingCameraNameIsASceneError) {

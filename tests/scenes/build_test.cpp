@@ -104,7 +104,7 @@ TEST(Build, FeaturesFollowWhatTheSceneUses) {
   // Only eyelight surfaces: the light casts no shadows anyone could see.
   EXPECT_FALSE(s.features.has(Feature::Shadows));
   EXPECT_FALSE(s.features.has(Feature::Textures));
-  EXPECT_FALSE(s.features.has(Feature::Headlight));
+  EXPECT_FALSE(s.features.has(Feature::DefaultLight));
 
   d.materials[0].type = MaterialType::Lambert;
   d.meshes[0].colors.assign(3, {1, 0, 0, 1});

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -475,8 +476,11 @@ TEST(GltfLoader, ReadsPbrExtensionsAlphaNormalMapsAndTangents) {
 
 TEST(GltfLoader, WarnsAboutSkippedPrimitivesAndOtherTexCoordSets) {
   SceneDescription s = load(goodFile("features.gltf"));
-  ASSERT_EQ(s.warnings.size(), 2u);
-  std::string all = s.warnings[0] + "\n" + s.warnings[1];
+  ASSERT_EQ(s.warnings.size(), 3u);
+  std::string all = s.warnings[0] + "\n" + s.warnings[1] + "\n" + s.warnings[2];
+  EXPECT_NE(all.find("/extensionsUsed/2: extension 'EXT_unknown_optional' is not supported"),
+            std::string::npos)
+      << all;
   EXPECT_NE(all.find("/materials/0/pbrMetallicRoughness/baseColorTexture/texCoord: texCoord 1"),
             std::string::npos)
       << all;
@@ -588,6 +592,33 @@ TEST(GltfBadInput, WrongTypeIsRejected) {
 TEST(GltfBadInput, UnsupportedRequiredExtensionIsRejected) {
   expectError(badFile("unsupported_required_extension.gltf"), "/extensionsRequired/0",
               "unsupported extension 'KHR_draco_mesh_compression'");
+}
+
+TEST(GltfBadInput, RequiredExtensionErrorListsWhatGlintSupports) {
+  try {
+    load(badFile("unsupported_required_extension.gltf"));
+    FAIL() << "accepted";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("glint supports KHR_lights_punctual"), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(GltfLoader, WarnsAboutExtensionsItUsesButGlintIgnores) {
+  std::ifstream in(badFile("unsupported_required_extension.gltf"));
+  nlohmann::json j = nlohmann::json::parse(in);
+  j.erase("extensionsRequired");
+  j["extensionsUsed"] = {"KHR_materials_unlit", "KHR_lights_punctual", "VENDOR_thing"};
+  const std::string path = test::scratchDir("gltf_extensions_used") + "/used.gltf";
+  std::ofstream(path) << j.dump();
+  SceneDescription s = load(path);
+  ASSERT_EQ(s.warnings.size(), 2u);  // the supported one is not mentioned
+  EXPECT_NE(s.warnings[0].find("/extensionsUsed/0: extension 'KHR_materials_unlit' is not "
+                               "supported; ignored: unlit materials are shaded"),
+            std::string::npos)
+      << s.warnings[0];
+  EXPECT_NE(s.warnings[1].find("/extensionsUsed/2: extension 'VENDOR_thing'"), std::string::npos)
+      << s.warnings[1];
 }
 
 TEST(GltfBadInput, NodeCycleIsRejected) {

@@ -149,7 +149,7 @@ TEST(MotionBuild, LightsArePlacedInTheMiddleOfTheShutter) {
   RenderScene s = buildRenderScene(d);
   ASSERT_EQ(s.lights.size(), 1u);
   EXPECT_TRUE(s.features.has(Feature::MotionBlur));
-  EXPECT_FALSE(s.features.has(Feature::Headlight));
+  EXPECT_FALSE(s.features.has(Feature::DefaultLight));
   // A point light's incident direction reveals its position.
   auto ls = s.lights[0]->sampleLi(LightSampleContext::inMedium({7.5f, 0, 0}, 0), {0.5f, 0.5f});
   ASSERT_TRUE(ls.has_value());

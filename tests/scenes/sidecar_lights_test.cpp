@@ -2,8 +2,13 @@
 // scene built from them (emitting surfaces included).
 #include <gtest/gtest.h>
 
-#include <filesystem>
+#include <OpenImageIO/imageio.h>
 
+#include <filesystem>
+#include <fstream>
+#include <tuple>
+
+#include "image/io.h"
 #include "image/output.h"
 #include "renderer/area_lights.h"
 #include "renderer/environment_light.h"
@@ -90,7 +95,7 @@ TEST(SidecarLights, ReadsQuadDiskSphereAndProjective) {
   EXPECT_TRUE(s.features.has(Feature::AreaLights));
   EXPECT_TRUE(s.features.has(Feature::Projective));
   EXPECT_FALSE(s.features.has(Feature::Environment));
-  EXPECT_FALSE(s.features.has(Feature::Headlight));
+  EXPECT_FALSE(s.features.has(Feature::DefaultLight));
 }
 
 // Area lights placed by a transform: a quad's corner and edges in the light's space, a disk in
@@ -180,7 +185,7 @@ TEST(SidecarLights, ConstantEnvironmentLightsTheScene) {
   ASSERT_EQ(s.infiniteLights.size(), 1u);
   EXPECT_EQ(s.escaped({0, 1, 0}), (Rgb{1, 2, 4}));
   EXPECT_TRUE(s.features.has(Feature::Environment));
-  EXPECT_FALSE(s.features.has(Feature::Headlight));
+  EXPECT_FALSE(s.features.has(Feature::DefaultLight));
 }
 
 TEST(SidecarLights, ImageEnvironmentIsReadFromAnExr) {
@@ -199,7 +204,56 @@ TEST(SidecarLights, ImageEnvironmentIsReadFromAnExr) {
   ASSERT_NE(env, nullptr);
   // Straight up is the top row; every pixel of it has G = 1, times the intensity.
   EXPECT_NEAR(s.escaped({0, 1, 0}).y, 3, 1e-5f);
-  EXPECT_NEAR(env->Le(env->directionOf({0.3f, 0.6f})).x, 3 * float(2 * 8 + 2), 1e-4f);
+  // At a pixel centre, that pixel (R = its index); between centres, bilinear (R is linear in
+  // the pixel's column and row, so the interpolation is exact).
+  EXPECT_NEAR(env->Le(env->directionOf({2.5f / 8, 2.5f / 4})).x, 3 * float(2 * 8 + 2), 1e-3f);
+  EXPECT_NEAR(env->Le(env->directionOf({0.3f, 0.6f})).x, 3 * (8 * 1.9f + 1.9f), 2e-3f);
+}
+
+TEST(SidecarLights, EnvironmentPresetsAndFormats) {
+  const std::string dir = test::scratchDir("sidecar_lights_env_formats");
+  SceneDescription d;
+  applySceneJsonText(R"({"environment": {"preset": "studio", "intensity": 2}, )" + kFloor + "}",
+                     dir + "/scene.json", SceneJsonKind::Scene, &d);
+  ASSERT_TRUE(d.environment.has_value());
+  EXPECT_TRUE(d.environment->studio);
+  RenderScene s = buildRenderScene(d);
+  EXPECT_FALSE(s.features.has(Feature::DefaultLight));  // the scene asked for it
+  ASSERT_EQ(s.infiniteLights.size(), 1u);
+  // Twice the studio: straight up is brighter than the horizon, all of it grey.
+  const Rgb up = s.escaped({0, 1, 0}), horizon = s.escaped({0, 0.02f, -1});
+  EXPECT_GT(up.y, horizon.y);
+  EXPECT_EQ(up.x, up.z);
+  // Radiance .hdr files are read as well as EXR.
+  {
+    // glint does not write .hdr itself; OpenImageIO does.
+    const std::vector<float> half(4 * 2 * 3, 0.5f);
+    auto out = OIIO::ImageOutput::create(dir + "/sky.hdr");
+    ASSERT_TRUE(out);
+    ASSERT_TRUE(out->open(dir + "/sky.hdr", OIIO::ImageSpec(4, 2, 3, OIIO::TypeDesc::FLOAT)));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, half.data()));
+    out->close();
+  }
+  SceneDescription h;
+  applySceneJsonText(R"({"environment": {"image": "sky.hdr"}, )" + kFloor + "}",
+                     dir + "/scene.json", SceneJsonKind::Scene, &h);
+  EXPECT_NEAR(buildRenderScene(h).escaped({0, 1, 0}).y, 0.5f, 1e-2f);
+  // Errors name the key.
+  for (const auto& [json, pointer, message] : std::vector<std::tuple<std::string, std::string, std::string>>{
+           {R"({"environment": {"preset": "sunset"}})", "/environment/preset", "unknown preset"},
+           {R"({"environment": {"preset": "studio", "color": [1, 1, 1]}})",
+            "/environment/preset", "not both"},
+           {R"({"environment": {"image": "scene.json"}})", "/environment/image", "scene-linear"}}) {
+    SceneDescription bad;
+    std::ofstream(dir + "/scene.json") << "{}";
+    try {
+      applySceneJsonText(json, dir + "/scene.json", SceneJsonKind::Scene, &bad);
+      ADD_FAILURE() << "accepted " << json;
+    } catch (const SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find(pointer), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(SidecarLights, EmittingSurfacesBecomeLights) {
@@ -212,6 +266,7 @@ TEST(SidecarLights, EmittingSurfacesBecomeLights) {
       {"type": "box", "min": [0, 0, 0], "max": [1, 1, 1], "material": "glow"},
       {"type": "quad", "corner": [0, 3, 0], "edge_u": [1, 0, 0], "edge_v": [0, 0, 1], "material": "glow"}
     ]})");
+  d.render.defaultLight = false;  // the emitters alone
   RenderScene s = buildRenderScene(d);
   ASSERT_EQ(s.instanceLight.size(), 5u);
   EXPECT_EQ(s.instanceLight[0], -1);
@@ -219,8 +274,8 @@ TEST(SidecarLights, EmittingSurfacesBecomeLights) {
   ASSERT_GE(s.instanceLight[2], 0);
   ASSERT_GE(s.instanceLight[3], 0);
   ASSERT_GE(s.instanceLight[4], 0);
-  EXPECT_EQ(s.lights.size(), 4u);  // and no headlight
-  EXPECT_FALSE(s.features.has(Feature::Headlight));
+  EXPECT_EQ(s.lights.size(), 4u);  // and no default light
+  EXPECT_FALSE(s.features.has(Feature::DefaultLight));
   EXPECT_TRUE(s.features.has(Feature::AreaLights));
   auto* disk = areaLightOf(s.lights[size_t(s.instanceLight[1])].get(), "disk");
   ASSERT_NE(disk, nullptr);
@@ -278,13 +333,21 @@ TEST(SidecarLights, EmissiveMeshesAndTexturedEmission) {
   EXPECT_NEAR(quad->phi().z, 2 * kPi * 2.0f, 1e-3f);
 }
 
-TEST(SidecarLights, OnlyUnsampledEmittersStillSuppressTheHeadlight) {
+TEST(SidecarLights, EmittersDoNotSwitchTheDefaultLightOff) {
   SceneDescription d = apply(R"({
     "materials": [{"name": "glow", "type": "lambert", "emissive": [1, 1, 1]}],
-    "objects": [{"type": "plane", "material": "glow"}]})");
+    "objects": [{"type": "plane", "material": "glow"},
+                {"type": "sphere", "radius": 1, "material": "glow"}]})");
   RenderScene s = buildRenderScene(d);
-  EXPECT_TRUE(s.lights.empty());  // an infinite plane glows when hit but cannot be sampled
-  EXPECT_FALSE(s.features.has(Feature::Headlight));
+  // The studio, then the sphere; an infinite plane glows when hit but cannot be sampled.
+  ASSERT_EQ(s.lights.size(), 2u);
+  EXPECT_TRUE(s.features.has(Feature::DefaultLight));
+  EXPECT_EQ(s.infiniteLights.size(), 1u);
+  // Switched off, the emitters alone light the scene.
+  d.render.defaultLight = false;
+  s = buildRenderScene(d);
+  EXPECT_EQ(s.lights.size(), 1u);
+  EXPECT_FALSE(s.features.has(Feature::DefaultLight));
   // ... and is listed, with the reason, for `glint info`.
   ASSERT_EQ(s.unsampledEmitters.size(), 1u);
   EXPECT_EQ(s.unsampledEmitters[0].shape, "plane");
@@ -297,6 +360,7 @@ TEST(SidecarLights, EmittingCsgTreesAreListedAsUnsampled) {
     "objects": [{"type": "csg", "material": "glow", "tree": {"op": "union", "children": [
       {"type": "box", "min": [0, 0, 0], "max": [1, 1, 1]}, {"type": "sphere", "radius": 0.5}]}},
       {"type": "sphere", "radius": 0.5, "material": "glow", "transform": [{"translate": [3, 0, 0]}]}]})");
+  d.render.defaultLight = false;  // the emitters alone
   RenderScene s = buildRenderScene(d);
   ASSERT_EQ(s.lights.size(), 1u);  // the sphere
   EXPECT_EQ(s.instanceLight[0], -1);
