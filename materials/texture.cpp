@@ -32,9 +32,9 @@ TexCoord2 TextureMapping::map2D(const TexturePoint& tp) const {
   TexCoord2 c;
   switch (space) {
     case Space::Uv:
-      c.st = scale2(tp.uv, scale) + Vec2f{offset.x, offset.y};
-      c.dstdx = scale2(tp.duvdx, scale);
-      c.dstdy = scale2(tp.duvdy, scale);
+      c.st = rotateUv(scale2(tp.uv, scale)) + Vec2f{offset.x, offset.y};
+      c.dstdx = rotateUv(scale2(tp.duvdx, scale));
+      c.dstdy = rotateUv(scale2(tp.duvdy, scale));
       break;
     case Space::Object:
     case Space::World: {
@@ -50,8 +50,10 @@ TexCoord2 TextureMapping::map2D(const TexturePoint& tp) const {
 
 Vec3f TextureMapping::map3D(const TexturePoint& tp) const {
   switch (space) {
-    case Space::Uv:
-      return Vec3f{tp.uv.x, tp.uv.y, 0} * scale + offset;
+    case Space::Uv: {
+      const Vec2f st = rotateUv(scale2(tp.uv, scale));
+      return Vec3f{st.x, st.y, 0} + offset;
+    }
     case Space::Object:
       return tp.pObject() * scale + offset;
     case Space::World:

@@ -7,6 +7,7 @@
 // patterns in procedural.h.
 #pragma once
 
+#include <cmath>
 #include <memory>
 #include <string>
 #include <type_traits>
@@ -55,7 +56,12 @@ struct TextureMapping {
   Space space = Space::Uv;
   Plane plane = Plane::Xy;
   Vec3f scale{1, 1, 1}, offset{0, 0, 0};
+  // UV space only: uv' = offset + R (scale * uv), R a rotation by `uvRotation` radians as
+  // glTF's KHR_texture_transform defines it: R (x, y) = (x cos - y sin, x sin + y cos).
+  float uvCos = 1, uvSin = 0;
 
+  void setUvRotation(float radians) { uvCos = std::cos(radians), uvSin = std::sin(radians); }
+  Vec2f rotateUv(Vec2f v) const { return {v.x * uvCos - v.y * uvSin, v.x * uvSin + v.y * uvCos}; }
   TexCoord2 map2D(const TexturePoint& tp) const;
   Vec3f map3D(const TexturePoint& tp) const;
   // The change of map3D for a small world-space step `d` from tp (footprints, gradients).

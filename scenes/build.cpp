@@ -136,6 +136,7 @@ TextureMapping toMapping(const MappingDesc& d) {
                                                 : TextureMapping::Plane::Xy;
   m.scale = d.scale;
   m.offset = d.offset;
+  m.setUvRotation(d.uvRotation);
   return m;
 }
 

@@ -35,6 +35,9 @@ struct MappingDesc {
   enum class Space { Uv, Object, World } space = Space::Uv;
   enum class Plane { Xy, Xz, Yz } plane = Plane::Xy;  // 2D lookups in object/world space
   Vec3f scale{1, 1, 1}, offset{0, 0, 0};
+  // UV space only: a rotation (radians) between the scale and the offset, glTF's
+  // KHR_texture_transform (see TextureMapping).
+  float uvRotation = 0;
 };
 
 enum class TextureKind {

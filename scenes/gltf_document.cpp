@@ -363,6 +363,26 @@ TextureRef textureRef(const Object& parent, const std::string& key, const Docume
   r.where = o.where();
   r.index = o.index("index", doc.textures.size(), "texture", true);
   r.texCoord = int(std::min<size_t>(o.size("texCoord", 0), 1000));
+  if (o.has("extensions")) {
+    Object ext = o.object("extensions");
+    if (ext.has("KHR_texture_transform")) {
+      Object t = ext.object("KHR_texture_transform");
+      r.transformed = true;
+      if (t.has("offset")) {
+        auto v = t.numbers("offset", 2);
+        r.offset = {float(v[0]), float(v[1])};
+      }
+      if (t.has("scale")) {
+        auto v = t.numbers("scale", 2);
+        r.scale = {float(v[0]), float(v[1])};
+      }
+      r.rotation = float(t.number("rotation", 0));
+      for (float f : {r.offset.x, r.offset.y, r.scale.x, r.scale.y, r.rotation})
+        if (!std::isfinite(f))
+          throw SceneError(t.where(), "offset, rotation and scale must be finite in float");
+      if (t.has("texCoord")) r.texCoord = int(std::min<size_t>(t.size("texCoord", 0), 1000));
+    }
+  }
   return r;
 }
 
@@ -840,9 +860,9 @@ void readAnimations(const Object& root, Document* doc) {
 
 // Extensions glint implements; any other extension in extensionsRequired is an error, and one
 // in extensionsUsed a warning.
-const char* const kSupportedExtensions[] = {"KHR_lights_punctual",
-                                            "KHR_materials_emissive_strength",
-                                            "KHR_materials_transmission", "KHR_materials_ior"};
+const char* const kSupportedExtensions[] = {
+    "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_transmission",
+    "KHR_materials_ior", "KHR_texture_transform"};
 
 bool isSupportedExtension(const std::string& name) {
   return std::find(std::begin(kSupportedExtensions), std::end(kSupportedExtensions), name) !=
@@ -852,7 +872,6 @@ bool isSupportedExtension(const std::string& name) {
 // What glint does without an extension it does not implement, for the warning.
 std::string whatIsIgnored(const std::string& name) {
   static const std::pair<const char*, const char*> kKnown[] = {
-      {"KHR_texture_transform", "textures use their untransformed UVs"},
       {"KHR_materials_unlit", "unlit materials are shaded as metallic-roughness"},
       {"KHR_materials_clearcoat", "no clear coat layer"},
       {"KHR_materials_sheen", "no sheen"},

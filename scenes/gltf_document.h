@@ -73,7 +73,12 @@ struct Texture {
 
 struct TextureRef {
   int index = -1;
-  int texCoord = 0;
+  int texCoord = 0;  // KHR_texture_transform's texCoord when it gives one
+  // KHR_texture_transform: uv' = offset + R(rotation) (scale * uv), R as in the extension's
+  // GLSL (a column-major mat3 with columns (cos, sin) and (-sin, cos)).
+  bool transformed = false;
+  Vec2f offset{0, 0}, scale{1, 1};
+  float rotation = 0;  // radians
   SourceLocation where;
 };
 

@@ -16,6 +16,7 @@
 #include <fstream>
 #include <map>
 #include <system_error>
+#include <tuple>
 #include <type_traits>
 
 #include "scenes/gltf_document.h"
@@ -514,12 +515,27 @@ class Loader {
       d.type = MaterialType::Pbr;
       d.baseColor = {m.baseColorFactor.x, m.baseColorFactor.y, m.baseColorFactor.z};
       d.opacity = m.baseColorFactor.w;
-      d.baseColorTexture =
-          m.baseColorTexture.index < 0 ? -1 : textureBase_ + m.baseColorTexture.index;
-      d.metallic = m.metallic, d.roughness = m.roughness;
+      // A texture reference: the file's texture, or with KHR_texture_transform a copy of it
+      // with that UV transform (one copy per distinct transform; the image is shared).
       auto texture = [&](const gltf::TextureRef& r) {
-        return r.index < 0 ? -1 : textureBase_ + r.index;
+        if (r.index < 0) return -1;
+        const int base = textureBase_ + r.index;
+        if (!r.transformed) return base;
+        const auto key = std::make_tuple(base, r.offset.x, r.offset.y, r.scale.x, r.scale.y,
+                                         r.rotation);
+        if (auto it = transformedTextures_.find(key); it != transformedTextures_.end())
+          return it->second;
+        TextureDesc t = scene_->textures[size_t(base)];
+        t.name += " (KHR_texture_transform)";
+        t.mapping.scale = {r.scale.x, r.scale.y, 1};
+        t.mapping.offset = {r.offset.x, r.offset.y, 0};
+        t.mapping.uvRotation = r.rotation;
+        t.where = r.where.child("extensions").child("KHR_texture_transform");
+        scene_->textures.push_back(t);
+        return transformedTextures_[key] = int(scene_->textures.size() - 1);
       };
+      d.baseColorTexture = texture(m.baseColorTexture);
+      d.metallic = m.metallic, d.roughness = m.roughness;
       d.metallicRoughnessTexture = texture(m.metallicRoughnessTexture);
       d.normalTexture = texture(m.normalTexture);
       d.normalScale = m.normalScale;
@@ -531,7 +547,7 @@ class Loader {
       d.transmissionTexture = texture(m.transmissionTexture);
       d.ior = m.ior;
       d.emissive = m.emissiveFactor * m.emissiveStrength;
-      d.emissiveTexture = m.emissiveTexture.index < 0 ? -1 : textureBase_ + m.emissiveTexture.index;
+      d.emissiveTexture = texture(m.emissiveTexture);
       d.doubleSided = m.doubleSided;
       d.where = m.where;
       scene_->materials.push_back(d);
@@ -927,6 +943,8 @@ class Loader {
   AccessorReader reader_;
   SceneDescription* scene_;
   int imageBase_ = 0, textureBase_ = 0, materialBase_ = 0;
+  // Textures copied with a KHR_texture_transform: (texture, offset, scale, rotation) -> index.
+  std::map<std::tuple<int, float, float, float, float, float>, int> transformedTextures_;
   std::map<int, std::vector<int>> converted_;
   std::map<int, NodeTracks> tracks_;  // by glTF node index
   std::vector<int> subtreeAnimated_;  // -1 = not yet known

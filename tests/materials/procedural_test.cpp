@@ -357,6 +357,33 @@ TEST(CheckerTexture, CubesAndPlanesAlternateInSpace) {
   }
 }
 
+TEST(TextureMapping, RotatesUvsAsKhrTextureTransform) {
+  // The extension's GLSL: uv' = T R S uv with column-major mat3s, R's columns (cos, sin) and
+  // (-sin, cos). Scale (2, 3), rotation 90 degrees, offset (0.5, 0.25): (1, 0) -> S (2, 0) ->
+  // R (0, 2) -> (0.5, 2.25); (0, 1) -> (0, 3) -> (-3, 0) -> (-2.5, 0.25).
+  TextureMapping m;
+  m.scale = {2, 3, 1};
+  m.offset = {0.5f, 0.25f, 0};
+  m.setUvRotation(kPi / 2);
+  TexturePoint tp;
+  tp.uv = {1, 0};
+  tp.duvdx = {0.01f, 0};
+  TexCoord2 c = m.map2D(tp);
+  EXPECT_NEAR(c.st.x, 0.5f, 1e-6f);
+  EXPECT_NEAR(c.st.y, 2.25f, 1e-6f);
+  // Footprints turn with the coordinates (no offset).
+  EXPECT_NEAR(c.dstdx.x, 0, 1e-7f);
+  EXPECT_NEAR(c.dstdx.y, 0.02f, 1e-7f);
+  tp.uv = {0, 1};
+  c = m.map2D(tp);
+  EXPECT_NEAR(c.st.x, -2.5f, 1e-6f);
+  EXPECT_NEAR(c.st.y, 0.25f, 1e-6f);
+  // The same in 3D lookups over uv.
+  const Vec3f p = m.map3D(tp);
+  EXPECT_NEAR(p.x, -2.5f, 1e-6f);
+  EXPECT_NEAR(p.y, 0.25f, 1e-6f);
+}
+
 TEST(TextureMapping, ScalesOffsetsAndProjects) {
   TextureMapping m;
   m.scale = {2, 3, 4};

@@ -621,6 +621,39 @@ TEST(GltfLoader, WarnsAboutExtensionsItUsesButGlintIgnores) {
       << s.warnings[1];
 }
 
+TEST(GltfLoader, TextureTransformsBecomeTextureMappings) {
+  std::ifstream in(goodFile("features.gltf"));
+  nlohmann::json j = nlohmann::json::parse(in);
+  const nlohmann::json transform = {{"offset", {0.5, 0}}, {"rotation", 0.3}, {"scale", {2, 4}}};
+  j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = {
+      {"KHR_texture_transform", transform}};
+  j["materials"][0]["emissiveTexture"]["extensions"] = {{"KHR_texture_transform", transform}};
+  j["extensionsUsed"].push_back("KHR_texture_transform");
+  const std::string dir = test::scratchDir("gltf_texture_transform");
+  std::ofstream(dir + "/t.gltf") << j.dump();
+  SceneDescription s = load(dir + "/t.gltf");
+  const MaterialDesc& m = s.materials[0];
+  ASSERT_GE(m.baseColorTexture, 0);
+  const TextureDesc& t = s.textures[size_t(m.baseColorTexture)];
+  EXPECT_EQ(t.mapping.scale, (Vec3f{2, 4, 1}));
+  EXPECT_EQ(t.mapping.offset, (Vec3f{0.5f, 0, 0}));
+  EXPECT_FLOAT_EQ(t.mapping.uvRotation, 0.3f);
+  // A copy of the file's texture (same image), made once per distinct transform: the emissive
+  // texture is another texture of the file, so it gets its own copy.
+  EXPECT_EQ(s.textures.size(), 4u);
+  EXPECT_EQ(t.image, s.textures[0].image);
+  EXPECT_NE(m.emissiveTexture, m.baseColorTexture);
+  EXPECT_EQ(s.textures[size_t(m.emissiveTexture)].mapping.uvRotation, 0.3f);
+  // No warning for the extension now.
+  for (const std::string& w : s.warnings)
+    EXPECT_EQ(w.find("KHR_texture_transform"), std::string::npos) << w;
+  // Bad values name the pointer.
+  j["materials"][0]["emissiveTexture"]["extensions"]["KHR_texture_transform"]["scale"] = {1};
+  std::ofstream(dir + "/bad.gltf") << j.dump();
+  expectError(dir + "/bad.gltf", "/materials/0/emissiveTexture/extensions/KHR_texture_transform/scale",
+              "expected an array of 2 numbers");
+}
+
 TEST(GltfBadInput, NodeCycleIsRejected) {
   expectError(badFile("node_cycle.gltf"), "/nodes/1/children/0",
               "node 0 is an ancestor of node 1 (cycle in the node graph)");

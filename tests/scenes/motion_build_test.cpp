@@ -116,6 +116,31 @@ TEST(MotionBuild, FullTurnIsSampledFinelyEnoughForSlerp) {
   EXPECT_NEAR(p.z, 0.0f, 1e-3f);
 }
 
+TEST(MotionBuild, TheAutomaticCameraFramesTheWholeAnimationOnce) {
+  // A ball travelling 8 units along x over 2 s, and no camera: every frame gets the camera that
+  // frames the whole path, not one that follows (or zooms in on) the ball.
+  SceneDescription d = movingSphere({0, 2}, {{-4, 0, 0}, {4, 0, 0}}, 0, 0);
+  d.cameras.clear();
+  std::vector<Vec3f> positions;
+  for (double t : {0.0, 0.7, 2.0}) {
+    d.render.time = t;
+    const RenderScene s = buildRenderScene(d);
+    positions.push_back(s.camera.position());
+    // The ball is in view wherever it is: a ray from the camera to it hits it.
+    const Vec3f ball{-4 + 4 * float(t), 0, 0};
+    Ray ray{s.camera.position(), normalize(ball - s.camera.position())};
+    Hit hit;
+    EXPECT_TRUE(s.accel->closestHit(ray, &hit)) << t;
+  }
+  // The same camera to float precision (each frame's own bounds, padded by their rounding
+  // error, join the swept ones; they may differ in the last bit).
+  for (int i : {1, 2})
+    EXPECT_LT(length(positions[i] - positions[0]), 1e-5f * length(positions[0])) << i;
+  // Centred on the path, and far enough back to see both ends (from the front, +Z).
+  EXPECT_NEAR(positions[0].x - 0.35f / 0.45f * positions[0].y, 0, 1.0f);
+  EXPECT_GT(positions[0].z, 4);
+}
+
 TEST(MotionBuild, MovingMeshIsNotBakedAndStaticOneIs) {
   SceneDescription d = movingSphere({0, 1}, {{0, 0, 0}, {1, 0, 0}}, 0, 1);
   d.objects.clear();
