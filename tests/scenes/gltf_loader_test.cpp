@@ -654,6 +654,13 @@ TEST(GltfLoader, TextureTransformsBecomeTextureMappings) {
               "expected an array of 2 numbers");
 }
 
+TEST(GltfBadInput, TextureTransformWithANonNumberIsRejected) {
+  expectError(badFile("texture_transform_nan_scale.gltf"),
+              "/materials/0/pbrMetallicRoughness/baseColorTexture/extensions/"
+              "KHR_texture_transform/scale/1",
+              "expected a number, got string");
+}
+
 TEST(GltfBadInput, NodeCycleIsRejected) {
   expectError(badFile("node_cycle.gltf"), "/nodes/1/children/0",
               "node 0 is an ancestor of node 1 (cycle in the node graph)");

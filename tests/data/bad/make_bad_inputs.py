@@ -9,6 +9,7 @@ import json
 import math
 import os
 import struct
+import zlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -59,6 +60,16 @@ def triangle_gltf(positions=None, normals=None, indices=(0, 1, 2), uri=None):
         "buffers": [buffer],
     }
     return doc, data
+
+
+def one_pixel_png():
+    """A 1x1 white RGB PNG."""
+    def chunk(kind, data):
+        body = kind + data
+        return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body))
+    header = struct.pack(">IIBBBBB", 1, 1, 8, 2, 0, 0, 0)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) +
+            chunk(b"IDAT", zlib.compress(b"\x00\xff\xff\xff")) + chunk(b"IEND", b""))
 
 
 def write_json(name, doc):
@@ -147,6 +158,17 @@ def main():
     doc["extensionsUsed"] = ["KHR_draco_mesh_compression"]
     doc["extensionsRequired"] = ["KHR_draco_mesh_compression"]
     write_json("unsupported_required_extension.gltf", doc)
+
+    # texture_transform_nan_scale.gltf: KHR_texture_transform whose scale holds a NaN (JSON
+    # cannot: a string, which is what an exporter bug writes).
+    doc, _ = triangle_gltf()
+    doc["images"] = [{"uri": "data:image/png;base64," + base64.b64encode(one_pixel_png()).decode()}]
+    doc["textures"] = [{"source": 0}]
+    doc["materials"] = [{"pbrMetallicRoughness": {"baseColorTexture": {
+        "index": 0, "extensions": {"KHR_texture_transform": {"scale": [1, "NaN"]}}}}}]
+    doc["meshes"][0]["primitives"][0]["material"] = 0
+    doc["extensionsUsed"] = ["KHR_texture_transform"]
+    write_json("texture_transform_nan_scale.gltf", doc)
 
     # node_cycle.gltf: node 0 is the child of node 1 and vice versa.
     doc, _ = triangle_gltf()
