@@ -36,6 +36,24 @@ class EyelightMaterial final : public SimpleMaterial {
   }
 };
 
+// glTF's KHR_materials_unlit: the colour is the radiance the surface sends along every ray
+// that meets it, camera or bounce, whatever the lights (no cosine, unlike eyelight). It
+// reflects nothing; it is not sampled as a light, but a path that meets it takes its colour,
+// as Blender's importer does with an emission shader.
+class UnlitMaterial final : public SimpleMaterial {
+ public:
+  explicit UnlitMaterial(ColorParam color) : SimpleMaterial(color, ColorParam{{0, 0, 0}}) {}
+  uint32_t flags() const override { return kBsdfUnlit; }
+  Rgb unlitRadiance(const SurfaceInteraction& si, TextureLookups& lookups) const override {
+    return albedo(si, lookups);
+  }
+
+ protected:
+  Bsdf makeBsdf(const SurfaceInteraction&, const BsdfFrame&, TextureLookups&) const override {
+    return {};
+  }
+};
+
 // Ideal diffuse reflection: f = albedo / pi.
 class LambertMaterial final : public SimpleMaterial {
  public:

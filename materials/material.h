@@ -16,6 +16,7 @@
 // the shared TextureLookups keeps that from costing repeated lookups.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -127,6 +128,11 @@ class Material {
   }
   // The surface's colour at si: the eyelight colour, and the albedo AOV.
   virtual Rgb albedo(const SurfaceInteraction& si, TextureLookups& lookups) const = 0;
+  // Unlit materials (flags() has kBsdfUnlit) only: the radiance towards si.wo. Eyelight's
+  // colour x |cos|; glTF unlit overrides it with the colour alone.
+  virtual Rgb unlitRadiance(const SurfaceInteraction& si, TextureLookups& lookups) const {
+    return albedo(si, lookups) * std::abs(dot(si.ns, si.wo));
+  }
   // The fraction of light the surface stops; the rest passes straight through it (glTF alpha,
   // transparent eyelight). 1 for opaque materials.
   float opacity(const SurfaceInteraction& si, TextureLookups& lookups) const;

@@ -184,7 +184,7 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
     }
 
     if (shading.unlit) {
-      L += beta * material.albedo(si, lookups) * std::abs(dot(si.ns, si.wo));
+      L += beta * material.unlitRadiance(si, lookups);
       break;
     }
 

@@ -55,7 +55,7 @@ Rgb WhittedIntegrator::shade(const Ray& ray, const Hit* found, const RayCone& co
 
   Rgb L;
   if (shading.unlit) {
-    L = material.albedo(si, lookups) * std::abs(dot(si.ns, si.wo));
+    L = material.unlitRadiance(si, lookups);
     return opacity < 1 ? L * opacity + behind * (1 - opacity) : L;
   }
   const Bsdf bsdf = material.bsdf(si, lookups);

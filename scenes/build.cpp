@@ -285,6 +285,8 @@ std::unique_ptr<Material> makeBsdf(const MaterialDesc& m, const ColorParam& base
   switch (m.type) {
     case MaterialType::Eyelight:
       return std::make_unique<EyelightMaterial>(base);
+    case MaterialType::Unlit:
+      return std::make_unique<UnlitMaterial>(base);
     case MaterialType::Phong:
     case MaterialType::BlinnPhong:
       for (int c = 0; c < 3; ++c)

@@ -75,6 +75,7 @@ struct TextureDesc {
 enum class MaterialType {
   Pbr,       // glTF pbrMetallicRoughness: GGX microfacet metal/dielectric (materials/pbr.h)
   Eyelight,  // colour x |cos(normal, view)|, no lights: the course's first shader
+  Unlit,     // colour as radiance towards every ray, no lights (glTF KHR_materials_unlit)
   Lambert,
   Phong,       // energy-normalized Phong: diffuse + specular lobe
   BlinnPhong,  // the same with Blinn's half-vector lobe

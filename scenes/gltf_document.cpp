@@ -435,6 +435,7 @@ void readMaterials(const Object& root, Document* doc) {
       if (ext.has("KHR_materials_emissive_strength"))
         m.emissiveStrength = nonNegative(ext.object("KHR_materials_emissive_strength"),
                                          "emissiveStrength", 1, kInfinity);
+      if (ext.has("KHR_materials_unlit")) m.unlit = true;
       if (ext.has("KHR_materials_transmission")) {
         Object t = ext.object("KHR_materials_transmission");
         m.transmission = nonNegative(t, "transmissionFactor", 0, 1);
@@ -862,7 +863,7 @@ void readAnimations(const Object& root, Document* doc) {
 // in extensionsUsed a warning.
 const char* const kSupportedExtensions[] = {
     "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_transmission",
-    "KHR_materials_ior", "KHR_texture_transform"};
+    "KHR_materials_ior", "KHR_texture_transform", "KHR_materials_unlit"};
 
 bool isSupportedExtension(const std::string& name) {
   return std::find(std::begin(kSupportedExtensions), std::end(kSupportedExtensions), name) !=
@@ -872,7 +873,6 @@ bool isSupportedExtension(const std::string& name) {
 // What glint does without an extension it does not implement, for the warning.
 std::string whatIsIgnored(const std::string& name) {
   static const std::pair<const char*, const char*> kKnown[] = {
-      {"KHR_materials_unlit", "unlit materials are shaded as metallic-roughness"},
       {"KHR_materials_clearcoat", "no clear coat layer"},
       {"KHR_materials_sheen", "no sheen"},
       {"KHR_materials_specular", "the default dielectric specular (F0 0.04, white)"},

@@ -99,6 +99,7 @@ struct Material {
   float emissiveStrength = 1;  // KHR_materials_emissive_strength
   TextureRef emissiveTexture;
   bool doubleSided = false;
+  bool unlit = false;  // KHR_materials_unlit
   SourceLocation where;
 };
 

@@ -512,7 +512,8 @@ class Loader {
     for (const gltf::Material& m : doc_.materials) {
       MaterialDesc d;
       d.name = m.name;
-      d.type = MaterialType::Pbr;
+      // KHR_materials_unlit: the base colour (factor, texture, vertex colours, alpha) alone.
+      d.type = m.unlit ? MaterialType::Unlit : MaterialType::Pbr;
       d.baseColor = {m.baseColorFactor.x, m.baseColorFactor.y, m.baseColorFactor.z};
       d.opacity = m.baseColorFactor.w;
       // A texture reference: the file's texture, or with KHR_texture_transform a copy of it

@@ -162,6 +162,7 @@ int textureByName(const SceneDescription& scene, const std::string& name,
 const std::vector<std::pair<std::string, MaterialType>> kMaterialTypes = {
     {"pbr", MaterialType::Pbr},
     {"eyelight", MaterialType::Eyelight},
+    {"unlit", MaterialType::Unlit},
     {"lambert", MaterialType::Lambert},
     {"phong", MaterialType::Phong},
     {"blinn_phong", MaterialType::BlinnPhong},
@@ -220,6 +221,7 @@ void readMaterialParameters(JsonReader& r, const SceneDescription& scene, Materi
       m->transmission = r.get<float>("transmission", m->transmission, kUnit);
       break;
     case MaterialType::Eyelight:
+    case MaterialType::Unlit:
       readColorParam(r, "color", scene, &m->baseColor, &m->baseColorTexture);
       if (r.has("transparency")) {
         m->opacity = 1 - r.get<float>("transparency", kUnit);

@@ -138,5 +138,25 @@ TEST(MaterialRender, ThreadCountsGiveIdenticalImagesWithGlassAndBump) {
   for (size_t i = 0; i < one.color.size(); ++i) ASSERT_EQ(one.color[i], two.color[i]) << i;
 }
 
+// glTF's unlit: every pixel that sees the surface has exactly its colour, whatever the lights,
+// the angle (no cosine, unlike eyelight) or the integrator; and a mirror shows that colour too.
+TEST(MaterialRender, UnlitSurfacesShowTheirColourExactly) {
+  const Rgb colour{0.3f, 0.6f, 0.9f};
+  for (const char* integrator : {"whitted", "path"}) {
+    SCOPED_TRACE(integrator);
+    const std::string json = R"({
+      "render": {"width": 16, "height": 12, "spp": 4, "camera": "c", "integrator": ")" +
+                             std::string(integrator) + R"("},
+      "cameras": [{"name": "c", "position": [0, 1, 3], "look_at": [0, 0, 0], "yfov_degrees": 30}],
+      "lights": [{"type": "point", "position": [1, 3, 1], "intensity": 50}],
+      "materials": [{"name": "u", "type": "unlit", "color": [0.3, 0.6, 0.9]}],
+      "objects": [{"type": "box", "min": [-50, -1, -50], "max": [50, 0, 50], "material": "u"}]})";
+    Rendered r = renderJson(json);
+    for (const Rgb& c : r.film.color)
+      for (int k = 0; k < 3; ++k) ASSERT_NEAR(c[k], colour[k], 1e-6f);
+    EXPECT_EQ(r.stats.rays.shadow, 0u);  // nothing to light
+  }
+}
+
 }  // namespace
 }  // namespace glint

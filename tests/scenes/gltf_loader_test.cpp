@@ -608,13 +608,13 @@ TEST(GltfLoader, WarnsAboutExtensionsItUsesButGlintIgnores) {
   std::ifstream in(badFile("unsupported_required_extension.gltf"));
   nlohmann::json j = nlohmann::json::parse(in);
   j.erase("extensionsRequired");
-  j["extensionsUsed"] = {"KHR_materials_unlit", "KHR_lights_punctual", "VENDOR_thing"};
+  j["extensionsUsed"] = {"KHR_materials_sheen", "KHR_lights_punctual", "VENDOR_thing"};
   const std::string path = test::scratchDir("gltf_extensions_used") + "/used.gltf";
   std::ofstream(path) << j.dump();
   SceneDescription s = load(path);
   ASSERT_EQ(s.warnings.size(), 2u);  // the supported one is not mentioned
-  EXPECT_NE(s.warnings[0].find("/extensionsUsed/0: extension 'KHR_materials_unlit' is not "
-                               "supported; ignored: unlit materials are shaded"),
+  EXPECT_NE(s.warnings[0].find("/extensionsUsed/0: extension 'KHR_materials_sheen' is not "
+                               "supported; ignored: no sheen"),
             std::string::npos)
       << s.warnings[0];
   EXPECT_NE(s.warnings[1].find("/extensionsUsed/2: extension 'VENDOR_thing'"), std::string::npos)
@@ -659,6 +659,22 @@ TEST(GltfBadInput, TextureTransformWithANonNumberIsRejected) {
               "/materials/0/pbrMetallicRoughness/baseColorTexture/extensions/"
               "KHR_texture_transform/scale/1",
               "expected a number, got string");
+}
+
+TEST(GltfLoader, UnlitMaterialsKeepTheirBaseColour) {
+  std::ifstream in(goodFile("features.gltf"));
+  nlohmann::json j = nlohmann::json::parse(in);
+  j["materials"][0]["extensions"]["KHR_materials_unlit"] = nlohmann::json::object();
+  j["extensionsUsed"].push_back("KHR_materials_unlit");
+  const std::string path = test::scratchDir("gltf_unlit") + "/unlit.gltf";
+  std::ofstream(path) << j.dump();
+  SceneDescription s = load(path);
+  EXPECT_EQ(s.materials[0].type, MaterialType::Unlit);
+  EXPECT_EQ(s.materials[0].baseColor, (Rgb{0.5f, 0.25f, 1}));
+  EXPECT_GE(s.materials[0].baseColorTexture, 0);
+  EXPECT_EQ(s.materials[1].type, MaterialType::Pbr);
+  for (const std::string& w : s.warnings)
+    EXPECT_EQ(w.find("KHR_materials_unlit"), std::string::npos) << w;
 }
 
 TEST(GltfBadInput, NodeCycleIsRejected) {
