@@ -123,17 +123,16 @@ void writeRawImage(const std::string& path, int width, int height, int channels,
   writeImageFile(path, std::move(img));
 }
 
-Film readExr(const std::string& path, ImageMetadata* meta) {
-  Image image = readImage(path);
-  if (image.format != "openexr")
-    throw ImageReadError(fmt::format("{}: is not an OpenEXR image ({})", path, image.format));
+namespace {
+
+// The R, G, B (and A, else 1) channels of `image`, read from `path`, as a film without AOVs.
+Film filmOf(const Image& image, const std::string& path) {
   int r = image.channel("R"), g = image.channel("G"), b = image.channel("B");
   int a = image.channel("A");
   if (r < 0 || g < 0 || b < 0)
     throw ImageReadError(fmt::format("{}: has no R, G, B channels", path));
   if (image.width <= 0 || image.height <= 0 || image.depth > 1)
     throw ImageReadError(fmt::format("{}: not a 2D image", path));
-  if (meta) *meta = image.meta;
 
   const int nch = image.channels;
   Film film(image.width, image.height, false);
@@ -143,6 +142,24 @@ Film readExr(const std::string& path, ImageMetadata* meta) {
     film.alpha[i] = a >= 0 ? p[a] : 1.0f;
   }
   return film;
+}
+
+}  // namespace
+
+Film readExr(const std::string& path, ImageMetadata* meta) {
+  Image image = readImage(path);
+  if (image.format != "openexr")
+    throw ImageReadError(fmt::format("{}: is not an OpenEXR image ({})", path, image.format));
+  if (meta) *meta = image.meta;
+  return filmOf(image, path);
+}
+
+Film readSceneLinear(const std::string& path) {
+  Image image = readImage(path);
+  if (image.format != "openexr" && image.format != "hdr")
+    throw ImageReadError(fmt::format(
+        "{}: is not a scene-linear image (OpenEXR or Radiance .hdr) but {}", path, image.format));
+  return filmOf(image, path);
 }
 
 }  // namespace glint

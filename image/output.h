@@ -36,4 +36,8 @@ void writeRawImage(const std::string& path, int width, int height, int channels,
 // the file when it is missing, unreadable or has no R, G, B channels.
 Film readExr(const std::string& path, ImageMetadata* meta = nullptr);
 
+// The same for any scene-linear image glint reads as light: OpenEXR or Radiance .hdr
+// (environment maps). Throws ImageReadError naming the file for any other format.
+Film readSceneLinear(const std::string& path);
+
 }  // namespace glint

@@ -6,7 +6,7 @@
 #include "geometry/shapes/disk.h"
 #include "geometry/shapes/quad.h"
 #include "geometry/shapes/sphere.h"
-#include "image/io.h"
+#include "image/output.h"
 #include "renderer/area_lights.h"
 #include "renderer/environment_light.h"
 #include "renderer/projective_light.h"
@@ -117,29 +117,15 @@ std::unique_ptr<Light> makeEnvironmentLight(const EnvironmentDesc& env) {
   }
   if (env.image.empty())
     return std::make_unique<UniformEnvironmentLight>(env.color * env.intensity);
-  std::vector<Rgb> pixels;
-  Image image;
+  Film film;
   try {
-    image = readImage(env.image);
-    if (image.format != "openexr" && image.format != "hdr")
-      throw ImageReadError(env.image + ": is not a scene-linear image (OpenEXR or Radiance .hdr) but " +
-                           image.format);
-    const int r = image.channel("R"), g = image.channel("G"), b = image.channel("B");
-    if (r < 0 || g < 0 || b < 0) throw ImageReadError(env.image + ": has no R, G, B channels");
-    if (image.width <= 0 || image.height <= 0 || image.depth > 1)
-      throw ImageReadError(env.image + ": not a 2D image");
-    pixels.resize(image.pixelCount());
-    const size_t n = size_t(image.channels);
-    for (size_t i = 0; i < pixels.size(); ++i) {
-      const float* p = &image.pixels[i * n];
-      pixels[i] = Rgb{p[r], p[g], p[b]};
-    }
+    film = readSceneLinear(env.image);
   } catch (const std::exception& e) {
     // The sidecar's "image" key, or the command line's --env itself.
     throw SceneError(env.where.file == "command line" ? env.where : env.where.child("image"),
                      e.what());
   }
-  return std::make_unique<ImageEnvironmentLight>(image.width, image.height, std::move(pixels),
+  return std::make_unique<ImageEnvironmentLight>(film.width, film.height, std::move(film.color),
                                                  env.intensity, env.rotation);
 }
 

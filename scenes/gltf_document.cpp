@@ -348,6 +348,13 @@ void readTextures(const Object& root, Document* doc) {
     t.where = o.where();
     t.sampler = o.index("sampler", doc->samplers.size(), "sampler");
     t.source = o.index("source", doc->images.size(), "image");
+    if (t.source < 0 && o.has("extensions")) {
+      Object ext = o.object("extensions");
+      if (ext.has("KHR_texture_basisu"))
+        throw SceneError(ext.at("KHR_texture_basisu"),
+                         "KTX2/Basis Universal textures cannot be decoded (Debian has no Basis "
+                         "Universal decoder) and the texture has no fallback 'source'");
+    }
     if (t.source < 0)
       throw SceneError(t.where,
                        "no 'source' image (textures that only an extension defines are "
@@ -885,6 +892,10 @@ std::string whatIsIgnored(const std::string& name) {
       {"KHR_materials_pbrSpecularGlossiness", "the metallic-roughness parameters, if any"},
       {"EXT_mesh_gpu_instancing", "each node is drawn once, without its instances"},
       {"KHR_xmp_json_ld", "metadata only"},
+      {"KHR_texture_basisu", "textures use their fallback 'source' image (Debian has no Basis "
+                             "Universal decoder)"},
+      {"EXT_texture_webp", "textures use their fallback 'source' image (glTF images are "
+                           "decoded by stb_image, which has no WebP)"},
       {"KHR_animation_pointer", "animated material and camera properties stay at rest"},
   };
   for (const auto& [known, ignored] : kKnown)

@@ -677,6 +677,18 @@ TEST(GltfLoader, UnlitMaterialsKeepTheirBaseColour) {
     EXPECT_EQ(w.find("KHR_materials_unlit"), std::string::npos) << w;
 }
 
+TEST(GltfBadInput, BasisUniversalTextureWithoutFallbackIsRejected) {
+  std::ifstream in(badFile("texture_transform_nan_scale.gltf"));
+  nlohmann::json j = nlohmann::json::parse(in);
+  j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"].erase("extensions");
+  j["textures"][0].erase("source");
+  j["textures"][0]["extensions"] = {{"KHR_texture_basisu", {{"source", 0}}}};
+  j["extensionsUsed"] = {"KHR_texture_basisu"};
+  const std::string path = test::scratchDir("gltf_basisu") + "/basisu.gltf";
+  std::ofstream(path) << j.dump();
+  expectError(path, "/textures/0/extensions/KHR_texture_basisu", "Basis Universal");
+}
+
 TEST(GltfBadInput, NodeCycleIsRejected) {
   expectError(badFile("node_cycle.gltf"), "/nodes/1/children/0",
               "node 0 is an ancestor of node 1 (cycle in the node graph)");
