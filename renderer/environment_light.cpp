@@ -10,7 +10,15 @@ namespace glint {
 
 namespace {
 constexpr float kOneMinusEpsilon = 0x1.fffffep-1f;
+
+// The direction of map coordinates uv in the map's own frame (before any rotation): the
+// centre column looks down -Z, u grows towards +X, the top row is +Y.
+Vec3f mapDirection(Vec2f uv) {
+  const float theta = kPi * uv.y, phi = 2 * kPi * (uv.x - 0.5f);
+  const float sinTheta = std::sin(theta);
+  return {sinTheta * std::sin(phi), std::cos(theta), -sinTheta * std::cos(phi)};
 }
+}  // namespace
 
 // --- Piecewise-constant distributions ---------------------------------------------------------
 
@@ -125,9 +133,7 @@ Vec2f ImageEnvironmentLight::uvOf(Vec3f d) const {
 }
 
 Vec3f ImageEnvironmentLight::directionOf(Vec2f uv) const {
-  const float theta = kPi * uv.y, phi = 2 * kPi * (uv.x - 0.5f);
-  const float sinTheta = std::sin(theta);
-  const Vec3f m{sinTheta * std::sin(phi), std::cos(theta), -sinTheta * std::cos(phi)};
+  const Vec3f m = mapDirection(uv);
   return {cosRot_ * m.x + sinRot_ * m.z, m.y, -sinRot_ * m.x + cosRot_ * m.z};
 }
 
@@ -237,13 +243,12 @@ std::vector<Rgb> studioEnvironment(int width, int height) {
   // The map as ImageEnvironmentLight reads it (centre towards -Z, u towards +X, row 0 up),
   // sampled at pixel centres, then scaled so the cosine-weighted integral over the upper
   // hemisphere (irradiance of a surface facing +Y) is pi.
-  const ImageEnvironmentLight frame(1, 1, {Rgb{1, 1, 1}}, 1, 0);
   std::vector<float> L(size_t(width) * size_t(height));
   double irradiance = 0;
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {
       const Vec2f uv{(float(x) + 0.5f) / float(width), (float(y) + 0.5f) / float(height)};
-      const Vec3f d = frame.directionOf(uv);
+      const Vec3f d = mapDirection(uv);
       const float v = studioRadiance(d);
       L[size_t(y) * size_t(width) + size_t(x)] = v;
       const double dOmega = (2 * kPi / width) * (kPi / height) * std::sin(kPi * uv.y);
