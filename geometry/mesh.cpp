@@ -1,7 +1,16 @@
 // glint — mesh bounds and counts.
 #include "geometry/mesh.h"
 
+#include <utility>
+
 namespace glint {
+
+void placeVertices(const Transform& world, std::vector<Vec3f>* positions,
+                   std::vector<uint32_t>* indices) {
+  for (Vec3f& p : *positions) p = world.point(p);
+  if (world.swapsHandedness())
+    for (size_t t = 0; t + 2 < indices->size(); t += 3) std::swap((*indices)[t + 1], (*indices)[t + 2]);
+}
 
 Bounds3f TriangleMesh::bounds() const {
   Bounds3f b;

@@ -20,10 +20,24 @@ struct TriangleMesh {
   std::vector<Vec2f> uvs;
   std::vector<Vec4f> colors;
   std::vector<uint32_t> indices;  // 3 per triangle
+  // Back faces are invisible (glTF doubleSided false): a ray that reaches a triangle from
+  // behind passes through it, for every kind of query (camera, bounce, shadow). The front is
+  // the side of the object-space winding's normal (p1 - p0) x (p2 - p0), carried into the
+  // world as a normal (inverse transpose): a mirroring placement keeps the outside outside,
+  // as glTF says ("the determinant of the node's global transform defines the winding
+  // order"). Every accelerator honours it identically.
+  bool singleSided = false;
 
   size_t triangleCount() const { return indices.size() / 3; }
   Bounds3f bounds() const;
 };
+
+// Bakes a placement into a triangle list: positions go to the world, and when the placement
+// mirrors, each triangle's winding is reversed (its last two indices swapped) so that the
+// world-space winding keeps facing the front (see TriangleMesh::singleSided). Normals and
+// tangents are the caller's.
+void placeVertices(const Transform& world, std::vector<Vec3f>* positions,
+                   std::vector<uint32_t>* indices);
 
 // One placement of a mesh or of an analytic shape (exactly one of the two indices is set).
 // Meshes placed several times are built once and instanced.

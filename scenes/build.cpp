@@ -542,7 +542,7 @@ void buildMeshes(const SceneDescription& desc, const ShutterTimes& shutter, Rend
     mesh.indices = md.indices;
     Transform placement = world;
     if (bake && !placement.isIdentity()) {
-      for (Vec3f& p : mesh.positions) p = placement.point(p);
+      placeVertices(placement, &mesh.positions, &mesh.indices);
       for (Vec3f& n : mesh.normals) n = normalize(placement.normal(n));
       for (Vec4f& t : mesh.tangents) {
         Vec3f v = normalize(placement.vector({t.x, t.y, t.z}));
@@ -576,7 +576,7 @@ void buildObjects(const SceneDescription& desc, const ShutterTimes& shutter, Ren
         placed.worldFromObject = world;
         placed.motion = motion;
       } else if (!world.isIdentity()) {
-        for (Vec3f& p : mesh.positions) p = world.point(p);
+        placeVertices(world, &mesh.positions, &mesh.indices);
         for (Vec3f& n : mesh.normals) n = normalize(world.normal(n));
       }
       materials->meshes.push_back({obj.material, false});
@@ -625,8 +625,16 @@ void buildMaterials(const SceneDescription& desc, const GeometryMaterials& geome
     scene->materials.push_back(makeMaterial(md, colors, textures));
     return materialIndex[key] = uint32_t(scene->materials.size() - 1);
   };
-  for (const GeometryMaterials::Mesh& m : geometry.meshes)
-    scene->meshMaterial.push_back(materialFor(m.material, m.colors));
+  for (size_t i = 0; i < geometry.meshes.size(); ++i) {
+    const GeometryMaterials::Mesh& m = geometry.meshes[i];
+    const uint32_t index = materialFor(m.material, m.colors);
+    scene->meshMaterial.push_back(index);
+    // A single-sided material hides the mesh's back faces, except where light must leave
+    // through them: a refracting (glass, glTF transmission) interior is seen from behind.
+    scene->geometry.meshes[i].singleSided = m.material >= 0 &&
+                                            !desc.materials[size_t(m.material)].doubleSided &&
+                                            !scene->materials[index]->traits().refraction;
+  }
   for (const std::vector<int>& slots : geometry.shapeSlots) {
     std::vector<uint32_t> materials;
     for (int m : slots) materials.push_back(materialFor(m, false));

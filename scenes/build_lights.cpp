@@ -30,7 +30,7 @@ std::unique_ptr<Light> meshLight(const TriangleMesh& mesh, const Transform& worl
                                  const AreaEmission& emission) {
   EmissiveMesh m{mesh.positions, mesh.indices, mesh.normals, mesh.uvs};
   if (!world.isIdentity()) {
-    for (Vec3f& p : m.positions) p = world.point(p);
+    placeVertices(world, &m.positions, &m.indices);  // the winding faces the front
     for (Vec3f& n : m.normals) n = normalize(world.normal(n));
   }
   return std::make_unique<AreaLight>(std::move(m), emission);
@@ -64,7 +64,9 @@ bool addEmissiveSurfaceLights(RenderScene* scene) {
     emission.material = scene->materials[m].get();
     emission.objectFromWorld = inst.moves() ? world.inverse() : scene->objectFromWorld[i];
     emission.instance = i;
-    emission.twoSided = true;  // Material::emitted does not depend on the side
+    // Material::emitted does not depend on the side; a single-sided mesh is seen, and so
+    // emits, from the front only.
+    emission.twoSided = inst.isShape() || !g.meshes[inst.mesh].singleSided;
     scene->instanceLight[i] = int32_t(scene->lights.size());
     if (inst.isShape())
       scene->lights.push_back(

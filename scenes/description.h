@@ -113,7 +113,9 @@ struct MaterialDesc {
   TextureDesc::RandomMode randomMode = TextureDesc::RandomMode::Object;  // Random
   uint64_t randomSeed = 0;
   bool randomLit = false;  // Random: Lambert instead of eyelight shading
-  bool doubleSided = false;
+  // Both sides of its meshes are seen (sidecar default). glTF materials are single-sided
+  // unless the file says otherwise (the loader sets it); see TriangleMesh::singleSided.
+  bool doubleSided = true;
   SourceLocation where;
 };
 

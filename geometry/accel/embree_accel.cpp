@@ -19,6 +19,18 @@ void embreeErrorCallback(void* user, RTCError code, const char* message) {
 
 namespace {
 
+// The filter of single-sided meshes (intersect and occluded alike): rejects hits on back faces.
+// Ray and normal are in the mesh's object space (Embree transforms the ray into an instance).
+void cullBackFaces(const RTCFilterFunctionNArguments* args) {
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    const float side = RTCHitN_Ng_x(args->hit, args->N, i) * RTCRayN_dir_x(args->ray, args->N, i) +
+                       RTCHitN_Ng_y(args->hit, args->N, i) * RTCRayN_dir_y(args->ray, args->N, i) +
+                       RTCHitN_Ng_z(args->hit, args->N, i) * RTCRayN_dir_z(args->ray, args->N, i);
+    if (side > 0) args->valid[i] = 0;
+  }
+}
+
 // One time step per key, each as Embree's quaternion decomposition M = T R U (no shift): Embree
 // then blends T and U linearly and R by slerp, as AnimatedTransform::at does.
 void setMotionTransform(RTCGeometry geom, const AnimatedTransform& motion) {
@@ -140,6 +152,10 @@ RTCGeometry EmbreeAccelerator::makeTriangleGeometry(const TriangleMesh& mesh) {
   }
   std::memcpy(v, mesh.positions.data(), mesh.positions.size() * sizeof(Vec3f));
   std::memcpy(idx, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t));
+  if (mesh.singleSided) {
+    rtcSetGeometryIntersectFilterFunction(geom, cullBackFaces);
+    rtcSetGeometryOccludedFilterFunction(geom, cullBackFaces);
+  }
   rtcCommitGeometry(geom);
   return geom;
 }

@@ -37,6 +37,11 @@ namespace glint {
 //   nothing accounts for. It costs one transform evaluation per candidate hit, moving shapes
 //   only;
 // - moving unbounded shapes (infinite planes) stay in UnboundedShapes, placed at the ray time.
+//
+// Single-sided meshes (TriangleMesh::singleSided) get intersection and occlusion filter
+// functions that reject back-face hits, so one mechanism serves every query and packet size.
+// Embree hands a filter an instanced mesh's ray and geometric normal in object space, where
+// the front is the winding's side whatever the placement: a back face is dot(Ng, d) > 0.
 class EmbreeAccelerator final : public Accelerator {
  public:
   // `highQuality` asks Embree for its high-quality BVH build (RTC_BUILD_QUALITY_HIGH: SAH with

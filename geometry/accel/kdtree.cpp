@@ -45,6 +45,11 @@ void KdPrimitives::gather(const GeometryScene& scene, const UnboundedShapes& unb
         world[v] = inst.worldFromObject.point(mesh.positions[v]);
     }
     const std::vector<Vec3f>& p = identity ? mesh.positions : world;
+    // The front of a placed triangle is its object-space winding's normal carried by the
+    // placement; a mirroring placement turns the world-space winding over.
+    const int8_t cull = !mesh.singleSided                       ? 0
+                        : identity || !inst.worldFromObject.swapsHandedness() ? 1
+                                                                : -1;
     for (uint32_t t = 0; t < mesh.triangleCount(); ++t) {
       std::array<Vec3f, 3> tri{p[mesh.indices[3 * t]], p[mesh.indices[3 * t + 1]],
                                p[mesh.indices[3 * t + 2]]};
@@ -52,6 +57,7 @@ void KdPrimitives::gather(const GeometryScene& scene, const UnboundedShapes& unb
       Bounds3f b;
       for (const Vec3f& v : tri) b.extend(v);
       triangles.push_back(tri);
+      triCull.push_back(cull);
       triInstance.push_back(i);
       triPrim.push_back(t);
       bounds.push_back(b);
@@ -639,6 +645,13 @@ bool intersectTriangle(const std::array<Vec3f, 3>& tri, const WatertightRay& r, 
   return true;
 }
 
+// Whether a single-sided triangle is seen from behind along d (`cull` as KdPrimitives::triCull,
+// nonzero). A ray grazing the plane (dot exactly 0) is not culled: it cannot hit anyway.
+bool isCulled(const std::array<Vec3f, 3>& tri, Vec3f d, int8_t cull) {
+  const float side = dot(cross(tri[1] - tri[0], tri[2] - tri[0]), d);
+  return cull > 0 ? side > 0 : side < 0;
+}
+
 }  // namespace
 
 KdTreeAccelerator::KdTreeAccelerator(const GeometryScene& scene, KdSplitMethod method,
@@ -662,16 +675,17 @@ KdTreeAccelerator::KdTreeAccelerator(const GeometryScene& scene, KdSplitMethod m
     }
     const TriangleMesh& mesh = scene.meshes[inst.mesh];
     if (mesh.triangleCount() == 0) continue;
-    if (meshTree[inst.mesh] < 0) {
+    int& tree = meshTree[inst.mesh];
+    if (tree < 0) {
       // A tree over the mesh alone, in object space: what is traced is the ray taken to
-      // object space at its time. Only positions and indices are needed to build it.
+      // object space at its time. Only positions, indices and sidedness are needed.
       GeometryScene alone;
-      alone.meshes.push_back({mesh.positions, {}, {}, {}, {}, mesh.indices});
+      alone.meshes.push_back({mesh.positions, {}, {}, {}, {}, mesh.indices, mesh.singleSided});
       alone.instances.push_back(Instance{0, Transform()});
-      meshTree[inst.mesh] = int(meshTrees_.size());
+      tree = int(meshTrees_.size());
       meshTrees_.push_back(std::make_unique<KdTreeAccelerator>(alone, method, cost));
     }
-    movingMeshes_.push_back({meshTrees_[size_t(meshTree[inst.mesh])].get(), &inst.motion, i});
+    movingMeshes_.push_back({meshTrees_[size_t(tree)].get(), &inst.motion, i});
   }
 }
 
@@ -784,6 +798,8 @@ bool KdTreeAccelerator::trace(const Ray& ray, Hit* hit) const {
       const uint32_t id = list[i];
       if (id < triCount) {
         float t, u, v;
+        if (prims_.triCull[id] != 0 && isCulled(prims_.triangles[id], ray.d, prims_.triCull[id]))
+          continue;
         if (!intersectTriangle(prims_.triangles[id], wray, ray.tMin, closest, &t, &u, &v)) continue;
         if constexpr (kAny) return true;
         closest = t;

@@ -77,6 +77,10 @@ struct KdCostModel {
 struct KdPrimitives {
   std::vector<std::array<Vec3f, 3>> triangles;  // world-space vertices
   std::vector<uint32_t> triInstance, triPrim;   // Hit.instance, Hit.prim of each triangle
+  // Per triangle: 0 when both sides are seen; +1 when a ray with dot(n, d) > 0 (n the normal
+  // of `triangles`' world-space winding) passes through (a single-sided mesh's back face);
+  // -1 for the opposite (the mesh's placement mirrors, which turns the winding over).
+  std::vector<int8_t> triCull;
   std::vector<PlacedShape> shapes;              // bounded shape instances
   std::vector<uint32_t> shapeInstance;
   std::vector<Bounds3f> bounds;  // per primitive id (triangles first)

@@ -12,6 +12,7 @@
 
 #include "scene_error_support.h"
 #include "scenes/build.h"
+#include "scenes/load.h"
 #include "test_support.h"
 
 namespace glint {
@@ -763,21 +764,25 @@ TEST(GltfBadInput, FailedLoadLeavesSceneUntouched) {
   EXPECT_TRUE(scene.warnings.empty());
 }
 
-// A glTF embedding `png` as a data URI.
-std::string gltfWithEmbeddedPng(const std::string& png) {
+std::string base64(const std::string& bytes) {
   static const char* kB64 = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   std::string b64;
-  for (size_t i = 0; i < png.size(); i += 3) {
-    uint32_t n = uint32_t(uint8_t(png[i])) << 16;
-    if (i + 1 < png.size()) n |= uint32_t(uint8_t(png[i + 1])) << 8;
-    if (i + 2 < png.size()) n |= uint8_t(png[i + 2]);
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    uint32_t n = uint32_t(uint8_t(bytes[i])) << 16;
+    if (i + 1 < bytes.size()) n |= uint32_t(uint8_t(bytes[i + 1])) << 8;
+    if (i + 2 < bytes.size()) n |= uint8_t(bytes[i + 2]);
     b64 += kB64[(n >> 18) & 63];
     b64 += kB64[(n >> 12) & 63];
-    b64 += i + 1 < png.size() ? kB64[(n >> 6) & 63] : '=';
-    b64 += i + 2 < png.size() ? kB64[n & 63] : '=';
+    b64 += i + 1 < bytes.size() ? kB64[(n >> 6) & 63] : '=';
+    b64 += i + 2 < bytes.size() ? kB64[n & 63] : '=';
   }
-  return R"({"asset": {"version": "2.0"}, "images": [{"uri": "data:image/png;base64,)" + b64 +
-         R"("}], "scenes": [{"nodes": []}], "scene": 0})";
+  return b64;
+}
+
+// A glTF embedding `png` as a data URI.
+std::string gltfWithEmbeddedPng(const std::string& png) {
+  return R"({"asset": {"version": "2.0"}, "images": [{"uri": "data:image/png;base64,)" +
+         base64(png) + R"("}], "scenes": [{"nodes": []}], "scene": 0})";
 }
 
 // A PNG signature and IHDR chunk of the given size, then one chunk whose length field says
@@ -810,6 +815,83 @@ TEST(GltfLoader, RefusesImagesThatClaimMoreThanTheyHold) {
     loadGltfFromMemory(gltfWithEmbeddedPng(pngHeader(2, 2, 536870930)), "b.gltf", &scene);
   });
   EXPECT_NE(chunk.message().find("claims 536870930 bytes"), std::string::npos) << chunk.what();
+}
+
+// A glTF of one square in its z = 0 plane, wound counter-clockwise seen from +z (its front),
+// under a node of scale `scale`, with one material (`materialJson`, a glTF material object).
+std::string squareGltf(const std::string& materialJson, Vec3f scale) {
+  const float positions[] = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
+  const uint16_t indices[] = {0, 1, 2, 0, 2, 3};
+  std::string bytes(reinterpret_cast<const char*>(positions), sizeof(positions));
+  bytes += std::string(reinterpret_cast<const char*>(indices), sizeof(indices));
+  nlohmann::json j = {
+      {"asset", {{"version", "2.0"}}},
+      {"buffers", {{{"byteLength", bytes.size()},
+                    {"uri", "data:application/octet-stream;base64," + base64(bytes)}}}},
+      {"bufferViews",
+       {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", sizeof(positions)}},
+        {{"buffer", 0}, {"byteOffset", sizeof(positions)}, {"byteLength", sizeof(indices)}}}},
+      {"accessors",
+       {{{"bufferView", 0}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"},
+         {"min", {-1, -1, 0}}, {"max", {1, 1, 0}}},
+        {{"bufferView", 1}, {"componentType", 5123}, {"count", 6}, {"type", "SCALAR"}}}},
+      {"materials", {nlohmann::json::parse(materialJson)}},
+      {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1},
+                                    {"material", 0}}}}}}},
+      {"nodes", {{{"mesh", 0}, {"scale", {scale.x, scale.y, scale.z}}}}},
+      {"scenes", {{{"nodes", {0}}}}},
+      {"scene", 0}};
+  return j.dump();
+}
+
+TEST(GltfLoader, SingleSidedMaterialsHideBackFacesOnceBuilt) {
+  const std::string dir = test::scratchDir("GltfLoader.SingleSided");
+  struct Case {
+    const char* what;
+    std::string material;
+    Vec3f scale;
+    bool backVisible;
+    float frontZ;  // the side the front faces after the node's scale
+  };
+  const Case cases[] = {
+      {"glTF default: single-sided", R"({})", {1, 1, 1}, false, 1},
+      {"doubleSided", R"({"doubleSided": true})", {1, 1, 1}, true, 1},
+      // A mirror across the plane turns the front over (the determinant rule); one within the
+      // plane does not.
+      {"mirrored across", R"({})", {1, 1, -1}, false, -1},
+      {"mirrored within", R"({})", {-1, 1, 1}, false, 1},
+      // Light must leave a transmissive surface through its back.
+      {"transmissive", R"({"extensions": {"KHR_materials_transmission": {"transmissionFactor": 1}}})",
+       {1, 1, 1}, true, 1},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.what);
+    const std::string path = dir + "/square.gltf";
+    std::ofstream(path) << squareGltf(c.material, c.scale);
+    SceneDescription d = loadScene(path);
+    RenderScene scene = buildRenderScene(d);
+    const Ray fromFront{{0.1f, 0.2f, 5 * c.frontZ}, {0, 0, -c.frontZ}, 0, kInfinity, 0};
+    const Ray fromBack{{0.1f, 0.2f, -5 * c.frontZ}, {0, 0, c.frontZ}, 0, kInfinity, 0};
+    Hit h;
+    EXPECT_TRUE(scene.accel->closestHit(fromFront, &h));
+    EXPECT_EQ(scene.accel->closestHit(fromBack, &h), c.backVisible);
+    EXPECT_EQ(scene.accel->anyHit(fromBack), c.backVisible);
+  }
+  // A single-sided emitter is a one-sided light: nothing behind it is lit.
+  std::ofstream(dir + "/square.gltf") << squareGltf(R"({"emissiveFactor": [1, 1, 1]})", {1, 1, 1});
+  SceneDescription d = loadScene(dir + "/square.gltf");
+  RenderScene scene = buildRenderScene(d);
+  ASSERT_FALSE(scene.instanceLight.empty());
+  const Light& light = *scene.lights[size_t(scene.instanceLight[0])];
+  LightSampleContext front, back;
+  front.p = {0, 0, 2};
+  back.p = {0, 0, -2};
+  auto lit = [&](const LightSampleContext& ctx) {
+    auto s = light.sampleLi(ctx, {0.3f, 0.6f});
+    return s && maxComponent(s->L) > 0;
+  };
+  EXPECT_TRUE(lit(front));
+  EXPECT_FALSE(lit(back));
 }
 
 }  // namespace
