@@ -160,7 +160,7 @@ void runInfo(const InfoArgs& args) {
               scene.camera.width(), scene.camera.height(), desc.render.spp,
               (unsigned long long)desc.render.seed, desc.render.accel.c_str(),
               integratorLabel.c_str());
-  auto [animStart, animEnd] = animationRange(desc.nodes);
+  auto [animStart, animEnd] = animationRange(desc);
   size_t animatedNodes = 0;
   for (const NodeDesc& n : desc.nodes) animatedNodes += n.hasTracks();
   if (animatedNodes > 0)

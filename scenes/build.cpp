@@ -17,6 +17,7 @@
 #include "renderer/integrator.h"
 #include "scenes/build_lights.h"
 #include "scenes/build_media.h"
+#include "scenes/deform.h"
 
 namespace glint {
 
@@ -519,15 +520,19 @@ void buildMeshes(const SceneDescription& desc, const ShutterTimes& shutter, Rend
   for (const InstanceDesc& inst : desc.instances) ++uses[{inst.mesh, inst.material}];
   std::map<MeshKey, uint32_t> meshIndex;
   for (const InstanceDesc& inst : desc.instances) {
-    const MeshDesc& md = desc.meshes[size_t(inst.mesh)];
     const MeshKey key{inst.mesh, inst.material};
     AnimatedTransform motion = placementOverShutter(
         desc.nodes, inst.transformNode, inst.nodeFromObject, inst.worldFromObject, shutter);
     const Transform& world = motion.key(0);
+    // Skinned and morphed instances get a mesh of their own, posed at the shutter's middle.
+    const bool posed = deforms(desc, inst);
+    MeshDesc posedDesc;
+    if (posed) posedDesc = posedMesh(desc, inst, 0.5 * (shutter.open + shutter.close));
+    const MeshDesc& md = posed ? posedDesc : desc.meshes[size_t(inst.mesh)];
     // A moving mesh keeps its object space: Embree moves it as an instance.
-    const bool bake = uses[key] == 1 && !motion.isAnimated();
+    const bool bake = (posed || uses[key] == 1) && !motion.isAnimated();
     scene->objectFromWorld.push_back(world.inverse());
-    if (auto it = meshIndex.find(key); !bake && it != meshIndex.end()) {
+    if (auto it = meshIndex.find(key); !posed && !bake && it != meshIndex.end()) {
       Instance placed{it->second, world};
       placed.motion = motion;
       scene->geometry.instances.push_back(placed);
@@ -550,7 +555,7 @@ void buildMeshes(const SceneDescription& desc, const ShutterTimes& shutter, Rend
       }
       placement = Transform();
     }
-    meshIndex[key] = uint32_t(scene->geometry.meshes.size());
+    if (!posed) meshIndex[key] = uint32_t(scene->geometry.meshes.size());
     materials->meshes.push_back(
         {inst.material >= 0 ? inst.material : md.material, !md.colors.empty()});
     scene->geometry.meshes.push_back(std::move(mesh));
@@ -650,8 +655,19 @@ void buildMaterials(const SceneDescription& desc, const GeometryMaterials& geome
 // where they are now.
 Bounds3f framingBounds(const SceneDescription& desc, const Bounds3f& now) {
   Bounds3f b = now;
-  const auto [t0, t1] = animationRange(desc.nodes);
+  const auto [t0, t1] = animationRange(desc);
   if (!(t1 > t0)) return b;
+  // Skinned and morphed meshes change shape: posed at 33 times over the animation.
+  for (const InstanceDesc& inst : desc.instances) {
+    if (inst.mesh < 0 || !deforms(desc, inst) || !deformationAnimated(desc, inst)) continue;
+    for (int i = 0; i <= 32; ++i) {
+      const double t = t0 + (t1 - t0) * i / 32;
+      const Transform world = inst.transformNode >= 0
+                                  ? worldFromNode(desc.nodes, inst.transformNode, t) * inst.nodeFromObject
+                                  : inst.worldFromObject;
+      for (Vec3f p : posedMesh(desc, inst, t).positions) b.extend(world.point(p));
+    }
+  }
   std::vector<double> times;
   for (int i = 0; i <= 128; ++i) times.push_back(t0 + (t1 - t0) * i / 128);
   for (const NodeDesc& n : desc.nodes)

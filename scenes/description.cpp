@@ -1,6 +1,8 @@
 // glint — SceneDescription helpers.
 #include "scenes/description.h"
 
+#include <algorithm>
+
 namespace glint {
 
 Bounds3f sceneBounds(const SceneDescription& scene) {
@@ -14,6 +16,23 @@ Bounds3f sceneBounds(const SceneDescription& scene) {
   return b;
 }
 
+std::pair<double, double> animationRange(const SceneDescription& scene) {
+  auto [lo, hi] = animationRange(scene.nodes);
+  bool any = hi > lo || [&] {
+    for (const NodeDesc& n : scene.nodes)
+      if (n.hasTracks()) return true;
+    return false;
+  }();
+  for (const InstanceDesc& inst : scene.instances)
+    for (const Track<float>& t : inst.weightTracks) {
+      if (t.empty()) continue;
+      lo = any ? std::min(lo, double(t.startTime())) : double(t.startTime());
+      hi = any ? std::max(hi, double(t.endTime())) : double(t.endTime());
+      any = true;
+    }
+  return {lo, hi};
+}
+
 void evaluatePlacements(SceneDescription* scene, double time) {
   auto at = [&](int node) { return worldFromNode(scene->nodes, node, time); };
   for (InstanceDesc& i : scene->instances)
@@ -24,6 +43,9 @@ void evaluatePlacements(SceneDescription* scene, double time) {
     if (c.transformNode >= 0) c.worldFromCamera = at(c.transformNode) * c.nodeFromCamera;
   for (LightDesc& l : scene->lights)
     if (l.transformNode >= 0) l.worldFromLight = at(l.transformNode) * l.nodeFromLight;
+  for (SkinDesc& s : scene->skins)
+    for (SkinDesc::Joint& j : s.joints)
+      if (j.node >= 0) j.world = at(j.node);
 }
 
 }  // namespace glint

@@ -5,6 +5,7 @@
 // objects. Indices between items are plain ints into the vectors below (-1 = none).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -119,7 +120,14 @@ struct MaterialDesc {
   SourceLocation where;
 };
 
+// A morph target: displacements added, times its weight, to a mesh's attributes (glTF
+// morph targets; tangent displacements move xyz only).
+struct MorphTargetDesc {
+  std::vector<Vec3f> positions, normals, tangents;  // each empty, or one per vertex
+};
+
 // One triangle primitive. A glTF mesh with several primitives becomes several MeshDescs.
+// Skinned and morphed meshes are posed per instance by scenes/deform.h.
 struct MeshDesc {
   std::string name;
   std::vector<Vec3f> positions;
@@ -129,6 +137,25 @@ struct MeshDesc {
   std::vector<Vec4f> colors;      // COLOR_0 (linear RGBA): empty or one per position
   std::vector<uint32_t> indices;  // 3 per triangle; generated 0..n-1 when the file has none
   int material = -1;              // -1 = the default material (white Lambert)
+  std::vector<MorphTargetDesc> targets;
+  std::vector<float> weights;  // default morph weights (empty: all 0)
+  // Skinning (JOINTS_0, WEIGHTS_0): four joints of the instance's skin per vertex and their
+  // weights (empty when the mesh is not skinned).
+  std::vector<std::array<uint16_t, 4>> joints;
+  std::vector<Vec4f> jointWeights;
+  SourceLocation where;
+};
+
+// A glTF skin: joints whose world transforms, each after its inverse bind matrix, blend the
+// vertices of the meshes it binds (linear blend skinning).
+struct SkinDesc {
+  struct Joint {
+    int node = -1;    // animated placement (index into SceneDescription::nodes); -1 = static
+    Transform world;  // the placement when static (at time 0 otherwise)
+  };
+  std::string name;
+  std::vector<Joint> joints;
+  std::vector<Transform> inverseBind;  // one per joint
   SourceLocation where;
 };
 
@@ -210,6 +237,11 @@ struct InstanceDesc {
   int material = -1;       // a sidecar material assigned to the node; -1 = the mesh's own
   int transformNode = -1;  // animated placement (see CameraDesc); -1 = static
   Transform nodeFromObject;
+  // A skinned instance (index into SceneDescription::skins): its skin places the vertices in
+  // the world, and worldFromObject is the identity (glTF ignores the skinned node's transform).
+  int skin = -1;
+  std::vector<float> morphWeights;         // the node's weights (empty: the mesh's)
+  std::vector<Track<float>> weightTracks;  // animated weights, one track per target (or none)
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -316,6 +348,7 @@ struct SceneDescription {
   // The transform hierarchy of everything animated (glTF nodes with animated ancestry,
   // sidecar objects with keyframes); items refer to it by transformNode.
   std::vector<NodeDesc> nodes;
+  std::vector<SkinDesc> skins;
   RenderSettings render;
   // Things loaders accepted but did not use (e.g. glTF point or line primitives), one line
   // each with its location; `glint render` and `glint info` print them.
@@ -325,8 +358,12 @@ struct SceneDescription {
 // The sidecar's name of a material type ("blinn_phong").
 const char* materialTypeName(MaterialType type);
 
-// World-space bounds of all instances.
+// World-space bounds of all instances (skinned and morphed meshes at rest).
 Bounds3f sceneBounds(const SceneDescription& scene);
+
+// The first and last key time of every animation in the scene (node transforms and morph
+// weights); {0, 0} when nothing is animated.
+std::pair<double, double> animationRange(const SceneDescription& scene);
 
 // Sets the static transform (worldFromObject, worldFromCamera, worldFromLight) of every item
 // with a transformNode to its placement at `time`: worldFromNode(nodes, transformNode, time) ·

@@ -472,6 +472,20 @@ void readMaterials(const Object& root, Document* doc) {
 // Meshes
 // ---------------------------------------------------------------------------------------------
 
+// Morph weights at `key` (absent: empty): finite numbers, one per morph target. `owner` says
+// whose target count it is, for the message.
+std::vector<float> morphWeights(const Object& o, const std::string& key, size_t targets,
+                                const std::string& owner) {
+  std::vector<float> w;
+  if (!o.has(key)) return w;
+  const auto items = o.array(key);
+  if (items.size() != targets)
+    throw SceneError(o.at(key), "has " + plural(items.size(), "weight") + " but " + owner + " " +
+                                    plural(targets, "morph target"));
+  for (auto& [value, loc] : items) w.push_back(float(Object::numberValue(*value, loc)));
+  return w;
+}
+
 void readMeshes(const Object& root, Document* doc) {
   size_t meshIndex = 0;
   for (const Object& o : objects(root, "meshes")) {
@@ -490,6 +504,26 @@ void readMeshes(const Object& root, Document* doc) {
       p.tangent = attributes.index("TANGENT", accessors, "accessor");
       p.texcoord0 = attributes.index("TEXCOORD_0", accessors, "accessor");
       p.color0 = attributes.index("COLOR_0", accessors, "accessor");
+      p.joints0 = attributes.index("JOINTS_0", accessors, "accessor");
+      p.weights0 = attributes.index("WEIGHTS_0", accessors, "accessor");
+      if ((p.joints0 >= 0) != (p.weights0 >= 0))
+        throw SceneError(attributes.where(), p.joints0 >= 0 ? "JOINTS_0 without WEIGHTS_0"
+                                                            : "WEIGHTS_0 without JOINTS_0");
+      p.moreJoints = attributes.has("JOINTS_1") || attributes.has("WEIGHTS_1");
+      for (const Object& to : objects(po, "targets")) {
+        MorphTarget t;
+        t.where = to.where();
+        t.position = to.index("POSITION", accessors, "accessor");
+        t.normal = to.index("NORMAL", accessors, "accessor");
+        t.tangent = to.index("TANGENT", accessors, "accessor");
+        p.targets.push_back(t);
+      }
+      // glTF: every primitive of a mesh has the same number of morph targets.
+      if (!mesh.primitives.empty() && p.targets.size() != mesh.primitives[0].targets.size())
+        throw SceneError(po.has("targets") ? po.at("targets") : po.where(),
+                         "has " + plural(p.targets.size(), "morph target") + " but primitive 0 has " +
+                             std::to_string(mesh.primitives[0].targets.size()) +
+                             " (every primitive of a mesh must have the same number)");
       p.indices = po.index("indices", accessors, "accessor");
       p.material = po.index("material", doc->materials.size(), "material");
       size_t mode = po.size("mode", kTriangles);
@@ -500,6 +534,8 @@ void readMeshes(const Object& root, Document* doc) {
       mesh.primitives.push_back(p);
     }
     if (mesh.primitives.empty()) throw SceneError(o.at("primitives"), "must not be empty");
+    mesh.targetCount = mesh.primitives[0].targets.size();
+    mesh.weights = morphWeights(o, "weights", mesh.targetCount, "the mesh's primitives have");
     doc->meshes.push_back(mesh);
   }
 }
@@ -654,6 +690,17 @@ void readNodes(const Object& root, Document* doc) {
     for (auto& [value, loc] : o.array("children"))
       node.children.push_back(Object::indexValue(*value, loc, n, "node"));
     nodeTransform(o, &node);
+    // Skins are read after the nodes (their joints are nodes): the index is checked there.
+    if (o.has("skin")) {
+      node.skin = int(std::min<size_t>(o.size("skin", 0), size_t(1) << 30));
+      if (node.mesh < 0) throw SceneError(o.at("skin"), "a skin needs a mesh on the same node");
+    }
+    if (o.has("weights")) {
+      if (node.mesh < 0) throw SceneError(o.at("weights"), "morph weights need a mesh on the same node");
+      const Mesh& mesh = doc->meshes[size_t(node.mesh)];
+      node.weights = morphWeights(o, "weights", mesh.targetCount,
+                                  "mesh " + std::to_string(node.mesh) + " has");
+    }
     doc->nodes.push_back(node);
   }
 
@@ -787,13 +834,60 @@ void checkOutput(const Document& doc, const Animation& anim, const AnimationChan
                               " of " + (out.normalized ? "normalized " : "") +
                               componentTypeName(out.componentType) + "; " + user + " needs " +
                               want);
-  if (channel.path == AnimationPath::Weights) return;  // one value per morph target and key
   size_t perKey = sampler.interpolation == Interpolation::CubicSpline ? 3 : 1;
+  if (channel.path == AnimationPath::Weights) {  // one value per morph target and key
+    if (channel.node < 0) return;
+    const Node& node = doc.nodes[size_t(channel.node)];
+    const size_t targets = node.mesh >= 0 ? doc.meshes[size_t(node.mesh)].targetCount : 0;
+    if (targets == 0) return;  // nothing to drive: the loader warns and ignores it
+    perKey *= targets;
+    if (out.count != perKey * in.count)
+      throw SceneError(loc, "accessor " + std::to_string(sampler.output) + " has " +
+                                plural(out.count, "element") + "; " + user + " with " +
+                                plural(in.count, "key") + " and " +
+                                plural(targets, "morph target") +
+                                (sampler.interpolation == Interpolation::CubicSpline
+                                     ? " (CUBICSPLINE)"
+                                     : "") +
+                                " needs " + std::to_string(perKey * in.count));
+    return;
+  }
   if (out.count != perKey * in.count)
     throw SceneError(loc, "accessor " + std::to_string(sampler.output) + " has " +
                               plural(out.count, "element") + "; " + user + " with " +
                               plural(in.count, "key") + (perKey == 3 ? " (CUBICSPLINE)" : "") +
                               " needs " + std::to_string(perKey * in.count));
+}
+
+void readSkins(const Object& root, Document* doc) {
+  for (const Object& o : objects(root, "skins")) {
+    Skin skin;
+    skin.where = o.where();
+    o.require("joints");
+    for (auto& [value, loc] : o.array("joints"))
+      skin.joints.push_back(Object::indexValue(*value, loc, doc->nodes.size(), "node"));
+    if (skin.joints.empty()) throw SceneError(o.at("joints"), "must not be empty");
+    skin.inverseBindMatrices = o.index("inverseBindMatrices", doc->accessors.size(), "accessor");
+    if (skin.inverseBindMatrices >= 0) {
+      const Accessor& a = doc->accessors[size_t(skin.inverseBindMatrices)];
+      if (a.type != "MAT4" || a.componentType != kFloat)
+        throw SceneError(o.at("inverseBindMatrices"),
+                         "accessor " + std::to_string(skin.inverseBindMatrices) + " is " + a.type +
+                             " of " + componentTypeName(a.componentType) +
+                             "; inverse bind matrices must be MAT4 of FLOAT");
+      if (a.count < skin.joints.size())
+        throw SceneError(o.at("inverseBindMatrices"),
+                         "accessor " + std::to_string(skin.inverseBindMatrices) + " has " +
+                             std::to_string(a.count) + " matrices for " +
+                             plural(skin.joints.size(), "joint"));
+    }
+    doc->skins.push_back(skin);
+  }
+  for (Node& node : doc->nodes)
+    if (node.skin >= 0 && size_t(node.skin) >= doc->skins.size())
+      throw SceneError(node.where.child("skin"),
+                       "skin " + std::to_string(node.skin) + " does not exist (" +
+                           plural(doc->skins.size(), "skin") + " in the file)");
 }
 
 void readAnimations(const Object& root, Document* doc) {
@@ -997,6 +1091,7 @@ Document readDocument(const json& rootValue, const std::string& file) {
   readCameras(root, &doc);
   readLights(root, &doc);
   readNodes(root, &doc);
+  readSkins(root, &doc);
   readAnimations(root, &doc);
   return doc;
 }

@@ -105,9 +105,18 @@ struct Material {
 
 enum Mode { kPoints = 0, kLines, kLineLoop, kLineStrip, kTriangles, kTriangleStrip, kTriangleFan };
 
+// One morph target of a primitive: accessors of its displacements (-1 = absent).
+struct MorphTarget {
+  int position = -1, normal = -1, tangent = -1;
+  SourceLocation where;
+};
+
 struct Primitive {
   // Accessor indices of the attributes glint reads (-1 = absent).
   int position = -1, normal = -1, tangent = -1, texcoord0 = -1, color0 = -1;
+  int joints0 = -1, weights0 = -1;  // skinning: four joint influences per vertex
+  bool moreJoints = false;          // JOINTS_1 / WEIGHTS_1 given (ignored, with a warning)
+  std::vector<MorphTarget> targets;
   int indices = -1;
   int material = -1;
   int mode = kTriangles;
@@ -117,6 +126,8 @@ struct Primitive {
 struct Mesh {
   std::string name;
   std::vector<Primitive> primitives;
+  std::vector<float> weights;  // default morph weights, one per target (empty: all 0)
+  size_t targetCount = 0;      // every primitive has this many morph targets
   SourceLocation where;
 };
 
@@ -130,6 +141,17 @@ struct Node {
   Vec3f scale{1, 1, 1};
   std::vector<int> children;
   int mesh = -1, camera = -1, light = -1;
+  int skin = -1;
+  std::vector<float> weights;  // morph weights replacing the mesh's (empty: the mesh's)
+  SourceLocation where;
+};
+
+// A skin: the joint nodes and the inverse bind matrices that take the mesh into each joint's
+// space at rest.
+struct Skin {
+  std::vector<int> joints;  // node indices
+  std::vector<Transform> inverseBind;  // one per joint (identity when the file gives none)
+  int inverseBindMatrices = -1;        // accessor, read by the loader (-1: identities)
   SourceLocation where;
 };
 
@@ -174,6 +196,7 @@ struct Document {
   std::vector<Material> materials;
   std::vector<Mesh> meshes;
   std::vector<Node> nodes;
+  std::vector<Skin> skins;
   std::vector<Scene> scenes;
   std::vector<Animation> animations;
   std::vector<CameraDesc> cameras;  // everything but worldFromCamera

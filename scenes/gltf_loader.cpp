@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <system_error>
 #include <tuple>
 #include <type_traits>
@@ -569,8 +570,11 @@ class Loader {
     }
     readTracks();
     subtreeAnimated_.assign(doc_.nodes.size(), -1);
+    nodeDesc_.assign(doc_.nodes.size(), -1);
+    nodeWorld_.assign(doc_.nodes.size(), std::nullopt);
     rootTransform_ = rootTransform;
     for (int r : roots) visit(r, rootTransform, -1, false);
+    resolveSkins();
   }
 
  private:
@@ -640,6 +644,32 @@ class Loader {
     }
   }
 
+  // A weights channel as one track per morph target: glTF interleaves the targets within each
+  // key (and, for CUBICSPLINE, in-tangents, values, out-tangents each as a run of targets).
+  std::vector<Track<float>> readWeightTracks(const gltf::AnimationSampler& s,
+                                             const gltf::AnimationChannel& c) {
+    const size_t targets = doc_.meshes[size_t(doc_.nodes[size_t(c.node)].mesh)].targetCount;
+    std::vector<Track<float>> tracks(targets);
+    const std::vector<float> times = readTimes(s);
+    const std::vector<double> v = reader_.read(s.output);
+    const bool cubic = s.interpolation == Interpolation::CubicSpline;
+    const size_t perKey = cubic ? 3 : 1;
+    for (size_t i = 0; i < v.size(); ++i)
+      if (!std::isfinite(v[i]))
+        throw SceneError(s.where.child("output"), "element " + std::to_string(i) +
+                                                      " of accessor " + std::to_string(s.output) +
+                                                      " is not finite");
+    for (size_t t = 0; t < targets; ++t) {
+      tracks[t].interpolation = s.interpolation;
+      tracks[t].times = times;
+      tracks[t].where = c.where;
+      for (size_t k = 0; k < times.size(); ++k)
+        for (size_t part = 0; part < perKey; ++part)
+          tracks[t].values.push_back(float(v[(k * perKey + part) * targets + t]));
+    }
+    return tracks;
+  }
+
   // Every animation in the file plays at once, on one clock: glTF files usually hold one
   // animation, and a viewer's "play all" is the only choice that needs no name. When two
   // animations drive the same property, the first one wins (with a warning).
@@ -649,9 +679,20 @@ class Loader {
         if (c.node < 0) continue;
         const gltf::AnimationSampler& s = anim.samplers[size_t(c.sampler)];
         if (c.path == gltf::AnimationPath::Weights) {
-          scene_->warnings.push_back(c.where.str() +
-                                     ": morph target weights are not animated (glint does not "
-                                     "support morph targets)");
+          const gltf::Node& node = doc_.nodes[size_t(c.node)];
+          if (node.mesh < 0 || doc_.meshes[size_t(node.mesh)].targetCount == 0) {
+            scene_->warnings.push_back(c.where.str() + ": node " + std::to_string(c.node) +
+                                       " has no mesh with morph targets; its weights channel "
+                                       "is ignored");
+            continue;
+          }
+          if (weightTracks_.count(c.node)) {
+            scene_->warnings.push_back(c.where.str() + ": node " + std::to_string(c.node) +
+                                       " weights are already animated by an earlier "
+                                       "animation; ignored");
+            continue;
+          }
+          weightTracks_[c.node] = readWeightTracks(s, c);
           continue;
         }
         NodeTracks& t = tracks_[c.node];
@@ -731,9 +772,13 @@ class Loader {
       world = worldFromNode(scene_->nodes, desc, 0.0);
     }
     int transformNode = moving ? desc : -1;
+    nodeDesc_[size_t(index)] = transformNode;
+    nodeWorld_[size_t(index)] = world;
     if (node.mesh >= 0) {
       const std::vector<int>& meshes = meshDescs(node.mesh);
-      for (int m : meshes) {
+      const gltf::Mesh& gm = doc_.meshes[size_t(node.mesh)];
+      for (size_t p = 0; p < meshes.size(); ++p) {
+        const int m = meshes[p];
         if (m < 0) continue;
         InstanceDesc inst;
         inst.mesh = m;
@@ -741,6 +786,30 @@ class Loader {
         inst.transformNode = transformNode;
         inst.node = nodeName;
         inst.where = node.where;
+        inst.morphWeights = node.weights;
+        if (auto it = weightTracks_.find(index); it != weightTracks_.end())
+          inst.weightTracks = it->second;
+        const MeshDesc& md = scene_->meshes[size_t(m)];
+        if (node.skin >= 0 && !md.joints.empty()) {
+          // glTF: the skin places the vertices; the skinned node's own transform is ignored.
+          const gltf::Skin& skin = doc_.skins[size_t(node.skin)];
+          for (size_t v = 0; v < md.joints.size(); ++v)
+            for (int k = 0; k < 4; ++k)
+              if (md.jointWeights[v][k] > 0 && md.joints[v][size_t(k)] >= skin.joints.size())
+                throw SceneError(gm.primitives[p].where.child("attributes").child("JOINTS_0"),
+                                 "vertex " + std::to_string(v) + " names joint " +
+                                     std::to_string(md.joints[v][size_t(k)]) + " but skin " +
+                                     std::to_string(node.skin) + " (" +
+                                     node.where.child("skin").pointer + ") has " +
+                                     std::to_string(skin.joints.size()) + " joints");
+          inst.worldFromObject = Transform();
+          inst.transformNode = -1;
+          pendingSkins_.emplace_back(scene_->instances.size(), node.skin);
+        } else if (node.skin < 0 && !md.joints.empty()) {
+          scene_->warnings.push_back(gm.primitives[p].where.str() +
+                                     ": JOINTS_0/WEIGHTS_0 without a skin on node " +
+                                     std::to_string(index) + "; drawn unskinned");
+        }
         scene_->instances.push_back(inst);
       }
     }
@@ -763,6 +832,55 @@ class Loader {
     for (int c : node.children) visit(c, world, desc, moving);
   }
 
+  // The world placement of glTF node `index` at rest, for joints outside the scene walked.
+  Transform restWorld(int index) {
+    if (nodeWorld_[size_t(index)]) return *nodeWorld_[size_t(index)];
+    if (parent_.empty()) {
+      parent_.assign(doc_.nodes.size(), -1);
+      for (size_t i = 0; i < doc_.nodes.size(); ++i)
+        for (int c : doc_.nodes[i].children) parent_[size_t(c)] = int(i);
+    }
+    const int p = parent_[size_t(index)];
+    return (p >= 0 ? restWorld(p) : rootTransform_) * doc_.nodes[size_t(index)].local;
+  }
+
+  // SkinDescs for the skins skinned instances use (one per glTF skin), their joints placed by
+  // the nodes the walk made (animated) or at rest.
+  void resolveSkins() {
+    std::map<int, int> skinDesc;  // glTF skin -> SceneDescription::skins index
+    for (auto [instance, skin] : pendingSkins_) {
+      auto it = skinDesc.find(skin);
+      if (it == skinDesc.end()) {
+        const gltf::Skin& gs = doc_.skins[size_t(skin)];
+        SkinDesc d;
+        d.name = "skin " + std::to_string(skin);
+        d.where = gs.where;
+        std::vector<double> ibm;
+        if (gs.inverseBindMatrices >= 0) ibm = reader_.read(gs.inverseBindMatrices);
+        for (size_t j = 0; j < gs.joints.size(); ++j) {
+          const int node = gs.joints[j];
+          d.joints.push_back({nodeDesc_[size_t(node)], restWorld(node)});
+          Transform inverseBind;
+          if (!ibm.empty()) {
+            float f[16];
+            for (int k = 0; k < 16; ++k) f[k] = float(ibm[16 * j + size_t(k)]);
+            Mat4 m = Mat4::fromColumnMajor(f), inv;
+            if (!invert(m, &inv))
+              throw SceneError(gs.where.child("inverseBindMatrices"),
+                               "matrix " + std::to_string(j) + " of accessor " +
+                                   std::to_string(gs.inverseBindMatrices) +
+                                   " is not finite and invertible");
+            inverseBind = Transform(m, inv);
+          }
+          d.inverseBind.push_back(inverseBind);
+        }
+        scene_->skins.push_back(std::move(d));
+        it = skinDesc.emplace(skin, int(scene_->skins.size()) - 1).first;
+      }
+      scene_->instances[instance].skin = it->second;
+    }
+  }
+
   // The MeshDesc indices of glTF mesh `m`'s primitives (-1 for skipped ones), converted on
   // first use so that every node using the mesh shares them.
   const std::vector<int>& meshDescs(int m) {
@@ -773,7 +891,7 @@ class Loader {
     for (size_t p = 0; p < mesh.primitives.size(); ++p) {
       std::string name = mesh.name;
       if (mesh.primitives.size() > 1) name += " (primitive " + std::to_string(p) + ")";
-      ids.push_back(convertPrimitive(mesh.primitives[p], name));
+      ids.push_back(convertPrimitive(mesh.primitives[p], name, mesh.weights));
     }
     return converted_[m] = ids;
   }
@@ -801,7 +919,47 @@ class Loader {
     return a;
   }
 
-  int convertPrimitive(const gltf::Primitive& p, const std::string& name) {
+  // JOINTS_0 (VEC4 of UNSIGNED_BYTE or UNSIGNED_SHORT) and WEIGHTS_0 (VEC4 of FLOAT or
+  // normalized UNSIGNED_BYTE/SHORT): finite, non-negative weights; joint indices are checked
+  // against the skin of each node that uses the mesh.
+  void readSkinning(const gltf::Primitive& p, size_t n, MeshDesc* mesh) {
+    const SourceLocation attrs = p.where.child("attributes");
+    const Accessor& ja = doc_.accessors[size_t(p.joints0)];
+    if (ja.type != "VEC4" || ja.normalized ||
+        (ja.componentType != gltf::kUnsignedByte && ja.componentType != gltf::kUnsignedShort))
+      throw SceneError(attrs.child("JOINTS_0"),
+                       "accessor " + std::to_string(p.joints0) + " is " + ja.type + " of " +
+                           gltf::componentTypeName(ja.componentType) +
+                           "; JOINTS_0 must be VEC4 of UNSIGNED_BYTE or UNSIGNED_SHORT");
+    const Accessor& wa = attribute(p.weights0, p, "WEIGHTS_0", {"VEC4"}, true);
+    for (auto [index, what] : {std::pair{p.joints0, "JOINTS_0"}, {p.weights0, "WEIGHTS_0"}})
+      if (doc_.accessors[size_t(index)].count != n)
+        throw SceneError(attrs.child(what), "accessor " + std::to_string(index) + " has " +
+                                                std::to_string(doc_.accessors[size_t(index)].count) +
+                                                " elements but POSITION has " + std::to_string(n));
+    std::vector<double> j = reader_.read(p.joints0), w = reader_.read(p.weights0);
+    mesh->joints.resize(n);
+    mesh->jointWeights.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+      for (int k = 0; k < 4; ++k) {
+        mesh->joints[i][size_t(k)] = uint16_t(j[4 * i + size_t(k)]);
+        const double wk = w[4 * i + size_t(k)];
+        if (!std::isfinite(wk) || wk < 0)
+          throw SceneError(wa.where, "weight " + std::to_string(k) + " of vertex " +
+                                         std::to_string(i) + " is " + std::to_string(wk) +
+                                         "; skin weights must be finite and >= 0");
+      }
+      mesh->jointWeights[i] = {float(w[4 * i]), float(w[4 * i + 1]), float(w[4 * i + 2]),
+                               float(w[4 * i + 3])};
+    }
+    if (p.moreJoints)
+      scene_->warnings.push_back(attrs.str() +
+                                 ": JOINTS_1/WEIGHTS_1 ignored (glint blends the first four "
+                                 "joints of each vertex)");
+  }
+
+  int convertPrimitive(const gltf::Primitive& p, const std::string& name,
+                       const std::vector<float>& weights) {
     if (p.mode < gltf::kTriangles) {
       scene_->warnings.push_back(p.where.str() + ": " + modeName(p.mode) +
                                  " primitive skipped (only triangles are rendered)");
@@ -888,6 +1046,37 @@ class Loader {
       }
     }
 
+    if (p.joints0 >= 0) readSkinning(p, n, &mesh);
+    for (size_t t = 0; t < p.targets.size(); ++t) {
+      const gltf::MorphTarget& target = p.targets[t];
+      MorphTargetDesc d;
+      auto displacements = [&](int index, const char* what, std::vector<Vec3f>* out) {
+        if (index < 0) return;
+        const Accessor& a = doc_.accessors[size_t(index)];
+        SourceLocation at = target.where.child(what);
+        if (a.type != "VEC3" || a.componentType != gltf::kFloat)
+          throw SceneError(at, "accessor " + std::to_string(index) + " is " + a.type + " of " +
+                                   gltf::componentTypeName(a.componentType) +
+                                   "; a morph target's " + what + " must be VEC3 of FLOAT");
+        if (a.count != n)
+          throw SceneError(at, "accessor " + std::to_string(index) + " has " +
+                                   std::to_string(a.count) + " elements but POSITION has " +
+                                   std::to_string(n));
+        std::vector<double> v = reader_.read(index);
+        out->resize(n);
+        for (size_t i = 0; i < n; ++i) {
+          (*out)[i] = {float(v[3 * i]), float(v[3 * i + 1]), float(v[3 * i + 2])};
+          if (!isFinite((*out)[i]))
+            throw SceneError(at, "displacement " + std::to_string(i) + " is not finite");
+        }
+      };
+      displacements(target.position, "POSITION", &d.positions);
+      displacements(target.normal, "NORMAL", &d.normals);
+      displacements(target.tangent, "TANGENT", &d.tangents);
+      mesh.targets.push_back(std::move(d));
+    }
+    mesh.weights = weights;
+
     // Vertex order: the index accessor, or 0..n-1 when there is none.
     std::vector<uint32_t> order;
     if (p.indices >= 0) {
@@ -948,6 +1137,12 @@ class Loader {
   std::map<std::tuple<int, float, float, float, float, float>, int> transformedTextures_;
   std::map<int, std::vector<int>> converted_;
   std::map<int, NodeTracks> tracks_;  // by glTF node index
+  std::map<int, std::vector<Track<float>>> weightTracks_;  // by glTF node index
+  // Per glTF node, from the walk: its animated placement (-1: static) and its world at time 0.
+  std::vector<int> nodeDesc_;
+  std::vector<std::optional<Transform>> nodeWorld_;
+  std::vector<int> parent_;  // made on first use by restWorld
+  std::vector<std::pair<size_t, int>> pendingSkins_;  // (instance, glTF skin)
   std::vector<int> subtreeAnimated_;  // -1 = not yet known
   Transform rootTransform_;
   int rootNode_ = -1;

@@ -662,6 +662,20 @@ TEST(GltfBadInput, TextureTransformWithANonNumberIsRejected) {
               "expected a number, got string");
 }
 
+TEST(GltfBadInput, SkinsAndMorphTargetsThatDisagreeAreRejected) {
+  expectError(badFile("skin_joint_out_of_range.gltf"),
+              "/meshes/1/primitives/0/attributes/JOINTS_0",
+              "vertex 1 names joint 1 but skin 0 (/nodes/3/skin) has 1 joints");
+  expectError(badFile("skin_index_out_of_range.gltf"), "/nodes/3/skin",
+              "skin 2 does not exist (1 skin in the file)");
+  expectError(badFile("morph_weights_count_mismatch.gltf"), "/meshes/0/weights",
+              "has 3 weights but the mesh's primitives have 2 morph targets");
+  expectError(badFile("morph_target_count_mismatch.gltf"), "/meshes/0/primitives/1/targets",
+              "has 1 morph target but primitive 0 has 2");
+  expectError(badFile("morph_animation_output_count.gltf"), "/animations/0/samplers/0/output",
+              "with 2 keys and 2 morph targets needs 4");
+}
+
 TEST(GltfLoader, UnlitMaterialsKeepTheirBaseColour) {
   std::ifstream in(goodFile("features.gltf"));
   nlohmann::json j = nlohmann::json::parse(in);

@@ -185,6 +185,34 @@ def main():
     doc["meshes"][0]["primitives"][0]["material"] = 3
     write_json("material_index_out_of_range.gltf", doc)
 
+    # Skins and morph targets: each file is ../gltf/skin_morph.gltf (valid) with one thing wrong.
+    with open(os.path.join(HERE, "..", "gltf", "skin_morph.gltf")) as f:
+        good = json.load(f)
+
+    def variant(name, change):
+        doc = json.loads(json.dumps(good))
+        change(doc)
+        write_json(name, doc)
+
+    # skin_joint_out_of_range.gltf: vertex 1 names joint 1 of a skin that keeps only joint 0.
+    variant("skin_joint_out_of_range.gltf",
+            lambda d: d["skins"][0].update(joints=[4]))
+    # skin_index_out_of_range.gltf: node 3 names skin 2 of 1.
+    variant("skin_index_out_of_range.gltf", lambda d: d["nodes"][3].update(skin=2))
+    # morph_weights_count_mismatch.gltf: three default weights for two targets.
+    variant("morph_weights_count_mismatch.gltf",
+            lambda d: d["meshes"][0].update(weights=[0.5, 0.25, 1]))
+    # morph_target_count_mismatch.gltf: a second primitive with one target where the first has
+    # two.
+    def second_primitive(d):
+        p = json.loads(json.dumps(d["meshes"][0]["primitives"][0]))
+        p["targets"] = p["targets"][:1]
+        d["meshes"][0]["primitives"].append(p)
+    variant("morph_target_count_mismatch.gltf", second_primitive)
+    # morph_animation_output_count.gltf: the weights channel's output keeps 3 of its 4 values.
+    variant("morph_animation_output_count.gltf",
+            lambda d: d["accessors"][d["animations"][0]["samplers"][0]["output"]].update(count=3))
+
     # json_syntax_error.gltf is written by hand (a missing comma at line 5, column 5).
     with open(os.path.join(HERE, "json_syntax_error.gltf"), "w") as f:
         f.write('{\n'

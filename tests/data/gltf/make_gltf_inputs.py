@@ -2,7 +2,8 @@
 """Regenerates the hand-made valid glTF files in this folder, which exercise loader features
 the Khronos samples do not: strips and fans, sparse accessors, normalized u8/u16 attributes,
 8- and 16-bit PNGs, samplers, cameras, KHR_lights_punctual, emissive strength, a non-default
-`scene`, skipped POINTS primitives, texCoord 1, a file without `scenes`, and a .glb.
+`scene`, skipped POINTS primitives, texCoord 1, a file without `scenes`, a .glb, and morph
+targets with a skin whose poses have closed forms.
 
     python3 tests/data/gltf/make_gltf_inputs.py
 """
@@ -213,6 +214,71 @@ def pbr_materials():
     }
 
 
+def skin_morph():
+    """Morph targets and a skin, each with a closed-form pose (tests/scenes/deform_test.cpp).
+
+    Mesh 0, a triangle (0,0,0) (1,0,0) (0,1,0) facing +z, has two position targets: T0 moves
+    every vertex by (0,0,1), T1 moves vertex 1 by (1,0,0); its default weights are [0.5, 0.25].
+    Node 0 uses them, node 1 (at x = 5) sets weights [1, 0], node 2 (at x = 10) animates them
+    linearly from [0, 0] at t = 0 to [1, 2] at t = 1.
+    Mesh 1, a triangle (0,0,0) (1,0,0) (0,2,0), is skinned by skin 0 on node 3, whose own
+    translation (100, 0, 0) glTF says to ignore. Joint 0 is node 4 (the origin, at rest); joint
+    1 is its child node 5 at (0,1,0), turning about +z from 0 at t = 0 to 90 degrees at t = 1;
+    inverse bind matrices: identity and a translation by (0,-1,0). Vertices 0 and 1 follow
+    joint 0 and joint 1 fully; vertex 2 half each. Its normals all point along +x."""
+    b = Builder()
+    tri = b.accessor("f", flat([(0, 0, 0), (1, 0, 0), (0, 1, 0)]), 5126, "VEC3", 3,
+                     min=[0, 0, 0], max=[1, 1, 0])
+    nrm = b.accessor("f", flat([(0, 0, 1)] * 3), 5126, "VEC3", 3)
+    t0 = b.accessor("f", flat([(0, 0, 1)] * 3), 5126, "VEC3", 3, min=[0, 0, 1], max=[0, 0, 1])
+    t1 = b.accessor("f", flat([(0, 0, 0), (1, 0, 0), (0, 0, 0)]), 5126, "VEC3", 3,
+                    min=[0, 0, 0], max=[1, 0, 0])
+    times = b.accessor("f", [0, 1], 5126, "SCALAR", 2, min=[0], max=[1])
+    weights = b.accessor("f", [0, 0, 1, 2], 5126, "SCALAR", 4)
+    skinned = b.accessor("f", flat([(0, 0, 0), (1, 0, 0), (0, 2, 0)]), 5126, "VEC3", 3,
+                         min=[0, 0, 0], max=[1, 2, 0])
+    # Normals along +x (not the face's, on purpose: a rotation about z must turn them).
+    skinned_normals = b.accessor("f", flat([(1, 0, 0)] * 3), 5126, "VEC3", 3)
+    joints = b.accessor("B", [0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0], 5121, "VEC4", 3)
+    jweights = b.accessor("f", [1, 0, 0, 0, 1, 0, 0, 0, 0.5, 0.5, 0, 0], 5126, "VEC4", 3)
+    ibm = b.accessor("f", [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1,
+                           1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, -1, 0, 1], 5126, "MAT4", 2)
+    s45 = math.sin(math.pi / 4)
+    rotations = b.accessor("f", [0, 0, 0, 1, 0, 0, s45, s45], 5126, "VEC4", 2)
+    return {
+        "asset": {"version": "2.0", "generator": "glint make_gltf_inputs.py"},
+        "scenes": [{"nodes": [0, 1, 2, 3, 4]}],
+        "nodes": [
+            {"name": "rest weights", "mesh": 0},
+            {"name": "node weights", "mesh": 0, "translation": [5, 0, 0], "weights": [1, 0]},
+            {"name": "animated weights", "mesh": 0, "translation": [10, 0, 0]},
+            {"name": "skinned", "mesh": 1, "skin": 0, "translation": [100, 0, 0]},
+            {"name": "joint 0", "children": [5]},
+            {"name": "joint 1", "translation": [0, 1, 0]},
+        ],
+        "meshes": [
+            {"name": "Morphed", "weights": [0.5, 0.25],
+             "primitives": [{"attributes": {"POSITION": tri, "NORMAL": nrm},
+                             "targets": [{"POSITION": t0}, {"POSITION": t1}]}]},
+            {"name": "Skinned",
+             "primitives": [{"attributes": {"POSITION": skinned, "NORMAL": skinned_normals,
+                                            "JOINTS_0": joints,
+                                            "WEIGHTS_0": jweights}}]},
+        ],
+        "skins": [{"joints": [4, 5], "inverseBindMatrices": ibm}],
+        "animations": [{
+            "samplers": [{"input": times, "output": weights},
+                         {"input": times, "output": rotations}],
+            "channels": [{"sampler": 0, "target": {"node": 2, "path": "weights"}},
+                         {"sampler": 1, "target": {"node": 5, "path": "rotation"}}]}],
+        "buffers": [{"byteLength": len(b.data),
+                     "uri": "data:application/octet-stream;base64," +
+                            base64.b64encode(b.data).decode()}],
+        "bufferViews": b.views,
+        "accessors": b.accessors,
+    }
+
+
 def glb(doc, bin_data):
     js = json.dumps(doc).encode()
     js += b" " * (-len(js) % 4)
@@ -226,6 +292,9 @@ def glb(doc, bin_data):
 def main():
     with open(os.path.join(HERE, "features.gltf"), "w") as f:
         json.dump(features(), f, indent=1)
+        f.write("\n")
+    with open(os.path.join(HERE, "skin_morph.gltf"), "w") as f:
+        json.dump(skin_morph(), f, indent=1)
         f.write("\n")
     with open(os.path.join(HERE, "pbr_materials.gltf"), "w") as f:
         json.dump(pbr_materials(), f, indent=1)
