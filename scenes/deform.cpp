@@ -77,7 +77,8 @@ MeshDesc posedMesh(const SceneDescription& scene, const InstanceDesc& inst, doub
     for (size_t t = 0; t < mesh.targets.size(); ++t) {
       if (w[t] == 0) continue;
       const MorphTargetDesc& target = mesh.targets[t];
-      for (size_t i = 0; i < target.positions.size(); ++i) mesh.positions[i] += w[t] * target.positions[i];
+      for (size_t i = 0; i < target.positions.size(); ++i)
+        mesh.positions[i] += w[t] * target.positions[i];
       for (size_t i = 0; i < target.normals.size() && i < mesh.normals.size(); ++i)
         mesh.normals[i] += w[t] * target.normals[i];
       for (size_t i = 0; i < target.tangents.size() && i < mesh.tangents.size(); ++i) {

@@ -668,6 +668,43 @@ void nodeTransform(const Object& o, Node* node) {
                 Transform::scale(node->scale);
 }
 
+// EXT_mesh_gpu_instancing: TRANSLATION and SCALE as VEC3 of FLOAT, ROTATION as VEC4 of FLOAT
+// or normalized BYTE/SHORT, all with one element per instance.
+void readInstancing(const Object& o, const Document& doc, Node* node) {
+  o.require("attributes");
+  Object attributes = o.object("attributes");
+  const size_t accessors = doc.accessors.size();
+  node->instanceTranslation = attributes.index("TRANSLATION", accessors, "accessor");
+  node->instanceRotation = attributes.index("ROTATION", accessors, "accessor");
+  node->instanceScale = attributes.index("SCALE", accessors, "accessor");
+  bool first = true;
+  for (auto [index, name] : {std::pair{node->instanceTranslation, "TRANSLATION"},
+                             {node->instanceRotation, "ROTATION"},
+                             {node->instanceScale, "SCALE"}}) {
+    if (index < 0) continue;
+    const Accessor& a = doc.accessors[size_t(index)];
+    const bool rotation = std::string(name) == "ROTATION";
+    const bool ok = rotation ? a.type == "VEC4" && (a.componentType == kFloat ||
+                                                   (a.normalized && (a.componentType == kByte ||
+                                                                     a.componentType == kShort)))
+                             : a.type == "VEC3" && a.componentType == kFloat;
+    if (!ok)
+      throw SceneError(attributes.at(name),
+                       "accessor " + std::to_string(index) + " is " + a.type + " of " +
+                           (a.normalized ? "normalized " : "") + componentTypeName(a.componentType) +
+                           "; " + name + " must be " +
+                           (rotation ? "VEC4 of FLOAT or normalized BYTE/SHORT" : "VEC3 of FLOAT"));
+    if (!first && a.count != node->instanceCount)
+      throw SceneError(attributes.at(name), "accessor " + std::to_string(index) + " has " +
+                                                plural(a.count, "element") + " but the other " +
+                                                "instancing attributes have " +
+                                                std::to_string(node->instanceCount));
+    node->instanceCount = a.count;
+    first = false;
+  }
+  if (first) throw SceneError(attributes.where(), "needs TRANSLATION, ROTATION or SCALE");
+}
+
 // The deepest node hierarchy glint reads (roots are level 0). glTF sets no limit, but the
 // loader walks the tree recursively, and real rigs stay far below this.
 constexpr int kMaxNodeDepth = 1000;
@@ -686,6 +723,7 @@ void readNodes(const Object& root, Document* doc) {
       if (ext.has("KHR_lights_punctual"))
         node.light =
             ext.object("KHR_lights_punctual").index("light", doc->lights.size(), "light", true);
+      if (ext.has("EXT_mesh_gpu_instancing")) readInstancing(ext.object("EXT_mesh_gpu_instancing"), *doc, &node);
     }
     for (auto& [value, loc] : o.array("children"))
       node.children.push_back(Object::indexValue(*value, loc, n, "node"));
@@ -964,7 +1002,8 @@ void readAnimations(const Object& root, Document* doc) {
 // in extensionsUsed a warning.
 const char* const kSupportedExtensions[] = {
     "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_transmission",
-    "KHR_materials_ior", "KHR_texture_transform", "KHR_materials_unlit"};
+    "KHR_materials_ior", "KHR_texture_transform", "KHR_materials_unlit", "KHR_mesh_quantization",
+    "EXT_mesh_gpu_instancing"};
 
 bool isSupportedExtension(const std::string& name) {
   return std::find(std::begin(kSupportedExtensions), std::end(kSupportedExtensions), name) !=
@@ -984,7 +1023,6 @@ std::string whatIsIgnored(const std::string& name) {
       {"KHR_materials_diffuse_transmission", "no light through thin diffuse surfaces"},
       {"KHR_materials_variants", "the default material of every primitive"},
       {"KHR_materials_pbrSpecularGlossiness", "the metallic-roughness parameters, if any"},
-      {"EXT_mesh_gpu_instancing", "each node is drawn once, without its instances"},
       {"KHR_xmp_json_ld", "metadata only"},
       {"KHR_texture_basisu", "textures use their fallback 'source' image (Debian has no Basis "
                              "Universal decoder)"},
@@ -1003,7 +1041,8 @@ std::string supportedExtensionList() {
   return list;
 }
 
-void checkExtensions(const Object& root, std::vector<std::string>* warnings) {
+void checkExtensions(const Object& root, std::vector<std::string>* warnings,
+                     std::vector<std::string>* used) {
   for (auto& [value, loc] : root.array("extensionsRequired")) {
     if (!value->is_string())
       throw SceneError(loc, "expected a string, got " + jsonTypeName(*value));
@@ -1016,6 +1055,7 @@ void checkExtensions(const Object& root, std::vector<std::string>* warnings) {
     if (!value->is_string())
       throw SceneError(loc, "expected a string, got " + jsonTypeName(*value));
     std::string name = value->get<std::string>();
+    used->push_back(name);
     if (!isSupportedExtension(name))
       warnings->push_back(loc.str() + ": extension '" + name + "' is not supported; ignored: " +
                           whatIsIgnored(name));
@@ -1079,7 +1119,7 @@ Document readDocument(const json& rootValue, const std::string& file) {
   if (version.rfind("2.", 0) != 0)
     throw SceneError(asset.at("version"),
                      "unsupported glTF version '" + version + "' (glint reads 2.x)");
-  checkExtensions(root, &doc.warnings);
+  checkExtensions(root, &doc.warnings, &doc.extensionsUsed);
   readBuffers(root, &doc);
   readBufferViews(root, &doc);
   readAccessors(root, &doc);

@@ -142,6 +142,10 @@ struct Node {
   std::vector<int> children;
   int mesh = -1, camera = -1, light = -1;
   int skin = -1;
+  // EXT_mesh_gpu_instancing: accessors of per-instance TRS (-1 = absent) and their count (0:
+  // the node is drawn once, as usual).
+  int instanceTranslation = -1, instanceRotation = -1, instanceScale = -1;
+  size_t instanceCount = 0;
   std::vector<float> weights;  // morph weights replacing the mesh's (empty: the mesh's)
   SourceLocation where;
 };
@@ -202,6 +206,7 @@ struct Document {
   std::vector<CameraDesc> cameras;  // everything but worldFromCamera
   std::vector<LightDesc> lights;    // KHR_lights_punctual, everything but worldFromLight
   int scene = -1;                   // the "scene" property
+  std::vector<std::string> extensionsUsed;
   std::vector<std::string> warnings;
 };
 

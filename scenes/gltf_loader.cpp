@@ -497,6 +497,7 @@ class Loader {
 
   void run(const Transform& rootTransform) {
     for (const std::string& w : doc_.warnings) scene_->warnings.push_back(w);
+    for (const std::string& e : doc_.extensionsUsed) quantized_ |= e == "KHR_mesh_quantization";
     for (size_t i = 0; i < doc_.images.size(); ++i)
       scene_->images.push_back(convertImage(doc_.images[i], model_.images.at(i), i));
     for (const gltf::Texture& t : doc_.textures) {
@@ -777,40 +778,48 @@ class Loader {
     if (node.mesh >= 0) {
       const std::vector<int>& meshes = meshDescs(node.mesh);
       const gltf::Mesh& gm = doc_.meshes[size_t(node.mesh)];
-      for (size_t p = 0; p < meshes.size(); ++p) {
-        const int m = meshes[p];
-        if (m < 0) continue;
-        InstanceDesc inst;
-        inst.mesh = m;
-        inst.worldFromObject = world;
-        inst.transformNode = transformNode;
-        inst.node = nodeName;
-        inst.where = node.where;
-        inst.morphWeights = node.weights;
-        if (auto it = weightTracks_.find(index); it != weightTracks_.end())
-          inst.weightTracks = it->second;
-        const MeshDesc& md = scene_->meshes[size_t(m)];
-        if (node.skin >= 0 && !md.joints.empty()) {
-          // glTF: the skin places the vertices; the skinned node's own transform is ignored.
-          const gltf::Skin& skin = doc_.skins[size_t(node.skin)];
-          for (size_t v = 0; v < md.joints.size(); ++v)
-            for (int k = 0; k < 4; ++k)
-              if (md.jointWeights[v][k] > 0 && md.joints[v][size_t(k)] >= skin.joints.size())
-                throw SceneError(gm.primitives[p].where.child("attributes").child("JOINTS_0"),
-                                 "vertex " + std::to_string(v) + " names joint " +
-                                     std::to_string(md.joints[v][size_t(k)]) + " but skin " +
-                                     std::to_string(node.skin) + " (" +
-                                     node.where.child("skin").pointer + ") has " +
-                                     std::to_string(skin.joints.size()) + " joints");
-          inst.worldFromObject = Transform();
-          inst.transformNode = -1;
-          pendingSkins_.emplace_back(scene_->instances.size(), node.skin);
-        } else if (node.skin < 0 && !md.joints.empty()) {
-          scene_->warnings.push_back(gm.primitives[p].where.str() +
-                                     ": JOINTS_0/WEIGHTS_0 without a skin on node " +
-                                     std::to_string(index) + "; drawn unskinned");
+      // EXT_mesh_gpu_instancing: one placement per instance, in the node's frame.
+      const std::vector<Transform> copies = instancePlacements(node);
+      for (size_t copy = 0; copy < std::max<size_t>(copies.size(), 1); ++copy) {
+        for (size_t p = 0; p < meshes.size(); ++p) {
+          const int m = meshes[p];
+          if (m < 0) continue;
+          InstanceDesc inst;
+          inst.mesh = m;
+          inst.worldFromObject = world;
+          inst.transformNode = transformNode;
+          if (!copies.empty() && node.skin < 0) {
+            inst.worldFromObject = world * copies[copy];
+            inst.nodeFromObject = copies[copy];
+          }
+          inst.node = nodeName;
+          inst.where = node.where;
+          inst.morphWeights = node.weights;
+          if (auto it = weightTracks_.find(index); it != weightTracks_.end())
+            inst.weightTracks = it->second;
+          const MeshDesc& md = scene_->meshes[size_t(m)];
+          if (node.skin >= 0 && !md.joints.empty()) {
+            // glTF: the skin places the vertices; the skinned node's own transform is ignored.
+            const gltf::Skin& skin = doc_.skins[size_t(node.skin)];
+            for (size_t v = 0; v < md.joints.size(); ++v)
+              for (int k = 0; k < 4; ++k)
+                if (md.jointWeights[v][k] > 0 && md.joints[v][size_t(k)] >= skin.joints.size())
+                  throw SceneError(gm.primitives[p].where.child("attributes").child("JOINTS_0"),
+                                   "vertex " + std::to_string(v) + " names joint " +
+                                       std::to_string(md.joints[v][size_t(k)]) + " but skin " +
+                                       std::to_string(node.skin) + " (" +
+                                       node.where.child("skin").pointer + ") has " +
+                                       std::to_string(skin.joints.size()) + " joints");
+            inst.worldFromObject = Transform();
+            inst.transformNode = -1;
+            pendingSkins_.emplace_back(scene_->instances.size(), node.skin);
+          } else if (node.skin < 0 && !md.joints.empty()) {
+            scene_->warnings.push_back(gm.primitives[p].where.str() +
+                                       ": JOINTS_0/WEIGHTS_0 without a skin on node " +
+                                       std::to_string(index) + "; drawn unskinned");
+          }
+          scene_->instances.push_back(inst);
         }
-        scene_->instances.push_back(inst);
       }
     }
     if (node.camera >= 0) {
@@ -830,6 +839,48 @@ class Loader {
       scene_->lights.push_back(l);
     }
     for (int c : node.children) visit(c, world, desc, moving);
+  }
+
+  // The per-instance placements of an EXT_mesh_gpu_instancing node (T · R · S of each), or
+  // none. Rotations are normalised; non-finite values and zero scales are errors.
+  std::vector<Transform> instancePlacements(const gltf::Node& node) {
+    std::vector<Transform> out;
+    if (node.instanceCount == 0) return out;
+    const SourceLocation attrs =
+        node.where.child("extensions").child("EXT_mesh_gpu_instancing").child("attributes");
+    if (node.skin >= 0) {
+      scene_->warnings.push_back(attrs.str() +
+                                 ": EXT_mesh_gpu_instancing on a skinned node is ignored (the "
+                                 "skin places the mesh once)");
+      return out;
+    }
+    std::vector<double> t, r, sc;
+    if (node.instanceTranslation >= 0) t = reader_.read(node.instanceTranslation);
+    if (node.instanceRotation >= 0) r = reader_.read(node.instanceRotation);
+    if (node.instanceScale >= 0) sc = reader_.read(node.instanceScale);
+    out.reserve(node.instanceCount);
+    for (size_t i = 0; i < node.instanceCount; ++i) {
+      Vec3f translation{0, 0, 0}, scale{1, 1, 1};
+      Quaternion rotation;
+      if (!t.empty()) translation = {float(t[3 * i]), float(t[3 * i + 1]), float(t[3 * i + 2])};
+      if (!sc.empty()) scale = {float(sc[3 * i]), float(sc[3 * i + 1]), float(sc[3 * i + 2])};
+      if (!r.empty()) {
+        rotation = {float(r[4 * i]), float(r[4 * i + 1]), float(r[4 * i + 2]), float(r[4 * i + 3])};
+        if (!(dot(rotation, rotation) > 1e-12f) || !std::isfinite(dot(rotation, rotation)))
+          throw SceneError(attrs.child("ROTATION"),
+                           "instance " + std::to_string(i) + " has a zero or non-finite rotation");
+        rotation = normalize(rotation);
+      }
+      if (!isFinite(translation))
+        throw SceneError(attrs.child("TRANSLATION"),
+                         "instance " + std::to_string(i) + " has a non-finite translation");
+      if (!isFinite(scale) || scale.x == 0 || scale.y == 0 || scale.z == 0)
+        throw SceneError(attrs.child("SCALE"), "instance " + std::to_string(i) +
+                                                   " has a zero or non-finite scale");
+      out.push_back(Transform::translate(translation) * toTransform(rotation) *
+                    Transform::scale(scale));
+    }
+    return out;
   }
 
   // The world placement of glTF node `index` at rest, for joints outside the scene walked.
@@ -896,27 +947,68 @@ class Loader {
     return converted_[m] = ids;
   }
 
-  // Checks that accessor `index`, used as `attribute` of a primitive, has an allowed layout.
-  const Accessor& attribute(int index, const gltf::Primitive& p, const std::string& attribute,
-                            std::initializer_list<const char*> types, bool allowNormalized) const {
+  // What component types an attribute may have: core glTF allows FLOAT (and normalized
+  // UNSIGNED_BYTE/SHORT for texture coordinates, colours and weights); KHR_mesh_quantization
+  // adds integer positions and displacements, normalized BYTE/SHORT directions, and any 8- or
+  // 16-bit texture coordinates.
+  enum class Kind { Position, Direction, TexCoord, Color };
+
+  bool componentAllowed(const Accessor& a, Kind kind) const {
+    const int c = a.componentType;
+    if (c == gltf::kFloat) return true;
+    const bool unsigned8or16 = c == gltf::kUnsignedByte || c == gltf::kUnsignedShort;
+    const bool signed8or16 = c == gltf::kByte || c == gltf::kShort;
+    if ((kind == Kind::TexCoord || kind == Kind::Color) && a.normalized && unsigned8or16)
+      return true;
+    if (!quantized_) return false;
+    switch (kind) {
+      case Kind::Position:
+        return unsigned8or16 || signed8or16;
+      case Kind::Direction:
+        return a.normalized && signed8or16;
+      case Kind::TexCoord:
+        return unsigned8or16 || signed8or16;
+      case Kind::Color:
+        return false;
+    }
+    return false;
+  }
+
+  std::string allowedComponents(Kind kind) const {
+    std::string core = kind == Kind::TexCoord || kind == Kind::Color
+                           ? "FLOAT or normalized UNSIGNED_BYTE/UNSIGNED_SHORT"
+                           : "FLOAT";
+    if (kind == Kind::Color) return core;
+    if (!quantized_) return core + " (other types need KHR_mesh_quantization)";
+    switch (kind) {
+      case Kind::Position:
+        return "FLOAT, BYTE, UNSIGNED_BYTE, SHORT or UNSIGNED_SHORT";
+      case Kind::Direction:
+        return "FLOAT or normalized BYTE/SHORT";
+      default:
+        return "FLOAT, BYTE, UNSIGNED_BYTE, SHORT or UNSIGNED_SHORT";
+    }
+  }
+
+  // Checks that accessor `index`, used as `attribute` at `where`, has an allowed layout.
+  const Accessor& attribute(int index, const SourceLocation& where, const std::string& attribute,
+                            std::initializer_list<const char*> types, Kind kind) const {
     const Accessor& a = doc_.accessors[size_t(index)];
     bool typeOk = false;
     for (const char* t : types) typeOk |= a.type == t;
-    bool componentOk =
-        a.componentType == gltf::kFloat ||
-        (allowNormalized && a.normalized &&
-         (a.componentType == gltf::kUnsignedByte || a.componentType == gltf::kUnsignedShort));
-    if (!typeOk || !componentOk) {
+    if (!typeOk || !componentAllowed(a, kind)) {
       std::string want;
       for (const char* t : types) want += std::string(want.empty() ? "" : " or ") + t;
-      throw SceneError(p.where.child("attributes").child(attribute),
-                       "accessor " + std::to_string(index) + " is " + a.type + " of " +
-                           (a.normalized ? "normalized " : "") +
-                           gltf::componentTypeName(a.componentType) + "; " + attribute +
-                           " must be " + want + " of FLOAT" +
-                           (allowNormalized ? " or normalized UNSIGNED_BYTE/UNSIGNED_SHORT" : ""));
+      throw SceneError(where, "accessor " + std::to_string(index) + " is " + a.type + " of " +
+                                  (a.normalized ? "normalized " : "") +
+                                  gltf::componentTypeName(a.componentType) + "; " + attribute +
+                                  " must be " + want + " of " + allowedComponents(kind));
     }
     return a;
+  }
+  const Accessor& attribute(int index, const gltf::Primitive& p, const std::string& name,
+                            std::initializer_list<const char*> types, Kind kind) const {
+    return attribute(index, p.where.child("attributes").child(name), name, types, kind);
   }
 
   // JOINTS_0 (VEC4 of UNSIGNED_BYTE or UNSIGNED_SHORT) and WEIGHTS_0 (VEC4 of FLOAT or
@@ -931,7 +1023,7 @@ class Loader {
                        "accessor " + std::to_string(p.joints0) + " is " + ja.type + " of " +
                            gltf::componentTypeName(ja.componentType) +
                            "; JOINTS_0 must be VEC4 of UNSIGNED_BYTE or UNSIGNED_SHORT");
-    const Accessor& wa = attribute(p.weights0, p, "WEIGHTS_0", {"VEC4"}, true);
+    const Accessor& wa = attribute(p.weights0, p, "WEIGHTS_0", {"VEC4"}, Kind::Color);
     for (auto [index, what] : {std::pair{p.joints0, "JOINTS_0"}, {p.weights0, "WEIGHTS_0"}})
       if (doc_.accessors[size_t(index)].count != n)
         throw SceneError(attrs.child(what), "accessor " + std::to_string(index) + " has " +
@@ -969,7 +1061,7 @@ class Loader {
     mesh.name = name;
     mesh.where = p.where;
 
-    const Accessor& pa = attribute(p.position, p, "POSITION", {"VEC3"}, false);
+    const Accessor& pa = attribute(p.position, p, "POSITION", {"VEC3"}, Kind::Position);
     std::vector<double> pos = reader_.read(p.position);
     size_t n = pa.count;
     mesh.positions.resize(n);
@@ -987,7 +1079,7 @@ class Loader {
                              " elements but POSITION has " + std::to_string(n));
     };
     if (p.normal >= 0) {
-      const Accessor& na = attribute(p.normal, p, "NORMAL", {"VEC3"}, false);
+      const Accessor& na = attribute(p.normal, p, "NORMAL", {"VEC3"}, Kind::Direction);
       sameCount(p.normal, "NORMAL");
       std::vector<double> v = reader_.read(p.normal);
       mesh.normals.resize(n);
@@ -1003,7 +1095,7 @@ class Loader {
     }
     if (p.tangent >= 0) {
       // xyz: the tangent (normalised), w: +-1, the handedness of the bitangent.
-      const Accessor& ta = attribute(p.tangent, p, "TANGENT", {"VEC4"}, false);
+      const Accessor& ta = attribute(p.tangent, p, "TANGENT", {"VEC4"}, Kind::Direction);
       sameCount(p.tangent, "TANGENT");
       std::vector<double> v = reader_.read(p.tangent);
       mesh.tangents.resize(n);
@@ -1019,7 +1111,7 @@ class Loader {
       }
     }
     if (p.texcoord0 >= 0) {
-      const Accessor& ta = attribute(p.texcoord0, p, "TEXCOORD_0", {"VEC2"}, true);
+      const Accessor& ta = attribute(p.texcoord0, p, "TEXCOORD_0", {"VEC2"}, Kind::TexCoord);
       sameCount(p.texcoord0, "TEXCOORD_0");
       std::vector<double> v = reader_.read(p.texcoord0);
       mesh.uvs.resize(n);
@@ -1031,7 +1123,7 @@ class Loader {
       }
     }
     if (p.color0 >= 0) {
-      const Accessor& ca = attribute(p.color0, p, "COLOR_0", {"VEC3", "VEC4"}, true);
+      const Accessor& ca = attribute(p.color0, p, "COLOR_0", {"VEC3", "VEC4"}, Kind::Color);
       sameCount(p.color0, "COLOR_0");
       std::vector<double> v = reader_.read(p.color0);
       size_t c = size_t(ca.components);
@@ -1052,12 +1144,9 @@ class Loader {
       MorphTargetDesc d;
       auto displacements = [&](int index, const char* what, std::vector<Vec3f>* out) {
         if (index < 0) return;
-        const Accessor& a = doc_.accessors[size_t(index)];
         SourceLocation at = target.where.child(what);
-        if (a.type != "VEC3" || a.componentType != gltf::kFloat)
-          throw SceneError(at, "accessor " + std::to_string(index) + " is " + a.type + " of " +
-                                   gltf::componentTypeName(a.componentType) +
-                                   "; a morph target's " + what + " must be VEC3 of FLOAT");
+        const Accessor& a = attribute(index, at, std::string("a morph target's ") + what,
+                                      {"VEC3"}, Kind::Position);
         if (a.count != n)
           throw SceneError(at, "accessor " + std::to_string(index) + " has " +
                                    std::to_string(a.count) + " elements but POSITION has " +
@@ -1138,6 +1227,7 @@ class Loader {
   std::map<int, std::vector<int>> converted_;
   std::map<int, NodeTracks> tracks_;  // by glTF node index
   std::map<int, std::vector<Track<float>>> weightTracks_;  // by glTF node index
+  bool quantized_ = false;  // KHR_mesh_quantization is used: integer attributes allowed
   // Per glTF node, from the walk: its animated placement (-1: static) and its world at time 0.
   std::vector<int> nodeDesc_;
   std::vector<std::optional<Transform>> nodeWorld_;

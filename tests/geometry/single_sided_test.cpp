@@ -42,9 +42,9 @@ std::vector<Placement> placements() {
       {"mirrored then rotated", rot * mirrorX},
       // A mirror across the square's plane: the front turns with it.
       {"mirrored across", Transform::scale({1, 1, -1})},
-      {"scaled, mirrored, rotated, moved",
-       Transform::translate({0.25f, -0.5f, 0.125f}) * Transform::rotate(30, {0, 0, 1}) * rot *
-           Transform::scale({2, 0.5f, -3})},
+      {"scaled, mirrored, rotated, moved", Transform::translate({0.25f, -0.5f, 0.125f}) *
+                                               Transform::rotate(30, {0, 0, 1}) * rot *
+                                               Transform::scale({2, 0.5f, -3})},
   };
 }
 

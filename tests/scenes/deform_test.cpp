@@ -41,8 +41,8 @@ TEST(Deform, TheLoaderKeepsTargetsWeightsAndTheSkin) {
   // The skinned node's own translation (100, 0, 0) is ignored, as glTF says.
   EXPECT_TRUE(s.instances[3].worldFromObject.isIdentity());
   EXPECT_EQ(s.skins[0].joints.size(), 2u);
-  EXPECT_LT(s.skins[0].joints[0].node, 0);   // static joint
-  EXPECT_GE(s.skins[0].joints[1].node, 0);   // animated joint
+  EXPECT_LT(s.skins[0].joints[0].node, 0);  // static joint
+  EXPECT_GE(s.skins[0].joints[1].node, 0);  // animated joint
   EXPECT_TRUE(deformationAnimated(s, s.instances[2]));
   EXPECT_TRUE(deformationAnimated(s, s.instances[3]));
   EXPECT_FALSE(deformationAnimated(s, s.instances[0]));

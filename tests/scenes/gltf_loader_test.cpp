@@ -676,6 +676,40 @@ TEST(GltfBadInput, SkinsAndMorphTargetsThatDisagreeAreRejected) {
               "with 2 keys and 2 morph targets needs 4");
 }
 
+TEST(GltfLoader, QuantizedAttributesAndGpuInstancesAreRead) {
+  SceneDescription s = load(goodFile("instanced_quantized.gltf"));
+  EXPECT_TRUE(s.warnings.empty());
+  ASSERT_EQ(s.meshes.size(), 1u);
+  const MeshDesc& m = s.meshes[0];
+  // UNSIGNED_SHORT positions, not normalized: the node's scale 1/65535 dequantizes them.
+  EXPECT_EQ(m.positions[1], (Vec3f{65535, 0, 0}));
+  ASSERT_EQ(s.instances.size(), 4u);  // the plain node, then three GPU instances
+  expectNear(s.instances[0].worldFromObject.point(m.positions[1]), {1, 0, 0}, 1e-6f);
+  // Normalized BYTE normals and SHORT texture coordinates.
+  expectNear(m.normals[0], {0, 0, 1});
+  EXPECT_NEAR(m.uvs[1].x, 1, 1e-6f);
+  EXPECT_NEAR(m.uvs[2].y, 1, 1e-6f);
+  // Instance k: node (translate (0,0,-1), scale 1/65535) x T_k R_k S_k.
+  expectNear(s.instances[1].worldFromObject.point(m.positions[1]), {1, 0, -1}, 1e-5f);
+  // 90 degrees about z (normalized SHORT): +x goes to +y.
+  expectNear(s.instances[2].worldFromObject.point(m.positions[1]), {2 / 65535.0f, 1, -1}, 1e-4f);
+  expectNear(s.instances[3].worldFromObject.point(m.positions[1]), {4 / 65535.0f + 2, 0, -1}, 1e-4f);
+  // They share the mesh: built, it is stored once and instanced.
+  RenderScene scene = buildRenderScene(s);
+  EXPECT_EQ(scene.geometry.instances.size(), 4u);
+  EXPECT_EQ(scene.geometry.uniqueTriangleCount(), 1u);
+  EXPECT_EQ(scene.geometry.instancedTriangleCount(), 4u);
+}
+
+TEST(GltfBadInput, QuantizationAndInstancingAreChecked) {
+  expectError(badFile("quantized_without_extension.gltf"),
+              "/meshes/0/primitives/0/attributes/POSITION",
+              "other types need KHR_mesh_quantization");
+  expectError(badFile("instancing_count_mismatch.gltf"),
+              "/nodes/1/extensions/EXT_mesh_gpu_instancing/attributes/SCALE",
+              "has 2 elements but the other instancing attributes have 3");
+}
+
 TEST(GltfLoader, UnlitMaterialsKeepTheirBaseColour) {
   std::ifstream in(goodFile("features.gltf"));
   nlohmann::json j = nlohmann::json::parse(in);

@@ -213,6 +213,20 @@ def main():
     variant("morph_animation_output_count.gltf",
             lambda d: d["accessors"][d["animations"][0]["samplers"][0]["output"]].update(count=3))
 
+    # ../gltf/instanced_quantized.gltf (valid) with one thing wrong.
+    with open(os.path.join(HERE, "..", "gltf", "instanced_quantized.gltf")) as f:
+        good = json.load(f)
+
+    # quantized_without_extension.gltf: UNSIGNED_SHORT positions without KHR_mesh_quantization.
+    def drop_quantization(d):
+        for key in ("extensionsUsed", "extensionsRequired"):
+            d[key].remove("KHR_mesh_quantization")
+    variant("quantized_without_extension.gltf", drop_quantization)
+    # instancing_count_mismatch.gltf: SCALE has 2 elements where TRANSLATION has 3.
+    variant("instancing_count_mismatch.gltf",
+            lambda d: d["accessors"][d["nodes"][1]["extensions"]["EXT_mesh_gpu_instancing"]
+                                     ["attributes"]["SCALE"]].update(count=2))
+
     # json_syntax_error.gltf is written by hand (a missing comma at line 5, column 5).
     with open(os.path.join(HERE, "json_syntax_error.gltf"), "w") as f:
         f.write('{\n'

@@ -279,6 +279,49 @@ def skin_morph():
     }
 
 
+def instanced_quantized():
+    """EXT_mesh_gpu_instancing and KHR_mesh_quantization (tests/scenes/gltf_loader_test.cpp).
+
+    Mesh 0 is a triangle stored as UNSIGNED_SHORT positions (0,0,0) (65535,0,0) (0,65535,0),
+    normalized BYTE normals (0,0,127) and normalized SHORT texture coordinates; node 0 scales it
+    by 1/65535 into the unit triangle. Node 1 uses mesh 0 too, with three GPU instances under a
+    node translation (0,0,-1):
+    translations (0,0,0) (2,0,0) (4,0,0), rotations identity, 90 degrees about z (as normalized
+    SHORT), identity, and scales 1, 1, 2 (each times the node's scale 1/65535)."""
+    b = Builder()
+    pos = b.accessor("H", [0, 0, 0, 65535, 0, 0, 0, 65535, 0], 5123, "VEC3", 3,
+                     min=[0, 0, 0], max=[65535, 65535, 0])
+    nrm = b.accessor("b", [0, 0, 127, 0] * 3, 5120, "VEC3", 3, normalized=True)
+    # VEC3 of BYTE needs 4-byte aligned elements in a vertex buffer: give the view a stride.
+    b.views[-1]["byteStride"] = 4
+    uv = b.accessor("h", [0, 0, 32767, 0, 0, 32767], 5122, "VEC2", 3, normalized=True)
+    translations = b.accessor("f", flat([(0, 0, 0), (2, 0, 0), (4, 0, 0)]), 5126, "VEC3", 3)
+    h = round(math.sqrt(0.5) * 32767)
+    rotations = b.accessor("h", [0, 0, 0, 32767, 0, 0, h, h, 0, 0, 0, 32767], 5122, "VEC4", 3,
+                           normalized=True)
+    scales = b.accessor("f", flat([(1, 1, 1), (1, 1, 1), (2, 2, 2)]), 5126, "VEC3", 3)
+    k = 1 / 65535
+    return {
+        "asset": {"version": "2.0", "generator": "glint make_gltf_inputs.py"},
+        "extensionsUsed": ["KHR_mesh_quantization", "EXT_mesh_gpu_instancing"],
+        "extensionsRequired": ["KHR_mesh_quantization", "EXT_mesh_gpu_instancing"],
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [
+            {"name": "dequantized", "mesh": 0, "scale": [k, k, k]},
+            {"name": "forest", "mesh": 0, "scale": [k, k, k], "translation": [0, 0, -1],
+             "extensions": {"EXT_mesh_gpu_instancing": {"attributes": {
+                 "TRANSLATION": translations, "ROTATION": rotations, "SCALE": scales}}}},
+        ],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": pos, "NORMAL": nrm,
+                                                   "TEXCOORD_0": uv}}]}],
+        "buffers": [{"byteLength": len(b.data),
+                     "uri": "data:application/octet-stream;base64," +
+                            base64.b64encode(b.data).decode()}],
+        "bufferViews": b.views,
+        "accessors": b.accessors,
+    }
+
+
 def glb(doc, bin_data):
     js = json.dumps(doc).encode()
     js += b" " * (-len(js) % 4)
@@ -295,6 +338,9 @@ def main():
         f.write("\n")
     with open(os.path.join(HERE, "skin_morph.gltf"), "w") as f:
         json.dump(skin_morph(), f, indent=1)
+        f.write("\n")
+    with open(os.path.join(HERE, "instanced_quantized.gltf"), "w") as f:
+        json.dump(instanced_quantized(), f, indent=1)
         f.write("\n")
     with open(os.path.join(HERE, "pbr_materials.gltf"), "w") as f:
         json.dump(pbr_materials(), f, indent=1)
