@@ -81,7 +81,7 @@ void printEffectsOverFrames(const InfoArgs& args, double fps) {
     for (int frame : range.frames()) {
       SceneDescription d = loader.at(double(frame) / fps);
       args.overrides.apply(&d);
-      const RenderScene s = buildRenderScene(d);
+      const RenderScene s = buildRenderScene(d, nullptr, {.decodeImages = false});
       ++checked;
       for (const std::string& name : s.features.names()) {
         auto it = seen.try_emplace(name, Seen{frame, frame, 0}).first;
@@ -110,7 +110,8 @@ void runInfo(const InfoArgs& args) {
   namingFile(args.scene, "cannot build the scene", [&] {
     desc = loadScene(args.scene, args.sidecar);
     args.overrides.apply(&desc);
-    scene = buildRenderScene(desc);
+    // Nothing here reads a texel: image textures stay undecoded.
+    scene = buildRenderScene(desc, nullptr, {.decodeImages = false});
   });
   for (const std::string& w : desc.warnings) std::printf("warning: %s\n", w.c_str());
 

@@ -42,6 +42,7 @@ struct RenderArgs {
 struct FrameRecord {
   int frame = 0;
   double time = 0;
+  double loadSeconds = 0;  // reading the scene files (single renders; 0 for sequences)
   BuildTimings build;
   RenderStats stats;
   std::vector<Integrator::SetupStat> integratorSetup;  // e.g. instant radiosity's VPLs
@@ -51,6 +52,7 @@ struct FrameRecord {
 nlohmann::json frameJson(const FrameRecord& r) {
   nlohmann::json j;
   j["time"] = r.time;
+  if (r.loadSeconds > 0) j["load_seconds"] = r.loadSeconds;
   j["build_seconds"] = r.build.totalSeconds;
   j["accel_build_seconds"] = r.build.acceleratorSeconds;
   j["render_seconds"] = r.stats.renderSeconds;
@@ -188,8 +190,11 @@ void runSingle(const RenderArgs& args, const std::vector<std::string>& outputs) 
   RenderScene scene;
   FrameRecord record;
   namingFile(args.scene, "cannot build the scene", [&] {
+    const auto start = std::chrono::steady_clock::now();
     SceneLoader loader(args.scene, args.sidecar);
     desc = loadAt(args, loader, args.time);
+    record.loadSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     record.time = desc.render.time;
     scene = buildRenderScene(desc, &record.build);
   });

@@ -9,7 +9,12 @@
 #   stanford/dragon_vrip.ply, dragon_vrip.glb           Stanford dragon, 871,414 triangles
 #   gltf/<Model>/<variant>/...                          Khronos glTF-Sample-Models (Box,
 #       BoxInterleaved, BoxTextured, SimpleMeshes, Triangle, TriangleWithoutIndices,
-#       TextureCoordinateTest, ...), variants glTF/, glTF-Embedded/, glTF-Binary/
+#       TextureCoordinateTest, ...), variants glTF/, glTF-Embedded/, glTF-Binary/; the tests
+#       also read the skinned, morphed, sparse and two-sided samples: CesiumMan, RiggedSimple,
+#       RiggedFigure, SimpleMorph, AnimatedMorphCube, AnimatedMorphSphere,
+#       SimpleSparseAccessor, TwoSidedPlane, TextureSettingsTest, NormalTangentTest
+#   The loading benchmark does not need DamagedHelmet: benchmarks/make_helmet.py makes a GLB
+#   of the same size class (five 2048x2048 JPEG textures) with oiiotool.
 #
 # Sources:
 #   Stanford 3D Scanning Repository: http://graphics.stanford.edu/data/3Dscanrep/

@@ -17,6 +17,11 @@
 //   need the pixels re-encoded into some file format first, which is wasted work and loses
 //   float precision for the 8-bit-coded formats. In-memory images come with their MIP levels,
 //   made here by area averaging (see downsample), so automip does not touch them.
+// - Encoded images in memory (glTF's PNG, JPEG and WebP bytes) are served the same way, but
+//   their spec comes from the header at once and their pixels are decoded once, on first need
+//   (ensureDecoded: a startDecoding task, or the cache's first read), by an OIIO ImageInput
+//   reading from memory (IOMemReader). 8-bit images are kept as bytes (linear) or linear
+//   halves (sRGB).
 // - sRGB decoding: OIIO 2.4's TextureOpt has no colour transform (that came in 2.5), and the
 //   filtering must see linear values (the mean of sRGB values is not the sRGB of the mean).
 //   In-memory sRGB pixels are linearised once, when added. sRGB files are wrapped by an
@@ -26,11 +31,17 @@
 //   straight alpha.
 #include "materials/image_texture.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imagecache.h>
 #include <OpenImageIO/imageio.h>
 #include <OpenImageIO/texture.h>
 #include <OpenImageIO/ustring.h>
 
+#include <Imath/half.h>
+#include <tbb/task_group.h>
+
+#include <algorithm>
+#include <array>
 #include <atomic>
 #include <cassert>
 #include <cmath>
@@ -39,6 +50,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <unordered_map>
+#include <type_traits>
 #include <unordered_set>
 
 namespace glint {
@@ -49,18 +61,44 @@ namespace glint {
 
 namespace {
 
-// One MIP level of an in-memory image: linear floats, rows top to bottom.
+// One MIP level of an in-memory image, linear, rows top to bottom: floats; or, for images
+// decoded from 8-bit files, the bytes themselves when they are linear (exact, a quarter of the
+// memory of floats) and halves when they were sRGB (their 256 linearised values need no more
+// precision than a half's 11 bits; half the memory of floats).
 struct Level {
   int width = 0, height = 0;
   std::vector<float> pixels;
+  std::vector<Imath::half> halves;
+  std::vector<uint8_t> bytes;
 };
 
+// Samples as the [0, 1] values they stand for, and back (bytes round to the nearest).
+inline float toFloat(float v) { return v; }
+inline float toFloat(Imath::half v) { return float(v); }
+inline float toFloat(uint8_t v) { return float(v) * (1.0f / 255.0f); }
+template <class T>
+T fromFloat(float v) {
+  if constexpr (std::is_same_v<T, uint8_t>)
+    return uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
+  else
+    return T(v);
+}
+
 // One registered image: pixels in memory with their MIP levels (path empty), or an sRGB file
-// to decode on read.
+// to decode on read. An encoded image in memory (`encoded` set) is decoded once, by
+// ensureDecoded, the first time anyone needs its pixels (a background task or a cache read);
+// its spec is known from the header before that.
 struct Source {
-  OIIO::ImageSpec spec;       // in memory: level 0, FLOAT, linear
-  std::vector<Level> levels;  // in memory: level 0 first, down to 1x1
+  OIIO::ImageSpec spec;       // in memory: level 0, FLOAT or HALF, linear
+  int levelCount = 0;         // in memory: MIP levels, level 0 down to 1x1
   std::string path;           // sRGB file
+  std::shared_ptr<const std::string> encoded;
+  std::string format;         // OIIO format name of `encoded`
+  ColorEncoding encoding = ColorEncoding::Linear;
+  // Written once under `once` (levels directly for pixels added decoded).
+  mutable std::once_flag once;
+  mutable std::vector<Level> levels;
+  mutable std::string error;  // why decoding failed, or empty
 };
 
 class Registry {
@@ -94,7 +132,31 @@ class Registry {
 // area-weighted mean of the texels it covers. For even sides that is the 2x2 box; for odd ones
 // it still keeps the mean, unlike OIIO's "automip", which resamples each level bilinearly at
 // the new texel centres and so skips texels (a 3x5 image's 1x1 level is then not its mean).
+// Which channels of `spec` hold colour (decoded from sRGB): R, G, B, or the grey channel;
+// never alpha.
+bool isColourChannel(const OIIO::ImageSpec& spec, int c) {
+  if (c == spec.alpha_channel) return false;
+  return spec.nchannels >= 3 ? c < 3 : c == 0;
+}
+
+template <class T>
+void downsampleInto(const std::vector<T>& inPixels, int inWidth, int inHeight, int nch,
+                    Level* out, std::vector<T>* outPixels);
+
 Level downsample(const Level& in, int nch) {
+  Level out;
+  if (!in.bytes.empty())
+    downsampleInto(in.bytes, in.width, in.height, nch, &out, &out.bytes);
+  else if (!in.halves.empty())
+    downsampleInto(in.halves, in.width, in.height, nch, &out, &out.halves);
+  else
+    downsampleInto(in.pixels, in.width, in.height, nch, &out, &out.pixels);
+  return out;
+}
+
+template <class T>
+void downsampleInto(const std::vector<T>& inPixels, int inWidth, int inHeight, int nch,
+                    Level* outLevel, std::vector<T>* outPixels) {
   // For each coarse texel along one axis of n -> m texels: the first fine texel it covers and
   // the weights of the fine texels from there on (they sum to 1).
   struct Taps {
@@ -113,30 +175,152 @@ Level downsample(const Level& in, int nch) {
     }
     return t;
   };
-  Level out;
-  out.width = std::max(1, in.width / 2);
-  out.height = std::max(1, in.height / 2);
-  const size_t n = size_t(nch), inW = size_t(in.width), outW = size_t(out.width);
-  const std::vector<Taps> tx = taps(in.width, out.width), ty = taps(in.height, out.height);
-  // Along rows first (in.height x out.width texels), then along columns.
-  std::vector<float> rows(size_t(in.height) * outW * n, 0.0f);
-  for (size_t y = 0; y < size_t(in.height); ++y)
+  Level& out = *outLevel;
+  out.width = std::max(1, inWidth / 2);
+  out.height = std::max(1, inHeight / 2);
+  const size_t n = size_t(nch), inW = size_t(inWidth), outW = size_t(out.width);
+  if (inWidth % 2 == 0 && inHeight % 2 == 0) {
+    // Even sides: each new texel is the mean of a 2x2 box (the general case below gives the
+    // same weights, a quarter each, at several times the cost).
+    outPixels->clear();
+    outPixels->reserve(size_t(out.height) * outW * n);
+    for (size_t y = 0; y < size_t(out.height); ++y) {
+      const T* row0 = &inPixels[2 * y * inW * n];
+      const T* row1 = row0 + inW * n;
+      for (size_t x = 0; x < outW; ++x)
+        for (size_t c = 0; c < n; ++c) {
+          const size_t i = 2 * x * n + c;
+          outPixels->push_back(fromFloat<T>(0.25f * ((toFloat(row0[i]) + toFloat(row0[i + n])) +
+                                                     (toFloat(row1[i]) + toFloat(row1[i + n])))));
+        }
+    }
+    return;
+  }
+  const std::vector<Taps> tx = taps(inWidth, out.width), ty = taps(inHeight, out.height);
+  // Along rows first (in height x out width texels), then along columns, in float.
+  std::vector<float> rows(size_t(inHeight) * outW * n, 0.0f);
+  for (size_t y = 0; y < size_t(inHeight); ++y)
     for (size_t x = 0; x < outW; ++x) {
       float* dst = &rows[(y * outW + x) * n];
       for (size_t k = 0; k < tx[x].w.size(); ++k) {
-        const float* src = &in.pixels[(y * inW + tx[x].first + k) * n];
-        for (size_t c = 0; c < n; ++c) dst[c] += tx[x].w[k] * src[c];
+        const T* src = &inPixels[(y * inW + tx[x].first + k) * n];
+        for (size_t c = 0; c < n; ++c) dst[c] += tx[x].w[k] * toFloat(src[c]);
       }
     }
-  out.pixels.assign(size_t(out.height) * outW * n, 0.0f);
+  std::vector<float> line(outW * n);
+  outPixels->resize(size_t(out.height) * outW * n);
   for (size_t y = 0; y < size_t(out.height); ++y) {
-    float* dst = &out.pixels[y * outW * n];
+    std::fill(line.begin(), line.end(), 0.0f);
     for (size_t k = 0; k < ty[y].w.size(); ++k) {
       const float* src = &rows[(ty[y].first + k) * outW * n];
-      for (size_t i = 0; i < outW * n; ++i) dst[i] += ty[y].w[k] * src[i];
+      for (size_t i = 0; i < outW * n; ++i) line[i] += ty[y].w[k] * src[i];
     }
+    for (size_t i = 0; i < outW * n; ++i) (*outPixels)[y * outW * n + i] = fromFloat<T>(line[i]);
   }
-  return out;
+}
+
+// MIP levels of a w x h image: halving (rounded down, at least 1) until 1 x 1.
+int mipLevelCount(int w, int h) {
+  int count = 1;
+  while (w > 1 || h > 1) w = std::max(1, w / 2), h = std::max(1, h / 2), ++count;
+  return count;
+}
+
+// The OIIO format that reads `bytes`, from its signature, or "" when none is known.
+std::string formatOf(const std::string& bytes) {
+  auto starts = [&](const char* sig, size_t at = 0) {
+    const size_t n = std::strlen(sig);
+    return bytes.size() >= at + n && bytes.compare(at, n, sig) == 0;
+  };
+  if (starts("\x89PNG")) return "png";
+  if (starts("\xFF\xD8\xFF")) return "jpeg";
+  if (starts("RIFF") && starts("WEBP", 8)) return "webp";
+  if (starts("BM")) return "bmp";
+  if (starts("GIF8")) return "gif";
+  return "";
+}
+
+// Opens an encoded image in memory; `mem` must outlive the input.
+std::unique_ptr<OIIO::ImageInput> openEncoded(const std::string& bytes,
+                                              OIIO::Filesystem::IOMemReader* mem,
+                                              std::string* error) {
+  const std::string format = formatOf(bytes);
+  if (format.empty()) {
+    *error = "not an image glint can read (PNG, JPEG, WebP, BMP or GIF expected)";
+    return nullptr;
+  }
+  OIIO::ImageSpec config;
+  void* proxy = mem;
+  config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto in = OIIO::ImageInput::create(format, false, &config);
+  OIIO::ImageSpec spec;
+  if (!in || !in->open("memory." + format, spec, config)) {
+    const std::string e = in ? in->geterror() : OIIO::geterror();
+    *error = "cannot decode the " + format + " image" + (e.empty() ? "" : ": " + e);
+    return nullptr;
+  }
+  in->threads(1);  // images are decoded in parallel with each other instead
+  return in;
+}
+
+// Decodes `src` (an encoded image) into its levels, or records why it cannot.
+void decode(const Source& src) {
+  OIIO::Filesystem::IOMemReader mem(src.encoded->data(), src.encoded->size());
+  std::string error;
+  auto in = openEncoded(*src.encoded, &mem, &error);
+  if (!in) {
+    src.error = error;
+    return;
+  }
+  const OIIO::ImageSpec& spec = in->spec();
+  const int nch = src.spec.nchannels;
+  const size_t count = size_t(spec.width) * size_t(spec.height) * size_t(nch);
+  Level level{spec.width, spec.height, {}, {}};
+  if (src.spec.format == OIIO::TypeUInt8) {
+    level.bytes.resize(count);
+    if (!in->read_image(0, 0, 0, nch, OIIO::TypeUInt8, level.bytes.data())) {
+      src.error = "cannot decode the image: " + in->geterror();
+      return;
+    }
+  } else if (src.spec.format == OIIO::TypeHalf) {
+    std::unique_ptr<uint8_t[]> raw(new uint8_t[count]);  // not zeroed: read_image fills it
+    if (!in->read_image(0, 0, 0, nch, OIIO::TypeUInt8, raw.get())) {
+      src.error = "cannot decode the image: " + in->geterror();
+      return;
+    }
+    // 256 values per channel: linearised through a table.
+    std::array<Imath::half, 256> colour, plain;
+    for (int v = 0; v < 256; ++v) {
+      plain[size_t(v)] = Imath::half(v / 255.0f);
+      colour[size_t(v)] = src.encoding == ColorEncoding::Srgb ? Imath::half(srgbToLinear(v / 255.0f))
+                                                              : plain[size_t(v)];
+    }
+    level.halves.reserve(count);
+    for (size_t i = 0; i < count; i += size_t(nch))
+      for (int c = 0; c < nch; ++c)
+        level.halves.push_back((isColourChannel(src.spec, c) ? colour : plain)[raw[i + size_t(c)]]);
+  } else {
+    level.pixels.resize(count);
+    if (!in->read_image(0, 0, 0, nch, OIIO::TypeFloat, level.pixels.data())) {
+      src.error = "cannot decode the image: " + in->geterror();
+      return;
+    }
+    if (src.encoding == ColorEncoding::Srgb)
+      for (size_t i = 0; i < count; ++i)
+        if (isColourChannel(src.spec, int(i % size_t(nch))))
+          level.pixels[i] = srgbToLinear(level.pixels[i]);
+  }
+  src.levels.push_back(std::move(level));
+  while (src.levels.back().width > 1 || src.levels.back().height > 1)
+    src.levels.push_back(downsample(src.levels.back(), nch));
+}
+
+// The pixels of `src`, decoded on first use; false (with the reason in src.error) when they
+// cannot be.
+bool ensureDecoded(const Source& src) {
+  if (src.encoded) std::call_once(src.once, [&] { decode(src); });
+  return src.error.empty();
 }
 
 // Serves registered in-memory pixels: one untiled FLOAT subimage with all its MIP levels.
@@ -146,7 +330,7 @@ class MemoryInput final : public OIIO::ImageInput {
   using OIIO::ImageInput::open;
   bool open(const std::string& name, OIIO::ImageSpec& newspec) override {
     src_ = Registry::find(name);
-    if (!src_ || src_->levels.empty()) {
+    if (!src_ || src_->levelCount == 0) {
       errorfmt("no in-memory image registered under this name");
       return false;
     }
@@ -161,8 +345,7 @@ class MemoryInput final : public OIIO::ImageInput {
   }
   int current_miplevel() const override { return miplevel_; }
   bool seek_subimage(int subimage, int miplevel) override {
-    if (!src_ || subimage != 0 || miplevel < 0 || miplevel >= int(src_->levels.size()))
-      return false;
+    if (!src_ || subimage != 0 || miplevel < 0 || miplevel >= src_->levelCount) return false;
     miplevel_ = miplevel;
     m_spec = specOf(miplevel);
     return true;
@@ -173,8 +356,12 @@ class MemoryInput final : public OIIO::ImageInput {
   // Needs no lock: reads only the immutable source.
   bool read_native_scanlines(int subimage, int miplevel, int ybegin, int yend, int /*z*/,
                              void* data) override {
-    if (!src_ || subimage != 0 || miplevel < 0 || miplevel >= int(src_->levels.size())) {
+    if (!src_ || subimage != 0 || miplevel < 0 || miplevel >= src_->levelCount) {
       errorfmt("no such subimage or MIP level");
+      return false;
+    }
+    if (!ensureDecoded(*src_)) {
+      errorfmt("{}", src_->error);
       return false;
     }
     const Level& level = src_->levels[size_t(miplevel)];
@@ -182,18 +369,24 @@ class MemoryInput final : public OIIO::ImageInput {
       errorfmt("scanlines {}..{} out of range", ybegin, yend);
       return false;
     }
-    size_t row = size_t(level.width) * size_t(src_->spec.nchannels);
-    std::memcpy(data, level.pixels.data() + size_t(ybegin) * row,
-                size_t(yend - ybegin) * row * sizeof(float));
+    const size_t row = size_t(level.width) * size_t(src_->spec.nchannels);
+    const size_t first = size_t(ybegin) * row, count = size_t(yend - ybegin) * row;
+    if (!level.bytes.empty())
+      std::memcpy(data, level.bytes.data() + first, count);
+    else if (!level.halves.empty())
+      std::memcpy(data, level.halves.data() + first, count * sizeof(Imath::half));
+    else
+      std::memcpy(data, level.pixels.data() + first, count * sizeof(float));
     return true;
   }
 
  private:
   OIIO::ImageSpec specOf(int miplevel) const {
     OIIO::ImageSpec spec = src_->spec;
-    const Level& level = src_->levels[size_t(miplevel)];
-    spec.width = spec.full_width = level.width;
-    spec.height = spec.full_height = level.height;
+    for (int l = 0; l < miplevel; ++l)
+      spec.width = std::max(1, spec.width / 2), spec.height = std::max(1, spec.height / 2);
+    spec.full_width = spec.width;
+    spec.full_height = spec.height;
     return spec;
   }
 
@@ -201,12 +394,6 @@ class MemoryInput final : public OIIO::ImageInput {
   int miplevel_ = 0;
 };
 
-// Which channels of `spec` hold colour (decoded from sRGB): R, G, B, or the grey channel;
-// never alpha.
-bool isColourChannel(const OIIO::ImageSpec& spec, int c) {
-  if (c == spec.alpha_channel) return false;
-  return spec.nchannels >= 3 ? c < 3 : c == 0;
-}
 
 // Serves a registered sRGB file linearised: the real file's first subimage as one untiled
 // subimage (HALF for 8-bit files, FLOAT otherwise), decoded band by band as the cache reads.
@@ -325,8 +512,11 @@ struct TextureImages::Impl {
   std::string prefix;  // "glint<serial>:", keeps registry names unique per set
   std::mutex mutex;    // guards the members below (adding images)
   std::vector<std::unique_ptr<Image>> images;
-  std::unordered_set<std::string> names;  // of addPixels
+  std::unordered_set<std::string> names;  // of addPixels and addEncoded
   std::vector<std::string> registered;    // registry entries to remove at the end
+  // Encoded images not yet handed to a decoding task, and the tasks.
+  std::vector<std::pair<std::string, std::shared_ptr<const Source>>> pending, encoded;
+  tbb::task_group decoding;
 
   // Opens `key` in the cache (through `creator` when given) and records the image.
   Handle open(const std::string& name, const std::string& key, OIIO::ImageInput::Creator creator) {
@@ -356,11 +546,14 @@ TextureImages::TextureImages() : impl_(std::make_unique<Impl>()) {
   OIIO::TextureSystem& ts = *impl_->ts;
   ts.attribute("automip", 1);    // MIP levels for untiled, un-MIP-mapped images
   ts.attribute("autotile", 64);  // page untiled images in 64x64 tiles
-  ts.attribute("max_memory_MB", 1024.0f);
+  // The cache holds tiles of every image it reads, a second copy of in-memory images: OIIO's
+  // default budget, so it stays a cache (evicted tiles are read again, from memory or disk).
+  ts.attribute("max_memory_MB", 256.0f);
   ts.attribute("unassociatedalpha", 1);  // straight alpha, as stored
 }
 
 TextureImages::~TextureImages() {
+  impl_->decoding.wait();
   OIIO::TextureSystem::destroy(impl_->ts);
   for (const std::string& key : impl_->registered) Registry::remove(key);
 }
@@ -381,7 +574,7 @@ TextureImages::Handle TextureImages::addPixels(const std::string& name, int widt
   } else if (channels == 1) {
     src->spec.channelnames = {"Y"};
   }
-  Level level{width, height, pixels};
+  Level level{width, height, pixels, {}};
   if (enc == ColorEncoding::Srgb)
     for (size_t i = 0; i < level.pixels.size(); ++i)
       if (isColourChannel(src->spec, int(i % size_t(channels))))
@@ -389,6 +582,7 @@ TextureImages::Handle TextureImages::addPixels(const std::string& name, int widt
   src->levels.push_back(std::move(level));
   while (src->levels.back().width > 1 || src->levels.back().height > 1)
     src->levels.push_back(downsample(src->levels.back(), channels));
+  src->levelCount = int(src->levels.size());
 
   std::string key = impl_->prefix + "memory:" + name;
   {
@@ -399,6 +593,81 @@ TextureImages::Handle TextureImages::addPixels(const std::string& name, int widt
   }
   Registry::add(key, std::move(src));
   return impl_->open(name, key, &createMemoryInput);
+}
+
+TextureImages::Handle TextureImages::addEncoded(const std::string& name,
+                                                std::shared_ptr<const std::string> bytes,
+                                                ColorEncoding enc) {
+  const EncodedImageInfo info = probeEncodedImage(*bytes);  // throws for unreadable headers
+  auto src = std::make_shared<Source>();
+  src->spec = OIIO::ImageSpec(info.width, info.height, info.channels,
+                              info.bits != 8                ? OIIO::TypeFloat
+                              : enc == ColorEncoding::Srgb ? OIIO::TypeHalf
+                                                           : OIIO::TypeUInt8);
+  if (info.channels == 2) {
+    src->spec.channelnames = {"Y", "A"};
+    src->spec.alpha_channel = 1;
+  } else if (info.channels == 1) {
+    src->spec.channelnames = {"Y"};
+  }
+  src->levelCount = mipLevelCount(info.width, info.height);
+  src->encoded = std::move(bytes);
+  src->encoding = enc;
+  std::string key = impl_->prefix + "memory:" + name;
+  {
+    std::lock_guard lock(impl_->mutex);
+    if (!impl_->names.insert(name).second)
+      throw std::logic_error(name + ": an image of this name was already added");
+    impl_->registered.push_back(key);
+    impl_->pending.emplace_back(name, src);
+  }
+  Registry::add(key, src);
+  return impl_->open(name, key, &createMemoryInput);
+}
+
+void TextureImages::startDecoding() {
+  std::lock_guard lock(impl_->mutex);
+  for (auto& [name, src] : impl_->pending) {
+    impl_->decoding.run([s = src] { ensureDecoded(*s); });
+    impl_->encoded.push_back({name, src});
+  }
+  impl_->pending.clear();
+}
+
+std::vector<std::pair<std::string, std::string>> TextureImages::waitForDecodes() {
+  startDecoding();
+  impl_->decoding.wait();
+  std::vector<std::pair<std::string, std::string>> failed;
+  std::lock_guard lock(impl_->mutex);
+  for (auto& [name, src] : impl_->encoded)
+    if (!ensureDecoded(*src)) failed.emplace_back(name, src->error);
+  return failed;
+}
+
+EncodedImageInfo probeEncodedImage(const std::string& bytes) {
+  OIIO::Filesystem::IOMemReader mem(bytes.data(), bytes.size());
+  std::string error;
+  auto in = openEncoded(bytes, &mem, &error);
+  if (!in) throw std::runtime_error(error);
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width < 1 || spec.height < 1 || spec.nchannels < 1 || spec.nchannels > 4)
+    throw std::runtime_error("a " + std::to_string(spec.width) + "x" +
+                             std::to_string(spec.height) + " image of " +
+                             std::to_string(spec.nchannels) +
+                             " channels; glint reads 1 to 4 channels");
+  return {spec.width, spec.height, spec.nchannels, spec.format.basesize() == 1 ? 8 : 16};
+}
+
+std::vector<float> decodeEncodedImage(const std::string& bytes, EncodedImageInfo* info) {
+  const EncodedImageInfo header = probeEncodedImage(bytes);
+  if (info) *info = header;
+  OIIO::Filesystem::IOMemReader mem(bytes.data(), bytes.size());
+  std::string error;
+  auto in = openEncoded(bytes, &mem, &error);
+  std::vector<float> out(size_t(header.width) * size_t(header.height) * size_t(header.channels));
+  if (!in || !in->read_image(0, 0, 0, header.channels, OIIO::TypeFloat, out.data()))
+    throw std::runtime_error(in ? "cannot decode the image: " + in->geterror() : error);
+  return out;
 }
 
 TextureImages::Handle TextureImages::addFile(const std::string& path, ColorEncoding enc) {

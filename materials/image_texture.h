@@ -43,6 +43,19 @@ class TextureImages {
   // makes both from decoded images, so either is a bug.
   Handle addPixels(const std::string& name, int width, int height, int channels,
                    const std::vector<float>& pixels, ColorEncoding enc);
+  // An encoded image file held in memory (a glTF image: PNG, JPEG, WebP, ...), its size known
+  // from the header at once and its pixels decoded later, once: by startDecoding's background
+  // tasks (several images decode in parallel while the caller goes on), or else by the first
+  // lookup that needs them. 8-bit images are kept as their bytes (linear) or as linearised
+  // halves (sRGB), others as floats, with their MIP levels. Throws std::runtime_error when the header cannot be read, and
+  // std::logic_error for a repeated name.
+  Handle addEncoded(const std::string& name, std::shared_ptr<const std::string> bytes,
+                    ColorEncoding enc);
+  // Starts decoding every encoded image added so far, on TBB tasks; returns at once.
+  void startDecoding();
+  // Starts and waits for all of them; returns those whose pixels cannot be decoded, as
+  // (name, reason), in the order they were added.
+  std::vector<std::pair<std::string, std::string>> waitForDecodes();
   // An image file (PNG, JPEG, EXR, TIFF, ...), read on demand by the cache. Throws
   // std::runtime_error("<path>: <reason>") when it cannot be opened.
   Handle addFile(const std::string& path, ColorEncoding enc);
@@ -62,6 +75,18 @@ class TextureImages {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+// An encoded image file in memory, as OpenImageIO reads it (PNG, JPEG, WebP, BMP, GIF).
+struct EncodedImageInfo {
+  int width = 0, height = 0, channels = 0;
+  int bits = 8;  // per channel as stored: 8, or 16 (and more) otherwise
+};
+// Reads the header alone. Throws std::runtime_error(reason) when it is not such an image or
+// has more than 4 channels.
+EncodedImageInfo probeEncodedImage(const std::string& bytes);
+// Decodes the whole image: samples in [0, 1] as stored (no colour decoding), rows top to
+// bottom. Throws std::runtime_error(reason).
+std::vector<float> decodeEncodedImage(const std::string& bytes, EncodedImageInfo* info = nullptr);
 
 // A Texture reading one image of a TextureImages (which must outlive it) through a mapping.
 class ImageTexture final : public Texture {

@@ -205,6 +205,13 @@ class TextureCache {
     scene_->textures.push_back(std::move(t));
     return scene_->textures.back().get();
   }
+  // Waits for the glTF images' pixels; one that cannot be decoded is a SceneError at the image.
+  void waitForDecodes() {
+    if (!scene_->images) return;
+    for (const auto& [name, reason] : scene_->images->waitForDecodes())
+      if (auto it = imageWhere_.find(name); it != imageWhere_.end())
+        throw SceneError(it->second, reason);
+  }
 
  private:
   std::unique_ptr<Texture> make(const TextureDesc& td, bool srgb) {
@@ -246,10 +253,11 @@ class TextureCache {
       auto key = std::make_pair(td.image, srgb);
       if (auto it = pixels_.find(key); it != pixels_.end()) return it->second;
       const ImageDesc& img = desc_.images[size_t(td.image)];
-      return pixels_[key] = images().addPixels(
-                 img.name + (srgb ? " (sRGB)" : " (linear)") + " #" + std::to_string(td.image),
-                 img.width, img.height, img.channels, img.pixels,
-                 srgb ? ColorEncoding::Srgb : ColorEncoding::Linear);
+      const std::string name =
+          img.name + (srgb ? " (sRGB)" : " (linear)") + " #" + std::to_string(td.image);
+      imageWhere_[name] = img.where;
+      return pixels_[key] = images().addEncoded(
+                 name, img.encoded, srgb ? ColorEncoding::Srgb : ColorEncoding::Linear);
     } catch (const std::exception& e) {
       throw SceneError(td.where, e.what());
     }
@@ -267,6 +275,7 @@ class TextureCache {
   std::map<std::pair<int, bool>, const Texture*> textures_;
   std::map<std::pair<int, bool>, TextureImages::Handle> pixels_;
   std::map<std::pair<std::string, bool>, TextureImages::Handle> files_;
+  std::map<std::string, SourceLocation> imageWhere_;  // registered name -> the glTF image
 };
 
 AlphaMode toAlphaMode(AlphaModeDesc m) {
@@ -744,7 +753,8 @@ bool buildLights(const SceneDescription& desc, const ShutterTimes& shutter, Text
 
 }  // namespace
 
-RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings) {
+RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings,
+                             const BuildOptions& options) {
   auto start = Clock::now();
   RenderScene scene;
   scene.background = desc.render.background;
@@ -761,6 +771,8 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
   buildObjects(desc, shutter, &scene, &geometryMaterials);
   TextureCache textures(desc, &scene);
   buildMaterials(desc, geometryMaterials, textures, &scene);
+  // Image pixels decode on worker threads while the camera, lights and BVH are built.
+  if (options.decodeImages && scene.images) scene.images->startDecoding();
   buildCamera(desc, selected, shutter, &scene);
   BuildNotes notes;
   notes.defaultLight = buildLights(desc, shutter, textures, &scene);
@@ -770,9 +782,11 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
 
   auto accelStart = Clock::now();
   scene.accel = makeAccelerator(desc.render.accel, scene.geometry);
+  auto accelEnd = Clock::now();
+  if (options.decodeImages) textures.waitForDecodes();
   auto end = Clock::now();
   if (timings) {
-    timings->acceleratorSeconds = std::chrono::duration<double>(end - accelStart).count();
+    timings->acceleratorSeconds = std::chrono::duration<double>(accelEnd - accelStart).count();
     timings->totalSeconds = std::chrono::duration<double>(end - start).count();
   }
   return scene;

@@ -15,9 +15,16 @@ struct BuildTimings {
 // several times stay instanced), creates materials, textures and lights (the studio environment
 // when the scene brings no light, a camera framing the bounds over the whole animation when it
 // has no camera), computes SceneFeatures
-// and builds the accelerator named in desc.render.accel. Throws SceneError for problems only
-// visible now (unknown camera name, inconsistent sizes).
-RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings = nullptr);
+// and builds the accelerator named in desc.render.accel. glTF images are decoded in parallel
+// with the rest of the build. Throws SceneError for problems only visible now (unknown camera
+// name, inconsistent sizes, image data that does not decode).
+// decodeImages false leaves image textures' pixels undecoded (`glint info`, which reads no
+// texel): a lookup would still decode them, on first use.
+struct BuildOptions {
+  bool decodeImages = true;
+};
+RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings = nullptr,
+                             const BuildOptions& options = {});
 
 // The image size the description asks for: explicit width/height, else derived from the
 // selected camera's aspect (640 wide by default).

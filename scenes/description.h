@@ -24,8 +24,12 @@ namespace glint {
 // pixel in [0, 1], rows top to bottom.
 struct ImageDesc {
   std::string name;  // the URI, or "image N" for embedded images
-  int width = 0, height = 0, channels = 0;
-  std::vector<float> pixels;
+  int width = 0, height = 0, channels = 0;  // from the file's header
+  int bits = 8;                             // per channel as stored: 8, or 16
+  // The encoded file (PNG, JPEG, WebP, ...), shared by every copy of the description: it is
+  // decoded only when a render scene is built (in parallel, materials/image_texture.h), never
+  // by loading, copying or `glint info`.
+  std::shared_ptr<const std::string> encoded;
   SourceLocation where;
 };
 

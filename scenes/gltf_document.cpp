@@ -348,9 +348,12 @@ void readTextures(const Object& root, Document* doc) {
     t.where = o.where();
     t.sampler = o.index("sampler", doc->samplers.size(), "sampler");
     t.source = o.index("source", doc->images.size(), "image");
-    if (t.source < 0 && o.has("extensions")) {
+    if (o.has("extensions")) {
       Object ext = o.object("extensions");
-      if (ext.has("KHR_texture_basisu"))
+      // EXT_texture_webp: the WebP image (OpenImageIO decodes it) wins over the fallback.
+      if (ext.has("EXT_texture_webp"))
+        t.source = ext.object("EXT_texture_webp").index("source", doc->images.size(), "image", true);
+      if (t.source < 0 && ext.has("KHR_texture_basisu"))
         throw SceneError(ext.at("KHR_texture_basisu"),
                          "KTX2/Basis Universal textures cannot be decoded (Debian has no Basis "
                          "Universal decoder) and the texture has no fallback 'source'");
@@ -1003,7 +1006,7 @@ void readAnimations(const Object& root, Document* doc) {
 const char* const kSupportedExtensions[] = {
     "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_transmission",
     "KHR_materials_ior", "KHR_texture_transform", "KHR_materials_unlit", "KHR_mesh_quantization",
-    "EXT_mesh_gpu_instancing"};
+    "EXT_mesh_gpu_instancing", "EXT_texture_webp"};
 
 bool isSupportedExtension(const std::string& name) {
   return std::find(std::begin(kSupportedExtensions), std::end(kSupportedExtensions), name) !=
@@ -1026,8 +1029,6 @@ std::string whatIsIgnored(const std::string& name) {
       {"KHR_xmp_json_ld", "metadata only"},
       {"KHR_texture_basisu", "textures use their fallback 'source' image (Debian has no Basis "
                              "Universal decoder)"},
-      {"EXT_texture_webp", "textures use their fallback 'source' image (glTF images are "
-                           "decoded by stb_image, which has no WebP)"},
       {"KHR_animation_pointer", "animated material and camera properties stay at rest"},
   };
   for (const auto& [known, ignored] : kKnown)

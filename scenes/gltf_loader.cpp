@@ -20,6 +20,7 @@
 #include <tuple>
 #include <type_traits>
 
+#include "materials/image_texture.h"
 #include "scenes/gltf_document.h"
 #include "scenes/json_util.h"
 
@@ -310,9 +311,11 @@ bool loadImageWithinLimits(tinygltf::Image* image, const int index, std::string*
               std::to_string(kMaxImagePixels) + " pixels (8192 x 8192)\n";
     return false;
   }
-  static PreserveChannels preserve;
-  return tinygltf::LoadImageData(image, index, err, warn, reqWidth, reqHeight, bytes, size,
-                                 &preserve);
+  // Kept encoded: the builder decodes the images a render needs, in parallel
+  // (TextureImages::addEncoded), and loading or `glint info` never pays for it.
+  (void)warn, (void)reqWidth, (void)reqHeight;
+  image->image.assign(bytes, bytes + size);
+  return true;
 }
 
 tinygltf::Model decode(const std::string& bytes, bool binary, const fs::path& folder,
@@ -451,26 +454,15 @@ class AccessorReader {
 // Images, textures, materials
 // ---------------------------------------------------------------------------------------------
 
-ImageDesc convertImage(const gltf::Image& im, const tinygltf::Image& decoded, size_t index) {
-  if (decoded.width < 1 || decoded.height < 1 || decoded.component < 1 ||
-      (decoded.bits != 8 && decoded.bits != 16))
-    throw SceneError(im.where, "cannot decode the image (PNG or JPEG expected)");
+ImageDesc convertImage(const gltf::Image& im, const tinygltf::Image& file, size_t index) {
   ImageDesc d;
   d.name = im.uri.empty() || isDataUri(im.uri) ? "image " + std::to_string(index) : im.uri;
-  d.width = decoded.width, d.height = decoded.height, d.channels = decoded.component;
-  size_t n = size_t(d.width) * size_t(d.height) * size_t(d.channels);
-  size_t bytesPer = decoded.bits == 16 ? 2 : 1;
-  if (decoded.image.size() < n * bytesPer)
-    throw SceneError(im.where, "decoded image is smaller than its size says");
-  d.pixels.resize(n);
-  for (size_t i = 0; i < n; ++i) {
-    if (bytesPer == 1) {
-      d.pixels[i] = decoded.image[i] / 255.0f;
-    } else {
-      uint16_t v;  // stb_image returns 16-bit samples in native byte order
-      std::memcpy(&v, decoded.image.data() + 2 * i, 2);
-      d.pixels[i] = v / 65535.0f;
-    }
+  d.encoded = std::make_shared<const std::string>(file.image.begin(), file.image.end());
+  try {
+    const EncodedImageInfo info = probeEncodedImage(*d.encoded);
+    d.width = info.width, d.height = info.height, d.channels = info.channels, d.bits = info.bits;
+  } catch (const std::exception& e) {
+    throw SceneError(im.where, e.what());
   }
   d.where = im.where;
   return d;

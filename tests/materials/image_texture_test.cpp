@@ -320,6 +320,74 @@ TEST(TextureImages, ReadsPngFilesAsSrgbOrLinear) {
   expectNear(at(l, kWholeImage, TextureFilter::Mipmap), {v / 2, v / 2, v, (1 + a) / 2}, 0.005f);
 }
 
+// The bytes of a file.
+std::string fileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+TEST(TextureImages, EncodedImagesDecodeInTheBackgroundLikeDecodedPixels) {
+  const std::string dir = test::scratchDir("TextureImages.EncodedImages");
+  const int n = 64;
+  std::vector<unsigned char> px;
+  std::mt19937 rng(7);
+  for (int i = 0; i < n * n * 4; ++i) px.push_back(static_cast<unsigned char>(rng() & 255));
+  writePng(dir + "/noise.png", n, n, 4, px);
+  auto bytes = std::make_shared<const std::string>(fileBytes(dir + "/noise.png"));
+
+  const EncodedImageInfo info = probeEncodedImage(*bytes);
+  EXPECT_EQ(info.width, n);
+  EXPECT_EQ(info.height, n);
+  EXPECT_EQ(info.channels, 4);
+  EXPECT_EQ(info.bits, 8);
+  const std::vector<float> decoded = decodeEncodedImage(*bytes);
+  ASSERT_EQ(decoded.size(), px.size());
+  for (size_t i = 0; i < px.size(); ++i) ASSERT_NEAR(decoded[i], px[i] / 255.0f, 1e-6f) << i;
+
+  for (ColorEncoding enc : {ColorEncoding::Srgb, ColorEncoding::Linear}) {
+    TextureImages images;
+    auto e = images.addEncoded("encoded", bytes, enc);
+    auto d = images.addPixels("decoded", n, n, 4, decoded, enc);
+    EXPECT_EQ(images.width(e), n);  // known from the header, before any decoding
+    EXPECT_EQ(images.channels(e), 4);
+    images.startDecoding();
+    // Lookups may start while the decode runs: they wait for it. Halves hold the 8-bit
+    // values' linear images to half precision (3 significant digits).
+    std::mt19937 pick(3);
+    std::uniform_real_distribution<float> u(0, 1);
+    for (TextureFilter f : {TextureFilter::Nearest, TextureFilter::Linear, TextureFilter::Mipmap})
+      for (int i = 0; i < 200; ++i) {
+        TexCoord2 c;
+        c.st = {u(pick), u(pick)};
+        c.dstdx = {0.01f * u(pick), 0};
+        c.dstdy = {0, 0.01f * u(pick)};
+        const Vec4f a = images.lookup(e, c, TextureWrap::Repeat, TextureWrap::Repeat, f);
+        const Vec4f b = images.lookup(d, c, TextureWrap::Repeat, TextureWrap::Repeat, f);
+        for (int k = 0; k < 4; ++k) ASSERT_NEAR(a[k], b[k], 1e-3f * std::max(1.0f, b[k]));
+      }
+    EXPECT_TRUE(images.waitForDecodes().empty());
+  }
+}
+
+TEST(TextureImages, EncodedImagesThatDoNotDecodeAreReportedByName) {
+  const std::string dir = test::scratchDir("TextureImages.EncodedBroken");
+  std::vector<unsigned char> px;
+  std::mt19937 rng(5);
+  for (int i = 0; i < 32 * 32 * 3; ++i) px.push_back(static_cast<unsigned char>(rng() & 255));
+  writePng(dir + "/noise.png", 32, 32, 3, px);
+  std::string whole = fileBytes(dir + "/noise.png");
+  // The header survives, most of the pixel data does not.
+  auto cut = std::make_shared<const std::string>(whole.substr(0, whole.size() / 3));
+  TextureImages images;
+  EXPECT_THROW(probeEncodedImage("not an image"), std::runtime_error);
+  auto h = images.addEncoded("cut", cut, ColorEncoding::Srgb);
+  EXPECT_EQ(images.width(h), 32);
+  const auto failed = images.waitForDecodes();
+  ASSERT_EQ(failed.size(), 1u);
+  EXPECT_EQ(failed[0].first, "cut");
+  EXPECT_FALSE(failed[0].second.empty());
+}
+
 TEST(TextureImages, MissingFileThrowsWithThePath) {
   TextureImages images;
   const std::string path = test::scratchDir("TextureImages.MissingFile") + "/nothere.png";

@@ -2,6 +2,7 @@
 // one malformed input per error the loader must report with its exact location.
 #include "scenes/gltf_loader.h"
 
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "materials/image_texture.h"
 #include "scene_error_support.h"
 #include "scenes/build.h"
 #include "scenes/load.h"
@@ -114,7 +116,10 @@ void expectSameDescription(const SceneDescription& a, const SceneDescription& b)
     EXPECT_EQ(a.images[i].width, b.images[i].width);
     EXPECT_EQ(a.images[i].height, b.images[i].height);
     EXPECT_EQ(a.images[i].channels, b.images[i].channels);
-    EXPECT_TRUE(a.images[i].pixels == b.images[i].pixels) << "image " << i;
+    ASSERT_TRUE(a.images[i].encoded && b.images[i].encoded);
+    EXPECT_TRUE(decodeEncodedImage(*a.images[i].encoded) ==
+                decodeEncodedImage(*b.images[i].encoded))
+        << "image " << i;
   }
   EXPECT_EQ(a.cameras.size(), b.cameras.size());
   EXPECT_EQ(a.lights.size(), b.lights.size());
@@ -208,7 +213,7 @@ TEST(GltfLoader, LoadsBoxTexturedInAllVariants) {
   EXPECT_EQ(s.images[0].height, 256);
   EXPECT_EQ(s.images[0].channels, 4);
   EXPECT_EQ(s.images[0].name, "CesiumLogoFlat.png");
-  for (float v : s.images[0].pixels) ASSERT_TRUE(v >= 0 && v <= 1);
+  for (float v : decodeEncodedImage(*s.images[0].encoded)) ASSERT_TRUE(v >= 0 && v <= 1);
   expectBounds(s, {-0.5f, -0.5f, -0.5f}, {0.5f, 0.5f, 0.5f});
   EXPECT_EQ(load(sample("BoxTextured", "glTF-Embedded")).images[0].name, "image 0");
 }
@@ -431,13 +436,16 @@ TEST(GltfLoader, ReadsMaterialsTexturesSamplersAndImages) {
   EXPECT_EQ(rgb8.width, 2);
   EXPECT_EQ(rgb8.height, 2);
   EXPECT_EQ(rgb8.channels, 3);
-  EXPECT_EQ(rgb8.pixels, (std::vector<float>{1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 1}));
+  EXPECT_EQ(rgb8.bits, 8);
+  EXPECT_EQ(decodeEncodedImage(*rgb8.encoded),
+            (std::vector<float>{1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 1}));
   EXPECT_EQ(rgb8.name, "image 0");
   const ImageDesc& gray16 = s.images[1];  // 2x1 grey, 16 bits, from a bufferView
   EXPECT_EQ(gray16.width, 2);
   EXPECT_EQ(gray16.height, 1);
   EXPECT_EQ(gray16.channels, 1);
-  EXPECT_EQ(gray16.pixels, (std::vector<float>{0, 1}));
+  EXPECT_EQ(gray16.bits, 16);
+  EXPECT_EQ(decodeEncodedImage(*gray16.encoded), (std::vector<float>{0, 1}));
 }
 
 TEST(GltfLoader, ReadsPbrExtensionsAlphaNormalMapsAndTangents) {
@@ -940,6 +948,65 @@ TEST(GltfLoader, SingleSidedMaterialsHideBackFacesOnceBuilt) {
   };
   EXPECT_TRUE(lit(front));
   EXPECT_FALSE(lit(back));
+}
+
+// The bytes of a w x h RGB image file written by OpenImageIO (format from the extension): of
+// one colour, or of noise.
+std::string imageFileBytes(const std::string& path, int w, int h, std::vector<unsigned char> rgb,
+                           bool noise = false) {
+  auto out = OIIO::ImageOutput::create(path);
+  OIIO::ImageSpec spec(w, h, 3, OIIO::TypeUInt8);
+  if (!out || !out->open(path, spec)) throw std::runtime_error("cannot write " + path);
+  std::vector<unsigned char> px;
+  for (int i = 0; i < w * h; ++i)
+    for (int c = 0; c < 3; ++c)
+      px.push_back(noise ? static_cast<unsigned char>((i * 37 + c * 101) & 255) : rgb[size_t(c)]);
+  out->write_image(OIIO::TypeUInt8, px.data());
+  out->close();
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+TEST(GltfLoader, WebpTexturesAreDecodedAndWinOverTheFallback) {
+  // A 4x4 WebP of one colour beside a PNG fallback of another, written by OpenImageIO.
+  const std::string dir = test::scratchDir("GltfLoader.Webp");
+  imageFileBytes(dir + "/c.webp", 4, 4, {200, 100, 50});
+  const std::string png = imageFileBytes(dir + "/c.png", 4, 4, {0, 255, 0});
+  nlohmann::json j = nlohmann::json::parse(gltfWithEmbeddedPng(png));
+  // tinygltf 2.7 decodes data URIs of PNG and JPEG only: the WebP is a file beside the glTF.
+  j["images"].push_back({{"uri", "c.webp"}});
+  j["textures"] = {{{"source", 0}, {"extensions", {{"EXT_texture_webp", {{"source", 1}}}}}}};
+  j["extensionsUsed"] = {"EXT_texture_webp"};
+  const std::string path = dir + "/webp.gltf";
+  std::ofstream(path) << j.dump();
+  SceneDescription s = load(path);
+  EXPECT_TRUE(s.warnings.empty());
+  ASSERT_EQ(s.textures.size(), 1u);
+  const ImageDesc& image = s.images[size_t(s.textures[0].image)];
+  EXPECT_EQ(image.width, 4);
+  EXPECT_EQ(image.channels, 3);
+  const std::vector<float> px = decodeEncodedImage(*image.encoded);
+  EXPECT_NEAR(px[0], 200 / 255.0f, 3 / 255.0f);
+  EXPECT_NEAR(px[1], 100 / 255.0f, 3 / 255.0f);
+  EXPECT_NEAR(px[2], 50 / 255.0f, 3 / 255.0f);
+}
+
+TEST(GltfBadInput, ImageDataThatDoesNotDecodeIsASceneErrorAtTheImage) {
+  // A valid PNG header over damaged pixel data: loading reads the header only, building
+  // decodes, and names the image.
+  const std::string dir = test::scratchDir("GltfBadInput.ImageData");
+  const std::string png = imageFileBytes(dir + "/n.png", 16, 16, {}, true);
+  nlohmann::json j = nlohmann::json::parse(squareGltf(R"({"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}})", {1, 1, 1}));
+  // Garbage inside the last IDAT chunk (lengths intact): the header reads, the pixels do not.
+  std::string broken = png;
+  for (size_t i = broken.size() - 32; i < broken.size() - 20; ++i) broken[i] = '\xff';
+  j["images"] = {{{"uri", "data:image/png;base64," + base64(broken)}}};
+  j["textures"] = {{{"source", 0}}};
+  const std::string path = dir + "/cut.gltf";
+  std::ofstream(path) << j.dump();
+  SceneDescription s = load(path);
+  SceneError e = test::errorFrom([&] { buildRenderScene(s); });
+  EXPECT_EQ(e.where().pointer, "/images/0");
 }
 
 }  // namespace
