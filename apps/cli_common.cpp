@@ -42,6 +42,9 @@ void SceneOverrides::addOptions(CLI::App* cmd) {
   cmd->add_option("--env-rotation", envRotation, "turns the environment about +Y (degrees)");
   cmd->add_flag("--no-default-light", noDefaultLight,
                 "no studio light for a scene without lights of its own");
+  cmd->add_option("--variant", variant,
+                  "glTF material variant to show (KHR_materials_variants; `glint info` lists "
+                  "them)");
 }
 
 void SceneOverrides::apply(SceneDescription* desc) const {
@@ -58,6 +61,16 @@ void SceneOverrides::apply(SceneDescription* desc) const {
   if (adaptive) r.adaptive.threshold = *adaptive;
   if (aovs) r.aovs = true;
   if (noDefaultLight) r.defaultLight = false;
+  if (variant) {
+    if (std::find(desc->variants.begin(), desc->variants.end(), *variant) == desc->variants.end()) {
+      std::string names;
+      for (const std::string& n : desc->variants) names += (names.empty() ? "'" : ", '") + n + "'";
+      throw SceneError({"command line", "--variant"},
+                       "no material variant named '" + *variant + "' in " + desc->file +
+                           (names.empty() ? " (it has none)" : " (variants: " + names + ")"));
+    }
+    r.variant = *variant;
+  }
   if (env) {
     EnvironmentDesc e;
     e.where = {"command line", "--env"};

@@ -23,10 +23,11 @@ struct SceneOverrides {
   std::optional<std::string> env;  // "studio" or an .exr/.hdr file: replaces the environment
   std::optional<float> envStrength, envRotation;  // the environment's intensity, degrees
   bool noDefaultLight = false;
+  std::optional<std::string> variant;  // KHR_materials_variants
 
   // Registers --width --height --spp --seed --threads --accel --camera --integrator
   // --max-depth --light-sampler --adaptive --env --env-strength --env-rotation
-  // --no-default-light on `cmd`
+  // --no-default-light --variant on `cmd`
   // (--aovs is render's own).
   void addOptions(CLI::App* cmd);
   // Applies the given options to desc->render; throws SceneError (location "command line")

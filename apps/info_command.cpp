@@ -132,6 +132,12 @@ void runInfo(const InfoArgs& args) {
                        materialTypeName(m.type) + ")";
               }).c_str());
   std::printf("textures:   %zu (%zu images)\n", desc.textures.size(), desc.images.size());
+  if (!desc.variants.empty()) {
+    std::string names;
+    for (const std::string& v : desc.variants) names += (names.empty() ? "" : ", ") + v;
+    std::printf("variants:   %zu: %s%s\n", desc.variants.size(), names.c_str(),
+                desc.render.variant.empty() ? "" : ("; showing '" + desc.render.variant + "'").c_str());
+  }
   std::printf("cameras:    %zu%s%s; rendering with '%s'\n", desc.cameras.size(),
               desc.cameras.empty() ? "" : ": ",
               listNames(desc.cameras,

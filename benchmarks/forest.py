@@ -16,10 +16,10 @@ import json
 import math
 import os
 import random
-import statistics
 import struct
-import subprocess
 import tempfile
+
+from process_timing import spread, timed
 
 SEGMENTS = 24
 
@@ -123,19 +123,6 @@ def forest(count, seed=1):
     }, data, len(idx) // 3
 
 
-def timed(cmd):
-    """Wall seconds and peak resident MB of one run of cmd."""
-    out = subprocess.run(["/usr/bin/time", "-f", "%e %M"] + cmd, capture_output=True, text=True)
-    if out.returncode != 0:
-        raise SystemExit(f"{' '.join(cmd)} failed:\n{out.stderr}")
-    wall, kb = out.stderr.strip().splitlines()[-1].split()
-    return float(wall), int(kb) / 1024
-
-
-def summary(values, unit):
-    return f"{min(values):.2f} / {statistics.median(values):.2f} / {max(values):.2f} {unit}"
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--glint", default="build-rel/glint")
@@ -160,8 +147,8 @@ def main():
                                          os.path.join(args.out, "forest.png")]),
     ]:
         runs = [timed(cmd) for _ in range(args.runs)]
-        print(f"- {name}: {summary([w for w, _ in runs], 's')}, "
-              f"peak RSS {summary([m for _, m in runs], 'MB')}")
+        print(f"- {name}: {spread([w for w, _ in runs], 's')}, "
+              f"peak RSS {spread([m for _, m in runs], 'MB')}")
 
 
 if __name__ == "__main__":

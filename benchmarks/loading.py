@@ -15,27 +15,12 @@ Prints min / median / max of wall time, peak resident memory and the stats' seco
 import argparse
 import json
 import os
-import statistics
 import subprocess
 import tempfile
 
+from process_timing import spread, timed
+
 HERE = os.path.dirname(os.path.abspath(__file__))
-
-
-def timed(cmd):
-    out = subprocess.run(["/usr/bin/time", "-f", "%e %M"] + cmd, capture_output=True, text=True)
-    if out.returncode != 0:
-        raise SystemExit(f"{' '.join(cmd)} failed:\n{out.stderr}")
-    wall, kb = out.stderr.strip().splitlines()[-1].split()
-    return float(wall), int(kb) / 1024
-
-
-def spread(values, unit, digits=2):
-    if not values:
-        return "n/a"
-    f = f"{{:.{digits}f}}"
-    return (f"{f.format(min(values))} / {f.format(statistics.median(values))} / "
-            f"{f.format(max(values))} {unit}")
 
 
 def main():

@@ -82,6 +82,9 @@ struct RenderSettings {
   // emitting surfaces do not count) is lit by the studio environment. False: it stays dark
   // but for its emitters (--no-default-light, sidecar "default_light": false).
   bool defaultLight = true;
+  // The glTF material variant to show (KHR_materials_variants; --variant, sidecar "variant"),
+  // or empty for each primitive's default material.
+  std::string variant;
   bool exrHalf = false;              // write EXR as half instead of float
   bool aovs = false;                 // add albedo, normal and depth channels to EXR output
 };

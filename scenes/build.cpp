@@ -1,6 +1,7 @@
 // glint — SceneDescription -> RenderScene.
 #include "scenes/build.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -519,6 +520,15 @@ struct GeometryMaterials {
   bool terrain = false;                      // a fractal terrain was meshed
 };
 
+// The material of `mesh` in variant `variant` (KHR_materials_variants): the variant's mapping,
+// else the mesh's own.
+int variantMaterial(const MeshDesc& mesh, const std::string& variant) {
+  if (!variant.empty())
+    for (const auto& [name, material] : mesh.variantMaterials)
+      if (name == variant) return material;
+  return mesh.material;
+}
+
 // The description's glTF instances into scene->geometry: single static placements are baked
 // into world space, shared or moving meshes instanced. A mesh that nodes give different
 // materials is one geometry mesh per material.
@@ -566,7 +576,8 @@ void buildMeshes(const SceneDescription& desc, const ShutterTimes& shutter, Rend
     }
     if (!posed) meshIndex[key] = uint32_t(scene->geometry.meshes.size());
     materials->meshes.push_back(
-        {inst.material >= 0 ? inst.material : md.material, !md.colors.empty()});
+        {inst.material >= 0 ? inst.material : variantMaterial(md, desc.render.variant),
+         !md.colors.empty()});
     scene->geometry.meshes.push_back(std::move(mesh));
     Instance placed{uint32_t(scene->geometry.meshes.size() - 1), placement};
     if (motion.isAnimated()) placed.motion = motion;
@@ -751,11 +762,24 @@ bool buildLights(const SceneDescription& desc, const ShutterTimes& shutter, Text
   return defaultLight;
 }
 
+// A variant the scene does not define is an error that lists those it does.
+void checkVariant(const SceneDescription& desc) {
+  const std::string& v = desc.render.variant;
+  if (v.empty() || std::find(desc.variants.begin(), desc.variants.end(), v) != desc.variants.end())
+    return;
+  std::string names;
+  for (const std::string& n : desc.variants) names += (names.empty() ? "'" : ", '") + n + "'";
+  throw SceneError({desc.file, "/render/variant"},
+                   "no material variant named '" + v + "'" +
+                       (names.empty() ? " (the scene has none)" : " (variants: " + names + ")"));
+}
+
 }  // namespace
 
 RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings,
                              const BuildOptions& options) {
   auto start = Clock::now();
+  checkVariant(desc);
   RenderScene scene;
   scene.background = desc.render.background;
   // The frame's shutter decides what moves; without a camera (one is framed below) there is

@@ -147,6 +147,8 @@ struct MeshDesc {
   // weights (empty when the mesh is not skinned).
   std::vector<std::array<uint16_t, 4>> joints;
   std::vector<Vec4f> jointWeights;
+  // KHR_materials_variants: the material of each variant that changes it, by variant name.
+  std::vector<std::pair<std::string, int>> variantMaterials;
   SourceLocation where;
 };
 
@@ -353,6 +355,7 @@ struct SceneDescription {
   // sidecar objects with keyframes); items refer to it by transformNode.
   std::vector<NodeDesc> nodes;
   std::vector<SkinDesc> skins;
+  std::vector<std::string> variants;  // KHR_materials_variants names, in file order
   RenderSettings render;
   // Things loaders accepted but did not use (e.g. glTF point or line primitives), one line
   // each with its location; `glint render` and `glint info` print them.

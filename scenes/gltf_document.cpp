@@ -489,6 +489,22 @@ std::vector<float> morphWeights(const Object& o, const std::string& key, size_t 
   return w;
 }
 
+// KHR_materials_variants: the variant names (primitives map them to materials).
+void readVariants(const Object& root, Document* doc) {
+  if (!root.has("extensions")) return;
+  Object ext = root.object("extensions");
+  if (!ext.has("KHR_materials_variants")) return;
+  Object kv = ext.object("KHR_materials_variants");
+  kv.require("variants");
+  for (const Object& v : objects(kv, "variants")) {
+    v.require("name");
+    const std::string name = v.string("name");
+    if (std::find(doc->variants.begin(), doc->variants.end(), name) != doc->variants.end())
+      throw SceneError(v.at("name"), "variant '" + name + "' is named twice");
+    doc->variants.push_back(name);
+  }
+}
+
 void readMeshes(const Object& root, Document* doc) {
   size_t meshIndex = 0;
   for (const Object& o : objects(root, "meshes")) {
@@ -529,6 +545,23 @@ void readMeshes(const Object& root, Document* doc) {
                              " (every primitive of a mesh must have the same number)");
       p.indices = po.index("indices", accessors, "accessor");
       p.material = po.index("material", doc->materials.size(), "material");
+      if (po.has("extensions")) {
+        Object pext = po.object("extensions");
+        if (pext.has("KHR_materials_variants")) {
+          Object kv = pext.object("KHR_materials_variants");
+          kv.require("mappings");
+          for (const Object& mo : objects(kv, "mappings")) {
+            const int material = mo.index("material", doc->materials.size(), "material", true);
+            mo.require("variants");
+            std::vector<int> variants;
+            for (auto& [value, loc] : mo.array("variants"))
+              variants.push_back(
+                  Object::indexValue(*value, loc, doc->variants.size(), "variant"));
+            if (variants.empty()) throw SceneError(mo.at("variants"), "must not be empty");
+            p.variantMappings.emplace_back(material, std::move(variants));
+          }
+        }
+      }
       size_t mode = po.size("mode", kTriangles);
       if (mode > kTriangleFan)
         throw SceneError(po.at("mode"), "unknown mode " + std::to_string(mode));
@@ -1006,7 +1039,7 @@ void readAnimations(const Object& root, Document* doc) {
 const char* const kSupportedExtensions[] = {
     "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_transmission",
     "KHR_materials_ior", "KHR_texture_transform", "KHR_materials_unlit", "KHR_mesh_quantization",
-    "EXT_mesh_gpu_instancing", "EXT_texture_webp"};
+    "EXT_mesh_gpu_instancing", "EXT_texture_webp", "KHR_materials_variants"};
 
 bool isSupportedExtension(const std::string& name) {
   return std::find(std::begin(kSupportedExtensions), std::end(kSupportedExtensions), name) !=
@@ -1024,7 +1057,6 @@ std::string whatIsIgnored(const std::string& name) {
       {"KHR_materials_anisotropy", "isotropic roughness"},
       {"KHR_materials_dispersion", "one index of refraction for every wavelength"},
       {"KHR_materials_diffuse_transmission", "no light through thin diffuse surfaces"},
-      {"KHR_materials_variants", "the default material of every primitive"},
       {"KHR_materials_pbrSpecularGlossiness", "the metallic-roughness parameters, if any"},
       {"KHR_xmp_json_ld", "metadata only"},
       {"KHR_texture_basisu", "textures use their fallback 'source' image (Debian has no Basis "
@@ -1128,6 +1160,7 @@ Document readDocument(const json& rootValue, const std::string& file) {
   readSamplers(root, &doc);
   readTextures(root, &doc);
   readMaterials(root, &doc);
+  readVariants(root, &doc);
   readMeshes(root, &doc);
   readCameras(root, &doc);
   readLights(root, &doc);

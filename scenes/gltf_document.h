@@ -117,6 +117,8 @@ struct Primitive {
   int joints0 = -1, weights0 = -1;  // skinning: four joint influences per vertex
   bool moreJoints = false;          // JOINTS_1 / WEIGHTS_1 given (ignored, with a warning)
   std::vector<MorphTarget> targets;
+  // KHR_materials_variants: (material, variant indices) mappings.
+  std::vector<std::pair<int, std::vector<int>>> variantMappings;
   int indices = -1;
   int material = -1;
   int mode = kTriangles;
@@ -207,6 +209,7 @@ struct Document {
   std::vector<LightDesc> lights;    // KHR_lights_punctual, everything but worldFromLight
   int scene = -1;                   // the "scene" property
   std::vector<std::string> extensionsUsed;
+  std::vector<std::string> variants;  // KHR_materials_variants names
   std::vector<std::string> warnings;
 };
 

@@ -490,6 +490,9 @@ class Loader {
   void run(const Transform& rootTransform) {
     for (const std::string& w : doc_.warnings) scene_->warnings.push_back(w);
     for (const std::string& e : doc_.extensionsUsed) quantized_ |= e == "KHR_mesh_quantization";
+    for (const std::string& v : doc_.variants)
+      if (std::find(scene_->variants.begin(), scene_->variants.end(), v) == scene_->variants.end())
+        scene_->variants.push_back(v);
     for (size_t i = 0; i < doc_.images.size(); ++i)
       scene_->images.push_back(convertImage(doc_.images[i], model_.images.at(i), i));
     for (const gltf::Texture& t : doc_.textures) {
@@ -1205,6 +1208,9 @@ class Loader {
       return -1;
     }
     if (p.material >= 0) mesh.material = materialBase_ + p.material;
+    for (const auto& [material, variants] : p.variantMappings)
+      for (int v : variants)
+        mesh.variantMaterials.emplace_back(doc_.variants[size_t(v)], materialBase_ + material);
     scene_->meshes.push_back(std::move(mesh));
     return int(scene_->meshes.size()) - 1;
   }

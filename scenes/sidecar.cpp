@@ -76,6 +76,7 @@ void readRender(JsonReader& r, RenderSettings* s) {
   }
   s->background = r.get<Rgb>("background", s->background, kNonNegative);
   s->defaultLight = r.get<bool>("default_light", s->defaultLight);
+  s->variant = r.get<std::string>("variant", s->variant);
   if (JsonReader* e = r.optionalObject("exr")) {
     s->exrHalf = e->get<bool>("half", s->exrHalf);
     s->aovs = e->get<bool>("aovs", s->aovs);

@@ -215,5 +215,27 @@ TEST(CliRender, EnvironmentOptions) {
   EXPECT_FALSE(std::filesystem::exists(dir + "/c.exr"));
 }
 
+TEST(CliRender, VariantOption) {
+  const std::string dir = test::scratchDir("cli_variant");
+  const std::string scene = test::dataDir() + "/gltf/variants.gltf";
+  test::CommandResult info = test::runGlint("info '" + scene + "' --variant green");
+  ASSERT_EQ(info.exitCode, 0) << info.err;
+  EXPECT_NE(info.out.find("variants:   3: blue, green, lime; showing 'green'"), std::string::npos)
+      << info.out;
+  test::CommandResult r = test::runGlint("render '" + scene + "' -o '" + dir +
+                                         "/v.exr' --width 4 --height 4 --spp 1 --quiet --variant blue");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const Film f = readExr(dir + "/v.exr");
+  EXPECT_NEAR(f.color[5].z, 0.8f, 1e-5f);
+  EXPECT_NEAR(f.color[5].x, 0.0f, 1e-5f);
+  test::CommandResult bad = test::runGlint("render '" + scene + "' -o '" + dir +
+                                           "/w.exr' --width 4 --spp 1 --quiet --variant purple");
+  EXPECT_EQ(bad.exitCode, 2);
+  EXPECT_NE(bad.err.find("--variant: no material variant named 'purple'"), std::string::npos)
+      << bad.err;
+  EXPECT_NE(bad.err.find("(variants: 'blue', 'green', 'lime')"), std::string::npos) << bad.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/w.exr"));
+}
+
 }  // namespace
 }  // namespace glint

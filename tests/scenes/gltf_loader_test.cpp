@@ -12,6 +12,7 @@
 #include <string>
 
 #include "materials/image_texture.h"
+#include "renderer/integrator.h"
 #include "scene_error_support.h"
 #include "scenes/build.h"
 #include "scenes/load.h"
@@ -716,6 +717,35 @@ TEST(GltfBadInput, QuantizationAndInstancingAreChecked) {
   expectError(badFile("instancing_count_mismatch.gltf"),
               "/nodes/1/extensions/EXT_mesh_gpu_instancing/attributes/SCALE",
               "has 2 elements but the other instancing attributes have 3");
+}
+
+TEST(GltfLoader, MaterialVariantsChooseEachPrimitivesMaterial) {
+  SceneDescription s = load(goodFile("variants.gltf"));
+  EXPECT_TRUE(s.warnings.empty());
+  EXPECT_EQ(s.variants, (std::vector<std::string>{"blue", "green", "lime"}));
+  // Unlit materials: every pixel is the chosen material's colour exactly.
+  auto colourOf = [&](const std::string& variant) {
+    SceneDescription d = s;
+    d.render.variant = variant;
+    d.render.width = d.render.height = 4;
+    d.render.spp = 1;
+    RenderScene scene = buildRenderScene(d);
+    auto integrator = makeIntegrator(scene, d.render);
+    RenderStats stats;
+    const Film film = render(scene, *integrator, d.render, {.threads = 1}, &stats);
+    return film.color[5];
+  };
+  expectNear(colourOf(""), {0.8f, 0, 0});
+  expectNear(colourOf("blue"), {0, 0, 0.8f});
+  expectNear(colourOf("green"), {0, 0.8f, 0});
+  expectNear(colourOf("lime"), {0, 0.8f, 0});
+  SceneDescription unknown = s;
+  unknown.render.variant = "purple";
+  SceneError e = test::errorFrom([&] { buildRenderScene(unknown); });
+  EXPECT_NE(e.message().find("variants: 'blue', 'green', 'lime'"), std::string::npos) << e.what();
+  expectError(badFile("variant_index_out_of_range.gltf"),
+              "/meshes/0/primitives/0/extensions/KHR_materials_variants/mappings/1/variants/1",
+              "variant 5 does not exist (3 variants in the file)");
 }
 
 TEST(GltfLoader, UnlitMaterialsKeepTheirBaseColour) {

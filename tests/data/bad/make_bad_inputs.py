@@ -227,6 +227,13 @@ def main():
             lambda d: d["accessors"][d["nodes"][1]["extensions"]["EXT_mesh_gpu_instancing"]
                                      ["attributes"]["SCALE"]].update(count=2))
 
+    # variant_index_out_of_range.gltf: ../gltf/variants.gltf mapping variant 5 of 3.
+    with open(os.path.join(HERE, "..", "gltf", "variants.gltf")) as f:
+        good = json.load(f)
+    variant("variant_index_out_of_range.gltf",
+            lambda d: d["meshes"][0]["primitives"][0]["extensions"]["KHR_materials_variants"]
+                       ["mappings"][1].update(variants=[1, 5]))
+
     # json_syntax_error.gltf is written by hand (a missing comma at line 5, column 5).
     with open(os.path.join(HERE, "json_syntax_error.gltf"), "w") as f:
         f.write('{\n'

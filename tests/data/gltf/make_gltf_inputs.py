@@ -322,6 +322,41 @@ def instanced_quantized():
     }
 
 
+def variants():
+    """KHR_materials_variants: a camera-filling square whose default material is unlit red;
+    variant "blue" maps it to unlit blue, variants "green" and "lime" to unlit green. A
+    camera looks at it head-on."""
+    b = Builder()
+    pos = b.accessor("f", flat([(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)]), 5126, "VEC3", 4,
+                     min=[-1, -1, 0], max=[1, 1, 0])
+    idx = b.accessor("H", [0, 1, 2, 0, 2, 3], 5123, "SCALAR", 6)
+
+    def unlit(name, rgb):
+        return {"name": name, "pbrMetallicRoughness": {"baseColorFactor": rgb + [1]},
+                "extensions": {"KHR_materials_unlit": {}}}
+    return {
+        "asset": {"version": "2.0", "generator": "glint make_gltf_inputs.py"},
+        "extensionsUsed": ["KHR_materials_variants", "KHR_materials_unlit"],
+        "extensions": {"KHR_materials_variants": {"variants": [
+            {"name": "blue"}, {"name": "green"}, {"name": "lime"}]}},
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0, 0, 2]}],
+        "cameras": [{"type": "orthographic",
+                     "orthographic": {"xmag": 0.5, "ymag": 0.5, "znear": 0.1, "zfar": 10}}],
+        "materials": [unlit("red", [0.8, 0, 0]), unlit("blue", [0, 0, 0.8]),
+                      unlit("green", [0, 0.8, 0])],
+        "meshes": [{"primitives": [{
+            "attributes": {"POSITION": pos}, "indices": idx, "material": 0,
+            "extensions": {"KHR_materials_variants": {"mappings": [
+                {"material": 1, "variants": [0]}, {"material": 2, "variants": [1, 2]}]}}}]}],
+        "buffers": [{"byteLength": len(b.data),
+                     "uri": "data:application/octet-stream;base64," +
+                            base64.b64encode(b.data).decode()}],
+        "bufferViews": b.views,
+        "accessors": b.accessors,
+    }
+
+
 def glb(doc, bin_data):
     js = json.dumps(doc).encode()
     js += b" " * (-len(js) % 4)
@@ -341,6 +376,9 @@ def main():
         f.write("\n")
     with open(os.path.join(HERE, "instanced_quantized.gltf"), "w") as f:
         json.dump(instanced_quantized(), f, indent=1)
+        f.write("\n")
+    with open(os.path.join(HERE, "variants.gltf"), "w") as f:
+        json.dump(variants(), f, indent=1)
         f.write("\n")
     with open(os.path.join(HERE, "pbr_materials.gltf"), "w") as f:
         json.dump(pbr_materials(), f, indent=1)
