@@ -26,6 +26,7 @@ struct SurfaceInteraction {
                             // unless SurfaceNeeds::position)
   Vec3f ng;                 // unit geometric normal (world), on the side the ray came from
   Vec3f ns;                 // unit shading normal (world), in ng's hemisphere
+  Vec3f nsUnperturbed;      // ns before a bump or normal map changed it (set only then)
   Vec3f wo;                 // unit direction back along the ray
   Vec2f uv;                 // TEXCOORD_0 (or barycentrics when the mesh has none); a shape's own uv
   Vec3f dpdu, dpdv;         // world-space partial derivatives of p by uv (triangles: only with

@@ -8,6 +8,7 @@
 
 #include "geometry/sampling.h"
 #include "materials/bsdf.h"
+#include "materials/layers.h"
 #include "materials/microfacet.h"
 #include "materials/scattering.h"
 
@@ -148,180 +149,419 @@ namespace {
 // The least share (1 - Fresnel) the lobe selection gives rough transmission (see PbrBxdf's
 // constructor).
 constexpr float kMinRoughTransmissionWeight = 0.2f;
+
+float mean(Rgb c) { return (c.x + c.y + c.z) / 3; }
+Rgb clamp01(Rgb c) {
+  return {std::clamp(c.x, 0.0f, 1.0f), std::clamp(c.y, 0.0f, 1.0f), std::clamp(c.z, 0.0f, 1.0f)};
+}
+const Rgb kOne{1, 1, 1};
 }  // namespace
 
 PbrBxdf::PbrBxdf(Vec3f wo, Rgb base_, float metallic_, float roughness, float transmission_,
                  float eta_)
-    : base(base_),
-      metallic(std::clamp(metallic_, 0.0f, 1.0f)),
-      transmission(std::clamp(transmission_, 0.0f, 1.0f)),
-      alpha(TrowbridgeReitzDistribution::roughnessToAlpha(std::clamp(roughness, 0.0f, 1.0f))),
-      eta(eta_) {
-  smooth = TrowbridgeReitzDistribution(alpha).effectivelySmooth();
+    : PbrBxdf(wo, [&] {
+        PbrHit h;
+        h.base = base_;
+        h.metallic = metallic_;
+        h.roughness = roughness;
+        h.transmission = transmission_;
+        h.eta = eta_;
+        return h;
+      }()) {}
+
+PbrBxdf::PbrBxdf(Vec3f wo, const PbrHit& h) : hit(h) {
+  hit.metallic = std::clamp(hit.metallic, 0.0f, 1.0f);
+  hit.transmission = std::clamp(hit.transmission, 0.0f, 1.0f);
+  hit.specular = std::clamp(hit.specular, 0.0f, 1.0f);
+  hit.clearcoat = std::clamp(hit.clearcoat, 0.0f, 1.0f);
+  hit.diffuseTransmission = std::clamp(hit.diffuseTransmission, 0.0f, 1.0f);
+  hit.iridescence = std::clamp(hit.iridescence, 0.0f, 1.0f);
+  hit.anisotropy = std::clamp(hit.anisotropy, 0.0f, 1.0f);
+  hit.sheenColor = max(hit.sheenColor, Rgb{0, 0, 0});
+  const float alpha =
+      TrowbridgeReitzDistribution::roughnessToAlpha(std::clamp(hit.roughness, 0.0f, 1.0f));
+  alphaX = alphaY = alpha;
+  const Vec2f d = hit.anisotropyDirection;
+  const float dLength = std::sqrt(d.x * d.x + d.y * d.y);
+  if (hit.anisotropy > 0 && dLength > 0 && std::isfinite(dLength)) {
+    // KHR_materials_anisotropy: the roughness along the direction grows towards 1 with the
+    // square of the strength; across it stays the base roughness. The local frame is turned so
+    // that x is the direction.
+    anisotropic = true;
+    hit.anisotropyDirection = d * (1 / dLength);
+    alphaX = alpha + (1 - alpha) * hit.anisotropy * hit.anisotropy;
+  }
+  smooth = TrowbridgeReitzDistribution(alphaX, alphaY).effectivelySmooth();
+  coatAlpha = TrowbridgeReitzDistribution::roughnessToAlpha(
+      std::clamp(hit.clearcoatRoughness, 0.0f, 1.0f));
+  coatSmooth = TrowbridgeReitzDistribution(coatAlpha).effectivelySmooth();
+  // The coat's frame (its normal may differ from the base's shading normal).
+  Vec3f cn = anisotropic ? toAniso(hit.coatNormal) : hit.coatNormal;
+  if (!(lengthSquared(cn) > 0) || !isFinite(cn) || cn.z <= 0) cn = {0, 0, 1};
+  cn = normalize(cn);
+  if (cn.z > 0.999999f) {
+    toCoat_[0] = {1, 0, 0}, toCoat_[1] = {0, 1, 0}, toCoat_[2] = {0, 0, 1};
+  } else {
+    const Frame f = Frame::fromZ(cn);
+    toCoat_[0] = f.s, toCoat_[1] = f.t, toCoat_[2] = f.n;
+  }
+  f0_ = square((hit.eta - 1) / (hit.eta + 1));
+  for (int c = 0; c < 3; ++c) thinFilmSubstrateMetal_[c] = iorFromF0(hit.base[c]);
+
+  if (anisotropic) wo = toAniso(wo);
   if (!(wo.z > 0)) return;  // seen from below its shading normal: black, never sampled
-  // Lobe weights from the Fresnel reflectance at wo (the microfacet normals scatter around ns).
-  fresnelWo_ = fresnelDielectric(wo.z, eta);
-  const float dielectric = 1 - metallic;
-  wSpec_ = metallic + dielectric * fresnelWo_;
-  wDiff_ = dielectric * (1 - transmission) * (1 - fresnelWo_) * std::max(luminance(base), 0.0f);
+  // Lobe weights at wo: the layers' reflectances there (the microfacet normals scatter around
+  // the macro normal).
+  fresnelWo_ = dielectricFresnel(wo.z);
+  const Vec3f woCoat = toCoat(wo);
+  coatFresnelWo_ = hit.clearcoat > 0 && woCoat.z > 0 ? coatFresnel(woCoat.z) : 0;
+  const float sheenMax = maxComponent(hit.sheenColor);
+  const float sheenE = sheenMax > 0 ? sheenAlbedo(wo.z, hit.sheenRoughness) : 0;
+  sheenScaleWo_ = 1 - sheenMax * sheenE;
+  const float baseScale = (1 - coatFresnelWo_) * sheenScaleWo_;
+  const float dielectric = 1 - hit.metallic;
+  const float F = mean(fresnelWo_);
+  const Rgb notReflected = kOne - fresnelWo_;
+  const float opaque = 1 - hit.transmission;
+  w_[kCoat] = coatFresnelWo_;
+  w_[kSheen] = (1 - coatFresnelWo_) * sheenMax * sheenE;
+  w_[kSpec] = baseScale * (hit.metallic + dielectric * F);
+  w_[kDiff] = baseScale * dielectric * opaque * (1 - hit.diffuseTransmission) *
+              std::max(luminance(hit.base * notReflected), 0.0f);
+  w_[kDiffTrans] = baseScale * dielectric * opaque * hit.diffuseTransmission *
+                   std::max(luminance(hit.diffuseTransmissionColor * notReflected), 0.0f);
   // A rough surface transmits through tilted microfacets even where the macro-surface reflects
   // totally (F = 1 seen from inside past the critical angle): the transmission lobe keeps a
   // minimum weight there, or sample() would never reach light that f() says passes.
-  const float fTransmission =
-      smooth ? fresnelWo_ : std::min(fresnelWo_, 1 - kMinRoughTransmissionWeight);
-  wTrans_ = dielectric * transmission * (1 - fTransmission);
-  lobeProbabilities(kBsdfAllLobes, &pSpec_, &pDiff_, &pTrans_);
+  fresnelWoTransmission_ = smooth ? F : std::min(F, 1 - kMinRoughTransmissionWeight);
+  w_[kTrans] = baseScale * dielectric * hit.transmission * (1 - fresnelWoTransmission_);
+  p_ = lobeProbabilities(kBsdfAllLobes);
 }
 
-void PbrBxdf::lobeProbabilities(uint32_t lobes, float* pSpec, float* pDiff, float* pTrans) const {
-  float wSpec = wSpec_, wDiff = wDiff_, wTrans = wTrans_;
-  if (!(lobes & kBsdfReflection)) wSpec = wDiff = 0;
-  if (!(lobes & kBsdfTransmission)) wTrans = 0;
-  if (lobes & kBsdfSpecular) {  // only the delta lobes
-    wDiff = 0;
-    if (!smooth) wSpec = wTrans = 0;
+Vec3f PbrBxdf::toAniso(Vec3f v) const {
+  const Vec2f d = hit.anisotropyDirection;
+  return {d.x * v.x + d.y * v.y, -d.y * v.x + d.x * v.y, v.z};
+}
+
+Vec3f PbrBxdf::fromAniso(Vec3f v) const {
+  const Vec2f d = hit.anisotropyDirection;
+  return {d.x * v.x - d.y * v.y, d.y * v.x + d.x * v.y, v.z};
+}
+
+Vec3f PbrBxdf::toCoat(Vec3f v) const {
+  return {dot(toCoat_[0], v), dot(toCoat_[1], v), dot(toCoat_[2], v)};
+}
+
+Vec3f PbrBxdf::fromCoat(Vec3f v) const {
+  return toCoat_[0] * v.x + toCoat_[1] * v.y + toCoat_[2] * v.z;
+}
+
+Rgb PbrBxdf::dielectricFresnel(float c) const {
+  return dielectricFresnel(c, hit.eta);
+}
+
+Rgb PbrBxdf::dielectricFresnel(float c, float eta) const {
+  const float F = fresnelDielectric(c, eta);
+  Rgb r{F, F, F};
+  if (hit.specularColor != kOne || hit.specular != 1) {
+    // KHR_materials_specular: F0 tinted by the specular colour (at most 1), the exact
+    // Fresnel's rise from F0 to 1 kept as the blend weight, all scaled by the strength.
+    const float f0 = square((eta - 1) / (eta + 1));
+    const float w = f0 < 1 ? std::clamp((F - f0) / (1 - f0), 0.0f, 1.0f) : 1.0f;
+    const Rgb f0Tinted = min(hit.specularColor * f0, kOne);
+    r = f0Tinted + (kOne - f0Tinted) * w;
   }
-  const float sum = wSpec + wDiff + wTrans;
-  *pSpec = *pDiff = *pTrans = 0;
-  if (sum > 0) *pSpec = wSpec / sum, *pDiff = wDiff / sum, *pTrans = wTrans / sum;
+  if (hit.iridescence > 0)
+    r = lerp(hit.iridescence, r,
+             thinFilmFresnel(c, hit.iridescenceIor, Rgb{eta, eta, eta}, hit.iridescenceThickness));
+  return clamp01(r * hit.specular);
+}
+
+Rgb PbrBxdf::metalFresnel(float c) const {
+  const Rgb r = schlick(hit.base, c);
+  if (!(hit.iridescence > 0)) return r;
+  return lerp(hit.iridescence, r,
+              thinFilmFresnel(c, hit.iridescenceIor, thinFilmSubstrateMetal_,
+                              hit.iridescenceThickness));
+}
+
+float PbrBxdf::coatFresnel(float c) const { return hit.clearcoat * fresnelDielectric(c, 1.5f); }
+
+PbrBxdf::LobeProbabilities PbrBxdf::lobeProbabilities(uint32_t lobes) const {
+  LobeProbabilities r;
+  float w[kLobeCount];
+  std::copy(std::begin(w_), std::end(w_), w);
+  if (!(lobes & kBsdfReflection)) w[kCoat] = w[kSheen] = w[kSpec] = w[kDiff] = 0;
+  if (!(lobes & kBsdfTransmission)) w[kDiffTrans] = w[kTrans] = 0;
+  if (lobes & kBsdfSpecular) {  // only the delta lobes
+    w[kSheen] = w[kDiff] = w[kDiffTrans] = 0;
+    if (!smooth) w[kSpec] = w[kTrans] = 0;
+    if (!coatSmooth) w[kCoat] = 0;
+  }
+  float sum = 0;
+  for (float v : w) sum += v;
+  if (sum > 0)
+    for (int i = 0; i < kLobeCount; ++i) r.p[i] = w[i] / sum;
+  return r;
 }
 
 uint32_t PbrBxdf::flags() const {
   uint32_t f = kBsdfReflection;
-  if (pDiff_ > 0) f |= kBsdfDiffuse;
-  if (pSpec_ > 0 || pTrans_ > 0) f |= smooth ? kBsdfSpecular : kBsdfGlossy;
-  if (pTrans_ > 0) f |= kBsdfTransmission;
+  const float* p = p_.p;
+  if (p[kDiff] > 0 || p[kDiffTrans] > 0) f |= kBsdfDiffuse;
+  if (p[kSheen] > 0) f |= kBsdfGlossy;
+  if (p[kSpec] > 0 || p[kTrans] > 0) f |= smooth ? kBsdfSpecular : kBsdfGlossy;
+  if (p[kCoat] > 0) f |= coatSmooth ? kBsdfSpecular : kBsdfGlossy;
+  if (p[kTrans] > 0 || p[kDiffTrans] > 0) f |= kBsdfTransmission;
   return f;
 }
 
-namespace {
-// f and pdf of the metallic-roughness model in the local frame, the pdf for the lobe
-// probabilities given (sample() may restrict them).
-struct PbrEval {
-  Rgb f;
-  float pdf = 0;
-};
-}  // namespace
-
-// The shared evaluation: see pbr.h for the model.
-static PbrEval evaluatePbr(const PbrBxdf& b, float fresnelWo, Vec3f wo, Vec3f wi, float pSpec,
-                           float pDiff, float pTrans) {
-  PbrEval r;
+// The non-delta lobes at (wo, wi), both in the anisotropy-turned local frame, and the density
+// of sample() for the lobe probabilities `pr` (sample() may restrict them). See pbr.h for the
+// model.
+PbrBxdf::Eval PbrBxdf::evaluateLocal(Vec3f wo, Vec3f wi, const LobeProbabilities& pr) const {
+  Eval r;
   if (!(wo.z > 0)) return r;
-  const float dielectric = 1 - b.metallic;
-  if (b.smooth) {
-    // Only the diffuse lobe is not a delta; it gets what the mirror lobe leaves at wo.
-    if (wi.z <= 0) return r;
-    r.f = b.base * (dielectric * (1 - b.transmission) * (1 - fresnelWo) * kInvPi);
-    r.pdf = pDiff * cosineHemispherePdf(wi.z);
-    return r;
-  }
-  const TrowbridgeReitzDistribution distribution(b.alpha);
+  const float* p = pr.p;
+  const float dielectric = 1 - hit.metallic;
+  const float baseScale = (1 - coatFresnelWo_) * sheenScaleWo_;
+  const Rgb notReflected = kOne - fresnelWo_;
+  const float opaque = 1 - hit.transmission;
+  const TrowbridgeReitzDistribution distribution(alphaX, alphaY);
   if (wi.z > 0) {
-    r.pdf = pDiff * cosineHemispherePdf(wi.z);
-    const Rgb diffuse = b.base * ((1 - b.transmission) * (1 - fresnelWo) * kInvPi);
-    Vec3f h = wo + wi;
-    if (lengthSquared(h) == 0) {
-      r.f = diffuse * dielectric;
-      return r;
-    }
-    h = normalize(h);
-    const float woH = dot(wo, h);
-    const float cosH = std::max(woH, 0.0f);
-    const float D = distribution.D(h);
-    const float spec = D * distribution.G(wo, wi) / (4 * wo.z * wi.z);
-    const float fd = fresnelDielectric(cosH, b.eta);
-    const Rgb metal = schlick(b.base, cosH) * spec;
     // The diffuse layer gets what the interface does not reflect at wo, 1 - F(wo.n), not
     // glTF's 1 - F(wo.h): the half-vector coupling is not energy conserving (glTF 2.0,
     // B.3.6.3; a white surface reflected up to 1.7 times the light at grazing angles), and
     // from inside a transmitting surface past the critical angle it was non-zero where the
     // diffuse lobe is never sampled.
-    const Rgb plastic = Rgb{1, 1, 1} * (fd * spec) + diffuse;
-    r.f = metal * b.metallic + plastic * dielectric;
-    if (pSpec > 0 && woH > 0) r.pdf += pSpec * distribution.PDF(wo, h) / (4 * woH);
+    Rgb f = hit.base * notReflected *
+            (dielectric * opaque * (1 - hit.diffuseTransmission) * kInvPi);
+    r.pdf = (p[kDiff] + p[kSheen]) * cosineHemispherePdf(wi.z);
+    Vec3f h = wo + wi;
+    if (lengthSquared(h) == 0) {
+      r.f = f * baseScale;
+      return r;
+    }
+    h = normalize(h);
+    const float woH = dot(wo, h);
+    if (!smooth) {
+      const float cosH = std::max(woH, 0.0f);
+      const float spec = distribution.D(h) * distribution.G(wo, wi) / (4 * wo.z * wi.z);
+      f += metalFresnel(cosH) * (hit.metallic * spec) +
+           dielectricFresnel(cosH) * (dielectric * spec);
+      if (p[kSpec] > 0 && woH > 0) r.pdf += p[kSpec] * distribution.PDF(wo, h) / (4 * woH);
+    }
+    r.f = f * baseScale;
+    if (hit.sheenColor != Rgb{0, 0, 0}) {
+      const float sheenAlpha = std::max(square(hit.sheenRoughness), kMinSheenAlpha);
+      r.f += hit.sheenColor * (sheenBrdf(wo.z, wi.z, h.z, sheenAlpha) * (1 - coatFresnelWo_));
+    }
+    if (hit.clearcoat > 0 && !coatSmooth) {
+      const Vec3f woC = toCoat(wo), wiC = toCoat(wi), hC = toCoat(h);
+      const float woHC = dot(woC, hC);
+      if (woC.z > 0 && wiC.z > 0 && hC.z > 0) {
+        const TrowbridgeReitzDistribution coat(coatAlpha);
+        r.f += kOne * (coatFresnel(std::max(woHC, 0.0f)) * coat.D(hC) * coat.G(woC, wiC) /
+                       (4 * woC.z * wiC.z));
+        if (p[kCoat] > 0 && woHC > 0) r.pdf += p[kCoat] * coat.PDF(woC, hC) / (4 * woHC);
+      }
+    }
     return r;
   }
-  const bool transmits = b.transmission > 0 && dielectric > 0;
-  if (!transmits && !(pTrans > 0)) return r;
-  // Refraction through a microfacet: the generalized half vector of Walter et al. (2007).
-  Vec3f wm = wi * b.eta + wo;
-  if (wi.z == 0 || lengthSquared(wm) == 0) return r;
-  wm = normalize(wm);
-  if (wm.z < 0) wm = -wm;
-  const float wiM = dot(wi, wm), woM = dot(wo, wm);
-  if (wiM * wi.z <= 0 || woM * wo.z <= 0) return r;  // back-facing microfacet
-  const float denom = square(wiM + woM / b.eta);
-  if (transmits) {
-    const float fd = fresnelDielectric(woM, b.eta);
-    const float ft = distribution.D(wm) * distribution.G(wo, wi) * (1 - fd) *
-                     std::abs(wiM * woM / (denom * wi.z * wo.z)) / square(b.eta);
-    r.f = b.base * (dielectric * b.transmission * ft);
+  if (wi.z == 0) return r;
+  // Diffuse transmission: a thin Lambertian sheet of its own colour.
+  if (hit.diffuseTransmission > 0) {
+    r.f += hit.diffuseTransmissionColor * notReflected *
+           (baseScale * dielectric * opaque * hit.diffuseTransmission * kInvPi);
+    r.pdf += p[kDiffTrans] * cosineHemispherePdf(-wi.z);
   }
-  if (pTrans > 0) r.pdf = pTrans * distribution.PDF(wo, wm) * std::abs(wiM) / denom;
+  const bool transmits = hit.transmission > 0 && dielectric > 0;
+  if (smooth || (!transmits && !(p[kTrans] > 0))) return r;
+  const float weight = baseScale * dielectric * hit.transmission;
+  if (hit.thinWalled) {
+    // A thin sheet: the rough reflection's lobe, mirrored through the sheet (no refraction).
+    const Vec3f wr{wi.x, wi.y, -wi.z};
+    const Vec3f h = normalize(wo + wr);
+    const float woH = dot(wo, h);
+    if (!(woH > 0)) return r;
+    if (transmits) {
+      const float spec = distribution.D(h) * distribution.G(wo, wr) / (4 * wo.z * wr.z);
+      r.f += hit.base * (kOne - dielectricFresnel(woH)) * (weight * spec);
+    }
+    if (p[kTrans] > 0) r.pdf += p[kTrans] * distribution.PDF(wo, h) / (4 * woH);
+    return r;
+  }
+  // Refraction through a microfacet: the generalized half vector of Walter et al. (2007); with
+  // dispersion, one per channel's index (sample() picks a channel with probability 1/3).
+  const int channels = hit.dispersion > 0 ? 3 : 1;
+  float pdfSum = 0;
+  for (int c = 0; c < channels; ++c) {
+    const float eta = channels == 1 ? hit.eta : channelEta(c);
+    Vec3f wm = wi * eta + wo;
+    if (lengthSquared(wm) == 0) continue;
+    wm = normalize(wm);
+    if (wm.z < 0) wm = -wm;
+    const float wiM = dot(wi, wm), woM = dot(wo, wm);
+    if (wiM * wi.z <= 0 || woM * wo.z <= 0) continue;  // back-facing microfacet
+    const float denom = square(wiM + woM / eta);
+    if (transmits) {
+      const float ft = distribution.D(wm) * distribution.G(wo, wi) *
+                       std::abs(wiM * woM / (denom * wi.z * wo.z)) / square(eta);
+      const Rgb t = hit.base * (kOne - dielectricFresnel(woM, eta)) * (weight * ft);
+      if (channels == 1)
+        r.f += t;
+      else
+        r.f[c] += t[c];
+    }
+    pdfSum += distribution.PDF(wo, wm) * std::abs(wiM) / denom;
+  }
+  if (p[kTrans] > 0) r.pdf += p[kTrans] * pdfSum / float(channels);
   return r;
 }
 
+float PbrBxdf::channelEta(int c) const {
+  // hit.eta is the index seen from wo's side: n outside-in, 1/n from inside.
+  const bool inside = hit.eta < 1;
+  const float n = inside ? 1 / hit.eta : hit.eta;
+  const float nc = dispersedIor(n, hit.dispersion, kChannelWavelengthNm[c]);
+  return inside ? 1 / nc : nc;
+}
+
 Rgb PbrBxdf::evaluate(Vec3f wo, Vec3f wi, float* pdf) const {
-  const PbrEval e = evaluatePbr(*this, fresnelWo_, wo, wi, pSpec_, pDiff_, pTrans_);
+  if (anisotropic) wo = toAniso(wo), wi = toAniso(wi);
+  const Eval e = evaluateLocal(wo, wi, p_);
   *pdf = e.pdf;
   return e.f;
 }
 
 std::optional<BsdfSample> PbrBxdf::sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes) const {
-  float pSpec, pDiff, pTrans;
-  lobeProbabilities(lobes, &pSpec, &pDiff, &pTrans);
-  if (!(wo.z > 0) || !(pSpec + pDiff + pTrans > 0)) return std::nullopt;
-  const float dielectric = 1 - metallic;
-  enum {
-    kSpec,
-    kDiff,
-    kTrans
-  } lobe = uLobe < pSpec           ? kSpec
-           : uLobe < pSpec + pDiff ? kDiff
-                                   : kTrans;
-  if (lobe == kTrans && pTrans <= 0) lobe = pDiff > 0 ? kDiff : kSpec;  // rounding at 1
+  if (anisotropic) wo = toAniso(wo);
+  if (!(wo.z > 0)) return std::nullopt;
+  const LobeProbabilities pr = lobeProbabilities(lobes);
+  const float* p = pr.p;
+  int lobe = -1;
+  float before = 0;
+  for (int i = 0; i < kLobeCount; ++i) {
+    if (!(p[i] > 0)) continue;
+    lobe = i;  // the last lobe with a chance catches rounding at 1
+    if (uLobe < before + p[i]) break;
+    before += p[i];
+  }
+  if (lobe < 0) return std::nullopt;
+  // What is left of uLobe once the lobe is chosen: a uniform number for the dispersion channel.
+  const float uRest = std::clamp((uLobe - before) / p[lobe], 0.0f, 0.99999994f);
+  const float dielectric = 1 - hit.metallic;
+  const float baseScale = (1 - coatFresnelWo_) * sheenScaleWo_;
+  auto finish = [&](BsdfSample s) {
+    if (anisotropic) s.wi = fromAniso(s.wi);
+    return std::optional<BsdfSample>(s);
+  };
 
-  if (smooth && lobe != kDiff) {
-    // Delta lobes: the mirror direction, or the refracted one.
-    if (lobe == kSpec) {
-      const Vec3f wi = mirrorLocal(wo);
-      const Rgb F = schlick(base, wo.z) * metallic + Rgb{1, 1, 1} * (dielectric * fresnelWo_);
-      return BsdfSample{F / wi.z, wi, pSpec, kBsdfSpecular | kBsdfReflection};
+  // Delta lobes. The base's mirror and a smooth coat on the same normal share one direction:
+  // one sample carries both, with both probabilities.
+  const bool coatSharesMirror = coatSmooth && toCoat_[2].z > 0.999999f;
+  if ((lobe == kSpec && smooth) || (lobe == kCoat && coatSmooth)) {
+    const bool base = smooth && (lobe == kSpec || coatSharesMirror);
+    const bool coat = coatSmooth && (lobe == kCoat || coatSharesMirror);
+    Vec3f wi;
+    if (lobe == kSpec || coatSharesMirror) {
+      wi = mirrorLocal(wo);
+    } else {
+      const Vec3f n = toCoat_[2];
+      wi = n * (2 * dot(wo, n)) - wo;
+      if (wi.z <= 0) return std::nullopt;
     }
+    Rgb F;
+    float pdf = 0;
+    if (base) {
+      F += (metalFresnel(wo.z) * hit.metallic + fresnelWo_ * dielectric) * baseScale;
+      pdf += p[kSpec];
+    }
+    if (coat) {
+      F += kOne * coatFresnelWo_;
+      pdf += p[kCoat];
+    }
+    return finish(BsdfSample{F / wi.z, wi, pdf, kBsdfSpecular | kBsdfReflection});
+  }
+  if (lobe == kTrans && smooth) {
+    if (hit.thinWalled) {
+      const Vec3f wi = -wo;
+      return finish(BsdfSample{hit.base * (kOne - fresnelWo_) *
+                                   (baseScale * dielectric * hit.transmission / std::abs(wi.z)),
+                               wi, p[kTrans], kBsdfSpecular | kBsdfTransmission, 1});
+    }
+    const int channel = hit.dispersion > 0 ? std::min(int(uRest * 3), 2) : -1;
+    const float eta = channel < 0 ? hit.eta : channelEta(channel);
     Vec3f wi;
     float etaCrossed = 1;
     if (!refract(wo, {0, 0, 1}, eta, &etaCrossed, &wi)) return std::nullopt;
-    const float T = 1 - fresnelWo_;
-    return BsdfSample{
-        base * (dielectric * transmission * T / (std::abs(wi.z) * square(etaCrossed))), wi, pTrans,
-        kBsdfSpecular | kBsdfTransmission, etaCrossed};
+    const Rgb T = kOne - (channel < 0 ? fresnelWo_ : dielectricFresnel(wo.z, eta));
+    Rgb f = hit.base * T *
+            (baseScale * dielectric * hit.transmission / (std::abs(wi.z) * square(etaCrossed)));
+    float pdf = p[kTrans];
+    if (channel >= 0) {  // one channel's path, chosen with probability 1/3
+      Rgb only;
+      only[channel] = f[channel];
+      f = only;
+      pdf /= 3;
+    }
+    return finish(BsdfSample{f, wi, pdf, kBsdfSpecular | kBsdfTransmission, etaCrossed});
   }
+
   BsdfSample s;
   Vec3f wi;
-  if (lobe == kDiff) {
-    wi = sampleCosineHemisphere(u);
-    s.flags = kBsdfDiffuse | kBsdfReflection;
-  } else {
-    const TrowbridgeReitzDistribution distribution(alpha);
-    const Vec3f wm = distribution.Sample_wm(wo, u);
-    if (lobe == kSpec) {
-      wi = reflect(wo, wm);
+  switch (lobe) {
+    case kDiff:
+      wi = sampleCosineHemisphere(u);
+      s.flags = kBsdfDiffuse | kBsdfReflection;
+      break;
+    case kSheen:
+      wi = sampleCosineHemisphere(u);
+      s.flags = kBsdfGlossy | kBsdfReflection;
+      break;
+    case kDiffTrans:
+      wi = sampleCosineHemisphere(u);
+      wi.z = -wi.z;
+      s.flags = kBsdfDiffuse | kBsdfTransmission;
+      break;
+    case kCoat: {
+      const TrowbridgeReitzDistribution coat(coatAlpha);
+      const Vec3f woC = toCoat(wo);
+      if (!(woC.z > 0)) return std::nullopt;
+      wi = fromCoat(reflect(woC, coat.Sample_wm(woC, u)));
       if (wi.z <= 0) return std::nullopt;
       s.flags = kBsdfGlossy | kBsdfReflection;
-    } else {
+      break;
+    }
+    case kSpec: {
+      const TrowbridgeReitzDistribution distribution(alphaX, alphaY);
+      wi = reflect(wo, distribution.Sample_wm(wo, u));
+      if (wi.z <= 0) return std::nullopt;
+      s.flags = kBsdfGlossy | kBsdfReflection;
+      break;
+    }
+    default: {  // kTrans, rough
+      const TrowbridgeReitzDistribution distribution(alphaX, alphaY);
+      const Vec3f wm = distribution.Sample_wm(wo, u);
+      s.flags = kBsdfGlossy | kBsdfTransmission;
+      if (hit.thinWalled) {
+        const Vec3f wr = reflect(wo, wm);
+        if (wr.z <= 0) return std::nullopt;
+        wi = {wr.x, wr.y, -wr.z};
+        break;
+      }
+      const float eta = hit.dispersion > 0 ? channelEta(std::min(int(uRest * 3), 2)) : hit.eta;
       float etaCrossed = 1;
       if (!refract(wo, wm, eta, &etaCrossed, &wi) || wi.z >= 0) return std::nullopt;
-      s.flags = kBsdfGlossy | kBsdfTransmission;
       s.eta = etaCrossed;
     }
   }
-  const PbrEval e = evaluatePbr(*this, fresnelWo_, wo, wi, pSpec, pDiff, pTrans);
+  const Eval e = evaluateLocal(wo, wi, pr);
   if (!(e.pdf > 0)) return std::nullopt;
   s.f = e.f;
   s.pdf = e.pdf;
   s.wi = wi;
-  return s;
+  return finish(s);
 }
 
 // ---------------------------------------------------------------------------------------------

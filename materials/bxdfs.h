@@ -102,31 +102,91 @@ struct GlassBxdf {
   uint32_t flags() const { return kBsdfSpecular | kBsdfReflection | kBsdfTransmission; }
 };
 
-// glTF's metallic-roughness model with KHR_materials_transmission and _ior (see pbr.h for the
-// model and its one deliberate change): GGX reflection (Schlick-tinted for the metal, exact
-// Fresnel for the dielectric), a diffuse layer weighted by 1 - F(wo.n), and GGX refraction.
-// Below alpha 1e-3 the reflection and refraction are delta lobes. The lobe weights (Fresnel at
-// wo) are computed once, by the constructor.
+// One hit's values of the glTF material (pbr.h), read from its textures by PbrMaterial: the
+// metallic-roughness base and the layers of glTF's material extensions. Defaults leave a layer
+// out. Directions (coatNormal, anisotropyDirection) are in the BSDF's local shading frame.
+struct PbrHit {
+  Rgb base{1, 1, 1};
+  float metallic = 0, roughness = 1;
+  float transmission = 0;  // KHR_materials_transmission
+  float eta = 1.5f;        // relative index across the surface seen from wo's side
+  bool thinWalled = false;  // transmission passes a thin sheet (no refraction, no volume)
+  float specular = 1;       // KHR_materials_specular: strength
+  Rgb specularColor{1, 1, 1};  //   and colour of the dielectric's F0
+  float clearcoat = 0, clearcoatRoughness = 0;  // KHR_materials_clearcoat
+  Vec3f coatNormal{0, 0, 1};
+  Rgb sheenColor{0, 0, 0};  // KHR_materials_sheen
+  float sheenRoughness = 0;
+  float diffuseTransmission = 0;  // KHR_materials_diffuse_transmission
+  Rgb diffuseTransmissionColor{1, 1, 1};
+  float iridescence = 0, iridescenceIor = 1.3f, iridescenceThickness = 0;  // nm
+  float anisotropy = 0;               // KHR_materials_anisotropy: strength in [0, 1]
+  Vec2f anisotropyDirection{1, 0};    //   and the direction of the stretched roughness
+  float dispersion = 0;               // KHR_materials_dispersion (20 / Abbe number)
+};
+
+// glTF's metallic-roughness model with its material extensions (see pbr.h for the model and
+// its deliberate changes): GGX reflection (Schlick-tinted for the metal, exact Fresnel with
+// KHR_materials_specular's colour and strength, or a thin film's, for the dielectric), a
+// diffuse layer and diffuse transmission weighted by 1 - F(wo.n), GGX refraction (or a thin
+// sheet's transmission), under a Charlie sheen and a GGX clear coat. Below alpha 1e-3 the
+// reflections and the refraction are delta lobes. The lobe weights (Fresnel at wo, the layers'
+// albedos at wo) are computed once, by the constructor.
 struct PbrBxdf {
   // base: base colour; roughness: perceptual, in [0, 1]; metallic, transmission in [0, 1];
   // eta: relative index across the surface seen from wo's side.
   PbrBxdf(Vec3f wo, Rgb base, float metallic, float roughness, float transmission, float eta);
+  PbrBxdf(Vec3f wo, const PbrHit& hit);
   // f and pdf share D, G and the half vector.
   Rgb evaluate(Vec3f wo, Vec3f wi, float* pdf) const;
   std::optional<BsdfSample> sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes) const;
   uint32_t flags() const;
 
-  Rgb base;
-  float metallic = 0, transmission = 0, alpha = 1, eta = 1.5f;
-  bool smooth = false;  // alpha below the delta threshold: specular lobes are deltas
+  // The lobes sample() chooses among.
+  enum Lobe { kCoat, kSheen, kSpec, kDiff, kDiffTrans, kTrans, kLobeCount };
+  struct LobeProbabilities {
+    float p[kLobeCount] = {};
+  };
+
+  PbrHit hit;
+  float alphaX = 1, alphaY = 1;  // GGX roughness along the (anisotropy-rotated) local x and y
+  float coatAlpha = 1;
+  bool smooth = false;      // the base's specular lobes are deltas
+  bool coatSmooth = false;  // the coat's reflection is a delta
+  bool anisotropic = false;
+
+  // The dielectric's Fresnel reflectance (specular colour and strength, thin film) at cosine c
+  // between the view and the (micro)surface normal.
+  Rgb dielectricFresnel(float c) const;
+  // The clear coat's Fresnel reflectance (index 1.5) times its strength.
+  float coatFresnel(float c) const;
 
  private:
-  // The lobe probabilities for a restricted sample(): specular, diffuse, transmission.
-  void lobeProbabilities(uint32_t lobes, float* pSpec, float* pDiff, float* pTrans) const;
-  // Unnormalised lobe weights at wo (Fresnel), and their normalised probabilities.
-  float wSpec_ = 0, wDiff_ = 0, wTrans_ = 0;
-  float pSpec_ = 0, pDiff_ = 0, pTrans_ = 0;
-  float fresnelWo_ = 0;  // the dielectric Fresnel reflectance at wo
+  struct Eval {
+    Rgb f;
+    float pdf = 0;
+  };
+  Eval evaluateLocal(Vec3f wo, Vec3f wi, const LobeProbabilities& pr) const;
+  LobeProbabilities lobeProbabilities(uint32_t lobes) const;
+  Rgb dielectricFresnel(float c, float eta) const;
+  Rgb metalFresnel(float c) const;  // Schlick from the base colour, or the film on the metal
+  float channelEta(int channel) const;  // the dispersed relative index of one colour channel
+  // The local frame turned so that x is the anisotropy direction, and back.
+  Vec3f toAniso(Vec3f v) const;
+  Vec3f fromAniso(Vec3f v) const;
+  // The local frame to the coat's (its normal as z), and back.
+  Vec3f toCoat(Vec3f v) const;
+  Vec3f fromCoat(Vec3f v) const;
+  // wo's weights per lobe (their directional albedos, roughly) and what they sample by.
+  float w_[kLobeCount] = {};
+  LobeProbabilities p_;
+  Rgb fresnelWo_;           // the dielectric's reflectance at wo.n
+  float fresnelWoTransmission_ = 0;  // its scalar mean, with the rough-transmission floor
+  float coatFresnelWo_ = 0;  // the coat's reflectance at wo (its own normal)
+  float sheenScaleWo_ = 1;   // 1 - max(sheenColor) E_sheen(wo)
+  float f0_ = 0.04f;         // the dielectric's normal-incidence reflectance for eta
+  Rgb thinFilmSubstrateMetal_;  // iridescence: the metal's per-channel index (from its F0)
+  Vec3f toCoat_[3];          // rows: the coat frame's axes in the local frame
 };
 
 }  // namespace glint

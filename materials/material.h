@@ -104,7 +104,9 @@ class Material {
 
   // Perturbs si.ns (bump, normal map, snow): once per hit, before the calls below.
   void perturbNormal(SurfaceInteraction& si) const {
-    if (normalModifier_) normalModifier_->apply(si);
+    if (!normalModifier_) return;
+    si.nsUnperturbed = si.ns;
+    normalModifier_->apply(si);
   }
   // The BSDF at si, in the frame of si.ns (already perturbed), every parameter read once.
   // Bumped surfaces get the shadow-terminator term (terminatorShadowing) in f and sample.
@@ -138,6 +140,10 @@ class Material {
   float opacity(const SurfaceInteraction& si, TextureLookups& lookups) const;
   // The kinds of lobes the material can have anywhere (a BSDF's flags() are its hit's).
   virtual uint32_t flags() const = 0;
+  // The absorption coefficient (per unit length, world units) of the material's inside, for
+  // materials that refract into a volume (KHR_materials_volume): integrators attenuate a path
+  // by exp(-absorption * distance) between entering the surface and leaving it. Zero: clear.
+  virtual Rgb absorption() const { return {}; }
   const MaterialTraits& traits() const { return traits_; }
 
   // Sets the normal modifier (the builder calls this once).

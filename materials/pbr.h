@@ -2,27 +2,49 @@
 // microfacet BSDF (Trowbridge–Reitz / GGX with height-correlated Smith masking and
 // visible-normal sampling, microfacet.h).
 //
-// The model is the glTF 2.0 specification's (Appendix B) with KHR_materials_transmission and
-// KHR_materials_ior:
-//   f = metallic         * F_schlick(baseColor, wo.h) * spec
-//     + (1 - metallic)   * [ F(wo.h) * spec + (1 - F(wo.n)) * diffuse + btdf part ]
-//   diffuse = (1 - transmission) * baseColor / pi, btdf part = transmission * baseColor * btdf
-// where spec is the GGX reflection lobe, btdf the GGX refraction lobe (Walter et al. 2007,
-// weighted by 1 - F(wo.m) per microfacet) and F the exact dielectric Fresnel reflectance for
-// `ior` (the specification allows Schlick; the exact form costs little and matches the glass
-// shader). One deliberate change: the diffuse part is weighted by 1 - F(wo.n), not the
-// specification's 1 - F(wo.h), which the specification itself notes is not energy conserving
-// (it reached an albedo of 1.68 at grazing angles in the white furnace test); the price is a
-// darker rough dielectric at grazing angles (missing multiple scattering, which Kulla-Conty
-// tables would restore).
-// Transmission refracts (as with KHR_materials_volume); a thin-walled variant is not modelled.
+// The model is the glTF 2.0 specification's (Appendix B) with its material extensions:
+//   material   = coat_layer(sheen_layer(base))
+//   base       = metallic       * F_metal(wo.h)    * spec
+//              + (1 - metallic) * [ F(wo.h) * spec + (1 - F(wo.n)) * (diffuse part + btdf part) ]
+//   diffuse part = (1 - transmission) * [(1 - dt) * baseColor / pi + dt * dtColor / pi (other side)]
+//   btdf part    = transmission * baseColor * btdf
+//   sheen_layer(b) = sheenColor * D_charlie V / (4 cos cos) + (1 - max(sheenColor) E_sheen(wo)) * b
+//   coat_layer(b)  = clearcoat * F_coat(wo.h) * spec_coat  + (1 - clearcoat * F_coat(wo.n_coat)) * b
+// where spec is the GGX reflection lobe (anisotropic with KHR_materials_anisotropy: roughness
+// along the direction mix(alpha, 1, strength^2)), btdf the GGX refraction lobe (Walter et al.
+// 2007, weighted by 1 - F(wo.m) per microfacet), dt the diffuse transmission
+// (KHR_materials_diffuse_transmission, a thin Lambertian sheet) and
+//   F = specular * mix(F0 * specularColor -> 1 by the exact dielectric Fresnel's rise, film)
+// the dielectric's reflectance: the exact Fresnel for `ior` (the specification allows Schlick;
+// the exact form costs little and matches the glass shader), tinted at normal incidence by
+// KHR_materials_specular's colour and scaled by its strength, mixed by the iridescence factor
+// with a thin film's reflectance (KHR_materials_iridescence, materials/layers.h). F_metal is
+// Schlick's from the base colour (or a film on it), F_coat the exact Fresnel for index 1.5,
+// E_sheen the sheen's directional albedo (tabulated). The coat has its own normal (its normal
+// map, or the surface's normal before the base's normal map).
+//
+// Deliberate changes, each for energy conservation or a ray tracer's needs:
+//   - The diffuse part is weighted by 1 - F(wo.n), not the specification's 1 - F(wo.h), which
+//     the specification itself notes is not energy conserving (it reached an albedo of 1.68 at
+//     grazing angles in the white furnace test); the price is a darker rough dielectric at
+//     grazing angles (missing multiple scattering, which Kulla-Conty tables would restore).
+//   - The layers' albedo scalings use wo alone (as the diffuse coupling does), so that every
+//     weight is a property of the BSDF's construction, and the furnace test can check them.
+// Transmission refracts when the material has a volume (KHR_materials_volume with a thickness
+// above 0: then the inside absorbs, see absorption()); without one the surface is a thin sheet
+// (thinWalled), as the extension says: light passes without bending. Dispersion
+// (KHR_materials_dispersion) splits a refraction into the three colour channels, each with
+// its own index, one channel per sampled path (PbrBxdf's channel choice).
 //
 // Roughness below ~0.03 (alpha < 1e-3) cannot be sampled or integrated in float; where a hit's
 // roughness (constant or from the texture) is that low, the specular reflection and refraction
 // are delta lobes, so that mirrors and clear glass from glTF render as such in the Whitted
-// integrator too.
+// integrator too. The same holds for the coat.
 #pragma once
 
+#include <memory>
+
+#include "materials/bump.h"
 #include "materials/material.h"
 
 namespace glint {
@@ -33,6 +55,26 @@ struct PbrParams {
   ColorParam emission{{0, 0, 0}};
   float ior = 1.5f;
   FloatParam transmission{0};
+  bool thinWalled = false;  // transmission through a thin sheet (no volume, no refraction)
+  // KHR_materials_volume: the inside's absorption coefficient per unit length (world units),
+  // -ln(attenuationColor) / attenuationDistance; zero when clear.
+  Rgb absorption{0, 0, 0};
+  FloatParam specular{1};  // KHR_materials_specular (texture A) and colour (sRGB texture)
+  ColorParam specularColor;
+  FloatParam clearcoat{0}, clearcoatRoughness{0};  // KHR_materials_clearcoat (R, G channels)
+  const Texture* clearcoatNormal = nullptr;  // tangent-space normal map of the coat
+  float clearcoatNormalScale = 1;
+  ColorParam sheenColor{{0, 0, 0}};  // KHR_materials_sheen (sRGB texture)
+  FloatParam sheenRoughness{0};      //   (texture A)
+  FloatParam diffuseTransmission{0};  // KHR_materials_diffuse_transmission (texture A)
+  ColorParam diffuseTransmissionColor;
+  FloatParam iridescence{0};  // KHR_materials_iridescence (texture R)
+  float iridescenceIor = 1.3f;
+  float iridescenceThicknessMin = 100, iridescenceThicknessMax = 400;  // nm
+  const Texture* iridescenceThickness = nullptr;  // G: from min (0) to max (1); none: max
+  float anisotropy = 0, anisotropyRotation = 0;   // KHR_materials_anisotropy (radians)
+  const Texture* anisotropyTexture = nullptr;     // RG: direction in tangent space, B: strength
+  float dispersion = 0;                           // KHR_materials_dispersion
 };
 
 class PbrMaterial final : public Material {
@@ -46,6 +88,7 @@ class PbrMaterial final : public Material {
     return p_.baseColor.evaluate(si, lookups);
   }
   uint32_t flags() const override { return flags_; }
+  Rgb absorption() const override { return p_.absorption; }
 
  protected:
   Bsdf makeBsdf(const SurfaceInteraction& si, const BsdfFrame& frame,
@@ -54,6 +97,7 @@ class PbrMaterial final : public Material {
  private:
   PbrParams p_;
   uint32_t flags_;
+  std::unique_ptr<NormalMap> coatNormalMap_;
 };
 
 }  // namespace glint

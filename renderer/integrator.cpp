@@ -46,6 +46,7 @@ Integrator::Integrator(const RenderScene& scene) : scene_(scene) {
     s.unlit = (s.flags & kBsdfUnlit) != 0;
     s.transparent = t.transparency;
     s.emits = t.emits;
+    s.absorbs = maxComponent(mat.absorption()) > 0;
     s.objectSpace = t.needs.objectSpace;
     s.footprint = t.needs.footprint || t.bump;
     s.needs.uvs = t.needs.uvs;

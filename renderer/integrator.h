@@ -1,6 +1,7 @@
 // glint — integrators: radiance along a camera ray.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <new>
@@ -44,8 +45,23 @@ struct MaterialShading {
   bool unlit = false;
   bool transparent = false;  // may let light pass straight through (opacity < 1)
   bool emits = false;        // Material::emitted can be non-zero
+  // Its inside absorbs (Material::absorption): a ray reaching its back face has crossed the
+  // inside and is attenuated by the distance (closed surfaces; see insideTransmittance).
+  bool absorbs = false;
   uint32_t flags = 0;
 };
+
+// The fraction of light that crosses `distance` inside `material` to reach the back face at
+// si: exp(-absorption * distance) there, 1 at front faces or for clear materials. Integrators
+// apply it to every segment that ends on a back face, which needs no record of which objects a
+// path is inside; the price is that nested or open volumes are not modelled.
+inline Rgb insideTransmittance(const Material& material, const MaterialShading& shading,
+                               const SurfaceInteraction& si, float distance) {
+  if (!shading.absorbs || si.frontFace) return {1, 1, 1};
+  const Rgb sigma = material.absorption();
+  return {std::exp(-sigma.x * distance), std::exp(-sigma.y * distance),
+          std::exp(-sigma.z * distance)};
+}
 
 // Sets si.dpdx/dpdy and si.duvdx/duvdy for a ray of unit direction `d` whose pixel cone is
 // `width` wide at the hit: two perpendicular cone radii projected onto the surface's tangent

@@ -167,6 +167,8 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
     TextureLookups lookups(si);  // each texture read once at this vertex
     const float distance = hit->t * length(ray.d);
     if (!kMedia && depth == 0) aovs.record(material, si, lookups, distance);
+    beta *= insideTransmittance(material, shading, si, distance);  // KHR_materials_volume
+    if (!(maxComponent(beta) > 0)) break;
     cone = RayCone{cone.widthAt(distance), cone.spread};
 
     // The vertex's sampler dimensions, all drawn whatever happens below (kVertexDimensions).

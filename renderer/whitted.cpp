@@ -41,6 +41,9 @@ Rgb WhittedIntegrator::shade(const Ray& ray, const Hit* found, const RayCone& co
   SurfaceInteraction si = shadingPoint(ray, hit, cone, materialIndex, &movingFrame);
   TextureLookups lookups(si);
   if (aovs) aovs->record(material, si, lookups, hit.t * length(ray.d));
+  // Light reaching a back face of an absorbing volume crossed its inside.
+  const Rgb inside = insideTransmittance(material, shading, si, hit.t * length(ray.d));
+  if (!(maxComponent(inside) > 0)) return {};
   // The cone at the hit, carried on by every secondary ray from here (only they need it).
   auto next = [&] { return RayCone{cone.widthAt(hit.t * length(ray.d)), cone.spread}; };
 
@@ -50,13 +53,13 @@ Rgb WhittedIntegrator::shade(const Ray& ray, const Hit* found, const RayCone& co
   if (opacity < 1) {
     if (depth < maxDepth_)
       behind = trace(si.spawnRay(ray.d, ray.time), next(), depth + 1, sampler, counters);
-    if (opacity <= 0) return behind;
+    if (opacity <= 0) return behind * inside;
   }
 
   Rgb L;
   if (shading.unlit) {
     L = material.unlitRadiance(si, lookups);
-    return opacity < 1 ? L * opacity + behind * (1 - opacity) : L;
+    return (opacity < 1 ? L * opacity + behind * (1 - opacity) : L) * inside;
   }
   const Bsdf bsdf = material.bsdf(si, lookups);
   if (shading.emits) L = material.emitted(si, lookups);
@@ -68,7 +71,7 @@ Rgb WhittedIntegrator::shade(const Ray& ray, const Hit* found, const RayCone& co
     L += specularBounces(bsdf, si, shading.flags, ray.time, sampler, [&](const Ray& r) {
       return trace(r, next(), depth + 1, sampler, counters);
     });
-  return opacity < 1 ? L * opacity + behind * (1 - opacity) : L;
+  return (opacity < 1 ? L * opacity + behind * (1 - opacity) : L) * inside;
 }
 
 Rgb WhittedIntegrator::throughMedia(const Ray& ray, const Hit* hit, const RayCone& cone, int depth,

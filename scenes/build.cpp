@@ -291,6 +291,39 @@ AlphaMode toAlphaMode(AlphaModeDesc m) {
   }
 }
 
+// glTF's material extensions (MaterialLayersDesc) as PbrParams.
+void addLayers(const MaterialDesc& m, TextureCache& textures, PbrParams* p) {
+  const MaterialLayersDesc& l = m.layers;
+  auto linear = [&](int texture) { return textures.get(texture, false); };
+  auto srgb = [&](int texture) { return textures.get(texture, true); };
+  p->specular = {l.specular, linear(l.specularTexture), 3};
+  p->specularColor = {l.specularColor, srgb(l.specularColorTexture), false};
+  p->clearcoat = {l.clearcoat, linear(l.clearcoatTexture), 0};
+  p->clearcoatRoughness = {l.clearcoatRoughness, linear(l.clearcoatRoughnessTexture), 1};
+  p->clearcoatNormal = linear(l.clearcoatNormalTexture);
+  p->clearcoatNormalScale = l.clearcoatNormalScale;
+  p->sheenColor = {l.sheenColor, srgb(l.sheenColorTexture), false};
+  p->sheenRoughness = {l.sheenRoughness, linear(l.sheenRoughnessTexture), 3};
+  p->diffuseTransmission = {l.diffuseTransmission, linear(l.diffuseTransmissionTexture), 3};
+  p->diffuseTransmissionColor = {l.diffuseTransmissionColor,
+                                 srgb(l.diffuseTransmissionColorTexture), false};
+  p->iridescence = {l.iridescence, linear(l.iridescenceTexture), 0};
+  p->iridescenceIor = l.iridescenceIor;
+  p->iridescenceThicknessMin = l.iridescenceThicknessMin;
+  p->iridescenceThicknessMax = l.iridescenceThicknessMax;
+  p->iridescenceThickness = linear(l.iridescenceThicknessTexture);
+  p->anisotropy = l.anisotropy;
+  p->anisotropyRotation = l.anisotropyRotation;
+  p->anisotropyTexture = linear(l.anisotropyTexture);
+  p->dispersion = l.dispersion;
+  // KHR_materials_volume: Beer-Lambert absorption inside, sigma = -ln(colour) / distance (a
+  // black channel absorbs everything: a large finite sigma keeps the arithmetic finite).
+  if (!m.thinWalled && std::isfinite(l.attenuationDistance))
+    for (int c = 0; c < 3; ++c)
+      p->absorption[c] =
+          std::min(-std::log(std::max(l.attenuationColor[c], 1e-30f)), 69.0f) / l.attenuationDistance;
+}
+
 std::unique_ptr<Material> makeBsdf(const MaterialDesc& m, const ColorParam& base,
                                    const ColorParam& emission, TextureCache& textures) {
   switch (m.type) {
@@ -330,6 +363,8 @@ std::unique_ptr<Material> makeBsdf(const MaterialDesc& m, const ColorParam& base
       p.emission = emission;
       p.ior = m.ior;
       p.transmission = {m.transmission, textures.get(m.transmissionTexture, false), 0};
+      p.thinWalled = m.thinWalled;
+      addLayers(m, textures, &p);
       return std::make_unique<PbrMaterial>(p);
     }
     case MaterialType::Random: {

@@ -91,6 +91,43 @@ enum class MaterialType {
 
 enum class AlphaModeDesc { Opaque, Mask, Blend };
 
+// glTF's material extensions on a metallic-roughness material (MaterialType::Pbr; pbr.h has
+// the model). Textures are indices into SceneDescription::textures (-1: none), read in the
+// channels the extensions name. The defaults leave every layer out.
+struct MaterialLayersDesc {
+  float specular = 1;  // KHR_materials_specular: strength (texture A)
+  int specularTexture = -1;
+  Rgb specularColor{1, 1, 1};  // colour of F0 (sRGB texture)
+  int specularColorTexture = -1;
+  float clearcoat = 0;  // KHR_materials_clearcoat (texture R)
+  int clearcoatTexture = -1;
+  float clearcoatRoughness = 0;  // (texture G)
+  int clearcoatRoughnessTexture = -1;
+  int clearcoatNormalTexture = -1;
+  float clearcoatNormalScale = 1;
+  Rgb sheenColor{0, 0, 0};  // KHR_materials_sheen (sRGB texture)
+  int sheenColorTexture = -1;
+  float sheenRoughness = 0;  // (texture A)
+  int sheenRoughnessTexture = -1;
+  float diffuseTransmission = 0;  // KHR_materials_diffuse_transmission (texture A)
+  int diffuseTransmissionTexture = -1;
+  Rgb diffuseTransmissionColor{1, 1, 1};  // (sRGB texture)
+  int diffuseTransmissionColorTexture = -1;
+  // KHR_materials_volume: a thickness above 0 makes transmission refract into a volume that
+  // absorbs attenuationColor over attenuationDistance (infinite: clear); 0 is a thin sheet.
+  float thickness = 0;
+  Rgb attenuationColor{1, 1, 1};
+  float attenuationDistance = kInfinity;
+  float iridescence = 0;  // KHR_materials_iridescence (texture R)
+  int iridescenceTexture = -1;
+  float iridescenceIor = 1.3f;
+  float iridescenceThicknessMin = 100, iridescenceThicknessMax = 400;  // nm
+  int iridescenceThicknessTexture = -1;                                 // G
+  float anisotropy = 0, anisotropyRotation = 0;  // KHR_materials_anisotropy (radians)
+  int anisotropyTexture = -1;                    // RG direction, B strength
+  float dispersion = 0;                          // KHR_materials_dispersion: 20 / Abbe number
+};
+
 struct MaterialDesc {
   std::string name;
   MaterialType type = MaterialType::Pbr;
@@ -108,6 +145,10 @@ struct MaterialDesc {
   float ior = 1.5f;        // glass, pbr (KHR_materials_ior)
   float transmission = 0;  // pbr (KHR_materials_transmission), x its texture's R
   int transmissionTexture = -1;
+  // pbr: transmission through a thin sheet instead of refraction into a volume (glTF
+  // transmission without KHR_materials_volume; the sidecar's pbr materials refract).
+  bool thinWalled = false;
+  MaterialLayersDesc layers;  // pbr: glTF's material extensions
   Rgb specular{0, 0, 0};  // Phong specular colour
   float shininess = 0;    // Phong exponent
   int bumpTexture = -1;   // height map (scalar: luminance)

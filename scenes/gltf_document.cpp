@@ -403,6 +403,96 @@ float nonNegative(const Object& o, const std::string& key, double fallback, doub
   return float(v);
 }
 
+// A colour factor at `key`: three numbers, each >= 0 and, with `upToOne`, <= 1.
+Rgb colorFactor(const Object& o, const std::string& key, Rgb fallback, bool upToOne) {
+  if (!o.has(key)) return fallback;
+  auto f = o.numbers(key, 3);
+  for (int i = 0; i < 3; ++i) {
+    if (f[size_t(i)] < 0) throw SceneError(o.at(key).child(size_t(i)), "must not be negative");
+    if (upToOne && f[size_t(i)] > 1)
+      throw SceneError(o.at(key).child(size_t(i)), "must be between 0 and 1");
+  }
+  return {float(f[0]), float(f[1]), float(f[2])};
+}
+
+// The KHR_materials_* extensions beyond the metallic-roughness core (pbr.h has the model).
+void readMaterialLayers(const Object& ext, const Document& doc, Material* m) {
+  MaterialLayersDesc& l = m->layers;
+  Material::LayerTextures& t = m->layerTextures;
+  if (ext.has("KHR_materials_specular")) {
+    Object o = ext.object("KHR_materials_specular");
+    l.specular = nonNegative(o, "specularFactor", 1, 1);
+    t.specular = textureRef(o, "specularTexture", doc);
+    l.specularColor = colorFactor(o, "specularColorFactor", {1, 1, 1}, false);
+    for (int c = 0; c < 3; ++c)
+      if (!std::isfinite(l.specularColor[c]))
+        throw SceneError(o.at("specularColorFactor").child(size_t(c)), "must be finite");
+    t.specularColor = textureRef(o, "specularColorTexture", doc);
+  }
+  if (ext.has("KHR_materials_clearcoat")) {
+    Object o = ext.object("KHR_materials_clearcoat");
+    l.clearcoat = nonNegative(o, "clearcoatFactor", 0, 1);
+    t.clearcoat = textureRef(o, "clearcoatTexture", doc);
+    l.clearcoatRoughness = nonNegative(o, "clearcoatRoughnessFactor", 0, 1);
+    t.clearcoatRoughness = textureRef(o, "clearcoatRoughnessTexture", doc);
+    t.clearcoatNormal = textureRef(o, "clearcoatNormalTexture", doc);
+    if (o.has("clearcoatNormalTexture")) {
+      Object n = o.object("clearcoatNormalTexture");
+      const double scale = n.number("scale", 1);
+      if (!std::isfinite(scale)) throw SceneError(n.at("scale"), "must be finite");
+      l.clearcoatNormalScale = float(scale);
+    }
+  }
+  if (ext.has("KHR_materials_sheen")) {
+    Object o = ext.object("KHR_materials_sheen");
+    l.sheenColor = colorFactor(o, "sheenColorFactor", {0, 0, 0}, true);
+    t.sheenColor = textureRef(o, "sheenColorTexture", doc);
+    l.sheenRoughness = nonNegative(o, "sheenRoughnessFactor", 0, 1);
+    t.sheenRoughness = textureRef(o, "sheenRoughnessTexture", doc);
+  }
+  if (ext.has("KHR_materials_diffuse_transmission")) {
+    Object o = ext.object("KHR_materials_diffuse_transmission");
+    l.diffuseTransmission = nonNegative(o, "diffuseTransmissionFactor", 0, 1);
+    t.diffuseTransmission = textureRef(o, "diffuseTransmissionTexture", doc);
+    l.diffuseTransmissionColor = colorFactor(o, "diffuseTransmissionColorFactor", {1, 1, 1}, true);
+    t.diffuseTransmissionColor = textureRef(o, "diffuseTransmissionColorTexture", doc);
+  }
+  if (ext.has("KHR_materials_volume")) {
+    Object o = ext.object("KHR_materials_volume");
+    l.thickness = nonNegative(o, "thicknessFactor", 0, kInfinity);
+    // thicknessTexture serves rasterisers, which cannot trace the inside; a ray tracer measures
+    // the real distance. It is validated, not read.
+    textureRef(o, "thicknessTexture", doc);
+    const double distance = o.number("attenuationDistance", kInfinity);
+    if (!(distance > 0)) throw SceneError(o.at("attenuationDistance"), "must be > 0");
+    l.attenuationDistance = float(distance);
+    l.attenuationColor = colorFactor(o, "attenuationColor", {1, 1, 1}, true);
+  }
+  if (ext.has("KHR_materials_iridescence")) {
+    Object o = ext.object("KHR_materials_iridescence");
+    l.iridescence = nonNegative(o, "iridescenceFactor", 0, 1);
+    t.iridescence = textureRef(o, "iridescenceTexture", doc);
+    const double ior = o.number("iridescenceIor", 1.3);
+    if (!(ior >= 1) || !std::isfinite(ior)) throw SceneError(o.at("iridescenceIor"), "must be >= 1");
+    l.iridescenceIor = float(ior);
+    l.iridescenceThicknessMin = nonNegative(o, "iridescenceThicknessMinimum", 100, 1e6);
+    l.iridescenceThicknessMax = nonNegative(o, "iridescenceThicknessMaximum", 400, 1e6);
+    t.iridescenceThickness = textureRef(o, "iridescenceThicknessTexture", doc);
+  }
+  if (ext.has("KHR_materials_anisotropy")) {
+    Object o = ext.object("KHR_materials_anisotropy");
+    l.anisotropy = nonNegative(o, "anisotropyStrength", 0, 1);
+    const double rotation = o.number("anisotropyRotation", 0);
+    if (!std::isfinite(rotation)) throw SceneError(o.at("anisotropyRotation"), "must be finite");
+    l.anisotropyRotation = float(rotation);
+    t.anisotropy = textureRef(o, "anisotropyTexture", doc);
+  }
+  if (ext.has("KHR_materials_dispersion")) {
+    Object o = ext.object("KHR_materials_dispersion");
+    l.dispersion = nonNegative(o, "dispersion", 0, 1e3);
+  }
+}
+
 void readMaterials(const Object& root, Document* doc) {
   size_t index = 0;
   for (const Object& o : objects(root, "materials")) {
@@ -459,10 +549,15 @@ void readMaterials(const Object& root, Document* doc) {
         if (!(ior >= 1)) throw SceneError(i.at("ior"), "must be >= 1");
         m.ior = float(ior);
       }
+      readMaterialLayers(ext, *doc, &m);
     }
-    for (const TextureRef* r :
-         {&m.baseColorTexture, &m.emissiveTexture, &m.metallicRoughnessTexture, &m.normalTexture,
-          &m.transmissionTexture})
+    const Material::LayerTextures& lt = m.layerTextures;
+    for (const TextureRef* r : std::initializer_list<const TextureRef*>{
+             &m.baseColorTexture, &m.emissiveTexture, &m.metallicRoughnessTexture,
+             &m.normalTexture, &m.transmissionTexture, &lt.specular, &lt.specularColor, &lt.clearcoat,
+          &lt.clearcoatRoughness, &lt.clearcoatNormal, &lt.sheenColor, &lt.sheenRoughness,
+          &lt.diffuseTransmission, &lt.diffuseTransmissionColor, &lt.iridescence,
+          &lt.iridescenceThickness, &lt.anisotropy})
       if (r->index >= 0 && r->texCoord != 0)
         doc->warnings.push_back(r->where.child("texCoord").str() + ": texCoord " +
                                 std::to_string(r->texCoord) +
@@ -1039,7 +1134,10 @@ void readAnimations(const Object& root, Document* doc) {
 const char* const kSupportedExtensions[] = {
     "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_transmission",
     "KHR_materials_ior", "KHR_texture_transform", "KHR_materials_unlit", "KHR_mesh_quantization",
-    "EXT_mesh_gpu_instancing", "EXT_texture_webp", "KHR_materials_variants"};
+    "EXT_mesh_gpu_instancing", "EXT_texture_webp", "KHR_materials_variants",
+    "KHR_materials_specular", "KHR_materials_clearcoat", "KHR_materials_sheen",
+    "KHR_materials_volume", "KHR_materials_iridescence", "KHR_materials_anisotropy",
+    "KHR_materials_dispersion", "KHR_materials_diffuse_transmission"};
 
 bool isSupportedExtension(const std::string& name) {
   return std::find(std::begin(kSupportedExtensions), std::end(kSupportedExtensions), name) !=
@@ -1049,14 +1147,6 @@ bool isSupportedExtension(const std::string& name) {
 // What glint does without an extension it does not implement, for the warning.
 std::string whatIsIgnored(const std::string& name) {
   static const std::pair<const char*, const char*> kKnown[] = {
-      {"KHR_materials_clearcoat", "no clear coat layer"},
-      {"KHR_materials_sheen", "no sheen"},
-      {"KHR_materials_specular", "the default dielectric specular (F0 0.04, white)"},
-      {"KHR_materials_volume", "no absorption inside transmissive objects"},
-      {"KHR_materials_iridescence", "no thin-film iridescence"},
-      {"KHR_materials_anisotropy", "isotropic roughness"},
-      {"KHR_materials_dispersion", "one index of refraction for every wavelength"},
-      {"KHR_materials_diffuse_transmission", "no light through thin diffuse surfaces"},
       {"KHR_materials_pbrSpecularGlossiness", "the metallic-roughness parameters, if any"},
       {"KHR_xmp_json_ld", "metadata only"},
       {"KHR_texture_basisu", "textures use their fallback 'source' image (Debian has no Basis "

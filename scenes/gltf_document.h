@@ -100,6 +100,14 @@ struct Material {
   TextureRef emissiveTexture;
   bool doubleSided = false;
   bool unlit = false;  // KHR_materials_unlit
+  // The other KHR_materials_* extensions: their numbers (texture indices there unused) and
+  // their textures.
+  MaterialLayersDesc layers;
+  struct LayerTextures {
+    TextureRef specular, specularColor, clearcoat, clearcoatRoughness, clearcoatNormal,
+        sheenColor, sheenRoughness, diffuseTransmission, diffuseTransmissionColor, iridescence,
+        iridescenceThickness, anisotropy;
+  } layerTextures;
   SourceLocation where;
 };
 

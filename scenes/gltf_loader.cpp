@@ -547,6 +547,23 @@ class Loader {
       d.emissive = m.emissiveFactor * m.emissiveStrength;
       d.emissiveTexture = texture(m.emissiveTexture);
       d.doubleSided = m.doubleSided;
+      // Without KHR_materials_volume's thickness, glTF transmission is a thin sheet.
+      d.thinWalled = !(m.layers.thickness > 0);
+      d.layers = m.layers;
+      const gltf::Material::LayerTextures& lt = m.layerTextures;
+      MaterialLayersDesc& l = d.layers;
+      l.specularTexture = texture(lt.specular);
+      l.specularColorTexture = texture(lt.specularColor);
+      l.clearcoatTexture = texture(lt.clearcoat);
+      l.clearcoatRoughnessTexture = texture(lt.clearcoatRoughness);
+      l.clearcoatNormalTexture = texture(lt.clearcoatNormal);
+      l.sheenColorTexture = texture(lt.sheenColor);
+      l.sheenRoughnessTexture = texture(lt.sheenRoughness);
+      l.diffuseTransmissionTexture = texture(lt.diffuseTransmission);
+      l.diffuseTransmissionColorTexture = texture(lt.diffuseTransmissionColor);
+      l.iridescenceTexture = texture(lt.iridescence);
+      l.iridescenceThicknessTexture = texture(lt.iridescenceThickness);
+      l.anisotropyTexture = texture(lt.anisotropy);
       d.where = m.where;
       scene_->materials.push_back(d);
     }

@@ -35,9 +35,25 @@ def sphere(segments=48, rings=24):
     return positions, normals, indices
 
 
-def main():
+def sphere_uvs_and_tangents(segments=48, rings=24):
+    """Texture coordinates (u around, v down) and tangents along +u for sphere()'s vertices:
+    anisotropic materials need a tangent frame."""
+    uvs, tangents = [], []
+    for r in range(rings + 1):
+        for s in range(segments + 1):
+            phi = 2 * math.pi * s / segments
+            uvs.append((s / segments, r / rings))
+            tangents.append((-math.sin(phi), 0.0, math.cos(phi), 1.0))
+    return uvs, tangents
+
+
+def spheres_on_floor(materials, places, extensions_used, floor_half=6, generator=""):
+    """A glTF document: one unit sphere per (material, place) and a floor of the last
+    material, with no light and no camera."""
     sp, sn, si = sphere()
-    fp = [(-6, 0, -6), (6, 0, -6), (6, 0, 6), (-6, 0, 6)]
+    su, st = sphere_uvs_and_tangents()
+    h = floor_half
+    fp = [(-h, 0, -h), (h, 0, -h), (h, 0, h), (-h, 0, h)]
     fn = [(0, 1, 0)] * 4
     fi = [0, 2, 1, 0, 3, 2]
     blob = bytearray()
@@ -63,39 +79,26 @@ def main():
     s_pos = add(sp, "<3f", ARRAY, FLOAT, "VEC3", True)
     s_nrm = add(sn, "<3f", ARRAY, FLOAT, "VEC3")
     s_idx = add(si, "<H", ELEMENTS, USHORT, "SCALAR")
+    s_uv = add(su, "<2f", ARRAY, FLOAT, "VEC2")
+    s_tan = add(st, "<4f", ARRAY, FLOAT, "VEC4")
     f_pos = add(fp, "<3f", ARRAY, FLOAT, "VEC3", True)
     f_nrm = add(fn, "<3f", ARRAY, FLOAT, "VEC3")
     f_idx = add(fi, "<H", ELEMENTS, USHORT, "SCALAR")
 
-    def pbr(name, color, metallic, roughness, extensions=None):
-        m = {"name": name, "pbrMetallicRoughness": {"baseColorFactor": list(color) + [1.0],
-                                                    "metallicFactor": metallic,
-                                                    "roughnessFactor": roughness}}
-        if extensions:
-            m["extensions"] = extensions
-        return m
-
-    materials = [
-        pbr("WhiteDiffuse", (0.8, 0.8, 0.8), 0.0, 1.0),
-        pbr("RedPlastic", (0.8, 0.08, 0.06), 0.0, 0.3),
-        pbr("Gold", (1.0, 0.77, 0.34), 1.0, 0.35),
-        pbr("Chrome", (0.95, 0.95, 0.95), 1.0, 0.04),
-        pbr("Glass", (1.0, 1.0, 1.0), 0.0, 0.0,
-            {"KHR_materials_transmission": {"transmissionFactor": 1.0},
-             "KHR_materials_ior": {"ior": 1.5}}),
-        pbr("Floor", (0.45, 0.45, 0.45), 0.0, 0.8),
-    ]
     meshes, nodes = [], []
-    for i, m in enumerate(materials[:5]):
+    for i, (m, place) in enumerate(zip(materials, places)):
         meshes.append({"name": m["name"], "primitives": [
-            {"attributes": {"POSITION": s_pos, "NORMAL": s_nrm}, "indices": s_idx, "material": i}]})
-        nodes.append({"name": m["name"], "mesh": i, "translation": [2.3 * (i - 2), 1.0, 0.0]})
+            {"attributes": {"POSITION": s_pos, "NORMAL": s_nrm, "TEXCOORD_0": s_uv,
+                            "TANGENT": s_tan}, "indices": s_idx, "material": i}]})
+        nodes.append({"name": m["name"], "mesh": i, "translation": list(place)})
+    floor = len(materials) - 1
     meshes.append({"name": "Floor", "primitives": [
-        {"attributes": {"POSITION": f_pos, "NORMAL": f_nrm}, "indices": f_idx, "material": 5}]})
-    nodes.append({"name": "Floor", "mesh": 5})
+        {"attributes": {"POSITION": f_pos, "NORMAL": f_nrm}, "indices": f_idx,
+         "material": floor}]})
+    nodes.append({"name": "Floor", "mesh": len(meshes) - 1})
     doc = {
-        "asset": {"version": "2.0", "generator": "glint scenes/first_image/make_first_image.py"},
-        "extensionsUsed": ["KHR_materials_transmission", "KHR_materials_ior"],
+        "asset": {"version": "2.0", "generator": generator},
+        "extensionsUsed": extensions_used,
         "scene": 0,
         "scenes": [{"nodes": list(range(len(nodes)))}],
         "nodes": nodes,
@@ -107,10 +110,42 @@ def main():
                      "uri": "data:application/octet-stream;base64," +
                             base64.b64encode(bytes(blob)).decode()}],
     }
-    out = os.path.join(os.path.dirname(os.path.abspath(__file__)), "first_image.gltf")
-    with open(out, "w") as f:
+    return doc
+
+
+def pbr(name, color, metallic, roughness, extensions=None):
+    m = {"name": name, "pbrMetallicRoughness": {"baseColorFactor": list(color) + [1.0],
+                                                "metallicFactor": metallic,
+                                                "roughnessFactor": roughness}}
+    if extensions:
+        m["extensions"] = extensions
+    return m
+
+
+def write(doc, path):
+    with open(path, "w") as f:
         json.dump(doc, f, indent=1)
         f.write("\n")
+
+
+def main():
+    materials = [
+        pbr("WhiteDiffuse", (0.8, 0.8, 0.8), 0.0, 1.0),
+        pbr("RedPlastic", (0.8, 0.08, 0.06), 0.0, 0.3),
+        pbr("Gold", (1.0, 0.77, 0.34), 1.0, 0.35),
+        pbr("Chrome", (0.95, 0.95, 0.95), 1.0, 0.04),
+        pbr("Glass", (1.0, 1.0, 1.0), 0.0, 0.0,
+            {"KHR_materials_transmission": {"transmissionFactor": 1.0},
+             "KHR_materials_ior": {"ior": 1.5},
+             # A solid ball (it refracts); without a volume glTF's transmission is a thin sheet.
+             "KHR_materials_volume": {"thicknessFactor": 2.0}}),
+        pbr("Floor", (0.45, 0.45, 0.45), 0.0, 0.8),
+    ]
+    places = [(2.3 * (i - 2), 1.0, 0.0) for i in range(5)]
+    doc = spheres_on_floor(materials, places, ["KHR_materials_transmission", "KHR_materials_ior",
+                                               "KHR_materials_volume"],
+                           generator="glint scenes/first_image/make_first_image.py")
+    write(doc, os.path.join(os.path.dirname(os.path.abspath(__file__)), "first_image.gltf"))
 
 
 if __name__ == "__main__":

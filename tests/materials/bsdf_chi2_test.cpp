@@ -39,6 +39,8 @@ struct PbrCase {
   float metallic, roughness, transmission;
   float ior = 1.5f;
   Rgb base{1, 1, 1};
+  void (*layers)(PbrParams&) = nullptr;  // glTF material extensions on top
+  const char* name = "";
 };
 
 PbrMaterial makePbr(const PbrCase& c) {
@@ -48,15 +50,16 @@ PbrMaterial makePbr(const PbrCase& c) {
   p.roughness.factor = c.roughness;
   p.transmission.factor = c.transmission;
   p.ior = c.ior;
+  if (c.layers) c.layers(p);
   return PbrMaterial(p);
 }
 
 std::string describe(const PbrCase& c, const SurfaceInteraction& si, float degrees, int seed) {
   char buffer[192];
   std::snprintf(buffer, sizeof buffer,
-                "metallic %g roughness %g transmission %g ior %g, wo at %g degrees, n.z %.2f, "
+                "%smetallic %g roughness %g transmission %g ior %g, wo at %g degrees, n.z %.2f, "
                 "%s face, seed %d",
-                c.metallic, c.roughness, c.transmission, c.ior, degrees, si.ns.z,
+                c.name, c.metallic, c.roughness, c.transmission, c.ior, degrees, si.ns.z,
                 si.frontFace ? "front" : "back", seed);
   return buffer;
 }
@@ -156,8 +159,8 @@ void testCases(const std::vector<PbrCase>& cases, int testCount, int64_t sampleC
 }
 
 constexpr int kCasesPerTest = 2 * 3 * kSeeds;  // faces x views x seeds
-// All cases of this file: 3 + 3 x 3 + 3 + 3 = 18 materials.
-constexpr int kTotalTests = 18 * kCasesPerTest;
+// All cases of this file: 3 + 3 x 3 + 3 + 3 = 18 materials, and 8 with material extensions.
+constexpr int kTotalTests = 26 * kCasesPerTest;
 constexpr int64_t kSamples = 100'000;
 
 TEST(PbrChi2, MetalSampleFollowsPdf) {
@@ -193,6 +196,56 @@ TEST(PbrChi2, RoughGlassSampleFollowsPdf) {
             kTotalTests, kSamples);
 }
 
+// glTF's material extensions, each on a rough base (the layers' own lobes are rough too, so
+// the default bins resolve them): every lobe sample() adds must follow the pdf it reports.
+std::vector<PbrCase> layeredCases() {
+  return {
+      {0, 0.5f, 0, 1.5f, {0.8f, 0.3f, 0.2f},
+       [](PbrParams& p) {
+         p.clearcoat = {1};
+         p.clearcoatRoughness = {0.4f};
+       },
+       "clearcoat 1 (roughness 0.4), "},
+      {0, 0.6f, 0, 1.5f, {0.2f, 0.3f, 0.8f},
+       [](PbrParams& p) {
+         p.sheenColor = {{0.9f, 0.7f, 0.5f}};
+         p.sheenRoughness = {0.5f};
+       },
+       "sheen (0.9 0.7 0.5, roughness 0.5), "},
+      {1, 0.4f, 0, 1.5f, {0.9f, 0.7f, 0.4f},
+       [](PbrParams& p) {
+         p.anisotropy = 0.8f;
+         p.anisotropyRotation = 0.5f;
+       },
+       "anisotropy 0.8 (rotation 0.5), "},
+      {0, 0.5f, 0, 1.5f, {0.6f, 0.8f, 0.3f},
+       [](PbrParams& p) {
+         p.diffuseTransmission = {0.6f};
+         p.diffuseTransmissionColor = {{1, 0.5f, 0.2f}};
+       },
+       "diffuse transmission 0.6, "},
+      {0, 0.4f, 1, 1.5f, {0.9f, 0.9f, 1}, [](PbrParams& p) { p.thinWalled = true; },
+       "thin-walled, "},
+      {0, 0.4f, 1, 1.5f, {1, 1, 1}, [](PbrParams& p) { p.dispersion = 1; }, "dispersion 1, "},
+      {0.3f, 0.5f, 0, 1.5f, {0.5f, 0.5f, 0.5f},
+       [](PbrParams& p) {
+         p.iridescence = {1};
+         p.iridescenceThicknessMax = 350;
+       },
+       "iridescence (350 nm), "},
+      {0, 0.4f, 0.5f, 1.5f, {0.9f, 0.9f, 0.9f},
+       [](PbrParams& p) {
+         p.specular = {0.5f};
+         p.specularColor = {{1, 0.5f, 0.2f}};
+       },
+       "specular 0.5 (1 0.5 0.2), "},
+  };
+}
+
+TEST(PbrChi2, MaterialExtensionsSampleFollowsPdf) {
+  testCases(layeredCases(), kTotalTests, kSamples);
+}
+
 // The chi-square test only compares sample() with pdf(); an estimator is unbiased only if
 // they also cover every direction where f is not zero. Checked at 20000 random directions
 // per case, including rough glass seen from inside past the critical angle (where the lobe
@@ -204,6 +257,7 @@ TEST(PbrSampling, PdfIsPositiveWhereverFIs) {
     for (float roughness : {0.1f, 0.3f, 0.8f, 1.0f})
       for (float transmission : {0.0f, 0.5f, 1.0f})
         cases.push_back({metallic, roughness, transmission, 1.5f, {0.9f, 0.6f, 0.3f}});
+  for (const PbrCase& c : layeredCases()) cases.push_back(c);
   std::mt19937_64 rng(77);
   auto uniform = [&] { return float(rng() >> 40) * 0x1p-24f; };
   for (const PbrCase& c : cases) {

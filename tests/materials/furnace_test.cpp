@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "materials/basic_materials.h"
+#include "materials/layers.h"
 #include "materials/pbr.h"
 #include "materials/scattering.h"
 #include "materials/specular.h"
@@ -428,6 +429,177 @@ TEST(Furnace, RoughPbrDielectricNeverGainsEnergy) {
 // light (E was 0.18 instead of 0.51 at roughness 1, cos 0.5) while eval() had it.
 TEST(Furnace, RoughPbrGlassNeverGainsEnergy) {
   runPbrFurnace({{0, 0.05f, 1}, {0, 0.3f, 1}, {0, 0.7f, 1}, {0, 1, 1}}, kRounding);
+}
+
+// ---------------------------------------------------------------------------------------------
+// glTF's material extensions
+// ---------------------------------------------------------------------------------------------
+
+PbrMaterial makeLayered(float metallic, float roughness, float transmission, Rgb base,
+                        void (*layers)(PbrParams&)) {
+  PbrParams p;
+  p.baseColor = ColorParam{base};
+  p.metallic.factor = metallic;
+  p.roughness.factor = roughness;
+  p.transmission.factor = transmission;
+  layers(p);
+  return PbrMaterial(p);
+}
+
+// KHR_materials_specular with strength 0 removes the dielectric's reflection: what is left is
+// a white Lambertian, E = 1 exactly (every weight is 1) in every view, on a rough surface too.
+TEST(Furnace, SpecularStrengthZeroLeavesALambertian) {
+  PbrMaterial m = makeLayered(0, 0.5f, 0, {1, 1, 1}, [](PbrParams& p) { p.specular = {0}; });
+  uint64_t seed = 3000;
+  for (float c : kViewCosines)
+    for (bool front : {true, false}) {
+      const SurfaceInteraction si = makeSurface(kTilted, viewWithCos(c), front);
+      const Estimate e = albedoBySampling(m, si, kSamples / 4, ++seed);
+      EXPECT_EQ(e.bad, 0);
+      EXPECT_NEAR(e.mean, 1, 1e-5) << describeView(si);
+    }
+}
+
+// A smooth clear coat (index 1.5) over a white Lambertian with no reflection of its own: the
+// coat reflects F(wo) into the mirror direction and the base gets the rest, E = 1 exactly.
+// Over a black base, only the coat's mirror reflection remains: E = clearcoat x F(wo).
+TEST(Furnace, SmoothClearcoatReflectsItsFresnelAndPassesTheRest) {
+  PbrMaterial white = makeLayered(0, 1, 0, {1, 1, 1}, [](PbrParams& p) {
+    p.specular = {0};
+    p.clearcoat = {1};
+  });
+  PbrMaterial black = makeLayered(0, 1, 0, {0, 0, 0}, [](PbrParams& p) {
+    p.specular = {0};
+    p.clearcoat = {0.7f};
+  });
+  uint64_t seed = 3100;
+  for (float c : kViewCosines) {
+    const SurfaceInteraction si = makeSurface(kTilted, viewWithCos(c), true);
+    const Estimate e = albedoBySampling(white, si, kSamples / 4, ++seed);
+    EXPECT_EQ(e.bad, 0);
+    EXPECT_NEAR(e.mean, 1, 1e-5) << describeView(si);
+    const Estimate coat = albedoBySampling(black, si, kSamples / 4, ++seed);
+    EXPECT_NEAR(coat.mean, 0.7 * fresnelDielectric(dot(si.wo, si.ns), 1.5f), 1e-5)
+        << describeView(si);
+  }
+}
+
+// A thin sheet (transmission without a volume) reflects F and passes 1 - F straight through,
+// unbent: E = 1 exactly, and every transmitted sample leaves along -wo.
+TEST(Furnace, SmoothThinSheetPassesWhatItDoesNotReflect) {
+  PbrMaterial sheet = makeLayered(0, 0, 1, {1, 1, 1}, [](PbrParams& p) { p.thinWalled = true; });
+  uint64_t seed = 3200;
+  for (float c : kViewCosines)
+    for (bool front : {true, false}) {
+      const SurfaceInteraction si = makeSurface(kTilted, viewWithCos(c), front);
+      const Estimate e = albedoBySampling(sheet, si, kSamples / 4, ++seed);
+      EXPECT_EQ(e.bad, 0);
+      EXPECT_NEAR(e.mean, 1, 1e-5) << describeView(si);
+      const auto s = sheet.bsdf(si).sample({0.3f, 0.6f}, 0.5f, kBsdfTransmission);
+      ASSERT_TRUE(s) << describeView(si);
+      EXPECT_NEAR(length(s->wi + si.wo), 0, 1e-5f) << describeView(si);
+      EXPECT_NEAR(s->weight(si.ns).y, 1 - fresnelDielectric(dot(si.wo, si.ns), 1.5f), 1e-5f);
+    }
+}
+
+// Diffuse transmission moves the share dt of the diffuse light to the other side: with no
+// specular reflection, a white surface reflects 1 - dt and transmits dt (its colour's), both
+// exactly.
+TEST(Furnace, DiffuseTransmissionSplitsTheDiffuseLight) {
+  PbrMaterial m = makeLayered(0, 0.5f, 0, {1, 1, 1}, [](PbrParams& p) {
+    p.specular = {0};
+    p.diffuseTransmission = {0.3f};
+  });
+  uint64_t seed = 3300;
+  for (float c : kViewCosines)
+    for (bool front : {true, false}) {
+      const SurfaceInteraction si = makeSurface(kTilted, viewWithCos(c), front);
+      EXPECT_NEAR(albedoBySampling(m, si, kSamples / 4, ++seed, kBsdfReflection).mean, 0.7, 1e-5)
+          << describeView(si);
+      EXPECT_NEAR(albedoBySampling(m, si, kSamples / 4, ++seed, kBsdfTransmission).mean, 0.3,
+                  1e-5)
+          << describeView(si);
+      EXPECT_NEAR(albedoBySampling(m, si, kSamples / 4, ++seed).mean, 1, 1e-5) << describeView(si);
+    }
+}
+
+// A white sheen over a black base that reflects nothing else reflects its own directional
+// albedo, the table the base's scaling uses (so the two add up to at most 1): sampled and
+// uniform estimates agree with it within 3 sigma + 5e-3 (the table's interpolation).
+TEST(Furnace, SheenReflectsItsTabulatedAlbedo) {
+  for (float roughness : {0.3f, 0.7f, 1.0f}) {
+    PbrParams p;
+    p.baseColor = kBlack;
+    p.metallic = {0};
+    p.roughness = {1};
+    p.specular = {0};
+    p.sheenColor = kWhite;
+    p.sheenRoughness = {roughness};
+    PbrMaterial m(p);
+    uint64_t seed = 3400;
+    for (float c : kViewCosines) {
+      const SurfaceInteraction si = makeSurface(kTilted, viewWithCos(c), true);
+      const Estimate e = albedoBySampling(m, si, kSamples, ++seed);
+      const Estimate uniform = albedoByUniformSampling(m, si, kSamples, ++seed);
+      const double table = sheenAlbedo(c, roughness);
+      EXPECT_NEAR(e.mean, table, kSigmas * e.standardError + 5e-3)
+          << "roughness " << roughness << ", " << describeView(si);
+      expectAgree(e, uniform, 2e-3, describeView(si));
+    }
+  }
+}
+
+// Every layer at once over rough white bases: a white material never reflects more than it
+// receives (energy, for transmission). The sheen's albedo scaling is tabulated: 3e-3 for its
+// interpolation.
+TEST(Furnace, LayeredMaterialsNeverGainEnergy) {
+  struct Case {
+    const char* name;
+    float metallic, roughness, transmission;
+    void (*layers)(PbrParams&);
+  };
+  const Case cases[] = {
+      {"rough clearcoat over rough dielectric", 0, 0.5f, 0,
+       [](PbrParams& p) {
+         p.clearcoat = {1};
+         p.clearcoatRoughness = {0.3f};
+       }},
+      {"white sheen over white dielectric", 0, 0.7f, 0,
+       [](PbrParams& p) {
+         p.sheenColor = kWhite;
+         p.sheenRoughness = {0.5f};
+       }},
+      {"coat, sheen and iridescence on a half metal", 0.5f, 0.4f, 0,
+       [](PbrParams& p) {
+         p.clearcoat = {0.8f};
+         p.clearcoatRoughness = {0.2f};
+         p.sheenColor = kWhite;
+         p.sheenRoughness = {0.8f};
+         p.iridescence = {1};
+       }},
+      {"anisotropic metal", 1, 0.3f, 0, [](PbrParams& p) { p.anisotropy = 0.9f; }},
+      {"white specular colour", 0, 0.3f, 0,
+       [](PbrParams& p) { p.specularColor = ColorParam{{2, 2, 2}}; }},
+      {"rough thin sheet", 0, 0.4f, 1, [](PbrParams& p) { p.thinWalled = true; }},
+      {"dispersive smooth glass", 0, 0, 1, [](PbrParams& p) { p.dispersion = 1; }},
+      {"diffuse transmission under a coat", 0, 0.6f, 0,
+       [](PbrParams& p) {
+         p.diffuseTransmission = {0.5f};
+         p.clearcoat = {1};
+         p.clearcoatRoughness = {0.5f};
+       }},
+  };
+  uint64_t seed = 3500;
+  for (const Case& c : cases) {
+    PbrMaterial m = makeLayered(c.metallic, c.roughness, c.transmission, {1, 1, 1}, c.layers);
+    for (float cosine : kViewCosines)
+      for (bool front : {true, false}) {
+        const SurfaceInteraction si = makeSurface(kTilted, viewWithCos(cosine), front);
+        const std::string what = std::string(c.name) + ", " + describeView(si);
+        expectAtMostOne(albedoBySampling(m, si, kSamples / 2, ++seed, kBsdfAllLobes, true), what,
+                        3e-3);
+      }
+  }
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 
 #include "renderer/render.h"
 #include "scenes/build.h"
+#include "scenes/load.h"
 #include "scenes/sidecar.h"
 #include "test_support.h"
 
@@ -155,6 +156,33 @@ TEST(MaterialRender, UnlitSurfacesShowTheirColourExactly) {
     for (const Rgb& c : r.film.color)
       for (int k = 0; k < 3; ++k) ASSERT_NEAR(c[k], colour[k], 1e-6f);
     EXPECT_EQ(r.stats.rays.shadow, 0u);  // nothing to light
+  }
+}
+
+// KHR_materials_volume: every camera ray crosses 2 units of a clear (index 1) cube whose inside
+// absorbs attenuationColor (0.5, 0.25, 0.8) per unit distance (tests/data/gltf/
+// material_layers.gltf): the image is the white background times the colour squared, in both
+// integrators, to rounding.
+TEST(MaterialRender, VolumeAbsorbsByBeerLambert) {
+  for (const char* integrator : {"whitted", "path"}) {
+    SCOPED_TRACE(integrator);
+    SceneDescription d = loadScene(test::dataDir() + "/gltf/material_layers.gltf");
+    d.render.width = 8;
+    d.render.height = 8;
+    d.render.spp = 2;
+    d.render.background = {1, 1, 1};
+    d.render.integrator.type = integrator;
+    RenderScene scene = buildRenderScene(d);
+    auto integ = makeIntegrator(scene, d.render);
+    RenderOptions options;
+    options.threads = 2;
+    RenderStats stats;
+    const Film film = render(scene, *integ, d.render, options, &stats);
+    for (const Rgb& c : film.color) {
+      ASSERT_NEAR(c.x, 0.25f, 1e-3f);
+      ASSERT_NEAR(c.y, 0.0625f, 1e-3f);
+      ASSERT_NEAR(c.z, 0.64f, 1e-3f);
+    }
   }
 }
 

@@ -618,17 +618,67 @@ TEST(GltfLoader, WarnsAboutExtensionsItUsesButGlintIgnores) {
   std::ifstream in(badFile("unsupported_required_extension.gltf"));
   nlohmann::json j = nlohmann::json::parse(in);
   j.erase("extensionsRequired");
-  j["extensionsUsed"] = {"KHR_materials_sheen", "KHR_lights_punctual", "VENDOR_thing"};
+  j["extensionsUsed"] = {"KHR_materials_pbrSpecularGlossiness", "KHR_lights_punctual",
+                         "VENDOR_thing"};
   const std::string path = test::scratchDir("gltf_extensions_used") + "/used.gltf";
   std::ofstream(path) << j.dump();
   SceneDescription s = load(path);
   ASSERT_EQ(s.warnings.size(), 2u);  // the supported one is not mentioned
-  EXPECT_NE(s.warnings[0].find("/extensionsUsed/0: extension 'KHR_materials_sheen' is not "
-                               "supported; ignored: no sheen"),
+  EXPECT_NE(s.warnings[0].find("/extensionsUsed/0: extension "
+                               "'KHR_materials_pbrSpecularGlossiness' is not supported; ignored: "
+                               "the metallic-roughness parameters, if any"),
             std::string::npos)
       << s.warnings[0];
   EXPECT_NE(s.warnings[1].find("/extensionsUsed/2: extension 'VENDOR_thing'"), std::string::npos)
       << s.warnings[1];
+}
+
+// Every ratified material extension is read into the material's description, and builds.
+TEST(GltfLoader, MaterialExtensionsAreRead) {
+  SceneDescription s = load(goodFile("material_layers.gltf"));
+  EXPECT_TRUE(s.warnings.empty()) << s.warnings[0];
+  ASSERT_EQ(s.materials.size(), 2u);
+  const MaterialDesc& volume = s.materials[0];
+  EXPECT_FALSE(volume.thinWalled);
+  EXPECT_FLOAT_EQ(volume.layers.thickness, 2);
+  EXPECT_EQ(volume.layers.attenuationColor, (Rgb{0.5f, 0.25f, 0.8f}));
+  EXPECT_FLOAT_EQ(volume.layers.attenuationDistance, 1);
+  EXPECT_FLOAT_EQ(volume.ior, 1);
+  const MaterialDesc& m = s.materials[1];
+  EXPECT_TRUE(m.thinWalled);  // no volume: a thin sheet
+  const MaterialLayersDesc& l = m.layers;
+  EXPECT_FLOAT_EQ(l.specular, 0.5f);
+  EXPECT_EQ(l.specularColor, (Rgb{1, 0.5f, 2}));
+  EXPECT_FLOAT_EQ(l.clearcoat, 0.75f);
+  EXPECT_FLOAT_EQ(l.clearcoatRoughness, 0.125f);
+  EXPECT_EQ(l.sheenColor, (Rgb{0.25f, 0.5f, 0.75f}));
+  EXPECT_FLOAT_EQ(l.sheenRoughness, 0.375f);
+  EXPECT_FLOAT_EQ(l.diffuseTransmission, 0.25f);
+  EXPECT_EQ(l.diffuseTransmissionColor, (Rgb{1, 0.75f, 0.5f}));
+  EXPECT_FLOAT_EQ(l.iridescence, 1);
+  EXPECT_FLOAT_EQ(l.iridescenceIor, 1.75f);
+  EXPECT_FLOAT_EQ(l.iridescenceThicknessMin, 50);
+  EXPECT_FLOAT_EQ(l.iridescenceThicknessMax, 500);
+  EXPECT_FLOAT_EQ(l.anisotropy, 0.5f);
+  EXPECT_FLOAT_EQ(l.anisotropyRotation, 1.5f);
+  EXPECT_FLOAT_EQ(l.dispersion, 0.5f);
+  RenderScene scene = buildRenderScene(s);
+  ASSERT_EQ(scene.materials.size(), 2u);
+  EXPECT_GT(maxComponent(scene.materials[0]->absorption()), 0);
+  EXPECT_EQ(scene.materials[1]->absorption(), (Rgb{0, 0, 0}));
+  EXPECT_TRUE(scene.materials[1]->traits().needs.tangents);  // anisotropy reads the tangent
+}
+
+TEST(GltfBadInput, MaterialExtensionsOutOfRangeAreRejected) {
+  const std::string ext = "/materials/1/extensions/";
+  expectError(badFile("clearcoat_factor_above_one.gltf"),
+              ext + "KHR_materials_clearcoat/clearcoatFactor", "must be between 0 and 1");
+  expectError(badFile("sheen_color_negative.gltf"), ext + "KHR_materials_sheen/sheenColorFactor/0",
+              "must not be negative");
+  expectError(badFile("iridescence_ior_below_one.gltf"),
+              ext + "KHR_materials_iridescence/iridescenceIor", "must be >= 1");
+  expectError(badFile("volume_attenuation_distance_zero.gltf"),
+              "/materials/0/extensions/KHR_materials_volume/attenuationDistance", "must be > 0");
 }
 
 TEST(GltfLoader, TextureTransformsBecomeTextureMappings) {

@@ -234,6 +234,24 @@ def main():
             lambda d: d["meshes"][0]["primitives"][0]["extensions"]["KHR_materials_variants"]
                        ["mappings"][1].update(variants=[1, 5]))
 
+    # ../gltf/material_layers.gltf (valid) with one material extension value out of range.
+    with open(os.path.join(HERE, "..", "gltf", "material_layers.gltf")) as f:
+        good = json.load(f)
+    layers = lambda d: d["materials"][1]["extensions"]
+    # clearcoat_factor_above_one.gltf: clearcoatFactor 2.
+    variant("clearcoat_factor_above_one.gltf",
+            lambda d: layers(d)["KHR_materials_clearcoat"].update(clearcoatFactor=2))
+    # sheen_color_negative.gltf: a negative sheen colour channel.
+    variant("sheen_color_negative.gltf",
+            lambda d: layers(d)["KHR_materials_sheen"].update(sheenColorFactor=[-0.5, 0, 0]))
+    # iridescence_ior_below_one.gltf: a film index of 0.5.
+    variant("iridescence_ior_below_one.gltf",
+            lambda d: layers(d)["KHR_materials_iridescence"].update(iridescenceIor=0.5))
+    # volume_attenuation_distance_zero.gltf: attenuationDistance 0 (it must be > 0).
+    variant("volume_attenuation_distance_zero.gltf",
+            lambda d: d["materials"][0]["extensions"]["KHR_materials_volume"].update(
+                attenuationDistance=0))
+
     # json_syntax_error.gltf is written by hand (a missing comma at line 5, column 5).
     with open(os.path.join(HERE, "json_syntax_error.gltf"), "w") as f:
         f.write('{\n'

@@ -3,7 +3,8 @@
 the Khronos samples do not: strips and fans, sparse accessors, normalized u8/u16 attributes,
 8- and 16-bit PNGs, samplers, cameras, KHR_lights_punctual, emissive strength, a non-default
 `scene`, skipped POINTS primitives, texCoord 1, a file without `scenes`, a .glb, and morph
-targets with a skin whose poses have closed forms.
+targets with a skin whose poses have closed forms, and glTF's material extensions (a tinted
+volume whose render has a closed form).
 
     python3 tests/data/gltf/make_gltf_inputs.py
 """
@@ -357,6 +358,75 @@ def variants():
     }
 
 
+def material_layers():
+    """glTF's material extensions. A cube [-1, 1]^3 of clear (ior 1), tinted KHR_materials_volume
+    glass (attenuation colour (0.5, 0.25, 0.8) per unit distance) fills an orthographic camera
+    looking down -z: every camera ray crosses 2 units inside, so under a uniform white sky a
+    pixel is the colour squared, (0.25, 0.0625, 0.64). Off camera, a square wears every other
+    material extension at once (the loader test reads its values back)."""
+    b = Builder()
+    corners = [(x, y, z) for z in (-1, 1) for y in (-1, 1) for x in (-1, 1)]
+    cube_pos = b.accessor("f", flat(corners), 5126, "VEC3", 8, min=[-1, -1, -1], max=[1, 1, 1])
+    # Two counter-clockwise (outward) triangles per face.
+    faces = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
+    tris = []
+    for a, b_, c, d in faces:
+        tris += [a, b_, c, a, c, d]
+    cube_idx = b.accessor("H", tris, 5123, "SCALAR", len(tris))
+    sq_pos = b.accessor("f", flat([(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)]), 5126, "VEC3",
+                        4, min=[-1, -1, 0], max=[1, 1, 0])
+    sq_uv = b.accessor("f", flat([(0, 1), (1, 1), (1, 0), (0, 0)]), 5126, "VEC2", 4)
+    sq_idx = b.accessor("H", [0, 1, 2, 0, 2, 3], 5123, "SCALAR", 6)
+    tinted = {"name": "tinted volume",
+              "pbrMetallicRoughness": {"metallicFactor": 0, "roughnessFactor": 0},
+              "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1},
+                             "KHR_materials_ior": {"ior": 1.0},
+                             "KHR_materials_volume": {"thicknessFactor": 2,
+                                                      "attenuationColor": [0.5, 0.25, 0.8],
+                                                      "attenuationDistance": 1}}}
+    layered = {"name": "every layer",
+               "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.6, 0.7, 1],
+                                        "metallicFactor": 0.25, "roughnessFactor": 0.5},
+               "extensions": {
+                   "KHR_materials_specular": {"specularFactor": 0.5,
+                                              "specularColorFactor": [1, 0.5, 2]},
+                   "KHR_materials_clearcoat": {"clearcoatFactor": 0.75,
+                                               "clearcoatRoughnessFactor": 0.125},
+                   "KHR_materials_sheen": {"sheenColorFactor": [0.25, 0.5, 0.75],
+                                           "sheenRoughnessFactor": 0.375},
+                   "KHR_materials_diffuse_transmission": {
+                       "diffuseTransmissionFactor": 0.25,
+                       "diffuseTransmissionColorFactor": [1, 0.75, 0.5]},
+                   "KHR_materials_iridescence": {"iridescenceFactor": 1, "iridescenceIor": 1.75,
+                                                 "iridescenceThicknessMinimum": 50,
+                                                 "iridescenceThicknessMaximum": 500},
+                   "KHR_materials_anisotropy": {"anisotropyStrength": 0.5,
+                                                "anisotropyRotation": 1.5},
+                   "KHR_materials_dispersion": {"dispersion": 0.5},
+                   "KHR_materials_emissive_strength": {"emissiveStrength": 1}}}
+    used = sorted({k for m in (tinted, layered) for k in m["extensions"]})
+    return {
+        "asset": {"version": "2.0", "generator": "glint make_gltf_inputs.py"},
+        "extensionsUsed": used,
+        "scenes": [{"nodes": [0, 1, 2]}],
+        "nodes": [{"mesh": 0}, {"mesh": 1, "translation": [5, 0, 0]},
+                  {"camera": 0, "translation": [0, 0, 5]}],
+        "cameras": [{"type": "orthographic",
+                     "orthographic": {"xmag": 0.5, "ymag": 0.5, "znear": 0.1, "zfar": 20}}],
+        "materials": [tinted, layered],
+        "meshes": [
+            {"primitives": [{"attributes": {"POSITION": cube_pos}, "indices": cube_idx,
+                             "material": 0}]},
+            {"primitives": [{"attributes": {"POSITION": sq_pos, "TEXCOORD_0": sq_uv},
+                             "indices": sq_idx, "material": 1}]}],
+        "buffers": [{"byteLength": len(b.data),
+                     "uri": "data:application/octet-stream;base64," +
+                            base64.b64encode(b.data).decode()}],
+        "bufferViews": b.views,
+        "accessors": b.accessors,
+    }
+
+
 def glb(doc, bin_data):
     js = json.dumps(doc).encode()
     js += b" " * (-len(js) % 4)
@@ -379,6 +449,9 @@ def main():
         f.write("\n")
     with open(os.path.join(HERE, "variants.gltf"), "w") as f:
         json.dump(variants(), f, indent=1)
+        f.write("\n")
+    with open(os.path.join(HERE, "material_layers.gltf"), "w") as f:
+        json.dump(material_layers(), f, indent=1)
         f.write("\n")
     with open(os.path.join(HERE, "pbr_materials.gltf"), "w") as f:
         json.dump(pbr_materials(), f, indent=1)
