@@ -63,8 +63,7 @@ void SceneOverrides::apply(SceneDescription* desc) const {
   if (noDefaultLight) r.defaultLight = false;
   if (variant) {
     if (std::find(desc->variants.begin(), desc->variants.end(), *variant) == desc->variants.end()) {
-      std::string names;
-      for (const std::string& n : desc->variants) names += (names.empty() ? "'" : ", '") + n + "'";
+      const std::string names = quotedNames(desc->variants);
       throw SceneError({"command line", "--variant"},
                        "no material variant named '" + *variant + "' in " + desc->file +
                            (names.empty() ? " (it has none)" : " (variants: " + names + ")"));
@@ -103,9 +102,9 @@ void SceneOverrides::apply(SceneDescription* desc) const {
     bool known = std::any_of(desc->cameras.begin(), desc->cameras.end(),
                              [&](const CameraDesc& c) { return c.name == *camera; });
     if (!known) {
-      std::string names;
-      for (const CameraDesc& c : desc->cameras)
-        names += (names.empty() ? "'" : ", '") + c.name + "'";
+      std::vector<std::string> cameras;
+      for (const CameraDesc& c : desc->cameras) cameras.push_back(c.name);
+      const std::string names = quotedNames(cameras);
       throw SceneError({"command line", "--camera"},
                        "no camera named '" + *camera + "' in " + desc->file +
                            (names.empty() ? " (it has no cameras)" : " (cameras: " + names + ")"));

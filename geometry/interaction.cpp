@@ -60,6 +60,27 @@ void triangleTangents(const TriangleMesh& mesh, const Transform& xf, bool identi
   }
 }
 
+// TEXCOORD_1 at the hit, and the Jacobian d uv1 / d uv of the triangle (affine in both), so
+// that a pixel footprint in uv carries over to uv1.
+void secondUvSet(const TriangleMesh& mesh, uint32_t i0, uint32_t i1, uint32_t i2, float b0,
+                 float b1, float b2, SurfaceInteraction* si) {
+  const Vec2f a0 = mesh.uvs1[i0], a1 = mesh.uvs1[i1], a2 = mesh.uvs1[i2];
+  si->uv1 = b0 * a0 + b1 * a1 + b2 * a2;
+  Vec2f u0{0, 0}, u1{1, 0}, u2{0, 1};
+  if (!mesh.uvs.empty()) u0 = mesh.uvs[i0], u1 = mesh.uvs[i1], u2 = mesh.uvs[i2];
+  // [d uv1] = J [d uv] for the edges (1 - 0) and (2 - 0): J = A U^-1.
+  const Vec2f du1 = u1 - u0, du2 = u2 - u0, da1 = a1 - a0, da2 = a2 - a0;
+  const float det = du1.x * du2.y - du2.x * du1.y;
+  if (!(std::abs(det) > 1e-20f)) return;
+  const float inv = 1 / det;
+  // U^-1 = [du2.y, -du2.x; -du1.y, du1.x] / det; the columns of J are d uv1 / du and / dv.
+  const Vec2f dAdu = (da1 * du2.y - da2 * du1.y) * inv;
+  const Vec2f dAdv = (da2 * du1.x - da1 * du2.x) * inv;
+  if (std::isfinite(dAdu.x) && std::isfinite(dAdu.y) && std::isfinite(dAdv.x) &&
+      std::isfinite(dAdv.y))
+    si->duv1du = dAdu, si->duv1dv = dAdv;
+}
+
 // Embree intersects an instanced mesh by moving the ray into object space itself, in float
 // and without error bounds: the origin o of a ray spawned from p becomes W o (W = M^-1, which
 // Embree inverts in float too), off by about gamma(k) (|W| |o| + |W_t|) on each object axis;
@@ -147,6 +168,8 @@ Vec3f instanceRayTransformError(const Transform& xf, Vec3f p) {
       si.uv = b0 * mesh.uvs[i0] + b1 * mesh.uvs[i1] + b2 * mesh.uvs[i2];
     else
       si.uv = {b1, b2};
+    si.uv1 = si.uv;
+    if (!mesh.uvs1.empty()) secondUvSet(mesh, i0, i1, i2, b0, b1, b2, &si);
   }
   if (needs.tangents) {
     triangleTangents(mesh, xf, identity, i0, i1, i2, &si);

@@ -29,6 +29,10 @@ struct SurfaceInteraction {
   Vec3f nsUnperturbed;      // ns before a bump or normal map changed it (set only then)
   Vec3f wo;                 // unit direction back along the ray
   Vec2f uv;                 // TEXCOORD_0 (or barycentrics when the mesh has none); a shape's own uv
+  Vec2f uv1;                // TEXCOORD_1 (uv when the mesh has no second set)
+  // How uv1 changes with uv across the triangle (columns d uv1 / du, d uv1 / dv): carries uv's
+  // pixel footprint over to uv1 (identity without a second set).
+  Vec2f duv1du{1, 0}, duv1dv{0, 1};
   Vec3f dpdu, dpdv;         // world-space partial derivatives of p by uv (triangles: only with
                             // SurfaceNeeds::tangents; zero otherwise)
   Vec4f color{1, 1, 1, 1};  // COLOR_0, white when absent
@@ -43,6 +47,7 @@ struct SurfaceInteraction {
   // pixel to the next (zero unless the renderer computes them: RayCone, setPixelFootprint).
   Vec3f dpdx, dpdy;
   Vec2f duvdx, duvdy;
+  Vec2f duv1dx, duv1dy;  // the same for uv1
   // The object's own frame, for object-space textures (null: the world frame). Set by the
   // renderer, which knows the placement each object was authored in; for a moving instance it
   // is the inverse of worldFromObjectAt(ray time), held by the caller, so the texture moves

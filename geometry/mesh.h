@@ -18,6 +18,7 @@ struct TriangleMesh {
   std::vector<Vec3f> normals;
   std::vector<Vec4f> tangents;  // xyz: unit tangent, w: bitangent handedness (+-1)
   std::vector<Vec2f> uvs;
+  std::vector<Vec2f> uvs1;  // a second texture coordinate set (glTF TEXCOORD_1)
   std::vector<Vec4f> colors;
   std::vector<uint32_t> indices;  // 3 per triangle
   // Back faces are invisible (glTF doubleSided false): a ray that reaches a triangle from

@@ -31,11 +31,13 @@ Vec2f scale2(Vec2f v, Vec3f s) { return {v.x * s.x, v.y * s.y}; }
 TexCoord2 TextureMapping::map2D(const TexturePoint& tp) const {
   TexCoord2 c;
   switch (space) {
-    case Space::Uv:
-      c.st = rotateUv(scale2(tp.uv, scale)) + Vec2f{offset.x, offset.y};
-      c.dstdx = rotateUv(scale2(tp.duvdx, scale));
-      c.dstdy = rotateUv(scale2(tp.duvdy, scale));
+    case Space::Uv: {
+      const bool second = uvSet == 1;
+      c.st = rotateUv(scale2(second ? tp.uv1 : tp.uv, scale)) + Vec2f{offset.x, offset.y};
+      c.dstdx = rotateUv(scale2(second ? tp.duv1dx : tp.duvdx, scale));
+      c.dstdy = rotateUv(scale2(second ? tp.duv1dy : tp.duvdy, scale));
       break;
+    }
     case Space::Object:
     case Space::World: {
       Vec3f dx = map3DVector(tp, tp.dpdx), dy = map3DVector(tp, tp.dpdy);

@@ -21,6 +21,7 @@ struct TexturePoint {
   Vec3f p;             // world-space position
   Vec2f uv;            // the primitive's UVs
   Vec2f duvdx, duvdy;  // change of uv across one pixel (zero: point sample)
+  Vec2f uv1, duv1dx, duv1dy;  // the second UV set (glTF TEXCOORD_1) and its footprint
   Vec3f dpdx, dpdy;    // change of p across one pixel (zero: point sample)
   // The object's own frame, for object-space mapping (null: the world frame).
   const Transform* objectFromWorld = nullptr;
@@ -32,6 +33,9 @@ struct TexturePoint {
         uv(si.uv),
         duvdx(si.duvdx),
         duvdy(si.duvdy),
+        uv1(si.uv1),
+        duv1dx(si.duv1dx),
+        duv1dy(si.duv1dy),
         dpdx(si.dpdx),
         dpdy(si.dpdy),
         objectFromWorld(si.objectFromWorld),
@@ -59,6 +63,7 @@ struct TextureMapping {
   // UV space only: uv' = offset + R (scale * uv), R a rotation by `uvRotation` radians as
   // glTF's KHR_texture_transform defines it: R (x, y) = (x cos - y sin, x sin + y cos).
   float uvCos = 1, uvSin = 0;
+  int uvSet = 0;  // UV space: 0 reads TexturePoint::uv, 1 uv1 (glTF texCoord)
 
   void setUvRotation(float radians) { uvCos = std::cos(radians), uvSin = std::sin(radians); }
   Vec2f rotateUv(Vec2f v) const { return {v.x * uvCos - v.y * uvSin, v.x * uvSin + v.y * uvCos}; }

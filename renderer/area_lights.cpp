@@ -26,7 +26,7 @@ Rgb AreaEmission::at(Vec3f p, Vec3f n, Vec3f ns, Vec2f uv, Vec3f wo) const {
   si.ng = c >= 0 ? n : -n;
   si.ns = dot(ns, si.ng) >= 0 ? ns : -ns;
   si.wo = wo;
-  si.uv = uv;
+  si.uv = si.uv1 = uv;  // (a light's samples carry TEXCOORD_0 only)
   si.frontFace = c >= 0;
   si.objectFromWorld = &objectFromWorld;
   si.instance = instance;

@@ -146,6 +146,8 @@ void InstantRadiosityIntegrator::traceLightPaths(int paths, uint64_t seed) {
       MovingFrame movingFrame;
       SurfaceInteraction si = shadingPoint(ray, hit, RayCone{}, materialIndex, &movingFrame);
       TextureLookups lookups(si);
+      throughput *= insideTransmittance(material, shading, si, hit.t * length(ray.d));
+      if (!(maxComponent(throughput) > 0)) break;
 
       // Partly transparent: light passes straight through with probability 1 - opacity.
       if (shading.transparent && uPass >= material.opacity(si, lookups)) {

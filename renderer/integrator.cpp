@@ -19,7 +19,7 @@ void setPixelFootprint(SurfaceInteraction& si, Vec3f d, float width) {
   const float a00 = dot(si.dpdu, si.dpdu), a01 = dot(si.dpdu, si.dpdv), a11 = dot(si.dpdv, si.dpdv);
   const float det = a00 * a11 - a01 * a01;
   if (!(det > 0) || !std::isfinite(det)) {
-    si.duvdx = si.duvdy = {};
+    si.duvdx = si.duvdy = si.duv1dx = si.duv1dy = {};
     return;
   }
   auto solve = [&](Vec3f dp) {
@@ -32,6 +32,8 @@ void setPixelFootprint(SurfaceInteraction& si, Vec3f d, float width) {
   };
   si.duvdx = solve(si.dpdx);
   si.duvdy = solve(si.dpdy);
+  si.duv1dx = si.duv1du * si.duvdx.x + si.duv1dv * si.duvdx.y;
+  si.duv1dy = si.duv1du * si.duvdy.x + si.duv1dv * si.duvdy.y;
 }
 
 Integrator::Integrator(const RenderScene& scene) : scene_(scene) {

@@ -78,8 +78,9 @@ const CameraDesc* selectCamera(const SceneDescription& desc) {
   if (name.empty()) return desc.cameras.empty() ? nullptr : &desc.cameras.front();
   for (const CameraDesc& c : desc.cameras)
     if (c.name == name) return &c;
-  std::string known;
-  for (const CameraDesc& c : desc.cameras) known += (known.empty() ? "'" : ", '") + c.name + "'";
+  std::vector<std::string> names;
+  for (const CameraDesc& c : desc.cameras) names.push_back(c.name);
+  const std::string known = quotedNames(names);
   throw SceneError(
       commandLineOr(desc, "/render/camera"),
       "no camera named '" + name + "'" +
@@ -139,6 +140,7 @@ TextureMapping toMapping(const MappingDesc& d) {
   m.scale = d.scale;
   m.offset = d.offset;
   m.setUvRotation(d.uvRotation);
+  m.uvSet = d.uvSet;
   return m;
 }
 
@@ -597,6 +599,7 @@ void buildMeshes(const SceneDescription& desc, const ShutterTimes& shutter, Rend
     mesh.normals = md.normals;
     mesh.tangents = md.tangents;
     mesh.uvs = md.uvs;
+    mesh.uvs1 = md.uvs1;
     mesh.colors = md.colors;
     mesh.indices = md.indices;
     Transform placement = world;
@@ -720,7 +723,7 @@ Bounds3f framingBounds(const SceneDescription& desc, const Bounds3f& now) {
       const Transform world = inst.transformNode >= 0
                                   ? worldFromNode(desc.nodes, inst.transformNode, t) * inst.nodeFromObject
                                   : inst.worldFromObject;
-      for (Vec3f p : posedMesh(desc, inst, t).positions) b.extend(world.point(p));
+      for (Vec3f p : posedPositions(desc, inst, t)) b.extend(world.point(p));
     }
   }
   std::vector<double> times;
@@ -802,8 +805,7 @@ void checkVariant(const SceneDescription& desc) {
   const std::string& v = desc.render.variant;
   if (v.empty() || std::find(desc.variants.begin(), desc.variants.end(), v) != desc.variants.end())
     return;
-  std::string names;
-  for (const std::string& n : desc.variants) names += (names.empty() ? "'" : ", '") + n + "'";
+  const std::string names = quotedNames(desc.variants);
   throw SceneError({desc.file, "/render/variant"},
                    "no material variant named '" + v + "'" +
                        (names.empty() ? " (the scene has none)" : " (variants: " + names + ")"));

@@ -69,60 +69,82 @@ Vec3f normalizedOr(Vec3f v, Vec3f fallback) {
 
 }  // namespace
 
-MeshDesc posedMesh(const SceneDescription& scene, const InstanceDesc& inst, double time) {
-  MeshDesc mesh = scene.meshes[size_t(inst.mesh)];
+namespace {
+
+// Poses the attributes the caller asks for (null: not wanted) of instance `inst`'s mesh at
+// `time`; each must hold the mesh's own values on entry.
+void pose(const SceneDescription& scene, const InstanceDesc& inst, double time,
+          std::vector<Vec3f>* positions, std::vector<Vec3f>* normals,
+          std::vector<Vec4f>* tangents) {
+  const MeshDesc& mesh = scene.meshes[size_t(inst.mesh)];
   const size_t n = mesh.positions.size();
   if (!mesh.targets.empty()) {
     const std::vector<float> w = morphWeightsAt(scene, inst, time);
     for (size_t t = 0; t < mesh.targets.size(); ++t) {
       if (w[t] == 0) continue;
       const MorphTargetDesc& target = mesh.targets[t];
-      for (size_t i = 0; i < target.positions.size(); ++i)
-        mesh.positions[i] += w[t] * target.positions[i];
-      for (size_t i = 0; i < target.normals.size() && i < mesh.normals.size(); ++i)
-        mesh.normals[i] += w[t] * target.normals[i];
-      for (size_t i = 0; i < target.tangents.size() && i < mesh.tangents.size(); ++i) {
-        const Vec3f d = w[t] * target.tangents[i];
-        mesh.tangents[i] = {mesh.tangents[i].x + d.x, mesh.tangents[i].y + d.y,
-                            mesh.tangents[i].z + d.z, mesh.tangents[i].w};
+      for (size_t i = 0; i < target.positions.size(); ++i) (*positions)[i] += w[t] * target.positions[i];
+      if (normals)
+        for (size_t i = 0; i < target.normals.size() && i < normals->size(); ++i)
+          (*normals)[i] += w[t] * target.normals[i];
+      if (tangents)
+        for (size_t i = 0; i < target.tangents.size() && i < tangents->size(); ++i) {
+          const Vec3f d = w[t] * target.tangents[i];
+          Vec4f& tv = (*tangents)[i];
+          tv = {tv.x + d.x, tv.y + d.y, tv.z + d.z, tv.w};
+        }
+    }
+    if (normals)
+      for (Vec3f& nv : *normals) nv = normalizedOr(nv, {0, 0, 1});
+    if (tangents)
+      for (Vec4f& tv : *tangents) {
+        const Vec3f t = normalizedOr({tv.x, tv.y, tv.z}, {1, 0, 0});
+        tv = {t.x, t.y, t.z, tv.w};
       }
-    }
-    for (Vec3f& nv : mesh.normals) nv = normalizedOr(nv, {0, 0, 1});
-    for (Vec4f& tv : mesh.tangents) {
-      const Vec3f t = normalizedOr({tv.x, tv.y, tv.z}, {1, 0, 0});
-      tv = {t.x, t.y, t.z, tv.w};
-    }
-    mesh.targets.clear();
   }
-  if (inst.skin >= 0 && !mesh.joints.empty()) {
-    const SkinDesc& skin = scene.skins[size_t(inst.skin)];
-    std::vector<Mat4> joint(skin.joints.size());
-    for (size_t j = 0; j < joint.size(); ++j) {
-      const SkinDesc::Joint& sj = skin.joints[j];
-      const Transform world = sj.node >= 0 ? worldFromNode(scene.nodes, sj.node, time) : sj.world;
-      joint[j] = world.matrix() * skin.inverseBind[j].matrix();
-    }
-    for (size_t i = 0; i < n; ++i) {
-      const Vec4f wv = mesh.jointWeights[i];
-      const float w[4] = {wv.x, wv.y, wv.z, wv.w};
-      const float sum = w[0] + w[1] + w[2] + w[3];
-      if (!(sum > 0)) continue;  // no influence: the vertex stays where the file put it
-      Affine blend;
-      for (int k = 0; k < 4; ++k)
-        if (w[k] > 0) blend.add(joint[mesh.joints[i][size_t(k)]], w[k] / sum);
-      mesh.positions[i] = blend.point(mesh.positions[i]);
-      if (!mesh.normals.empty())
-        mesh.normals[i] = normalizedOr(blend.normal(mesh.normals[i]), mesh.normals[i]);
-      if (!mesh.tangents.empty()) {
-        const Vec4f tv = mesh.tangents[i];
-        const Vec3f t = normalizedOr(blend.vector({tv.x, tv.y, tv.z}), {tv.x, tv.y, tv.z});
-        mesh.tangents[i] = {t.x, t.y, t.z, tv.w};
-      }
+  if (inst.skin < 0 || mesh.joints.empty()) return;
+  const SkinDesc& skin = scene.skins[size_t(inst.skin)];
+  std::vector<Mat4> joint(skin.joints.size());
+  for (size_t j = 0; j < joint.size(); ++j) {
+    const SkinDesc::Joint& sj = skin.joints[j];
+    const Transform world = sj.node >= 0 ? worldFromNode(scene.nodes, sj.node, time) : sj.world;
+    joint[j] = world.matrix() * skin.inverseBind[j].matrix();
+  }
+  for (size_t i = 0; i < n; ++i) {
+    const Vec4f wv = mesh.jointWeights[i];
+    const float w[4] = {wv.x, wv.y, wv.z, wv.w};
+    const float sum = w[0] + w[1] + w[2] + w[3];
+    if (!(sum > 0)) continue;  // no influence: the vertex stays where the file put it
+    Affine blend;
+    for (int k = 0; k < 4; ++k)
+      if (w[k] > 0) blend.add(joint[mesh.joints[i][size_t(k)]], w[k] / sum);
+    (*positions)[i] = blend.point((*positions)[i]);
+    if (normals && !normals->empty())
+      (*normals)[i] = normalizedOr(blend.normal((*normals)[i]), (*normals)[i]);
+    if (tangents && !tangents->empty()) {
+      const Vec4f tv = (*tangents)[i];
+      const Vec3f t = normalizedOr(blend.vector({tv.x, tv.y, tv.z}), {tv.x, tv.y, tv.z});
+      (*tangents)[i] = {t.x, t.y, t.z, tv.w};
     }
   }
+}
+
+}  // namespace
+
+MeshDesc posedMesh(const SceneDescription& scene, const InstanceDesc& inst, double time) {
+  MeshDesc mesh = scene.meshes[size_t(inst.mesh)];
+  pose(scene, inst, time, &mesh.positions, &mesh.normals, &mesh.tangents);
+  mesh.targets.clear();
   mesh.joints.clear();
   mesh.jointWeights.clear();
   return mesh;
+}
+
+std::vector<Vec3f> posedPositions(const SceneDescription& scene, const InstanceDesc& inst,
+                                  double time) {
+  std::vector<Vec3f> positions = scene.meshes[size_t(inst.mesh)].positions;
+  pose(scene, inst, time, &positions, nullptr, nullptr);
+  return positions;
 }
 
 }  // namespace glint

@@ -27,5 +27,8 @@ std::vector<float> morphWeightsAt(const SceneDescription& scene, const InstanceD
 // tangents are posed (in world space when skinned, else in the instance's object space), with
 // no targets or joints left.
 MeshDesc posedMesh(const SceneDescription& scene, const InstanceDesc& inst, double time);
+// Its posed positions alone (what framing needs), without copying the rest of the mesh.
+std::vector<Vec3f> posedPositions(const SceneDescription& scene, const InstanceDesc& inst,
+                                  double time);
 
 }  // namespace glint

@@ -43,6 +43,7 @@ struct MappingDesc {
   // UV space only: a rotation (radians) between the scale and the offset, glTF's
   // KHR_texture_transform (see TextureMapping).
   float uvRotation = 0;
+  int uvSet = 0;  // UV space: which texture coordinate set (glTF texCoord 0 or 1)
 };
 
 enum class TextureKind {
@@ -179,6 +180,7 @@ struct MeshDesc {
   std::vector<Vec3f> normals;     // empty, or one unit normal per position
   std::vector<Vec4f> tangents;    // TANGENT: empty, or unit xyz + handedness w = +-1
   std::vector<Vec2f> uvs;         // TEXCOORD_0: empty or one per position
+  std::vector<Vec2f> uvs1;        // TEXCOORD_1: empty or one per position
   std::vector<Vec4f> colors;      // COLOR_0 (linear RGBA): empty or one per position
   std::vector<uint32_t> indices;  // 3 per triangle; generated 0..n-1 when the file has none
   int material = -1;              // -1 = the default material (white Lambert)

@@ -35,4 +35,10 @@ std::string SourceLocation::str() const {
 SceneError::SceneError(SourceLocation where, const std::string& message)
     : InputError(where.str() + ": " + message), where_(std::move(where)), message_(message) {}
 
+std::string quotedNames(const std::vector<std::string>& names) {
+  std::string list;
+  for (const std::string& n : names) list += (list.empty() ? "'" : ", '") + n + "'";
+  return list;
+}
+
 }  // namespace glint

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "geometry/error.h"
 
@@ -31,5 +32,8 @@ class SceneError : public InputError {
   SourceLocation where_;
   std::string message_;
 };
+
+// "'a', 'b', 'c'": the names an error message offers as the choices there were.
+std::string quotedNames(const std::vector<std::string>& names);
 
 }  // namespace glint

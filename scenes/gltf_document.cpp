@@ -29,6 +29,12 @@ class Object {
   SourceLocation at(const std::string& key) const { return where_.child(key); }
   bool has(const std::string& key) const { return value_.contains(key); }
   const json& raw(const std::string& key) const { return value_.at(key); }
+  // The object's keys, in the file's order.
+  std::vector<std::string> keys() const {
+    std::vector<std::string> k;
+    for (auto it = value_.begin(); it != value_.end(); ++it) k.push_back(it.key());
+    return k;
+  }
 
   void require(const std::string& key) const {
     if (!has(key)) throw SceneError(where_, "missing required property '" + key + "'");
@@ -558,10 +564,11 @@ void readMaterials(const Object& root, Document* doc) {
           &lt.clearcoatRoughness, &lt.clearcoatNormal, &lt.sheenColor, &lt.sheenRoughness,
           &lt.diffuseTransmission, &lt.diffuseTransmissionColor, &lt.iridescence,
           &lt.iridescenceThickness, &lt.anisotropy})
-      if (r->index >= 0 && r->texCoord != 0)
+      if (r->index >= 0 && r->texCoord > 1)
         doc->warnings.push_back(r->where.child("texCoord").str() + ": texCoord " +
                                 std::to_string(r->texCoord) +
-                                " is not supported; TEXCOORD_0 is used instead");
+                                " is not supported (glint reads TEXCOORD_0 and TEXCOORD_1); "
+                                "TEXCOORD_0 is used instead");
     doc->materials.push_back(m);
   }
 }
@@ -617,6 +624,7 @@ void readMeshes(const Object& root, Document* doc) {
       p.normal = attributes.index("NORMAL", accessors, "accessor");
       p.tangent = attributes.index("TANGENT", accessors, "accessor");
       p.texcoord0 = attributes.index("TEXCOORD_0", accessors, "accessor");
+      p.texcoord1 = attributes.index("TEXCOORD_1", accessors, "accessor");
       p.color0 = attributes.index("COLOR_0", accessors, "accessor");
       p.joints0 = attributes.index("JOINTS_0", accessors, "accessor");
       p.weights0 = attributes.index("WEIGHTS_0", accessors, "accessor");
@@ -655,6 +663,23 @@ void readMeshes(const Object& root, Document* doc) {
             if (variants.empty()) throw SceneError(mo.at("variants"), "must not be empty");
             p.variantMappings.emplace_back(material, std::move(variants));
           }
+        }
+        if (pext.has("KHR_draco_mesh_compression")) {
+          Object dr = pext.object("KHR_draco_mesh_compression");
+          Primitive::Draco d;
+          d.where = dr.where();
+          d.bufferView = dr.index("bufferView", doc->bufferViews.size(), "bufferView", true);
+          dr.require("attributes");
+          Object da = dr.object("attributes");
+          for (const std::string& name : da.keys()) {
+            if (!attributes.has(name))
+              throw SceneError(da.at(name), "names attribute " + name +
+                                                " that the primitive's attributes do not have");
+            d.attributes.emplace_back(name, int(da.size(name, 0)));
+          }
+          if (p.indices < 0)
+            throw SceneError(dr.where(), "a Draco-compressed primitive needs an indices accessor");
+          p.draco = std::move(d);
         }
       }
       size_t mode = po.size("mode", kTriangles);
@@ -1137,7 +1162,8 @@ const char* const kSupportedExtensions[] = {
     "EXT_mesh_gpu_instancing", "EXT_texture_webp", "KHR_materials_variants",
     "KHR_materials_specular", "KHR_materials_clearcoat", "KHR_materials_sheen",
     "KHR_materials_volume", "KHR_materials_iridescence", "KHR_materials_anisotropy",
-    "KHR_materials_dispersion", "KHR_materials_diffuse_transmission"};
+    "KHR_materials_dispersion", "KHR_materials_diffuse_transmission",
+    "KHR_draco_mesh_compression"};
 
 bool isSupportedExtension(const std::string& name) {
   return std::find(std::begin(kSupportedExtensions), std::end(kSupportedExtensions), name) !=

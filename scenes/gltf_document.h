@@ -121,12 +121,20 @@ struct MorphTarget {
 
 struct Primitive {
   // Accessor indices of the attributes glint reads (-1 = absent).
-  int position = -1, normal = -1, tangent = -1, texcoord0 = -1, color0 = -1;
+  int position = -1, normal = -1, tangent = -1, texcoord0 = -1, texcoord1 = -1, color0 = -1;
   int joints0 = -1, weights0 = -1;  // skinning: four joint influences per vertex
   bool moreJoints = false;          // JOINTS_1 / WEIGHTS_1 given (ignored, with a warning)
   std::vector<MorphTarget> targets;
   // KHR_materials_variants: (material, variant indices) mappings.
   std::vector<std::pair<int, std::vector<int>>> variantMappings;
+  // KHR_draco_mesh_compression: the compressed data's buffer view and the Draco attribute id of
+  // each glTF attribute it holds; the primitive's accessors then describe the decoded data.
+  struct Draco {
+    int bufferView = -1;
+    std::vector<std::pair<std::string, int>> attributes;  // glTF name, Draco unique id
+    SourceLocation where;
+  };
+  std::optional<Draco> draco;
   int indices = -1;
   int material = -1;
   int mode = kTriangles;

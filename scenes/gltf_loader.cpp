@@ -8,6 +8,8 @@
 // the default scene is instanced.
 #include "scenes/gltf_loader.h"
 
+#include "scenes/gltf_draco.h"
+
 #include <tiny_gltf.h>
 
 #include <cmath>
@@ -318,6 +320,35 @@ bool loadImageWithinLimits(tinygltf::Image* image, const int index, std::string*
   return true;
 }
 
+// What tinygltf is given: the file with only the sections it decodes for glint (asset,
+// buffers, buffer views, images: URIs, data URIs and the GLB's BIN chunk). Everything else
+// comes from the first pass, so tinygltf checks nothing glint reads differently (a
+// Draco-compressed primitive's indices accessor has no buffer view, which tinygltf rejects).
+std::string forTinygltf(const std::string& bytes, bool binary, const nlohmann::json& json) {
+  nlohmann::json reduced = nlohmann::json::object();
+  for (const char* key : {"asset", "buffers", "bufferViews", "images"})
+    if (json.contains(key)) reduced[key] = json[key];
+  std::string text = reduced.dump();
+  if (!binary) return text;
+  // The GLB again: its header, the new JSON chunk (space-padded to 4 bytes), then every chunk
+  // that followed the old one, unchanged.
+  text.append((4 - text.size() % 4) % 4, ' ');
+  const size_t rest = 20 + size_t(readU32(bytes, 12));
+  const uint32_t length = uint32_t(20 + text.size() + (bytes.size() - rest));
+  std::string glb;
+  auto u32 = [&](uint32_t v) {
+    for (int i = 0; i < 4; ++i) glb.push_back(char((v >> (8 * i)) & 0xff));
+  };
+  u32(kGlbMagic);
+  u32(2);
+  u32(length);
+  u32(uint32_t(text.size()));
+  u32(kChunkJson);
+  glb += text;
+  glb.append(bytes, rest, std::string::npos);
+  return glb;
+}
+
 tinygltf::Model decode(const std::string& bytes, bool binary, const fs::path& folder,
                        const std::string& file) {
   FolderGuard guard{folder};
@@ -390,6 +421,7 @@ class AccessorReader {
   // [0, 1] or [-1, 1]), with sparse substitution applied. Byte ranges were checked against the
   // declared lengths in the first pass; here they are checked against the decoded data.
   std::vector<double> read(int index) const {
+    if (auto it = decoded_.find(index); it != decoded_.end()) return it->second;
     const Accessor& a = doc_.accessors[size_t(index)];
     size_t n = size_t(a.components);
     std::vector<double> out(a.count * n, 0.0);
@@ -435,6 +467,17 @@ class AccessorReader {
             readComponent(p + col * columnBytes + size_t(r) * c, a.componentType, a.normalized);
   }
 
+ public:
+  // Values decoded from a compressed primitive (KHR_draco_mesh_compression) stand in for the
+  // accessors they describe until the next call.
+  void setDecoded(std::map<int, std::vector<double>> decoded) { decoded_ = std::move(decoded); }
+  // The bytes of a buffer view.
+  const uint8_t* view(int index, size_t* size, const SourceLocation& where) const {
+    *size = doc_.bufferViews[size_t(index)].byteLength;
+    return viewData(index, 0, *size, where);
+  }
+
+ private:
   const uint8_t* viewData(int view, size_t offset, size_t bytes,
                           const SourceLocation& where) const {
     const gltf::BufferView& v = doc_.bufferViews[size_t(view)];
@@ -448,6 +491,7 @@ class AccessorReader {
 
   const Document& doc_;
   const tinygltf::Model& model_;
+  std::map<int, std::vector<double>> decoded_;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -513,22 +557,26 @@ class Loader {
       d.type = m.unlit ? MaterialType::Unlit : MaterialType::Pbr;
       d.baseColor = {m.baseColorFactor.x, m.baseColorFactor.y, m.baseColorFactor.z};
       d.opacity = m.baseColorFactor.w;
-      // A texture reference: the file's texture, or with KHR_texture_transform a copy of it
-      // with that UV transform (one copy per distinct transform; the image is shared).
+      // A texture reference: the file's texture, or a copy of it that reads TEXCOORD_1 and/or
+      // applies KHR_texture_transform's UV transform (one copy per distinct use; the image is
+      // shared). Sets above 1 were warned about and read TEXCOORD_0.
       auto texture = [&](const gltf::TextureRef& r) {
         if (r.index < 0) return -1;
         const int base = textureBase_ + r.index;
-        if (!r.transformed) return base;
-        const auto key = std::make_tuple(base, r.offset.x, r.offset.y, r.scale.x, r.scale.y,
-                                         r.rotation);
+        const int uvSet = r.texCoord == 1 ? 1 : 0;
+        if (!r.transformed && uvSet == 0) return base;
+        const auto key = std::make_tuple(base, uvSet, r.offset.x, r.offset.y, r.scale.x,
+                                         r.scale.y, r.rotation);
         if (auto it = transformedTextures_.find(key); it != transformedTextures_.end())
           return it->second;
         TextureDesc t = scene_->textures[size_t(base)];
-        t.name += " (KHR_texture_transform)";
+        t.name += r.transformed ? " (KHR_texture_transform)" : " (TEXCOORD_1)";
         t.mapping.scale = {r.scale.x, r.scale.y, 1};
         t.mapping.offset = {r.offset.x, r.offset.y, 0};
         t.mapping.uvRotation = r.rotation;
-        t.where = r.where.child("extensions").child("KHR_texture_transform");
+        t.mapping.uvSet = uvSet;
+        t.where = r.transformed ? r.where.child("extensions").child("KHR_texture_transform")
+                                : r.where;
         scene_->textures.push_back(t);
         return transformedTextures_[key] = int(scene_->textures.size() - 1);
       };
@@ -1072,6 +1120,17 @@ class Loader {
     MeshDesc mesh;
     mesh.name = name;
     mesh.where = p.where;
+    // A Draco-compressed primitive: its accessors read the decoded values (only while this
+    // primitive is converted).
+    struct ClearDecoded {
+      AccessorReader& reader;
+      ~ClearDecoded() { reader.setDecoded({}); }
+    } clearDecoded{reader_};
+    if (p.draco) {
+      size_t size = 0;
+      const uint8_t* bytes = reader_.view(p.draco->bufferView, &size, p.draco->where);
+      reader_.setDecoded(gltf::decodeDracoPrimitive(bytes, size, p, doc_));
+    }
 
     const Accessor& pa = attribute(p.position, p, "POSITION", {"VEC3"}, Kind::Position);
     std::vector<double> pos = reader_.read(p.position);
@@ -1122,18 +1181,21 @@ class Loader {
         mesh.tangents[i] = {t.x, t.y, t.z, w < 0 ? -1.0f : 1.0f};
       }
     }
-    if (p.texcoord0 >= 0) {
-      const Accessor& ta = attribute(p.texcoord0, p, "TEXCOORD_0", {"VEC2"}, Kind::TexCoord);
-      sameCount(p.texcoord0, "TEXCOORD_0");
-      std::vector<double> v = reader_.read(p.texcoord0);
-      mesh.uvs.resize(n);
+    auto readUvs = [&](int accessor, const char* name, std::vector<Vec2f>* uvs) {
+      if (accessor < 0) return;
+      const Accessor& ta = attribute(accessor, p, name, {"VEC2"}, Kind::TexCoord);
+      sameCount(accessor, name);
+      std::vector<double> v = reader_.read(accessor);
+      uvs->resize(n);
       for (size_t i = 0; i < n; ++i) {
         Vec2f uv{float(v[2 * i]), float(v[2 * i + 1])};
         if (!std::isfinite(uv.x) || !std::isfinite(uv.y))
           throw SceneError(ta.where, "texture coordinate " + std::to_string(i) + " is not finite");
-        mesh.uvs[i] = uv;
+        (*uvs)[i] = uv;
       }
-    }
+    };
+    readUvs(p.texcoord0, "TEXCOORD_0", &mesh.uvs);
+    readUvs(p.texcoord1, "TEXCOORD_1", &mesh.uvs1);
     if (p.color0 >= 0) {
       const Accessor& ca = attribute(p.color0, p, "COLOR_0", {"VEC3", "VEC4"}, Kind::Color);
       sameCount(p.color0, "COLOR_0");
@@ -1237,8 +1299,9 @@ class Loader {
   AccessorReader reader_;
   SceneDescription* scene_;
   int imageBase_ = 0, textureBase_ = 0, materialBase_ = 0;
-  // Textures copied with a KHR_texture_transform: (texture, offset, scale, rotation) -> index.
-  std::map<std::tuple<int, float, float, float, float, float>, int> transformedTextures_;
+  // Textures copied for TEXCOORD_1 or a KHR_texture_transform: (texture, uv set, offset,
+  // scale, rotation) -> index.
+  std::map<std::tuple<int, int, float, float, float, float, float>, int> transformedTextures_;
   std::map<int, std::vector<int>> converted_;
   std::map<int, NodeTracks> tracks_;  // by glTF node index
   std::map<int, std::vector<Track<float>>> weightTracks_;  // by glTF node index
@@ -1275,7 +1338,7 @@ void loadGltfFromMemory(const std::string& bytes, const std::string& path,
   fs::path folder = canonicalOrSelf(fs::absolute(fs::path(path), ec).parent_path());
   checkSources(doc, folder, binary ? &glb : nullptr);
 
-  tinygltf::Model model = decode(bytes, binary, folder, path);
+  tinygltf::Model model = decode(forTinygltf(bytes, binary, json), binary, folder, path);
   if (model.buffers.size() != doc.buffers.size() || model.images.size() != doc.images.size())
     throw SceneError({path, ""}, "tinygltf decoded a different number of buffers or images");
 

@@ -98,11 +98,12 @@ void readRender(JsonReader& r, RenderSettings* s) {
 void checkRenderCamera(JsonReader& render, const SceneDescription& scene) {
   if (!render.has("camera")) return;
   const std::string& name = scene.render.camera;
-  std::string available;
+  std::vector<std::string> names;
   for (const CameraDesc& c : scene.cameras) {
     if (c.name == name) return;
-    available += (available.empty() ? "'" : ", '") + c.name + "'";
+    names.push_back(c.name);
   }
+  const std::string available = quotedNames(names);
   throw SceneError(render.where("camera"), "no camera named '" + name + "'; " +
                                                (available.empty() ? "the scene has no cameras"
                                                                   : "available: " + available));

@@ -680,7 +680,11 @@ KdTreeAccelerator::KdTreeAccelerator(const GeometryScene& scene, KdSplitMethod m
       // A tree over the mesh alone, in object space: what is traced is the ray taken to
       // object space at its time. Only positions, indices and sidedness are needed.
       GeometryScene alone;
-      alone.meshes.push_back({mesh.positions, {}, {}, {}, {}, mesh.indices, mesh.singleSided});
+      TriangleMesh shape;
+      shape.positions = mesh.positions;
+      shape.indices = mesh.indices;
+      shape.singleSided = mesh.singleSided;
+      alone.meshes.push_back(std::move(shape));
       alone.instances.push_back(Instance{0, Transform()});
       tree = int(meshTrees_.size());
       meshTrees_.push_back(std::make_unique<KdTreeAccelerator>(alone, method, cost));

@@ -186,5 +186,35 @@ TEST(MaterialRender, VolumeAbsorbsByBeerLambert) {
   }
 }
 
+// TEXCOORD_1 (tests/data/gltf/second_uv_set.gltf): a texture that names texCoord 1 reads the
+// second set (green), the same texture through texCoord 0 the first (red); the film shows the
+// square whose material reads set 1.
+TEST(MaterialRender, TexturesReadTheUvSetTheyName) {
+  SceneDescription d = loadScene(test::dataDir() + "/gltf/second_uv_set.gltf");
+  ASSERT_EQ(d.meshes.size(), 2u);
+  EXPECT_EQ(d.meshes[0].uvs1.size(), 4u);
+  d.render.width = 6;
+  d.render.height = 6;
+  d.render.spp = 2;
+  RenderScene scene = buildRenderScene(d);
+  auto integ = makeIntegrator(scene, d.render);
+  RenderOptions options;
+  options.threads = 2;
+  RenderStats stats;
+  const Film film = render(scene, *integ, d.render, options, &stats);
+  for (const Rgb& c : film.color) {
+    ASSERT_NEAR(c.x, 0, 1e-3f);
+    ASSERT_NEAR(c.y, 1, 1e-3f);
+    ASSERT_NEAR(c.z, 0, 1e-3f);
+  }
+  // The off-camera square's material reads set 0 of the same texture: red.
+  SurfaceInteraction si;
+  si.uv = {0.25f, 0.5f};
+  si.uv1 = {0.75f, 0.5f};
+  TextureLookups lookups(si);
+  EXPECT_NEAR(scene.materials[1]->albedo(si, lookups).x, 1, 1e-3f);
+  EXPECT_NEAR(scene.materials[0]->albedo(si, lookups).y, 1, 1e-3f);
+}
+
 }  // namespace
 }  // namespace glint

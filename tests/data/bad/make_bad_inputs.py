@@ -155,8 +155,8 @@ def main():
 
     # unsupported_required_extension.gltf
     doc, _ = triangle_gltf()
-    doc["extensionsUsed"] = ["KHR_draco_mesh_compression"]
-    doc["extensionsRequired"] = ["KHR_draco_mesh_compression"]
+    doc["extensionsUsed"] = ["EXT_meshopt_compression"]
+    doc["extensionsRequired"] = ["EXT_meshopt_compression"]
     write_json("unsupported_required_extension.gltf", doc)
 
     # texture_transform_nan_scale.gltf: KHR_texture_transform whose scale holds a NaN (JSON

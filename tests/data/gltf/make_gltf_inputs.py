@@ -2,7 +2,7 @@
 """Regenerates the hand-made valid glTF files in this folder, which exercise loader features
 the Khronos samples do not: strips and fans, sparse accessors, normalized u8/u16 attributes,
 8- and 16-bit PNGs, samplers, cameras, KHR_lights_punctual, emissive strength, a non-default
-`scene`, skipped POINTS primitives, texCoord 1, a file without `scenes`, a .glb, and morph
+`scene`, skipped POINTS primitives, texCoord 2 (unsupported), a second UV set, a file without `scenes`, a .glb, and morph
 targets with a skin whose poses have closed forms, and glTF's material extensions (a tinted
 volume whose render has a closed form).
 
@@ -139,7 +139,7 @@ def features():
         "materials": [
             {"name": "Glowing",
              "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.25, 1, 0.75],
-                                      "baseColorTexture": {"index": 0, "texCoord": 1},
+                                      "baseColorTexture": {"index": 0, "texCoord": 2},
                                       "metallicFactor": 0.25, "roughnessFactor": 0.5},
              "emissiveFactor": [1, 0.5, 0], "emissiveTexture": {"index": 1},
              "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 4}},
@@ -358,6 +358,46 @@ def variants():
     }
 
 
+def second_uv_set():
+    """TEXCOORD_1: a camera-filling square whose TEXCOORD_0 is (0.25, 0.5) everywhere and
+    TEXCOORD_1 (0.75, 0.5), under an unlit material whose base colour texture (2 x 1 pixels: red,
+    green; nearest filtering) reads texCoord 1: the image is green. A second material reads the
+    same texture through texCoord 0 (red), on a square off camera."""
+    b = Builder()
+    pos = b.accessor("f", flat([(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)]), 5126, "VEC3", 4,
+                     min=[-1, -1, 0], max=[1, 1, 0])
+    uv0 = b.accessor("f", flat([(0.25, 0.5)] * 4), 5126, "VEC2", 4)
+    uv1 = b.accessor("f", flat([(0.75, 0.5)] * 4), 5126, "VEC2", 4)
+    idx = b.accessor("H", [0, 1, 2, 0, 2, 3], 5123, "SCALAR", 6)
+    image = png(2, 1, 2, 8, [bytes([255, 0, 0, 0, 255, 0])])
+
+    def unlit(name, tex_coord):
+        return {"name": name, "pbrMetallicRoughness": {
+                    "baseColorTexture": {"index": 0, "texCoord": tex_coord}},
+                "extensions": {"KHR_materials_unlit": {}}}
+    attributes = {"POSITION": pos, "TEXCOORD_0": uv0, "TEXCOORD_1": uv1}
+    return {
+        "asset": {"version": "2.0", "generator": "glint make_gltf_inputs.py"},
+        "extensionsUsed": ["KHR_materials_unlit"],
+        "scenes": [{"nodes": [0, 1, 2]}],
+        "nodes": [{"mesh": 0}, {"mesh": 1, "translation": [5, 0, 0]},
+                  {"camera": 0, "translation": [0, 0, 2]}],
+        "cameras": [{"type": "orthographic",
+                     "orthographic": {"xmag": 0.5, "ymag": 0.5, "znear": 0.1, "zfar": 10}}],
+        "samplers": [{"magFilter": 9728, "minFilter": 9728}],
+        "images": [{"uri": "data:image/png;base64," + base64.b64encode(image).decode()}],
+        "textures": [{"sampler": 0, "source": 0}],
+        "materials": [unlit("second set", 1), unlit("first set", 0)],
+        "meshes": [{"primitives": [{"attributes": attributes, "indices": idx, "material": 0}]},
+                   {"primitives": [{"attributes": attributes, "indices": idx, "material": 1}]}],
+        "buffers": [{"byteLength": len(b.data),
+                     "uri": "data:application/octet-stream;base64," +
+                            base64.b64encode(b.data).decode()}],
+        "bufferViews": b.views,
+        "accessors": b.accessors,
+    }
+
+
 def material_layers():
     """glTF's material extensions. A cube [-1, 1]^3 of clear (ior 1), tinted KHR_materials_volume
     glass (attenuation colour (0.5, 0.25, 0.8) per unit distance) fills an orthographic camera
@@ -449,6 +489,9 @@ def main():
         f.write("\n")
     with open(os.path.join(HERE, "variants.gltf"), "w") as f:
         json.dump(variants(), f, indent=1)
+        f.write("\n")
+    with open(os.path.join(HERE, "second_uv_set.gltf"), "w") as f:
+        json.dump(second_uv_set(), f, indent=1)
         f.write("\n")
     with open(os.path.join(HERE, "material_layers.gltf"), "w") as f:
         json.dump(material_layers(), f, indent=1)
