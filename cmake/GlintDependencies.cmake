@@ -8,6 +8,7 @@ find_package(TinyGLTF REQUIRED)
 # PLY and OBJ import (scenes/mesh_import.cpp); Debian ships assimpConfig.cmake.
 find_package(assimp REQUIRED)
 find_package(draco REQUIRED)  # KHR_draco_mesh_compression (libdraco-dev)
+find_package(meshoptimizer REQUIRED)  # EXT_meshopt_compression (libmeshoptimizer-dev)
 find_package(nlohmann_json 3 REQUIRED)
 find_package(fmt REQUIRED)
 find_package(CLI11 REQUIRED)

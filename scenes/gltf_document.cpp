@@ -179,8 +179,64 @@ void readBuffers(const Object& root, Document* doc) {
     b.byteLength = o.requiredSize("byteLength");
     b.uri = o.string("uri");
     if (o.has("uri") && b.uri.empty()) throw SceneError(o.at("uri"), "empty URI");
+    if (o.has("extensions")) {
+      Object ext = o.object("extensions");
+      if (ext.has("EXT_meshopt_compression"))
+        b.fallback = ext.object("EXT_meshopt_compression").boolean("fallback", false);
+    }
     doc->buffers.push_back(b);
   }
+}
+
+// EXT_meshopt_compression on buffer view `v`: where the compressed bytes are and what they
+// decode to, checked against the extension's rules (strides per mode and filter, sizes).
+BufferView::Meshopt readMeshopt(const Object& o, const BufferView& v, const Document& doc) {
+  BufferView::Meshopt m;
+  m.where = o.where();
+  m.buffer = o.index("buffer", doc.buffers.size(), "buffer", true);
+  m.byteOffset = o.size("byteOffset", 0);
+  m.byteLength = o.requiredSize("byteLength");
+  m.byteStride = o.requiredSize("byteStride");
+  m.count = o.requiredSize("count");
+  o.require("mode");
+  m.mode = o.string("mode");
+  m.filter = o.string("filter", "NONE");
+  const size_t source = doc.buffers[size_t(m.buffer)].byteLength;
+  if (m.byteOffset > source || m.byteLength > source - m.byteOffset)
+    throw SceneError(m.where, "compressed bytes " + std::to_string(m.byteOffset) + ".." +
+                                  std::to_string(m.byteOffset + m.byteLength) +
+                                  " lie outside buffer " + std::to_string(m.buffer) + " (" +
+                                  plural(source, "byte") + ")");
+  const size_t s = m.byteStride;
+  if (m.mode == "ATTRIBUTES") {
+    if (s == 0 || s % 4 || s > 256)
+      throw SceneError(o.at("byteStride"), "must be a multiple of 4 up to 256 for ATTRIBUTES");
+  } else if (m.mode == "TRIANGLES" || m.mode == "INDICES") {
+    if (s != 2 && s != 4) throw SceneError(o.at("byteStride"), "must be 2 or 4 for " + m.mode);
+    if (m.mode == "TRIANGLES" && m.count % 3)
+      throw SceneError(o.at("count"), "must be a multiple of 3 for TRIANGLES");
+  } else {
+    throw SceneError(o.at("mode"), "must be ATTRIBUTES, TRIANGLES or INDICES (got '" + m.mode + "')");
+  }
+  if (m.filter != "NONE") {
+    if (m.mode != "ATTRIBUTES")
+      throw SceneError(o.at("filter"), "a filter needs mode ATTRIBUTES");
+    const bool ok = m.filter == "OCTAHEDRAL"    ? s == 4 || s == 8
+                    : m.filter == "QUATERNION"  ? s == 8
+                    : m.filter == "EXPONENTIAL" ? s % 4 == 0
+                                                : false;
+    if (!ok)
+      throw SceneError(o.at("filter"), "filter '" + m.filter + "' with byteStride " +
+                                           std::to_string(s) +
+                                           " (OCTAHEDRAL: 4 or 8, QUATERNION: 8, EXPONENTIAL: "
+                                           "a multiple of 4)");
+  }
+  constexpr size_t kLimit = size_t(1) << 40;
+  if (m.count > kLimit / std::max<size_t>(s, 1) || m.count * s > v.byteLength)
+    throw SceneError(o.at("count"), std::to_string(m.count) + " elements of " +
+                                        plural(s, "byte") + " do not fit the view's byteLength " +
+                                        std::to_string(v.byteLength));
+  return m;
 }
 
 void readBufferViews(const Object& root, Document* doc) {
@@ -200,6 +256,8 @@ void readBufferViews(const Object& root, Document* doc) {
                                     std::to_string(v.byteOffset + v.byteLength) +
                                     " lie outside buffer " + std::to_string(v.buffer) + " (" +
                                     plural(bufferLength, "byte") + ")");
+    if (o.has("extensions") && o.object("extensions").has("EXT_meshopt_compression"))
+      v.meshopt = readMeshopt(o.object("extensions").object("EXT_meshopt_compression"), v, *doc);
     doc->bufferViews.push_back(v);
   }
 }
@@ -1163,7 +1221,7 @@ const char* const kSupportedExtensions[] = {
     "KHR_materials_specular", "KHR_materials_clearcoat", "KHR_materials_sheen",
     "KHR_materials_volume", "KHR_materials_iridescence", "KHR_materials_anisotropy",
     "KHR_materials_dispersion", "KHR_materials_diffuse_transmission",
-    "KHR_draco_mesh_compression"};
+    "KHR_draco_mesh_compression", "EXT_meshopt_compression"};
 
 bool isSupportedExtension(const std::string& name) {
   return std::find(std::begin(kSupportedExtensions), std::end(kSupportedExtensions), name) !=

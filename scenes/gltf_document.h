@@ -21,7 +21,9 @@ inline constexpr int kByte = 5120, kUnsignedByte = 5121, kShort = 5122, kUnsigne
 
 struct Buffer {
   size_t byteLength = 0;
-  std::string uri;  // empty: the GLB BIN chunk
+  std::string uri;  // empty: the GLB BIN chunk (or, for a fallback, no data at all)
+  // EXT_meshopt_compression's placeholder for decompressed views: it may have no data.
+  bool fallback = false;
   SourceLocation where;
 };
 
@@ -29,6 +31,16 @@ struct BufferView {
   int buffer = -1;
   size_t byteOffset = 0, byteLength = 0;
   size_t byteStride = 0;  // 0 = not given (tightly packed)
+  // EXT_meshopt_compression: the view's data is `count` elements of `byteStride` bytes decoded
+  // from bytes [byteOffset, byteOffset + byteLength) of `buffer` (scenes/gltf_meshopt.h).
+  struct Meshopt {
+    int buffer = -1;
+    size_t byteOffset = 0, byteLength = 0, byteStride = 0, count = 0;
+    std::string mode;            // ATTRIBUTES | TRIANGLES | INDICES
+    std::string filter = "NONE";  // NONE | OCTAHEDRAL | QUATERNION | EXPONENTIAL
+    SourceLocation where;
+  };
+  std::optional<Meshopt> meshopt;
   SourceLocation where;
 };
 

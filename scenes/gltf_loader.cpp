@@ -9,6 +9,7 @@
 #include "scenes/gltf_loader.h"
 
 #include "scenes/gltf_draco.h"
+#include "scenes/gltf_meshopt.h"
 
 #include <tiny_gltf.h>
 
@@ -164,6 +165,7 @@ void checkSources(const Document& doc, const fs::path& folder, const GlbChunks* 
   for (size_t i = 0; i < doc.buffers.size(); ++i) {
     const gltf::Buffer& b = doc.buffers[i];
     SourceLocation uriLoc = b.where.child("uri");
+    if (b.uri.empty() && b.fallback) continue;  // EXT_meshopt_compression: no data needed
     if (b.uri.empty()) {
       if (!glb || i != 0)
         throw SceneError(b.where, glb ? "only buffer 0 may refer to the GLB BIN chunk"
@@ -328,6 +330,13 @@ std::string forTinygltf(const std::string& bytes, bool binary, const nlohmann::j
   nlohmann::json reduced = nlohmann::json::object();
   for (const char* key : {"asset", "buffers", "bufferViews", "images"})
     if (json.contains(key)) reduced[key] = json[key];
+  // EXT_meshopt_compression's fallback buffers may have no data: one byte stands in, so that
+  // the buffer indices stay (no view of it is read; compressed views are decoded).
+  if (reduced.contains("buffers") && reduced["buffers"].is_array())
+    for (nlohmann::json& b : reduced["buffers"])
+      if (b.is_object() && !b.contains("uri") && b.contains("extensions") &&
+          b["extensions"].is_object() && b["extensions"].contains("EXT_meshopt_compression"))
+        b = {{"byteLength", 1}, {"uri", "data:application/octet-stream;base64,AA=="}};
   std::string text = reduced.dump();
   if (!binary) return text;
   // The GLB again: its header, the new JSON chunk (space-padded to 4 bytes), then every chunk
@@ -481,6 +490,26 @@ class AccessorReader {
   const uint8_t* viewData(int view, size_t offset, size_t bytes,
                           const SourceLocation& where) const {
     const gltf::BufferView& v = doc_.bufferViews[size_t(view)];
+    if (v.meshopt) {  // EXT_meshopt_compression: decoded once, on first use
+      auto it = decodedViews_.find(view);
+      if (it == decodedViews_.end()) {
+        const gltf::BufferView::Meshopt& m = *v.meshopt;
+        const std::vector<unsigned char>& source = model_.buffers[size_t(m.buffer)].data;
+        if (m.byteOffset + m.byteLength > source.size())
+          throw SceneError(m.where, "compressed bytes lie outside the decoded buffer " +
+                                        std::to_string(m.buffer) + " (" +
+                                        std::to_string(source.size()) + " bytes)");
+        it = decodedViews_
+                 .emplace(view, gltf::decodeMeshoptView(v, source.data() + m.byteOffset,
+                                                        m.byteLength))
+                 .first;
+      }
+      if (offset + bytes > it->second.size())
+        throw SceneError(where, "data of bufferView " + std::to_string(view) +
+                                    " lies outside its decompressed " +
+                                    std::to_string(it->second.size()) + " bytes");
+      return it->second.data() + offset;
+    }
     const std::vector<unsigned char>& data = model_.buffers[size_t(v.buffer)].data;
     if (v.byteOffset + offset + bytes > data.size())
       throw SceneError(where, "data of bufferView " + std::to_string(view) +
@@ -492,6 +521,7 @@ class AccessorReader {
   const Document& doc_;
   const tinygltf::Model& model_;
   std::map<int, std::vector<double>> decoded_;
+  mutable std::map<int, std::vector<uint8_t>> decodedViews_;  // EXT_meshopt_compression
 };
 
 // ---------------------------------------------------------------------------------------------

@@ -8,7 +8,7 @@ PACKAGES=(
   libembree-dev libtbb-dev
   libopenimageio-dev openimageio-tools libopenexr-dev python3-imath
   libopencolorio-dev opencolorio-tools
-  libtinygltf-dev nlohmann-json3-dev libassimp-dev libdraco-dev
+  libtinygltf-dev nlohmann-json3-dev libassimp-dev libdraco-dev libmeshoptimizer-dev
   libcli11-dev libfmt-dev
   libgtest-dev libbenchmark-dev
   python3 python3-matplotlib

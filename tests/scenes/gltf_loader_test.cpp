@@ -6,8 +6,10 @@
 #include <draco/compression/decode.h>
 #include <draco/compression/encode.h>
 #include <draco/mesh/triangle_soup_mesh_builder.h>
+#include <meshoptimizer.h>
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -605,7 +607,7 @@ TEST(GltfBadInput, WrongTypeIsRejected) {
 
 TEST(GltfBadInput, UnsupportedRequiredExtensionIsRejected) {
   expectError(badFile("unsupported_required_extension.gltf"), "/extensionsRequired/0",
-              "unsupported extension 'EXT_meshopt_compression'");
+              "unsupported extension 'KHR_materials_pbrSpecularGlossiness'");
 }
 
 TEST(GltfBadInput, RequiredExtensionErrorListsWhatGlintSupports) {
@@ -1210,6 +1212,125 @@ TEST(GltfBadInput, DracoBuffersThatLieAboutTheirSizesAreRejected) {
   expectError(badFile("draco_point_count_mismatch.gltf"), ext + "/attributes/POSITION",
               "points but accessor 0");
   EXPECT_EQ(load(goodFile("draco_cube.gltf")).meshes.at(0).indices.size(), 36u);
+}
+
+// ---------------------------------------------------------------------------------------------
+// EXT_meshopt_compression
+// ---------------------------------------------------------------------------------------------
+
+const Vec3f kCubeCorners[8] = {{-1, -1, -1}, {1, -1, -1}, {-1, 1, -1}, {1, 1, -1},
+                               {-1, -1, 1},  {1, -1, 1},  {-1, 1, 1},  {1, 1, 1}};
+const uint32_t kCubeIndices[36] = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
+                                   2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5};
+
+// The cube's 8 corners and 36 indices compressed as gltfpack would: positions (float, stride
+// 12), normals along the corners' diagonals (8-bit octahedral filter, stride 4) and triangle
+// indices (16-bit), each a compressed view of a fallback buffer with no data.
+// `shortPositions` cuts that many bytes off the compressed positions' byteLength.
+std::string meshoptCubeGltf(size_t shortPositions = 0) {
+  std::string compressed;
+  std::vector<std::array<size_t, 2>> ranges;  // offset, length
+  auto add = [&](const std::vector<unsigned char>& bytes, size_t length) {
+    compressed.append(compressed.size() % 4 ? 4 - compressed.size() % 4 : 0, '\0');
+    ranges.push_back({compressed.size(), length});
+    compressed.append(reinterpret_cast<const char*>(bytes.data()), length);
+  };
+  std::vector<unsigned char> out(meshopt_encodeVertexBufferBound(8, 12));
+  add(out, meshopt_encodeVertexBuffer(out.data(), out.size(), kCubeCorners, 8, 12));
+  float normals[8][4];
+  for (int i = 0; i < 8; ++i) {
+    const Vec3f n = normalize(kCubeCorners[i]);
+    normals[i][0] = n.x, normals[i][1] = n.y, normals[i][2] = n.z, normals[i][3] = 0;
+  }
+  int8_t oct[8][4];
+  meshopt_encodeFilterOct(oct, 8, 4, 8, &normals[0][0]);
+  out.assign(meshopt_encodeVertexBufferBound(8, 4), 0);
+  add(out, meshopt_encodeVertexBuffer(out.data(), out.size(), oct, 8, 4));
+  out.assign(meshopt_encodeIndexBufferBound(36, 8), 0);
+  add(out, meshopt_encodeIndexBuffer(out.data(), out.size(), kCubeIndices, 36));
+  auto view = [&](size_t i, size_t offset, size_t length, int stride, size_t count,
+                  const char* mode, const char* filter, size_t cut) {
+    nlohmann::json ext = {{"buffer", 0},           {"byteOffset", ranges[i][0]},
+                          {"byteLength", ranges[i][1] - cut}, {"byteStride", stride},
+                          {"count", count},        {"mode", mode}};
+    if (filter) ext["filter"] = filter;
+    nlohmann::json v = {{"buffer", 1}, {"byteOffset", offset}, {"byteLength", length},
+                        {"extensions", {{"EXT_meshopt_compression", ext}}}};
+    if (std::string(mode) == "ATTRIBUTES") v["byteStride"] = stride;
+    return v;
+  };
+  nlohmann::json j = {
+      {"asset", {{"version", "2.0"}}},
+      {"extensionsUsed", {"EXT_meshopt_compression", "KHR_mesh_quantization"}},
+      {"extensionsRequired", {"EXT_meshopt_compression", "KHR_mesh_quantization"}},
+      {"buffers",
+       {{{"byteLength", compressed.size()},
+         {"uri", "data:application/octet-stream;base64," + base64(compressed)}},
+        {{"byteLength", 96 + 32 + 72},
+         {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}}}},
+      {"bufferViews",
+       {view(0, 0, 96, 12, 8, "ATTRIBUTES", nullptr, shortPositions),
+        view(1, 96, 32, 4, 8, "ATTRIBUTES", "OCTAHEDRAL", 0),
+        view(2, 128, 72, 2, 36, "TRIANGLES", nullptr, 0)}},
+      {"accessors",
+       {{{"bufferView", 0}, {"componentType", 5126}, {"count", 8}, {"type", "VEC3"},
+         {"min", {-1, -1, -1}}, {"max", {1, 1, 1}}},
+        {{"bufferView", 1}, {"componentType", 5120}, {"normalized", true}, {"count", 8},
+         {"type", "VEC3"}},
+        {{"bufferView", 2}, {"componentType", 5123}, {"count", 36}, {"type", "SCALAR"}}}},
+      {"meshes",
+       {{{"primitives", {{{"attributes", {{"POSITION", 0}, {"NORMAL", 1}}}, {"indices", 2}}}}}}},
+      {"nodes", {{{"mesh", 0}}}},
+      {"scenes", {{{"nodes", {0}}}}},
+      {"scene", 0}};
+  return j.dump(1);
+}
+
+// gltfpack-style compression decodes to the cube: the corners exactly (positions are
+// lossless), the normals to the 8-bit octahedral encoding's precision, the triangles exactly.
+TEST(GltfMeshopt, CompressedCubeDecodesToTheCube) {
+  const std::string dir = test::scratchDir("GltfMeshopt.Cube");
+  std::ofstream(dir + "/cube.gltf") << meshoptCubeGltf();
+  for (const std::string& file : {dir + "/cube.gltf", goodFile("meshopt_cube.gltf")}) {
+    SCOPED_TRACE(file);
+    SceneDescription s = load(file);
+    ASSERT_EQ(s.meshes.size(), 1u);
+    const MeshDesc& m = s.meshes[0];
+    ASSERT_EQ(m.positions.size(), 8u);
+    ASSERT_EQ(m.indices.size(), 36u);
+    for (size_t i = 0; i < 8; ++i) {
+      EXPECT_EQ(m.positions[i], kCubeCorners[i]);
+      expectNear(m.normals[i], normalize(kCubeCorners[i]), 0.03f);
+    }
+    // The index codec may rotate a triangle's corners, never its winding.
+    for (size_t t = 0; t < 12; ++t) {
+      const uint32_t* a = &kCubeIndices[3 * t];
+      const uint32_t* b = &m.indices[3 * t];
+      bool rotation = false;
+      for (int r = 0; r < 3; ++r)
+        rotation = rotation || (b[0] == a[r] && b[1] == a[(r + 1) % 3] && b[2] == a[(r + 2) % 3]);
+      EXPECT_TRUE(rotation) << "triangle " << t;
+    }
+  }
+}
+
+// Compressed bytes that do not decode to what the view says, and strides the extension does
+// not allow, are exit 2 at the extension.
+TEST(GltfBadInput, MeshoptViewsThatLieAboutTheirSizesAreRejected) {
+  const std::string dir = test::scratchDir("GltfMeshopt.Bad");
+  const std::string ext = "/bufferViews/0/extensions/EXT_meshopt_compression";
+  std::ofstream(dir + "/short.gltf") << meshoptCubeGltf(5);
+  expectError(dir + "/short.gltf", ext, "cannot decode the compressed ATTRIBUTES");
+  expectError(badFile("meshopt_truncated.gltf"), ext, "cannot decode the compressed ATTRIBUTES");
+  nlohmann::json j = nlohmann::json::parse(meshoptCubeGltf());
+  j["bufferViews"][2]["extensions"]["EXT_meshopt_compression"]["byteStride"] = 3;
+  std::ofstream(dir + "/stride.gltf") << j.dump();
+  expectError(dir + "/stride.gltf", "/bufferViews/2/extensions/EXT_meshopt_compression/byteStride",
+              "must be 2 or 4 for TRIANGLES");
+  j = nlohmann::json::parse(meshoptCubeGltf());
+  j["bufferViews"][0]["extensions"]["EXT_meshopt_compression"]["count"] = 9;
+  std::ofstream(dir + "/count.gltf") << j.dump();
+  expectError(dir + "/count.gltf", ext + "/count", "do not fit the view's byteLength 96");
 }
 
 }  // namespace

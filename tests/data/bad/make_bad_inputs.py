@@ -155,8 +155,8 @@ def main():
 
     # unsupported_required_extension.gltf
     doc, _ = triangle_gltf()
-    doc["extensionsUsed"] = ["EXT_meshopt_compression"]
-    doc["extensionsRequired"] = ["EXT_meshopt_compression"]
+    doc["extensionsUsed"] = ["KHR_materials_pbrSpecularGlossiness"]
+    doc["extensionsRequired"] = ["KHR_materials_pbrSpecularGlossiness"]
     write_json("unsupported_required_extension.gltf", doc)
 
     # texture_transform_nan_scale.gltf: KHR_texture_transform whose scale holds a NaN (JSON
