@@ -159,6 +159,28 @@ TEST(MaterialRender, UnlitSurfacesShowTheirColourExactly) {
   }
 }
 
+// A test glTF (tests/data/gltf) set up for an 8 x 8, 2 spp image.
+SceneDescription smallGltf(const std::string& name) {
+  SceneDescription d = loadScene(test::dataDir() + "/gltf/" + name);
+  d.render.width = 8;
+  d.render.height = 8;
+  d.render.spp = 2;
+  return d;
+}
+
+Film renderSmall(const RenderScene& scene, const SceneDescription& d) {
+  auto integrator = makeIntegrator(scene, d.render);
+  RenderOptions options;
+  options.threads = 2;
+  RenderStats stats;
+  return render(scene, *integrator, d.render, options, &stats);
+}
+
+void expectEveryPixel(const Film& film, Rgb expected) {
+  for (const Rgb& c : film.color)
+    for (int k = 0; k < 3; ++k) ASSERT_NEAR(c[k], expected[k], 1e-3f);
+}
+
 // KHR_materials_volume: every camera ray crosses 2 units of a clear (index 1) cube whose inside
 // absorbs attenuationColor (0.5, 0.25, 0.8) per unit distance (tests/data/gltf/
 // material_layers.gltf): the image is the white background times the colour squared, in both
@@ -166,23 +188,11 @@ TEST(MaterialRender, UnlitSurfacesShowTheirColourExactly) {
 TEST(MaterialRender, VolumeAbsorbsByBeerLambert) {
   for (const char* integrator : {"whitted", "path"}) {
     SCOPED_TRACE(integrator);
-    SceneDescription d = loadScene(test::dataDir() + "/gltf/material_layers.gltf");
-    d.render.width = 8;
-    d.render.height = 8;
-    d.render.spp = 2;
+    SceneDescription d = smallGltf("material_layers.gltf");
     d.render.background = {1, 1, 1};
     d.render.integrator.type = integrator;
     RenderScene scene = buildRenderScene(d);
-    auto integ = makeIntegrator(scene, d.render);
-    RenderOptions options;
-    options.threads = 2;
-    RenderStats stats;
-    const Film film = render(scene, *integ, d.render, options, &stats);
-    for (const Rgb& c : film.color) {
-      ASSERT_NEAR(c.x, 0.25f, 1e-3f);
-      ASSERT_NEAR(c.y, 0.0625f, 1e-3f);
-      ASSERT_NEAR(c.z, 0.64f, 1e-3f);
-    }
+    expectEveryPixel(renderSmall(scene, d), {0.25f, 0.0625f, 0.64f});
   }
 }
 
@@ -190,23 +200,11 @@ TEST(MaterialRender, VolumeAbsorbsByBeerLambert) {
 // second set (green), the same texture through texCoord 0 the first (red); the film shows the
 // square whose material reads set 1.
 TEST(MaterialRender, TexturesReadTheUvSetTheyName) {
-  SceneDescription d = loadScene(test::dataDir() + "/gltf/second_uv_set.gltf");
+  SceneDescription d = smallGltf("second_uv_set.gltf");
   ASSERT_EQ(d.meshes.size(), 2u);
   EXPECT_EQ(d.meshes[0].uvs1.size(), 4u);
-  d.render.width = 6;
-  d.render.height = 6;
-  d.render.spp = 2;
   RenderScene scene = buildRenderScene(d);
-  auto integ = makeIntegrator(scene, d.render);
-  RenderOptions options;
-  options.threads = 2;
-  RenderStats stats;
-  const Film film = render(scene, *integ, d.render, options, &stats);
-  for (const Rgb& c : film.color) {
-    ASSERT_NEAR(c.x, 0, 1e-3f);
-    ASSERT_NEAR(c.y, 1, 1e-3f);
-    ASSERT_NEAR(c.z, 0, 1e-3f);
-  }
+  expectEveryPixel(renderSmall(scene, d), {0, 1, 0});
   // The off-camera square's material reads set 0 of the same texture: red.
   SurfaceInteraction si;
   si.uv = {0.25f, 0.5f};
