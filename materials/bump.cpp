@@ -63,21 +63,29 @@ void BumpMap::apply(SurfaceInteraction& si) const {
 // Normal maps
 // ---------------------------------------------------------------------------------------------
 
+bool tangentFrame(const SurfaceInteraction& si, Vec3f front, Vec3f* t, Vec3f* b) {
+  const bool given = lengthSquared(si.tangent) > 0;
+  const Vec3f source = given ? si.tangent : si.dpdu;
+  const Vec3f projected = source - front * dot(front, source);
+  if (!(lengthSquared(projected) > 0)) return false;
+  *t = normalize(projected);
+  // Without a TANGENT the bitangent is cross(n, t), as in the Khronos reference viewer (UV
+  // layouts mirrored in v then come out inverted; MikkTSpace tangents would fix that).
+  *b = cross(front, *t) * (given ? si.bitangentSign : 1.0f);
+  return true;
+}
+
 void NormalMap::apply(SurfaceInteraction& si) const {
   // Work in the front face's frame (as the glTF reference viewer does) and flip the result
   // for back faces, so a double-sided surface shows the same relief from both sides.
   // The tangent is the mesh's TANGENT when it has one (with its bitangent handedness), else
   // dp/du from the UVs, as glTF prescribes: bitangent = cross(normal, tangent) * w.
   const Vec3f front = si.frontFace ? si.ns : -si.ns;
-  const bool given = lengthSquared(si.tangent) > 0;
-  const Vec3f source = given ? si.tangent : si.dpdu;
-  Vec3f t = source - front * dot(front, source);
-  if (lengthSquared(t) == 0) t = Frame::fromZ(front).s;
-  t = normalize(t);
-  // Without a TANGENT the bitangent is cross(n, t), as in the Khronos reference viewer (UV
-  // layouts mirrored in v then come out inverted; MikkTSpace tangents would fix that).
-  const float sign = given ? si.bitangentSign : 1.0f;
-  const Vec3f b = cross(front, t) * sign;
+  Vec3f t, b;
+  if (!tangentFrame(si, front, &t, &b)) {  // any frame around the normal
+    t = Frame::fromZ(front).s;
+    b = cross(front, t) * (lengthSquared(si.tangent) > 0 ? si.bitangentSign : 1.0f);
+  }
   const Vec4f c = map_->evaluate(TexturePoint(si));
   const Vec3f local{(2 * c.x - 1) * scale_, (2 * c.y - 1) * scale_, 2 * c.z - 1};
   Vec3f m = t * local.x + b * local.y + front * local.z;

@@ -33,6 +33,12 @@ class BumpMap final : public NormalModifier {
 // the x and y components scaled by `scale`. t is the mesh's TANGENT (w its handedness) or,
 // when the mesh carries none, dp/du from the UVs with w = 1 (as the Khronos reference viewer
 // does).
+// The tangent frame (t, b) of glTF's tangent space at si around `front` (the normal on the
+// surface's front side): the mesh's TANGENT with its bitangent handedness when it has one, else
+// dp/du, as glTF prescribes; projected onto the plane of `front`. False when that projection
+// vanishes. Normal maps and anisotropy share it.
+bool tangentFrame(const SurfaceInteraction& si, Vec3f front, Vec3f* t, Vec3f* b);
+
 class NormalMap final : public NormalModifier {
  public:
   NormalMap(const Texture* map, float scale) : map_(map), scale_(scale) {}

@@ -205,8 +205,6 @@ PbrBxdf::PbrBxdf(Vec3f wo, const PbrHit& h) : hit(h) {
     const Frame f = Frame::fromZ(cn);
     toCoat_[0] = f.s, toCoat_[1] = f.t, toCoat_[2] = f.n;
   }
-  f0_ = square((hit.eta - 1) / (hit.eta + 1));
-  for (int c = 0; c < 3; ++c) thinFilmSubstrateMetal_[c] = iorFromF0(hit.base[c]);
 
   if (anisotropic) wo = toAniso(wo);
   if (!(wo.z > 0)) return;  // seen from below its shading normal: black, never sampled
@@ -217,8 +215,8 @@ PbrBxdf::PbrBxdf(Vec3f wo, const PbrHit& h) : hit(h) {
   coatFresnelWo_ = hit.clearcoat > 0 && woCoat.z > 0 ? coatFresnel(woCoat.z) : 0;
   const float sheenMax = maxComponent(hit.sheenColor);
   const float sheenE = sheenMax > 0 ? sheenAlbedo(wo.z, hit.sheenRoughness) : 0;
-  sheenScaleWo_ = 1 - sheenMax * sheenE;
-  const float baseScale = (1 - coatFresnelWo_) * sheenScaleWo_;
+  baseScaleWo_ = (1 - coatFresnelWo_) * (1 - sheenMax * sheenE);
+  const float baseScale = baseScaleWo_;
   const float dielectric = 1 - hit.metallic;
   const float F = mean(fresnelWo_);
   const Rgb notReflected = kOne - fresnelWo_;
@@ -233,8 +231,8 @@ PbrBxdf::PbrBxdf(Vec3f wo, const PbrHit& h) : hit(h) {
   // A rough surface transmits through tilted microfacets even where the macro-surface reflects
   // totally (F = 1 seen from inside past the critical angle): the transmission lobe keeps a
   // minimum weight there, or sample() would never reach light that f() says passes.
-  fresnelWoTransmission_ = smooth ? F : std::min(F, 1 - kMinRoughTransmissionWeight);
-  w_[kTrans] = baseScale * dielectric * hit.transmission * (1 - fresnelWoTransmission_);
+  const float fTransmission = smooth ? F : std::min(F, 1 - kMinRoughTransmissionWeight);
+  w_[kTrans] = baseScale * dielectric * hit.transmission * (1 - fTransmission);
   p_ = lobeProbabilities(kBsdfAllLobes);
 }
 
@@ -281,7 +279,8 @@ Rgb PbrBxdf::metalFresnel(float c) const {
   const Rgb r = schlick(hit.base, c);
   if (!(hit.iridescence > 0)) return r;
   return lerp(hit.iridescence, r,
-              thinFilmFresnel(c, hit.iridescenceIor, thinFilmSubstrateMetal_,
+              thinFilmFresnel(c, hit.iridescenceIor,
+                              {iorFromF0(hit.base.x), iorFromF0(hit.base.y), iorFromF0(hit.base.z)},
                               hit.iridescenceThickness));
 }
 
@@ -324,7 +323,7 @@ PbrBxdf::Eval PbrBxdf::evaluateLocal(Vec3f wo, Vec3f wi, const LobeProbabilities
   if (!(wo.z > 0)) return r;
   const float* p = pr.p;
   const float dielectric = 1 - hit.metallic;
-  const float baseScale = (1 - coatFresnelWo_) * sheenScaleWo_;
+  const float baseScale = baseScaleWo_;
   const Rgb notReflected = kOne - fresnelWo_;
   const float opaque = 1 - hit.transmission;
   const TrowbridgeReitzDistribution distribution(alphaX, alphaY);
@@ -451,7 +450,7 @@ std::optional<BsdfSample> PbrBxdf::sample(Vec3f wo, Vec2f u, float uLobe, uint32
   // What is left of uLobe once the lobe is chosen: a uniform number for the dispersion channel.
   const float uRest = std::clamp((uLobe - before) / p[lobe], 0.0f, 0.99999994f);
   const float dielectric = 1 - hit.metallic;
-  const float baseScale = (1 - coatFresnelWo_) * sheenScaleWo_;
+  const float baseScale = baseScaleWo_;
   auto finish = [&](BsdfSample s) {
     if (anisotropic) s.wi = fromAniso(s.wi);
     return std::optional<BsdfSample>(s);

@@ -181,11 +181,9 @@ struct PbrBxdf {
   float w_[kLobeCount] = {};
   LobeProbabilities p_;
   Rgb fresnelWo_;           // the dielectric's reflectance at wo.n
-  float fresnelWoTransmission_ = 0;  // its scalar mean, with the rough-transmission floor
   float coatFresnelWo_ = 0;  // the coat's reflectance at wo (its own normal)
-  float sheenScaleWo_ = 1;   // 1 - max(sheenColor) E_sheen(wo)
-  float f0_ = 0.04f;         // the dielectric's normal-incidence reflectance for eta
-  Rgb thinFilmSubstrateMetal_;  // iridescence: the metal's per-channel index (from its F0)
+  // What the layers above leave the base at wo: (1 - coat F(wo)) (1 - max(sheenColor) E(wo)).
+  float baseScaleWo_ = 1;
   Vec3f toCoat_[3];          // rows: the coat frame's axes in the local frame
 };
 

@@ -81,12 +81,8 @@ Bsdf PbrMaterial::makeBsdf(const SurfaceInteraction& si, const BsdfFrame& frame,
     const float cr = std::cos(p_.anisotropyRotation), sr = std::sin(p_.anisotropyRotation);
     dir = {cr * dir.x - sr * dir.y, sr * dir.x + cr * dir.y};
     const Vec3f n = frame.frame.n;
-    const bool given = lengthSquared(si.tangent) > 0;
-    Vec3f t = given ? si.tangent : si.dpdu;
-    t = t - n * dot(n, t);
-    if (lengthSquared(t) > 0) {
-      t = normalize(t);
-      const Vec3f b = cross(si.frontFace ? n : -n, t) * (given ? si.bitangentSign : 1.0f);
+    Vec3f t, b;
+    if (tangentFrame(si, si.frontFace ? n : -n, &t, &b)) {
       const Vec3f local = frame.frame.toLocal(t * dir.x + b * dir.y);
       h.anisotropy = strength;
       h.anisotropyDirection = {local.x, local.y};

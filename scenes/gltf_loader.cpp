@@ -326,17 +326,17 @@ bool loadImageWithinLimits(tinygltf::Image* image, const int index, std::string*
 // buffers, buffer views, images: URIs, data URIs and the GLB's BIN chunk). Everything else
 // comes from the first pass, so tinygltf checks nothing glint reads differently (a
 // Draco-compressed primitive's indices accessor has no buffer view, which tinygltf rejects).
-std::string forTinygltf(const std::string& bytes, bool binary, const nlohmann::json& json) {
+std::string forTinygltf(const std::string& bytes, bool binary, const nlohmann::json& json,
+                        const Document& doc) {
   nlohmann::json reduced = nlohmann::json::object();
   for (const char* key : {"asset", "buffers", "bufferViews", "images"})
     if (json.contains(key)) reduced[key] = json[key];
   // EXT_meshopt_compression's fallback buffers may have no data: one byte stands in, so that
   // the buffer indices stay (no view of it is read; compressed views are decoded).
-  if (reduced.contains("buffers") && reduced["buffers"].is_array())
-    for (nlohmann::json& b : reduced["buffers"])
-      if (b.is_object() && !b.contains("uri") && b.contains("extensions") &&
-          b["extensions"].is_object() && b["extensions"].contains("EXT_meshopt_compression"))
-        b = {{"byteLength", 1}, {"uri", "data:application/octet-stream;base64,AA=="}};
+  for (size_t i = 0; i < doc.buffers.size(); ++i)
+    if (doc.buffers[i].fallback && doc.buffers[i].uri.empty())
+      reduced["buffers"][i] = {{"byteLength", 1},
+                               {"uri", "data:application/octet-stream;base64,AA=="}};
   std::string text = reduced.dump();
   if (!binary) return text;
   // The GLB again: its header, the new JSON chunk (space-padded to 4 bytes), then every chunk
@@ -1368,7 +1368,7 @@ void loadGltfFromMemory(const std::string& bytes, const std::string& path,
   fs::path folder = canonicalOrSelf(fs::absolute(fs::path(path), ec).parent_path());
   checkSources(doc, folder, binary ? &glb : nullptr);
 
-  tinygltf::Model model = decode(forTinygltf(bytes, binary, json), binary, folder, path);
+  tinygltf::Model model = decode(forTinygltf(bytes, binary, json, doc), binary, folder, path);
   if (model.buffers.size() != doc.buffers.size() || model.images.size() != doc.images.size())
     throw SceneError({path, ""}, "tinygltf decoded a different number of buffers or images");
 
