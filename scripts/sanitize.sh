@@ -10,13 +10,13 @@
 #
 # Environment:
 #   BUILD_DIR      build folder (default: build-sanitize)
-#   FUZZ_SECONDS   seconds per fuzz target (default: 60; 0 skips fuzzing)
+#   FUZZ_SECONDS   seconds per fuzz target (default: 45; 0 skips fuzzing)
 #   SANITIZE_ALL=1 also run the heavy tests excluded by default (see kHeavyTests below)
 #   SANITIZE_FILTER  a gtest filter for the unit tests instead (e.g. 'Gltf*:CsgRpn.*')
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build_dir=${BUILD_DIR:-$root/build-sanitize}
-fuzz_seconds=${FUZZ_SECONDS:-60}
+fuzz_seconds=${FUZZ_SECONDS:-45}
 
 "$root/scripts/setup.sh"
 
@@ -51,7 +51,7 @@ export ASAN_SYMBOLIZER_PATH=${ASAN_SYMBOLIZER_PATH:-$(command -v llvm-symbolizer
 # tests: under ASan they cost minutes, and lighter tests run the same code. SANITIZE_ALL=1 runs
 # them too; SANITIZE_FILTER replaces the whole filter (e.g. 'Gltf*').
 kHeavyTests='KdTree.MatchesBruteForce*:KdTree.AgreesWithEmbreeOnManyBunnyRays'
-kHeavyTests+=':ImageReference*:*Chi2*:Furnace.*:InstantRadiosity.*'
+kHeavyTests+=':*ImageReference*:*Chi2*:Furnace.*:InstantRadiosity.*:Convergence.*'
 kHeavyTests+=':TrowbridgeReitz.SampledVisibleNormalsFollowThePdf'
 kHeavyTests+=':CliFrames.*:CliTonemap.*:CliBenchAccel.*:DiffCommand.*'
 filter=${SANITIZE_FILTER:-}
