@@ -10,6 +10,7 @@
 #include "materials/bsdf.h"
 #include "materials/layers.h"
 #include "materials/microfacet.h"
+#include "materials/microfacet_albedo.h"
 #include "materials/scattering.h"
 
 namespace glint {
@@ -192,6 +193,7 @@ PbrBxdf::PbrBxdf(Vec3f wo, const PbrHit& h) : hit(h) {
     alphaX = alpha + (1 - alpha) * hit.anisotropy * hit.anisotropy;
   }
   smooth = TrowbridgeReitzDistribution(alphaX, alphaY).effectivelySmooth();
+  tableRoughness_ = std::sqrt(std::sqrt(alphaX * alphaY));
   coatAlpha = TrowbridgeReitzDistribution::roughnessToAlpha(
       std::clamp(hit.clearcoatRoughness, 0.0f, 1.0f));
   coatSmooth = TrowbridgeReitzDistribution(coatAlpha).effectivelySmooth();
@@ -219,15 +221,40 @@ PbrBxdf::PbrBxdf(Vec3f wo, const PbrHit& h) : hit(h) {
   const float baseScale = baseScaleWo_;
   const float dielectric = 1 - hit.metallic;
   const float F = mean(fresnelWo_);
-  const Rgb notReflected = kOne - fresnelWo_;
   const float opaque = 1 - hit.transmission;
+  // The diffuse layer's albedo scaling and the metal's multiple scattering (pbr.h): their
+  // parts that depend on wo alone. Their albedos at wo, (1 - E_spec(wo)) and
+  // F_ms (1 - E(wo)), weight the cosine-sampled lobe that carries both.
+  Rgb diffuseAlbedo, multipleAlbedo;
+  if (dielectric * opaque > 0) {
+    const Rgb eWo = dielectricAlbedo(wo.z), eAvg = dielectricAverageAlbedo();
+    for (int c = 0; c < 3; ++c)
+      diffuseScaleWo_[c] = eAvg[c] < 1 ? (1 - eWo[c]) / (1 - eAvg[c]) : 0.0f;
+    diffuseAlbedo = kOne - eWo;
+  }
+  if (hit.metallic > 0 && !smooth) {
+    // Kulla and Conty's F_ms = F_avg^2 E_avg / (1 - F_avg (1 - E_avg)) with Schlick's average
+    // reflectance F_avg = F0 + (1 - F0) / 21 (F0 the base colour).
+    const float eWo = ggxAlbedo(wo.z, tableRoughness_), eAvg = ggxAverageAlbedo(tableRoughness_);
+    if (eAvg < 1) {
+      const Rgb base = clamp01(hit.base);
+      const Rgb fAvg = base + (kOne - base) * (1.0f / 21);
+      Rgb fMs;
+      for (int c = 0; c < 3; ++c)
+        fMs[c] = square(fAvg[c]) * eAvg / (1 - fAvg[c] * (1 - eAvg));
+      metalMultipleWo_ = fMs * ((1 - eWo) / (kPi * (1 - eAvg)));
+      multipleAlbedo = fMs * (1 - eWo);
+    }
+  }
   w_[kCoat] = coatFresnelWo_;
   w_[kSheen] = (1 - coatFresnelWo_) * sheenMax * sheenE;
   w_[kSpec] = baseScale * (hit.metallic + dielectric * F);
-  w_[kDiff] = baseScale * dielectric * opaque * (1 - hit.diffuseTransmission) *
-              std::max(luminance(hit.base * notReflected), 0.0f);
+  w_[kDiff] = baseScale * std::max(dielectric * opaque * (1 - hit.diffuseTransmission) *
+                                           luminance(hit.base * diffuseAlbedo) +
+                                       hit.metallic * luminance(multipleAlbedo),
+                                   0.0f);
   w_[kDiffTrans] = baseScale * dielectric * opaque * hit.diffuseTransmission *
-                   std::max(luminance(hit.diffuseTransmissionColor * notReflected), 0.0f);
+                   std::max(luminance(hit.diffuseTransmissionColor * diffuseAlbedo), 0.0f);
   // A rough surface transmits through tilted microfacets even where the macro-surface reflects
   // totally (F = 1 seen from inside past the critical angle): the transmission lobe keeps a
   // minimum weight there, or sample() would never reach light that f() says passes.
@@ -286,6 +313,52 @@ Rgb PbrBxdf::metalFresnel(float c) const {
 
 float PbrBxdf::coatFresnel(float c) const { return hit.clearcoat * fresnelDielectric(c, 1.5f); }
 
+namespace {
+// E_spec from the bare interface's albedos: eF with the exact Fresnel for the index, e1 with
+// F = 1 (both 1 when smooth and the eF the Fresnel reflectance), as dielectricFresnel() tints
+// and scales F: KHR_materials_specular's F = F0' + (1 - F0') w with w = (F - F0) / (1 - F0)
+// is linear in F, so its albedo is F0' e1 + (1 - F0') (eF - F0 e1) / (1 - F0).
+Rgb specularAlbedo(const PbrHit& hit, float eF, float e1) {
+  Rgb r{eF, eF, eF};
+  if (hit.specularColor != kOne || hit.specular != 1) {
+    const float f0 = square((hit.eta - 1) / (hit.eta + 1));
+    const float ew = f0 < 1 ? std::clamp((eF - f0 * e1) / (1 - f0), 0.0f, e1) : e1;
+    const Rgb f0Tinted = min(hit.specularColor * f0, kOne);
+    r = f0Tinted * e1 + (kOne - f0Tinted) * ew;
+  }
+  return r;
+}
+}  // namespace
+
+Rgb PbrBxdf::dielectricAlbedo(float mu) const {
+  if (smooth) return dielectricFresnel(mu);
+  Rgb r = specularAlbedo(hit, ggxDielectricAlbedo(mu, tableRoughness_, hit.eta),
+                         ggxAlbedo(mu, tableRoughness_));
+  if (hit.iridescence > 0)  // approximately: the film's reflectance at mu times E with F = 1
+    r = lerp(hit.iridescence, r,
+             thinFilmFresnel(mu, hit.iridescenceIor, Rgb{hit.eta, hit.eta, hit.eta},
+                             hit.iridescenceThickness) *
+                 ggxAlbedo(mu, tableRoughness_));
+  return clamp01(r * hit.specular);
+}
+
+Rgb PbrBxdf::dielectricAverageAlbedo() const {
+  if (hit.iridescence > 0) {
+    // No table for a film: 2 int E(mu) mu dmu by 8-point Gauss-Legendre on [0, 1].
+    static constexpr float kNodes[8] = {0.0198551f, 0.1016667f, 0.2372338f, 0.4082826f,
+                                        0.5917174f, 0.7627662f, 0.8983333f, 0.9801449f};
+    static constexpr float kWeights[8] = {0.0506143f, 0.1111905f, 0.1568533f, 0.1813419f,
+                                          0.1813419f, 0.1568533f, 0.1111905f, 0.0506143f};
+    Rgb sum;
+    for (int i = 0; i < 8; ++i) sum += dielectricAlbedo(kNodes[i]) * (2 * kWeights[i] * kNodes[i]);
+    return clamp01(sum);
+  }
+  const Rgb r = smooth ? specularAlbedo(hit, dielectricFresnelAverage(hit.eta), 1)
+                       : specularAlbedo(hit, ggxDielectricAverageAlbedo(tableRoughness_, hit.eta),
+                                        ggxAverageAlbedo(tableRoughness_));
+  return clamp01(r * hit.specular);
+}
+
 PbrBxdf::LobeProbabilities PbrBxdf::lobeProbabilities(uint32_t lobes) const {
   LobeProbabilities r;
   float w[kLobeCount];
@@ -324,17 +397,23 @@ PbrBxdf::Eval PbrBxdf::evaluateLocal(Vec3f wo, Vec3f wi, const LobeProbabilities
   const float* p = pr.p;
   const float dielectric = 1 - hit.metallic;
   const float baseScale = baseScaleWo_;
-  const Rgb notReflected = kOne - fresnelWo_;
   const float opaque = 1 - hit.transmission;
   const TrowbridgeReitzDistribution distribution(alphaX, alphaY);
+  // The diffuse layers' albedo scaling at wi (pbr.h): 1 - E_spec(|wi.z|).
+  auto diffuseScale = [&](float cosI) {
+    return dielectric * opaque > 0 ? diffuseScaleWo_ * (kOne - dielectricAlbedo(cosI)) : Rgb{};
+  };
   if (wi.z > 0) {
-    // The diffuse layer gets what the interface does not reflect at wo, 1 - F(wo.n), not
-    // glTF's 1 - F(wo.h): the half-vector coupling is not energy conserving (glTF 2.0,
-    // B.3.6.3; a white surface reflected up to 1.7 times the light at grazing angles), and
-    // from inside a transmitting surface past the critical angle it was non-zero where the
-    // diffuse lobe is never sampled.
-    Rgb f = hit.base * notReflected *
-            (dielectric * opaque * (1 - hit.diffuseTransmission) * kInvPi);
+    // The diffuse layer gets what the interface does not reflect, in the reciprocal albedo
+    // scaling form (1 - E_spec(wo)) (1 - E_spec(wi)) / (1 - E_spec,avg), not glTF's
+    // 1 - F(wo.h): the half-vector coupling is not energy conserving (glTF 2.0, B.3.6.3; a
+    // white surface reflected up to 1.7 times the light at grazing angles).
+    Rgb f;
+    if (dielectric * opaque * (1 - hit.diffuseTransmission) > 0)
+      f = hit.base * diffuseScale(wi.z) *
+          (dielectric * opaque * (1 - hit.diffuseTransmission) * kInvPi);
+    if (metalMultipleWo_ != Rgb{})
+      f += metalMultipleWo_ * (hit.metallic * (1 - ggxAlbedo(wi.z, tableRoughness_)));
     r.pdf = (p[kDiff] + p[kSheen]) * cosineHemispherePdf(wi.z);
     Vec3f h = wo + wi;
     if (lengthSquared(h) == 0) {
@@ -370,7 +449,7 @@ PbrBxdf::Eval PbrBxdf::evaluateLocal(Vec3f wo, Vec3f wi, const LobeProbabilities
   if (wi.z == 0) return r;
   // Diffuse transmission: a thin Lambertian sheet of its own colour.
   if (hit.diffuseTransmission > 0) {
-    r.f += hit.diffuseTransmissionColor * notReflected *
+    r.f += hit.diffuseTransmissionColor * diffuseScale(-wi.z) *
            (baseScale * dielectric * opaque * hit.diffuseTransmission * kInvPi);
     r.pdf += p[kDiffTrans] * cosineHemispherePdf(-wi.z);
   }

@@ -127,9 +127,10 @@ struct PbrHit {
 
 // glTF's metallic-roughness model with its material extensions (see pbr.h for the model and
 // its deliberate changes): GGX reflection (Schlick-tinted for the metal, exact Fresnel with
-// KHR_materials_specular's colour and strength, or a thin film's, for the dielectric), a
-// diffuse layer and diffuse transmission weighted by 1 - F(wo.n), GGX refraction (or a thin
-// sheet's transmission), under a Charlie sheen and a GGX clear coat. Below alpha 1e-3 the
+// KHR_materials_specular's colour and strength, or a thin film's, for the dielectric; Kulla-
+// Conty multiple scattering for the metal), a diffuse layer and diffuse transmission under the
+// specular reflection's albedo scaling, GGX refraction (or a thin sheet's transmission), under
+// a Charlie sheen and a GGX clear coat. Below alpha 1e-3 the
 // reflections and the refraction are delta lobes. The lobe weights (Fresnel at wo, the layers'
 // albedos at wo) are computed once, by the constructor.
 struct PbrBxdf {
@@ -160,6 +161,11 @@ struct PbrBxdf {
   Rgb dielectricFresnel(float c) const;
   // The clear coat's Fresnel reflectance (index 1.5) times its strength.
   float coatFresnel(float c) const;
+  // The dielectric's specular reflection albedo E_spec(mu) (the Fresnel-weighted GGX albedo,
+  // microfacet_albedo.h; the Fresnel reflectance itself when smooth) at view cosine mu, and
+  // its cosine-weighted average: what the diffuse layer's albedo scaling uses.
+  Rgb dielectricAlbedo(float mu) const;
+  Rgb dielectricAverageAlbedo() const;
 
  private:
   struct Eval {
@@ -184,6 +190,13 @@ struct PbrBxdf {
   float coatFresnelWo_ = 0;  // the coat's reflectance at wo (its own normal)
   // What the layers above leave the base at wo: (1 - coat F(wo)) (1 - max(sheenColor) E(wo)).
   float baseScaleWo_ = 1;
+  // The perceptual roughness the albedo tables are read at (anisotropy: the geometric mean).
+  float tableRoughness_ = 1;
+  // The diffuse layer's albedo scaling, the part of wo: (1 - E_spec(wo)) / (1 - E_spec,avg).
+  Rgb diffuseScaleWo_;
+  // The rough metal's multiple-scattering lobe (Kulla-Conty), the part of wo:
+  // F_ms (1 - E(wo)) / (pi (1 - E_avg)); its value at wi is that times 1 - E(wi).
+  Rgb metalMultipleWo_;
   Vec3f toCoat_[3];          // rows: the coat frame's axes in the local frame
 };
 

@@ -4,10 +4,12 @@
 //
 // The model is the glTF 2.0 specification's (Appendix B) with its material extensions:
 //   material   = coat_layer(sheen_layer(base))
-//   base       = metallic       * F_metal(wo.h)    * spec
-//              + (1 - metallic) * [ F(wo.h) * spec + (1 - F(wo.n)) * (diffuse part + btdf part) ]
-//   diffuse part = (1 - transmission) * [(1 - dt) * baseColor / pi + dt * dtColor / pi (other side)]
-//   btdf part    = transmission * baseColor * btdf
+//   base       = metallic       * [ F_metal(wo.h) * spec + F_ms * ms ]
+//              + (1 - metallic) * [ F(wo.h) * spec + diffuse part + btdf part ]
+//   diffuse part = (1 - transmission) * S(wo, wi)
+//                  * [(1 - dt) * baseColor / pi + dt * dtColor / pi (other side)]
+//   S(wo, wi)    = (1 - E_spec(wo)) (1 - E_spec(wi)) / (1 - E_spec,avg)   (albedo scaling)
+//   btdf part    = transmission * (1 - F(wo.m)) * baseColor * btdf
 //   sheen_layer(b) = sheenColor * D_charlie V / (4 cos cos) + (1 - max(sheenColor) E_sheen(wo)) * b
 //   coat_layer(b)  = clearcoat * F_coat(wo.h) * spec_coat  + (1 - clearcoat * F_coat(wo.n_coat)) * b
 // where spec is the GGX reflection lobe (anisotropic with KHR_materials_anisotropy: roughness
@@ -21,15 +23,31 @@
 // with a thin film's reflectance (KHR_materials_iridescence, materials/layers.h). F_metal is
 // Schlick's from the base colour (or a film on it), F_coat the exact Fresnel for index 1.5,
 // E_sheen the sheen's directional albedo (tabulated). The coat has its own normal (its normal
-// map, or the surface's normal before the base's normal map).
+// map, or the surface's normal before the base's normal map). E_spec is the directional albedo
+// of the dielectric's Fresnel-weighted spec lobe (F(wo.n) when smooth), E_spec,avg its cosine-
+// weighted average, and ms Kulla and Conty's multiple-scattering lobe
+//   ms = (1 - E(wo)) (1 - E(wi)) / (pi (1 - E_avg)),  F_ms = F_avg^2 E_avg / (1 - F_avg (1 - E_avg))
+// with E the GGX albedo for F = 1 and F_avg = F0 + (1 - F0) / 21 (Schlick's, from the base
+// colour); the albedos are tabulated (microfacet_albedo.h).
 //
 // Deliberate changes, each for energy conservation or a ray tracer's needs:
-//   - The diffuse part is weighted by 1 - F(wo.n), not the specification's 1 - F(wo.h), which
-//     the specification itself notes is not energy conserving (it reached an albedo of 1.68 at
-//     grazing angles in the white furnace test); the price is a darker rough dielectric at
-//     grazing angles (missing multiple scattering, which Kulla-Conty tables would restore).
-//   - The layers' albedo scalings use wo alone (as the diffuse coupling does), so that every
-//     weight is a property of the BSDF's construction, and the furnace test can check them.
+//   - The diffuse part gets what the specular reflection leaves, by the albedo scaling S, not
+//     the specification's 1 - F(wo.h) (fresnel_mix), which the specification itself notes is
+//     not energy conserving (it reached an albedo of 1.68 at grazing angles in the white
+//     furnace test) and which loses the light the single-scattering GGX lobe drops. With S a
+//     white dielectric reflects everything at every roughness and view, S is reciprocal, and a
+//     smooth surface (E_spec = F) keeps the classic (1 - F(wo)) (1 - F(wi)) / (1 - F_avg) of a
+//     diffuse body under a clear interface. The specification's Appendix B allows this: its
+//     BRDF is "a simplification", and the Khronos sample viewer's image-based lighting
+//     weights its diffuse by the same idea, one minus the specular lobe's directional albedo
+//     (Fdez-Aguera's multiple-scattering split sum).
+//   - A rough metal gets Kulla and Conty's multiple-scattering lobe: a white rough metal then
+//     reflects everything too (single scattering kept 0.31 at roughness 1 and normal incidence).
+//     Rough refraction (transmission) has no such compensation yet and still loses light.
+//   - Anisotropic and iridescent materials read the tables approximately (the geometric-mean
+//     roughness; a film's reflectance times E), within the furnace tests' tolerances.
+//   - The layers' albedo scalings (sheen, coat) use wo alone, so that every weight is a
+//     property of the BSDF's construction, and the furnace test can check them.
 // Transmission refracts when the material has a volume (KHR_materials_volume with a thickness
 // above 0: then the inside absorbs, see absorption()); without one the surface is a thin sheet
 // (thinWalled), as the extension says: light passes without bending. Dispersion

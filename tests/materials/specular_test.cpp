@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "geometry/sampling.h"
+#include "materials/microfacet_albedo.h"
 #include "materials/pbr.h"
 #include "materials/scattering.h"
 
@@ -329,9 +330,12 @@ TEST(SmoothPbr, DeltaSamplesAreExcludedFromEvalAndPdf) {
           EXPECT_NEAR(s->pdf, F, 1e-6f);
         } else {
           EXPECT_TRUE(s->flags & kBsdfDiffuse);
-          // The diffuse lobe of a white dielectric: (1 - F) / pi, picked with probability
-          // 1 - F.
-          EXPECT_NEAR(s->f.y, (1 - F) * kInvPi, 1e-6f);
+          // The diffuse lobe of a white dielectric, (1 - F(wo)) (1 - F(wi)) / (1 - F_avg) / pi
+          // (the albedo scaling of pbr.h; F_avg = 0.0918 for index 1.5), picked with
+          // probability 1 - F(wo).
+          const float Fi = fresnelDielectric(dot(s->wi, n), 1.5f);
+          EXPECT_NEAR(s->f.y, (1 - F) * (1 - Fi) / (1 - dielectricFresnelAverage(1.5f)) * kInvPi,
+                      1e-6f);
           EXPECT_NEAR(s->pdf, (1 - F) * cosineHemispherePdf(dot(s->wi, n)), 1e-5f);
         }
       }
