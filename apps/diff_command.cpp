@@ -89,6 +89,7 @@ nlohmann::ordered_json flipJson(const DiffOptions& o, const FlipReport& f) {
   j["mean"] = s.mean;
   j["weighted_median"] = s.weightedMedian;
   j["weighted_quartiles"] = {s.weightedQuartile1, s.weightedQuartile3};
+  j["percentile_95"] = s.percentile95;
   j["max"] = s.max;
   j["max_pixel"] = {s.maxX, s.maxY};
   j["max_mean_allowed"] = o.flipMax;  // null when there is no limit
@@ -102,9 +103,9 @@ void printFlipText(const DiffOptions& o, const FlipReport& f) {
                                       f.result.exposures.start, f.result.exposures.stop)
                         : "LDR";
   fmt::print(
-      "  FLIP ({}, {:.3g} pixels/degree): mean {:.4g}, weighted median {:.4g}, max {:.4g} "
-      "@ ({}, {}){}\n",
-      how, o.pixelsPerDegree, s.mean, s.weightedMedian, s.max, s.maxX, s.maxY,
+      "  FLIP ({}, {:.3g} pixels/degree): mean {:.4g}, weighted median {:.4g}, 95th percentile "
+      "{:.4g}, max {:.4g} @ ({}, {}){}\n",
+      how, o.pixelsPerDegree, s.mean, s.weightedMedian, s.percentile95, s.max, s.maxX, s.maxY,
       std::isfinite(o.flipMax) ? fmt::format(" (limit {:g})", o.flipMax) : "");
 }
 

@@ -31,6 +31,7 @@ import re
 import struct
 import subprocess
 import sys
+import tempfile
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -270,21 +271,24 @@ def main():
     ap.add_argument("--width", type=int, default=400)
     ap.add_argument("--height", type=int, default=300)
     ap.add_argument("--spp", type=int, default=512)
+    ap.add_argument("--work", help="folder for the scenes and EXRs (default: a new temporary one)")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
+    work = args.work or tempfile.mkdtemp(prefix="glint_pbr_diffuse_")
+    os.makedirs(work, exist_ok=True)
     bunny = os.path.join(args.assets, "stanford", "bun_zipper.glb")
     if not os.path.exists(bunny):
         sys.exit(f"{bunny}: missing (benchmarks/get_assets.sh fetches it)")
-    script = os.path.join(args.out, "cycles_render.py")
+    script = os.path.join(work, "cycles_render.py")
     with open(script, "w") as f:
         f.write(BLENDER_SCRIPT)
     env = dict(os.environ)
     env["PATH"] = "/usr/bin:/bin:" + env.get("PATH", "")  # Debian's python for Blender
     results = {}
     for variant in ("pbr", "lambert"):
-        scene = write_scene(bunny, args.out, variant)
-        glint_out = os.path.join(args.out, f"glint_{variant}.exr")
-        cycles_out = os.path.join(args.out, f"cycles_{variant}.exr")
+        scene = write_scene(bunny, work, variant)
+        glint_out = os.path.join(work, f"glint_{variant}.exr")
+        cycles_out = os.path.join(work, f"cycles_{variant}.exr")
         start = time.time()
         subprocess.run([args.glint, "render", scene, "-o", glint_out, "--quiet", "--integrator",
                         "path", "--max-depth", "8", "--spp", str(args.spp), "--width",
@@ -301,16 +305,16 @@ def main():
     for r in ("glint", "cycles"):
         results[f"{r}_ratio"] = results["pbr"][r] / results["lambert"][r]
     results["lambert_cycles_over_glint"] = results["lambert"]["cycles"] / results["lambert"]["glint"]
-    white = os.path.join(args.out, "white_sky.exr")
+    white = os.path.join(work, "white_sky.exr")
     subprocess.run(["oiiotool", "--pattern", "constant:color=1,1,1", "64x32", "3", "-d", "float",
                     "-o", white], check=True)
     side = args.height * 2 // 5
     crop = f"{side}x{side}+{(args.width - side) // 2}+{(args.height - side) // 2}"
     for metallic in (0, 1):
-        scene = write_furnace(args.out, metallic)
+        scene = write_furnace(work, metallic)
         variant = os.path.splitext(os.path.basename(scene))[0]
-        glint_out = os.path.join(args.out, f"glint_{variant}.exr")
-        cycles_out = os.path.join(args.out, f"cycles_{variant}.exr")
+        glint_out = os.path.join(work, f"glint_{variant}.exr")
+        cycles_out = os.path.join(work, f"cycles_{variant}.exr")
         subprocess.run([args.glint, "render", scene, "-o", glint_out, "--quiet", "--integrator",
                         "path", "--max-depth", "8", "--spp", str(args.spp), "--width",
                         str(args.width), "--height", str(args.height), "--env", white],
@@ -322,6 +326,22 @@ def main():
             mean, _, _ = image_stats(path, crop)
             _, lo, hi = image_stats(path)
             results.setdefault(variant, {})[r] = {"middle_mean": mean, "min": lo, "max": hi}
+    # Contact sheets, glint left and Cycles right: the bunny (pbr top, lambert bottom) and the
+    # furnace (dielectric top, metal bottom) at exposure 0.6, so that the sky is mid-grey and a
+    # sphere that gains energy shows brighter than it, one that loses it darker.
+    def sheet(rows, name, scale):
+        tiles = []
+        for v in rows:
+            for r in ("glint", "cycles"):
+                png = os.path.join(work, f"{r}_{v}.png")
+                subprocess.run(["oiiotool", os.path.join(work, f"{r}_{v}.exr"), "--ch", "R,G,B",
+                                "--mulc", str(scale), "--tocolorspace", "sRGB", "-o", png],
+                               check=True)
+                tiles.append(png)
+        subprocess.run(["oiiotool"] + tiles + ["--mosaic", "2x2", "-o",
+                                               os.path.join(args.out, name)], check=True)
+    sheet(("pbr", "lambert"), "bunny_sheet.jpg", 1.0)
+    sheet(("furnace_dielectric", "furnace_metal"), "furnace_sheet.jpg", 0.6)
     with open(os.path.join(args.out, "results.json"), "w") as f:
         json.dump(results, f, indent=1)
     print(f"| variant | glint mean | Cycles mean |")

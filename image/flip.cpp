@@ -613,6 +613,8 @@ FlipStats flipStatistics(std::span<const float> error, int width) {
   s.mean = total / double(sorted.size());
   s.min = sorted.front();
   s.max = sorted.back();
+  const size_t rank95 = (sorted.size() * 95 + 99) / 100;  // ceil(0.95 n), at least 1
+  s.percentile95 = sorted[std::max<size_t>(rank95, 1) - 1];
   size_t at = size_t(std::max_element(error.begin(), error.end()) - error.begin());
   s.maxX = width > 0 ? int(at % size_t(width)) : 0;
   s.maxY = width > 0 ? int(at / size_t(width)) : 0;

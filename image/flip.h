@@ -44,6 +44,7 @@ struct FlipStats {
   double mean = 0;
   double weightedMedian = 0;                            // flipWeightedPercentile(·, 0.50)
   double weightedQuartile1 = 0, weightedQuartile3 = 0;  // … 0.25 and 0.75
+  double percentile95 = 0;  // the plain 95th percentile of the pixels' errors (nearest rank)
   double min = 0, max = 0;
   int maxX = 0, maxY = 0;  // first pixel (row-major) holding `max`
 };

@@ -410,6 +410,12 @@ TEST(Flip, WeightedPercentilesAndStatistics) {
   EXPECT_FLOAT_EQ(s.weightedQuartile1, 0.2f);
   EXPECT_FLOAT_EQ(s.weightedMedian, 0.3f);
   EXPECT_FLOAT_EQ(s.weightedQuartile3, 0.4f);
+  EXPECT_FLOAT_EQ(s.percentile95, 0.4f);  // nearest rank: ceil(0.95 * 4) = 4th
+  // The 95th percentile of 0.01, 0.02, ..., 1.00 (shuffled) is 0.95 by nearest rank; a
+  // weighted percentile would say more, as the large errors carry the sum.
+  std::vector<float> hundred;
+  for (int i = 0; i < 100; ++i) hundred.push_back(float((i * 37) % 100 + 1) / 100);
+  EXPECT_FLOAT_EQ(flipStatistics(hundred, 10).percentile95, 0.95f);
   // A weighted median leans towards the large errors that carry the sum.
   std::vector<float> skewed(50, 0.01f);
   skewed[7] = 0.9f;
