@@ -243,6 +243,8 @@ void runSequence(const RenderArgs& args, const std::vector<std::string>& pattern
   nlohmann::json first;  // scene-wide statistics, from the first rendered frame
   int skipped = 0;
   bool warned = false;
+  // The images decoded for one frame serve the next ones (the files are read once).
+  std::shared_ptr<TextureImages> images;
   for (int frame : frames) {
     std::vector<std::string> outputs;
     for (const FramePattern& p : outputPatterns) outputs.push_back(p.path(frame));
@@ -284,8 +286,10 @@ void runSequence(const RenderArgs& args, const std::vector<std::string>& pattern
                          why.c_str());
     }
     RenderScene scene;
-    namingFile(args.scene, "cannot build the scene",
-               [&] { scene = buildRenderScene(desc, &record.build); });
+    namingFile(args.scene, "cannot build the scene", [&] {
+      scene = buildRenderScene(desc, &record.build, BuildOptions{.images = images});
+    });
+    if (scene.images) images = scene.images;
     if (records.empty()) {
       checkDisplaySettings(desc, outputs);
       if (!args.quiet && !warned)

@@ -513,6 +513,9 @@ struct TextureImages::Impl {
   std::mutex mutex;    // guards the members below (adding images)
   std::vector<std::unique_ptr<Image>> images;
   std::unordered_set<std::string> names;  // of addPixels and addEncoded
+  // What findEncoded and findFile look up: "encoded:NAME" with its bytes, "srgb:PATH" and
+  // "linear:PATH" with nullptr.
+  std::unordered_map<std::string, std::pair<Handle, const void*>> sources;
   std::vector<std::string> registered;    // registry entries to remove at the end
   // Encoded images not yet handed to a decoding task, and the tasks.
   std::vector<std::pair<std::string, std::shared_ptr<const Source>>> pending, encoded;
@@ -621,8 +624,25 @@ TextureImages::Handle TextureImages::addEncoded(const std::string& name,
     impl_->registered.push_back(key);
     impl_->pending.emplace_back(name, src);
   }
+  const void* identity = src->encoded.get();
   Registry::add(key, src);
-  return impl_->open(name, key, &createMemoryInput);
+  const Handle h = impl_->open(name, key, &createMemoryInput);
+  std::lock_guard lock(impl_->mutex);
+  impl_->sources["encoded:" + name] = {h, identity};
+  return h;
+}
+
+TextureImages::Handle TextureImages::findEncoded(const std::string& name,
+                                                 const std::string* bytes) const {
+  std::lock_guard lock(impl_->mutex);
+  auto it = impl_->sources.find("encoded:" + name);
+  return it != impl_->sources.end() && it->second.second == bytes ? it->second.first : Handle{};
+}
+
+TextureImages::Handle TextureImages::findFile(const std::string& path, ColorEncoding enc) const {
+  std::lock_guard lock(impl_->mutex);
+  auto it = impl_->sources.find((enc == ColorEncoding::Srgb ? "srgb:" : "linear:") + path);
+  return it != impl_->sources.end() ? it->second.first : Handle{};
 }
 
 void TextureImages::startDecoding() {
@@ -674,7 +694,12 @@ TextureImages::Handle TextureImages::addFile(const std::string& path, ColorEncod
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
     throw std::runtime_error(path + ": no such file");
-  if (enc == ColorEncoding::Linear) return impl_->open(path, path, nullptr);
+  auto remember = [&](Handle h) {
+    std::lock_guard lock(impl_->mutex);
+    impl_->sources[(enc == ColorEncoding::Srgb ? "srgb:" : "linear:") + path] = {h, nullptr};
+    return h;
+  };
+  if (enc == ColorEncoding::Linear) return remember(impl_->open(path, path, nullptr));
   // The cache does not pass on why one of glint's ImageInputs failed to open, so open the
   // file once here (header only) for a helpful message.
   if (auto probe = OIIO::ImageInput::open(path); !probe)
@@ -688,7 +713,17 @@ TextureImages::Handle TextureImages::addFile(const std::string& path, ColorEncod
     impl_->registered.push_back(key);
   }
   Registry::add(key, std::move(src));
-  return impl_->open(path, key, &createSrgbFileInput);
+  return remember(impl_->open(path, key, &createSrgbFileInput));
+}
+
+size_t TextureImages::size() const {
+  std::lock_guard lock(impl_->mutex);
+  return impl_->images.size();
+}
+
+bool TextureImages::contains(const std::string& name) const {
+  std::lock_guard lock(impl_->mutex);
+  return impl_->names.count(name) > 0;
 }
 
 int TextureImages::width(Handle h) const { return h.image ? h.image->width : 0; }

@@ -60,6 +60,16 @@ class TextureImages {
   // std::runtime_error("<path>: <reason>") when it cannot be opened.
   Handle addFile(const std::string& path, ColorEncoding enc);
 
+  // The image this set already holds for the same source, or an invalid handle: an encoded
+  // image added under `name` from the very same bytes (the same buffer, not equal contents),
+  // or the file `path` added with encoding `enc`. A sequence's frames share one set this way,
+  // so each image is decoded once per sequence, not once per frame.
+  Handle findEncoded(const std::string& name, const std::string* bytes) const;
+  Handle findFile(const std::string& path, ColorEncoding enc) const;
+
+  size_t size() const;  // how many images the set holds
+  bool contains(const std::string& name) const;  // an image added under `name`
+
   int width(Handle h) const;
   int height(Handle h) const;
   int channels(Handle h) const;  // as stored (1..4 are used; more are ignored)

@@ -23,8 +23,9 @@ struct RenderScene {
   // Per analytic shape (GeometryScene::shapes), the material index of each material slot.
   std::vector<std::vector<uint32_t>> shapeMaterials;
   std::vector<std::unique_ptr<Material>> materials;
-  std::unique_ptr<TextureImages> images;  // the images the textures read (before them: it
-                                          // must outlive them)
+  // The images the textures read (before them: it must outlive them); shared with the next
+  // frames of a sequence (BuildOptions::images).
+  std::shared_ptr<TextureImages> images;
   std::vector<std::unique_ptr<Texture>> textures;
   // Per instance: the frame its object was authored in, for object-space textures (meshes
   // baked into world space keep their original placement here).

@@ -194,7 +194,9 @@ RandomColorTexture::Mode toRandomMode(TextureDesc::RandomMode m) {
 // Creates textures on demand, one per (texture, encoding), sharing decoded images.
 class TextureCache {
  public:
-  TextureCache(const SceneDescription& desc, RenderScene* scene) : desc_(desc), scene_(scene) {}
+  TextureCache(const SceneDescription& desc, RenderScene* scene,
+               std::shared_ptr<TextureImages> reuse)
+      : desc_(desc), scene_(scene), reuse_(std::move(reuse)) {}
   // Texture `texture` of the description; `srgb` is how a glTF image's colour is encoded
   // (glTF fixes it per use: base colour and emission sRGB, the others linear).
   const Texture* get(int texture, bool srgb) {
@@ -238,7 +240,8 @@ class TextureCache {
   }
 
   TextureImages& images() {
-    if (!scene_->images) scene_->images = std::make_unique<TextureImages>();
+    if (!scene_->images)
+      scene_->images = reuse_ ? std::move(reuse_) : std::make_shared<TextureImages>();
     return *scene_->images;
   }
 
@@ -250,14 +253,22 @@ class TextureCache {
                         (td.encoding == TextureDesc::Encoding::Auto && !isLinearFormat(td.file));
         auto key = std::make_pair(td.file, fileSrgb);
         if (auto it = files_.find(key); it != files_.end()) return it->second;
-        return files_[key] = images().addFile(
-                   td.file, fileSrgb ? ColorEncoding::Srgb : ColorEncoding::Linear);
+        const ColorEncoding enc = fileSrgb ? ColorEncoding::Srgb : ColorEncoding::Linear;
+        if (auto h = images().findFile(td.file, enc); h.valid()) return files_[key] = h;
+        return files_[key] = images().addFile(td.file, enc);
       }
       auto key = std::make_pair(td.image, srgb);
       if (auto it = pixels_.find(key); it != pixels_.end()) return it->second;
       const ImageDesc& img = desc_.images[size_t(td.image)];
-      const std::string name =
+      std::string name =
           img.name + (srgb ? " (sRGB)" : " (linear)") + " #" + std::to_string(td.image);
+      if (auto h = images().findEncoded(name, img.encoded.get()); h.valid()) {
+        imageWhere_[name] = img.where;
+        return pixels_[key] = h;
+      }
+      // An earlier frame's set may hold another image under this name (other bytes).
+      const std::string base = name;
+      for (int k = 2; images().contains(name); ++k) name = base + " [" + std::to_string(k) + "]";
       imageWhere_[name] = img.where;
       return pixels_[key] = images().addEncoded(
                  name, img.encoded, srgb ? ColorEncoding::Srgb : ColorEncoding::Linear);
@@ -279,6 +290,7 @@ class TextureCache {
   std::map<std::pair<int, bool>, TextureImages::Handle> pixels_;
   std::map<std::pair<std::string, bool>, TextureImages::Handle> files_;
   std::map<std::string, SourceLocation> imageWhere_;  // registered name -> the glTF image
+  std::shared_ptr<TextureImages> reuse_;  // an earlier frame's set, taken on first use
 };
 
 AlphaMode toAlphaMode(AlphaModeDesc m) {
@@ -830,7 +842,7 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
   GeometryMaterials geometryMaterials;
   buildMeshes(desc, shutter, &scene, &geometryMaterials);
   buildObjects(desc, shutter, &scene, &geometryMaterials);
-  TextureCache textures(desc, &scene);
+  TextureCache textures(desc, &scene, options.images);
   buildMaterials(desc, geometryMaterials, textures, &scene);
   // Image pixels decode on worker threads while the camera, lights and BVH are built.
   if (options.decodeImages && scene.images) scene.images->startDecoding();

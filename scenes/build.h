@@ -22,6 +22,10 @@ struct BuildTimings {
 // texel): a lookup would still decode them, on first use.
 struct BuildOptions {
   bool decodeImages = true;
+  // An earlier frame's images (RenderScene::images) of the same loaded files: images found
+  // there (the same encoded bytes, the same file) are used as they are, decoded already, and
+  // new ones are added to the set. A sequence passes each frame's set on to the next.
+  std::shared_ptr<TextureImages> images;
 };
 RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings = nullptr,
                              const BuildOptions& options = {});

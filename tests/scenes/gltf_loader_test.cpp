@@ -407,6 +407,26 @@ TEST(GltfLoader, ReadsCamerasAndPunctualLights) {
   EXPECT_EQ(sun.where.pointer, "/extensions/KHR_lights_punctual/lights/2");
 }
 
+// A sequence builds one scene per frame from the same loaded files: the second frame finds
+// the first frame's images (the same encoded bytes) and decodes nothing again; a description
+// whose image bytes are another buffer, even with equal contents, gets its own images.
+TEST(GltfLoader, SequenceFramesShareDecodedImages) {
+  const SceneDescription s = load(goodFile("features.gltf"));
+  ASSERT_EQ(s.images.size(), 2u);
+  const RenderScene first = buildRenderScene(s);
+  ASSERT_TRUE(first.images);
+  const size_t held = first.images->size();
+  EXPECT_GE(held, 2u);
+  const RenderScene second = buildRenderScene(s, nullptr, BuildOptions{.images = first.images});
+  EXPECT_EQ(second.images.get(), first.images.get());
+  EXPECT_EQ(first.images->size(), held);
+  SceneDescription copied = s;
+  for (ImageDesc& img : copied.images)
+    img.encoded = std::make_shared<const std::string>(*img.encoded);
+  const RenderScene third = buildRenderScene(copied, nullptr, BuildOptions{.images = first.images});
+  EXPECT_EQ(first.images->size(), 2 * held);
+}
+
 TEST(GltfLoader, ReadsMaterialsTexturesSamplersAndImages) {
   SceneDescription s = load(goodFile("features.gltf"));
   ASSERT_EQ(s.materials.size(), 2u);
