@@ -34,6 +34,8 @@ import sys
 import tempfile
 import time
 
+from conformance import blender_env
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 BLENDER_SCRIPT = r'''
@@ -282,8 +284,7 @@ def main():
     script = os.path.join(work, "cycles_render.py")
     with open(script, "w") as f:
         f.write(BLENDER_SCRIPT)
-    env = dict(os.environ)
-    env["PATH"] = "/usr/bin:/bin:" + env.get("PATH", "")  # Debian's python for Blender
+    env = blender_env()  # Debian's python and numpy for Blender (conformance.py says why)
     results = {}
     for variant in ("pbr", "lambert"):
         scene = write_scene(bunny, work, variant)

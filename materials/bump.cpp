@@ -63,9 +63,21 @@ void BumpMap::apply(SurfaceInteraction& si) const {
 // Normal maps
 // ---------------------------------------------------------------------------------------------
 
-bool tangentFrame(const SurfaceInteraction& si, Vec3f front, Vec3f* t, Vec3f* b) {
+namespace {
+// dp/du1 from dp/du, dp/dv and J = d uv1 / d uv (columns si.duv1du = (a, c), si.duv1dv =
+// (b, d)): dp/d uv1 = dp/d uv J^-1, whose first column is (d dp/du - c dp/dv) / det J. dp/du
+// where J is singular (no second set: J is the identity).
+Vec3f dpdu1(const SurfaceInteraction& si) {
+  const float a = si.duv1du.x, c = si.duv1du.y, b = si.duv1dv.x, d = si.duv1dv.y;
+  const float det = a * d - b * c;
+  if (!(std::abs(det) > 1e-12f) || !std::isfinite(det)) return si.dpdu;
+  return (si.dpdu * d - si.dpdv * c) / det;
+}
+}  // namespace
+
+bool tangentFrame(const SurfaceInteraction& si, Vec3f front, Vec3f* t, Vec3f* b, int uvSet) {
   const bool given = lengthSquared(si.tangent) > 0;
-  const Vec3f source = given ? si.tangent : si.dpdu;
+  const Vec3f source = given ? si.tangent : uvSet == 1 ? dpdu1(si) : si.dpdu;
   const Vec3f projected = source - front * dot(front, source);
   if (!(lengthSquared(projected) > 0)) return false;
   *t = normalize(projected);
@@ -82,7 +94,7 @@ void NormalMap::apply(SurfaceInteraction& si) const {
   // dp/du from the UVs, as glTF prescribes: bitangent = cross(normal, tangent) * w.
   const Vec3f front = si.frontFace ? si.ns : -si.ns;
   Vec3f t, b;
-  if (!tangentFrame(si, front, &t, &b)) {  // any frame around the normal
+  if (!tangentFrame(si, front, &t, &b, map_->uvSet())) {  // any frame around the normal
     t = Frame::fromZ(front).s;
     b = cross(front, t) * (lengthSquared(si.tangent) > 0 ? si.bitangentSign : 1.0f);
   }

@@ -35,9 +35,11 @@ class BumpMap final : public NormalModifier {
 // does).
 // The tangent frame (t, b) of glTF's tangent space at si around `front` (the normal on the
 // surface's front side): the mesh's TANGENT with its bitangent handedness when it has one, else
-// dp/du, as glTF prescribes; projected onto the plane of `front`. False when that projection
-// vanishes. Normal maps and anisotropy share it.
-bool tangentFrame(const SurfaceInteraction& si, Vec3f front, Vec3f* t, Vec3f* b);
+// dp/du of the texture coordinate set `uvSet` (0: TEXCOORD_0, 1: TEXCOORD_1, whose dp/du1
+// follows from dp/du, dp/dv and the triangle's map from uv to uv1), as glTF prescribes;
+// projected onto the plane of `front`. False when that projection vanishes. Normal maps and
+// anisotropy share it.
+bool tangentFrame(const SurfaceInteraction& si, Vec3f front, Vec3f* t, Vec3f* b, int uvSet = 0);
 
 class NormalMap final : public NormalModifier {
  public:

@@ -108,6 +108,7 @@ class ImageTexture final : public Texture {
     return {mapping_.usesUvs(), mapping_.usesObjectSpace(), filter_ == TextureFilter::Mipmap};
   }
   bool isImage() const override { return true; }
+  int uvSet() const override { return mapping_.usesUvs() ? mapping_.uvSet : 0; }
 
  private:
   const TextureImages* images_;

@@ -104,6 +104,8 @@ class Texture {
   virtual Rgb upperBound() const { return {1, 1, 1}; }
   // An image read from a file or the glTF (the "textures" effect); procedural ones are not.
   virtual bool isImage() const { return false; }
+  // The texture coordinate set a uv-mapped texture reads (TextureMapping::uvSet), else 0.
+  virtual int uvSet() const { return 0; }
 };
 
 // The textures read at one shading point, each looked up once however many of a material's

@@ -15,7 +15,7 @@ bool isBlack(const Rgb& c) { return !(c.x > 0 || c.y > 0 || c.z > 0); }
 // --- Emission ---------------------------------------------------------------------------------
 
 // The one place a light asks a material for its emission.
-Rgb AreaEmission::at(Vec3f p, Vec3f n, Vec3f ns, Vec2f uv, Vec3f wo) const {
+Rgb AreaEmission::at(Vec3f p, Vec3f n, Vec3f ns, Vec2f uv, Vec2f uv1, Vec3f wo) const {
   const float c = dot(n, wo);
   if (!twoSided && !(c > 0)) return {};
   if (!material) return radiance;
@@ -26,7 +26,8 @@ Rgb AreaEmission::at(Vec3f p, Vec3f n, Vec3f ns, Vec2f uv, Vec3f wo) const {
   si.ng = c >= 0 ? n : -n;
   si.ns = dot(ns, si.ng) >= 0 ? ns : -ns;
   si.wo = wo;
-  si.uv = si.uv1 = uv;  // (a light's samples carry TEXCOORD_0 only)
+  si.uv = uv;
+  si.uv1 = uv1;
   si.frontFace = c >= 0;
   si.objectFromWorld = &objectFromWorld;
   si.instance = instance;
@@ -69,9 +70,10 @@ void AreaLight::finish() {
     for (int j = 0; j < kGrid; ++j)
       for (int i = 0; i < kGrid; ++i) {
         Vec3f ns;
-        if (auto a =
-                samplePoint(nullptr, {(float(i) + 0.5f) / kGrid, (float(j) + 0.5f) / kGrid}, &ns))
-          sum += emission_.at(a->p, a->n, ns, a->uv, a->n);
+        Vec2f uv1;
+        if (auto a = samplePoint(nullptr, {(float(i) + 0.5f) / kGrid, (float(j) + 0.5f) / kGrid},
+                                 &ns, &uv1))
+          sum += emission_.at(a->p, a->n, ns, a->uv, uv1, a->n);
       }
   const Rgb mean = sum * (1.0f / float(kGrid * kGrid));
   phi_ = mean * (kPi * area_ * (emission_.twoSided ? 2.0f : 1.0f));
@@ -86,11 +88,12 @@ std::unique_ptr<AreaLight> makeShapeLight(std::unique_ptr<Shape> shape,
 
 // --- Points on the surface --------------------------------------------------------------------
 
-std::optional<ShapeSample> AreaLight::samplePoint(const Vec3f* ref, Vec2f u, Vec3f* ns) const {
+std::optional<ShapeSample> AreaLight::samplePoint(const Vec3f* ref, Vec2f u, Vec3f* ns,
+                                                  Vec2f* uv1) const {
   if (!(area_ > 0)) return std::nullopt;
   if (shape_) {
     std::optional<ShapeSample> s = ref ? shape_->sample(*ref, u) : shape_->sample(u);
-    if (s) *ns = s->n;
+    if (s) *ns = s->n, *uv1 = s->uv;
     return s;
   }
   float pmf = 0, ux = 0;
@@ -113,6 +116,8 @@ std::optional<ShapeSample> AreaLight::samplePoint(const Vec3f* ref, Vec2f u, Vec
   }
   s.uv = mesh_.uvs.empty() ? Vec2f{b1, b2}
                            : b0 * mesh_.uvs[i0] + b1 * mesh_.uvs[i1] + b2 * mesh_.uvs[i2];
+  *uv1 = mesh_.uvs1.empty() ? s.uv
+                            : b0 * mesh_.uvs1[i0] + b1 * mesh_.uvs1[i1] + b2 * mesh_.uvs1[i2];
   s.pdf = 1 / area_;
   return s;
 }
@@ -132,7 +137,8 @@ Vec3f AreaLight::referencePoint(const LightSampleContext& ctx) const {
 std::optional<LightSample> AreaLight::sampleLi(const LightSampleContext& ctx, Vec2f u) const {
   const Vec3f ref = referencePoint(ctx);
   Vec3f ns;
-  const std::optional<ShapeSample> a = samplePoint(&ref, u, &ns);
+  Vec2f uv1;
+  const std::optional<ShapeSample> a = samplePoint(&ref, u, &ns, &uv1);
   if (!a || !(a->pdf > 0)) return std::nullopt;
   const Vec3f toLight = a->p - ctx.p;
   const float d2 = lengthSquared(toLight);
@@ -141,7 +147,7 @@ std::optional<LightSample> AreaLight::sampleLi(const LightSampleContext& ctx, Ve
   const float cosLight = std::abs(dot(a->n, wi));
   if (!(cosLight > 0)) return std::nullopt;
   LightSample s;
-  s.L = emission_.at(a->p, a->n, ns, a->uv, -wi);
+  s.L = emission_.at(a->p, a->n, ns, a->uv, uv1, -wi);
   if (isBlack(s.L)) return std::nullopt;
   s.wi = wi;
   s.pLight = a->p;
@@ -162,7 +168,8 @@ float AreaLight::pdfLi(const LightSampleContext& ctx, Vec3f wi, const LightHit& 
 
 std::optional<LightLeSample> AreaLight::sampleLe(Vec2f uPos, Vec2f uDir, float time) const {
   Vec3f ns;
-  const std::optional<ShapeSample> a = samplePoint(nullptr, uPos, &ns);
+  Vec2f uv1;
+  const std::optional<ShapeSample> a = samplePoint(nullptr, uPos, &ns, &uv1);
   if (!a || !(a->pdf > 0)) return std::nullopt;
   // Two-sided: the first half of uDir.x picks the normal's side, the second the other.
   Vec3f n = a->n;
@@ -182,7 +189,7 @@ std::optional<LightLeSample> AreaLight::sampleLe(Vec2f uPos, Vec2f uDir, float t
   LightLeSample s;
   s.ray = spawnRay(a->p, a->pError, n, Frame::fromZ(n).fromLocal(local), time);
   s.n = n;
-  s.L = emission_.at(a->p, a->n, ns, a->uv, s.ray.d);
+  s.L = emission_.at(a->p, a->n, ns, a->uv, uv1, s.ray.d);
   if (isBlack(s.L)) return std::nullopt;
   s.pdfPos = a->pdf;
   s.pdfDir = pdfDir;

@@ -32,18 +32,20 @@ struct AreaEmission {
   uint32_t instance = 0;               // the instance, for textures keyed on it
   bool twoSided = false;
 
-  // Radiance leaving point p (unit normal n, shading normal ns, uv) towards unit direction wo.
-  Rgb at(Vec3f p, Vec3f n, Vec3f ns, Vec2f uv, Vec3f wo) const;
+  // Radiance leaving point p (unit normal n, shading normal ns, texture coordinates uv and
+  // uv1: glTF's TEXCOORD_0 and _1) towards unit direction wo.
+  Rgb at(Vec3f p, Vec3f n, Vec3f ns, Vec2f uv, Vec2f uv1, Vec3f wo) const;
 };
 
 // An emitting triangle mesh in world space. Normals (per vertex, optional) give the shading
 // normal the material sees; uvs (optional) its texture coordinates, barycentrics otherwise, as
-// for camera hits.
+// for camera hits; uvs1 (optional) the second set, uvs otherwise.
 struct EmissiveMesh {
   std::vector<Vec3f> positions;
   std::vector<uint32_t> indices;  // three per triangle
   std::vector<Vec3f> normals;
   std::vector<Vec2f> uvs;
+  std::vector<Vec2f> uvs1;
 };
 
 class AreaLight final : public Light {
@@ -71,8 +73,9 @@ class AreaLight final : public Light {
 
  private:
   // A point of the surface with its world area density: for the receiver at *ref (visible
-  // part only), or uniform when ref is null. `ns` receives the shading normal.
-  std::optional<ShapeSample> samplePoint(const Vec3f* ref, Vec2f u, Vec3f* ns) const;
+  // part only), or uniform when ref is null. `ns` receives the shading normal, `uv1` the
+  // second texture coordinate set (the sample's uv where there is none).
+  std::optional<ShapeSample> samplePoint(const Vec3f* ref, Vec2f u, Vec3f* ns, Vec2f* uv1) const;
   // The density of samplePoint(&ref, ·) per unit world area at surface point p, normal n.
   float pdfPoint(Vec3f ref, Vec3f p, Vec3f n) const;
   // Where the shape judges what a receiver sees from: the receiving point moved off its

@@ -28,7 +28,7 @@ std::string unsampledReason(const Shape& shape) {
 
 std::unique_ptr<Light> meshLight(const TriangleMesh& mesh, const Transform& world,
                                  const AreaEmission& emission) {
-  EmissiveMesh m{mesh.positions, mesh.indices, mesh.normals, mesh.uvs};
+  EmissiveMesh m{mesh.positions, mesh.indices, mesh.normals, mesh.uvs, mesh.uvs1};
   if (!world.isIdentity()) {
     placeVertices(world, &m.positions, &m.indices);  // the winding faces the front
     for (Vec3f& n : m.normals) n = normalize(world.normal(n));

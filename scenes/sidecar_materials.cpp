@@ -209,6 +209,47 @@ void readNormalModifier(JsonReader& r, const SceneDescription& scene, MaterialDe
   }
 }
 
+// The `pbr` type's layers, glTF's material extensions by their sidecar names (scenes/README):
+// each object sets the factors it gives and keeps the rest (a glTF material overridden by name
+// keeps its extension textures).
+void readPbrLayers(JsonReader& r, const SceneDescription& scene, MaterialLayersDesc* l) {
+  if (JsonReader* o = r.optionalObject("specular")) {
+    l->specular = o->get<float>("strength", l->specular, kUnit);
+    readColorParam(*o, "color", scene, &l->specularColor, &l->specularColorTexture);
+  }
+  if (JsonReader* o = r.optionalObject("clearcoat")) {
+    l->clearcoat = o->get<float>("factor", 1.0f, kUnit);
+    l->clearcoatRoughness = o->get<float>("roughness", l->clearcoatRoughness, kUnit);
+  }
+  if (JsonReader* o = r.optionalObject("sheen")) {
+    readColorParam(*o, "color", scene, &l->sheenColor, &l->sheenColorTexture);
+    l->sheenRoughness = o->get<float>("roughness", l->sheenRoughness, kUnit);
+  }
+  if (JsonReader* o = r.optionalObject("volume")) {
+    l->thickness = o->get<float>("thickness", 1.0f, kNonNegative);
+    l->attenuationColor = o->get<Rgb>("attenuation_color", l->attenuationColor, kUnit);
+    l->attenuationDistance =
+        o->get<float>("attenuation_distance", l->attenuationDistance, kPositive);
+  }
+  if (JsonReader* o = r.optionalObject("iridescence")) {
+    l->iridescence = o->get<float>("factor", 1.0f, kUnit);
+    l->iridescenceIor = o->get<float>("ior", l->iridescenceIor, {.ge = 1});
+    const float nm = o->get<float>("thickness_nm", l->iridescenceThicknessMax, kNonNegative);
+    l->iridescenceThicknessMin = l->iridescenceThicknessMax = nm;
+    l->iridescenceThicknessTexture = -1;  // one thickness, as given
+  }
+  if (JsonReader* o = r.optionalObject("anisotropy")) {
+    l->anisotropy = o->get<float>("strength", l->anisotropy, kUnit);
+    l->anisotropyRotation = o->get<float>("rotation", l->anisotropyRotation);
+  }
+  l->dispersion = r.get<float>("dispersion", l->dispersion, kNonNegative);
+  if (JsonReader* o = r.optionalObject("diffuse_transmission")) {
+    l->diffuseTransmission = o->get<float>("factor", 1.0f, kUnit);
+    readColorParam(*o, "color", scene, &l->diffuseTransmissionColor,
+                   &l->diffuseTransmissionColorTexture);
+  }
+}
+
 // Sets the given parameters of `m` (type already decided); others keep their values, so an
 // override keeps the glTF material's textures and unmentioned factors.
 void readMaterialParameters(JsonReader& r, const SceneDescription& scene, MaterialDesc* m) {
@@ -219,6 +260,7 @@ void readMaterialParameters(JsonReader& r, const SceneDescription& scene, Materi
       m->roughness = r.get<float>("roughness", m->roughness, kUnit);
       m->ior = r.get<float>("ior", m->ior, kPositive);
       m->transmission = r.get<float>("transmission", m->transmission, kUnit);
+      readPbrLayers(r, scene, &m->layers);
       break;
     case MaterialType::Eyelight:
     case MaterialType::Unlit:

@@ -429,6 +429,38 @@ TEST(NormalMap, TiltedTexelTiltsTowardsTheTangentAndMirrorsOnBackFaces) {
   }
 }
 
+// A normal map on TEXCOORD_1 tilts along that set's dp/du1, not set 0's dp/du: with the second
+// set turned a quarter turn from the first (u1 = -v, v1 = u), dp/du1 = -dp/dv. Without a
+// second set (the identity map) both agree.
+TEST(NormalMap, SecondUvSetUsesItsOwnTangent) {
+  struct SecondSetTexel final : Texture {
+    Vec4f texel{0.75f, 0.5f, 1, 1};  // tilted towards +tangent
+    Vec4f evaluate(const TexturePoint&) const override { return texel; }
+    TextureNeeds needs() const override { return {}; }
+    int uvSet() const override { return 1; }
+  } second;
+  SurfaceInteraction si;
+  si.ng = si.ns = {0, 0, 1};
+  si.dpdu = {1, 0, 0};
+  si.dpdv = {0, 1, 0};
+  si.duv1du = {0, 1};   // d(u1, v1) / du
+  si.duv1dv = {-1, 0};  // d(u1, v1) / dv
+  Vec3f t, b;
+  ASSERT_TRUE(tangentFrame(si, si.ns, &t, &b, 1));
+  EXPECT_NEAR(t.y, -1, 1e-6f);
+  ASSERT_TRUE(tangentFrame(si, si.ns, &t, &b, 0));
+  EXPECT_NEAR(t.x, 1, 1e-6f);
+  SurfaceInteraction mapped = si;
+  NormalMap(&second, 1).apply(mapped);
+  EXPECT_NEAR(mapped.ns.y, -std::sin(std::atan(0.5f)), 1e-5f);
+  EXPECT_NEAR(mapped.ns.x, 0, 1e-5f);
+  SurfaceInteraction identity = si;
+  identity.duv1du = {1, 0};
+  identity.duv1dv = {0, 1};
+  NormalMap(&second, 1).apply(identity);
+  EXPECT_NEAR(identity.ns.x, std::sin(std::atan(0.5f)), 1e-5f);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Snow
 // ---------------------------------------------------------------------------------------------

@@ -3,6 +3,7 @@
 // mirror shows what it faces, and scenes without such materials trace no secondary rays.
 #include <gtest/gtest.h>
 
+#include "renderer/light.h"
 #include "renderer/render.h"
 #include "scenes/build.h"
 #include "scenes/load.h"
@@ -212,6 +213,34 @@ TEST(MaterialRender, TexturesReadTheUvSetTheyName) {
   TextureLookups lookups(si);
   EXPECT_NEAR(scene.materials[1]->albedo(si, lookups).x, 1, 1e-3f);
   EXPECT_NEAR(scene.materials[0]->albedo(si, lookups).y, 1, 1e-3f);
+}
+
+// An emissive texture on TEXCOORD_1 glows the same when a light samples it as when a camera
+// sees it: light samples carry the second set too (they used to read set 0: red, not green).
+TEST(MaterialRender, EmissiveTextureOnTheSecondSetIsTheSameSampled) {
+  SceneDescription d = smallGltf("second_uv_set.gltf");
+  for (MaterialDesc& m : d.materials) {
+    m.type = MaterialType::Pbr;
+    m.emissive = {1, 1, 1};
+    m.emissiveTexture = m.baseColorTexture;
+    m.baseColorTexture = -1;
+    m.baseColor = {0, 0, 0};
+  }
+  RenderScene scene = buildRenderScene(d);
+  LightSampleContext ctx;
+  ctx.p = {0, 0, 1};
+  ctx.n = ctx.ns = {0, 0, -1};
+  int samples = 0;
+  for (const auto& light : scene.lights)
+    for (float u : {0.1f, 0.4f, 0.6f, 0.9f}) {
+      auto s = light->sampleLi(ctx, {u, 1 - u});
+      // The studio environment lights this scene too; the square at x = 5 reads set 0.
+      if (!s || s->infinite || s->pLight.x > 2.5f) continue;
+      ++samples;
+      EXPECT_NEAR(s->L.x, 0, 1e-3f) << "sample at " << s->pLight.x << ", " << s->pLight.y;
+      EXPECT_NEAR(s->L.y, 1, 1e-3f) << "sample at " << s->pLight.x << ", " << s->pLight.y;
+    }
+  EXPECT_EQ(samples, 4);
 }
 
 }  // namespace

@@ -182,6 +182,63 @@ TEST(SidecarMaterials, RoughnessMustBeInTheUnitInterval) {
       "/materials/0/transmission", "must be >= 0 and <= 1");
 }
 
+// The pbr type takes glTF's material extensions as objects; an override of a glTF material
+// changes only the layers and factors it names.
+TEST(SidecarMaterials, PbrTakesTheExtensionLayers) {
+  const SceneDescription d = apply(R"({"materials": [{"name": "coated", "type": "pbr",
+      "specular": {"strength": 0.5, "color": [1, 0.5, 0.25]},
+      "clearcoat": {"roughness": 0.2}, "sheen": {"color": [0.1, 0.2, 0.3], "roughness": 0.7},
+      "volume": {"thickness": 2, "attenuation_color": [0.9, 0.8, 0.7],
+                 "attenuation_distance": 3},
+      "iridescence": {"factor": 0.6, "ior": 1.4, "thickness_nm": 350},
+      "anisotropy": {"strength": 0.8, "rotation": 1.5}, "dispersion": 0.25,
+      "diffuse_transmission": {"factor": 0.3, "color": [0.5, 1, 0.5]}}]})");
+  ASSERT_EQ(d.materials.size(), 1u);
+  const MaterialLayersDesc& l = d.materials[0].layers;
+  EXPECT_FLOAT_EQ(l.specular, 0.5f);
+  EXPECT_FLOAT_EQ(l.specularColor.z, 0.25f);
+  EXPECT_FLOAT_EQ(l.clearcoat, 1);  // an object without a factor switches the layer on
+  EXPECT_FLOAT_EQ(l.clearcoatRoughness, 0.2f);
+  EXPECT_FLOAT_EQ(l.sheenColor.y, 0.2f);
+  EXPECT_FLOAT_EQ(l.sheenRoughness, 0.7f);
+  EXPECT_FLOAT_EQ(l.thickness, 2);
+  EXPECT_FLOAT_EQ(l.attenuationColor.x, 0.9f);
+  EXPECT_FLOAT_EQ(l.attenuationDistance, 3);
+  EXPECT_FLOAT_EQ(l.iridescence, 0.6f);
+  EXPECT_FLOAT_EQ(l.iridescenceIor, 1.4f);
+  EXPECT_FLOAT_EQ(l.iridescenceThicknessMin, 350);
+  EXPECT_FLOAT_EQ(l.iridescenceThicknessMax, 350);
+  EXPECT_FLOAT_EQ(l.anisotropy, 0.8f);
+  EXPECT_FLOAT_EQ(l.anisotropyRotation, 1.5f);
+  EXPECT_FLOAT_EQ(l.dispersion, 0.25f);
+  EXPECT_FLOAT_EQ(l.diffuseTransmission, 0.3f);
+  EXPECT_FLOAT_EQ(l.diffuseTransmissionColor.x, 0.5f);
+  // An override keeps what it does not name.
+  SceneDescription g = gltfLike();
+  g.materials[0].layers.sheenColor = {1, 1, 1};
+  g.materials[0].layers.sheenColorTexture = 4;
+  g = apply(R"({"materials": [{"name": "Paint", "clearcoat": {"factor": 0.5}}]})", g);
+  EXPECT_FLOAT_EQ(g.materials[0].layers.clearcoat, 0.5f);
+  EXPECT_EQ(g.materials[0].layers.sheenColorTexture, 4);
+  // Bad values and unknown keys name their pointer.
+  EXPECT_SCENE_ERROR(
+      applyError(R"({"materials": [{"name": "x", "type": "pbr", "clearcoat": {"factor": 2}}]})"),
+      kFile, "/materials/0/clearcoat/factor", "must be >= 0 and <= 1");
+  EXPECT_SCENE_ERROR(
+      applyError(
+          R"({"materials": [{"name": "x", "type": "pbr", "volume": {"attenuation_distance": 0}}]})"),
+      kFile, "/materials/0/volume/attenuation_distance", "must be > 0");
+  EXPECT_SCENE_ERROR(
+      applyError(R"({"materials": [{"name": "x", "type": "pbr", "sheen": {"colour": [1, 1, 1]}}]})"),
+      kFile, "/materials/0/sheen/colour", "color");
+  EXPECT_SCENE_ERROR(
+      applyError(R"({"materials": [{"name": "x", "type": "pbr", "dispersion": -1}]})"), kFile,
+      "/materials/0/dispersion", "must be >= 0");
+  EXPECT_SCENE_ERROR(
+      applyError(R"({"materials": [{"name": "x", "type": "lambert", "sheen": {}}]})"), kFile,
+      "/materials/0/sheen", "");
+}
+
 TEST(SidecarMaterials, MissingTextureFileNamesThePath) {
   SceneError e = applyError(
       R"({"textures": [{"name": "bricks", "type": "image", "file": "no/such/bricks.png"}]})");
