@@ -156,6 +156,10 @@ Rgb clamp01(Rgb c) {
   return {std::clamp(c.x, 0.0f, 1.0f), std::clamp(c.y, 0.0f, 1.0f), std::clamp(c.z, 0.0f, 1.0f)};
 }
 const Rgb kOne{1, 1, 1};
+// KHR_materials_specular changes the dielectric's reflectance (a colour or strength not 1).
+bool tintedSpecular(const PbrHit& hit) {
+  return hit.specularColor != kOne || hit.specular != 1;
+}
 }  // namespace
 
 PbrBxdf::PbrBxdf(Vec3f wo, Rgb base_, float metallic_, float roughness, float transmission_,
@@ -288,7 +292,7 @@ Rgb PbrBxdf::dielectricFresnel(float c) const {
 Rgb PbrBxdf::dielectricFresnel(float c, float eta) const {
   const float F = fresnelDielectric(c, eta);
   Rgb r{F, F, F};
-  if (hit.specularColor != kOne || hit.specular != 1) {
+  if (tintedSpecular(hit)) {
     // KHR_materials_specular: F0 tinted by the specular colour (at most 1), the exact
     // Fresnel's rise from F0 to 1 kept as the blend weight, all scaled by the strength.
     const float f0 = square((eta - 1) / (eta + 1));
@@ -317,10 +321,11 @@ namespace {
 // E_spec from the bare interface's albedos: eF with the exact Fresnel for the index, e1 with
 // F = 1 (both 1 when smooth and the eF the Fresnel reflectance), as dielectricFresnel() tints
 // and scales F: KHR_materials_specular's F = F0' + (1 - F0') w with w = (F - F0) / (1 - F0)
-// is linear in F, so its albedo is F0' e1 + (1 - F0') (eF - F0 e1) / (1 - F0).
+// is linear in F, so its albedo is F0' e1 + (1 - F0') (eF - F0 e1) / (1 - F0). e1 is read
+// only when tintedSpecular(hit).
 Rgb specularAlbedo(const PbrHit& hit, float eF, float e1) {
   Rgb r{eF, eF, eF};
-  if (hit.specularColor != kOne || hit.specular != 1) {
+  if (tintedSpecular(hit)) {
     const float f0 = square((hit.eta - 1) / (hit.eta + 1));
     const float ew = f0 < 1 ? std::clamp((eF - f0 * e1) / (1 - f0), 0.0f, e1) : e1;
     const Rgb f0Tinted = min(hit.specularColor * f0, kOne);
@@ -333,7 +338,7 @@ Rgb specularAlbedo(const PbrHit& hit, float eF, float e1) {
 Rgb PbrBxdf::dielectricAlbedo(float mu) const {
   if (smooth) return dielectricFresnel(mu);
   Rgb r = specularAlbedo(hit, ggxDielectricAlbedo(mu, tableRoughness_, hit.eta),
-                         ggxAlbedo(mu, tableRoughness_));
+                         tintedSpecular(hit) ? ggxAlbedo(mu, tableRoughness_) : 0.0f);
   if (hit.iridescence > 0)  // approximately: the film's reflectance at mu times E with F = 1
     r = lerp(hit.iridescence, r,
              thinFilmFresnel(mu, hit.iridescenceIor, Rgb{hit.eta, hit.eta, hit.eta},
@@ -355,7 +360,8 @@ Rgb PbrBxdf::dielectricAverageAlbedo() const {
   }
   const Rgb r = smooth ? specularAlbedo(hit, dielectricFresnelAverage(hit.eta), 1)
                        : specularAlbedo(hit, ggxDielectricAverageAlbedo(tableRoughness_, hit.eta),
-                                        ggxAverageAlbedo(tableRoughness_));
+                                        tintedSpecular(hit) ? ggxAverageAlbedo(tableRoughness_)
+                                                            : 0.0f);
   return clamp01(r * hit.specular);
 }
 
