@@ -156,6 +156,8 @@ Rgb clamp01(Rgb c) {
   return {std::clamp(c.x, 0.0f, 1.0f), std::clamp(c.y, 0.0f, 1.0f), std::clamp(c.z, 0.0f, 1.0f)};
 }
 const Rgb kOne{1, 1, 1};
+// The normal-incidence reflectance of an interface of relative index eta.
+float f0FromEta(float eta) { return square((eta - 1) / (eta + 1)); }
 // KHR_materials_specular changes the dielectric's reflectance (a colour or strength not 1).
 bool tintedSpecular(const PbrHit& hit) {
   return hit.specularColor != kOne || hit.specular != 1;
@@ -295,7 +297,7 @@ Rgb PbrBxdf::dielectricFresnel(float c, float eta) const {
   if (tintedSpecular(hit)) {
     // KHR_materials_specular: F0 tinted by the specular colour (at most 1), the exact
     // Fresnel's rise from F0 to 1 kept as the blend weight, all scaled by the strength.
-    const float f0 = square((eta - 1) / (eta + 1));
+    const float f0 = f0FromEta(eta);
     const float w = f0 < 1 ? std::clamp((F - f0) / (1 - f0), 0.0f, 1.0f) : 1.0f;
     const Rgb f0Tinted = min(hit.specularColor * f0, kOne);
     r = f0Tinted + (kOne - f0Tinted) * w;
@@ -326,7 +328,7 @@ namespace {
 Rgb specularAlbedo(const PbrHit& hit, float eF, float e1) {
   Rgb r{eF, eF, eF};
   if (tintedSpecular(hit)) {
-    const float f0 = square((hit.eta - 1) / (hit.eta + 1));
+    const float f0 = f0FromEta(hit.eta);
     const float ew = f0 < 1 ? std::clamp((eF - f0 * e1) / (1 - f0), 0.0f, e1) : e1;
     const Rgb f0Tinted = min(hit.specularColor * f0, kOne);
     r = f0Tinted * e1 + (kOne - f0Tinted) * ew;

@@ -507,14 +507,22 @@ struct TextureImages::Image {
   int width = 0, height = 0, channels = 0;
 };
 
+namespace {
+// The keys of TextureImages::Impl::sources.
+std::string encodedSourceKey(const std::string& name) { return "encoded:" + name; }
+std::string fileSourceKey(const std::string& path, ColorEncoding enc) {
+  return (enc == ColorEncoding::Srgb ? "srgb:" : "linear:") + path;
+}
+}  // namespace
+
 struct TextureImages::Impl {
   OIIO::TextureSystem* ts = nullptr;
   std::string prefix;  // "glint<serial>:", keeps registry names unique per set
   std::mutex mutex;    // guards the members below (adding images)
   std::vector<std::unique_ptr<Image>> images;
   std::unordered_set<std::string> names;  // of addPixels and addEncoded
-  // What findEncoded and findFile look up: "encoded:NAME" with its bytes, "srgb:PATH" and
-  // "linear:PATH" with nullptr.
+  // What findEncoded and findFile look up: encodedSourceKey(name) with its bytes,
+  // fileSourceKey(path, encoding) with nullptr.
   std::unordered_map<std::string, std::pair<Handle, const void*>> sources;
   std::vector<std::string> registered;    // registry entries to remove at the end
   // Encoded images not yet handed to a decoding task, and the tasks.
@@ -628,20 +636,20 @@ TextureImages::Handle TextureImages::addEncoded(const std::string& name,
   Registry::add(key, src);
   const Handle h = impl_->open(name, key, &createMemoryInput);
   std::lock_guard lock(impl_->mutex);
-  impl_->sources["encoded:" + name] = {h, identity};
+  impl_->sources[encodedSourceKey(name)] = {h, identity};
   return h;
 }
 
 TextureImages::Handle TextureImages::findEncoded(const std::string& name,
                                                  const std::string* bytes) const {
   std::lock_guard lock(impl_->mutex);
-  auto it = impl_->sources.find("encoded:" + name);
+  auto it = impl_->sources.find(encodedSourceKey(name));
   return it != impl_->sources.end() && it->second.second == bytes ? it->second.first : Handle{};
 }
 
 TextureImages::Handle TextureImages::findFile(const std::string& path, ColorEncoding enc) const {
   std::lock_guard lock(impl_->mutex);
-  auto it = impl_->sources.find((enc == ColorEncoding::Srgb ? "srgb:" : "linear:") + path);
+  auto it = impl_->sources.find(fileSourceKey(path, enc));
   return it != impl_->sources.end() ? it->second.first : Handle{};
 }
 
@@ -696,7 +704,7 @@ TextureImages::Handle TextureImages::addFile(const std::string& path, ColorEncod
     throw std::runtime_error(path + ": no such file");
   auto remember = [&](Handle h) {
     std::lock_guard lock(impl_->mutex);
-    impl_->sources[(enc == ColorEncoding::Srgb ? "srgb:" : "linear:") + path] = {h, nullptr};
+    impl_->sources[fileSourceKey(path, enc)] = {h, nullptr};
     return h;
   };
   if (enc == ColorEncoding::Linear) return remember(impl_->open(path, path, nullptr));
