@@ -1,4 +1,5 @@
 // glint — `glint info`: what a scene holds and which effects it calls for.
+#include <algorithm>
 #include <cstdio>
 #include <map>
 
@@ -175,6 +176,22 @@ void runInfo(const InfoArgs& args) {
         "animation:  %zu animated node%s, keys from %g s to %g s (frames %g to %g at %g fps)\n",
         animatedNodes, animatedNodes == 1 ? "" : "s", animStart, animEnd,
         animStart * desc.render.fps, animEnd * desc.render.fps, desc.render.fps);
+  // What motion blur costs: how many placements move and meshes deform over the shutter, and
+  // with how many time steps (each a pose Embree stores and blends).
+  size_t moving = 0, movingKeys = 0, deforming = 0, deformSteps = 0;
+  for (const Instance& inst : scene.geometry.instances)
+    if (inst.moves()) ++moving, movingKeys = std::max(movingKeys, inst.motion.keyCount());
+  for (const TriangleMesh& m : scene.geometry.meshes)
+    if (m.deforms()) ++deforming, deformSteps = std::max(deformSteps, m.positionSteps.size());
+  std::string motion;
+  if (moving > 0)
+    motion = std::to_string(moving) + " moving placement" + (moving == 1 ? "" : "s") +
+             " (up to " + std::to_string(movingKeys) + " keys)";
+  if (deforming > 0)
+    motion += (motion.empty() ? "" : ", ") + std::to_string(deforming) + " deforming mesh" +
+              (deforming == 1 ? "" : "es") + " (up to " + std::to_string(deformSteps) +
+              " time steps)";
+  if (!motion.empty()) std::printf("motion:     %s over the shutter\n", motion.c_str());
   std::vector<std::string> effects = scene.features.names();
   std::printf("effects:    %s\n", effects.empty()
                                       ? "none"

@@ -36,8 +36,8 @@ SurfaceInteraction shapeInteraction(const GeometryScene& scene, const Ray& ray, 
 // in world space. Without UVs (or with degenerate ones) the barycentric parameterisation is
 // used, and a triangle with no area in uv gets any frame around its normal.
 void triangleTangents(const TriangleMesh& mesh, const Transform& xf, bool identity, uint32_t i0,
-                      uint32_t i1, uint32_t i2, SurfaceInteraction* si) {
-  const Vec3f p0 = mesh.positions[i0], p1 = mesh.positions[i1], p2 = mesh.positions[i2];
+                      uint32_t i1, uint32_t i2, Vec3f p0, Vec3f p1, Vec3f p2,
+                      SurfaceInteraction* si) {
   Vec2f uv0{0, 0}, uv1{1, 0}, uv2{0, 1};
   if (!mesh.uvs.empty()) uv0 = mesh.uvs[i0], uv1 = mesh.uvs[i1], uv2 = mesh.uvs[i2];
   const Vec2f duv02 = uv0 - uv2, duv12 = uv1 - uv2;
@@ -102,15 +102,22 @@ Vec3f instanceRayTransformError(const Transform& xf, Vec3f p) {
 }
 
 // A triangle hit on an instance placed by `xf` (its transform at the ray's time when it moves).
-// Inlined twice, for static and moving meshes, so the static path carries no motion code.
+// Inlined twice, for static and for moving or deforming meshes, so the static path carries no
+// motion code.
 [[gnu::always_inline]] inline SurfaceInteraction triangleInteraction(
     const GeometryScene& scene, const Ray& ray, const Hit& hit, SurfaceNeeds needs,
-    const Instance& inst, const Transform& xf, bool moves) {
+    const Instance& inst, const Transform& xf, bool moves, bool deforms) {
   SurfaceInteraction si;
   const TriangleMesh& mesh = scene.meshes[inst.mesh];
   const uint32_t i0 = mesh.indices[3 * hit.prim], i1 = mesh.indices[3 * hit.prim + 1],
                  i2 = mesh.indices[3 * hit.prim + 2];
-  const Vec3f p0 = mesh.positions[i0], p1 = mesh.positions[i1], p2 = mesh.positions[i2];
+  // A deforming mesh's triangle where it was at the ray's time: the blend of two time steps
+  // Embree intersected.
+  TriangleMesh::StepBlend step{0, 0};
+  if (deforms) step = mesh.stepAt(ray.time);
+  const Vec3f p0 = deforms ? mesh.positionAt(i0, step) : mesh.positions[i0];
+  const Vec3f p1 = deforms ? mesh.positionAt(i1, step) : mesh.positions[i1];
+  const Vec3f p2 = deforms ? mesh.positionAt(i2, step) : mesh.positions[i2];
   const float b1 = hit.u, b2 = hit.v, b0 = 1 - b1 - b2;
 
   const bool identity = xf.isIdentity();
@@ -119,6 +126,15 @@ Vec3f instanceRayTransformError(const Transform& xf, Vec3f p) {
     // (Triangle::InteractionFromIntersection).
     Vec3f pObj = b0 * p0 + b1 * p1 + b2 * p2;
     Vec3f errObj = gamma(7) * (abs(b0 * p0) + abs(b1 * p1) + abs(b2 * p2));
+    if (deforms) {
+      // The blend of the steps is rounded (by Embree too, perhaps fused): a few roundings of
+      // the two steps' magnitudes per vertex.
+      auto blendError = [&](uint32_t v) {
+        return gamma(3) * (abs(mesh.positionSteps[step.k][v]) + abs(mesh.positionSteps[step.k + 1][v]));
+      };
+      errObj += std::abs(b0) * blendError(i0) + std::abs(b1) * blendError(i1) +
+                std::abs(b2) * blendError(i2);
+    }
     if (identity) {
       si.p = pObj;
       si.pError = errObj;
@@ -149,7 +165,10 @@ Vec3f instanceRayTransformError(const Transform& xf, Vec3f p) {
 
   Vec3f ns = ng;
   if (!mesh.normals.empty()) {
-    Vec3f n = b0 * mesh.normals[i0] + b1 * mesh.normals[i1] + b2 * mesh.normals[i2];
+    Vec3f n = deforms && !mesh.normalSteps.empty()
+                  ? b0 * mesh.normalAt(i0, step) + b1 * mesh.normalAt(i1, step) +
+                        b2 * mesh.normalAt(i2, step)
+                  : b0 * mesh.normals[i0] + b1 * mesh.normals[i1] + b2 * mesh.normals[i2];
     if (!identity) n = xf.normal(n);
     float l = length(n);
     if (l > 0) ns = n / l;
@@ -172,7 +191,7 @@ Vec3f instanceRayTransformError(const Transform& xf, Vec3f p) {
     if (!mesh.uvs1.empty()) secondUvSet(mesh, i0, i1, i2, b0, b1, b2, &si);
   }
   if (needs.tangents) {
-    triangleTangents(mesh, xf, identity, i0, i1, i2, &si);
+    triangleTangents(mesh, xf, identity, i0, i1, i2, p0, p1, p2, &si);
     if (!mesh.tangents.empty()) {
       const Vec4f t0 = mesh.tangents[i0], t1 = mesh.tangents[i1], t2 = mesh.tangents[i2];
       Vec3f t = b0 * Vec3f{t0.x, t0.y, t0.z} + b1 * Vec3f{t1.x, t1.y, t1.z} +
@@ -198,12 +217,14 @@ Vec3f instanceRayTransformError(const Transform& xf, Vec3f p) {
 }
 
 // A moving mesh is mapped by its transform at the ray's time, interpolated as Embree
-// interpolated it, so the point and normal are those of the surface it intersected.
+// interpolated it, and a deforming one's vertices are blended at that time, so the point and
+// normal are those of the surface it intersected.
 [[gnu::noinline]] SurfaceInteraction movingTriangleInteraction(const GeometryScene& scene,
                                                                const Ray& ray, const Hit& hit,
                                                                SurfaceNeeds needs,
                                                                const Instance& inst) {
-  return triangleInteraction(scene, ray, hit, needs, inst, inst.motion.at(ray.time), true);
+  return triangleInteraction(scene, ray, hit, needs, inst, inst.worldFromObjectAt(ray.time),
+                             inst.moves(), scene.meshes[inst.mesh].deforms());
 }
 
 }  // namespace
@@ -212,8 +233,9 @@ SurfaceInteraction computeSurfaceInteraction(const GeometryScene& scene, const R
                                              const Hit& hit, SurfaceNeeds needs) {
   const Instance& inst = scene.instances[hit.instance];
   if (inst.isShape()) return shapeInteraction(scene, ray, hit);
-  if (inst.moves()) return movingTriangleInteraction(scene, ray, hit, needs, inst);
-  return triangleInteraction(scene, ray, hit, needs, inst, inst.worldFromObject, false);
+  if (inst.moves() || scene.meshes[inst.mesh].deforms())
+    return movingTriangleInteraction(scene, ray, hit, needs, inst);
+  return triangleInteraction(scene, ray, hit, needs, inst, inst.worldFromObject, false, false);
 }
 
 }  // namespace glint

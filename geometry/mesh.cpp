@@ -1,6 +1,8 @@
 // glint — mesh bounds and counts.
 #include "geometry/mesh.h"
 
+#include <algorithm>
+#include <cmath>
 #include <utility>
 
 namespace glint {
@@ -15,7 +17,16 @@ void placeVertices(const Transform& world, std::vector<Vec3f>* positions,
 Bounds3f TriangleMesh::bounds() const {
   Bounds3f b;
   for (Vec3f p : positions) b.extend(p);
+  for (const std::vector<Vec3f>& step : positionSteps)
+    for (Vec3f p : step) b.extend(p);
   return b;
+}
+
+TriangleMesh::StepBlend TriangleMesh::stepAt(float time) const {
+  const uint32_t segments = uint32_t(positionSteps.size()) - 1;
+  const float x = time * float(segments);
+  const float k = std::clamp(std::floor(x), 0.0f, float(segments - 1));
+  return {uint32_t(k), x - k};
 }
 
 Bounds3f GeometryScene::bounds() const {
@@ -44,6 +55,8 @@ Bounds3f GeometryScene::bounds() const {
 bool GeometryScene::hasMotion() const {
   for (const Instance& inst : instances)
     if (inst.moves()) return true;
+  for (const TriangleMesh& m : meshes)
+    if (m.deforms()) return true;
   return false;
 }
 

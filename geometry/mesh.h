@@ -29,7 +29,36 @@ struct TriangleMesh {
   // order"). Every accelerator honours it identically.
   bool singleSided = false;
 
+  // Deformation blur (a skinned or morphed mesh whose pose changes inside the shutter): the
+  // positions, and the normals when there are any, at K >= 2 evenly spaced normalised shutter
+  // times 0, 1/(K-1), ..., 1, as Embree's time steps are. Between two steps every vertex moves
+  // on a straight line (Embree's interpolation, which every backend and the surface
+  // interaction reproduce through at()). Empty for a mesh that keeps its shape, which is then
+  // built and traced exactly as without motion. When set, K is odd and `positions`/`normals`
+  // are the middle step: what ignores time (emission sampling, light bounds) sees the pose at
+  // the shutter's middle. Tangents, uvs and colours do not change with time.
+  std::vector<std::vector<Vec3f>> positionSteps;
+  std::vector<std::vector<Vec3f>> normalSteps;  // empty, or one per position step
+
   size_t triangleCount() const { return indices.size() / 3; }
+  bool deforms() const { return !positionSteps.empty(); }
+  // Where normalised shutter time `time` falls between the steps: step `k` and k + 1, with
+  // weight `f` on k + 1 (Embree's mapping: time (K-1), floored and clamped to a segment).
+  struct StepBlend {
+    uint32_t k;
+    float f;
+  };
+  StepBlend stepAt(float time) const;
+  // Vertex v's position (normal) at the blend: (1 - f) a + f b of the two steps.
+  Vec3f positionAt(uint32_t v, StepBlend s) const {
+    const Vec3f a = positionSteps[s.k][v], b = positionSteps[s.k + 1][v];
+    return (1 - s.f) * a + s.f * b;
+  }
+  Vec3f normalAt(uint32_t v, StepBlend s) const {
+    const Vec3f a = normalSteps[s.k][v], b = normalSteps[s.k + 1][v];
+    return (1 - s.f) * a + s.f * b;
+  }
+  // The bounds of every step (a linear blend of two steps stays inside their union).
   Bounds3f bounds() const;
 };
 
@@ -80,7 +109,7 @@ struct GeometryScene {
   // World bounds of the bounded geometry, moving instances swept over the shutter (unbounded
   // shapes such as infinite planes are left out: they have no finite box).
   Bounds3f bounds() const;
-  bool hasMotion() const;                 // any instance moves
+  bool hasMotion() const;                 // any instance moves or any mesh deforms
   size_t uniqueTriangleCount() const;     // triangles stored
   size_t instancedTriangleCount() const;  // triangles in the world (instances counted)
   size_t shapeInstanceCount() const;      // analytic objects in the world

@@ -29,9 +29,8 @@ SceneFeatures detectFeatures(const RenderScene& scene, const IntegratorSettings&
   f.set(Feature::DefaultLight, notes.defaultLight);
   f.set(Feature::Terrain, notes.terrain);
   f.set(Feature::Lens, scene.camera.hasLens());
-  bool moving = scene.camera.isMoving();
-  for (const Instance& inst : scene.geometry.instances) moving = moving || inst.moves();
-  f.set(Feature::MotionBlur, moving);
+  // Moving placements and deforming meshes alike.
+  f.set(Feature::MotionBlur, scene.camera.isMoving() || scene.geometry.hasMotion());
   f.set(Feature::Volumes, scene.media != nullptr);
   std::vector<uint32_t> uses(scene.geometry.meshes.size(), 0);
   bool anyLit = false;

@@ -578,6 +578,55 @@ int variantMaterial(const MeshDesc& mesh, const std::string& variant) {
   return mesh.material;
 }
 
+// Deformation blur: a skinned or morphed instance whose pose changes inside the shutter gets
+// time steps (TriangleMesh::positionSteps), posed at K = 2^n + 1 uniform times over it. From
+// two segments, the count doubles until posing at the middle of every segment lands within
+// kMotionTolerance of the mesh's size (its middle pose's diagonal) of the linear blend of the
+// segment's ends, for every vertex, or K reaches Embree's limit; the poses tested become the
+// finer level's new steps, so nothing is posed twice. A morph whose weights change linearly
+// over the shutter needs 3 steps; a limb swinging through an arc a few more. The middle step
+// is `mesh`'s own positions and normals (the pose the rest of the renderer sees).
+void poseOverShutter(const SceneDescription& desc, const InstanceDesc& inst,
+                     const ShutterTimes& shutter, TriangleMesh* mesh) {
+  const double span = shutter.close - shutter.open;
+  std::vector<std::vector<Vec3f>> positions(3), normals(3);
+  for (int i = 0; i < 3; ++i)
+    posedVertices(desc, inst, shutter.open + span * i / 2, &positions[size_t(i)], &normals[size_t(i)]);
+  Bounds3f middle;
+  for (Vec3f p : positions[1]) middle.extend(p);
+  const float tolerance = kMotionTolerance * length(middle.upper - middle.lower);
+  while (2 * positions.size() - 1 <= kMaxMotionKeys) {
+    const size_t segments = positions.size() - 1;
+    std::vector<std::vector<Vec3f>> midP(segments), midN(segments);
+    float error = 0;
+    for (size_t i = 0; i < segments; ++i) {
+      posedVertices(desc, inst, shutter.open + span * (double(i) + 0.5) / double(segments),
+                    &midP[i], &midN[i]);
+      for (size_t v = 0; v < midP[i].size(); ++v)
+        error = std::max(error, length(midP[i][v] - 0.5f * (positions[i][v] + positions[i + 1][v])));
+    }
+    if (!(error > tolerance)) break;  // a NaN pose stops refining too
+    std::vector<std::vector<Vec3f>> finerP, finerN;
+    for (size_t i = 0; i <= segments; ++i) {
+      finerP.push_back(std::move(positions[i]));
+      finerN.push_back(std::move(normals[i]));
+      if (i < segments) {
+        finerP.push_back(std::move(midP[i]));
+        finerN.push_back(std::move(midN[i]));
+      }
+    }
+    positions = std::move(finerP);
+    normals = std::move(finerN);
+  }
+  const size_t mid = positions.size() / 2;
+  mesh->positions = positions[mid];
+  mesh->positionSteps = std::move(positions);
+  if (!mesh->normals.empty()) {
+    mesh->normals = normals[mid];
+    mesh->normalSteps = std::move(normals);
+  }
+}
+
 // The description's glTF instances into scene->geometry: single static placements are baked
 // into world space, shared or moving meshes instanced. A mesh that nodes give different
 // materials is one geometry mesh per material.
@@ -592,7 +641,8 @@ void buildMeshes(const SceneDescription& desc, const ShutterTimes& shutter, Rend
     AnimatedTransform motion = placementOverShutter(
         desc.nodes, inst.transformNode, inst.nodeFromObject, inst.worldFromObject, shutter);
     const Transform& world = motion.key(0);
-    // Skinned and morphed instances get a mesh of their own, posed at the shutter's middle.
+    // Skinned and morphed instances get a mesh of their own, posed at the shutter's middle
+    // (and over the shutter when the pose changes inside it: poseOverShutter).
     const bool posed = deforms(desc, inst);
     MeshDesc posedDesc;
     if (posed) posedDesc = posedMesh(desc, inst, 0.5 * (shutter.open + shutter.close));
@@ -614,10 +664,16 @@ void buildMeshes(const SceneDescription& desc, const ShutterTimes& shutter, Rend
     mesh.uvs1 = md.uvs1;
     mesh.colors = md.colors;
     mesh.indices = md.indices;
+    if (posed && shutter.moves() && deformationAnimated(desc, inst))
+      poseOverShutter(desc, inst, shutter, &mesh);
     Transform placement = world;
     if (bake && !placement.isIdentity()) {
       placeVertices(placement, &mesh.positions, &mesh.indices);
       for (Vec3f& n : mesh.normals) n = normalize(placement.normal(n));
+      for (std::vector<Vec3f>& step : mesh.positionSteps)
+        for (Vec3f& p : step) p = placement.point(p);
+      for (std::vector<Vec3f>& step : mesh.normalSteps)
+        for (Vec3f& n : step) n = normalize(placement.normal(n));
       for (Vec4f& t : mesh.tangents) {
         Vec3f v = normalize(placement.vector({t.x, t.y, t.z}));
         t = {v.x, v.y, v.z, t.w};

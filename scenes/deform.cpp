@@ -147,4 +147,12 @@ std::vector<Vec3f> posedPositions(const SceneDescription& scene, const InstanceD
   return positions;
 }
 
+void posedVertices(const SceneDescription& scene, const InstanceDesc& inst, double time,
+                   std::vector<Vec3f>* positions, std::vector<Vec3f>* normals) {
+  const MeshDesc& mesh = scene.meshes[size_t(inst.mesh)];
+  *positions = mesh.positions;
+  *normals = mesh.normals;
+  pose(scene, inst, time, positions, normals, nullptr);
+}
+
 }  // namespace glint

@@ -6,8 +6,9 @@
 // its node's, else the mesh's defaults); a skinned vertex then goes to the world by the blend
 // sum_k w_k J_k of its four joints' matrices J = worldFromJoint(time) · inverseBind (linear
 // blend skinning; weights renormalised to sum 1). Normals follow the blend's cofactor matrix,
-// tangents its linear part. A posed mesh is built once per frame; within the shutter it is
-// posed at the shutter's middle (no deformation blur yet).
+// tangents its linear part. A posed mesh is built once per frame: at the shutter's middle, and
+// when its pose changes inside the shutter also at evenly spaced times over it (the time steps
+// of deformation blur, see scenes/build.cpp and TriangleMesh::positionSteps).
 #pragma once
 
 #include <vector>
@@ -30,5 +31,8 @@ MeshDesc posedMesh(const SceneDescription& scene, const InstanceDesc& inst, doub
 // Its posed positions alone (what framing needs), without copying the rest of the mesh.
 std::vector<Vec3f> posedPositions(const SceneDescription& scene, const InstanceDesc& inst,
                                   double time);
+// Its posed positions and normals (normals empty when the mesh has none).
+void posedVertices(const SceneDescription& scene, const InstanceDesc& inst, double time,
+                   std::vector<Vec3f>* positions, std::vector<Vec3f>* normals);
 
 }  // namespace glint

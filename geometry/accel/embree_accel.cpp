@@ -139,18 +139,29 @@ RTCGeometry EmbreeAccelerator::makeTriangleGeometry(const TriangleMesh& mesh) {
   RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
   if (highQuality_) rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_HIGH);
   // Copied into Embree-owned buffers: Embree needs padding after the last vertex that our
-  // tightly packed vectors do not have.
-  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
-      geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(Vec3f), mesh.positions.size()));
+  // tightly packed vectors do not have. A deforming mesh gets one vertex buffer per time step.
+  const size_t steps = mesh.deforms() ? mesh.positionSteps.size() : 1;
+  if (mesh.deforms()) {
+    rtcSetGeometryTimeStepCount(geom, unsigned(steps));
+    ++motionGeometryCount_;
+  }
+  bool allocated = true;
+  for (size_t k = 0; k < steps; ++k) {
+    const std::vector<Vec3f>& p = mesh.deforms() ? mesh.positionSteps[k] : mesh.positions;
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX,
+                                                          unsigned(k), RTC_FORMAT_FLOAT3,
+                                                          sizeof(Vec3f), p.size()));
+    if (v) std::memcpy(v, p.data(), p.size() * sizeof(Vec3f));
+    allocated = allocated && v;
+  }
   auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0,
                                                              RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
                                                              mesh.triangleCount()));
-  if (!v || !idx) {
+  if (!allocated || !idx) {
     rtcReleaseGeometry(geom);
     checkError("allocating Embree buffers");
     throw std::runtime_error("cannot allocate Embree buffers");
   }
-  std::memcpy(v, mesh.positions.data(), mesh.positions.size() * sizeof(Vec3f));
   std::memcpy(idx, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t));
   if (mesh.singleSided) {
     rtcSetGeometryIntersectFilterFunction(geom, cullBackFaces);

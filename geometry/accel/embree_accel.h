@@ -36,7 +36,10 @@ namespace glint {
 //   instance would hand the shape Embree's float-transformed ray instead, with an origin error
 //   nothing accounts for. It costs one transform evaluation per candidate hit, moving shapes
 //   only;
-// - moving unbounded shapes (infinite planes) stay in UnboundedShapes, placed at the ray time.
+// - moving unbounded shapes (infinite planes) stay in UnboundedShapes, placed at the ray time;
+// - a deforming mesh (TriangleMesh::positionSteps) is a triangle geometry with one vertex
+//   buffer per time step, which Embree blends linearly at the ray's time; placed by a moving
+//   instance, the two motions compose (Embree passes the ray's time into the instance).
 //
 // Single-sided meshes (TriangleMesh::singleSided) get intersection and occlusion filter
 // functions that reject back-face hits, so one mechanism serves every query and packet size.
@@ -63,8 +66,8 @@ class EmbreeAccelerator final : public Accelerator {
   RTCScene rtcScene() const { return scene_; }
   // Maps a top-level geometry ID (of a direct mesh or an instance) to the instance index.
   uint32_t instanceOfGeometry(unsigned geomID) const { return instanceOfGeom_[geomID]; }
-  // How many geometries were built with time steps (moving instances and shapes): 0 for a
-  // static scene.
+  // How many geometries were built with time steps (moving instances and shapes, deforming
+  // meshes): 0 for a static scene.
   uint32_t motionGeometryCount() const { return motionGeometryCount_; }
 
   // A moving analytic shape as Embree's user data: placed at each ray's time.

@@ -38,6 +38,7 @@ void KdPrimitives::gather(const GeometryScene& scene, const UnboundedShapes& unb
     const Instance& inst = scene.instances[i];
     if (inst.isShape() || inst.moves()) continue;
     const TriangleMesh& mesh = scene.meshes[inst.mesh];
+    if (mesh.deforms()) continue;
     const bool identity = inst.worldFromObject.isIdentity();
     if (!identity) {
       world.resize(mesh.positions.size());
@@ -77,6 +78,43 @@ void KdPrimitives::gather(const GeometryScene& scene, const UnboundedShapes& unb
     throw std::runtime_error("kd-tree: too many primitives for 30-bit indices");
 }
 
+void KdPrimitives::gatherDeforming(const TriangleMesh& mesh) {
+  timeSteps = uint32_t(mesh.positionSteps.size());
+  for (uint32_t t = 0; t < mesh.triangleCount(); ++t) {
+    const uint32_t i0 = mesh.indices[3 * t], i1 = mesh.indices[3 * t + 1],
+                   i2 = mesh.indices[3 * t + 2];
+    Bounds3f b;
+    bool finite = true;
+    for (const std::vector<Vec3f>& p : mesh.positionSteps) {
+      for (uint32_t v : {i0, i1, i2}) {
+        finite = finite && isFinite(p[v]);
+        b.extend(p[v]);
+      }
+    }
+    if (!finite) continue;
+    // A triangle with no area at one step may have some at another: only the middle pose
+    // (`triangles`, used for nothing but this list's length) is kept as it is.
+    triangles.push_back({mesh.positions[i0], mesh.positions[i1], mesh.positions[i2]});
+    for (const std::vector<Vec3f>& p : mesh.positionSteps) triangleSteps.push_back({p[i0], p[i1], p[i2]});
+    triCull.push_back(mesh.singleSided ? 1 : 0);
+    triInstance.push_back(0);
+    triPrim.push_back(t);
+    bounds.push_back(b);
+  }
+  if (bounds.size() > KdNode::kMaxPayload)
+    throw std::runtime_error("kd-tree: too many primitives for 30-bit indices");
+}
+
+std::array<Vec3f, 3> KdPrimitives::triangleAt(uint32_t id, float time) const {
+  const uint32_t segments = timeSteps - 1;
+  const float x = time * float(segments);
+  const float k = std::clamp(std::floor(x), 0.0f, float(segments - 1));
+  const float f = x - k;
+  const std::array<Vec3f, 3>& a = triangleSteps[size_t(id) * timeSteps + uint32_t(k)];
+  const std::array<Vec3f, 3>& b = triangleSteps[size_t(id) * timeSteps + uint32_t(k) + 1];
+  return {(1 - f) * a[0] + f * b[0], (1 - f) * a[1] + f * b[1], (1 - f) * a[2] + f * b[2]};
+}
+
 namespace {
 
 Bounds3f intersectBounds(const Bounds3f& a, const Bounds3f& b) {
@@ -109,7 +147,8 @@ int clipPolygon(const Vec3f* in, int n, Vec3f* out, int axis, float plane, bool 
 Bounds3f KdPrimitives::clippedBounds(uint32_t id, const Bounds3f& box) const {
   const Bounds3f& b = bounds[id];
   Bounds3f inBox = intersectBounds(b, box);
-  if (inBox.empty() || !isTriangle(id)) return inBox;
+  // A deforming triangle sweeps a volume: its bounds over the shutter are all we know.
+  if (inBox.empty() || !isTriangle(id) || timeSteps > 1) return inBox;
   // Perfect splits (Wald & Havran section 4.3): the bounds of the triangle clipped to the
   // cell. At most 3 + 6 vertices after six planes.
   Vec3f bufA[9], bufB[9];
@@ -668,7 +707,8 @@ KdTreeAccelerator::KdTreeAccelerator(const GeometryScene& scene, KdSplitMethod m
   std::vector<int> meshTree(scene.meshes.size(), -1);
   for (uint32_t i = 0; i < scene.instances.size(); ++i) {
     const Instance& inst = scene.instances[i];
-    if (!inst.moves() || unbounded_.contains(i)) continue;
+    const bool deforms = !inst.isShape() && scene.meshes[inst.mesh].deforms();
+    if ((!inst.moves() && !deforms) || unbounded_.contains(i)) continue;
     if (inst.isShape()) {
       movingShapes_.push_back({scene.shapes[inst.shape].get(), &inst.motion, i});
       continue;
@@ -676,7 +716,12 @@ KdTreeAccelerator::KdTreeAccelerator(const GeometryScene& scene, KdSplitMethod m
     const TriangleMesh& mesh = scene.meshes[inst.mesh];
     if (mesh.triangleCount() == 0) continue;
     int& tree = meshTree[inst.mesh];
-    if (tree < 0) {
+    if (tree < 0 && mesh.deforms()) {
+      // Its triangles change with time: a tree over their bounds swept over the shutter,
+      // whose leaves blend each triangle's time steps at the ray's time.
+      tree = int(meshTrees_.size());
+      meshTrees_.push_back(std::unique_ptr<KdTreeAccelerator>(new KdTreeAccelerator(mesh, method, cost)));
+    } else if (tree < 0) {
       // A tree over the mesh alone, in object space: what is traced is the ray taken to
       // object space at its time. Only positions, indices and sidedness are needed.
       GeometryScene alone;
@@ -689,8 +734,25 @@ KdTreeAccelerator::KdTreeAccelerator(const GeometryScene& scene, KdSplitMethod m
       tree = int(meshTrees_.size());
       meshTrees_.push_back(std::make_unique<KdTreeAccelerator>(alone, method, cost));
     }
-    movingMeshes_.push_back({meshTrees_[size_t(tree)].get(), &inst.motion, i});
+    movingMeshes_.push_back({meshTrees_[size_t(tree)].get(), &inst, i});
   }
+}
+
+KdTreeAccelerator::KdTreeAccelerator(const TriangleMesh& deforming, KdSplitMethod method,
+                                     const KdCostModel& cost)
+    : method_(method) {
+  prims_.gatherDeforming(deforming);
+  if (method == KdSplitMethod::Sah)
+    buildSahKdTree(prims_, cost, &tree_);
+  else
+    buildMedianKdTree(prims_, cost, &tree_);
+}
+
+Ray KdTreeAccelerator::MovingMesh::objectRay(const Ray& ray) const {
+  if (!placement->moves() && placement->worldFromObject.isIdentity()) return ray;
+  const Transform objectFromWorld = placement->worldFromObjectAt(ray.time).inverse();
+  return {objectFromWorld.point(ray.o), objectFromWorld.vector(ray.d), ray.tMin, ray.tMax,
+          ray.time};
 }
 
 bool KdTreeAccelerator::closestMoving(const Ray& ray, Hit* hit) const {
@@ -706,8 +768,7 @@ bool KdTreeAccelerator::closestMoving(const Ray& ray, Hit* hit) const {
   for (const MovingMesh& m : movingMeshes_) {
     // An affine map keeps t (d is mapped, not normalized) and barycentrics: Embree's object
     // space hit, as a motion instance gives it.
-    const Transform objectFromWorld = m.motion->at(ray.time).inverse();
-    Ray local{objectFromWorld.point(r.o), objectFromWorld.vector(r.d), r.tMin, r.tMax, r.time};
+    const Ray local = m.objectRay(r);
     Hit h;
     if (!m.tree->closestHit(local, &h)) continue;
     r.tMax = h.t;
@@ -720,12 +781,8 @@ bool KdTreeAccelerator::closestMoving(const Ray& ray, Hit* hit) const {
 bool KdTreeAccelerator::anyMoving(const Ray& ray) const {
   for (const MovingShape& m : movingShapes_)
     if (PlacedShape(m.shape, m.motion->at(ray.time)).occluded(ray)) return true;
-  for (const MovingMesh& m : movingMeshes_) {
-    const Transform objectFromWorld = m.motion->at(ray.time).inverse();
-    Ray local{objectFromWorld.point(ray.o), objectFromWorld.vector(ray.d), ray.tMin, ray.tMax,
-              ray.time};
-    if (m.tree->anyHit(local)) return true;
-  }
+  for (const MovingMesh& m : movingMeshes_)
+    if (m.tree->anyHit(m.objectRay(ray))) return true;
   return false;
 }
 
@@ -802,9 +859,12 @@ bool KdTreeAccelerator::trace(const Ray& ray, Hit* hit) const {
       const uint32_t id = list[i];
       if (id < triCount) {
         float t, u, v;
-        if (prims_.triCull[id] != 0 && isCulled(prims_.triangles[id], ray.d, prims_.triCull[id]))
-          continue;
-        if (!intersectTriangle(prims_.triangles[id], wray, ray.tMin, closest, &t, &u, &v)) continue;
+        // A deforming mesh's tree holds time steps: the triangle where it is at the ray's time.
+        std::array<Vec3f, 3> blended;
+        const std::array<Vec3f, 3>& tri =
+            prims_.timeSteps > 1 ? (blended = prims_.triangleAt(id, ray.time)) : prims_.triangles[id];
+        if (prims_.triCull[id] != 0 && isCulled(tri, ray.d, prims_.triCull[id])) continue;
+        if (!intersectTriangle(tri, wray, ray.tMin, closest, &t, &u, &v)) continue;
         if constexpr (kAny) return true;
         closest = t;
         found = true;

@@ -14,7 +14,10 @@
 // and tested directly; a moving mesh gets a tree of its own in object space (one per mesh,
 // shared by its moving placements), traced with the ray taken to object space by the inverse
 // of the transform at the ray's time. Each query tests them all in a linear list: right for a
-// few moving objects, slow for thousands (use Embree, whose BVH holds them).
+// few moving objects, slow for thousands (use Embree, whose BVH holds them). A deforming mesh
+// (TriangleMesh::positionSteps) joins that list with a tree of its own over its triangles'
+// bounds swept over the shutter (no perfect splits: a sweep is not a triangle), whose leaves
+// blend each triangle's two nearest time steps at the ray's time, as Embree does.
 #pragma once
 
 #include <array>
@@ -84,11 +87,21 @@ struct KdPrimitives {
   std::vector<PlacedShape> shapes;              // bounded shape instances
   std::vector<uint32_t> shapeInstance;
   std::vector<Bounds3f> bounds;  // per primitive id (triangles first)
+  // A deforming mesh's own tree (gatherDeforming): every triangle at `timeSteps` shutter
+  // times (TriangleMesh::positionSteps), timeSteps consecutive entries per triangle, and
+  // `bounds` swept over them. 1 and empty otherwise.
+  uint32_t timeSteps = 1;
+  std::vector<std::array<Vec3f, 3>> triangleSteps;
 
   // Collects the scene's static triangles and bounded shapes (`unbounded` lists the shapes to
   // leave out; moving instances are left out too). Triangles with non-finite vertices are
   // dropped: they cannot be bounded.
   void gather(const GeometryScene& scene, const UnboundedShapes& unbounded);
+  // Collects a deforming mesh's triangles alone, in its object space (instance 0).
+  void gatherDeforming(const TriangleMesh& mesh);
+  // Triangle `id` of a deforming mesh at normalised shutter time `time` (its two nearest
+  // steps blended as TriangleMesh::positionAt blends them).
+  std::array<Vec3f, 3> triangleAt(uint32_t id, float time) const;
   uint32_t size() const { return uint32_t(bounds.size()); }
   bool isTriangle(uint32_t id) const { return id < triangles.size(); }
   // Conservative bounds of the part of primitive `id` inside `box` (empty when none): the
@@ -169,9 +182,13 @@ class KdTreeAccelerator final : public Accelerator {
   };
   struct MovingMesh {
     const KdTreeAccelerator* tree;  // of the mesh alone, in object space
-    const AnimatedTransform* motion;
+    const Instance* placement;
     uint32_t instance;
+    // The ray in the mesh's object space at its time.
+    Ray objectRay(const Ray& ray) const;
   };
+  // The tree of a deforming mesh alone (see KdPrimitives::gatherDeforming).
+  KdTreeAccelerator(const TriangleMesh& deforming, KdSplitMethod method, const KdCostModel& cost);
 
   KdSplitMethod method_;
   KdPrimitives prims_;

@@ -151,6 +151,24 @@ TEST(CliInfo, ListsContentsAndEffects) {
   EXPECT_NE(r.out.find("effects:    shadows\n"), std::string::npos) << r.out;
 }
 
+// With a shutter over its animation, the skinned and the weight-animated triangles of
+// skin_morph.gltf deform (3 time steps for the linear morph, more for the turning joint).
+TEST(CliInfo, ListsWhatMovesOverTheShutter) {
+  const std::string dir = test::scratchDir("cli_info_motion");
+  std::ofstream(dir + "/shutter.json") << R"({
+  "cameras": [{"name": "c", "position": [0, 0, 20], "look_at": [0, 0, 0], "shutter": [0, 1]}]
+})";
+  const std::string scene = test::dataDir() + "/gltf/skin_morph.gltf";
+  test::CommandResult r = test::runGlint("info " + scene + " --sidecar " + dir + "/shutter.json");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("motion:     2 deforming meshes (up to "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("motion blur"), std::string::npos) << r.out;
+  // Without the sidecar there is no shutter and nothing moves.
+  r = test::runGlint("info " + scene);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(r.out.find("motion:"), std::string::npos) << r.out;
+}
+
 // Effects that come and go over an animation: a lens whose aperture opens at 1 s is listed
 // from frame 24 on, and a bad frame range is an input error.
 TEST(CliInfo, FramesListEachEffectWithTheFramesItAppearsIn) {

@@ -8,6 +8,8 @@
 #include "geometry/shapes/sphere.h"
 #include "renderer/render.h"
 #include "scenes/build.h"
+#include "scenes/load.h"
+#include "test_support.h"
 
 namespace glint {
 namespace {
@@ -105,6 +107,49 @@ INSTANTIATE_TEST_SUITE_P(Materials, MotionRender, testing::Values(false, true),
                          [](const testing::TestParamInfo<bool>& p) {
                            return p.param ? "ObjectSpaceTexture" : "Plain";
                          });
+
+// Deformation blur: the skinned triangle of tests/data/gltf/skin_morph.gltf, whose joint turns
+// it through 90 degrees over a second, blurred over that second equals the average of still
+// frames, as a moving object does.
+SceneDescription turningTriangle(float shutterClose, double time) {
+  SceneDescription d = loadScene(test::dataDir() + "/gltf/skin_morph.gltf");
+  d.instances.erase(d.instances.begin(), d.instances.begin() + 3);  // the skinned one alone
+  MaterialDesc white;
+  white.name = "white";
+  white.type = MaterialType::Eyelight;
+  d.materials.push_back(white);
+  d.instances[0].material = int(d.materials.size()) - 1;
+  CameraDesc cam;
+  cam.name = "front";
+  cam.type = CameraType::Orthographic;
+  cam.xmag = 1.25f;
+  cam.ymag = 1.25f;
+  cam.worldFromCamera = Transform::lookAt({0.5f, 1, 5}, {0.5f, 1, 0}, {0, 1, 0});
+  cam.shutterClose = shutterClose;
+  d.cameras = {cam};
+  d.render.camera.clear();
+  d.render.width = 40;
+  d.render.height = 40;
+  d.render.time = time;
+  return d;
+}
+
+TEST(DeformationRender, BlurEqualsTheAverageOfStaticFrames) {
+  const Film blurred = renderIt(turningTriangle(1, 0), 256);
+  constexpr int kSlices = 32;
+  Film average = renderIt(turningTriangle(0, 0.5 / kSlices), 8);
+  for (Rgb& c : average.color) c = {};
+  for (int k = 0; k < kSlices; ++k) {
+    Film frame = renderIt(turningTriangle(0, (k + 0.5) / kSlices), 8);
+    for (size_t i = 0; i < frame.color.size(); ++i)
+      average.color[i] += frame.color[i] / float(kSlices);
+  }
+  const Film still = renderIt(turningTriangle(0, 0.5), 8);
+  const double blurError = meanAbsDifference(blurred, average);
+  const double stillError = meanAbsDifference(still, average);
+  EXPECT_LT(blurError, 0.01) << "blurred render differs from the time average";
+  EXPECT_GT(stillError, 5 * blurError) << "the test cannot tell blur from no blur";
+}
 
 TEST(MotionRenderThreads, SameImageForAnyThreadCount) {
   const SceneDescription d = movingBall(1, 0, true);

@@ -98,6 +98,58 @@ TEST(Deform, TheBuilderPosesAtTheFrameTimeAndFramesTheWholeAnimation) {
   EXPECT_LT(scene.geometry.bounds().upper.x, 50);
 }
 
+// Deformation blur: with a shutter open over the animation, a pose that changes inside it gets
+// time steps; one that does not, or no shutter, gets none.
+SceneDescription skinMorphWithShutter(float open, float close) {
+  SceneDescription s = skinMorph();
+  CameraDesc cam;
+  cam.name = "shutter";
+  cam.worldFromCamera = Transform::lookAt({0, 0, 20}, {0, 0, 0}, {0, 1, 0});
+  cam.shutterOpen = open;
+  cam.shutterClose = close;
+  s.cameras.push_back(cam);
+  return s;
+}
+
+TEST(Deform, APoseThatChangesInsideTheShutterGetsTimeSteps) {
+  SceneDescription s = skinMorphWithShutter(0, 1);
+  RenderScene scene = buildRenderScene(s);
+  ASSERT_EQ(scene.geometry.instances.size(), 4u);
+  auto meshOf = [&](size_t i) -> const TriangleMesh& {
+    return scene.geometry.meshes[scene.geometry.instances[i].mesh];
+  };
+  // Static weights: no steps.
+  EXPECT_FALSE(meshOf(0).deforms());
+  EXPECT_FALSE(meshOf(1).deforms());
+  EXPECT_TRUE(scene.features.has(Feature::MotionBlur));
+  // Weights keyed linearly over the shutter: a linear deformation, three steps are exact.
+  const TriangleMesh& morph = meshOf(2);
+  ASSERT_EQ(morph.positionSteps.size(), 3u);
+  ASSERT_EQ(morph.normalSteps.size(), 3u);
+  // Baked into the world at the node's translation (10, 0, 0); vertex 1 goes from x = 1 to 3.
+  EXPECT_NEAR(morph.positionSteps[0][1].x, 11, 1e-5f);
+  EXPECT_NEAR(morph.positionSteps[2][1].x, 13, 1e-5f);
+  EXPECT_EQ(morph.positions, morph.positionSteps[1]);
+  // The joint turning through 90 degrees: an arc, refined until the blend of the steps stays
+  // within a thousandth of the mesh's size of the pose at every time.
+  const TriangleMesh& skinned = meshOf(3);
+  ASSERT_GT(skinned.positionSteps.size(), 3u);
+  EXPECT_EQ(skinned.positionSteps.size() % 2, 1u);
+  EXPECT_EQ(skinned.positions, skinned.positionSteps[skinned.positionSteps.size() / 2]);
+  const float size = length(skinned.bounds().upper - skinned.bounds().lower);
+  for (int i = 0; i <= 200; ++i) {
+    const float t = float(i) / 200;
+    const std::vector<Vec3f> exact = posedPositions(s, s.instances[3], t);
+    const TriangleMesh::StepBlend b = skinned.stepAt(t);
+    for (uint32_t v = 0; v < exact.size(); ++v)
+      EXPECT_LT(length(skinned.positionAt(v, b) - exact[v]), 1.5e-3f * size) << "t " << t;
+  }
+  // No shutter: posed at the frame's time, no steps.
+  RenderScene still = buildRenderScene(skinMorphWithShutter(0, 0));
+  for (const TriangleMesh& m : still.geometry.meshes) EXPECT_FALSE(m.deforms());
+  EXPECT_FALSE(still.features.has(Feature::MotionBlur));
+}
+
 // The Khronos samples: skinned (CesiumMan, RiggedSimple, RiggedFigure) and morphed
 // (SimpleMorph, AnimatedMorphCube) models pose to finite, changing, bounded meshes.
 TEST(Deform, KhronosSkinnedAndMorphedSamplesPoseOverTheirAnimation) {
