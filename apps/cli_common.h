@@ -24,10 +24,11 @@ struct SceneOverrides {
   std::optional<float> envStrength, envRotation;  // the environment's intensity, degrees
   bool noDefaultLight = false;
   std::optional<std::string> variant;  // KHR_materials_variants
+  std::optional<std::string> shutter;  // "S" (open for S seconds from the frame) or "OPEN,CLOSE"
 
   // Registers --width --height --spp --seed --threads --accel --camera --integrator
   // --max-depth --light-sampler --adaptive --env --env-strength --env-rotation
-  // --no-default-light --variant on `cmd`
+  // --no-default-light --variant --shutter on `cmd`
   // (--aovs is render's own).
   void addOptions(CLI::App* cmd);
   // Applies the given options to desc->render; throws SceneError (location "command line")

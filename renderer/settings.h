@@ -4,6 +4,7 @@
 // options. Loaders fill these fields; the renderer only reads them.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -74,6 +75,10 @@ struct RenderSettings {
   std::string camera;                // camera name; empty = the first camera
   double time = 0;                   // seconds: the scene time of a single frame
   double fps = 24;                   // frames per second of a sequence (frame f at f / fps)
+  // The shutter, [open, close] in seconds from the frame time (--shutter, sidecar
+  // render.shutter): replaces the rendering camera's own, and gives the automatic camera one.
+  // Unset: the camera's (none for the automatic camera: nothing blurs).
+  std::optional<std::array<double, 2>> shutter;
   IntegratorSettings integrator;
   FilterSettings filter;
   ToneMapSettings tonemap;

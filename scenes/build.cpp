@@ -887,11 +887,15 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
   checkVariant(desc);
   RenderScene scene;
   scene.background = desc.render.background;
-  // The frame's shutter decides what moves; without a camera (one is framed below) there is
-  // no shutter and nothing moves.
+  // The frame's shutter decides what moves: the render settings' when given, else the
+  // camera's; without either (the automatic camera, framed below, has none of its own) nothing
+  // moves.
   const CameraDesc* selected = selectCamera(desc);
   ShutterTimes shutter{desc.render.time, desc.render.time};
-  if (selected) {
+  if (desc.render.shutter) {
+    shutter.open += (*desc.render.shutter)[0];
+    shutter.close += (*desc.render.shutter)[1];
+  } else if (selected) {
     shutter.open += selected->shutterOpen;
     shutter.close += selected->shutterClose;
   }

@@ -53,6 +53,16 @@ void readIntegrator(JsonReader& r, IntegratorSettings* s) {
   s->vplClamp = i.get<float>("vpl_clamp", s->vplClamp, kNonNegative);
 }
 
+// A "shutter": [open, close], seconds from the frame time (a camera's or the render block's).
+std::optional<Vec2f> readShutter(JsonReader& r) {
+  auto shutter = r.optional<Vec2f>("shutter");
+  if (shutter && shutter->x > shutter->y)
+    throw SceneError(r.where("shutter"),
+                     "the shutter must open before it closes ([open, close] "
+                     "with open <= close, seconds from the frame time)");
+  return shutter;
+}
+
 // Fills `s` from the render block; a missing key keeps the value already there.
 void readRender(JsonReader& r, RenderSettings* s) {
   if (auto width = r.optional<int>("width", kPositive)) s->width = width;
@@ -70,6 +80,7 @@ void readRender(JsonReader& r, RenderSettings* s) {
   // The scene time was taken from here before anything else was read (sceneTime below).
   s->time = r.get<double>("time", s->time);
   s->fps = r.get<double>("fps", s->fps, kPositive);
+  if (auto shutter = readShutter(r)) s->shutter = std::array<double, 2>{shutter->x, shutter->y};
   if (JsonReader* f = r.optionalObject("filter")) {
     s->filter.type = f->oneOf("type", kFilters, s->filter.type);
     s->filter.radius = f->get<float>("radius", s->filter.radius, kPositive);
@@ -153,13 +164,7 @@ void readLensAndShutter(JsonReader& r, float lookAtDistance, CameraDesc* cam) {
   if (cam->apertureBlades == 1 || cam->apertureBlades == 2)
     throw SceneError(r.where("blades"), "must be 0 (a round aperture) or >= 3 (a polygon)");
   if (auto degrees = r.optional<float>("blade_rotation")) cam->apertureRotation = radians(*degrees);
-  if (auto shutter = r.optional<Vec2f>("shutter")) {
-    if (shutter->x > shutter->y)
-      throw SceneError(r.where("shutter"),
-                       "the shutter must open before it closes ([open, close] "
-                       "with open <= close, seconds from the frame time)");
-    cam->shutterOpen = shutter->x, cam->shutterClose = shutter->y;
-  }
+  if (auto shutter = readShutter(r)) cam->shutterOpen = shutter->x, cam->shutterClose = shutter->y;
 }
 
 // Places `item` under its "animation" when it has one: world(t) = animation(t) · `placed`.

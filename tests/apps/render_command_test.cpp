@@ -167,6 +167,19 @@ TEST(CliInfo, ListsWhatMovesOverTheShutter) {
   r = test::runGlint("info " + scene);
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_EQ(r.out.find("motion:"), std::string::npos) << r.out;
+  // --shutter gives the automatic camera one.
+  r = test::runGlint("info " + scene + " --shutter 0.5");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("motion:     2 deforming meshes"), std::string::npos) << r.out;
+  r = test::runGlint("info " + scene + " --shutter 0.25,0.5");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("motion:     2 deforming meshes"), std::string::npos) << r.out;
+  // Bad values are input errors naming the option.
+  for (const char* bad : {"0.5,0.1", "soon", "1,", "nan"}) {
+    r = test::runGlint("info " + scene + " --shutter " + bad);
+    EXPECT_EQ(r.exitCode, 2) << bad;
+    EXPECT_NE(r.err.find("--shutter"), std::string::npos) << r.err;
+  }
 }
 
 // Effects that come and go over an animation: a lens whose aperture opens at 1 s is listed

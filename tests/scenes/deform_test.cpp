@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 
@@ -148,6 +149,23 @@ TEST(Deform, APoseThatChangesInsideTheShutterGetsTimeSteps) {
   RenderScene still = buildRenderScene(skinMorphWithShutter(0, 0));
   for (const TriangleMesh& m : still.geometry.meshes) EXPECT_FALSE(m.deforms());
   EXPECT_FALSE(still.features.has(Feature::MotionBlur));
+}
+
+// render.shutter (--shutter) gives the automatic camera a shutter, and replaces a camera's.
+TEST(Deform, TheRenderShutterBlursWithTheAutomaticCameraToo) {
+  SceneDescription s = skinMorph();
+  ASSERT_TRUE(s.cameras.empty());
+  EXPECT_FALSE(buildRenderScene(s).geometry.hasMotion());
+  s.render.shutter = std::array<double, 2>{0, 1};
+  RenderScene blurred = buildRenderScene(s);
+  EXPECT_TRUE(blurred.features.has(Feature::MotionBlur));
+  size_t deforming = 0;
+  for (const TriangleMesh& m : blurred.geometry.meshes) deforming += m.deforms();
+  EXPECT_EQ(deforming, 2u);
+  // A closed render shutter overrides the camera's open one.
+  SceneDescription closed = skinMorphWithShutter(0, 1);
+  closed.render.shutter = std::array<double, 2>{0, 0};
+  EXPECT_FALSE(buildRenderScene(closed).geometry.hasMotion());
 }
 
 // The Khronos samples: skinned (CesiumMan, RiggedSimple, RiggedFigure) and morphed

@@ -187,6 +187,17 @@ TEST(SidecarCamera, BadLensValuesNameTheirPointer) {
                      "/cameras/0/aperture", "needs 'focus_distance'");
 }
 
+// render.shutter replaces the camera's; a closed-before-open one names its pointer.
+TEST(SidecarRender, ShutterIsReadAndChecked) {
+  SceneDescription s = applyAt(R"({"render": {"shutter": [-0.01, 0.02]}})", 0.0);
+  ASSERT_TRUE(s.render.shutter.has_value());
+  EXPECT_NEAR((*s.render.shutter)[0], -0.01, 1e-7);
+  EXPECT_NEAR((*s.render.shutter)[1], 0.02, 1e-7);
+  EXPECT_FALSE(applyAt("{}", 0.0).render.shutter.has_value());
+  EXPECT_SCENE_ERROR(errorAt(R"({"render": {"shutter": [0.5, 0.1]}})"), kFile,
+                     "/render/shutter", "open <= close");
+}
+
 // ---------------------------------------------------------------------------------------------
 // "animation": objects, cameras, lights
 // ---------------------------------------------------------------------------------------------
