@@ -65,6 +65,19 @@ class Bsdf {
   // The shading normal the BSDF is built around.
   Vec3f ns() const { return frame_.frame.n; }
 
+  // What a shadow ray crossing this surface along `w`, straight and unrefracted, keeps: the
+  // tint of the surface's specular transmission and its Fresnel reflectance R, taken from the
+  // outside (the side the surface's front faces; `frontFace` says whether this hit is on that
+  // side) at w's angle to the shading normal, so that a pane's entry and exit see the same R
+  // as the refracted light really does. Zero tint for a surface light cannot cross straight
+  // (everything but glass and glTF transmission). Whitted's shadows through glass
+  // (WhittedIntegrator) combine two crossings into the pane's (1 - R)^2 / (1 - R^2).
+  struct StraightCrossing {
+    Rgb tint;
+    float R = 0;
+  };
+  StraightCrossing straightCrossing(Vec3f w, bool frontFace) const;
+
  private:
   // Whether world direction wi (local z `z`) is on the geometric side its lobe needs.
   bool consistentSide(Vec3f wi, float z) const {

@@ -719,4 +719,22 @@ uint32_t Bsdf::flags() const {
       lobes_);
 }
 
+Bsdf::StraightCrossing Bsdf::straightCrossing(Vec3f w, bool frontFace) const {
+  const float cosTheta = std::abs(dot(w, frame_.frame.n));
+  // The material's index from its bxdf's relative one (inverted on back faces).
+  auto outsideReflectance = [&](float eta) {
+    return fresnelDielectric(cosTheta, frontFace ? eta : 1 / eta);
+  };
+  if (const auto* glass = std::get_if<GlassBxdf>(&lobes_))
+    return {glass->T, outsideReflectance(glass->eta)};
+  if (const auto* pbr = std::get_if<PbrBxdf>(&lobes_)) {
+    const PbrHit& h = pbr->hit;
+    const float share = (1 - h.metallic) * h.transmission;
+    if (!(share > 0)) return {};
+    // A thin sheet has no refracting volume: its two faces are one crossing here.
+    return {h.base * share, h.thinWalled ? 0.0f : outsideReflectance(h.eta)};
+  }
+  return {};
+}
+
 }  // namespace glint

@@ -8,7 +8,8 @@
 //   2. what the receiver makes of it: `scatter(wi, pdf)` returns f |cos| at a surface or the
 //      phase function in a medium, and, when `pdf` is not null, the density with which the
 //      receiver's own sampling would find wi (for multiple importance sampling),
-//   3. a shadow ray to the light (when the light casts shadows and the caller wants shadows),
+//   3. a shadow ray to the light (when the light casts shadows and the caller wants shadows;
+//      through glass, the caller's transmittance traces it),
 //   4. the transmittance of the media along it (`transmittance(shadowRay)`),
 //   5. the estimate L f / (pmf pdf), weighted by the power heuristic when `mis` is set and
 //      the light is not a delta light.
@@ -42,6 +43,9 @@ struct DirectLightOptions {
   float pmf = 1;
   bool shadows = true;
   bool mis = false;
+  // `transmittance(shadowRay)` traces the shadow ray itself (Whitted's shadows through glass):
+  // no any-hit query first, and it counts its own rays.
+  bool transmittanceTraces = false;
 };
 
 // The light `light` sends to the receiver at `ctx` through `u`, scattered by `scatter` and
@@ -57,9 +61,11 @@ Rgb sampleDirectLight(const RenderScene& scene, const LightSampleContext& ctx, c
   Rgb f = scatter(ls->wi, weighted ? &scatterPdf : nullptr);
   if (!(maxComponent(f) > 0)) return {};
   if (options.shadows && light.castsShadows()) {
-    ++counters.shadow;
     const Ray shadow = shadowRay(ctx, *ls);
-    if (scene.accel->anyHit(shadow)) return {};
+    if (!options.transmittanceTraces) {
+      ++counters.shadow;
+      if (scene.accel->anyHit(shadow)) return {};
+    }
     f *= transmittance(shadow);
     if (!(maxComponent(f) > 0)) return {};
   }

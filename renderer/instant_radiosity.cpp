@@ -76,7 +76,7 @@ float scrambledRadicalInverse(uint32_t base, uint64_t index, uint64_t scramble) 
 InstantRadiosityIntegrator::InstantRadiosityIntegrator(const RenderScene& scene,
                                                        const IntegratorSettings& settings,
                                                        uint64_t seed)
-    : WhittedIntegrator(scene, settings.maxDepth),
+    : WhittedIntegrator(scene, settings.maxDepth, settings.glassShadows),
       rrDepth_(settings.rrDepth),
       paths_(settings.vplPaths),
       clamp_(settings.vplClamp) {
@@ -218,10 +218,10 @@ Rgb InstantRadiosityIntegrator::indirectLight(const SurfaceInteraction& si, cons
     const Rgb contribution = f * fVpl * v.flux * G;
     if (!(maxComponent(contribution) > 0) || !isFinite(contribution)) continue;
     if (shadows_) {
-      // Both ends leave their surfaces by their error bounds, as light shadow rays do.
-      const Vec3f target = offsetRayOrigin(v.si.p, v.si.pError, v.si.ng, si.p - v.si.p);
+      // Both ends leave their surfaces by their error bounds, as area-light shadow rays do.
       ++counters.shadow;
-      const Ray shadow = spawnRayTo(si.p, si.pError, si.ng, target, time);
+      const Ray shadow =
+          spawnRayToSurface(si.p, si.pError, si.ng, v.si.p, v.si.pError, v.si.ng, time);
       if (scene_.accel->anyHit(shadow)) continue;
       if (media()) {
         const Rgb Tr = media()->transmittance(shadow, shadow.tMax, sampler);

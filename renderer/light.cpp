@@ -57,12 +57,10 @@ void sceneSphere(const Bounds3f& b, Vec3f* center, float* radius) {
 Ray shadowRay(const LightSampleContext& ctx, const LightSample& ls) {
   // In a medium there is no surface to leave: the normal is zero and so is the offset.
   if (ls.infinite) return spawnRay(ctx.p, ctx.pError, ctx.n, ls.wi, ctx.time);
-  // An area light's point is moved off its surface towards the receiver, so the ray cannot
-  // report the light itself; spawnRayTo then keeps the last kShadowEpsilon of the segment.
-  Vec3f target = ls.pLight;
-  if (ls.nLight.x != 0 || ls.nLight.y != 0 || ls.nLight.z != 0)
-    target = offsetRayOrigin(ls.pLight, ls.pLightError, ls.nLight, ctx.p - ls.pLight);
-  return spawnRayTo(ctx.p, ctx.pError, ctx.n, target, ctx.time);
+  // A point or spot light is reached exactly; an area light's point is left by its own error
+  // bound, so the ray cannot report the light itself (see spawnRayToSurface).
+  return spawnRayToSurface(ctx.p, ctx.pError, ctx.n, ls.pLight, ls.pLightError, ls.nLight,
+                           ctx.time);
 }
 
 // --- Point ------------------------------------------------------------------------------------

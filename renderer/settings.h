@@ -47,6 +47,11 @@ struct IntegratorSettings {
   std::string volume = "single";           // "emission" (absorb and emit) | "single" | "multiple"
   std::string volumeEstimator = "march";   // "march" (fixed steps) | "track" (ratio/delta tracking)
   float volumeStep = 0;                    // march step, world units; 0 = from each medium's size
+  // Whitted: shadow rays cross glass and glTF transmission, attenuated by the surfaces'
+  // Fresnel transmittance and tint, straight and unrefracted (POV-Ray's filtered shadows: an
+  // approximation, no caustics); false: glass casts a black shadow. The path tracer ignores
+  // it (it finds the light through glass itself).
+  bool glassShadows = true;
   // Instant radiosity (Keller 1997).
   int vplPaths = 64;        // light paths traced from the lights (Halton-seeded)
   float vplClamp = 0;       // bound on the geometry term cos cos / d^2 of a VPL; 0 = no clamp

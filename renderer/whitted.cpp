@@ -7,9 +7,10 @@
 
 namespace glint {
 
-WhittedIntegrator::WhittedIntegrator(const RenderScene& scene, int maxDepth)
+WhittedIntegrator::WhittedIntegrator(const RenderScene& scene, int maxDepth, bool glassShadows)
     : Integrator(scene), maxDepth_(maxDepth) {
   shadows_ = scene.features.has(Feature::Shadows);
+  glassShadows_ = glassShadows && shadows_ && scene.features.has(Feature::Refraction);
   media_ = scene.features.has(Feature::Volumes) ? scene.media.get() : nullptr;
   cameraCone_ = scene.camera.pixelCone();
 }
@@ -96,7 +97,19 @@ Rgb WhittedIntegrator::directLight(const SurfaceInteraction& si, const Bsdf& bsd
   const DirectLightOptions options{.pmf = 1, .shadows = shadows_, .mis = false};
   for (const auto& light : scene_.lights) {
     const Vec2f u = light->isDelta() ? Vec2f{0.5f, 0.5f} : sampler.get2D();
-    if (media_)
+    if (glassShadows_) {
+      // The shadow ray is followed through glass here rather than stopped at the first hit.
+      const DirectLightOptions through{
+          .pmf = 1, .shadows = true, .mis = false, .transmittanceTraces = true};
+      L += sampleDirectLight(
+          scene_, ctx, *light, u, through, scatter,
+          [&](const Ray& shadow) {
+            const Rgb T = throughGlass(shadow, counters);
+            if (!media_ || !(maxComponent(T) > 0)) return T;
+            return T * media_->transmittance(shadow, shadow.tMax, sampler);
+          },
+          counters);
+    } else if (media_)
       L += sampleDirectLight(
           scene_, ctx, *light, u, options, scatter,
           [&](const Ray& shadow) { return media_->transmittance(shadow, shadow.tMax, sampler); },
@@ -105,6 +118,45 @@ Rgb WhittedIntegrator::directLight(const SurfaceInteraction& si, const Bsdf& bsd
       L += sampleDirectLight(scene_, ctx, *light, u, options, scatter, noMedia, counters);
   }
   return L;
+}
+
+Rgb WhittedIntegrator::throughGlass(const Ray& shadow, RayCounters& counters) const {
+  // A shadow ray crosses few surfaces; past this many it is taken as blocked.
+  constexpr int kMaxCrossings = 16;
+  const Vec3f end = shadow.at(shadow.tMax);  // where the ray must stop, whatever it crosses
+  Ray ray = shadow;
+  Rgb T{1, 1, 1};
+  float entryR = 0;  // R where the ray entered the object it is in (0: not in one)
+  for (int crossing = 0; crossing < kMaxCrossings; ++crossing) {
+    ++counters.shadow;
+    Hit hit;
+    if (!scene_.accel->closestHit(ray, &hit)) return T;
+    const uint32_t materialIndex = scene_.materialIndex(hit);
+    const Material& material = *scene_.materials[materialIndex];
+    const MaterialShading& shading = shading_[materialIndex];
+    if (!(shading.flags & kBsdfTransmission) || !material.traits().refraction) return {};
+    MovingFrame movingFrame;
+    SurfaceInteraction si = shadingPoint(ray, hit, RayCone{}, materialIndex, &movingFrame);
+    TextureLookups lookups(si);
+    const Bsdf::StraightCrossing c = material.bsdf(si, lookups).straightCrossing(ray.d, si.frontFace);
+    if (si.frontFace) {
+      T *= c.tint * (1 - c.R);
+      entryR = c.R;
+    } else {
+      // Leaving: the light reflected back and forth between entry and exit adds up to
+      // 1 / (1 - R1 R2); the inside absorbs along the way (KHR_materials_volume).
+      T *= c.tint * ((1 - c.R) / std::max(1 - entryR * c.R, 1e-6f)) *
+           insideTransmittance(material, shading, si, hit.t);
+      entryR = 0;
+    }
+    if (!(maxComponent(T) > 0)) return {};
+    // On from just beyond the surface, to the same end.
+    const Vec3f o = offsetRayOrigin(si.p, si.pError, si.ng, ray.d);
+    const float rest = dot(end - o, ray.d);
+    if (!(rest > 0)) return T;
+    ray = Ray{o, ray.d, 0, rest, ray.time};
+  }
+  return {};
 }
 
 }  // namespace glint

@@ -3,8 +3,13 @@
 // the reflected and the refracted ray, each weighted by its Fresnel share) and through
 // transparent surfaces, up to `maxDepth` bounces.
 //
-// Shadow rays stop at the first surface, glass included: light reaches a point behind glass
-// only along paths the path tracer (issue 7) samples.
+// Shadow rays stop at the first opaque surface. Through glass and glTF transmission they go on
+// straight, unrefracted, keeping each surface's Fresnel transmittance and tint, two crossings
+// of one object combined as a pane's multiple internal reflections are, (1 - R1)(1 - R2) /
+// (1 - R1 R2): POV-Ray's filtered shadows, an approximation (no caustic, no refraction of the
+// shadow's shape) that beats the black shadow of an opaque stand-in; `glassShadows` false
+// (sidecar integrator.glass_shadows) restores that. Light reaches a point behind glass
+// correctly only along paths the path tracer samples.
 //
 // Participating media (when the scene has them, Feature::Volumes): every camera and secondary
 // ray's segment up to its hit (or to where it leaves the media) adds what the media emit and,
@@ -22,7 +27,7 @@ namespace glint {
 
 class WhittedIntegrator : public Integrator {
  public:
-  WhittedIntegrator(const RenderScene& scene, int maxDepth);
+  WhittedIntegrator(const RenderScene& scene, int maxDepth, bool glassShadows = true);
   Rgb LiFromHit(const Ray& ray, const Hit* hit, Sampler& sampler, RayCounters& counters,
                 PathAovs& aovs) const override;
 
@@ -54,8 +59,12 @@ class WhittedIntegrator : public Integrator {
   // Direct light at a lit surface point: sum over all lights, shadow rays when enabled.
   Rgb directLight(const SurfaceInteraction& si, const Bsdf& bsdf, float time, Sampler& sampler,
                   RayCounters& counters) const;
+  // What reaches the end of `shadow` through the glass on its way (zero behind anything
+  // opaque): the shadow ray followed from surface to surface (see the file comment).
+  Rgb throughGlass(const Ray& shadow, RayCounters& counters) const;
 
   const MediaScene* media_;  // null without media: rays take the media-free path
+  bool glassShadows_;        // shadow rays cross glass (the scene has some, and it is asked)
   RayCone cameraCone_;
 };
 

@@ -49,6 +49,7 @@ void readIntegrator(JsonReader& r, IntegratorSettings* s) {
   s->volume = i.oneOf("volume", kVolumeModes, s->volume);
   s->volumeEstimator = i.oneOf("volume_estimator", kVolumeEstimators, s->volumeEstimator);
   s->volumeStep = i.get<float>("volume_step", s->volumeStep, kNonNegative);
+  s->glassShadows = i.get<bool>("glass_shadows", s->glassShadows);
   s->vplPaths = i.get<int>("vpl_paths", s->vplPaths, kPositive);
   s->vplClamp = i.get<float>("vpl_clamp", s->vplClamp, kNonNegative);
 }
