@@ -22,11 +22,15 @@ Bounds3f TriangleMesh::bounds() const {
   return b;
 }
 
-TriangleMesh::StepBlend TriangleMesh::stepAt(float time) const {
-  const uint32_t segments = uint32_t(positionSteps.size()) - 1;
-  const float x = time * float(segments);
-  const float k = std::clamp(std::floor(x), 0.0f, float(segments - 1));
+TriangleMesh::StepBlend timeStepBlend(float time, size_t stepCount) {
+  const float segments = float(stepCount - 1);
+  const float x = time * segments;
+  const float k = std::clamp(std::floor(x), 0.0f, segments - 1);
   return {uint32_t(k), x - k};
+}
+
+TriangleMesh::StepBlend TriangleMesh::stepAt(float time) const {
+  return timeStepBlend(time, positionSteps.size());
 }
 
 Bounds3f GeometryScene::bounds() const {

@@ -42,8 +42,7 @@ struct TriangleMesh {
 
   size_t triangleCount() const { return indices.size() / 3; }
   bool deforms() const { return !positionSteps.empty(); }
-  // Where normalised shutter time `time` falls between the steps: step `k` and k + 1, with
-  // weight `f` on k + 1 (Embree's mapping: time (K-1), floored and clamped to a segment).
+  // Where normalised shutter time `time` falls between the steps (timeStepBlend).
   struct StepBlend {
     uint32_t k;
     float f;
@@ -61,6 +60,11 @@ struct TriangleMesh {
   // The bounds of every step (a linear blend of two steps stays inside their union).
   Bounds3f bounds() const;
 };
+
+// Where normalised shutter time `time` falls among `stepCount` >= 2 uniform time steps: step
+// k and k + 1, with weight f on k + 1 (Embree's mapping: time (K - 1), floored and clamped to
+// a segment, so time 1 is the end of the last segment).
+TriangleMesh::StepBlend timeStepBlend(float time, size_t stepCount);
 
 // Bakes a placement into a triangle list: positions go to the world, and when the placement
 // mirrors, each triangle's winding is reversed (its last two indices swapped) so that the

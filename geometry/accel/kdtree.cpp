@@ -106,12 +106,9 @@ void KdPrimitives::gatherDeforming(const TriangleMesh& mesh) {
 }
 
 std::array<Vec3f, 3> KdPrimitives::triangleAt(uint32_t id, float time) const {
-  const uint32_t segments = timeSteps - 1;
-  const float x = time * float(segments);
-  const float k = std::clamp(std::floor(x), 0.0f, float(segments - 1));
-  const float f = x - k;
-  const std::array<Vec3f, 3>& a = triangleSteps[size_t(id) * timeSteps + uint32_t(k)];
-  const std::array<Vec3f, 3>& b = triangleSteps[size_t(id) * timeSteps + uint32_t(k) + 1];
+  const auto [k, f] = timeStepBlend(time, timeSteps);
+  const std::array<Vec3f, 3>& a = triangleSteps[size_t(id) * timeSteps + k];
+  const std::array<Vec3f, 3>& b = triangleSteps[size_t(id) * timeSteps + k + 1];
   return {(1 - f) * a[0] + f * b[0], (1 - f) * a[1] + f * b[1], (1 - f) * a[2] + f * b[2]};
 }
 
