@@ -14,6 +14,19 @@
 namespace glint {
 namespace {
 
+// An orthographic camera 5 in front of `centre` (along +z) seeing xmag x ymag half-extents,
+// its shutter open from 0 to `shutterClose`.
+CameraDesc frontCamera(float xmag, float ymag, Vec3f centre, float shutterClose) {
+  CameraDesc cam;
+  cam.name = "front";
+  cam.type = CameraType::Orthographic;
+  cam.xmag = xmag;
+  cam.ymag = ymag;
+  cam.worldFromCamera = Transform::lookAt(centre + Vec3f{0, 0, 5}, centre, {0, 1, 0});
+  cam.shutterClose = shutterClose;
+  return cam;
+}
+
 // An eyelight sphere (radius 0.5) moving from x = -1 to x = 1 over one second, seen head-on by
 // an orthographic camera covering [-2, 2] x [-1, 1].
 SceneDescription movingBall(float shutterClose, double time, bool textured = false) {
@@ -45,14 +58,7 @@ SceneDescription movingBall(float shutterClose, double time, bool textured = fal
   ball.material = 0;
   ball.transformNode = 0;
   d.objects.push_back(ball);
-  CameraDesc cam;
-  cam.name = "front";
-  cam.type = CameraType::Orthographic;
-  cam.xmag = 2;
-  cam.ymag = 1;
-  cam.worldFromCamera = Transform::lookAt({0, 0, 5}, {0, 0, 0}, {0, 1, 0});
-  cam.shutterClose = shutterClose;
-  d.cameras.push_back(cam);
+  d.cameras.push_back(frontCamera(2, 1, {0, 0, 0}, shutterClose));
   d.render.width = 64;
   d.render.height = 32;
   d.render.time = time;
@@ -119,14 +125,7 @@ SceneDescription turningTriangle(float shutterClose, double time) {
   white.type = MaterialType::Eyelight;
   d.materials.push_back(white);
   d.instances[0].material = int(d.materials.size()) - 1;
-  CameraDesc cam;
-  cam.name = "front";
-  cam.type = CameraType::Orthographic;
-  cam.xmag = 1.25f;
-  cam.ymag = 1.25f;
-  cam.worldFromCamera = Transform::lookAt({0.5f, 1, 5}, {0.5f, 1, 0}, {0, 1, 0});
-  cam.shutterClose = shutterClose;
-  d.cameras = {cam};
+  d.cameras = {frontCamera(1.25f, 1.25f, {0.5f, 1, 0}, shutterClose)};
   d.render.camera.clear();
   d.render.width = 40;
   d.render.height = 40;
