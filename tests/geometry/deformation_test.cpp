@@ -11,6 +11,7 @@
 #include "geometry/accel/accelerator.h"
 #include "geometry/accel/embree_accel.h"
 #include "geometry/interaction.h"
+#include "test_meshes.h"
 
 namespace glint {
 namespace {
@@ -129,9 +130,8 @@ TEST(DeformationBlur, ComposesWithAMovingPlacement) {
 // from a hit must not hit it again.
 TriangleMesh deformingOctahedron(std::mt19937& rng, float scale, int steps) {
   std::uniform_real_distribution<float> u(-1, 1);
-  const std::vector<Vec3f> base = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  TriangleMesh m;
-  m.indices = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
+  TriangleMesh m = test::unitOctahedron();
+  const std::vector<Vec3f> base = m.positions;
   for (int k = 0; k < steps; ++k) {
     const Transform xf = Transform::scale(Vec3f{scale, scale, scale}) *
                          Transform::translate(Vec3f{u(rng), u(rng), u(rng)} * 3) *

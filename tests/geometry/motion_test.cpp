@@ -17,6 +17,7 @@
 #include "geometry/shapes/box.h"
 #include "geometry/shapes/plane.h"
 #include "geometry/shapes/sphere.h"
+#include "test_meshes.h"
 
 namespace glint {
 namespace {
@@ -380,10 +381,7 @@ TEST(MotionBlur, InteractionsLieOnTheSurfaceAtTheRayTimeAndSpawnedRaysLeaveIt) {
   for (float scale : {1e-3f, 1.0f, 1e3f}) {
     SCOPED_TRACE(scale);
     GeometryScene scene;
-    TriangleMesh ball;  // an octahedron
-    ball.positions = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-    ball.indices = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
-    scene.meshes.push_back(ball);
+    scene.meshes.push_back(test::unitOctahedron());
     std::vector<std::vector<Transform>> paths;
     for (int i = 0; i < 6; ++i) {
       std::vector<Transform> keys;
