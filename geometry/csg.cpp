@@ -26,14 +26,50 @@ const Crossing& crossingAt(const Span* spans, size_t k) {
   return (k & 1) ? spans[k >> 1].exit : spans[k >> 1].enter;
 }
 
-// Two crossings are one event when their t values cannot be told apart given their bounds.
+// Two crossings are one event when their t values cannot be told apart given their rounding
+// bounds and their surfaces' tolerances.
 bool coincide(const Crossing& a, const Crossing& b) {
   if (a.t == b.t) return true;  // includes equal infinities
-  return std::abs(a.t - b.t) <= a.tError + b.tError;
+  return std::abs(a.t - b.t) <= (a.tError + b.tError) + (a.tieWidth + b.tieWidth);
 }
 
-// A span whose ends coincide has no interior: a tangent ray, or a sliver below the error bound.
-bool degenerate(const Span& s) { return coincide(s.enter, s.exit); }
+// A leaf's surface tolerance in its object space (see the tie rule in csg.h): the written
+// precision of its own numbers, and its placement's error pulled back through the inverse.
+SurfaceTolerance toleranceOf(const Transform& treeFromLeaf, const TransformError& error) {
+  // In tree space, a leaf point x is off by at most E (|x|, 1) per axis, which is at most
+  // E[i][3] + (sum_j E[i][j]) max|x_j|; in object space by |M^-1| times that. The float
+  // inverse is within a few ulps of the exact one (the 1e-5 covers it), and the whole bound is
+  // doubled: the terms are first order, and max|x| is that of the object point, which the
+  // tree point's components bound only up to the matrix.
+  Vec3f absTree, relTree;
+  for (int i = 0; i < 3; ++i) {
+    absTree[i] = error.e[i][3];
+    relTree[i] = error.e[i][0] + error.e[i][1] + error.e[i][2];
+  }
+  const auto& inv = treeFromLeaf.inverseMatrix().m;
+  SurfaceTolerance t;
+  for (int k = 0; k < 3; ++k) {
+    float a = 0, r = 0;
+    for (int i = 0; i < 3; ++i) {
+      a += std::abs(inv[k][i]) * absTree[i];
+      r += std::abs(inv[k][i]) * relTree[i];
+    }
+    constexpr float kSlack = 2 * (1 + 1e-5f);
+    t.absolute[k] = kSlack * a;
+    t.relative[k] = kSlack * (r + kWrittenPrecision + kMachineEpsilon);
+  }
+  return t;
+}
+
+// A span whose ends cannot be told apart by rounding has no interior: a tangent ray, or a
+// sliver below the error bound. Tie widths do not count here: a leaf's thin sliver near an edge
+// (a ray clipping a corner) is as real as its twin's from a leaf with a narrower tolerance, and
+// dropping one but not the other would leave the difference of the two as a speck. The slivers
+// meet in combineSpans instead, where their crossings tie.
+bool degenerate(const Span& s) {
+  if (s.enter.t == s.exit.t) return true;
+  return std::abs(s.exit.t - s.enter.t) <= s.enter.tError + s.exit.tError;
+}
 
 // True when the ray's whole line (every real t) certainly misses the box. Conservative: the
 // slab distances are widened by their rounding error (pbrt-v4's gamma(3) idea), so a line that
@@ -67,26 +103,30 @@ void combineSpans(CsgOperation op, const Span* a, size_t na, const Span* b, size
   bool inA = false, inB = false, in = false;
   Crossing open;  // the enter crossing of the result span being built
   while (i < ea || j < eb) {
-    // The earliest remaining crossing starts the group.
-    const Crossing* first;
-    if (j >= eb || (i < ea && crossingAt(a, i).t <= crossingAt(b, j).t))
-      first = &crossingAt(a, i);
-    else
-      first = &crossingAt(b, j);
-    // Take every crossing that coincides with it, from both lists; remember the left-most
-    // child's crossing (the tie rule's attribution).
-    const Crossing* fromA = nullptr;
-    const Crossing* fromB = nullptr;
-    while (i < ea && coincide(crossingAt(a, i), *first)) {
-      if (!fromA) fromA = &crossingAt(a, i);
-      inA = !inA;
-      ++i;
+    // The earliest remaining crossing starts the event. The other list's next crossing joins
+    // it when the two coincide: at most one crossing of each child per event. Two crossings of
+    // one child are two events of that child's own (its span list is already resolved),
+    // however wide their tolerances: where a ray clips an edge, a thin sliver must meet its
+    // twin's two crossings pairwise, enter with enter and exit with exit, or one twin's sliver
+    // would survive the other's. For the same reason the joining crossing goes to the first
+    // child's *next* crossing instead when that one is nearer to it and coincides with it too.
+    const bool aFirst = j >= eb || (i < ea && crossingAt(a, i).t <= crossingAt(b, j).t);
+    const Span* firstList = aFirst ? a : b;
+    const size_t firstIndex = aFirst ? i : j, firstCount = aFirst ? ea : eb;
+    const Crossing& first = crossingAt(firstList, firstIndex);
+    const Crossing* other = nullptr;
+    if (aFirst ? j < eb : i < ea) other = aFirst ? &crossingAt(b, j) : &crossingAt(a, i);
+    bool tie = other && coincide(*other, first);
+    if (tie && firstIndex + 1 < firstCount) {
+      const Crossing& rival = crossingAt(firstList, firstIndex + 1);
+      if (std::abs(rival.t - other->t) < std::abs(first.t - other->t) && coincide(rival, *other))
+        tie = false;
     }
-    while (j < eb && coincide(crossingAt(b, j), *first)) {
-      if (!fromB) fromB = &crossingAt(b, j);
-      inB = !inB;
-      ++j;
-    }
+    // The left-most child's crossing is the event's boundary (the tie rule's attribution).
+    const Crossing* fromA = aFirst ? &first : (tie ? other : nullptr);
+    const Crossing* fromB = aFirst ? (tie ? other : nullptr) : &first;
+    if (fromA) inA = !inA, ++i;
+    if (fromB) inB = !inB, ++j;
     bool now = inside(op, inA, inB);
     if (now == in) continue;
     const Crossing& boundary = fromA ? *fromA : *fromB;
@@ -100,10 +140,12 @@ void combineSpans(CsgOperation op, const Span* a, size_t na, const Span* b, size
   }
 }
 
-uint32_t CsgShape::addLeaf(std::unique_ptr<Shape> shape, const Transform& treeFromLeaf) {
+uint32_t CsgShape::addLeaf(std::unique_ptr<Shape> shape, const Transform& treeFromLeaf,
+                           const TransformError& placementError) {
   assert(shape && shape->isSolid());
   const Shape* raw = shape.get();
-  leaves_.push_back(Leaf{std::move(shape), PlacedShape(raw, treeFromLeaf), false});
+  leaves_.push_back(Leaf{std::move(shape), PlacedShape(raw, treeFromLeaf),
+                         toleranceOf(treeFromLeaf, placementError), false});
   Node node;
   node.leaf = uint32_t(leaves_.size() - 1);
   nodes_.push_back(std::move(node));
@@ -119,8 +161,8 @@ std::unique_ptr<Shape> CsgShape::clone() const {
   for (const Leaf& leaf : leaves_) {
     std::unique_ptr<Shape> shape = leaf.shape->clone();
     const Shape* raw = shape.get();
-    copy->leaves_.push_back(
-        Leaf{std::move(shape), PlacedShape(raw, leaf.placed.placement()), leaf.flipNormal});
+    copy->leaves_.push_back(Leaf{std::move(shape), PlacedShape(raw, leaf.placed.placement()),
+                                 leaf.tolerance, leaf.flipNormal});
   }
   return copy;
 }
@@ -181,7 +223,8 @@ size_t CsgShape::evaluate(uint32_t node, const Ray& ray, std::vector<Span>& out)
   if (lineMissesBox(ray, nodeBounds_[node])) return 0;
   if (n.leaf != kNone) {
     Span s;
-    if (!leaves_[n.leaf].placed.span(ray, &s)) return 0;
+    const Leaf& leaf = leaves_[n.leaf];
+    if (!leaf.placed.span(ray, leaf.tolerance, &s)) return 0;
     uint32_t tag = n.leaf << 3;
     s.enter.part = tag | (s.enter.part & 7);
     s.exit.part = tag | (s.exit.part & 7);

@@ -7,14 +7,23 @@
 // and any-hit queries correct by construction.
 //
 // Tie rule (coincident surfaces: A - B sharing a face, A u A, touching spheres). Crossings of
-// different children whose t values differ by no more than the sum of their error bounds are
-// one event: the operator's inside/outside state is evaluated only before and after the whole
+// different children whose t values differ by no more than the sum of their widths are one
+// event: the operator's inside/outside state is evaluated only before and after the whole
 // group, so the result is a regularized set operation. A shared face of A - B is removed (no
 // zero-thickness skin), A u A is A, touching solids merge without an inner wall, and zero-
 // length spans (tangent rays) are dropped. When a group changes the result, the boundary is
-// attributed to the left-most child that has a crossing in the group. Because the grouping
-// tolerance is the conservative error bound of each t, rounding noise can never make the
-// decision flip from pixel to pixel; differences larger than the bound are real geometry.
+// attributed to the left-most child that has a crossing in the group.
+//
+// A crossing's width is its t's rounding-error bound plus its tie width: how far t moves when
+// the leaf's surface moves within the leaf's tolerance, the distance between the surface as
+// stored and the surface its author meant. That tolerance covers every number of the leaf and
+// of the transforms placing it being read to kWrittenPrecision (0.3333333 * 3 is 1), the float
+// sines and cosines of rotations, and the rounding of every matrix composed on the way from
+// the leaf to the tree (TransformError, propagated operation by operation, so a rotation
+// undone after a stretch is covered at the magnitudes it acted on). Faces that coincide as
+// meant therefore tie however their leaves were written, and rounding can never make the
+// decision flip from pixel to pixel. Faces further apart than the widths are real geometry: a
+// 1e-4 skin on a unit solid is about 100 times wider than the tolerance.
 #pragma once
 
 #include <cstdint>
@@ -33,8 +42,10 @@ class CsgShape final : public Shape {
 
   // ---- Building (the scene builder calls these, then finish()).
   // A leaf: a solid (shape->isSolid()) placed in tree space. Returns the node index. Leaves
-  // are numbered in the order they are added: leaf k is material slot k.
-  uint32_t addLeaf(std::unique_ptr<Shape> shape, const Transform& treeFromLeaf);
+  // are numbered in the order they are added: leaf k is material slot k. `placementError`
+  // bounds treeFromLeaf against the transform its author meant (see the tie rule).
+  uint32_t addLeaf(std::unique_ptr<Shape> shape, const Transform& treeFromLeaf,
+                   const TransformError& placementError = {});
   // An operation over two or more nodes (difference: the first minus all the others).
   uint32_t addOperation(CsgOperation op, std::vector<uint32_t> children);
   // Fixes the root, computes bounds and the leaves' normal orientation. Every node must be
@@ -51,6 +62,8 @@ class CsgShape final : public Shape {
   uint32_t materialSlotCount() const override { return uint32_t(leaves_.size()); }
 
   size_t leafCount() const { return leaves_.size(); }
+  // Leaf k's surface tolerance (object space), for tests and `glint info`.
+  const SurfaceTolerance& leafTolerance(size_t k) const { return leaves_[k].tolerance; }
   // All boundary crossings of the ray's whole line with the solid, as sorted spans in tree
   // space (for tests and nested use). Each Crossing::part is (leaf << 3) | leaf part.
   std::vector<Span> spans(const Ray& ray) const;
@@ -59,7 +72,8 @@ class CsgShape final : public Shape {
   struct Leaf {
     std::unique_ptr<Shape> shape;
     PlacedShape placed;
-    bool flipNormal = false;  // under an odd number of difference right-hand sides
+    SurfaceTolerance tolerance;  // in the leaf's object space
+    bool flipNormal = false;     // under an odd number of difference right-hand sides
   };
   struct Node {
     CsgOperation op = CsgOperation::Union;

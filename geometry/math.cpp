@@ -158,4 +158,68 @@ bool Transform::swapsHandedness() const {
   return det < 0;
 }
 
+MeantTransform::MeantTransform() {
+  for (int i = 0; i < 3; ++i) exact_[i][i] = 1;
+}
+
+MeantTransform MeantTransform::written(const Mat4& m) {
+  MeantTransform r;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 4; ++j) {
+      r.exact_[i][j] = m.m[i][j];
+      r.written_[i][j] = double(kWrittenPrecision) * std::abs(m.m[i][j]);
+    }
+  return r;
+}
+
+MeantTransform MeantTransform::rotation(float degrees, Vec3f axis) {
+  // Rodrigues' formula in double: R = c I + s [k]x + (1 - c) k k^T.
+  const double len = std::sqrt(double(axis.x) * axis.x + double(axis.y) * axis.y +
+                               double(axis.z) * axis.z);
+  const double k[3] = {axis.x / len, axis.y / len, axis.z / len};
+  const double a = double(degrees) * 3.14159265358979323846 / 180;
+  const double c = std::cos(a), sn = std::sin(a);
+  const double cross[3][3] = {{0, -k[2], k[1]}, {k[2], 0, -k[0]}, {-k[1], k[0], 0}};
+  MeantTransform r;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      r.exact_[i][j] = (i == j ? c : 0) + sn * cross[i][j] + (1 - c) * k[i] * k[j];
+  return r;
+}
+
+MeantTransform operator*(const MeantTransform& a, const MeantTransform& b) {
+  // Affine 3x4 products (last rows [0 0 0 1]); the written bounds to first order:
+  // |a| W_b + W_a |b|.
+  MeantTransform r;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 4; ++j) {
+      double e = 0, w = 0;
+      for (int k = 0; k < 3; ++k) {
+        e += a.exact_[i][k] * b.exact_[k][j];
+        w += std::abs(a.exact_[i][k]) * b.written_[k][j] +
+             a.written_[i][k] * std::abs(b.exact_[k][j]);
+      }
+      if (j == 3) e += a.exact_[i][3], w += a.written_[i][3];
+      r.exact_[i][j] = e;
+      r.written_[i][j] = w;
+    }
+  return r;
+}
+
+TransformError MeantTransform::errorOf(const Mat4& m) const {
+  TransformError r;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 4; ++j) {
+      // The double products' own rounding is far below a float ulp: 2^-40 of the row's
+      // magnitude covers it generously.
+      double magnitude = std::abs(exact_[i][3]);
+      for (int k = 0; k < 3; ++k) magnitude += std::abs(exact_[i][k]);
+      const double bound = std::abs(double(m.m[i][j]) - exact_[i][j]) + written_[i][j] +
+                           0x1p-40 * magnitude;
+      r.e[i][j] = float(bound);
+      if (double(r.e[i][j]) < bound) r.e[i][j] = nextFloatUp(r.e[i][j]);
+    }
+  return r;
+}
+
 }  // namespace glint

@@ -235,4 +235,42 @@ class Transform {
   Mat4 m_, inv_;
 };
 
+// ---------------------------------------------------------------------------------------------
+// How far a transform read from a file lies from the one its author meant
+// ---------------------------------------------------------------------------------------------
+
+// A number in a scene file is taken to mean anything within this relative distance of itself:
+// half a unit in its seventh significant digit (a third written 0.3333333, 1/0.7 as 1.428571).
+inline constexpr float kWrittenPrecision = 5e-7f;
+
+// An entrywise bound on |M - M_meant| for a transform's 3x4 affine part (the last row
+// [0, 0, 0, 1] is exact).
+struct TransformError {
+  std::array<std::array<float, 4>, 3> e{};  // zero: exact
+};
+
+// The transform a file's operations mean, composed beside the float Transform glint builds
+// from them: the same operations composed in double from the numbers as parsed, so that
+// |float matrix - exact| measures every rounding of sines, cosines, quaternions and products
+// (not a bound: the difference itself), plus a bound on how far the written numbers may be
+// from the ones their author meant (kWrittenPrecision; first order). Rotation angles and axes
+// are taken as meant: 90 is 90, and a rotation undone by its negative is undone exactly.
+// CSG trees use the result to tell faces that coincide as meant from faces that are apart.
+class MeantTransform {
+ public:
+  MeantTransform();  // the identity, exact
+  // An operation whose matrix entries are written numbers: translate, scale, shear, matrix.
+  static MeantTransform written(const Mat4& m);
+  // Transform::rotate(degrees, axis), exactly.
+  static MeantTransform rotation(float degrees, Vec3f axis);
+  // a applied after b, as Transform's operator*.
+  friend MeantTransform operator*(const MeantTransform& a, const MeantTransform& b);
+  // The bound on |m - meant| for the float matrix m composed from the same operations.
+  TransformError errorOf(const Mat4& m) const;
+
+ private:
+  std::array<std::array<double, 4>, 3> exact_{};
+  std::array<std::array<double, 4>, 3> written_{};  // entrywise bound
+};
+
 }  // namespace glint

@@ -129,12 +129,13 @@ ShapeSurface PlacedShape::surface(const Ray& ray, const ShapeHit& hit) const {
   return w;
 }
 
-bool PlacedShape::span(const Ray& ray, Span* out) const {
-  if (identity_) return shape_->span(ray, out);
+bool PlacedShape::span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) const {
+  if (identity_) return shape_->span(ray, tolerance, out);
   float dt;
   Ray r = toObject(ray, &dt);
   Span s;
-  if (!shape_->span(r, &s)) return false;
+  // t is the caller's t, shifted: tie widths carry over unchanged.
+  if (!shape_->span(r, tolerance, &s)) return false;
   for (Crossing* c : {&s.enter, &s.exit}) {
     if (std::isinf(c->t)) continue;
     // dt is also the origin's uncertainty along the ray; then the sum's own rounding.

@@ -65,6 +65,18 @@ struct Crossing {
   float t = 0;
   float tError = 0;  // conservative bound on |t - exact t|
   uint32_t part = 0;
+  // How far t may move if the surface moves within its SurfaceTolerance (span()'s argument):
+  // the tolerance along the normal over |d . n|. 0 without a tolerance. CSG ties use it.
+  float tieWidth = 0;
+};
+
+// How far a solid's stored surface may lie from the surface its author meant, per axis of the
+// space the shape is asked in: at a point p, absolute[k] + relative[k] * max|p_i| along axis k.
+// CSG leaves get one from the written precision of their numbers and of the transforms
+// composed to place them (CsgShape::addLeaf); everything else passes none.
+struct SurfaceTolerance {
+  Vec3f absolute, relative;
+  bool none() const { return absolute == Vec3f{} && relative == Vec3f{}; }
 };
 
 // The part of a ray's whole line (all real t, not only [tMin, tMax]) inside a convex solid:
@@ -99,8 +111,9 @@ class Shape {
   // cone, the plane as the half-space below it).
   virtual bool isSolid() const { return false; }
   // For solids: the span of the ray's line inside the solid; false when the line misses it.
-  virtual bool span(const Ray& ray, Span* out) const {
-    (void)ray, (void)out;
+  // With a tolerance, each crossing's tieWidth says how far it may move with the surface.
+  virtual bool span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) const {
+    (void)ray, (void)tolerance, (void)out;
     return false;
   }
   // Which material slot a hit part uses: 0 for primitives, the leaf index for CSG trees.
@@ -158,7 +171,8 @@ class PlacedShape {
   bool intersect(const Ray& ray, ShapeHit* hit) const;
   bool occluded(const Ray& ray) const;
   ShapeSurface surface(const Ray& ray, const ShapeHit& hit) const;
-  bool span(const Ray& ray, Span* out) const;
+  // `tolerance` is in the shape's object space.
+  bool span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) const;
 
   // Sampling in the destination space (see Shape): densities per unit destination area, the
   // object density divided by the placement's area Jacobian |det M| |M^-T n_object| at the

@@ -122,7 +122,7 @@ void MediaScene::intervals(const Ray& ray, float tMax, std::vector<Interval>* ou
     float t0 = std::max(0.0f, ray.tMin), t1 = tMax;
     if (r.placed) {
       Span span;
-      if (!r.placed->span(ray, &span)) continue;
+      if (!r.placed->span(ray, {}, &span)) continue;
       t0 = std::max(t0, span.enter.t), t1 = std::min(t1, span.exit.t);
     } else if (!clipToBox(ray, r.box, &t0, &t1)) {
       continue;

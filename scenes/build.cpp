@@ -44,16 +44,20 @@ CsgOperation csgOperation(CsgOp op) {
 // Adds `node` of `tree` (and its subtree) to `csg`, with transforms composed down to the
 // leaves; `leafMaterials` receives each leaf's material (-1 = the object's) in leaf order.
 uint32_t addCsgNode(const CsgTreeDesc& tree, int node, const Transform& treeFromParent,
-                    CsgShape* csg, std::vector<int>* leafMaterials) {
+                    const MeantTransform& treeFromParentMeant, CsgShape* csg,
+                    std::vector<int>* leafMaterials) {
   const CsgNodeDesc& n = tree.nodes[size_t(node)];
-  Transform treeFromNode = treeFromParent * n.parentFromNode;
+  const Transform treeFromNode = treeFromParent * n.parentFromNode;
+  const MeantTransform treeFromNodeMeant = treeFromParentMeant * n.parentFromNodeMeant;
   if (n.op == CsgOp::Leaf) {
     leafMaterials->push_back(n.material);
-    return csg->addLeaf(n.shape->clone(), treeFromNode);
+    return csg->addLeaf(n.shape->clone(), treeFromNode,
+                        treeFromNodeMeant.errorOf(treeFromNode.matrix()));
   }
   std::vector<uint32_t> children;
   for (int c : n.children)
-    children.push_back(addCsgNode(tree, c, treeFromNode, csg, leafMaterials));
+    children.push_back(
+        addCsgNode(tree, c, treeFromNode, treeFromNodeMeant, csg, leafMaterials));
   return csg->addOperation(csgOperation(n.op), std::move(children));
 }
 
@@ -721,7 +725,7 @@ void buildObjects(const SceneDescription& desc, const ShutterTimes& shutter, Ren
     std::unique_ptr<Shape> shape;
     if (obj.kind == ObjectKind::Csg) {
       auto csg = std::make_unique<CsgShape>();
-      uint32_t root = addCsgNode(obj.csg, obj.csg.root, Transform(), csg.get(), &slots);
+      uint32_t root = addCsgNode(obj.csg, obj.csg.root, Transform(), {}, csg.get(), &slots);
       csg->finish(root);
       for (int& m : slots)
         if (m < 0) m = obj.material;

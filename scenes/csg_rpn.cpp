@@ -206,6 +206,16 @@ Transform transformOperation(const TokenLine& line, const std::string& op,
   return Transform(m, inverse);
 }
 
+// Applies one operation after the node's transform so far, as meant too.
+void applyOperation(const TokenLine& line, const std::string& op, const std::vector<float>& v,
+                    CsgNodeDesc* node) {
+  const Transform t = transformOperation(line, op, v);
+  const MeantTransform meant = op == "rotate" ? MeantTransform::rotation(v[0], {v[1], v[2], v[3]})
+                                              : MeantTransform::written(t.matrix());
+  node->parentFromNodeMeant = meant * node->parentFromNodeMeant;
+  node->parentFromNode = t * node->parentFromNode;
+}
+
 // Checks the node's composed transform once all its operations are read.
 void checkTransform(const TokenLine& line, const Transform& t) {
   for (const auto& row : t.matrix().m)
@@ -287,8 +297,7 @@ CsgNodeDesc parsePrimitive(TokenLine& line, const PrimitiveSpec& spec) {
       if (values.count(word)) line.fail(inQuotes(word) + " given twice");
       values[word] = line.numbersFor(word, key->count);
     } else if (const KeySpec* op = findKey(kTransformOps, word)) {
-      node.parentFromNode =
-          transformOperation(line, word, line.numbersFor(word, op->count)) * node.parentFromNode;
+      applyOperation(line, word, line.numbersFor(word, op->count), &node);
     } else if (word == kMaterial) {
       if (hasMaterial) line.fail("'material' given twice");
       if (line.done()) line.fail("'material' needs a name");
@@ -320,8 +329,7 @@ CsgNodeDesc parseOperator(TokenLine& line, CsgOp op) {
   while (!line.done()) {
     const std::string& word = line.next();
     if (const KeySpec* t = findKey(kTransformOps, word)) {
-      node.parentFromNode =
-          transformOperation(line, word, line.numbersFor(word, t->count)) * node.parentFromNode;
+      applyOperation(line, word, line.numbersFor(word, t->count), &node);
     } else if (word == kMaterial) {
       line.fail("'material' belongs on primitives, not on " + inQuotes(line.head()));
     } else {

@@ -314,6 +314,7 @@ struct CsgNodeDesc {
   int material = -1;          // leaves: index into SceneDescription::materials, -1 = the object's
   std::string materialName;   // as written in a .csg file; resolved to `material` by the loader
   Transform parentFromNode;   // this node's transform within its parent (identity by default)
+  MeantTransform parentFromNodeMeant;  // the same, as meant (CsgShape's tie rule)
   SourceLocation where;
 };
 

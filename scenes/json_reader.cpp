@@ -142,7 +142,8 @@ Transform toMatrix(const Json& value, const SourceLocation& where) {
 
 const std::vector<std::string> kTransformOps = {"translate", "rotate", "scale", "shear", "matrix"};
 
-Transform toOperation(const Json& op, const SourceLocation& where) {
+// One operation; `meant` receives it as meant.
+Transform toOperation(const Json& op, const SourceLocation& where, MeantTransform* meant) {
   if (!op.is_object()) wrongType(op, where, "a transform operation object");
   if (op.size() != 1)
     throw SceneError(where, "a transform operation has exactly one key (one of " +
@@ -150,11 +151,17 @@ Transform toOperation(const Json& op, const SourceLocation& where) {
   const std::string& name = op.begin().key();
   const Json& arg = op.begin().value();
   SourceLocation at = where.child(name);
-  if (name == "translate") return Transform::translate(toVec3(arg, at));
+  if (name == "translate") {
+    Transform t = Transform::translate(toVec3(arg, at));
+    *meant = MeantTransform::written(t.matrix());
+    return t;
+  }
   if (name == "scale") {
     Vec3f s = arg.is_number() ? Vec3f{1, 1, 1} * toFloat(arg, at, {}) : toVec3(arg, at);
     if (s.x == 0 || s.y == 0 || s.z == 0) throw SceneError(at, "scale must not be zero");
-    return Transform::scale(s);
+    Transform t = Transform::scale(s);
+    *meant = MeantTransform::written(t.matrix());
+    return t;
   }
   if (name == "rotate") {
     JsonReader r(arg, at);
@@ -162,6 +169,7 @@ Transform toOperation(const Json& op, const SourceLocation& where) {
     float degrees = r.get<float>("degrees");
     r.finish();
     if (axis == Vec3f{}) throw SceneError(r.where("axis"), "rotation axis must not be zero");
+    *meant = MeantTransform::rotation(degrees, axis);
     return Transform::rotate(degrees, axis);
   }
   if (name == "shear") {
@@ -175,9 +183,14 @@ Transform toOperation(const Json& op, const SourceLocation& where) {
     r.finish();
     Mat4 inverse;
     if (!invert(m, &inverse)) throw SceneError(at, "shear is singular (not invertible)");
+    *meant = MeantTransform::written(m);
     return Transform(m, inverse);
   }
-  if (name == "matrix") return toMatrix(arg, at);
+  if (name == "matrix") {
+    Transform t = toMatrix(arg, at);
+    *meant = MeantTransform::written(t.matrix());
+    return t;
+  }
   std::string message = "unknown transform operation '" + name + "'";
   if (std::string guess = closestMatch(name, kTransformOps); !guess.empty())
     message += "; did you mean '" + guess + "'?";
@@ -188,17 +201,27 @@ Transform toOperation(const Json& op, const SourceLocation& where) {
 
 }  // namespace
 
-Transform readTransform(const Json& value, const SourceLocation& where) {
+Transform readTransform(const Json& value, const SourceLocation& where, MeantTransform* meant) {
   if (!value.is_array()) wrongType(value, where, "a 4x4 matrix or a list of transform operations");
+  MeantTransform composed;
+  if (!meant) meant = &composed;
+  *meant = {};
   bool opList =
       std::all_of(value.begin(), value.end(), [](const Json& v) { return v.is_object(); });
   if (!opList || value.empty()) {
     if (value.empty()) return Transform();
-    return toMatrix(value, where);
+    Transform t = toMatrix(value, where);
+    *meant = MeantTransform::written(t.matrix());
+    return t;
   }
   // Applied in order: the first operation is applied to the object first.
   Transform t;
-  for (size_t i = 0; i < value.size(); ++i) t = toOperation(value[i], where.child(i)) * t;
+  for (size_t i = 0; i < value.size(); ++i) {
+    MeantTransform opMeant;
+    Transform op = toOperation(value[i], where.child(i), &opMeant);
+    *meant = opMeant * *meant;
+    t = op * t;
+  }
   const Mat4& m = t.matrix();
   Mat4 check;
   for (const auto& row : m.m)

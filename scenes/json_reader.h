@@ -90,8 +90,10 @@ GLINT_JSON_READ_VALUE(Transform);
 //   [{"scale": 2}, {"rotate": {"axis": [0, 1, 0], "degrees": 90}}, {"translate": [1, 0, 0]}]
 // Operations: translate [x,y,z]; rotate {axis, degrees}; scale s or [x,y,z]; shear {xy, xz,
 // yx, yz, zx, zy} (x' = x + xy y + xz z, ...; unset factors 0); matrix (either matrix form).
-// Singular, non-affine or non-finite matrices are errors at their pointer.
-Transform readTransform(const nlohmann::json& value, const SourceLocation& where);
+// Singular, non-affine or non-finite matrices are errors at their pointer. `meant`, when
+// given, receives the same transform as its author meant (see MeantTransform).
+Transform readTransform(const nlohmann::json& value, const SourceLocation& where,
+                        MeantTransform* meant = nullptr);
 
 // One element of an array read through a JsonReader, with its location.
 struct JsonItem {

@@ -83,7 +83,8 @@ int readCsgNode(JsonReader& r, const SceneDescription& scene, CsgTreeDesc* tree,
   if (depth > kMaxCsgDepth)
     throw SceneError(r.where(), "CSG tree nested more than " + std::to_string(kMaxCsgDepth) +
                                     " levels deep (glint's limit)");
-  node.parentFromNode = r.get<Transform>("transform", Transform());
+  if (const nlohmann::json* t = r.take("transform"))
+    node.parentFromNode = readTransform(*t, r.where("transform"), &node.parentFromNodeMeant);
   if (r.has("op") == r.has("type"))
     throw SceneError(r.where(), "a CSG node has either 'op' (an operation) or 'type' (a leaf)");
   if (r.has("type")) {

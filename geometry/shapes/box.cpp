@@ -16,7 +16,7 @@ Box::Box(Vec3f lower, Vec3f upper) : lower_(lower), upper_(upper) {
   assert(lower.x < upper.x && lower.y < upper.y && lower.z < upper.z);
 }
 
-bool Box::span(const Ray& ray, Span* out) const {
+bool Box::span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) const {
   Span s{{-kInfinity, 0, 0}, {kInfinity, 0, 0}};
   for (int a = 0; a < 3; ++a) {
     Span sa;
@@ -24,13 +24,16 @@ bool Box::span(const Ray& ray, Span* out) const {
     if (!slab(ray.o[a], ray.d[a], lower_[a], upper_[a], lo, hi, &sa)) return false;
     if (!intersectSpans(s, sa, &s)) return false;
   }
+  if (!tolerance.none())
+    for (Crossing* c : {&s.enter, &s.exit})
+      setTieWidth(c, ray, tolerance, axisNormal(int(c->part / 2)));
   *out = s;
   return true;
 }
 
 bool Box::intersect(const Ray& ray, ShapeHit* hit) const {
   Span s;
-  return span(ray, &s) && firstAccepted(ray, s, hit);
+  return span(ray, {}, &s) && firstAccepted(ray, s, hit);
 }
 
 ShapeSurface Box::surface(const Ray& ray, const ShapeHit& hit) const {

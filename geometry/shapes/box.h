@@ -24,7 +24,7 @@ class Box final : public Shape {
   // (x, z), Z faces (x, y), each measured from `lower`.
   ShapeSurface surface(const Ray& ray, const ShapeHit& hit) const override;
   bool isSolid() const override { return true; }
-  bool span(const Ray& ray, Span* out) const override;
+  bool span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) const override;
   float area() const override;
   std::optional<ShapeSample> sample(Vec2f u) const override;
   // From outside: uniform by area over the faces turned towards `ref` (the others are hidden

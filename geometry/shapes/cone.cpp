@@ -80,20 +80,37 @@ bool Cone::nappeSpan(const Ray& ray, Span* out, double tRoot[2]) const {
   return true;
 }
 
-bool Cone::span(const Ray& ray, Span* out) const {
+bool Cone::span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) const {
   if (!capped_) return false;
   Span side, ys;
   double t[2];
   if (!nappeSpan(ray, &side, t)) return false;
   // Entering through y = height can only be at the apex: label it as the side.
   if (!slab(ray.o.y, ray.d.y, 0, height_, 1, 0, &ys)) return false;
-  return intersectSpans(side, ys, out);
+  if (!intersectSpans(side, ys, out)) return false;
+  if (!tolerance.none()) {
+    const double k = double(radius_) / height_;
+    for (Crossing* c : {&out->enter, &out->exit}) {
+      if (c->part != 0) {
+        setTieWidth(c, ray, tolerance, axisNormal(1));
+        continue;
+      }
+      // The side's normal is along (x, k rho, z); at the apex, where it has none, the
+      // direction of the ray stands in (the narrowest width).
+      const V3 p = rayPoint(ray, c->t);
+      const double rho = std::sqrt(p.x * p.x + p.z * p.z);
+      V3 n = rho > 0 ? V3(p.x, k * rho, p.z) * (1 / (rho * std::sqrt(1 + k * k))) : V3(ray.d);
+      if (!(rho > 0)) n = n * (1 / std::sqrt(dot(n, n)));
+      setTieWidth(c, ray, tolerance, n);
+    }
+  }
+  return true;
 }
 
 bool Cone::intersect(const Ray& ray, ShapeHit* hit) const {
   if (capped_) {
     Span s;
-    return span(ray, &s) && firstAccepted(ray, s, hit);
+    return span(ray, {}, &s) && firstAccepted(ray, s, hit);
   }
   Span side;
   double t[2];

@@ -30,7 +30,7 @@ class Cone final : public Shape {
   float radius() const { return radius_; }
   float height() const { return height_; }
   bool capped() const { return capped_; }
-  bool span(const Ray& ray, Span* out) const override;
+  bool span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) const override;
   float area() const override;
   std::optional<ShapeSample> sample(Vec2f u) const override;
   // Capped, from outside: uniform by area over what faces `ref`, the side's generators within

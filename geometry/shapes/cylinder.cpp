@@ -37,19 +37,33 @@ bool Cylinder::sideSpan(const Ray& ray, Span* out, double* t0, double* t1) const
   return true;
 }
 
-bool Cylinder::span(const Ray& ray, Span* out) const {
+bool Cylinder::span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) const {
   if (!capped_) return false;
   Span side, ys;
   double t0, t1;
   if (!sideSpan(ray, &side, &t0, &t1)) return false;
   if (!slab(ray.o.y, ray.d.y, 0, height_, 1, 2, &ys)) return false;
-  return intersectSpans(side, ys, out);
+  if (!intersectSpans(side, ys, out)) return false;
+  if (!tolerance.none()) {
+    const double speed = std::sqrt(double(ray.d.x) * ray.d.x + double(ray.d.z) * ray.d.z);
+    for (Crossing* c : {&out->enter, &out->exit}) {
+      if (c->part != 0) {
+        setTieWidth(c, ray, tolerance, axisNormal(1));
+        continue;
+      }
+      const V3 p = rayPoint(ray, c->t);
+      const double rho = std::sqrt(p.x * p.x + p.z * p.z);
+      const V3 n = rho > 0 ? V3(p.x / rho, 0, p.z / rho) : V3(1, 0, 0);
+      setTieWidth(c, ray, tolerance, n, radius_, speed);
+    }
+  }
+  return true;
 }
 
 bool Cylinder::intersect(const Ray& ray, ShapeHit* hit) const {
   if (capped_) {
     Span s;
-    return span(ray, &s) && firstAccepted(ray, s, hit);
+    return span(ray, {}, &s) && firstAccepted(ray, s, hit);
   }
   // Open tube: infinite crossings are never accepted.
   Span side;

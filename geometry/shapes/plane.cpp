@@ -20,7 +20,7 @@ Bounds3f Plane::bounds() const {
   return {{-kInfinity, -kInfinity, -kInfinity}, {kInfinity, kInfinity, kInfinity}};
 }
 
-bool Plane::span(const Ray& ray, Span* out) const {
+bool Plane::span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) const {
   V3 n(normal_), rel = V3(ray.o) - V3(point_), d(ray.d);
   double s = dot(rel, n), es = gammaD(4) * dot(abs(rel), abs(n));
   double dn = dot(d, n), edn = gammaD(3) * dot(abs(d), abs(n));
@@ -33,6 +33,7 @@ bool Plane::span(const Ray& ray, Span* out) const {
   double t = -s / dn;
   double e = (es + std::abs(t) * edn) / std::abs(dn) + gammaD(1) * std::abs(t);
   Crossing c = toCrossing(t, e, 0);
+  if (!tolerance.none()) setTieWidth(&c, ray, tolerance, n);
   // Moving along the normal means leaving the half-space.
   *out = dn > 0 ? Span{minusInf, c} : Span{c, plusInf};
   return true;
@@ -40,7 +41,7 @@ bool Plane::span(const Ray& ray, Span* out) const {
 
 bool Plane::intersect(const Ray& ray, ShapeHit* hit) const {
   Span s;
-  return span(ray, &s) && firstAccepted(ray, s, hit);
+  return span(ray, {}, &s) && firstAccepted(ray, s, hit);
 }
 
 ShapeSurface Plane::surface(const Ray& ray, const ShapeHit& hit) const {

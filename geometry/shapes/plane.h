@@ -24,7 +24,7 @@ class Plane final : public Shape {
   ShapeSurface surface(const Ray& ray, const ShapeHit& hit) const override;
   bool isSolid() const override { return true; }
   // (-inf, t] or [t, +inf) for a crossing line; a parallel line is all inside or missing.
-  bool span(const Ray& ray, Span* out) const override;
+  bool span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) const override;
 
   Vec3f point() const { return point_; }
   Vec3f normal() const { return normal_; }

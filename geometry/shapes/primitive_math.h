@@ -289,4 +289,28 @@ inline Vec3f normalized(V3 v) { return (v * (1 / std::sqrt(dot(v, v)))).toFloat(
 // Point o + t d in double (the ray is float; t the float t of the hit).
 inline V3 rayPoint(const Ray& ray, float t) { return V3(ray.o) + V3(ray.d) * double(t); }
 
+// Sets the tie width of a crossing of `ray` where the surface's unit normal is n (either
+// sign): the surface's tolerance along n at the crossing point over |d . n|, the t-range in
+// which the line stays within the tolerance of the surface to first order. `cap` bounds it
+// for curved surfaces, which a line cannot follow for long (for a tangent line, within tau of
+// a curve of radius r over sqrt(tau (2 r + tau)) / |d|). Infinite crossings keep width 0.
+inline void setTieWidth(Crossing* c, const Ray& ray, const SurfaceTolerance& tolerance, V3 n,
+                        double radius = 0, double speed = 0) {
+  if (!std::isfinite(c->t)) return;
+  const V3 p = rayPoint(ray, c->t);
+  const double m = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+  double tau = 0;
+  for (int k = 0; k < 3; ++k)
+    tau += std::abs(n[k]) * (double(tolerance.absolute[k]) + double(tolerance.relative[k]) * m);
+  const double dn = std::abs(dot(V3(ray.d), n));
+  double w = dn > 0 ? tau / dn : double(kInfinity);
+  if (radius > 0 && speed > 0) w = std::min(w, std::sqrt(tau * (2 * radius + tau)) / speed);
+  w *= 1 + 4 * kEpsD;
+  c->tieWidth = float(w);
+  if (double(c->tieWidth) < w) c->tieWidth = nextFloatUp(c->tieWidth);
+}
+
+// The unit normal of an axis-aligned face crossed on `axis` (the sign does not matter).
+inline V3 axisNormal(int axis) { return {double(axis == 0), double(axis == 1), double(axis == 2)}; }
+
 }  // namespace glint::prim

@@ -24,7 +24,7 @@ Bounds3f Sphere::bounds() const {
   return b;
 }
 
-bool Sphere::span(const Ray& ray, Span* out) const {
+bool Sphere::span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) const {
   double f[3], ef[3], d[3];
   for (int i = 0; i < 3; ++i) {
     f[i] = double(ray.o[i]) - double(center_[i]);
@@ -35,12 +35,19 @@ bool Sphere::span(const Ray& ray, Span* out) const {
   if (!ballRoots(f, ef, d, 3, radius_, &r)) return false;
   out->enter = toCrossing(r.t0, r.e0, 0);
   out->exit = toCrossing(r.t1, r.e1, 0);
+  if (!tolerance.none()) {
+    const double speed = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (Crossing* c : {&out->enter, &out->exit}) {
+      const V3 n = (rayPoint(ray, c->t) - V3(center_)) * (1 / double(radius_));
+      setTieWidth(c, ray, tolerance, n, radius_, speed);
+    }
+  }
   return true;
 }
 
 bool Sphere::intersect(const Ray& ray, ShapeHit* hit) const {
   Span s;
-  return span(ray, &s) && firstAccepted(ray, s, hit);
+  return span(ray, {}, &s) && firstAccepted(ray, s, hit);
 }
 
 ShapeSurface Sphere::surface(const Ray& ray, const ShapeHit& hit) const {

@@ -21,7 +21,7 @@ class Sphere final : public Shape {
   // uv: u = phi / 2pi around +Y (phi from +X towards +Z), v = theta / pi from +Y. Part 0.
   ShapeSurface surface(const Ray& ray, const ShapeHit& hit) const override;
   bool isSolid() const override { return true; }
-  bool span(const Ray& ray, Span* out) const override;
+  bool span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) const override;
   float area() const override { return 4 * kPi * radius_ * radius_; }
   std::optional<ShapeSample> sample(Vec2f u) const override;
   // From outside: a uniform direction in the cone the sphere subtends (pbrt's method), so only

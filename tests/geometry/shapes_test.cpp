@@ -337,7 +337,7 @@ TEST(Shapes, RandomSurfaceHitsMatchDoubleReference) {
       if (k.shape->isSolid()) {
         // The span's error bound is conservative.
         Span s;
-        ASSERT_TRUE(k.shape->span(ray, &s));
+        ASSERT_TRUE(k.shape->span(ray, {}, &s));
         EXPECT_EQ(s.enter.t, hit.t);
         EXPECT_LE(std::abs(s.enter.t - tRef), s.enter.tError * 1.0001 + 1e-15) << i;
       }
@@ -532,7 +532,7 @@ void expectSane(const Shape& shape, const Ray& ray) {
   EXPECT_LE(hit.t, ray.tMax);
   EXPECT_TRUE(isFiniteSurface(shape.surface(ray, hit)));
   Span s;
-  if (shape.span(ray, &s)) {
+  if (shape.span(ray, {}, &s)) {
     EXPECT_FALSE(std::isnan(s.enter.t) || std::isnan(s.exit.t));
     EXPECT_LE(s.enter.t, s.exit.t);
   }
@@ -581,7 +581,7 @@ TEST(Cylinder, AxisParallelRaysHitCaps) {
     EXPECT_EQ(hit.part, 2u);
     EXPECT_FLOAT_EQ(hit.t, 1);
     Span s;
-    ASSERT_TRUE(cyl.span(Ray{top, {0, -1, 0}}, &s));
+    ASSERT_TRUE(cyl.span(Ray{top, {0, -1, 0}}, {}, &s));
     EXPECT_EQ(s.exit.part, 1u);
     EXPECT_FLOAT_EQ(s.exit.t, 3);
     Vec3f below{top.x, -1, top.z};
@@ -610,7 +610,7 @@ TEST(Cone, AxisParallelRaysHitSideAndCap) {
     EXPECT_EQ(hit.part, 0u);
     EXPECT_NEAR(hit.t, h + 1 - ySide, 1e-5);
     Span s;
-    ASSERT_TRUE(cone.span(down, &s));
+    ASSERT_TRUE(cone.span(down, {}, &s));
     EXPECT_EQ(s.exit.part, 1u);
     EXPECT_NEAR(s.exit.t, h + 1, 1e-6);
     ASSERT_TRUE(cone.intersect(Ray{{top.x, -1, top.z}, {0, 1, 0}}, &hit));
@@ -640,7 +640,7 @@ void checkRimRays(const Shape& shape, const std::function<V3(double)>& rimPoint,
     ShapeSurface s = shape.surface(ray, hit);
     ASSERT_TRUE(isFiniteSurface(s));
     Span sp;
-    ASSERT_TRUE(shape.span(ray, &sp));
+    ASSERT_TRUE(shape.span(ray, {}, &sp));
     EXPECT_EQ(sp.enter.t, hit.t);
     EXPECT_GT(sp.exit.t, hit.t + 1e-3) << i;
     // From the rim into the solid, the next hit is the far side.
@@ -794,7 +794,7 @@ TEST(Shapes, SpanAgreesWithIntersectForSolids) {
       ShapeHit hit;
       Span s;
       bool got = usePlaced ? placed.intersect(ray, &hit) : k.shape->intersect(ray, &hit);
-      bool spanned = usePlaced ? placed.span(ray, &s) : k.shape->span(ray, &s);
+      bool spanned = usePlaced ? placed.span(ray, {}, &s) : k.shape->span(ray, {}, &s);
       if (!spanned) {
         EXPECT_FALSE(got);
         continue;
