@@ -33,31 +33,23 @@ bool coincide(const Crossing& a, const Crossing& b) {
   return std::abs(a.t - b.t) <= (a.tError + b.tError) + (a.tieWidth + b.tieWidth);
 }
 
-// A leaf's surface tolerance in its object space (see the tie rule in csg.h): the written
-// precision of its own numbers, and its placement's error pulled back through the inverse.
+// A leaf's surface tolerance in its object space (see the tie rule in csg.h): its placement's
+// error pulled back through the inverse, and the written precision of its own numbers.
 SurfaceTolerance toleranceOf(const Transform& treeFromLeaf, const TransformError& error) {
-  // In tree space, a leaf point x is off by at most E (|x|, 1) per axis, which is at most
-  // E[i][3] + (sum_j E[i][j]) max|x_j|; in object space by |M^-1| times that. The float
-  // inverse is within a few ulps of the exact one (the 1e-5 covers it), and the whole bound is
-  // doubled: the terms are first order, and max|x| is that of the object point, which the
-  // tree point's components bound only up to the matrix.
-  Vec3f absTree, relTree;
-  for (int i = 0; i < 3; ++i) {
-    absTree[i] = error.e[i][3];
-    relTree[i] = error.e[i][0] + error.e[i][1] + error.e[i][2];
-  }
+  // In tree space a leaf point x is off by at most E (|x|, 1) per axis; in object space by
+  // |M^-1| E (|x|, 1). The float inverse is within a few ulps of the exact one (the 1e-5
+  // covers it), and the whole bound is doubled: the written-precision terms are first order.
+  // A face at coordinate X on axis k is itself written to kWrittenPrecision |X|, and parsed.
+  constexpr float kSlack = 2 * (1 + 1e-5f);
   const auto& inv = treeFromLeaf.inverseMatrix().m;
   SurfaceTolerance t;
-  for (int k = 0; k < 3; ++k) {
-    float a = 0, r = 0;
-    for (int i = 0; i < 3; ++i) {
-      a += std::abs(inv[k][i]) * absTree[i];
-      r += std::abs(inv[k][i]) * relTree[i];
+  for (int k = 0; k < 3; ++k)
+    for (int j = 0; j < 4; ++j) {
+      float sum = 0;
+      for (int i = 0; i < 3; ++i) sum += std::abs(inv[k][i]) * error.e[i][j];
+      if (j == k) sum += kWrittenPrecision + kMachineEpsilon;
+      t.m[k][j] = kSlack * sum;
     }
-    constexpr float kSlack = 2 * (1 + 1e-5f);
-    t.absolute[k] = kSlack * a;
-    t.relative[k] = kSlack * (r + kWrittenPrecision + kMachineEpsilon);
-  }
   return t;
 }
 
@@ -216,7 +208,8 @@ Bounds3f CsgShape::nodeBounds(uint32_t node) const {
   return b;
 }
 
-size_t CsgShape::evaluate(uint32_t node, const Ray& ray, std::vector<Span>& out) const {
+size_t CsgShape::evaluate(uint32_t node, const Ray& ray, Scratch& scratch) const {
+  std::vector<Span>& out = scratch.spans;
   const Node& n = nodes_[node];
   // A subtree whose box the line misses contributes no spans (for a difference's first child
   // or an intersection's child that empties the whole node).
@@ -230,15 +223,17 @@ size_t CsgShape::evaluate(uint32_t node, const Ray& ray, std::vector<Span>& out)
     s.exit.part = tag | (s.exit.part & 7);
     if (degenerate(s)) return 0;
     out.push_back(s);
+    for (const Crossing* c : {&s.enter, &s.exit})
+      if (c->tieWidth > 0) scratch.leafCrossings.emplace_back(c->t, c->tieWidth);
     return 1;
   }
   // The first child's spans sit at [base, base + count); each further child is evaluated after
   // them, combined into the space after that, and the result moved down to `base`.
   const size_t base = out.size();
-  size_t count = evaluate(n.children[0], ray, out);
+  size_t count = evaluate(n.children[0], ray, scratch);
   for (size_t c = 1; c < n.children.size(); ++c) {
     if (count == 0 && n.op != CsgOperation::Union) break;  // empty stays empty
-    size_t other = evaluate(n.children[c], ray, out);
+    size_t other = evaluate(n.children[c], ray, scratch);
     if (other == 0) {  // an empty child leaves a union or difference as it was
       if (n.op == CsgOperation::Intersection) count = 0;
       out.resize(base + count);
@@ -266,19 +261,42 @@ size_t CsgShape::evaluate(uint32_t node, const Ray& ray, std::vector<Span>& out)
   return count;
 }
 
+size_t CsgShape::evaluateRoot(const Ray& ray, Scratch& scratch) const {
+  scratch.spans.clear();
+  scratch.leafCrossings.clear();
+  if (root_ == kNone) return 0;
+  const size_t n = evaluate(root_, ray, scratch);
+  // Where a ray passes within a leaf's tolerance of an edge, the operators may resolve a
+  // sliver differently in two subtrees that mean the same solid (one eroded by its wider
+  // tolerance, its twin not), and the difference would survive as a speck. A result span
+  // shorter than the tie width of some leaf crossing inside it is below the tree's resolution
+  // there, whatever the operators made of it: it goes. A span without leaf crossings inside
+  // (a real thin skin, a ray clipping a plain corner) stays.
+  size_t kept = 0;
+  for (size_t k = 0; k < n; ++k) {
+    const Span& s = scratch.spans[k];
+    const float length = s.exit.t - s.enter.t;
+    bool resolved = true;
+    for (const auto& [t, width] : scratch.leafCrossings)
+      if (t > s.enter.t && t < s.exit.t && width >= length) resolved = false;
+    if (resolved) scratch.spans[kept++] = s;
+  }
+  scratch.spans.resize(kept);
+  return kept;
+}
+
 std::vector<Span> CsgShape::spans(const Ray& ray) const {
-  std::vector<Span> out;
-  if (root_ != kNone) evaluate(root_, ray, out);
-  return out;
+  Scratch scratch;
+  evaluateRoot(ray, scratch);
+  return scratch.spans;
 }
 
 bool CsgShape::intersect(const Ray& ray, ShapeHit* hit) const {
-  // A per-thread arena: after the first few rays no query allocates.
-  thread_local std::vector<Span> arena;
-  arena.clear();
-  size_t n = evaluate(root_, ray, arena);
+  // Per-thread storage: after the first few rays no query allocates.
+  thread_local Scratch scratch;
+  const size_t n = evaluateRoot(ray, scratch);
   for (size_t k = 0; k < 2 * n; ++k) {
-    const Crossing& c = crossingAt(arena.data(), k);
+    const Crossing& c = crossingAt(scratch.spans.data(), k);
     if (c.t > ray.tMax) return false;
     // Certainly beyond tMin given t's error bound (the Shape robustness contract).
     if (c.t - c.tError > ray.tMin && !std::isinf(c.t)) {

@@ -81,8 +81,16 @@ class CsgShape final : public Shape {
     uint32_t leaf = kNone;  // set for leaves
   };
 
-  // Appends the spans of `node` to `out`; returns how many.
-  size_t evaluate(uint32_t node, const Ray& ray, std::vector<Span>& out) const;
+  // Per-query storage: the span lists, and every leaf crossing's t and width.
+  struct Scratch {
+    std::vector<Span> spans;
+    std::vector<std::pair<float, float>> leafCrossings;
+  };
+  // Appends the spans of `node` to scratch.spans; returns how many.
+  size_t evaluate(uint32_t node, const Ray& ray, Scratch& scratch) const;
+  // The whole tree's spans in scratch.spans (returns how many), without the slivers below the
+  // tree's resolution: a span shorter than the tie width of a leaf crossing inside it.
+  size_t evaluateRoot(const Ray& ray, Scratch& scratch) const;
   Bounds3f nodeBounds(uint32_t node) const;
   void orient(uint32_t node, bool flip);
 

@@ -1,6 +1,9 @@
 // glint — 4x4 matrix algebra and transform construction.
 #include "geometry/math.h"
 
+#include <cstdio>
+#include <cstdlib>
+
 namespace glint {
 
 Mat4 operator*(const Mat4& a, const Mat4& b) {
@@ -162,12 +165,22 @@ MeantTransform::MeantTransform() {
   for (int i = 0; i < 3; ++i) exact_[i][i] = 1;
 }
 
+float writtenPrecision(float v) {
+  if (v == 0 || !std::isfinite(v)) return 0;
+  char text[32];
+  for (int digits = 1; digits <= 6; ++digits) {
+    std::snprintf(text, sizeof text, "%.*g", digits, double(v));
+    if (std::strtof(text, nullptr) == v) return 0;  // as short as written: meant exactly
+  }
+  return kWrittenPrecision * std::abs(v);
+}
+
 MeantTransform MeantTransform::written(const Mat4& m) {
   MeantTransform r;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 4; ++j) {
       r.exact_[i][j] = m.m[i][j];
-      r.written_[i][j] = double(kWrittenPrecision) * std::abs(m.m[i][j]);
+      r.written_[i][j] = writtenPrecision(m.m[i][j]);
     }
   return r;
 }

@@ -239,9 +239,13 @@ class Transform {
 // How far a transform read from a file lies from the one its author meant
 // ---------------------------------------------------------------------------------------------
 
-// A number in a scene file is taken to mean anything within this relative distance of itself:
-// half a unit in its seventh significant digit (a third written 0.3333333, 1/0.7 as 1.428571).
+// A number in a scene file that needs seven or more significant digits is taken to mean
+// anything within this relative distance of itself: half a unit in its seventh digit (a third
+// written 0.3333333, 1/0.7 as 1.428571). Shorter numbers (0.5, 10, 37.25) mean what they say.
 inline constexpr float kWrittenPrecision = 5e-7f;
+// The distance from `v` (a number as parsed) within which its author may have meant another:
+// kWrittenPrecision |v| when v needs seven or more significant digits, else 0.
+float writtenPrecision(float v);
 
 // An entrywise bound on |M - M_meant| for a transform's 3x4 affine part (the last row
 // [0, 0, 0, 1] is exact).

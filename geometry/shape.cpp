@@ -55,7 +55,7 @@ Bounds3f PlacedShape::bounds() const {
   return r;
 }
 
-Ray PlacedShape::toObject(const Ray& ray, float* dt) const {
+Ray PlacedShape::toObject(const Ray& ray, float* dt, Vec3f* originError) const {
   // Solved in double from the float matrix as given (not its rounded inverse), origin taken
   // relative to the translation first: no cancellation against a large translation, and the
   // origin's error is essentially its final rounding to float.
@@ -91,6 +91,9 @@ Ray PlacedShape::toObject(const Ray& ray, float* dt) const {
     for (int i = 0; i < 3; ++i) od[i] += dd[i] * double(*dt);
   }
   Vec3f o{float(od[0]), float(od[1]), float(od[2])};
+  if (originError)  // the solve's error, then two roundings to float (before and after the move)
+    for (int i = 0; i < 3; ++i)
+      (*originError)[i] = nextFloatUp(float(err[i]) + 2.0001f * kMachineEpsilon * std::abs(o[i]));
   // tMin stays: a hit counts only when certainly past the (uncertain) origin.
   return Ray{o, d, ray.tMin, ray.tMax - *dt, ray.time};
 }
@@ -132,10 +135,21 @@ ShapeSurface PlacedShape::surface(const Ray& ray, const ShapeHit& hit) const {
 bool PlacedShape::span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) const {
   if (identity_) return shape_->span(ray, tolerance, out);
   float dt;
-  Ray r = toObject(ray, &dt);
+  Vec3f originError;
+  Ray r = toObject(ray, &dt, &originError);
+  // dt covers the origin's error along the ray; across it, the error moves a crossing by the
+  // error along the surface's normal over |d . n|, like a surface tolerance: where crossings
+  // tie (tolerance given), the origin's error joins the tolerance, and so does the direction's
+  // rounding (half an ulp of each component, times |t|: at most half an ulp of |p - o|).
+  SurfaceTolerance tol = tolerance;
+  if (!tolerance.none())
+    for (size_t k = 0; k < 3; ++k) {
+      tol.m[k][3] += originError[int(k)] + kMachineEpsilon * std::abs(r.o[int(k)]);
+      tol.m[k][k] += kMachineEpsilon;
+    }
   Span s;
   // t is the caller's t, shifted: tie widths carry over unchanged.
-  if (!shape_->span(r, tolerance, &s)) return false;
+  if (!shape_->span(r, tol, &s)) return false;
   for (Crossing* c : {&s.enter, &s.exit}) {
     if (std::isinf(c->t)) continue;
     // dt is also the origin's uncertainty along the ray; then the sum's own rounding.

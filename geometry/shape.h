@@ -71,12 +71,18 @@ struct Crossing {
 };
 
 // How far a solid's stored surface may lie from the surface its author meant, per axis of the
-// space the shape is asked in: at a point p, absolute[k] + relative[k] * max|p_i| along axis k.
-// CSG leaves get one from the written precision of their numbers and of the transforms
-// composed to place them (CsgShape::addLeaf); everything else passes none.
+// space the shape is asked in: at a point p, sum_j m[k][j] |p_j| + m[k][3] along axis k (a
+// bound linear in the point, as an affine map's error is). CSG leaves get one from the written
+// precision of their numbers and of the transforms composed to place them
+// (CsgShape::addLeaf); everything else passes none.
 struct SurfaceTolerance {
-  Vec3f absolute, relative;
-  bool none() const { return absolute == Vec3f{} && relative == Vec3f{}; }
+  std::array<std::array<float, 4>, 3> m{};
+  bool none() const {
+    for (const auto& row : m)
+      for (float x : row)
+        if (x != 0) return false;
+    return true;
+  }
 };
 
 // The part of a ray's whole line (all real t, not only [tMin, tMax]) inside a convex solid:
@@ -196,8 +202,9 @@ class PlacedShape {
   ShapeSample toDestination(const ShapeSample& s) const;
 
   // `ray` in object space, with its origin moved forward past the transform's rounding error;
-  // `dt` receives the t offset to add to object-space t values.
-  Ray toObject(const Ray& ray, float* dt) const;
+  // `dt` receives the t offset to add to object-space t values, and `originError` (when given)
+  // a bound on the object-space origin's error per axis.
+  Ray toObject(const Ray& ray, float* dt, Vec3f* originError = nullptr) const;
 
   const Shape* shape_;
   Transform placement_;

@@ -298,10 +298,12 @@ inline void setTieWidth(Crossing* c, const Ray& ray, const SurfaceTolerance& tol
                         double radius = 0, double speed = 0) {
   if (!std::isfinite(c->t)) return;
   const V3 p = rayPoint(ray, c->t);
-  const double m = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+  const double ap[3] = {std::abs(p.x), std::abs(p.y), std::abs(p.z)};
   double tau = 0;
-  for (int k = 0; k < 3; ++k)
-    tau += std::abs(n[k]) * (double(tolerance.absolute[k]) + double(tolerance.relative[k]) * m);
+  for (int k = 0; k < 3; ++k) {
+    const auto& row = tolerance.m[size_t(k)];
+    tau += std::abs(n[k]) * (row[0] * ap[0] + row[1] * ap[1] + row[2] * ap[2] + row[3]);
+  }
   const double dn = std::abs(dot(V3(ray.d), n));
   double w = dn > 0 ? tau / dn : double(kInfinity);
   if (radius > 0 && speed > 0) w = std::min(w, std::sqrt(tau * (2 * radius + tau)) / speed);

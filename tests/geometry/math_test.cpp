@@ -14,6 +14,47 @@ void expectNear(Vec3f a, Vec3f b, float tol) {
   EXPECT_NEAR(a.z, b.z, tol);
 }
 
+TEST(MeantTransform, NumbersShorterThanSevenDigitsMeanWhatTheySay) {
+  for (float v : {0.5f, 10.0f, 3.0f, 0.1f, 37.25f, -1.5f, 123456.0f, 0.0f})
+    EXPECT_EQ(writtenPrecision(v), 0) << v;
+  for (float v : {0.3333333f, 1.428571f, 0.6666667f, -2.718282f})
+    EXPECT_EQ(writtenPrecision(v), kWrittenPrecision * std::abs(v)) << v;
+}
+
+TEST(MeantTransform, ARotationUndoneIsExactAsMeant) {
+  // rotate 37 about a skew axis, then -37: the float matrix is off the identity by the
+  // rounding of sines, cosines and products, which errorOf measures (not bounds).
+  const Vec3f axis{0.3f, -0.8f, 0.52f};
+  const Transform t = Transform::rotate(-37, axis) * Transform::rotate(37, axis);
+  const MeantTransform m = MeantTransform::rotation(-37, axis) * MeantTransform::rotation(37, axis);
+  const TransformError e = m.errorOf(t.matrix());
+  float worst = 0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 4; ++j) {
+      const float exact = i == j ? 1.0f : 0.0f;
+      EXPECT_GE(e.e[i][j], std::abs(t.matrix().m[i][j] - exact)) << i << j;
+      worst = std::max(worst, e.e[i][j]);
+    }
+  EXPECT_LT(worst, 8 * kMachineEpsilon);  // a few ulps: nothing from the written angle
+}
+
+TEST(MeantTransform, AThirdWrittenOutCoversItsDistanceFromAThird) {
+  // scale 3 then 0.3333333: the written 0.3333333 may mean 1/3, so the product may mean 1.
+  const Transform t = Transform::scale({0.3333333f, 1, 1}) * Transform::scale({3, 1, 1});
+  const MeantTransform m = MeantTransform::written(Transform::scale({0.3333333f, 1, 1}).matrix()) *
+                           MeantTransform::written(Transform::scale({3, 1, 1}).matrix());
+  const TransformError e = m.errorOf(t.matrix());
+  EXPECT_GE(e.e[0][0], std::abs(t.matrix().m[0][0] - 1.0f));
+  EXPECT_GT(std::abs(t.matrix().m[0][0] - 1.0f), 0);  // the float product is not 1
+  EXPECT_LT(e.e[0][0], 1e-6f);
+  EXPECT_LT(e.e[1][1], 1e-11f);  // 1 * 1 is exact (up to the double products' allowance)
+  // A translation and its negative, both short numbers: exact.
+  const Transform tt = Transform::translate({-0.25f, 0, 0}) * Transform::translate({0.25f, 0, 0});
+  const MeantTransform mt = MeantTransform::written(Transform::translate({-0.25f, 0, 0}).matrix()) *
+                            MeantTransform::written(Transform::translate({0.25f, 0, 0}).matrix());
+  EXPECT_LT(mt.errorOf(tt.matrix()).e[0][3], 1e-11f);
+}
+
 TEST(Transform, ComposesDestinationFromSource) {
   Transform worldFromObject = Transform::translate({1, 2, 3}) * Transform::scale({2, 2, 2});
   expectNear(worldFromObject.point({1, 0, 0}), {3, 2, 3}, 1e-6f);
