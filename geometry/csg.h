@@ -15,15 +15,21 @@
 // attributed to the left-most child that has a crossing in the group.
 //
 // A crossing's width is its t's rounding-error bound plus its tie width: how far t moves when
-// the leaf's surface moves within the leaf's tolerance, the distance between the surface as
-// stored and the surface its author meant. That tolerance covers every number of the leaf and
-// of the transforms placing it being read to kWrittenPrecision (0.3333333 * 3 is 1), the float
-// sines and cosines of rotations, and the rounding of every matrix composed on the way from
-// the leaf to the tree (TransformError, propagated operation by operation, so a rotation
-// undone after a stretch is covered at the magnitudes it acted on). Faces that coincide as
-// meant therefore tie however their leaves were written, and rounding can never make the
-// decision flip from pixel to pixel. Faces further apart than the widths are real geometry: a
-// 1e-4 skin on a unit solid is about 100 times wider than the tolerance.
+// the leaf's surface moves within the leaf's tolerance (SurfaceTolerance: per axis, linear in
+// the point), the distance between the surface as stored and the surface its author meant.
+// The tolerance is the leaf's float placement against the same operations composed in double
+// (MeantTransform: measured, so a rotation undone after a stretch costs what its rounding
+// really was), plus the written precision of numbers of seven or more digits (0.3333333 * 3
+// is 1), plus the rounding of the ray's own trip into the leaf. Faces that coincide as meant
+// therefore tie however their leaves were written, and rounding can never make the decision
+// flip from pixel to pixel. Faces further apart than the widths are real geometry: a 1e-4 skin
+// on a unit solid is some 30 times wider than the widths of leaves written with 7-digit scale
+// factors (about 3e-6 of the coordinates).
+//
+// Two refinements keep slivers consistent where a ray clips an edge within the tolerances: an
+// event takes at most one crossing of each child, pairing a joining crossing with its nearer
+// twin (combineSpans), and a result span shorter than the tie width of a leaf crossing inside
+// it is below the tree's resolution and is dropped at the root.
 #pragma once
 
 #include <cstdint>
