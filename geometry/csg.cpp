@@ -272,13 +272,16 @@ size_t CsgShape::evaluateRoot(const Ray& ray, Scratch& scratch) const {
   // shorter than the tie width of some leaf crossing inside it is below the tree's resolution
   // there, whatever the operators made of it: it goes. A span without leaf crossings inside
   // (a real thin skin, a ray clipping a plain corner) stays.
+  float widest = 0;
+  for (const auto& c : scratch.leafCrossings) widest = std::max(widest, c.second);
   size_t kept = 0;
   for (size_t k = 0; k < n; ++k) {
     const Span& s = scratch.spans[k];
     const float length = s.exit.t - s.enter.t;
     bool resolved = true;
-    for (const auto& [t, width] : scratch.leafCrossings)
-      if (t > s.enter.t && t < s.exit.t && width >= length) resolved = false;
+    if (length <= widest)  // most spans are longer than every width: nothing to look at
+      for (const auto& [t, width] : scratch.leafCrossings)
+        if (t > s.enter.t && t < s.exit.t && width >= length) resolved = false;
     if (resolved) scratch.spans[kept++] = s;
   }
   scratch.spans.resize(kept);

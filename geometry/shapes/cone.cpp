@@ -89,7 +89,7 @@ bool Cone::span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) co
   if (!slab(ray.o.y, ray.d.y, 0, height_, 1, 0, &ys)) return false;
   if (!intersectSpans(side, ys, out)) return false;
   if (!tolerance.none()) {
-    const double k = double(radius_) / height_;
+    const float k = radius_ / height_;
     for (Crossing* c : {&out->enter, &out->exit}) {
       if (c->part != 0) {
         setTieWidth(c, ray, tolerance, axisNormal(1));
@@ -97,10 +97,10 @@ bool Cone::span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) co
       }
       // The side's normal is along (x, k rho, z); at the apex, where it has none, the
       // direction of the ray stands in (the narrowest width).
-      const V3 p = rayPoint(ray, c->t);
-      const double rho = std::sqrt(p.x * p.x + p.z * p.z);
-      V3 n = rho > 0 ? V3(p.x, k * rho, p.z) * (1 / (rho * std::sqrt(1 + k * k))) : V3(ray.d);
-      if (!(rho > 0)) n = n * (1 / std::sqrt(dot(n, n)));
+      const Vec3f p = ray.o + ray.d * c->t;
+      const float rho = std::sqrt(p.x * p.x + p.z * p.z);
+      const Vec3f n = rho > 0 ? Vec3f{p.x, k * rho, p.z} / (rho * std::sqrt(1 + k * k))
+                              : normalize(ray.d);
       setTieWidth(c, ray, tolerance, n);
     }
   }

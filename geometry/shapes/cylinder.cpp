@@ -45,15 +45,15 @@ bool Cylinder::span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out
   if (!slab(ray.o.y, ray.d.y, 0, height_, 1, 2, &ys)) return false;
   if (!intersectSpans(side, ys, out)) return false;
   if (!tolerance.none()) {
-    const double speed = std::sqrt(double(ray.d.x) * ray.d.x + double(ray.d.z) * ray.d.z);
+    const float speed = std::sqrt(ray.d.x * ray.d.x + ray.d.z * ray.d.z);
     for (Crossing* c : {&out->enter, &out->exit}) {
       if (c->part != 0) {
         setTieWidth(c, ray, tolerance, axisNormal(1));
         continue;
       }
-      const V3 p = rayPoint(ray, c->t);
-      const double rho = std::sqrt(p.x * p.x + p.z * p.z);
-      const V3 n = rho > 0 ? V3(p.x / rho, 0, p.z / rho) : V3(1, 0, 0);
+      const Vec3f p = ray.o + ray.d * c->t;
+      const float rho = std::sqrt(p.x * p.x + p.z * p.z);
+      const Vec3f n = rho > 0 ? Vec3f{p.x / rho, 0, p.z / rho} : Vec3f{1, 0, 0};
       setTieWidth(c, ray, tolerance, n, radius_, speed);
     }
   }

@@ -33,7 +33,7 @@ bool Plane::span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) c
   double t = -s / dn;
   double e = (es + std::abs(t) * edn) / std::abs(dn) + gammaD(1) * std::abs(t);
   Crossing c = toCrossing(t, e, 0);
-  if (!tolerance.none()) setTieWidth(&c, ray, tolerance, n);
+  if (!tolerance.none()) setTieWidth(&c, ray, tolerance, normal_);
   // Moving along the normal means leaving the half-space.
   *out = dn > 0 ? Span{minusInf, c} : Span{c, plusInf};
   return true;

@@ -291,28 +291,30 @@ inline V3 rayPoint(const Ray& ray, float t) { return V3(ray.o) + V3(ray.d) * dou
 
 // Sets the tie width of a crossing of `ray` where the surface's unit normal is n (either
 // sign): the surface's tolerance along n at the crossing point over |d . n|, the t-range in
-// which the line stays within the tolerance of the surface to first order. `cap` bounds it
-// for curved surfaces, which a line cannot follow for long (for a tangent line, within tau of
-// a curve of radius r over sqrt(tau (2 r + tau)) / |d|). Infinite crossings keep width 0.
-inline void setTieWidth(Crossing* c, const Ray& ray, const SurfaceTolerance& tolerance, V3 n,
-                        double radius = 0, double speed = 0) {
-  if (!std::isfinite(c->t)) return;
-  const V3 p = rayPoint(ray, c->t);
-  const double ap[3] = {std::abs(p.x), std::abs(p.y), std::abs(p.z)};
-  double tau = 0;
+// which the line stays within the tolerance of the surface to first order. For a curved
+// surface of radius `radius` (with `speed` the ray's speed across the curvature) the width is
+// at most sqrt(tau (2 r + tau)) / speed, how long a tangent line stays within tau of the curve.
+// Infinite crossings keep width 0. In float: a tolerance is a doubled bound, and 1e-5 covers
+// this estimate's own rounding.
+inline void setTieWidth(Crossing* c, const Ray& ray, const SurfaceTolerance& tolerance, Vec3f n,
+                        float radius = 0, float speed = 0) {
+  if (!(std::abs(c->t) < kInfinity)) return;
+  const Vec3f p = ray.o + ray.d * c->t;
+  const float ap[3] = {std::abs(p.x), std::abs(p.y), std::abs(p.z)};
+  float tau = 0;
   for (int k = 0; k < 3; ++k) {
+    if (n[k] == 0) continue;
     const auto& row = tolerance.m[size_t(k)];
     tau += std::abs(n[k]) * (row[0] * ap[0] + row[1] * ap[1] + row[2] * ap[2] + row[3]);
   }
-  const double dn = std::abs(dot(V3(ray.d), n));
-  double w = dn > 0 ? tau / dn : double(kInfinity);
-  if (radius > 0 && speed > 0) w = std::min(w, std::sqrt(tau * (2 * radius + tau)) / speed);
-  w *= 1 + 4 * kEpsD;
-  c->tieWidth = float(w);
-  if (double(c->tieWidth) < w) c->tieWidth = nextFloatUp(c->tieWidth);
+  const float dn = std::abs(dot(ray.d, n));
+  float w = tau / dn;  // +inf for a ray along the surface
+  if (radius > 0 && (2 * radius + tau) * dn * dn < tau * speed * speed)
+    w = std::sqrt(tau * (2 * radius + tau)) / speed;
+  c->tieWidth = w * (1 + 1e-5f);
 }
 
 // The unit normal of an axis-aligned face crossed on `axis` (the sign does not matter).
-inline V3 axisNormal(int axis) { return {double(axis == 0), double(axis == 1), double(axis == 2)}; }
+inline Vec3f axisNormal(int axis) { return {float(axis == 0), float(axis == 1), float(axis == 2)}; }
 
 }  // namespace glint::prim

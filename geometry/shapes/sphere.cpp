@@ -36,11 +36,9 @@ bool Sphere::span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) 
   out->enter = toCrossing(r.t0, r.e0, 0);
   out->exit = toCrossing(r.t1, r.e1, 0);
   if (!tolerance.none()) {
-    const double speed = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    for (Crossing* c : {&out->enter, &out->exit}) {
-      const V3 n = (rayPoint(ray, c->t) - V3(center_)) * (1 / double(radius_));
-      setTieWidth(c, ray, tolerance, n, radius_, speed);
-    }
+    const float speed = length(ray.d);
+    for (Crossing* c : {&out->enter, &out->exit})
+      setTieWidth(c, ray, tolerance, (ray.o + ray.d * c->t - center_) / radius_, radius_, speed);
   }
   return true;
 }
