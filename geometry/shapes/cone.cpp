@@ -89,20 +89,12 @@ bool Cone::span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) co
   if (!slab(ray.o.y, ray.d.y, 0, height_, 1, 0, &ys)) return false;
   if (!intersectSpans(side, ys, out)) return false;
   if (!tolerance.none()) {
+    // The side's normal is along (x, k rho, z); at the apex, where it has none, the direction
+    // of the ray stands in (the narrowest width).
     const float k = radius_ / height_;
-    for (Crossing* c : {&out->enter, &out->exit}) {
-      if (c->part != 0) {
-        setTieWidth(c, ray, tolerance, axisNormal(1));
-        continue;
-      }
-      // The side's normal is along (x, k rho, z); at the apex, where it has none, the
-      // direction of the ray stands in (the narrowest width).
-      const Vec3f p = ray.o + ray.d * c->t;
-      const float rho = std::sqrt(p.x * p.x + p.z * p.z);
-      const Vec3f n = rho > 0 ? Vec3f{p.x, k * rho, p.z} / (rho * std::sqrt(1 + k * k))
-                              : normalize(ray.d);
-      setTieWidth(c, ray, tolerance, n);
-    }
+    setRevolvedTieWidths(out, ray, tolerance, [&](Vec3f p, float rho) {
+      return rho > 0 ? Vec3f{p.x, k * rho, p.z} / (rho * std::sqrt(1 + k * k)) : normalize(ray.d);
+    });
   }
   return true;
 }

@@ -46,16 +46,10 @@ bool Cylinder::span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out
   if (!intersectSpans(side, ys, out)) return false;
   if (!tolerance.none()) {
     const float speed = std::sqrt(ray.d.x * ray.d.x + ray.d.z * ray.d.z);
-    for (Crossing* c : {&out->enter, &out->exit}) {
-      if (c->part != 0) {
-        setTieWidth(c, ray, tolerance, axisNormal(1));
-        continue;
-      }
-      const Vec3f p = ray.o + ray.d * c->t;
-      const float rho = std::sqrt(p.x * p.x + p.z * p.z);
-      const Vec3f n = rho > 0 ? Vec3f{p.x / rho, 0, p.z / rho} : Vec3f{1, 0, 0};
-      setTieWidth(c, ray, tolerance, n, radius_, speed);
-    }
+    setRevolvedTieWidths(
+        out, ray, tolerance,
+        [](Vec3f p, float rho) { return rho > 0 ? Vec3f{p.x / rho, 0, p.z / rho} : Vec3f{1, 0, 0}; },
+        radius_, speed);
   }
   return true;
 }

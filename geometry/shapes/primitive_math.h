@@ -317,4 +317,20 @@ inline void setTieWidth(Crossing* c, const Ray& ray, const SurfaceTolerance& tol
 // The unit normal of an axis-aligned face crossed on `axis` (the sign does not matter).
 inline Vec3f axisNormal(int axis) { return {float(axis == 0), float(axis == 1), float(axis == 2)}; }
 
+// The tie widths of a span of a capped solid of revolution about +Y (cylinder, cone): part 0
+// is the side, whose unit normal at a point p at distance rho from the axis is
+// sideNormal(p, rho); the other parts are caps. `radius` and `speed` as for setTieWidth.
+template <class SideNormal>
+void setRevolvedTieWidths(Span* s, const Ray& ray, const SurfaceTolerance& tolerance,
+                          SideNormal sideNormal, float radius = 0, float speed = 0) {
+  for (Crossing* c : {&s->enter, &s->exit}) {
+    if (c->part != 0) {
+      setTieWidth(c, ray, tolerance, axisNormal(1));
+      continue;
+    }
+    const Vec3f p = ray.o + ray.d * c->t;
+    setTieWidth(c, ray, tolerance, sideNormal(p, std::sqrt(p.x * p.x + p.z * p.z)), radius, speed);
+  }
+}
+
 }  // namespace glint::prim

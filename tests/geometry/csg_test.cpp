@@ -293,17 +293,22 @@ TEST(Csg, CoincidentFacesGiveOneAnswerAcrossTheFace) {
 }
 
 // A leaf written as `box min 0 0 0 max 3 3 3 scale 0.3333333 ...` (its faces at 0.99999994, not
-// 1) minus the half [0.5, 1] x [0, 1]^2 written plainly: with the leaf's error as the scene
-// loaders compose it, every ray sees the plain half box, grazing ones included.
-TEST(Csg, FacesStoredDifferentlyStillTie) {
+// 1), with its error as the scene loaders compose it, minus `cut` written plainly.
+std::unique_ptr<CsgShape> thirdScaledBoxMinus(Vec3f cutLower, Vec3f cutUpper) {
   const float third = 0.3333333f;
   const Transform scale = Transform::scale({third, third, third});
   const MeantTransform meant = MeantTransform::written(scale.matrix());
   auto csg = std::make_unique<CsgShape>();
   uint32_t a = csg->addLeaf(std::make_unique<Box>(Vec3f{0, 0, 0}, Vec3f{3, 3, 3}), scale,
                             meant.errorOf(scale.matrix()));
-  uint32_t b = csg->addLeaf(std::make_unique<Box>(Vec3f{0.5f, 0, 0}, Vec3f{1, 1, 1}), Transform());
+  uint32_t b = csg->addLeaf(std::make_unique<Box>(cutLower, cutUpper), Transform());
   csg->finish(csg->addOperation(CsgOperation::Difference, {a, b}));
+  return csg;
+}
+
+// Minus the half [0.5, 1] x [0, 1]^2: every ray sees the plain half box, grazing ones included.
+TEST(Csg, FacesStoredDifferentlyStillTie) {
+  auto csg = thirdScaledBoxMinus({0.5f, 0, 0}, {1, 1, 1});
   const Box plain({0, 0, 0}, {0.5f, 1, 1});
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> u(0, 1);
@@ -333,15 +338,7 @@ TEST(Csg, FacesStoredDifferentlyStillTie) {
 
 // The negative control at the geometry level: 1e-4 apart is a real skin, not a tie.
 TEST(Csg, FacesApartByMoreThanTheTolerancesLeaveASkin) {
-  const float third = 0.3333333f;
-  const Transform scale = Transform::scale({third, third, third});
-  const MeantTransform meant = MeantTransform::written(scale.matrix());
-  auto csg = std::make_unique<CsgShape>();
-  uint32_t a = csg->addLeaf(std::make_unique<Box>(Vec3f{0, 0, 0}, Vec3f{3, 3, 3}), scale,
-                            meant.errorOf(scale.matrix()));
-  uint32_t b = csg->addLeaf(std::make_unique<Box>(Vec3f{0.5f, 0.0001f, 0}, Vec3f{1, 1, 1}),
-                            Transform());
-  csg->finish(csg->addOperation(CsgOperation::Difference, {a, b}));
+  auto csg = thirdScaledBoxMinus({0.5f, 0.0001f, 0}, {1, 1, 1});
   // Straight down and at 80 degrees from the normal onto the skin y in [0, 1e-4], x > 0.5.
   for (Vec3f d : {Vec3f{0, -1, 0}, Vec3f{-0.985f, -0.174f, 0}}) {
     const Vec3f target{0.8f, 0, 0.5f};
