@@ -2,12 +2,68 @@
 #include "scenes/json_util.h"
 
 #include <fstream>
+#include <set>
 #include <sstream>
+#include <vector>
 
 namespace glint {
 
-nlohmann::json parseJson(std::string_view text, const std::string& file) {
+namespace {
+
+// The parser callback of parseSceneJson: each open container's location and, for objects, the
+// keys seen so far.
+class DuplicateKeyCheck {
+ public:
+  explicit DuplicateKeyCheck(const std::string& file) : file_(file) {}
+
+  bool operator()(int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+    using Event = nlohmann::json::parse_event_t;
+    switch (event) {
+      case Event::object_start:
+      case Event::array_start:
+        stack_.push_back({event == Event::array_start, 0, elementLocation(), {}, {}});
+        break;
+      case Event::object_end:
+      case Event::array_end:
+        stack_.pop_back();
+        break;
+      case Event::key: {
+        Frame& object = stack_.back();
+        object.lastKey = parsed.get<std::string>();
+        if (!object.keys.insert(object.lastKey).second)
+          throw SceneError(object.where, "key '" + object.lastKey + "' given twice");
+        break;
+      }
+      case Event::value:
+        if (!stack_.empty() && stack_.back().array) ++stack_.back().count;
+        break;
+    }
+    return true;
+  }
+
+ private:
+  struct Frame {
+    bool array = false;
+    size_t count = 0;  // arrays: elements so far
+    SourceLocation where;
+    std::set<std::string> keys;  // objects
+    std::string lastKey;
+  };
+
+  // Where the container or value starting now sits (counting it, in an array).
+  SourceLocation elementLocation() {
+    if (stack_.empty()) return {file_, ""};
+    Frame& parent = stack_.back();
+    return parent.array ? parent.where.child(parent.count++) : parent.where.child(parent.lastKey);
+  }
+
+  std::string file_;
+  std::vector<Frame> stack_;
+};
+
+nlohmann::json parse(std::string_view text, const std::string& file, bool sceneFile) {
   try {
+    if (sceneFile) return nlohmann::json::parse(text.begin(), text.end(), DuplicateKeyCheck(file));
     return nlohmann::json::parse(text.begin(), text.end());
   } catch (const nlohmann::json::parse_error& e) {
     // e.byte is 1-based and points just past the offending character.
@@ -36,6 +92,16 @@ nlohmann::json parseJson(std::string_view text, const std::string& file) {
     throw SceneError({file, ""}, "JSON number out of range: " +
                                      (bracket == std::string::npos ? what : what.substr(bracket + 2)));
   }
+}
+
+}  // namespace
+
+nlohmann::json parseJson(std::string_view text, const std::string& file) {
+  return parse(text, file, false);
+}
+
+nlohmann::json parseSceneJson(std::string_view text, const std::string& file) {
+  return parse(text, file, true);
 }
 
 std::string readTextFile(const std::string& path) {

@@ -49,14 +49,14 @@ SceneLoader::SceneLoader(const std::string& path, const std::optional<std::strin
       if (fs::is_regular_file(automatic, ec)) jsonFile_ = automatic;
     }
     kind_ = SceneJsonKind::Sidecar;
-    if (!jsonFile_.empty()) json_ = parseJson(readTextFile(jsonFile_), jsonFile_);
+    if (!jsonFile_.empty()) json_ = parseSceneJson(readTextFile(jsonFile_), jsonFile_);
   } else if (ext == ".json") {
     if (sidecar)
       throw SceneError({*sidecar, ""},
                        "a sidecar applies to a .gltf/.glb scene; put its settings in " + path);
     jsonFile_ = path;
     kind_ = SceneJsonKind::Scene;
-    json_ = parseJson(readTextFile(path), path);
+    json_ = parseSceneJson(readTextFile(path), path);
     loadSceneGltfList(json_, path, &base_);
   } else {
     throw SceneError({path, ""}, "unknown scene format '" + ext +

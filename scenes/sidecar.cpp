@@ -412,7 +412,7 @@ void applySceneJson(const nlohmann::json& doc, const std::string& file, SceneJso
 
 void applySceneJsonText(std::string_view text, const std::string& file, SceneJsonKind kind,
                         SceneDescription* scene, const SceneJsonOptions& options) {
-  applySceneJson(parseJson(text, file), file, kind, scene, options);
+  applySceneJson(parseSceneJson(text, file), file, kind, scene, options);
 }
 
 void applySceneJsonFile(const std::string& path, SceneJsonKind kind, SceneDescription* scene,

@@ -271,6 +271,22 @@ TEST(Sidecar, SyntaxErrorReportsLineAndColumn) {
   EXPECT_NE(e.message().find("syntax error"), std::string::npos) << e.what();
 }
 
+TEST(Sidecar, AKeyGivenTwiceIsAnErrorAtItsObject) {
+  // The second "transform" would silently win: a cone would lose its placement.
+  EXPECT_SCENE_ERROR(applyError(R"({"objects": [{"type": "sphere", "radius": 1},
+      {"type": "cone", "radius": 1, "height": 2, "transform": [{"translate": [0, -1, 0]}],
+       "material": "grey", "transform": [{"rotate": {"axis": [1, 0, 0], "degrees": 30}}]}]})"),
+                     kFile, "/objects/1", "key 'transform' given twice");
+  // Inside nested arrays and objects, and at the root.
+  EXPECT_SCENE_ERROR(applyError(R"({"render": {"spp": 4}, "lights": [[], {"a": {"b": 1, "b": 2}}]})"),
+                     kFile, "/lights/1/a", "key 'b' given twice");
+  EXPECT_SCENE_ERROR(applyError(R"({"render": {"spp": 4}, "render": {}})"), kFile, "",
+                     "key 'render' given twice");
+  // The same key in two objects is fine (this one then fails on what it says, not twice).
+  EXPECT_EQ(applyError(R"({"render": {"spp": 4, "bogus": {"spp": 1}}})").message().find("twice"),
+            std::string::npos);
+}
+
 TEST(Sidecar, WrongTypeIsAnErrorWithPointer) {
   EXPECT_SCENE_ERROR(applyError(R"({"render": {"spp": "many"}})"), kFile, "/render/spp",
                      "expected integer, got string");
