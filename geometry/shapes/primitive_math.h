@@ -296,10 +296,10 @@ inline V3 rayPoint(const Ray& ray, float t) { return V3(ray.o) + V3(ray.d) * dou
 // at most sqrt(tau (2 r + tau)) / speed, how long a tangent line stays within tau of the curve.
 // Infinite crossings keep width 0. In float: a tolerance is a doubled bound, and 1e-5 covers
 // this estimate's own rounding.
-inline void setTieWidth(Crossing* c, const Ray& ray, const SurfaceTolerance& tolerance, Vec3f n,
-                        float radius = 0, float speed = 0) {
+// `p` is the crossing's point, o + t d, for callers that already have it.
+inline void setTieWidth(Crossing* c, const Ray& ray, const SurfaceTolerance& tolerance, Vec3f p,
+                        Vec3f n, float radius = 0, float speed = 0) {
   if (!(std::abs(c->t) < kInfinity)) return;
-  const Vec3f p = ray.o + ray.d * c->t;
   const float ap[3] = {std::abs(p.x), std::abs(p.y), std::abs(p.z)};
   float tau = 0;
   for (int k = 0; k < 3; ++k) {
@@ -312,6 +312,9 @@ inline void setTieWidth(Crossing* c, const Ray& ray, const SurfaceTolerance& tol
   if (radius > 0 && (2 * radius + tau) * dn * dn < tau * speed * speed)
     w = std::sqrt(tau * (2 * radius + tau)) / speed;
   c->tieWidth = w * (1 + 1e-5f);
+}
+inline void setTieWidth(Crossing* c, const Ray& ray, const SurfaceTolerance& tolerance, Vec3f n) {
+  setTieWidth(c, ray, tolerance, ray.o + ray.d * c->t, n);
 }
 
 // The unit normal of an axis-aligned face crossed on `axis` (the sign does not matter).
@@ -329,7 +332,8 @@ void setRevolvedTieWidths(Span* s, const Ray& ray, const SurfaceTolerance& toler
       continue;
     }
     const Vec3f p = ray.o + ray.d * c->t;
-    setTieWidth(c, ray, tolerance, sideNormal(p, std::sqrt(p.x * p.x + p.z * p.z)), radius, speed);
+    setTieWidth(c, ray, tolerance, p, sideNormal(p, std::sqrt(p.x * p.x + p.z * p.z)), radius,
+                speed);
   }
 }
 

@@ -37,8 +37,10 @@ bool Sphere::span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) 
   out->exit = toCrossing(r.t1, r.e1, 0);
   if (!tolerance.none()) {
     const float speed = length(ray.d);
-    for (Crossing* c : {&out->enter, &out->exit})
-      setTieWidth(c, ray, tolerance, (ray.o + ray.d * c->t - center_) / radius_, radius_, speed);
+    for (Crossing* c : {&out->enter, &out->exit}) {
+      const Vec3f p = ray.o + ray.d * c->t;
+      setTieWidth(c, ray, tolerance, p, (p - center_) / radius_, radius_, speed);
+    }
   }
   return true;
 }
