@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages glint needs that are missing; quiet and fast when all are
-# present (one dpkg-query, no apt-get). Safe to run again. Uses sudo when not root.
+# present (one dpkg-query, no apt-get), then the browser test's npm packages. Safe to run again.
+# Uses sudo when not root.
 set -euo pipefail
 
 PACKAGES=(
@@ -26,16 +27,22 @@ for pkg in "${PACKAGES[@]}"; do
   grep -qx "$pkg" <<<"$installed" || missing+=("$pkg")
 done
 
-if ((${#missing[@]} == 0)); then
-  exit 0
+if ((${#missing[@]} > 0)); then
+  echo "glint setup: installing ${missing[*]}" >&2
+  SUDO=""
+  if [[ $(id -u) -ne 0 ]]; then
+    command -v sudo >/dev/null || { echo "glint setup: need root or sudo to install packages" >&2; exit 1; }
+    SUDO="sudo"
+  fi
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
-echo "glint setup: installing ${missing[*]}" >&2
-SUDO=""
-if [[ $(id -u) -ne 0 ]]; then
-  command -v sudo >/dev/null || { echo "glint setup: need root or sudo to install packages" >&2; exit 1; }
-  SUDO="sudo"
+# The browser test's npm packages (playwright-core, pinned by tests/browser/package-lock.json);
+# it drives the chromium installed above, so no browser is downloaded.
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+if [[ ! -d "$root/tests/browser/node_modules/playwright-core" ]]; then
+  echo "glint setup: npm ci in tests/browser" >&2
+  npm ci --prefix "$root/tests/browser" --no-audit --no-fund --loglevel=error >/dev/null
 fi
-export DEBIAN_FRONTEND=noninteractive
-$SUDO apt-get update -qq
-$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
