@@ -15,5 +15,6 @@ void addDiffCommand(CLI::App& app, bool* differ);
 void addBenchAccelCommand(CLI::App& app);
 void addTonemapCommand(CLI::App& app);
 void addAssembleCommand(CLI::App& app);
+void addPreviewCommand(CLI::App& app);
 
 }  // namespace glint::app

@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   glint::app::addBenchAccelCommand(app);
   glint::app::addTonemapCommand(app);
   glint::app::addAssembleCommand(app);
+  glint::app::addPreviewCommand(app);
   try {
     app.parse(argc, argv);           // runs the subcommand
   } catch (const CLI::Success& e) {  // --help, --help-all, --version

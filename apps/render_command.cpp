@@ -1,13 +1,17 @@
 // glint — `glint render`: load, build, render, write images and statistics.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "apps/cli_common.h"
 #include "apps/commands.h"
 #include "apps/frames.h"
+#include "apps/interrupt.h"
 #include "apps/resume.h"
 #include "apps/tiles.h"
 #include "image/color.h"
@@ -34,13 +38,71 @@ struct RenderArgs {
   bool listMissing = false;
   std::optional<std::string> crop;  // "X0,Y0,X1,Y1"
   std::optional<std::string> tile;  // "I/N"
+  std::optional<std::string> timeLimit;  // "30s", "2m", "1h30m", "90"
+  std::optional<double> noiseTarget;     // estimated relative error
   SceneOverrides overrides;
   bool quiet = false;
+  const std::atomic<bool>* cancel = nullptr;  // set by runRender: Ctrl-C
 };
+
+// The spp cap of a budgeted render given no --spp: none, in effect (glint:spp is an int).
+constexpr uint32_t kNoSppCap = 0x7fffffff;
+
+// "30s", "2m", "1.5h", "1h30m", "90" (seconds) as seconds. Throws InputError.
+double parseDuration(const std::string& text) {
+  const auto bad = [&] {
+    return InputError("--time-limit '" + text +
+                      "': need a duration > 0 such as 30s, 2m, 1.5h, 1h30m or 90 (seconds)");
+  };
+  double total = 0;
+  size_t i = 0;
+  bool any = false;
+  while (i < text.size()) {
+    size_t used = 0;
+    double value;
+    try {
+      value = std::stod(text.substr(i), &used);
+    } catch (const std::exception&) {
+      throw bad();
+    }
+    if (!(value >= 0) || !std::isfinite(value) || text[i] == '+' || text[i] == '-') throw bad();
+    i += used;
+    double unit = 1;
+    if (i < text.size()) {
+      switch (text[i]) {
+        case 's': unit = 1; break;
+        case 'm': unit = 60; break;
+        case 'h': unit = 3600; break;
+        default: throw bad();
+      }
+      ++i;
+    } else if (any) {
+      throw bad();  // "1h30": 30 what?
+    }
+    total += value * unit;
+    any = true;
+  }
+  if (!any || !(total > 0)) throw bad();
+  return total;
+}
+
+bool hasBudget(const RenderArgs& args) { return args.timeLimit || args.noiseTarget; }
+
+// When this render stops: --spp, or a budget (capped by --spp only when it is given).
+StopRule stopRuleFor(const RenderArgs& args, const SceneDescription& desc) {
+  StopRule rule;
+  rule.cancel = args.cancel;
+  if (args.timeLimit) rule.timeLimit = parseDuration(*args.timeLimit);
+  if (args.noiseTarget) rule.noiseTarget = *args.noiseTarget;
+  rule.maxSpp = hasBudget(args) && !args.overrides.spp ? kNoSppCap : uint32_t(desc.render.spp);
+  return rule;
+}
 
 // One rendered frame, for the statistics.
 struct FrameRecord {
   int frame = 0;
+  ProgressiveResult result;  // spp reached, why it stopped, estimated error
+  uint32_t resumedSpp = 0;   // continued from an earlier output at this spp (0: fresh)
   double time = 0;
   double loadSeconds = 0;  // reading the scene files (single renders; 0 for sequences)
   BuildTimings build;
@@ -64,6 +126,11 @@ nlohmann::json frameJson(const FrameRecord& r) {
       r.stats.renderSeconds > 0 ? double(r.stats.rays.total()) / r.stats.renderSeconds * 1e-6 : 0.0;
   j["nonfinite_samples"] = r.stats.nonfiniteSamples;
   j["mean_spp"] = r.stats.meanSpp;
+  j["spp_reached"] = r.result.spp;
+  j["stop"] = std::string(stopReasonName(r.result.reason));
+  j["estimated_error"] = r.result.error;
+  j["passes"] = r.result.passes;
+  if (r.resumedSpp) j["resumed_from_spp"] = r.resumedSpp;
   if (!r.integratorSetup.empty()) {
     nlohmann::json setup = nlohmann::json::object();
     for (const Integrator::SetupStat& s : r.integratorSetup) setup[s.name] = s.value;
@@ -139,31 +206,51 @@ PixelWindow requestedWindow(const RenderArgs& args, int width, int height) {
   return PixelWindow{0, 0, width, height};
 }
 
-// Renders one built scene and writes `outputs`.
-void renderAndWrite(const RenderArgs& args, const SceneDescription& desc,
+// Renders one built scene (continuing `partial` when given) and writes `outputs`. Returns false
+// when Ctrl-C stopped it before its first pass: nothing was written.
+bool renderAndWrite(const RenderArgs& args, const SceneDescription& desc,
                     const RenderScene& scene, const std::vector<std::string>& outputs,
-                    bool tileProgress, FrameRecord* record) {
+                    bool tileProgress, FrameRecord* record,
+                    const std::optional<PartialRender>& partial = std::nullopt) {
   Film film;
+  const std::string integrator = integratorName(resolveIntegrator(scene, desc.render.integrator));
+  StopRule rule = stopRuleFor(args, desc);
+  const PartialRender* from = nullptr;
+  if (partial && partial->integrator == integrator) {
+    from = &*partial;
+    record->resumedSpp = partial->spp;
+    // A time limit counts the time the earlier run already spent.
+    if (rule.timeLimit > 0) rule.timeLimit = std::max(1e-3, rule.timeLimit - partial->seconds);
+  } else if (partial && !args.quiet) {
+    std::fprintf(stderr, "glint: %s: rendered with the %s integrator, not %s: starting over\n",
+                 partial->path.c_str(), partial->integrator.c_str(), integrator.c_str());
+  }
   namingFile(args.scene, "render failed", [&] {
-    auto integrator = makeIntegrator(scene, desc.render);
-    record->integratorSetup = integrator->setupStats();
+    auto integ = makeIntegrator(scene, desc.render);
+    record->integratorSetup = integ->setupStats();
     RenderOptions options;
     options.threads = desc.render.threads;
     options.progress = tileProgress;
     // Arguments were checked in runRender; whether the window fits is known only now.
     if (args.crop || args.tile)
       options.crop = requestedWindow(args, scene.camera.width(), scene.camera.height());
-    film = render(scene, *integrator, desc.render, options, &record->stats);
+    film = renderUntil(scene, *integ, desc.render, options, rule, &record->stats, &record->result,
+                       from ? &from->film : nullptr, from ? from->spp : 0);
   });
-  ImageMetadata meta{args.scene,        desc.render.spp,
-                     desc.render.seed,  record->stats.renderSeconds,
-                     desc.render.accel, integratorName(resolveIntegrator(scene, desc.render.integrator))};
+  if (record->result.spp == 0) return false;  // interrupted before a pass completed
+  ImageMetadata meta{args.scene,        int(record->result.spp),
+                     desc.render.seed,  record->stats.renderSeconds + (from ? from->seconds : 0),
+                     desc.render.accel, integrator};
   meta.time = desc.render.time;
+  meta.stop = std::string(stopReasonName(record->result.reason));
+  meta.error = record->result.error;
   for (const std::string& out : outputs) writeImage(out, film, desc.render, meta);
+  return true;
 }
 
 void printSummary(const std::vector<std::string>& outputs, const SceneDescription& desc,
-                  const RenderScene& scene, const RenderStats& stats) {
+                  const RenderScene& scene, const FrameRecord& record) {
+  const RenderStats& stats = record.stats;
   double mrays =
       stats.renderSeconds > 0 ? double(stats.rays.total()) / stats.renderSeconds * 1e-6 : 0;
   std::string names;
@@ -171,9 +258,57 @@ void printSummary(const std::vector<std::string>& outputs, const SceneDescriptio
   std::string dropped = stats.nonfiniteSamples ? ", " + std::to_string(stats.nonfiniteSamples) +
                                                      " NaN/Inf samples dropped"
                                                : "";
-  std::fprintf(stderr, "glint: wrote %s (%dx%d, %d spp, %.2f s, %.1f Mrays/s%s)\n", names.c_str(),
-               scene.camera.width(), scene.camera.height(), desc.render.spp, stats.renderSeconds,
-               mrays, dropped.c_str());
+  // How it ended, when that is not simply the spp asked for.
+  const ProgressiveResult& r = record.result;
+  std::string ended;
+  if (record.resumedSpp) ended += fmt::format(", continued from {} spp", record.resumedSpp);
+  if (r.reason == StopReason::TimeLimit) ended += ", time limit reached";
+  if (r.reason == StopReason::NoiseTarget) ended += ", noise target reached";
+  if (r.reason == StopReason::Interrupted) ended += ", interrupted: --resume continues it";
+  (void)desc;
+  std::fprintf(stderr,
+               "glint: wrote %s (%dx%d, %u spp, estimated error %.2g%%, %.2f s, %.1f Mrays/s%s%s)\n",
+               names.c_str(), scene.camera.width(), scene.camera.height(), r.spp, 100 * r.error,
+               stats.renderSeconds, mrays, dropped.c_str(), ended.c_str());
+}
+
+// What --resume found for one frame's outputs.
+struct ResumePlan {
+  std::vector<std::pair<std::string, std::string>> incomplete;  // output, why: still to write
+  std::optional<PartialRender> partial;  // the furthest EXR output to continue from
+};
+
+ResumePlan planResume(const RenderArgs& args, const SceneDescription& desc,
+                      const std::vector<std::string>& outputs) {
+  ResumePlan plan;
+  ExpectedImage expected{.scene = args.scene,
+                         .spp = int(stopRuleFor(args, desc).maxSpp),
+                         .seed = desc.render.seed,
+                         .time = desc.render.time,
+                         .budget = hasBudget(args),
+                         .noiseTarget = args.noiseTarget.value_or(0)};
+  imageSize(desc, &expected.fullWidth, &expected.fullHeight);
+  const PixelWindow w = requestedWindow(args, expected.fullWidth, expected.fullHeight);
+  expected.x0 = w.x0, expected.y0 = w.y0;
+  expected.width = w.width(), expected.height = w.height();
+  for (const std::string& out : outputs)
+    if (std::string why = whyIncomplete(out, expected); !why.empty())
+      plan.incomplete.emplace_back(out, why);
+  if (plan.incomplete.empty()) return plan;
+  for (const std::string& out : outputs) {
+    std::optional<PartialRender> p = continuableRender(out, expected, nullptr);
+    if (p && (!plan.partial || p->spp > plan.partial->spp)) plan.partial = std::move(p);
+  }
+  return plan;
+}
+
+// Tells what --resume does with a frame's incomplete outputs.
+void reportResume(const ResumePlan& plan, const std::string& frameLabel) {
+  for (const auto& [out, why] : plan.incomplete)
+    if (why != "missing")
+      std::fprintf(stderr, "glint: %s%s: %s: %s\n", frameLabel.c_str(),
+                   plan.partial && plan.partial->path == out ? "continuing" : "redoing",
+                   out.c_str(), why.c_str());
 }
 
 // Checks the formats (InputError) and creates missing output folders (OutputError).
@@ -189,6 +324,7 @@ void runSingle(const RenderArgs& args, const std::vector<std::string>& outputs) 
   SceneDescription desc;
   RenderScene scene;
   FrameRecord record;
+  ResumePlan plan;
   namingFile(args.scene, "cannot build the scene", [&] {
     const auto start = std::chrono::steady_clock::now();
     SceneLoader loader(args.scene, args.sidecar);
@@ -196,20 +332,33 @@ void runSingle(const RenderArgs& args, const std::vector<std::string>& outputs) 
     record.loadSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     record.time = desc.render.time;
-    scene = buildRenderScene(desc, &record.build);
+    if (args.resume) plan = planResume(args, desc, outputs);
   });
+  if (args.resume) {
+    if (plan.incomplete.empty()) {
+      if (!args.quiet) std::fprintf(stderr, "glint: outputs already complete: nothing to do\n");
+      return;
+    }
+    if (!args.quiet) reportResume(plan, "");
+  }
+  namingFile(args.scene, "cannot build the scene",
+             [&] { scene = buildRenderScene(desc, &record.build); });
   checkDisplaySettings(desc, outputs);
   if (!args.quiet)
     for (const std::string& w : desc.warnings)
       std::fprintf(stderr, "glint: warning: %s\n", w.c_str());
-  renderAndWrite(args, desc, scene, outputs, !args.quiet && isTerminal(stderr), &record);
+  if (!renderAndWrite(args, desc, scene, outputs, !args.quiet && isTerminal(stderr), &record,
+                      plan.partial)) {
+    std::fprintf(stderr, "glint: interrupted before the first pass finished: nothing written\n");
+    return;
+  }
   if (args.statsPath)
     writeTextAtomically(*args.statsPath, [&] {
       nlohmann::json j = sceneJson(args, desc, scene, record.stats.threads);
       j.update(frameJson(record));
       return j.dump(2) + "\n";
     }());
-  if (!args.quiet) printSummary(outputs, desc, scene, record.stats);
+  if (!args.quiet) printSummary(outputs, desc, scene, record);
 }
 
 // A sequence: frame f at time f / fps, one set of outputs per frame from the '#' patterns.
@@ -252,38 +401,22 @@ void runSequence(const RenderArgs& args, const std::vector<std::string>& pattern
     FrameRecord record;
     record.frame = frame;
     record.time = double(frame) / fps;
-    std::vector<std::pair<std::string, std::string>> incomplete;  // output, why: still to write
+    ResumePlan plan;
     namingFile(args.scene, "cannot build the scene", [&] {
       desc = loadAt(args, *loader, record.time);
-      if (args.resume || args.listMissing) {
-        ExpectedImage expected{.scene = args.scene,
-                               .spp = desc.render.spp,
-                               .seed = desc.render.seed,
-                               .time = desc.render.time};
-        imageSize(desc, &expected.fullWidth, &expected.fullHeight);
-        const PixelWindow w = requestedWindow(args, expected.fullWidth, expected.fullHeight);
-        expected.x0 = w.x0, expected.y0 = w.y0;
-        expected.width = w.width(), expected.height = w.height();
-        for (const std::string& out : outputs)
-          if (std::string why = whyIncomplete(out, expected); !why.empty())
-            incomplete.emplace_back(out, why);
-      }
+      if (args.resume || args.listMissing) plan = planResume(args, desc, outputs);
     });
     if (args.listMissing) {
-      if (!incomplete.empty()) std::printf("%d\n", frame);
+      if (!plan.incomplete.empty()) std::printf("%d\n", frame);
       continue;
     }
     if (args.resume) {
-      if (incomplete.empty()) {
+      if (plan.incomplete.empty()) {
         ++skipped;
         progress.advance();
         continue;
       }
-      if (!args.quiet)
-        for (const auto& [out, why] : incomplete)
-          if (why != "missing")
-            std::fprintf(stderr, "glint: frame %d: redoing %s: %s\n", frame, out.c_str(),
-                         why.c_str());
+      if (!args.quiet) reportResume(plan, fmt::format("frame {}: ", frame));
     }
     RenderScene scene;
     namingFile(args.scene, "cannot build the scene", [&] {
@@ -297,11 +430,17 @@ void runSequence(const RenderArgs& args, const std::vector<std::string>& pattern
           std::fprintf(stderr, "glint: warning: %s\n", w.c_str());
       warned = true;
     }
-    renderAndWrite(args, desc, scene, outputs, false, &record);
+    const bool wrote = renderAndWrite(args, desc, scene, outputs, false, &record, plan.partial);
+    if (!wrote) {
+      std::fprintf(stderr, "glint: frame %d: interrupted before its first pass finished\n", frame);
+      break;
+    }
     if (records.empty()) first = sceneJson(args, desc, scene, record.stats.threads);
     records.push_back(record);
     progress.advance();
-    if (!args.quiet && !terminal) printSummary(outputs, desc, scene, record.stats);
+    if (!args.quiet && (!terminal || record.result.reason == StopReason::Interrupted))
+      printSummary(outputs, desc, scene, record);
+    if (record.result.reason == StopReason::Interrupted) break;  // the rest: --resume
   }
   progress.finish();
   if (args.listMissing) return;
@@ -330,16 +469,18 @@ void runSequence(const RenderArgs& args, const std::vector<std::string>& pattern
 // Throws InputError for options that cannot work together, SceneError for the scene, and a
 // FailureError (OutputError among them) for a render or write that failed: main.cpp decides
 // the exit code.
-void runRender(const RenderArgs& args) {
+void runRender(RenderArgs args) {
   std::vector<std::string> outputs = args.outputs;
   if (outputs.empty())
     outputs.push_back(std::filesystem::path(args.scene).stem().string() +
                       (args.frames ? "_####.exr" : ".exr"));
   if (args.time && args.frames)
     throw InputError("--time and --frames exclude each other (frame f is at time f / fps)");
-  if ((args.resume || args.listMissing) && !args.frames)
-    throw InputError(std::string(args.resume ? "--resume" : "--list-missing") +
-                     " applies to a sequence (--frames A-B; one frame: --frames F-F)");
+  if (args.listMissing && !args.frames)
+    throw InputError("--list-missing applies to a sequence (--frames A-B; one frame: --frames F-F)");
+  if (args.timeLimit) parseDuration(*args.timeLimit);
+  if (args.noiseTarget && !(*args.noiseTarget > 0 && *args.noiseTarget < 1))
+    throw InputError("--noise-target: must be > 0 and < 1 (a relative error: 0.01 is 1%)");
   if (args.crop || args.tile) {
     if (args.crop && args.tile) throw InputError("--crop and --tile exclude each other");
     if (args.crop) parseCropWindow(*args.crop);
@@ -353,10 +494,19 @@ void runRender(const RenderArgs& args) {
                          "join them with `glint assemble`, then tone-map");
   }
   checkOutputs(outputs);
+  // Ctrl-C (or Slurm's SIGTERM) stops the render and writes what it has; a second one quits.
+  InterruptGuard interrupt;
+  args.cancel = interrupt.flag();
   if (args.frames)
     runSequence(args, outputs);
   else
     runSingle(args, outputs);
+  // Interrupted: the outputs are written (or there was nothing to write), and the exit status
+  // says the render did not finish, as the shell's would for the signal.
+  if (interrupt.interrupted()) {
+    std::fflush(nullptr);
+    std::exit(128 + interrupt.signal());
+  }
 }
 
 }  // namespace
@@ -380,8 +530,9 @@ void addRenderCommand(CLI::App& app) {
       "--time", args->time,
       "scene time of a single frame, in seconds (default: the sidecar's render.time, else 0)");
   cmd->add_flag("--resume", args->resume,
-                "skip frames whose outputs are complete (this render's metadata, checksum "
-                "intact); redo missing and partial ones");
+                "skip outputs that are complete (this render's metadata, checksum intact); "
+                "continue an EXR that stopped short (interrupted, fewer spp, noise target not "
+                "met) to the spp or budget asked for now; redo the rest");
   cmd->add_flag("--list-missing", args->listMissing,
                 "render nothing: print the frames --resume would render, one per line");
   cmd->add_option("--crop", args->crop,
@@ -389,11 +540,17 @@ void addRenderCommand(CLI::App& app) {
                   "`glint assemble` joins the pieces");
   cmd->add_option("--tile", args->tile,
                   "render only tile I/N: the I-th (from 0) of N horizontal bands of the frame");
+  cmd->add_option("--time-limit", args->timeLimit,
+                  "render passes until this much time is spent (30s, 2m, 1h30m; a number is "
+                  "seconds); --spp, when given, caps the samples");
+  cmd->add_option("--noise-target", args->noiseTarget,
+                  "render passes until the estimated relative error of the image is below this "
+                  "(0.01 = 1%; checked from 16 spp on); --spp, when given, caps the samples");
   cmd->add_flag("-q,--quiet", args->quiet, "no progress bar or summary");
   args->overrides.addOptions(cmd);
   cmd->add_flag("--aovs", args->overrides.aovs,
-                "EXR output also carries albedo, normal, depth and the variance of each pixel's "
-                "mean (what `glint diff --statistical` needs of a reference)");
+                "EXR output also carries albedo, normal and depth (every EXR carries the "
+                "variance of each pixel's mean)");
   cmd->callback([args] { runRender(*args); });
 }
 

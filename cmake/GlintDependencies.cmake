@@ -35,3 +35,9 @@ endif()
 if(GLINT_BUILD_BENCHMARKS)
   find_package(benchmark REQUIRED)
 endif()
+
+# cpp-httplib (libcpp-httplib-dev): the local server of `glint preview`. Debian builds it as a
+# shared library with a pkg-config file (its definitions select the same TLS and compression
+# options the library was built with), no CMake package.
+pkg_check_modules(HTTPLIB REQUIRED IMPORTED_TARGET cpp-httplib)
+find_package(Threads REQUIRED)

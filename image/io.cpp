@@ -46,6 +46,11 @@ void addMetadata(OIIO::ImageSpec& spec, const ImageMetadata& meta) {
   spec.attribute("glint:integrator", meta.integrator);
   double time = meta.time;
   spec.attribute("glint:time", OIIO::TypeDesc::DOUBLE, &time);
+  if (!meta.stop.empty()) {
+    spec.attribute("glint:stop", meta.stop);
+    double error = meta.error;
+    spec.attribute("glint:error", OIIO::TypeDesc::DOUBLE, &error);
+  }
 }
 
 // glint's attributes of an image (what addMetadata wrote); absent ones keep their defaults.
@@ -59,6 +64,9 @@ ImageMetadata metadataOf(const OIIO::ImageSpec& spec) {
   meta.integrator = spec.get_string_attribute("glint:integrator");
   if (const OIIO::ParamValue* t = spec.find_attribute("glint:time", OIIO::TypeDesc::DOUBLE))
     meta.time = t->get<double>();
+  meta.stop = spec.get_string_attribute("glint:stop");
+  if (const OIIO::ParamValue* e = spec.find_attribute("glint:error", OIIO::TypeDesc::DOUBLE))
+    meta.error = e->get<double>();
   return meta;
 }
 
@@ -85,11 +93,24 @@ OIIO::TypeDesc typeDescOf(PixelType t) {
 
 // ---- atomic write ----------------------------------------------------------------------------
 
+// The path temporaryOutputInFlight() reports: a fixed buffer, so a signal handler reads it
+// without allocating. Writes happen one at a time.
+char inFlightPath[4096];
+std::atomic<bool> inFlight{false};
+
 // Removes the temporary file unless the write got as far as the rename.
 struct TempFile {
   fs::path path;
   bool keep = false;
+  explicit TempFile(fs::path p) : path(std::move(p)) {
+    const std::string& s = path.native();
+    if (s.size() < sizeof inFlightPath) {
+      std::memcpy(inFlightPath, s.c_str(), s.size() + 1);
+      inFlight.store(true);
+    }
+  }
   ~TempFile() {
+    inFlight.store(false);
     std::error_code ec;
     if (!keep) fs::remove(path, ec);
   }
@@ -140,6 +161,8 @@ void writeAtomically(const std::string& target, const OIIO::ImageSpec& spec,
 }
 
 }  // namespace
+
+const char* temporaryOutputInFlight() { return inFlight.load() ? inFlightPath : nullptr; }
 
 // ---- reading ---------------------------------------------------------------------------------
 

@@ -37,6 +37,10 @@ struct ImageMetadata {
   std::string accel;
   std::string integrator;
   double time = 0;  // the scene time of the frame, seconds
+  // How the render ended (renderer/render.h StopReason: "spp", "time-limit", "noise-target",
+  // "interrupted") and its estimated relative error; written only when `stop` is set.
+  std::string stop;
+  double error = 0;
 };
 
 // How a file stores its pixel values.
@@ -111,5 +115,9 @@ void writeImageFile(const std::string& path, Image image);
 // its values row by row, as the file stores them (half channels rounded to half). 16 hex digits.
 std::string pixelChecksum(const std::vector<float>& pixels,
                           const std::vector<std::string>& channelNames);
+
+// The temporary file an image write is filling at this moment, or null: a signal handler that
+// ends the process at once (a second Ctrl-C) removes it. Async-signal-safe.
+const char* temporaryOutputInFlight();
 
 }  // namespace glint

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <cassert>
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -15,14 +16,17 @@ namespace glint {
 
 namespace {
 
-// Scene-linear RGBA (+ AOVs): what a compositor wants, untouched by display settings.
+// Scene-linear RGBA, the variance of each pixel's mean, and the AOVs: what a compositor wants,
+// untouched by display settings, and what `glint render --resume` needs to continue the render
+// (with adaptive sampling, also each pixel's sample count).
 Image exrImage(const Film& film, const RenderSettings& settings) {
   Image img;
-  img.names = {"R", "G", "B", "A"};
-  if (film.hasAovs) {
-    img.names.insert(img.names.end(), {"albedo.R", "albedo.G", "albedo.B", "N.X", "N.Y", "N.Z", "Z",
-                                       "variance.R", "variance.G", "variance.B"});
-  }
+  img.names = {"R", "G", "B", "A", "variance.R", "variance.G", "variance.B"};
+  const bool samples = settings.adaptive.threshold > 0 && film.samples.size() == film.color.size();
+  if (samples) img.names.push_back("samples");
+  if (film.hasAovs)
+    img.names.insert(img.names.end(),
+                     {"albedo.R", "albedo.G", "albedo.B", "N.X", "N.Y", "N.Z", "Z"});
   const int nch = int(img.names.size());
   img.width = film.width, img.height = film.height, img.channels = nch;
   img.type = settings.exrHalf ? PixelType::Half : PixelType::Float;  // depth ("Z") stays float
@@ -36,11 +40,12 @@ Image exrImage(const Film& film, const RenderSettings& settings) {
     float* p = &img.pixels[i * size_t(nch)];
     *p++ = film.color[i].x, *p++ = film.color[i].y, *p++ = film.color[i].z;
     *p++ = film.alpha[i];
+    *p++ = film.variance[i].x, *p++ = film.variance[i].y, *p++ = film.variance[i].z;
+    if (samples) *p++ = float(film.samples[i]);  // exact below 2^24
     if (!film.hasAovs) continue;
     *p++ = film.albedo[i].x, *p++ = film.albedo[i].y, *p++ = film.albedo[i].z;
     *p++ = film.normal[i].x, *p++ = film.normal[i].y, *p++ = film.normal[i].z;
     *p++ = film.depth[i];
-    *p++ = film.variance[i].x, *p++ = film.variance[i].y, *p++ = film.variance[i].z;
   }
   return img;
 }
@@ -152,6 +157,53 @@ Film readExr(const std::string& path, ImageMetadata* meta) {
     throw ImageReadError(fmt::format("{}: is not an OpenEXR image ({})", path, image.format));
   if (meta) *meta = image.meta;
   return filmOf(image, path);
+}
+
+Film readRenderState(const std::string& path, ImageMetadata* meta, std::string* whyNot) {
+  Image image = readImage(path);
+  const auto no = [&](std::string why) {
+    if (whyNot) *whyNot = std::move(why);
+    return Film{};
+  };
+  if (image.format != "openexr") return no("not an OpenEXR image");
+  if (!image.hasMeta) return no("no glint metadata");
+  if (image.type == PixelType::Half) return no("stored as half floats (continuing needs float)");
+  if (meta) *meta = image.meta;
+  Film film = filmOf(image, path);
+  film.originX = image.x, film.originY = image.y;
+  film.fullWidth = image.fullWidth, film.fullHeight = image.fullHeight;
+  const int nch = image.channels;
+  const auto channel = [&](const char* name) { return image.channel(name); };
+  const int vr = channel("variance.R"), vg = channel("variance.G"), vb = channel("variance.B");
+  if (vr < 0 || vg < 0 || vb < 0) return no("no variance channels (written by an older glint)");
+  const int k = channel("samples");
+  const int ar = channel("albedo.R"), ag = channel("albedo.G"), ab = channel("albedo.B");
+  const int nx = channel("N.X"), ny = channel("N.Y"), nz = channel("N.Z"), z = channel("Z");
+  film.hasAovs = ar >= 0 && ag >= 0 && ab >= 0 && nx >= 0 && ny >= 0 && nz >= 0 && z >= 0;
+  const size_t n = film.color.size();
+  if (film.hasAovs) {
+    film.albedo.resize(n);
+    film.normal.resize(n);
+    film.depth.resize(n);
+  }
+  const uint32_t spp = uint32_t(std::max(0, image.meta.spp));
+  for (size_t i = 0; i < n; ++i) {
+    const float* p = &image.pixels[i * size_t(nch)];
+    film.variance[i] = Rgb{p[vr], p[vg], p[vb]};
+    if (k >= 0) {
+      if (!(p[k] >= 0 && p[k] <= float(spp) && p[k] == std::floor(p[k])))
+        return no(fmt::format("pixel {} has {} samples, not a count up to the {} spp", i, p[k], spp));
+      film.samples[i] = uint32_t(p[k]);
+    } else {
+      film.samples[i] = spp;
+    }
+    if (film.hasAovs) {
+      film.albedo[i] = Rgb{p[ar], p[ag], p[ab]};
+      film.normal[i] = Vec3f{p[nx], p[ny], p[nz]};
+      film.depth[i] = p[z];
+    }
+  }
+  return film;
 }
 
 Film readSceneLinear(const std::string& path) {

@@ -36,6 +36,13 @@ void writeRawImage(const std::string& path, int width, int height, int channels,
 // the file when it is missing, unreadable or has no R, G, B channels.
 Film readExr(const std::string& path, ImageMetadata* meta = nullptr);
 
+// Reads what `glint render --resume` continues from: an EXR glint wrote in float, with its
+// variance channels (and "samples" when adaptive sampling set each pixel's count; else every
+// pixel has glint:spp), AOVs when present, its data window and metadata. When the file cannot
+// be continued, returns an empty film (width 0) and says why in *whyNot. Throws ImageReadError
+// (DecodeError) when the file cannot be read at all.
+Film readRenderState(const std::string& path, ImageMetadata* meta, std::string* whyNot);
+
 // The same for any scene-linear image glint reads as light: OpenEXR or Radiance .hdr
 // (environment maps). Throws ImageReadError naming the file for any other format.
 Film readSceneLinear(const std::string& path);

@@ -9,6 +9,7 @@ Film::Film(int w, int h, bool aovs)
   color.assign(n, Rgb{});
   variance.assign(n, Rgb{});
   alpha.assign(n, 0.0f);
+  samples.assign(n, 0);
   if (aovs) {
     albedo.assign(n, Rgb{});
     normal.assign(n, Vec3f{});

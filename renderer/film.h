@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "geometry/math.h"
@@ -21,6 +22,9 @@ struct Film {
   std::vector<Rgb> color;      // mean scene-linear radiance
   std::vector<Rgb> variance;   // variance of the mean (sample variance / n), per channel
   std::vector<float> alpha;    // fraction of samples whose camera ray hit geometry
+  // Samples each pixel took: the render's spp, or fewer where adaptive sampling stopped a
+  // pixel early. What the mean and variance above are over, so a render can be continued.
+  std::vector<uint32_t> samples;
   bool hasAovs = false;
   std::vector<Rgb> albedo;     // AOVs (filled when hasAovs): mean first-hit albedo,
   std::vector<Vec3f> normal;   // mean world shading normal,

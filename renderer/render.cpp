@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <thread>
@@ -28,7 +29,8 @@ struct ThreadTally {
 
 // Per-pixel sums of radiance and squared radiance, in double: a pixel has at most a few
 // thousand samples of bounded magnitude, so sum/sum-of-squares is accurate here and cheaper
-// than Welford's update (no division per sample).
+// than Welford's update (no division per sample). Kept across passes: adding a pass's samples
+// in sample order gives the sums a single run gives.
 struct PixelMoments {
   double sum[3] = {0, 0, 0}, sumSq[3] = {0, 0, 0};
   void add(Rgb v) {
@@ -70,152 +72,430 @@ PixelWindow tileWindow(int width, int height, int index, int count) {
   return {0, row(index), width, row(index + 1)};
 }
 
-Film render(const RenderScene& scene, const Integrator& integrator, const RenderSettings& settings,
-            const RenderOptions& options, RenderStats* stats) {
+uint32_t nextPassEnd(uint32_t done) {
+  constexpr uint32_t kStep = kCameraBatch;  // 16: passes after the first doublings
+  if (done >= UINT32_MAX - kStep) return UINT32_MAX;
+  if (done < kStep) {
+    uint32_t end = 1;
+    while (end <= done) end *= 2;
+    return end;
+  }
+  return (done / kStep + 1) * kStep;
+}
+
+std::string_view stopReasonName(StopReason reason) {
+  switch (reason) {
+    case StopReason::Spp: return "spp";
+    case StopReason::TimeLimit: return "time-limit";
+    case StopReason::NoiseTarget: return "noise-target";
+    case StopReason::Interrupted: return "interrupted";
+  }
+  return "spp";
+}
+
+double estimatedRelativeError(const Film& film) {
+  const size_t n = film.color.size();
+  if (n == 0 || film.variance.size() != n) return 0;
+  double sum = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (!film.samples.empty() && film.samples[i] < 2) return 0;
+    for (int c = 0; c < 3; ++c) {
+      const double mean = film.color[i][c];
+      sum += double(film.variance[i][c]) / (mean * mean + 0.01);
+    }
+  }
+  return std::sqrt(sum / (3.0 * double(n)));
+}
+
+struct ProgressiveRender::State {
+  const RenderScene& scene;
+  const Integrator& integrator;
+  const RenderSettings& settings;
+  RenderOptions options;
+  PixelWindow window;
+  PixelFilter filter;
+  bool adaptive, lens, motion, plain, aovs;
+  double threshold2;
+  uint32_t minSpp;
+  int tilesX = 0, tilesY = 0, threads = 1;
+  std::unique_ptr<tbb::task_arena> arena;
+
+  // Per pixel of the window, across passes.
+  std::vector<PixelMoments> moments;
+  std::vector<uint32_t> taken;  // samples drawn (fewer than spp where adaptive sampling stopped)
+  std::vector<uint32_t> hits;   // camera rays that hit geometry
+  std::vector<Rgb> albedo, normal;  // AOV sums (float, as a single pass adds them)
+  std::vector<double> depth;
+
+  uint32_t spp = 0;
+  int passes = 0;
+  bool broken = false;  // a dropped pass left the sums part-way
+  Film film;
+  double error = 0;
+  RenderStats stats;
+
+  State(const RenderScene& s, const Integrator& i, const RenderSettings& st,
+        const RenderOptions& o)
+      : scene(s), integrator(i), settings(st), options(o), filter(st.filter) {}
+
+  void renderTile(int tileIndex, uint32_t passEnd, const std::atomic<bool>* cancel,
+                  ThreadTally& tally, uint64_t* samplesTaken);
+  void updateFilm();
+};
+
+ProgressiveRender::ProgressiveRender(const RenderScene& scene, const Integrator& integrator,
+                                     const RenderSettings& settings, const RenderOptions& options)
+    : state_(std::make_unique<State>(scene, integrator, settings, options)) {
+  State& st = *state_;
   const int width = scene.camera.width(), height = scene.camera.height();
-  const uint32_t spp = uint32_t(settings.spp);
-  const bool aovs = settings.aovs;
-  // Adaptive sampling: checked from minSpp on, at batch ends (multiples of kCameraBatch).
-  const bool adaptive = settings.adaptive.threshold > 0;
-  const double threshold2 = double(settings.adaptive.threshold) * settings.adaptive.threshold;
-  const uint32_t minSpp = uint32_t(std::max(2, settings.adaptive.minSpp));
+  st.aovs = settings.aovs;
+  // Adaptive sampling: checked from minSpp on, at multiples of kCameraBatch.
+  st.adaptive = settings.adaptive.threshold > 0;
+  st.threshold2 = double(settings.adaptive.threshold) * settings.adaptive.threshold;
+  st.minSpp = uint32_t(std::max(2, settings.adaptive.minSpp));
   // The camera decides whether there is a lens to sample (the scene builder reports it as
   // Feature::Lens); time is sampled only when the builder found something moving.
-  const bool lens = scene.camera.hasLens();
-  const bool motion = scene.features.has(Feature::MotionBlur);
+  st.lens = scene.camera.hasLens();
+  st.motion = scene.features.has(Feature::MotionBlur);
   // Neither: the pinhole rays of before, with no per-ray test.
-  const bool plain = !lens && !motion && scene.camera.isStaticPinhole();
+  st.plain = !st.lens && !st.motion && scene.camera.isStaticPinhole();
   const PixelWindow window = options.crop.value_or(PixelWindow{0, 0, width, height});
   if (window.x0 < 0 || window.y0 < 0 || window.x1 > width || window.y1 > height ||
       window.width() <= 0 || window.height() <= 0)
     throw InputError(fmt::format("crop window {},{},{},{} is empty or outside the {}x{} image",
                                  window.x0, window.y0, window.x1, window.y1, width, height));
-  Film film(window.width(), window.height(), aovs);
-  film.originX = window.x0, film.originY = window.y0;
-  film.fullWidth = width, film.fullHeight = height;
-  PixelFilter filter(settings.filter);
-
+  st.window = window;
+  st.film = Film(window.width(), window.height(), st.aovs);
+  st.film.originX = window.x0, st.film.originY = window.y0;
+  st.film.fullWidth = width, st.film.fullHeight = height;
+  const size_t n = size_t(window.width()) * size_t(window.height());
+  st.moments.assign(n, PixelMoments{});
+  st.taken.assign(n, 0);
+  st.hits.assign(n, 0);
+  if (st.aovs) {
+    st.albedo.assign(n, Rgb{});
+    st.normal.assign(n, Rgb{});
+    st.depth.assign(n, 0.0);
+  }
   const int tile = options.tileSize;
-  const int tilesX = (window.width() + tile - 1) / tile,
-            tilesY = (window.height() + tile - 1) / tile;
-  int threads = options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency());
-  if (threads <= 0) threads = 1;
+  st.tilesX = (window.width() + tile - 1) / tile;
+  st.tilesY = (window.height() + tile - 1) / tile;
+  st.threads = options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency());
+  if (st.threads <= 0) st.threads = 1;
+  st.arena = std::make_unique<tbb::task_arena>(st.threads);
+  st.stats.threads = st.threads;
+}
 
-  ProgressBar progress("rendering", uint64_t(tilesX) * uint64_t(tilesY), options.progress);
-  tbb::enumerable_thread_specific<ThreadTally> tallies;
-  auto start = std::chrono::steady_clock::now();
+ProgressiveRender::~ProgressiveRender() = default;
 
-  auto renderTile = [&](int tileIndex) {
-    ThreadTally& tally = tallies.local();
-    const int x0 = window.x0 + (tileIndex % tilesX) * tile,
-              y0 = window.y0 + (tileIndex / tilesX) * tile;
-    const int x1 = std::min(x0 + tile, window.x1), y1 = std::min(y0 + tile, window.y1);
-    // A pixel's batch of camera rays and their hits, constructed once per tile: their default
-    // initialisation per pixel was a fifth of this loop's own time at 4 spp. Every element a
-    // pixel reads it writes first (closestHits overwrites each hit whole).
-    Ray rays[kCameraBatch];
-    Hit found[kCameraBatch];
-    for (int y = y0; y < y1; ++y)
-      for (int x = x0; x < x1; ++x) {
-        // (x, y) is the pixel's place in the whole image, which keys its samples; the film
-        // holds the window.
-        const size_t index = film.index(x - window.x0, y - window.y0);
-        const uint64_t pixelKey =
-            pixelSampleKey(settings.seed, size_t(y) * size_t(width) + size_t(x));
-        // The film position, and the lens point where there is one, are 2D dimension pairs
-        // whose seeds depend on the pixel only.
-        const DimensionSeeds filmSeeds(pixelKey, kFilmDimension);
-        const DimensionSeeds lensSeeds =
-            lens ? DimensionSeeds(pixelKey, kLensDimension) : DimensionSeeds();
-        PixelMoments acc;
-        double hits = 0, depth = 0;
-        Rgb albedo, normal;
-        // The pixel's camera rays go to the accelerator in batches, which it may trace as
-        // packets (they are coherent); each result is then shaded on its own.
-        uint32_t taken = 0;  // samples drawn: spp, or fewer when adaptive sampling stops early
-        for (uint32_t first = 0; first < spp; first += kCameraBatch) {
-          if (adaptive && first >= minSpp && acc.converged(first, threshold2)) break;
-          const uint32_t n = std::min(kCameraBatch, spp - first);
-          taken = first + n;
-          uint32_t fx[kCameraBatch], fy[kCameraBatch];
-          sample2DFractionBatch(first, n, filmSeeds, fx, fy);
-          if (plain) {
-            for (uint32_t i = 0; i < n; ++i) {
-              Vec2f offset = filter.sampleOffsetFraction({fx[i], fy[i]});
-              rays[i] = scene.camera.pinholeRay(
-                  {float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y}, 0.0f);
-            }
-          } else {
-            uint32_t lx[kCameraBatch], ly[kCameraBatch];
-            if (lens) sample2DFractionBatch(first, n, lensSeeds, lx, ly);
-            for (uint32_t i = 0; i < n; ++i) {
-              Vec2f offset = filter.sampleOffsetFraction({fx[i], fy[i]});
-              CameraSample cs;
-              cs.pFilm = {float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y};
-              if (lens) cs.pLens = Fraction2{lx[i], ly[i]}.toFloat();
-              // A 1D Owen-scrambled Sobol dimension: stratified over the pixel's samples.
-              if (motion) cs.time = Sampler(pixelKey, first + i, kTimeDimension).get1D();
-              rays[i] = scene.camera.generateRay(cs);
-            }
-          }
-          scene.accel->closestHits(rays, found, int(n));
-          tally.rays.camera += n;
-          for (uint32_t i = 0; i < n; ++i) {
-            Sampler sampler(pixelKey, first + i, kIntegratorDimension);
-            PathAovs pathAovs;
-            pathAovs.wanted = aovs;
-            const Hit* hit = found[i].instance != Hit::kInvalid ? &found[i] : nullptr;
-            Rgb L = integrator.LiFromHit(rays[i], hit, sampler, tally.rays, pathAovs);
-            if (!isFinite(L)) {
-              ++tally.nonfinite;
-              L = {};
-            }
-            acc.add(L);
-            if (pathAovs.hit) {
-              hits += 1;
-              if (aovs) {
-                albedo += pathAovs.albedo;
-                normal += pathAovs.normal;
-                depth += pathAovs.depth;
-              }
-            }
-          }
-        }
-        film.color[index] = acc.mean(taken);
-        film.variance[index] = acc.varianceOfMean(taken);
-        film.alpha[index] = float(hits / taken);
-        if (aovs) {
-          film.albedo[index] = albedo / float(taken);
-          film.normal[index] = normal / float(taken);
-          film.depth[index] = hits > 0 ? float(depth / hits) : 0.0f;
-        }
+void ProgressiveRender::resumeFrom(const Film& partial, uint32_t spp) {
+  State& st = *state_;
+  const size_t n = st.taken.size();
+  if (partial.width != st.film.width || partial.height != st.film.height ||
+      partial.originX != st.film.originX || partial.originY != st.film.originY)
+    throw InputError(fmt::format(
+        "cannot continue a {}x{} image at {},{}: this render is {}x{} at {},{}", partial.width,
+        partial.height, partial.originX, partial.originY, st.film.width, st.film.height,
+        st.film.originX, st.film.originY));
+  if (partial.samples.size() != n || partial.variance.size() != n || partial.alpha.size() != n)
+    throw InputError("cannot continue an image without per-pixel samples and variance");
+  if (st.aovs && !partial.hasAovs)
+    throw InputError("cannot continue an image without AOVs into one with them");
+  for (size_t i = 0; i < n; ++i) {
+    const uint32_t k = partial.samples[i];
+    if (k > spp) throw InputError("an image's pixel holds more samples than its spp");
+    // Undo mean = sum / k and Var[mean] = (sumSq - sum² / k) / ((k - 1) k).
+    PixelMoments m;
+    for (int c = 0; c < 3; ++c) {
+      const double mean = partial.color[i][c];
+      m.sum[c] = mean * k;
+      m.sumSq[c] = k >= 2 ? double(partial.variance[i][c]) * double(k - 1) * k + mean * mean * k
+                          : mean * mean * k;
+    }
+    st.moments[i] = m;
+    st.taken[i] = k;
+    st.hits[i] = uint32_t(std::lround(double(partial.alpha[i]) * k));
+    if (st.aovs) {
+      st.albedo[i] = partial.albedo[i] * float(k);
+      st.normal[i] = partial.normal[i] * float(k);
+      st.depth[i] = double(partial.depth[i]) * st.hits[i];
+    }
+  }
+  st.spp = spp;
+  st.updateFilm();
+}
+
+void ProgressiveRender::State::renderTile(int tileIndex, uint32_t passEnd,
+                                          const std::atomic<bool>* cancel, ThreadTally& tally,
+                                          uint64_t* samplesTaken) {
+  const int width = scene.camera.width();
+  const int tile = options.tileSize;
+  const int x0 = window.x0 + (tileIndex % tilesX) * tile,
+            y0 = window.y0 + (tileIndex / tilesX) * tile;
+  const int x1 = std::min(x0 + tile, window.x1), y1 = std::min(y0 + tile, window.y1);
+  // A pixel's batch of camera rays and their hits, constructed once per tile: their default
+  // initialisation per pixel was a fifth of this loop's own time at 4 spp. Every element a
+  // pixel reads it writes first (closestHits overwrites each hit whole).
+  Ray rays[kCameraBatch];
+  Hit found[kCameraBatch];
+  uint64_t drawn = 0;
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x) {
+      // A dropped pass: the caller keeps the last completed film.
+      if (cancel && cancel->load(std::memory_order_relaxed)) {
+        *samplesTaken = drawn;
+        return;
       }
-    progress.advance();
-  };
+      // (x, y) is the pixel's place in the whole image, which keys its samples; the film
+      // holds the window.
+      const size_t index = film.index(x - window.x0, y - window.y0);
+      const uint64_t pixelKey = pixelSampleKey(settings.seed, size_t(y) * size_t(width) + size_t(x));
+      // The film position, and the lens point where there is one, are 2D dimension pairs
+      // whose seeds depend on the pixel only.
+      const DimensionSeeds filmSeeds(pixelKey, kFilmDimension);
+      const DimensionSeeds lensSeeds =
+          lens ? DimensionSeeds(pixelKey, kLensDimension) : DimensionSeeds();
+      PixelMoments acc = moments[index];
+      uint32_t pixelHits = hits[index];
+      double pixelDepth = aovs ? depth[index] : 0.0;
+      Rgb pixelAlbedo = aovs ? albedo[index] : Rgb{}, pixelNormal = aovs ? normal[index] : Rgb{};
+      // The pixel's camera rays go to the accelerator in batches, which it may trace as
+      // packets (they are coherent); each result is then shaded on its own. Batches never
+      // cross a multiple of kCameraBatch, where adaptive sampling checks the pixel, so its
+      // decisions are the same however the samples are split into passes.
+      uint32_t first = taken[index];
+      while (first < passEnd) {
+        if (adaptive && first >= minSpp && first % kCameraBatch == 0 &&
+            acc.converged(first, threshold2))
+          break;
+        const uint32_t n = std::min(kCameraBatch - first % kCameraBatch, passEnd - first);
+        uint32_t fx[kCameraBatch], fy[kCameraBatch];
+        sample2DFractionBatch(first, n, filmSeeds, fx, fy);
+        if (plain) {
+          for (uint32_t i = 0; i < n; ++i) {
+            Vec2f offset = filter.sampleOffsetFraction({fx[i], fy[i]});
+            rays[i] = scene.camera.pinholeRay(
+                {float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y}, 0.0f);
+          }
+        } else {
+          uint32_t lx[kCameraBatch], ly[kCameraBatch];
+          if (lens) sample2DFractionBatch(first, n, lensSeeds, lx, ly);
+          for (uint32_t i = 0; i < n; ++i) {
+            Vec2f offset = filter.sampleOffsetFraction({fx[i], fy[i]});
+            CameraSample cs;
+            cs.pFilm = {float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y};
+            if (lens) cs.pLens = Fraction2{lx[i], ly[i]}.toFloat();
+            // A 1D Owen-scrambled Sobol dimension: stratified over the pixel's samples.
+            if (motion) cs.time = Sampler(pixelKey, first + i, kTimeDimension).get1D();
+            rays[i] = scene.camera.generateRay(cs);
+          }
+        }
+        scene.accel->closestHits(rays, found, int(n));
+        tally.rays.camera += n;
+        for (uint32_t i = 0; i < n; ++i) {
+          Sampler sampler(pixelKey, first + i, kIntegratorDimension);
+          PathAovs pathAovs;
+          pathAovs.wanted = aovs;
+          const Hit* hit = found[i].instance != Hit::kInvalid ? &found[i] : nullptr;
+          Rgb L = integrator.LiFromHit(rays[i], hit, sampler, tally.rays, pathAovs);
+          if (!isFinite(L)) {
+            ++tally.nonfinite;
+            L = {};
+          }
+          acc.add(L);
+          if (pathAovs.hit) {
+            pixelHits += 1;
+            if (aovs) {
+              pixelAlbedo += pathAovs.albedo;
+              pixelNormal += pathAovs.normal;
+              pixelDepth += pathAovs.depth;
+            }
+          }
+        }
+        first += n;
+        drawn += n;
+      }
+      moments[index] = acc;
+      taken[index] = first;
+      hits[index] = pixelHits;
+      if (aovs) {
+        albedo[index] = pixelAlbedo;
+        normal[index] = pixelNormal;
+        depth[index] = pixelDepth;
+      }
+    }
+  *samplesTaken = drawn;
+}
 
-  tbb::task_arena arena(threads);
-  arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY, 1),
+void ProgressiveRender::State::updateFilm() {
+  const size_t n = taken.size();
+  double errorSum = 0;
+  uint64_t samplesTotal = 0;
+  bool enough = true;
+  for (size_t i = 0; i < n; ++i) {
+    const uint32_t k = taken[i];
+    samplesTotal += k;
+    film.samples[i] = k;
+    if (k == 0) {
+      film.color[i] = film.variance[i] = Rgb{};
+      film.alpha[i] = 0;
+      enough = false;
+      continue;
+    }
+    const PixelMoments& m = moments[i];
+    film.color[i] = m.mean(k);
+    film.variance[i] = m.varianceOfMean(k);
+    film.alpha[i] = float(double(hits[i]) / k);
+    if (aovs) {
+      film.albedo[i] = albedo[i] / float(k);
+      film.normal[i] = normal[i] / float(k);
+      film.depth[i] = hits[i] > 0 ? float(depth[i] / hits[i]) : 0.0f;
+    }
+    if (k < 2) enough = false;
+    for (int c = 0; c < 3; ++c) {
+      const double mean = film.color[i][c];
+      errorSum += double(film.variance[i][c]) / (mean * mean + 0.01);
+    }
+  }
+  error = enough && n > 0 ? std::sqrt(errorSum / (3.0 * double(n))) : 0.0;
+  stats.meanSpp = n ? double(samplesTotal) / double(n) : 0.0;
+}
+
+bool ProgressiveRender::renderPass(uint32_t cap, const std::atomic<bool>* cancel,
+                                   const std::function<void(uint64_t)>& onTile) {
+  State& st = *state_;
+  if (st.broken) throw std::logic_error("ProgressiveRender: a dropped pass ended this render");
+  const uint32_t end = std::min(nextPassEnd(st.spp), cap);
+  if (end <= st.spp) return true;
+  tbb::enumerable_thread_specific<ThreadTally> tallies;
+  const auto start = std::chrono::steady_clock::now();
+  st.arena->execute([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, st.tilesX * st.tilesY, 1),
                       [&](const tbb::blocked_range<int>& r) {
-                        for (int t = r.begin(); t != r.end(); ++t) renderTile(t);
+                        for (int t = r.begin(); t != r.end(); ++t) {
+                          uint64_t drawn = 0;
+                          st.renderTile(t, end, cancel, tallies.local(), &drawn);
+                          if (onTile) onTile(drawn);
+                        }
                       });
   });
-  progress.finish();
-
-  if (stats) {
-    stats->renderSeconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    stats->threads = threads;
-    stats->rays = {};
-    stats->nonfiniteSamples = 0;
-    for (const ThreadTally& t : tallies) {
-      stats->rays += t.rays;
-      stats->nonfiniteSamples += t.nonfinite;
-    }
-    // One camera ray per sample.
-    stats->meanSpp = double(stats->rays.camera) / (double(film.width) * double(film.height));
+  if (cancel && cancel->load()) {
+    st.broken = true;
+    return false;
   }
-  return film;
+  st.stats.renderSeconds +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  for (const ThreadTally& t : tallies) {
+    st.stats.rays += t.rays;
+    st.stats.nonfiniteSamples += t.nonfinite;
+  }
+  st.spp = end;
+  ++st.passes;
+  st.updateFilm();
+  return true;
+}
+
+uint32_t ProgressiveRender::spp() const { return state_->spp; }
+int ProgressiveRender::passes() const { return state_->passes; }
+const Film& ProgressiveRender::film() const { return state_->film; }
+Film ProgressiveRender::takeFilm() {
+  state_->broken = true;
+  return std::move(state_->film);
+}
+double ProgressiveRender::estimatedError() const { return state_->error; }
+const RenderStats& ProgressiveRender::stats() const { return state_->stats; }
+
+Film renderUntil(const RenderScene& scene, const Integrator& integrator,
+                 const RenderSettings& settings, const RenderOptions& options, const StopRule& rule,
+                 RenderStats* stats, ProgressiveResult* result, const Film* resume,
+                 uint32_t resumeSpp, const std::function<void(const ProgressiveRender&)>& onPass) {
+  ProgressiveRender pr(scene, integrator, settings, options);
+  if (resume) pr.resumeFrom(*resume, resumeSpp);
+  const uint32_t startSpp = pr.spp();
+  const double pixels = double(pr.film().width) * double(pr.film().height);
+  const bool budget = rule.timeLimit > 0 || rule.noiseTarget > 0;
+  const uint64_t sppTotal = uint64_t(double(rule.maxSpp > startSpp ? rule.maxSpp - startSpp : 0) * pixels);
+  ProgressBar bar("rendering", std::max<uint64_t>(sppTotal, 1), options.progress);
+  const auto onTile = [&](uint64_t samples) { bar.advance(samples); };
+  const auto began = std::chrono::steady_clock::now();
+  const auto elapsed = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+  };
+  StopReason reason = StopReason::Spp;
+  double lastPassSeconds = 0;
+  uint32_t lastPassSpp = 0;
+  bool warned = false;
+  while (true) {
+    if (pr.spp() >= rule.maxSpp) {
+      reason = StopReason::Spp;
+      break;
+    }
+    if (rule.noiseTarget > 0 && pr.spp() >= kCameraBatch && pr.estimatedError() > 0 &&
+        pr.estimatedError() <= rule.noiseTarget) {
+      reason = StopReason::NoiseTarget;
+      break;
+    }
+    const uint32_t next = std::min(nextPassEnd(pr.spp()), rule.maxSpp);
+    if (rule.timeLimit > 0 && pr.passes() > 0) {
+      // The next pass at the last pass's rate per sample.
+      const double predicted =
+          lastPassSeconds / std::max<uint32_t>(lastPassSpp, 1) * double(next - pr.spp());
+      if (elapsed() + predicted > rule.timeLimit) {
+        reason = StopReason::TimeLimit;
+        break;
+      }
+    }
+    const uint32_t before = pr.spp();
+    const double passStart = elapsed();
+    if (!pr.renderPass(rule.maxSpp, rule.cancel, onTile)) {
+      reason = StopReason::Interrupted;
+      break;
+    }
+    lastPassSeconds = elapsed() - passStart;
+    lastPassSpp = pr.spp() - before;
+    if (onPass) onPass(pr);
+    // The bar's end: the spp, or sooner where a budget will stop the render first.
+    if (budget) {
+      const double done = double(pr.spp() - startSpp) * pixels;
+      double total = double(sppTotal);
+      if (rule.timeLimit > 0) total = std::min(total, done * rule.timeLimit / std::max(elapsed(), 1e-3));
+      if (rule.noiseTarget > 0 && pr.estimatedError() > 0) {
+        const double ratio = pr.estimatedError() / rule.noiseTarget;
+        total = std::min(total, done * std::max(1.0, ratio * ratio));
+      }
+      bar.setTotal(uint64_t(std::max(total, done)));
+      bar.setNote(fmt::format("{} spp, error {:.2g}%", pr.spp(), 100 * pr.estimatedError()));
+    } else {
+      bar.setNote(fmt::format("{} spp", pr.spp()));
+    }
+    // A render that will take long says so once, after its first pass.
+    if (options.progress && !warned && !budget) {
+      warned = true;
+      const double perSpp = lastPassSeconds / std::max<uint32_t>(lastPassSpp, 1);
+      const double remaining = perSpp * double(rule.maxSpp - pr.spp());
+      if (remaining > 60)
+        bar.message(fmt::format(
+            "glint: {} spp will take about {} more ({} per sample per pixel); Ctrl-C stops "
+            "and writes what is done",
+            rule.maxSpp, readableDuration(remaining), readableDuration(perSpp)));
+    }
+  }
+  if (reason != StopReason::Interrupted) bar.finish();
+  if (result) {
+    result->reason = reason;
+    result->spp = pr.spp();
+    result->error = pr.estimatedError();
+    result->passes = pr.passes();
+  }
+  if (stats) *stats = pr.stats();
+  return pr.takeFilm();
+}
+
+Film render(const RenderScene& scene, const Integrator& integrator, const RenderSettings& settings,
+            const RenderOptions& options, RenderStats* stats) {
+  StopRule rule;
+  rule.maxSpp = uint32_t(std::max(settings.spp, 1));
+  return renderUntil(scene, integrator, settings, options, rule, stats, nullptr);
 }
 
 }  // namespace glint

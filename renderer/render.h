@@ -1,8 +1,12 @@
 // glint — the render loop: tiles over threads, samples per pixel, statistics.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <optional>
+#include <string_view>
 
 #include "renderer/film.h"
 #include "renderer/integrator.h"
@@ -52,10 +56,98 @@ struct RenderOptions {
 };
 
 // Renders `scene` with `integrator` at the camera's resolution (or its options.crop window: a
-// film of that size at that origin). Each pixel's samples are addressed by (pixel, sample,
-// seed), so the result does not depend on thread count, tile order or cropping. NaN/Inf
-// samples never reach the film. Throws InputError for a crop outside the image.
+// film of that size at that origin), settings.spp samples per pixel. Each pixel's samples are
+// addressed by (pixel, sample, seed), so the result does not depend on thread count, tile
+// order or cropping. NaN/Inf samples never reach the film. Throws InputError for a crop
+// outside the image. The same passes as ProgressiveRender (below) up to settings.spp: a
+// progressive or budgeted render that reached N spp is this function's image at N spp.
 Film render(const RenderScene& scene, const Integrator& integrator, const RenderSettings& settings,
             const RenderOptions& options, RenderStats* stats);
+
+// ---- Progressive rendering: passes, budgets, interruption ----------------------------------
+//
+// A render is a sequence of passes over the whole image. Pass boundaries are fixed: a pass
+// takes every pixel from one boundary to the next, 0 → 1 → 2 → 4 → 8 → 16 spp and then 16
+// more each (nextPassEnd), the last pass cut short at the render's spp. Each pixel keeps its
+// sums in double across passes in sample order, so the image after a pass is a pure function
+// of the scene, seed and spp reached: whatever the thread count, pass timing, or whether the
+// render ran in one go, stopped on a budget, or was continued (to float rounding, there: the
+// continued sums are rebuilt from the stored mean and variance).
+
+// The spp the pass after `done` completed spp ends at (before any cap).
+uint32_t nextPassEnd(uint32_t done);
+
+// Why a progressive render stopped.
+enum class StopReason { Spp, TimeLimit, NoiseTarget, Interrupted };
+std::string_view stopReasonName(StopReason reason);  // "spp", "time-limit", ...
+
+// The relative error a noise target is measured in (AdaptiveSettings' metric over the whole
+// image): sqrt of the mean over pixels and channels of Var[mean] / (mean² + 0.01), from each
+// pixel's own sample variance. 0 for an image with fewer than 2 samples per pixel.
+double estimatedRelativeError(const Film& film);
+
+// When a render stops: at the end of the first pass that reaches maxSpp, would run past the
+// time limit (judged from the previous pass's rate; the first pass always runs), or brings the
+// estimated error to the noise target (checked from 16 spp on: fewer samples underestimate
+// rare bright paths). `cancel` (Ctrl-C) stops at once and drops the pass in flight.
+struct StopRule {
+  uint32_t maxSpp = 16;
+  double timeLimit = 0;    // seconds of rendering; 0 = none
+  double noiseTarget = 0;  // estimatedRelativeError; 0 = none
+  const std::atomic<bool>* cancel = nullptr;
+};
+
+// The per-pixel sums of a render in progress and the film of its last completed pass.
+class ProgressiveRender {
+ public:
+  // Throws InputError for a crop outside the image (as render()).
+  ProgressiveRender(const RenderScene& scene, const Integrator& integrator,
+                    const RenderSettings& settings, const RenderOptions& options);
+  ~ProgressiveRender();
+  ProgressiveRender(const ProgressiveRender&) = delete;
+  ProgressiveRender& operator=(const ProgressiveRender&) = delete;
+
+  // Starts from `partial`, an earlier render of the same scene, seed and window that reached
+  // `spp` (its per-pixel samples, mean, variance, alpha and AOVs; the sums are rebuilt from
+  // them). Throws InputError when its size or channels do not fit this render.
+  void resumeFrom(const Film& partial, uint32_t spp);
+
+  // Renders the next pass, up to min(nextPassEnd(spp()), cap). Returns false when `cancel`
+  // became true during the pass: the pass is dropped, film() stays at the last completed pass
+  // and this render cannot go on. `onTile` (may be empty) is called from worker threads with
+  // the samples each finished tile took.
+  bool renderPass(uint32_t cap, const std::atomic<bool>* cancel = nullptr,
+                  const std::function<void(uint64_t)>& onTile = {});
+
+  uint32_t spp() const;        // samples per pixel of the completed passes
+  int passes() const;          // passes completed by this object (not counting a resume)
+  const Film& film() const;    // the image after the completed passes
+  Film takeFilm();             // moves it out; the render cannot go on
+  double estimatedError() const;  // estimatedRelativeError(film())
+  const RenderStats& stats() const;  // summed over the completed passes
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+// What renderUntil did.
+struct ProgressiveResult {
+  StopReason reason = StopReason::Spp;
+  uint32_t spp = 0;   // reached
+  double error = 0;   // estimatedRelativeError at the end
+  int passes = 0;
+};
+
+// Renders passes until `rule` says stop (from `resume`'s state when given: a film that
+// reached `resumeSpp`). With options.progress, a bar on stderr measured in samples (its end
+// estimated from the time limit or noise target when they come first), and, after the first
+// pass, the estimated time of a render expected to take over a minute. `onPass` (may be
+// empty) sees each completed pass: a preview shows it.
+Film renderUntil(const RenderScene& scene, const Integrator& integrator,
+                 const RenderSettings& settings, const RenderOptions& options, const StopRule& rule,
+                 RenderStats* stats, ProgressiveResult* result, const Film* resume = nullptr,
+                 uint32_t resumeSpp = 0,
+                 const std::function<void(const ProgressiveRender&)>& onPass = {});
 
 }  // namespace glint

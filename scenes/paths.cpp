@@ -22,7 +22,12 @@ bool assetsRelative(const std::string& written, std::string* rest) {
   return false;
 }
 
+thread_local NamedFileRecorder* activeRecorder = nullptr;
+
 }  // namespace
+
+NamedFileRecorder::NamedFileRecorder() : outer_(activeRecorder) { activeRecorder = this; }
+NamedFileRecorder::~NamedFileRecorder() { activeRecorder = outer_; }
 
 std::string sharedAssetsFolder() {
   if (const char* env = std::getenv("GLINT_ASSETS"); env && *env) return env;
@@ -31,10 +36,14 @@ std::string sharedAssetsFolder() {
 
 fs::path resolveScenePath(const std::string& written, const std::string& jsonFile) {
   std::string rest;
+  fs::path path;
   if (assetsRelative(written, &rest))
-    return (fs::path(sharedAssetsFolder()) / rest).lexically_normal();
-  const fs::path path(written);
-  return path.is_absolute() ? path : fs::path(jsonFile).parent_path() / path;
+    path = (fs::path(sharedAssetsFolder()) / rest).lexically_normal();
+  else
+    path = fs::path(written).is_absolute() ? fs::path(written)
+                                           : fs::path(jsonFile).parent_path() / written;
+  for (NamedFileRecorder* r = activeRecorder; r; r = r->outer_) r->files_.push_back(path.string());
+  return path;
 }
 
 fs::path existingScenePath(const std::string& written, const std::string& jsonFile,

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "scenes/errors.h"
 
@@ -25,5 +26,22 @@ std::filesystem::path resolveScenePath(const std::string& written, const std::st
 // PATH", which for $GLINT_ASSETS paths also says how to point glint at the assets.
 std::filesystem::path existingScenePath(const std::string& written, const std::string& jsonFile,
                                         const SourceLocation& at);
+
+// Collects, while alive, every file resolveScenePath gives on this thread: the files a scene
+// names (glTF files, meshes, images, environment maps, .csg trees), which `glint preview`
+// watches for edits. Nests: an inner recorder's files reach the outer one too.
+class NamedFileRecorder {
+ public:
+  NamedFileRecorder();
+  ~NamedFileRecorder();
+  NamedFileRecorder(const NamedFileRecorder&) = delete;
+  NamedFileRecorder& operator=(const NamedFileRecorder&) = delete;
+  const std::vector<std::string>& files() const { return files_; }
+
+ private:
+  friend std::filesystem::path resolveScenePath(const std::string&, const std::string&);
+  std::vector<std::string> files_;
+  NamedFileRecorder* outer_;
+};
 
 }  // namespace glint

@@ -11,6 +11,9 @@ PACKAGES=(
   libopencolorio-dev opencolorio-tools
   libtinygltf-dev nlohmann-json3-dev libassimp-dev libdraco-dev libmeshoptimizer-dev
   libcli11-dev libfmt-dev
+  # glint preview: the HTTP server (header-only); its browser test drives Debian's Chromium
+  # from Node.js (installed below when the machine has no node)
+  libcpp-httplib-dev chromium
   libgtest-dev libbenchmark-dev
   python3 python3-matplotlib
   # scripts/sanitize.sh: Clang with its ASan/UBSan/libFuzzer runtimes and llvm-symbolizer
@@ -18,6 +21,12 @@ PACKAGES=(
   # scripts/slurm: the Slurm test and benchmark bring up a one-node cluster on this machine
   slurmctld slurmd slurm-client munge
 )
+
+# Node.js and npm for the browser test: Debian's unless the machine already has a node (a
+# NodeSource node bundles its own npm, and Debian's npm package would conflict with it).
+if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
+  PACKAGES+=(nodejs npm)
+fi
 
 # One dpkg-query for all packages; anything not reported as installed is missing.
 installed=$(dpkg-query -W -f='${Package} ${db:Status-Status}\n' "${PACKAGES[@]}" 2>/dev/null |

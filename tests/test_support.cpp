@@ -1,7 +1,9 @@
 // glint tests — shared helpers.
 #include "test_support.h"
 
+#include <fcntl.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -58,6 +60,26 @@ CommandResult runGlint(const std::string& args) {
   std::filesystem::remove(base + ".out");
   std::filesystem::remove(base + ".err");
   return r;
+}
+
+int startGlint(const std::string& args, const std::string& out, const std::string& err) {
+  const std::string command = std::string("exec '") + GLINT_EXECUTABLE + "' " + args;
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int o = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int e = err == out ? o : ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    ::dup2(o, 1);
+    ::dup2(e, 2);
+    ::execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  return int(pid);
+}
+
+int waitGlint(int pid) {
+  int status = 0;
+  ::waitpid(pid_t(pid), &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 1000 + WTERMSIG(status);
 }
 
 ScopedEnv::ScopedEnv(const char* name, const char* value) : name_(name) {

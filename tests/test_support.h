@@ -51,6 +51,12 @@ struct CommandResult {
 };
 // Runs the glint executable with `args` (already shell-quoted where needed).
 CommandResult runGlint(const std::string& args);
+// Starts glint with `args` in the background, its stdout going to `out` and stderr to `err`
+// (the same file when equal); returns its process id.
+int startGlint(const std::string& args, const std::string& out, const std::string& err);
+// Waits for a child process (one startGlint started): its exit code, or 1000 + the signal that
+// ended it.
+int waitGlint(int pid);
 
 // The whole contents of a file ("" when it cannot be read).
 std::string slurp(const std::string& path);

@@ -235,6 +235,39 @@ describe('glint preview in Chromium', {timeout: 240_000}, () => {
     assert.deepEqual([...fs.readFileSync(saved).subarray(0, 4)], [0x89, 0x50, 0x4e, 0x47]);
   });
 
+  step('every AOV, view and tone mapping displays; exposure brightens', async () => {
+    const shown = (query) => page.waitForFunction(
+      (q) => document.body.dataset.imageQuery === q, query);
+    const query = () => page.evaluate(() => document.body.dataset.imageQuery);
+    const s = await state();
+    for (const aov of s.aovs) {
+      await page.selectOption('#aov', aov);
+      await page.waitForFunction((a) => document.body.dataset.imageQuery.startsWith(`aov=${a}&`), aov);
+      assert.ok(await page.isHidden('#message'), `aov ${aov}: ${await page.textContent('#message')}`);
+    }
+    await page.selectOption('#aov', 'beauty');
+    assert.ok(s.views.length > 0 && s.views.includes(s.default_view), `views ${s.views}`);
+    assert.equal(await page.inputValue('#view'), s.default_view);
+    for (const view of s.views) {
+      await page.selectOption('#view', view);
+      await page.waitForFunction((v) => new URLSearchParams(document.body.dataset.imageQuery).get('view') === v, view);
+      assert.ok(await page.isHidden('#message'), `view ${view}: ${await page.textContent('#message')}`);
+    }
+    await page.selectOption('#view', s.default_view);
+    await page.selectOption('#tonemap', 'ward');
+    await page.waitForFunction(() => document.body.dataset.imageQuery.includes('tonemap=ward'));
+    assert.ok(await page.isHidden('#message'), await page.textContent('#message'));
+    await page.selectOption('#tonemap', 'none');
+    await page.waitForFunction(() => document.body.dataset.imageQuery.includes('tonemap=none'));
+    const dark = await mean();
+    await page.fill('#exposure', '2');
+    await page.waitForFunction(() => document.body.dataset.imageQuery.includes('exposure=2&'));
+    const bright = await mean();
+    assert.ok(bright[1] > dark[1] + 10, `+2 EV: mean ${bright}, at 0 EV ${dark}`);
+    await page.fill('#exposure', '0');
+    await shown((await query()).replace('exposure=2&', 'exposure=0&'));
+  });
+
   step('dragging orbits the camera about the bounds, wheel dollies, Camera JSON shows it', async () => {
     const s0 = await state();
     const centre = s0.bounds.min.map((x, i) => (x + s0.bounds.max[i]) / 2);

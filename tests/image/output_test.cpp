@@ -142,15 +142,18 @@ TEST(Output, ExrHalfRoundTripKeepsDepthAsFloat) {
   expectMetadata(r.spec);
 }
 
-TEST(Output, ExrWithoutAovsIsRgba) {
-  std::string dir = test::scratchDir("Output.ExrWithoutAovsIsRgba");
+// Without AOVs an EXR is RGBA and the variance of each pixel's mean: what --resume continues
+// from and `glint diff --statistical` tests against.
+TEST(Output, ExrWithoutAovsIsRgbaAndVariance) {
+  std::string dir = test::scratchDir("Output.ExrWithoutAovsIsRgbaAndVariance");
   Film film = constantFilm(2, 2, {1.5f, 0.25f, 100.0f});
   film.alpha[3] = 0;
   RenderSettings settings;
   settings.exrHalf = true;
   writeImage(dir + "/img.exr", film, settings, {});
   ReadImage r = readBack(dir + "/img.exr");
-  ASSERT_EQ(r.spec.nchannels, 4);
+  ASSERT_EQ(r.spec.nchannels, 7);
+  EXPECT_EQ(r.spec.channelnames[4], "variance.R");
   EXPECT_EQ(r.spec.format, OIIO::TypeDesc::HALF);
   EXPECT_EQ(r.spec.alpha_channel, 3);
   EXPECT_EQ(r.at(0, 0, "R"), 1.5f);  // scene-linear: no clamping, no display transform
