@@ -213,6 +213,31 @@ INSTANTIATE_TEST_SUITE_P(Cli, BadOption,
                            return out;
                          });
 
+// An unknown option is a usage error that names the option meant, as an unknown sidecar key
+// does (the same closestMatch), on one line.
+TEST(CliBadInput, UnknownOptionSuggestsTheOptionMeant) {
+  const std::string scene = shellQuote(test::dataDir() + "/scenes/lambert_plane.gltf");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"render " + scene + " --sp 4", "unknown option --sp; did you mean --spp?"},
+      {"render " + scene + " --widht 8", "unknown option --widht; did you mean --width?"},
+      {"render " + scene + " --sed=3", "unknown option --sed; did you mean --seed?"},
+      {"info " + scene + " --intergrator path",
+       "unknown option --intergrator; did you mean --integrator?"},
+      {"diff a.exr b.exr --statisticl", "unknown option --statisticl; did you mean --statistical?"},
+      {"tonemap in.exr --sequnce", "unknown option --sequnce; did you mean --sequence?"},
+      {"render " + scene + " --frobnicate",
+       "unknown option --frobnicate (`glint render --help` lists the options)"},
+      {"rendr " + scene, "unknown command 'rendr'; did you mean 'render'?"},
+      {"", "a command is required: 'render', 'info', 'diff', 'bench-accel', 'tonemap', "
+           "'assemble' (`glint --help` says what each does)"},
+  };
+  for (const auto& [args, message] : cases) {
+    test::CommandResult r = test::runGlint(args);
+    EXPECT_EQ(r.exitCode, 2) << args << ": " << r.err;
+    EXPECT_EQ(r.err, "glint: " + message + "\n") << args;
+  }
+}
+
 TEST(CliBadInput, UnsupportedOutputExtension) {
   std::string scene = shellQuote(test::dataDir() + "/scenes/lambert_plane.gltf");
   std::string out = test::scratchDir("bad_ext") + "/out.bmpx";
