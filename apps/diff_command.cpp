@@ -260,39 +260,29 @@ bool runDiff(const DiffOptions& o) {
   return report(o, r, flip);
 }
 
-// CLI::NonNegativeNumber prints DBL_MAX in full in its message; this one reads well.
-const CLI::Validator kNonNegative(
-    [](const std::string& text) -> std::string {
-      try {
-        return std::stod(text) >= 0 ? "" : "must be >= 0, got " + text;
-      } catch (const std::exception&) {
-        return "not a number: " + text;
-      }
-    },
-    "NONNEGATIVE");
-
 }  // namespace
 
 void addDiffCommand(CLI::App& app, bool* differ) {
   auto options = std::make_shared<DiffOptions>();
+  const CLI::Validator nonNegative = numberIn({.ge = 0}), percent = numberIn({.ge = 0, .le = 100});
   CLI::App* cmd = app.add_subcommand(
       "diff", "Compare two images; exit 0 pass, 1 fail (or different sizes), 2 bad input");
   cmd->add_option("A", options->a, "Image to check")->required();
   cmd->add_option("B", options->b, "Reference image")->required();
   cmd->add_option("--fail", options->thresholds.fail, "Absolute error above which a pixel fails")
       ->capture_default_str()
-      ->check(kNonNegative);
+      ->check(nonNegative);
   cmd->add_option("--failpercent", options->thresholds.failPercent,
                   "Fail only when more than this percentage of pixels fail")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 100.0));
+      ->check(percent);
   cmd->add_option("--warn", options->thresholds.warn, "Absolute error above which a pixel warns")
       ->capture_default_str()
-      ->check(kNonNegative);
+      ->check(nonNegative);
   cmd->add_option("--warnpercent", options->thresholds.warnPercent,
                   "Warn only when more than this percentage of pixels warn")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 100.0));
+      ->check(percent);
   cmd->add_flag("--json", options->json, "Print the metrics as JSON on stdout");
   cmd->add_flag("--statistical", options->statistical,
                 "Per-pixel z-tests of A against B's mean and variance (B needs variance.R/G/B, "
@@ -301,21 +291,21 @@ void addDiffCommand(CLI::App& app, bool* differ) {
   cmd->add_option("--significance", options->statistics.significance,
                   "Statistical mode: family-wise false-alarm rate (Sidak-corrected per pixel)")
       ->capture_default_str()
-      ->check(CLI::Range(1e-12, 0.5));
+      ->check(numberIn({.ge = 1e-12, .le = 0.5}));
   cmd->add_option("--min-pass", options->statistics.minPassPercent,
                   "Statistical mode: percentage of pixels that must pass their test")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 100.0));
+      ->check(percent);
   cmd->add_option("--max-error", options->statistics.maxError,
                   "Statistical mode: fail when a pixel that fails its z-test has a channel with "
                   "|a-b|/max(1,|b|) above this (default: no cap)")
-      ->check(kNonNegative);
+      ->check(nonNegative);
   cmd->add_option("--spp-a", options->statistics.sppA,
                   "Statistical mode: samples per pixel of A (default: its glint:spp)")
-      ->check(CLI::PositiveNumber);
+      ->check(numberIn({.ge = 1}, true));
   cmd->add_option("--spp-b", options->statistics.sppB,
                   "Statistical mode: samples per pixel of B (default: its glint:spp)")
-      ->check(CLI::PositiveNumber);
+      ->check(numberIn({.ge = 1}, true));
   cmd->add_option("--heatmap", options->heatMap,
                   "Statistical mode: write a heat map of each pixel's |z| (black, blue, yellow "
                   "at the failure threshold, red, white) to this PNG/EXR");
@@ -325,10 +315,10 @@ void addDiffCommand(CLI::App& app, bool* differ) {
   cmd->add_option("--ppd", options->pixelsPerDegree,
                   "FLIP: pixels per degree of visual angle (default: 0.7 m from a 0.7 m wide "
                   "3840-pixel monitor)")
-      ->check(CLI::PositiveNumber);
+      ->check(numberIn({.gt = 0}));
   cmd->add_option("--flip-max", options->flipMax,
                   "FLIP: fail when the mean FLIP error exceeds this (default: no limit)")
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(numberIn({.ge = 0, .le = 1}));
   cmd->add_option("--flip-map", options->flipMap,
                   "FLIP: write the error map (magma colours) to this PNG");
   cmd->callback([options, differ] { *differ = runDiff(*options); });

@@ -319,11 +319,11 @@ void addTonemapCommand(CLI::App& app) {
                 "one Ward scale for all frames (no flicker); otherwise one per frame");
   cmd->add_option("--ldmax", args->ldmax, "Ward: display maximum luminance, cd/m²")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(numberIn({.gt = 0}));
   cmd->add_option("--scene-luminance", args->sceneLuminance,
                   "Ward: luminance of scene-linear 1.0, cd/m²")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(numberIn({.gt = 0}));
   cmd->add_option("--exposure", args->exposure, "exposure in stops (EV), before tone mapping")
       ->capture_default_str();
   cmd->add_option("--display", args->display, "OCIO display (default: the config's)");
@@ -334,7 +334,7 @@ void addTonemapCommand(CLI::App& app) {
       cmd->add_option("--mp4", args->mp4, "also encode the PNG frames to this .mp4 (needs ffmpeg)");
   cmd->add_option("--fps", args->fps, "frame rate of --mp4")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber)
+      ->check(numberIn({.gt = 0}))
       ->needs(mp4);
   cmd->add_flag("-q,--quiet", args->quiet, "no progress bar, statistics or summary");
   CLI::Option* scene = cmd->add_option(

@@ -228,8 +228,37 @@ TEST(CliBadInput, UnknownOptionSuggestsTheOptionMeant) {
       {"render " + scene + " --frobnicate",
        "unknown option --frobnicate (`glint render --help` lists the options)"},
       {"rendr " + scene, "unknown command 'rendr'; did you mean 'render'?"},
-      {"", "a command is required: 'render', 'info', 'diff', 'bench-accel', 'tonemap', "
-           "'assemble' (`glint --help` says what each does)"},
+      {"",
+       "a command is required: 'render', 'info', 'diff', 'bench-accel', 'tonemap', "
+       "'assemble' (`glint --help` says what each does)"},
+  };
+  for (const auto& [args, message] : cases) {
+    test::CommandResult r = test::runGlint(args);
+    EXPECT_EQ(r.exitCode, 2) << args << ": " << r.err;
+    EXPECT_EQ(r.err, "glint: " + message + "\n") << args;
+  }
+}
+
+// A number out of range says the range in words, as the sidecar's checks do, not CLI11's
+// bounds (DBL_MAX written out in 309 digits).
+TEST(CliBadInput, NumericOptionsSayTheirRangeInWords) {
+  const std::string scene = shellQuote(test::dataDir() + "/scenes/lambert_plane.gltf");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"render " + scene + " --width 0", "--width: must be >= 1, got 0"},
+      {"render " + scene + " --height -5", "--height: must be >= 1, got -5"},
+      {"render " + scene + " --spp 0", "--spp: must be >= 1, got 0"},
+      {"render " + scene + " --spp 1.5", "--spp: expected a whole number, got '1.5'"},
+      {"render " + scene + " --spp 9999999999", "--spp: must be <= 2147483647, got 9999999999"},
+      {"render " + scene + " --threads -1", "--threads: must be >= 0, got -1"},
+      {"render " + scene + " --max-depth -2", "--max-depth: must be >= 0, got -2"},
+      {"render " + scene + " --adaptive -0.5", "--adaptive: must be >= 0, got -0.5"},
+      {"info " + scene + " --env-strength -1", "--env-strength: must be >= 0, got -1"},
+      {"tonemap in.exr --ldmax 0", "--ldmax: must be > 0, got 0"},
+      {"tonemap in.exr --scene-luminance nan", "--scene-luminance: must be finite, got 'nan'"},
+      {"diff a.exr b.exr --significance 0", "--significance: must be >= 1e-12 and <= 0.5, got 0"},
+      {"diff a.exr b.exr --min-pass 150", "--min-pass: must be >= 0 and <= 100, got 150"},
+      {"diff a.exr b.exr --fail -1", "--fail: must be >= 0, got -1"},
+      {"diff a.exr b.exr --spp-a 0", "--spp-a: must be >= 1, got 0"},
   };
   for (const auto& [args, message] : cases) {
     test::CommandResult r = test::runGlint(args);
