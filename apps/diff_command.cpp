@@ -200,6 +200,33 @@ void printJson(const DiffOptions& o, const StatisticalResult& r,
   fmt::print("{}\n", j.dump(2));
 }
 
+// How A's variance was set, in words: "A's predicted from B's (32 vs 1024 spp)".
+std::string varianceOfA(const StatisticalResult& r) {
+  const std::string predicted = fmt::format("predicted from B's ({} vs {} spp)", r.sppA, r.sppB);
+  if (r.varianceModel == "own") return "A's own variance channels";
+  if (r.varianceModel == "predicted") return "A's " + predicted;
+  return "A's own variance channels or, where larger, " + predicted;
+}
+
+// What mean z² says, which the verdict does not use, when it says something: above 2 the
+// differences are well beyond the noise the variances predict; 0 means A equals B. Below 1 says
+// nothing: glint's film stores the variance of the mean as sample variance / n, which assumes
+// independent samples, and its Owen-scrambled Sobol samples err less than that (a correct
+// Cornell box at 32 vs 1024 spp gives about 0.55).
+std::string meanZ2Note(const StatisticalResult& r) {
+  if (r.meanZ2 > 2)
+    return fmt::format(
+        "mean z^2 = {:.3g} is far above 1: the differences are about {:.3g} times the noise the "
+        "variances predict (the square root of mean z^2), from a few pixels far off ({} over "
+        "|z| = {:.3g}, which --min-pass allows: fireflies, or a real difference confined to "
+        "them) or from a variance that is too small; --heatmap shows where",
+        r.meanZ2, std::sqrt(r.meanZ2), r.failPixels, r.pixelZ);
+  if (r.meanZ2 == 0 && r.nonFinite == 0)
+    return "mean z^2 = 0: A equals B exactly, so it is the same image rather than an independent "
+           "render";
+  return "";
+}
+
 void printText(const DiffOptions& o, const StatisticalResult& r,
                const std::optional<FlipReport>& flip) {
   const StatisticalThresholds& t = o.statistics;
@@ -209,23 +236,66 @@ void printText(const DiffOptions& o, const StatisticalResult& r,
                r.heightB);
     return;
   }
-  fmt::print("  Noise model: {} variance, {} vs {} spp\n", r.varianceModel, r.sppA, r.sppB);
-  fmt::print("  Pixels passing: {:.3f}% (need {:g}%); {} over |z| = {:.3g}\n", r.passPercent,
-             t.minPassPercent, r.failPixels, r.pixelZ);
   fmt::print(
-      "  Largest |z| = {:.3g} @ ({}, {}, {}); mean z^2 = {:.3g} (about 1 when the noise "
-      "model fits)\n",
-      r.maxZ, r.maxZX, r.maxZY, r.maxZChannel, r.meanZ2);
-  fmt::print("  Global bias z: R {:.3g}, G {:.3g}, B {:.3g} (limit {:.3g}){}\n", r.globalZ[0],
-             r.globalZ[1], r.globalZ[2], r.globalZLimit, r.biased ? ": BIASED" : "");
-  fmt::print("  Largest error |a-b|/max(1,|b|) of a failing pixel = {:.3g} @ ({}, {}){}\n",
-             r.maxError, r.maxErrorX, r.maxErrorY,
-             std::isfinite(t.maxError)
-                 ? fmt::format(" (cap {:g}{})", t.maxError, r.errorCapExceeded ? ": EXCEEDED" : "")
-                 : "");
-  if (r.nonFinite > 0) fmt::print("  {} channel values are NaN or Inf\n", r.nonFinite);
-  if (flip) printFlipText(o, *flip);
-  fmt::print("{}\n", r.verdict == DiffVerdict::Fail ? "FAILURE" : "PASS");
+      "  Each pixel channel is tested: z = (A - B) / sigma, where sigma^2 is B's variance of "
+      "its mean plus {}.\n",
+      varianceOfA(r));
+  fmt::print(
+      "  The test passes when all of these hold; each |z| limit is set so that a correct "
+      "render exceeds it with a {:g}% chance (--significance) over all the values it is "
+      "applied to:\n",
+      100 * t.significance);
+  auto mark = [](bool ok) { return ok ? "[ok]  " : "[FAIL]"; };
+  std::vector<std::string> failed;
+  const bool enoughPass = !(r.passPercent < t.minPassPercent);
+  if (!enoughPass) failed.push_back("too few pixels within the noise");
+  fmt::print(
+      "  {} pixels within the noise: {:.3f}% have every |z| <= {:.3g}; need >= {:g}% "
+      "(--min-pass); {} pixel{} over\n",
+      mark(enoughPass), r.passPercent, r.pixelZ, t.minPassPercent, r.failPixels,
+      r.failPixels == 1 ? "" : "s");
+  if (r.biased) failed.push_back("biased");
+  fmt::print(
+      "  {} no overall bias: sum(A - B) / sqrt(sum sigma^2) per channel is R {:.3g}, G {:.3g}, "
+      "B {:.3g}; need |z| <= {:.3g}{}\n",
+      mark(!r.biased), r.globalZ[0], r.globalZ[1], r.globalZ[2], r.globalZLimit,
+      r.biased ? ": BIASED" : "");
+  const std::string largestError =
+      r.failPixels > 0 ? fmt::format(
+                             "the largest |A-B|/max(1,|B|) of a pixel over |z| = {:.3g} is "
+                             "{:.3g} @ ({}, {})",
+                             r.pixelZ, r.maxError, r.maxErrorX, r.maxErrorY)
+                       : std::string("no pixel is over |z| = ") + fmt::format("{:.3g}", r.pixelZ);
+  if (std::isfinite(t.maxError)) {
+    if (r.errorCapExceeded) failed.push_back("error cap exceeded");
+    fmt::print("  {} error cap: {}; need <= {:g} (--max-error){}\n", mark(!r.errorCapExceeded),
+               largestError, t.maxError, r.errorCapExceeded ? ": EXCEEDED" : "");
+  } else {
+    fmt::print("  [--]   error cap: none (--max-error sets one); {}\n", largestError);
+  }
+  if (r.nonFinite > 0) failed.push_back("NaN or Inf");
+  fmt::print("  {} no NaN or Inf: {} channel value{} NaN or Inf\n", mark(r.nonFinite == 0),
+             r.nonFinite, r.nonFinite == 1 ? " is" : "s are");
+  if (flip) {
+    printFlipText(o, *flip);
+    if (flip->result.stats.mean > o.flipMax) failed.push_back("mean FLIP over --flip-max");
+  }
+  fmt::print(
+      "  Not part of the verdict: largest |z| = {:.3g}{}; mean z^2 = {:.3g} (about 1 when sigma "
+      "is the true size of the differences; below 1 is usual for glint renders, whose stratified "
+      "samples err less than the sample variance / spp that sigma is built from)\n",
+      r.maxZ, r.maxZ > 0 ? fmt::format(" @ ({}, {}, {})", r.maxZX, r.maxZY, r.maxZChannel) : "",
+      r.meanZ2);
+  const std::string note = meanZ2Note(r);
+  if (!note.empty()) fmt::print("  Note: {}.\n", note);
+  if (r.verdict != DiffVerdict::Fail) {
+    fmt::print("PASS: every check above holds{}\n",
+               note.empty() ? "" : " (but see the note on mean z^2)");
+  } else {
+    std::string reasons;
+    for (const std::string& f : failed) reasons += (reasons.empty() ? "" : ", ") + f;
+    fmt::print("FAILURE{}\n", reasons.empty() ? "" : ": " + reasons);
+  }
 }
 
 // Prints the verdict; true when the images differ (a warning passes). A mean FLIP above
