@@ -60,17 +60,23 @@ std::optional<std::string> unexpectedArgument(const CLI::App& app) {
     for (const std::string& arg : sub->remaining())
       if (looksLikeOption(arg)) return unknownOption(*sub, "glint " + sub->get_name(), arg);
   const std::vector<std::string> left = app.remaining();
+  const bool noCommand = app.get_subcommands().empty();
+  const std::vector<std::string> commands = commandNames(app);
+  // Without a command, the first word that is not an option is the command mistyped (its
+  // options, as in `glint rendr x.glb -o x.png`, are then not glint's to judge).
+  for (const std::string& arg : left) {
+    if (looksLikeOption(arg) || !noCommand) continue;
+    const std::string guess = glint::closestMatch(arg, commands);
+    return "unknown command '" + arg + "'" +
+           (guess.empty() ? "; the commands are " + glint::quotedNames(commands)
+                          : "; did you mean '" + guess + "'?");
+  }
   for (const std::string& arg : left)
     if (looksLikeOption(arg)) return unknownOption(app, "glint", arg);
-  if (!app.get_subcommands().empty()) return std::nullopt;
-  const std::vector<std::string> commands = commandNames(app);
-  if (left.empty())
+  if (noCommand)
     return "a command is required: " + glint::quotedNames(commands) +
            " (`glint --help` says what each does)";
-  const std::string guess = glint::closestMatch(left.front(), commands);
-  return "unknown command '" + left.front() + "'" +
-         (guess.empty() ? "; the commands are " + glint::quotedNames(commands)
-                        : "; did you mean '" + guess + "'?");
+  return std::nullopt;
 }
 
 }  // namespace

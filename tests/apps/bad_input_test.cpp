@@ -228,6 +228,8 @@ TEST(CliBadInput, UnknownOptionSuggestsTheOptionMeant) {
       {"render " + scene + " --frobnicate",
        "unknown option --frobnicate (`glint render --help` lists the options)"},
       {"rendr " + scene, "unknown command 'rendr'; did you mean 'render'?"},
+      {"rendr " + scene + " -o x.png", "unknown command 'rendr'; did you mean 'render'?"},
+      {"--frobnicate", "unknown option --frobnicate (`glint --help` lists the options)"},
       {"",
        "a command is required: 'render', 'info', 'diff', 'bench-accel', 'tonemap', "
        "'assemble' (`glint --help` says what each does)"},
