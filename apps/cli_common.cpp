@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "geometry/accel/accelerator.h"
 #include "image/output.h"
@@ -17,30 +18,53 @@
 
 namespace glint::app {
 
+CLI::Validator numberIn(const Range& range, bool whole) {
+  return CLI::Validator(
+      [range, whole](const std::string& text) -> std::string {
+        size_t used = 0;
+        double value = 0;
+        try {
+          value = whole ? double(std::stoll(text, &used)) : std::stod(text, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used == 0 || used != text.size())
+          return std::string(whole ? "expected a whole number" : "expected a number") + ", got '" +
+                 text + "'";
+        if (!std::isfinite(value)) return "must be finite, got '" + text + "'";
+        if (!range.contains(value)) return range.describe() + ", got " + text;
+        if (whole && value > double(std::numeric_limits<int>::max()))
+          return "must be <= " + std::to_string(std::numeric_limits<int>::max()) + ", got " + text;
+        return "";
+      },
+      range.describe().substr(std::string("must be ").size()));
+}
+
 void SceneOverrides::addOptions(CLI::App* cmd) {
-  cmd->add_option("--width", width, "image width in pixels")->check(CLI::PositiveNumber);
-  cmd->add_option("--height", height, "image height in pixels")->check(CLI::PositiveNumber);
-  cmd->add_option("--spp", spp, "samples per pixel")->check(CLI::PositiveNumber);
+  const CLI::Validator positiveWhole = numberIn({.ge = 1}, true);
+  const CLI::Validator nonNegativeWhole = numberIn({.ge = 0}, true);
+  const CLI::Validator nonNegative = numberIn({.ge = 0});
+  cmd->add_option("--width", width, "image width in pixels")->check(positiveWhole);
+  cmd->add_option("--height", height, "image height in pixels")->check(positiveWhole);
+  cmd->add_option("--spp", spp, "samples per pixel")->check(positiveWhole);
   cmd->add_option("--seed", seed, "random seed");
-  cmd->add_option("--threads", threads, "worker threads (0 = all cores)")
-      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--threads", threads, "worker threads (0 = all cores)")->check(nonNegativeWhole);
   cmd->add_option("--accel", accel, "acceleration structure")
       ->check(CLI::IsMember(acceleratorNames()));
   cmd->add_option("--camera", camera, "camera name");
   cmd->add_option("--integrator", integrator, "light transport")
       ->check(CLI::IsMember(integratorNames()));
-  cmd->add_option("--max-depth", maxDepth, "maximum bounces")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--max-depth", maxDepth, "maximum bounces")->check(nonNegativeWhole);
   cmd->add_option("--light-sampler", lightSampler, "how next-event estimation picks a light")
       ->check(CLI::IsMember(lightSamplerNames()));
   cmd->add_option("--adaptive", adaptive,
                   "adaptive sampling: a pixel stops once its relative standard error is below "
                   "this (0 = off; --spp is then the most a pixel takes)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(nonNegative);
   cmd->add_option("--env", env,
                   "environment light: 'studio' (the built-in default) or an equirectangular "
                   ".exr/.hdr file; replaces the scene's");
-  cmd->add_option("--env-strength", envStrength, "multiplies the environment")
-      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--env-strength", envStrength, "multiplies the environment")->check(nonNegative);
   cmd->add_option("--env-rotation", envRotation, "turns the environment about +Y (degrees)");
   cmd->add_flag("--no-default-light", noDefaultLight,
                 "no studio light for a scene without lights of its own");

@@ -9,6 +9,7 @@
 
 #include "image/io.h"
 #include "scenes/description.h"
+#include "scenes/json_reader.h"
 
 namespace glint::app {
 
@@ -35,6 +36,14 @@ struct SceneOverrides {
   // for values that cannot work, e.g. an unknown camera name.
   void apply(SceneDescription* desc) const;
 };
+
+// A check for a numeric option whose message reads as the sidecar's range errors do
+// ("--width: must be >= 1, got 0", "--min-pass: must be >= 0 and <= 100, got 150"): CLI11's
+// PositiveNumber and NonNegativeNumber print their bounds in full, DBL_MAX as a 309-digit
+// number, and CLI::Range prints 1e-12 as 0.000000. `whole` options (an int) also reject a
+// fraction or a number that does not fit an int. --help shows the range after the option's
+// type ("INT:>= 1").
+CLI::Validator numberIn(const Range& range, bool whole = false);
 
 // Runs `work`, which loads, builds or renders `file`, so that its errors name the file: a bad
 // input that does not name it already (a renderer setting, a tile count above the image height)

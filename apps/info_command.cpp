@@ -1,5 +1,6 @@
 // glint — `glint info`: what a scene holds and which effects it calls for.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <map>
 
@@ -67,6 +68,42 @@ std::string objectSummary(const ObjectDesc& o) {
   return name;
 }
 
+// The glTF nodes that place a mesh, each with its meshes, as a sidecar material's "nodes" list
+// names them (scenes/sidecar_materials.cpp matches InstanceDesc::node): "'CubeLeft' (mesh
+// 'Cube')". A node placed several times (EXT_mesh_gpu_instancing) or holding a mesh of several
+// primitives (one MeshDesc each, "Name (primitive 1)") is listed once, in file order.
+std::string nodeSummary(const SceneDescription& desc) {
+  std::vector<std::pair<std::string, std::vector<std::string>>> nodes;
+  for (const InstanceDesc& inst : desc.instances) {
+    auto it = std::find_if(nodes.begin(), nodes.end(),
+                           [&](const auto& n) { return n.first == inst.node; });
+    if (it == nodes.end()) it = nodes.insert(nodes.end(), {inst.node, {}});
+    const std::string& mesh = desc.meshes[size_t(inst.mesh)].name;
+    const std::string name = mesh.empty() ? "mesh " + std::to_string(inst.mesh) : mesh;
+    if (std::find(it->second.begin(), it->second.end(), name) == it->second.end())
+      it->second.push_back(name);
+  }
+  return std::to_string(nodes.size()) + " with a mesh (names for a sidecar material's "
+         "\"nodes\"): " +
+         listNames(
+             nodes,
+             [](const auto& n) {
+               return "'" + n.first + "' (mesh" + (n.second.size() == 1 ? " " : "es ") +
+                      quotedNames(n.second) + ")";
+             },
+             32);
+}
+
+// The whole frames that cover the animation's keys from `start` to `end` seconds at `fps`: the
+// last frame at or before the first key to the first at or after the last, as --frames takes
+// them (never below 0). A tolerance keeps a key stored as the float 1/24 s on frame 1.
+std::pair<long long, long long> framesCovering(double start, double end, double fps) {
+  const double eps = 1e-3;  // of a frame
+  const long long first = std::max(0LL, (long long)std::floor(start * fps + eps));
+  const long long last = std::max(first, (long long)std::ceil(end * fps - eps));
+  return {first, last};
+}
+
 // The effects of every frame of `args.frames` (each built as `glint render --frames` would
 // build it), with the first and last frame each one appears in: an animation's effects come
 // and go (a lens only in the closing shot, motion blur while something moves).
@@ -120,9 +157,14 @@ void runInfo(const InfoArgs& args) {
   for (const MeshDesc& m : desc.meshes) triangles += m.indices.size() / 3;
   Bounds3f b = scene.geometry.bounds();
   std::printf("scene:      %s\n", desc.file.c_str());
-  std::printf("meshes:     %zu (%zu triangles stored, %zu placed in the world)\n",
-              desc.meshes.size(), triangles, scene.geometry.instancedTriangleCount());
+  std::printf("meshes:     %zu (%zu triangles stored, %zu placed in the world)%s%s\n",
+              desc.meshes.size(), triangles, scene.geometry.instancedTriangleCount(),
+              desc.meshes.empty() ? "" : ": ",
+              listNames(desc.meshes, [](const MeshDesc& m) {
+                return m.name.empty() ? std::string("(unnamed)") : m.name;
+              }).c_str());
   std::printf("instances:  %zu\n", desc.instances.size());
+  if (!desc.instances.empty()) std::printf("nodes:      %s\n", nodeSummary(desc).c_str());
   if (!desc.objects.empty())
     std::printf(
         "objects:    %zu: %s\n", desc.objects.size(),
@@ -171,11 +213,13 @@ void runInfo(const InfoArgs& args) {
   auto [animStart, animEnd] = animationRange(desc);
   size_t animatedNodes = 0;
   for (const NodeDesc& n : desc.nodes) animatedNodes += n.hasTracks();
-  if (animatedNodes > 0)
+  if (animatedNodes > 0) {
+    const auto [firstFrame, lastFrame] = framesCovering(animStart, animEnd, desc.render.fps);
     std::printf(
-        "animation:  %zu animated node%s, keys from %g s to %g s (frames %g to %g at %g fps)\n",
-        animatedNodes, animatedNodes == 1 ? "" : "s", animStart, animEnd,
-        animStart * desc.render.fps, animEnd * desc.render.fps, desc.render.fps);
+        "animation:  %zu animated node%s, keys from %g s to %g s (frames %lld-%lld at %g fps)\n",
+        animatedNodes, animatedNodes == 1 ? "" : "s", animStart, animEnd, firstFrame, lastFrame,
+        desc.render.fps);
+  }
   // What motion blur costs: how many placements move and meshes deform over the shutter, and
   // with how many time steps (each a pose Embree stores and blends).
   size_t moving = 0, movingKeys = 0, deforming = 0, deformSteps = 0;

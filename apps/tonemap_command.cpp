@@ -201,10 +201,16 @@ Job plan(const TonemapArgs& args) {
   return job;
 }
 
-std::string describeWard(const ToneMapSettings& tm, double lwa) {
+// Ward's statistic and scale, and how many black pixels the statistic left out (tonemap.h: it
+// adapts to the lit pixels only).
+std::string describeWard(const ToneMapSettings& tm, const LogLuminanceStats& stats) {
+  const double lwa = stats.logAverage();
+  std::string lit;
+  if (stats.dark > 0 && stats.count > 0)
+    lit = fmt::format(" over the {} lit pixels ({} black left out)", stats.count, stats.dark);
   return fmt::format(
-      "log-average luminance {:.6g} cd/m², Ward scale factor {:.6g}, scene-linear × {:.6g}", lwa,
-      wardScaleFactor(lwa, tm.wardDisplayMax), toneMapScale(tm, lwa));
+      "log-average luminance {:.6g} cd/m²{}, Ward scale factor {:.6g}, scene-linear × {:.6g}", lwa,
+      lit, wardScaleFactor(lwa, tm.wardDisplayMax), toneMapScale(tm, lwa));
 }
 
 // The first error of a parallel pass in frame order, whichever thread met it first.
@@ -250,11 +256,10 @@ void runTonemap(const TonemapArgs& args) {
                                                   : fmt::format(", {} all-black frame{} left out",
                                                                 black, black == 1 ? "" : "s");
       report.push_back(fmt::format("sequence of {} frame{}{}: {}", n, n == 1 ? "" : "s", left,
-                                   describeWard(tm, sequence.logAverage())));
+                                   describeWard(tm, sequence)));
     } else {
       for (size_t i = 0; i < n; ++i)
-        report.push_back(
-            fmt::format("{}: {}", job.inputs[i], describeWard(tm, stats[i].logAverage())));
+        report.push_back(fmt::format("{}: {}", job.inputs[i], describeWard(tm, stats[i])));
     }
   }
 
@@ -319,11 +324,11 @@ void addTonemapCommand(CLI::App& app) {
                 "one Ward scale for all frames (no flicker); otherwise one per frame");
   cmd->add_option("--ldmax", args->ldmax, "Ward: display maximum luminance, cd/m²")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(numberIn({.gt = 0}));
   cmd->add_option("--scene-luminance", args->sceneLuminance,
                   "Ward: luminance of scene-linear 1.0, cd/m²")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(numberIn({.gt = 0}));
   cmd->add_option("--exposure", args->exposure, "exposure in stops (EV), before tone mapping")
       ->capture_default_str();
   cmd->add_option("--display", args->display, "OCIO display (default: the config's)");
@@ -334,7 +339,7 @@ void addTonemapCommand(CLI::App& app) {
       cmd->add_option("--mp4", args->mp4, "also encode the PNG frames to this .mp4 (needs ffmpeg)");
   cmd->add_option("--fps", args->fps, "frame rate of --mp4")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber)
+      ->check(numberIn({.gt = 0}))
       ->needs(mp4);
   cmd->add_flag("-q,--quiet", args->quiet, "no progress bar, statistics or summary");
   CLI::Option* scene = cmd->add_option(

@@ -18,17 +18,18 @@ float exposureScale(float stops) { return std::exp2(stops); }
 void LogLuminanceStats::add(std::span<const Rgb> sceneLinear, const ToneMapSettings& settings) {
   const double toWorld = double(exposureScale(settings.exposure)) * settings.wardSceneLuminance;
   for (const Rgb& c : sceneLinear) {
-    double lw = double(luminance(c)) * toWorld;
+    const double lw = double(luminance(c)) * toWorld;
     // A NaN or infinite pixel (a bad sample) would make the mean NaN or ±inf for the whole
     // image, or the whole sequence: leave it out, and count it so the caller can say so.
     if (!std::isfinite(lw)) {
       ++nonFinite;
       continue;
     }
-    if (lw > 0)
-      ++nonBlack;
-    else
-      lw = 0;
+    // Black (or negative) pixels are not what the eye adapts to (tonemap.h).
+    if (!(lw > kWardLogDelta)) {
+      ++dark;
+      continue;
+    }
     sumLog += std::log(kWardLogDelta + lw);
     ++count;
   }
@@ -37,7 +38,7 @@ void LogLuminanceStats::add(std::span<const Rgb> sceneLinear, const ToneMapSetti
 void LogLuminanceStats::merge(const LogLuminanceStats& other) {
   sumLog += other.sumLog;
   count += other.count;
-  nonBlack += other.nonBlack;
+  dark += other.dark;
   nonFinite += other.nonFinite;
 }
 
@@ -48,14 +49,10 @@ double LogLuminanceStats::logAverage() const {
 // ---- sequences -------------------------------------------------------------------------------
 
 LogLuminanceStats sequenceStats(std::span<const LogLuminanceStats> frames) {
-  LogLuminanceStats lit, all;
-  for (const LogLuminanceStats& f : frames) {
-    all.merge(f);
-    if (!f.allBlack()) lit.merge(f);
-  }
-  if (lit.count == 0) return all;
-  lit.nonFinite = all.nonFinite;
-  return lit;
+  // Only lit pixels are summed, so an all-black frame adds to `dark` and nothing else.
+  LogLuminanceStats all;
+  for (const LogLuminanceStats& f : frames) all.merge(f);
+  return all;
 }
 
 // ---- applying a scale ------------------------------------------------------------------------

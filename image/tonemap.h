@@ -15,9 +15,16 @@
 
 namespace glint {
 
-// Added to every world luminance before the log so black pixels do not send the log-average to
-// zero (Ward 1994 and Reinhard et al. 2002 use such a δ). In cd/m²: far below any visible level.
+// Added to every world luminance before the log (Ward 1994 and Reinhard et al. 2002 use such a
+// δ). In cd/m²: far below any visible level.
 inline constexpr double kWardLogDelta = 1e-4;
+
+// Ward adapts to the lit pixels only: a pixel whose world luminance is at most δ (black, or so
+// dark that log(δ + Lw) is within log 2 of log δ) is left out of the log-average. Counting
+// them, as glint did before, let a black background set the adaptation: a grey object of
+// 50 cd/m² filling 5 % of a frame on black got Lwa ≈ 2e-4 cd/m² (pulled toward the black
+// pixels' δ) instead of about its own 50, a scale factor 50 times the object's own, and was
+// blown out to white. A frame without black pixels maps exactly as before.
 
 // True for the operators ToneMapSettings::op accepts ("none", "ward").
 bool isKnownToneMapOperator(const std::string& op);
@@ -25,21 +32,22 @@ bool isKnownToneMapOperator(const std::string& op);
 // 2^stops.
 float exposureScale(float stops);
 
-// Log-average world luminance, accumulated over any number of images (frames) and merged across
-// threads. World luminance Lw = luminance(rgb) · 2^exposure · wardSceneLuminance (cd/m²).
+// Log-average world luminance of the lit pixels (Lw > δ, see above), accumulated over any number
+// of images (frames) and merged across threads. World luminance Lw = luminance(rgb) ·
+// 2^exposure · wardSceneLuminance (cd/m²).
 struct LogLuminanceStats {
-  double sumLog = 0;       // Σ log(δ + Lw)
-  uint64_t count = 0;      // number of pixels summed
-  uint64_t nonBlack = 0;   // of those, pixels with Lw > 0
+  double sumLog = 0;       // Σ log(δ + Lw) over the lit pixels
+  uint64_t count = 0;      // lit pixels summed
+  uint64_t dark = 0;       // pixels left out as black (Lw <= δ, negative luminance included)
   uint64_t nonFinite = 0;  // NaN or infinite pixels: left out of the sum, only counted
 
-  // Adds every pixel of one scene-linear image. Negative luminance counts as black.
+  // Adds every pixel of one scene-linear image.
   void add(std::span<const Rgb> sceneLinear, const ToneMapSettings& settings);
   void merge(const LogLuminanceStats& other);
-  // Lwa = exp(mean log(δ + Lw)) in cd/m²; δ for an empty set.
+  // Lwa = exp(mean log(δ + Lw)) over the lit pixels, in cd/m²; δ when there are none.
   double logAverage() const;
-  // True when no pixel had positive luminance (an all-black or empty frame).
-  bool allBlack() const { return nonBlack == 0; }
+  // True when no pixel was lit (an all-black, all-NaN or empty frame).
+  bool allBlack() const { return count == 0; }
 };
 
 // ---- sequences -------------------------------------------------------------------------------
@@ -47,15 +55,13 @@ struct LogLuminanceStats {
 // An animation is mapped in three steps: gather one LogLuminanceStats per frame, combine them
 // with sequenceStats, then map every frame with the one toneMapScale(settings,
 // sequence.logAverage()). The competition's animation tool averaged the frames' own scale
-// factors; averaging log luminance over all pixels of all frames instead keeps Ward's statistic
+// factors; averaging log luminance over the lit pixels of all frames instead keeps Ward's statistic
 // what it is for one image (a one-frame sequence maps exactly as the frame alone).
 
-// The statistics of a whole sequence from each frame's: every pixel of every frame that has at
-// least one non-black pixel. All-black frames (a fade to black, an empty first frame) are left
-// out: their log-average is δ, a number chosen only to keep log finite, and one such frame in
-// ten would lower Lwa of a 20 cd/m² sequence about threefold and brighten every other frame;
-// the black frame itself maps to black at any scale. When every frame is black the result is
-// their plain merge (Lwa = δ). nonFinite counts the NaN/Inf pixels of every frame.
+// The statistics of a whole sequence from each frame's: the lit pixels of every frame. An
+// all-black frame (a fade to black, an empty first frame) has none and adds nothing, so it does
+// not lower Lwa (it maps to black at any scale); when every frame is black, Lwa = δ. nonFinite
+// and dark count the pixels of every frame.
 LogLuminanceStats sequenceStats(std::span<const LogLuminanceStats> frames);
 
 // Ward's contrast-based scale factor m = ((1.219 + (Ldmax/2)^0.4) / (1.219 + Lwa^0.4))^2.5,

@@ -213,6 +213,62 @@ INSTANTIATE_TEST_SUITE_P(Cli, BadOption,
                            return out;
                          });
 
+// An unknown option is a usage error that names the option meant, as an unknown sidecar key
+// does (the same closestMatch), on one line.
+TEST(CliBadInput, UnknownOptionSuggestsTheOptionMeant) {
+  const std::string scene = shellQuote(test::dataDir() + "/scenes/lambert_plane.gltf");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"render " + scene + " --sp 4", "unknown option --sp; did you mean --spp?"},
+      {"render " + scene + " --widht 8", "unknown option --widht; did you mean --width?"},
+      {"render " + scene + " --sed=3", "unknown option --sed; did you mean --seed?"},
+      {"info " + scene + " --intergrator path",
+       "unknown option --intergrator; did you mean --integrator?"},
+      {"diff a.exr b.exr --statisticl", "unknown option --statisticl; did you mean --statistical?"},
+      {"tonemap in.exr --sequnce", "unknown option --sequnce; did you mean --sequence?"},
+      {"render " + scene + " --frobnicate",
+       "unknown option --frobnicate (`glint render --help` lists the options)"},
+      {"rendr " + scene, "unknown command 'rendr'; did you mean 'render'?"},
+      {"rendr " + scene + " -o x.png", "unknown command 'rendr'; did you mean 'render'?"},
+      {"--frobnicate", "unknown option --frobnicate (`glint --help` lists the options)"},
+      {"",
+       "a command is required: 'render', 'info', 'diff', 'bench-accel', 'tonemap', "
+       "'assemble' (`glint --help` says what each does)"},
+  };
+  for (const auto& [args, message] : cases) {
+    test::CommandResult r = test::runGlint(args);
+    EXPECT_EQ(r.exitCode, 2) << args << ": " << r.err;
+    EXPECT_EQ(r.err, "glint: " + message + "\n") << args;
+  }
+}
+
+// A number out of range says the range in words, as the sidecar's checks do, not CLI11's
+// bounds (DBL_MAX written out in 309 digits).
+TEST(CliBadInput, NumericOptionsSayTheirRangeInWords) {
+  const std::string scene = shellQuote(test::dataDir() + "/scenes/lambert_plane.gltf");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"render " + scene + " --width 0", "--width: must be >= 1, got 0"},
+      {"render " + scene + " --height -5", "--height: must be >= 1, got -5"},
+      {"render " + scene + " --spp 0", "--spp: must be >= 1, got 0"},
+      {"render " + scene + " --spp 1.5", "--spp: expected a whole number, got '1.5'"},
+      {"render " + scene + " --spp 9999999999", "--spp: must be <= 2147483647, got 9999999999"},
+      {"render " + scene + " --threads -1", "--threads: must be >= 0, got -1"},
+      {"render " + scene + " --max-depth -2", "--max-depth: must be >= 0, got -2"},
+      {"render " + scene + " --adaptive -0.5", "--adaptive: must be >= 0, got -0.5"},
+      {"info " + scene + " --env-strength -1", "--env-strength: must be >= 0, got -1"},
+      {"tonemap in.exr --ldmax 0", "--ldmax: must be > 0, got 0"},
+      {"tonemap in.exr --scene-luminance nan", "--scene-luminance: must be finite, got 'nan'"},
+      {"diff a.exr b.exr --significance 0", "--significance: must be >= 1e-12 and <= 0.5, got 0"},
+      {"diff a.exr b.exr --min-pass 150", "--min-pass: must be >= 0 and <= 100, got 150"},
+      {"diff a.exr b.exr --fail -1", "--fail: must be >= 0, got -1"},
+      {"diff a.exr b.exr --spp-a 0", "--spp-a: must be >= 1, got 0"},
+  };
+  for (const auto& [args, message] : cases) {
+    test::CommandResult r = test::runGlint(args);
+    EXPECT_EQ(r.exitCode, 2) << args << ": " << r.err;
+    EXPECT_EQ(r.err, "glint: " + message + "\n") << args;
+  }
+}
+
 TEST(CliBadInput, UnsupportedOutputExtension) {
   std::string scene = shellQuote(test::dataDir() + "/scenes/lambert_plane.gltf");
   std::string out = test::scratchDir("bad_ext") + "/out.bmpx";

@@ -9,6 +9,7 @@
 #include <regex>
 #include <vector>
 
+#include "image/output.h"
 #include "test_support.h"
 
 namespace glint {
@@ -138,6 +139,71 @@ TEST(DiffCommand, StatisticalModeJudgesRendersAgainstAReferenceWithVariance) {
   r = test::runGlint("diff " + q(dir + "/b.exr") + " " + q(dir + "/ref.exr") + " --statistical");
   EXPECT_EQ(r.exitCode, 1) << r.out << r.err;
   EXPECT_NE(r.out.find("BIASED"), std::string::npos) << r.out;
+}
+
+// A reference B (grey 0.5, variance of the mean 1e-4 per channel, 1024 spp) and a render A equal
+// to it but for two pixels 500 sigma off in opposite directions: 2 of 1000 pixels fail their
+// z-test (99.8% pass, 99.5% needed), the offsets cancel in the global bias test, and mean z^2 is
+// about 167. The verdict is PASS; the text must say what was checked and what mean z^2 means.
+TEST(DiffCommand, StatisticalTextSaysWhatItChecksAndWhatMeanZ2Means) {
+  const std::string dir = test::scratchDir("DiffCommand.StatisticalTextSaysWhatItChecks");
+  const int w = 40, h = 25;
+  Film ref(w, h, true);
+  ref.color.assign(ref.color.size(), Rgb{0.5f, 0.5f, 0.5f});
+  ref.alpha.assign(ref.alpha.size(), 1.0f);
+  ref.variance.assign(ref.variance.size(), Rgb{1e-4f, 1e-4f, 1e-4f});
+  ImageMetadata meta;
+  meta.spp = 1024;
+  writeImage(dir + "/ref.exr", ref, RenderSettings{}, meta);
+  // sigma^2 = Var[B] + Var[A] (predicted: the same at the same spp) + the floor (6e-4)^2.
+  const float sigma = float(std::sqrt(2e-4 + 6e-4 * 6e-4));
+  Film a(w, h, false);
+  a.color = ref.color;
+  a.alpha = ref.alpha;
+  a.color[3 + 4 * w].x += 500 * sigma;
+  a.color[10 + 20 * w].x -= 500 * sigma;
+  writeImage(dir + "/a.exr", a, RenderSettings{}, meta);
+
+  test::CommandResult r =
+      test::runGlint("diff " + q(dir + "/a.exr") + " " + q(dir + "/ref.exr") + " --statistical");
+  EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
+  for (const char* line :
+       {"  Each pixel channel is tested: z = (A - B) / sigma, where sigma^2 is B's variance "
+        "of its mean plus A's predicted from B's (1024 vs 1024 spp).\n",
+        "  The test passes when all of these hold; each |z| limit is set so that a correct "
+        "render exceeds it with a 1% chance (--significance) over all the values it is "
+        "applied to:\n",
+        "  [ok]   pixels within the noise: 99.800% have every |z| <= 4.65; need >= 99.5% "
+        "(--min-pass); 2 pixels over\n",
+        "  [--]   error cap: none (--max-error sets one); the largest |A-B|/max(1,|B|) of a "
+        "pixel over |z| = 4.65 is 7.08 @ (3, 4)\n",
+        "  [ok]   no NaN or Inf: 0 channel values are NaN or Inf\n",
+        "  Not part of the verdict: largest |z| = 500 @ (3, 4, R); mean z^2 = 167 (about 1 when "
+        "sigma is the true size of the differences;",
+        "  Note: mean z^2 = 167 is far above 1: the differences are about 12.9 times the noise "
+        "the variances predict",
+        "\nPASS: every check above holds (but see the note on mean z^2)\n"})
+    EXPECT_NE(r.out.find(line), std::string::npos) << "missing: " << line << "\nin:\n" << r.out;
+  EXPECT_NE(r.out.find("  [ok]   no overall bias: sum(A - B) / sqrt(sum sigma^2) per channel is "),
+            std::string::npos)
+      << r.out;
+
+  // Both offsets the same way: biased, and the failure says so.
+  a.color[10 + 20 * w].x += 1000 * sigma;
+  writeImage(dir + "/b.exr", a, RenderSettings{}, meta);
+  r = test::runGlint("diff " + q(dir + "/b.exr") + " " + q(dir + "/ref.exr") + " --statistical");
+  EXPECT_EQ(r.exitCode, 1) << r.out << r.err;
+  EXPECT_NE(r.out.find("  [FAIL] no overall bias:"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(": BIASED\n"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\nFAILURE: biased\n"), std::string::npos) << r.out;
+
+  // A equal to B: a pass, with a note that it is the same image.
+  r = test::runGlint("diff " + q(dir + "/ref.exr") + " " + q(dir + "/ref.exr") + " --statistical");
+  EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("  Note: mean z^2 = 0: A equals B exactly"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("error cap: none (--max-error sets one); no pixel is over |z| = 4.65\n"),
+            std::string::npos)
+      << r.out;
 }
 
 // FLIP: LDR for display images, HDR for EXRs, never one of each; --flip-max fails.

@@ -165,6 +165,47 @@ TEST(CliTonemap, AllBlackFrameDoesNotDragTheSequence) {
   EXPECT_NEAR(code8(dir + "/all/f_3.png"), 0.2 * wardScale(lwa) * 255, 0.51);
 }
 
+// A lit sphere on a black background (no environment), Ward: `glint render -o x.png` and
+// `glint render -o x.exr` + `glint tonemap --operator ward` give the same PNG, and the sphere is
+// not blown out to white (Ward adapts to the lit pixels, not to a log-average pulled toward 0
+// by the background).
+TEST(CliTonemap, WardOnAnObjectOnBlackDoesNotBlowItOut) {
+  ScopedEnv noOcio("OCIO", nullptr);
+  const std::string dir = test::scratchDir("CliTonemap.WardOnAnObjectOnBlackDoesNotBlowItOut");
+  const std::string scene = dir + "/ball.json";
+  std::ofstream(scene) << R"({
+    "render": {"width": 48, "height": 48, "spp": 4, "tonemap": {"operator": "ward", "view": "Raw"}},
+    "cameras": [{"name": "c", "position": [0, 0, 12], "look_at": [0, 0, 0], "yfov_degrees": 30}],
+    "lights": [{"name": "sun", "type": "directional", "direction": [-1, -1, -1], "intensity": 1}],
+    "materials": [{"name": "grey", "type": "lambert", "diffuse": [0.5, 0.5, 0.5]}],
+    "objects": [{"type": "sphere", "radius": 1, "material": "grey"}]})";
+  test::CommandResult r =
+      test::runGlint("render " + quote(scene) + " --quiet -o " + quote(dir + "/render.png") +
+                     " -o " + quote(dir + "/render.exr"));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  r = test::runGlint("tonemap " + quote(dir + "/render.exr") + " --operator ward --view Raw -o " +
+                     quote(dir + "/tonemap.png"));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find(" black left out)"), std::string::npos) << r.out;
+
+  auto codes = [](const std::string& path) {
+    auto in = OIIO::ImageInput::open(path);
+    EXPECT_TRUE(in) << path;
+    std::vector<unsigned char> px;
+    if (!in) return px;
+    px.resize(size_t(in->spec().image_pixels()) * size_t(in->spec().nchannels));
+    EXPECT_TRUE(in->read_image(0, 0, 0, -1, OIIO::TypeDesc::UINT8, px.data()));
+    return px;
+  };
+  const std::vector<unsigned char> render = codes(dir + "/render.png");
+  EXPECT_EQ(render, codes(dir + "/tonemap.png"));
+  size_t lit = 0, clipped = 0, black = 0;
+  for (unsigned char c : render) lit += c > 0, clipped += c == 255, black += c == 0;
+  EXPECT_GT(lit, 3u * 48u * 48u / 20u);   // the sphere fills about 10 % of the frame
+  EXPECT_GT(black, 3u * 48u * 48u / 2u);  // most of the frame is the black background
+  EXPECT_EQ(clipped, 0u) << "of " << lit << " lit channel values";
+}
+
 // ---- patterns --------------------------------------------------------------------------------
 
 TEST(CliTonemap, FramesArePaddedToTheRunAndSelectedByRange) {

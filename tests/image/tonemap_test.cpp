@@ -102,24 +102,40 @@ TEST(ToneMap, StatisticsMergeAcrossFrames) {
   EXPECT_GT(own[0].x, shared[0].x);
 }
 
-TEST(ToneMap, BlackPixelsUseDeltaAndBadSamplesDoNotPoison) {
+TEST(ToneMap, AllBlackGivesDeltaAndBadSamplesDoNotPoison) {
   ToneMapSettings s;
   s.op = "ward";
   LogLuminanceStats black;
   black.add(constantImage(16, {0, 0, 0}), s);
   EXPECT_NEAR(black.logAverage(), kWardLogDelta, 1e-15);
   EXPECT_TRUE(black.allBlack());
+  EXPECT_EQ(black.count, 0u);
+  EXPECT_EQ(black.dark, 16u);
   EXPECT_EQ(LogLuminanceStats{}.logAverage(), kWardLogDelta);
 
   LogLuminanceStats bad;
   bad.add(std::vector<Rgb>{{NAN, 0, 0}, {-1, -1, -1}}, s);
   EXPECT_TRUE(std::isfinite(bad.logAverage()));
   EXPECT_EQ(bad.nonFinite, 1u);
-  EXPECT_EQ(bad.count, 1u);  // the negative pixel counts, as black
+  EXPECT_EQ(bad.count, 0u);
+  EXPECT_EQ(bad.dark, 1u);  // the negative pixel counts as black, left out
   EXPECT_TRUE(bad.allBlack());
+
+  // Black and near-black pixels (Lw <= δ) are left out of the log-average; the rest count.
+  LogLuminanceStats mixed;
+  const float nearBlack = float(kWardLogDelta / 100.0);  // Lw = δ at 100 cd/m² for 1.0
+  mixed.add(
+      std::vector<Rgb>{
+          {0, 0, 0}, {nearBlack, nearBlack, nearBlack}, {0.3f, 0.3f, 0.3f}, {1.2f, 1.2f, 1.2f}},
+      s);
+  EXPECT_EQ(mixed.count, 2u);
+  EXPECT_EQ(mixed.dark, 2u);
+  const double lwa = std::sqrt((30 + kWardLogDelta) * (120 + kWardLogDelta));
+  EXPECT_NEAR(mixed.logAverage(), lwa, 1e-6 * lwa);
 }
 
-// A non-constant image: Lwa = exp(mean log(δ + Lw)) and m, written out by hand.
+// A non-constant image: Lwa = exp(mean log(δ + Lw)) over the lit pixels and m, written out by
+// hand.
 TEST(ToneMap, WardFactorEqualsClosedFormForAGradient) {
   ToneMapSettings s;
   s.op = "ward";
@@ -131,13 +147,14 @@ TEST(ToneMap, WardFactorEqualsClosedFormForAGradient) {
   for (int i = 0; i < 100; ++i) {
     float v = 0.05f * float(i);  // 0 … 4.95, grey, so luminance = v
     img.push_back({v, v, v});
-    sumLog += std::log(kWardLogDelta + double(v) * 0.5 * 40.0);
+    if (i > 0) sumLog += std::log(kWardLogDelta + double(v) * 0.5 * 40.0);  // 0 is left out
   }
-  const double lwa = std::exp(sumLog / 100.0);
+  const double lwa = std::exp(sumLog / 99.0);
   LogLuminanceStats stats;
   stats.add(img, s);
   EXPECT_NEAR(stats.logAverage(), lwa, 1e-6 * lwa);  // luminance() sums in float
-  EXPECT_EQ(stats.nonBlack, 99u);
+  EXPECT_EQ(stats.count, 99u);
+  EXPECT_EQ(stats.dark, 1u);
   const double m = closedFormWard(lwa, 120);
   EXPECT_NEAR(toneMapScale(s, stats.logAverage()), 0.5 * 40.0 * m / 120.0, 1e-6);
   // Brighter scenes get a smaller factor: Ward maps more world contrast onto the display.
@@ -197,22 +214,27 @@ TEST(ToneMap, SequenceLeavesOutAllBlackFrames) {
   EXPECT_TRUE(withBlack[1].allBlack());
   EXPECT_DOUBLE_EQ(sequenceStats(withBlack).logAverage(), sequenceStats(without).logAverage());
 
-  // Without the guard, two black frames in four would pull Lwa down by orders of magnitude.
-  LogLuminanceStats naive;
-  for (const LogLuminanceStats& f : withBlack) naive.merge(f);
-  EXPECT_LT(naive.logAverage(), 0.01 * sequenceStats(without).logAverage());
+  // Black pixels never enter the statistic, so merging the frames is all it takes. Counting
+  // them as δ would pull Lwa down by orders of magnitude: two black frames in four, to
+  // sqrt(δ · Lwa).
+  LogLuminanceStats merged;
+  for (const LogLuminanceStats& f : withBlack) merged.merge(f);
+  EXPECT_DOUBLE_EQ(merged.logAverage(), sequenceStats(without).logAverage());
+  EXPECT_EQ(merged.dark, 32u);
 
-  // A frame with a single lit pixel is not black: it counts, all of it.
+  // A frame with a single lit pixel is not black: that pixel counts (its black ones do not).
   std::vector<Rgb> nearlyBlack = black;
   nearlyBlack[7] = {0.5f, 0.5f, 0.5f};
   std::vector<LogLuminanceStats> withDim = statsOf({lit0, nearlyBlack, lit1}, s);
   EXPECT_FALSE(withDim[1].allBlack());
-  EXPECT_EQ(sequenceStats(withDim).count, 48u);
+  EXPECT_EQ(sequenceStats(withDim).count, 33u);
+  EXPECT_EQ(sequenceStats(withDim).dark, 15u);
 
   // Every frame black: Lwa = δ, and the scale stays finite.
   std::vector<LogLuminanceStats> allBlack = statsOf({black, black}, s);
   LogLuminanceStats seq = sequenceStats(allBlack);
-  EXPECT_EQ(seq.count, 32u);
+  EXPECT_EQ(seq.count, 0u);
+  EXPECT_EQ(seq.dark, 32u);
   EXPECT_NEAR(seq.logAverage(), kWardLogDelta, 1e-15);
   EXPECT_TRUE(std::isfinite(toneMapScale(s, seq.logAverage())));
   EXPECT_EQ(sequenceStats({}).logAverage(), kWardLogDelta);
@@ -312,6 +334,97 @@ TEST(ToneMap, DisplayImageUsesTheGivenLogAverage) {
   EXPECT_THROW(writeDisplayImage(dir + "/out.exr", back, s, lwa, meta), OutputError);
   EXPECT_THROW(readExr(dir + "/missing.exr"), ImageReadError);
   EXPECT_THROW(readExr(dir + "/out.png"), ImageReadError);  // not an EXR
+}
+
+// ---- an object on black -------------------------------------------------------------------
+
+// The 8-bit RGB code values of a whole image.
+std::vector<unsigned char> codes8(const std::string& path) {
+  auto in = OIIO::ImageInput::open(path);
+  EXPECT_TRUE(in) << OIIO::geterror();
+  if (!in) return {};
+  std::vector<unsigned char> px(size_t(in->spec().image_pixels()) * size_t(in->spec().nchannels));
+  EXPECT_TRUE(in->read_image(0, 0, 0, -1, OIIO::TypeDesc::UINT8, px.data()));
+  return px;
+}
+
+// A 64×64 frame, black but for a 14×14 square (about 5 % of it) of grey `v` with a brighter
+// corner: an object lit on a black background.
+Film objectOnBlack(float v) {
+  Film film(64, 64, false);
+  film.alpha.assign(film.alpha.size(), 0.0f);
+  for (int y = 20; y < 34; ++y)
+    for (int x = 30; x < 44; ++x) {
+      const float c = x >= 40 && y >= 30 ? 2 * v : v;
+      film.color[size_t(y) * 64 + size_t(x)] = {c, c, c};
+      film.alpha[size_t(y) * 64 + size_t(x)] = 1.0f;
+    }
+  return film;
+}
+
+// Ward adapts to the lit pixels: the object maps as it would if it filled the frame, not 50
+// times brighter because the black background pulled the log-average down to near δ. Both
+// ways to a PNG, `glint render -o x.png` (writeImage) and `glint tonemap` (LogLuminanceStats,
+// then writeDisplayImage), give the same, unclipped, image.
+TEST(ToneMap, WardOnAnObjectOnBlackAdaptsToTheObject) {
+  test::ScopedEnv noOcio("OCIO", nullptr);
+  const std::string dir = test::scratchDir("ToneMap.WardOnAnObjectOnBlackAdaptsToTheObject");
+  RenderSettings rs;
+  rs.tonemap.op = "ward";
+  rs.tonemap.view = "Raw";  // code values proportional to the tone-mapped values
+  const float v = 0.2f;     // 20 cd/m² at the default 100 cd/m² for 1.0
+  const Film film = objectOnBlack(v);
+
+  LogLuminanceStats stats;
+  stats.add(film.color, rs.tonemap);
+  EXPECT_EQ(stats.count, 14u * 14u);
+  EXPECT_EQ(stats.dark, 64u * 64u - 14u * 14u);
+  // The log-average of the object alone: 180 pixels of 20 cd/m² and 16 of 40 (+ δ).
+  const double lwa =
+      std::exp((180 * std::log(20.0 + kWardLogDelta) + 16 * std::log(40.0 + kWardLogDelta)) / 196);
+  EXPECT_NEAR(stats.logAverage(), lwa, 1e-5 * lwa);
+  const double k = toneMapScale(rs.tonemap, lwa);
+  EXPECT_LT(2 * v * k, 1.0);  // the brightest object pixel fits the display
+
+  writeImage(dir + "/render.png", film, rs, {});
+  writeDisplayImage(dir + "/tonemap.png", film, rs.tonemap, stats.logAverage(), {});
+  const std::vector<unsigned char> render = codes8(dir + "/render.png");
+  ASSERT_EQ(render.size(), 64u * 64u * 3u);
+  EXPECT_EQ(render, codes8(dir + "/tonemap.png"));
+  int clipped = 0;
+  for (unsigned char c : render) clipped += c == 255;
+  EXPECT_EQ(clipped, 0);
+  EXPECT_NEAR(render[3 * (25 * 64 + 32)], v * k * 255, 0.51);      // the grey
+  EXPECT_NEAR(render[3 * (32 * 64 + 42)], 2 * v * k * 255, 0.51);  // the bright corner
+  EXPECT_EQ(render[3 * (5 * 64 + 5)], 0);                          // the background
+}
+
+// A frame without black pixels maps exactly as Ward's statistic over every pixel did before
+// the black ones were left out: a synthetic gradient and a rendered Cornell box.
+TEST(ToneMap, WardOnAFrameWithoutBlackIsUnchanged) {
+  ToneMapSettings s;
+  s.op = "ward";
+  auto everyPixel = [&](const std::vector<Rgb>& img) {
+    double sum = 0;
+    for (const Rgb& c : img)
+      sum += std::log(kWardLogDelta + std::max(0.0, double(luminance(c)) * 100.0));
+    return std::exp(sum / double(img.size()));
+  };
+  std::vector<Rgb> gradient;
+  for (int i = 0; i < 256; ++i) gradient.push_back({0.01f * float(i + 1), 0.5f, 0.02f});
+  LogLuminanceStats g;
+  g.add(gradient, s);
+  EXPECT_EQ(g.dark, 0u);
+  EXPECT_NEAR(g.logAverage(), everyPixel(gradient), 1e-9 * everyPixel(gradient));
+
+  const test::Rendered box =
+      test::renderJson(test::cornellBoxJson(24, 4, 1, R"({"type": "path"})"));
+  LogLuminanceStats b;
+  b.add(box.film.color, s);
+  EXPECT_EQ(b.dark, 0u);
+  const double before = everyPixel(box.film.color);
+  EXPECT_NEAR(b.logAverage(), before, 1e-9 * before);
+  EXPECT_NEAR(toneMapScale(s, b.logAverage()), toneMapScale(s, before), 1e-9);
 }
 
 }  // namespace
