@@ -394,20 +394,20 @@ void addBenchAccelCommand(CLI::App& app) {
       ->check(CLI::IsMember(acceleratorNames()));
   cmd->add_option("--width", args->width, "image width in pixels")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(numberIn({.ge = 1}, true));
   cmd->add_option("--height", args->height, "image height in pixels")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(numberIn({.ge = 1}, true));
   cmd->add_option("--spp", args->spp, "camera rays per pixel")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(numberIn({.ge = 1}, true));
   cmd->add_option("--seed", args->seed, "sampler seed of the camera and occlusion rays")
       ->capture_default_str();
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(numberIn({.ge = 0}, true));
   cmd->add_option("--subsample", args->subsample,
                   "keep this many triangles, spread evenly over the mesh (build-time scaling)")
-      ->check(CLI::PositiveNumber);
+      ->check(numberIn({.ge = 1}, true));
   cmd->add_option("--json", args->json, "write the results as JSON");
   cmd->add_flag("-q,--quiet", args->quiet, "no progress messages on stderr");
   cmd->add_flag("--embree-high-quality", args->embreeHighQuality,

@@ -52,7 +52,9 @@ void SceneOverrides::addOptions(CLI::App* cmd) {
   cmd->add_option("--accel", accel, "acceleration structure")
       ->check(CLI::IsMember(acceleratorNames()));
   cmd->add_option("--camera", camera, "camera name");
-  cmd->add_option("--integrator", integrator, "light transport")
+  cmd->add_option("--integrator", integrator,
+                  "light transport (default auto: the path tracer for environments, area lights, "
+                  "emitters and rough metals, else Whitted)")
       ->check(CLI::IsMember(integratorNames()));
   cmd->add_option("--max-depth", maxDepth, "maximum bounces")->check(nonNegativeWhole);
   cmd->add_option("--light-sampler", lightSampler, "how next-event estimation picks a light")

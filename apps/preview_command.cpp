@@ -372,6 +372,8 @@ void runPreview(const PreviewArgs& args) {
   std::thread stopper([&] {
     while (!done && !interrupt.interrupted())
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    // The session first: it wakes the long polls, which the server waits for when it stops.
+    session.stop();
     server.stop();
   });
   server.listen_after_bind();

@@ -223,7 +223,23 @@ void PreviewSession::renderLoop() {
         } catch (const std::exception& e) {
           problem = e.what();
         }
-        for (const std::string& f : recorder.files())
+        std::vector<std::string> named = recorder.files();
+        if (!problem) {
+          // Texture files a sidecar names, and the external images of the glTF files (their
+          // URIs are relative to the glTF, which resolves them itself).
+          for (const TextureDesc& t : fresh->desc.textures)
+            if (!t.file.empty()) named.push_back(t.file);
+          std::vector<fs::path> gltfFolders{fs::path(options_.scene).parent_path()};
+          for (const std::string& f : recorder.files())
+            if (fs::path(f).extension() == ".gltf") gltfFolders.push_back(fs::path(f).parent_path());
+          for (const ImageDesc& image : fresh->desc.images)
+            for (const fs::path& folder : gltfFolders) {
+              std::error_code ec;
+              const fs::path p = folder / image.name;
+              if (!image.name.empty() && fs::is_regular_file(p, ec)) named.push_back(p.string());
+            }
+        }
+        for (const std::string& f : named)
           if (std::find(files.begin(), files.end(), f) == files.end()) {
             files.push_back(f);
             signature.merge(signatureOf({f}));

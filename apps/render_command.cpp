@@ -95,6 +95,9 @@ StopRule stopRuleFor(const RenderArgs& args, const SceneDescription& desc) {
   if (args.timeLimit) rule.timeLimit = parseDuration(*args.timeLimit);
   if (args.noiseTarget) rule.noiseTarget = *args.noiseTarget;
   rule.maxSpp = hasBudget(args) && !args.overrides.spp ? kNoSppCap : uint32_t(desc.render.spp);
+  // A budget needs small first passes to fit a short limit; a plain render passes every 16 spp
+  // (the widest packets), which keeps it interruptible.
+  rule.warmup = hasBudget(args);
   return rule;
 }
 
@@ -102,6 +105,7 @@ StopRule stopRuleFor(const RenderArgs& args, const SceneDescription& desc) {
 struct FrameRecord {
   int frame = 0;
   ProgressiveResult result;  // spp reached, why it stopped, estimated error
+  PixelWindow window;        // the pixels rendered (the whole frame, or --crop / --tile)
   uint32_t resumedSpp = 0;   // continued from an earlier output at this spp (0: fresh)
   double time = 0;
   double loadSeconds = 0;  // reading the scene files (single renders; 0 for sequences)
@@ -232,8 +236,8 @@ bool renderAndWrite(const RenderArgs& args, const SceneDescription& desc,
     options.threads = desc.render.threads;
     options.progress = tileProgress;
     // Arguments were checked in runRender; whether the window fits is known only now.
-    if (args.crop || args.tile)
-      options.crop = requestedWindow(args, scene.camera.width(), scene.camera.height());
+    record->window = requestedWindow(args, scene.camera.width(), scene.camera.height());
+    if (args.crop || args.tile) options.crop = record->window;
     film = renderUntil(scene, *integ, desc.render, options, rule, &record->stats, &record->result,
                        from ? &from->film : nullptr, from ? from->spp : 0);
   });
@@ -266,10 +270,20 @@ void printSummary(const std::vector<std::string>& outputs, const SceneDescriptio
   if (r.reason == StopReason::NoiseTarget) ended += ", noise target reached";
   if (r.reason == StopReason::Interrupted) ended += ", interrupted: --resume continues it";
   (void)desc;
-  std::fprintf(stderr,
-               "glint: wrote %s (%dx%d, %u spp, estimated error %.2g%%, %.2f s, %.1f Mrays/s%s%s)\n",
-               names.c_str(), scene.camera.width(), scene.camera.height(), r.spp, 100 * r.error,
-               stats.renderSeconds, mrays, dropped.c_str(), ended.c_str());
+  // A crop or tile says which pixels of which frame it holds.
+  const int w = scene.camera.width(), h = scene.camera.height();
+  const std::string size =
+      record.window == PixelWindow{0, 0, w, h}
+          ? fmt::format("{}x{}", w, h)
+          : fmt::format("{}x{} pixels {},{}..{},{} of the {}x{} frame", record.window.width(),
+                        record.window.height(), record.window.x0, record.window.y0,
+                        record.window.x1, record.window.y1, w, h);
+  // One sample per pixel has no variance: no estimate.
+  const std::string error =
+      r.error > 0 ? fmt::format(", estimated error {:.2g}%", 100 * r.error) : "";
+  std::fprintf(stderr, "glint: wrote %s (%s, %u spp%s, %.2f s, %.1f Mrays/s%s%s)\n",
+               names.c_str(), size.c_str(), r.spp, error.c_str(), stats.renderSeconds, mrays,
+               dropped.c_str(), ended.c_str());
 }
 
 // What --resume found for one frame's outputs.
@@ -493,6 +507,10 @@ void runRender(RenderArgs args) {
                          ": --crop and --tile write partial EXRs (the data window of the frame); "
                          "join them with `glint assemble`, then tone-map");
   }
+  if (args.overrides.aovs &&
+      std::none_of(outputs.begin(), outputs.end(), [](const std::string& o) { return isExrPath(o); }))
+    throw InputError("--aovs: the AOVs (albedo, normal, depth) go only into EXR output; add "
+                     "-o NAME.exr");
   checkOutputs(outputs);
   // Ctrl-C (or Slurm's SIGTERM) stops the render and writes what it has; a second one quits.
   InterruptGuard interrupt;
@@ -515,11 +533,13 @@ void addRenderCommand(CLI::App& app) {
   auto args = std::make_shared<RenderArgs>();
   CLI::App* cmd =
       app.add_subcommand("render", "render a scene to EXR (scene-linear) or PNG/JPEG/TIFF");
-  cmd->add_option("scene", args->scene, "a .gltf/.glb scene or a glint .json scene")->required();
+  cmd->add_option("scene", args->scene, "a .gltf/.glb scene, a .ply/.obj mesh or a glint .json scene")
+      ->required();
   cmd->add_option("-o,--output", args->outputs,
-                  "output image(s): .exr, .png, .jpg, .tif (repeat to write several)");
+                  "output image(s): .exr, .png, .jpg, .tif (repeat to write several; default "
+                  "SCENE_STEM.exr in the current folder, SCENE_STEM_####.exr with --frames)");
   cmd->add_option("--sidecar", args->sidecar,
-                  "sidecar JSON (default: NAME.glint.json beside the glTF)");
+                  "sidecar JSON (default: NAME.glint.json beside the glTF or mesh)");
   cmd->add_option("--stats", args->statsPath, "write render statistics as JSON");
   cmd->add_option("--frames", args->frames,
                   "render a sequence: frames A-B[:STEP] at time frame / fps; outputs need a '#' "

@@ -3,6 +3,8 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -118,6 +120,9 @@ struct ProgressiveRender::State {
   double threshold2;
   uint32_t minSpp;
   int tilesX = 0, tilesY = 0, threads = 1;
+  // More threads than TBB's default (the cores) are what the user asked for: allowed, rather
+  // than TBB's warning and one worker fewer than asked.
+  std::unique_ptr<tbb::global_control> allowThreads;
   std::unique_ptr<tbb::task_arena> arena;
 
   // Per pixel of the window, across passes.
@@ -182,6 +187,9 @@ ProgressiveRender::ProgressiveRender(const RenderScene& scene, const Integrator&
   st.tilesY = (window.height() + tile - 1) / tile;
   st.threads = options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency());
   if (st.threads <= 0) st.threads = 1;
+  if (st.threads > tbb::info::default_concurrency())
+    st.allowThreads = std::make_unique<tbb::global_control>(
+        tbb::global_control::max_allowed_parallelism, size_t(st.threads));
   st.arena = std::make_unique<tbb::task_arena>(st.threads);
   st.stats.threads = st.threads;
 }
@@ -363,9 +371,13 @@ void ProgressiveRender::State::updateFilm() {
 
 bool ProgressiveRender::renderPass(uint32_t cap, const std::atomic<bool>* cancel,
                                    const std::function<void(uint64_t)>& onTile) {
+  return renderTo(std::min(nextPassEnd(state_->spp), cap), cancel, onTile);
+}
+
+bool ProgressiveRender::renderTo(uint32_t end, const std::atomic<bool>* cancel,
+                                 const std::function<void(uint64_t)>& onTile) {
   State& st = *state_;
   if (st.broken) throw std::logic_error("ProgressiveRender: a dropped pass ended this render");
-  const uint32_t end = std::min(nextPassEnd(st.spp), cap);
   if (end <= st.spp) return true;
   tbb::enumerable_thread_specific<ThreadTally> tallies;
   const auto start = std::chrono::steady_clock::now();
@@ -435,7 +447,9 @@ Film renderUntil(const RenderScene& scene, const Integrator& integrator,
       reason = StopReason::NoiseTarget;
       break;
     }
-    const uint32_t next = std::min(nextPassEnd(pr.spp()), rule.maxSpp);
+    const uint32_t next =
+        std::min(rule.warmup ? nextPassEnd(pr.spp()) : (pr.spp() / kCameraBatch + 1) * kCameraBatch,
+                 rule.maxSpp);
     if (rule.timeLimit > 0 && pr.passes() > 0) {
       // The next pass at the last pass's rate per sample.
       const double predicted =
@@ -447,7 +461,7 @@ Film renderUntil(const RenderScene& scene, const Integrator& integrator,
     }
     const uint32_t before = pr.spp();
     const double passStart = elapsed();
-    if (!pr.renderPass(rule.maxSpp, rule.cancel, onTile)) {
+    if (!pr.renderTo(next, rule.cancel, onTile)) {
       reason = StopReason::Interrupted;
       break;
     }
@@ -493,9 +507,13 @@ Film renderUntil(const RenderScene& scene, const Integrator& integrator,
 
 Film render(const RenderScene& scene, const Integrator& integrator, const RenderSettings& settings,
             const RenderOptions& options, RenderStats* stats) {
-  StopRule rule;
-  rule.maxSpp = uint32_t(std::max(settings.spp, 1));
-  return renderUntil(scene, integrator, settings, options, rule, stats, nullptr);
+  ProgressiveRender pr(scene, integrator, settings, options);
+  const uint32_t spp = uint32_t(std::max(settings.spp, 1));
+  ProgressBar bar("rendering", uint64_t(spp) * pr.film().color.size(), options.progress);
+  pr.renderTo(spp, nullptr, [&](uint64_t samples) { bar.advance(samples); });
+  bar.finish();
+  if (stats) *stats = pr.stats();
+  return pr.takeFilm();
 }
 
 }  // namespace glint

@@ -59,8 +59,8 @@ struct RenderOptions {
 // film of that size at that origin), settings.spp samples per pixel. Each pixel's samples are
 // addressed by (pixel, sample, seed), so the result does not depend on thread count, tile
 // order or cropping. NaN/Inf samples never reach the film. Throws InputError for a crop
-// outside the image. The same passes as ProgressiveRender (below) up to settings.spp: a
-// progressive or budgeted render that reached N spp is this function's image at N spp.
+// outside the image. One pass of ProgressiveRender (below) to settings.spp: a progressive or
+// budgeted render that reached N spp is this function's image at N spp.
 Film render(const RenderScene& scene, const Integrator& integrator, const RenderSettings& settings,
             const RenderOptions& options, RenderStats* stats);
 
@@ -69,10 +69,11 @@ Film render(const RenderScene& scene, const Integrator& integrator, const Render
 // A render is a sequence of passes over the whole image. Pass boundaries are fixed: a pass
 // takes every pixel from one boundary to the next, 0 → 1 → 2 → 4 → 8 → 16 spp and then 16
 // more each (nextPassEnd), the last pass cut short at the render's spp. Each pixel keeps its
-// sums in double across passes in sample order, so the image after a pass is a pure function
-// of the scene, seed and spp reached: whatever the thread count, pass timing, or whether the
-// render ran in one go, stopped on a budget, or was continued (to float rounding, there: the
-// continued sums are rebuilt from the stored mean and variance).
+// sums in double across passes in sample order, and a pixel's camera rays go to the
+// accelerator in batches that never cross a multiple of 16, so the image after a pass is a
+// pure function of the scene, seed and spp reached: whatever the thread count, pass timing, or
+// whether the render ran in one go, stopped on a budget, or was continued (to float rounding,
+// there: the continued sums are rebuilt from the stored mean and variance).
 
 // The spp the pass after `done` completed spp ends at (before any cap).
 uint32_t nextPassEnd(uint32_t done);
@@ -92,6 +93,10 @@ double estimatedRelativeError(const Film& film);
 // rare bright paths). `cancel` (Ctrl-C) stops at once and drops the pass in flight.
 struct StopRule {
   uint32_t maxSpp = 16;
+  // The passes: the schedule from 1 spp (nextPassEnd; quick first images and time estimates,
+  // what budgets use), or false: every 16 from the start, the widest camera-ray packets, for a
+  // render that only needs to be interruptible. The images at a given spp are the same.
+  bool warmup = true;
   double timeLimit = 0;    // seconds of rendering; 0 = none
   double noiseTarget = 0;  // estimatedRelativeError; 0 = none
   const std::atomic<bool>* cancel = nullptr;
@@ -118,6 +123,12 @@ class ProgressiveRender {
   // the samples each finished tile took.
   bool renderPass(uint32_t cap, const std::atomic<bool>* cancel = nullptr,
                   const std::function<void(uint64_t)>& onTile = {});
+  // One pass from spp() to `end`, off the schedule: what render() does (its camera rays go to
+  // the accelerator 16 at a time from the first sample, the widest packets). The image does
+  // not depend on how samples are split into passes (tests PassSplits.*), so it is the
+  // schedule's image at `end`.
+  bool renderTo(uint32_t end, const std::atomic<bool>* cancel = nullptr,
+                const std::function<void(uint64_t)>& onTile = {});
 
   uint32_t spp() const;        // samples per pixel of the completed passes
   int passes() const;          // passes completed by this object (not counting a resume)

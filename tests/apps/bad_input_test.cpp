@@ -232,7 +232,7 @@ TEST(CliBadInput, UnknownOptionSuggestsTheOptionMeant) {
       {"--frobnicate", "unknown option --frobnicate (`glint --help` lists the options)"},
       {"",
        "a command is required: 'render', 'info', 'diff', 'bench-accel', 'tonemap', "
-       "'assemble' (`glint --help` says what each does)"},
+       "'assemble', 'preview' (`glint --help` says what each does)"},
   };
   for (const auto& [args, message] : cases) {
     test::CommandResult r = test::runGlint(args);

@@ -142,6 +142,32 @@ TEST(CliRender, QuietPrintsNothingAndNonTerminalGetsNoProgressBar) {
   EXPECT_NE(normal.err.find("wrote"), std::string::npos) << normal.err;
 }
 
+// --aovs with only display outputs would be lost work: refused, saying where AOVs go.
+TEST(CliRender, AovsWithoutAnExrOutputAreRefused) {
+  std::string dir = test::scratchDir("cli_aovs_png");
+  test::CommandResult r =
+      test::runGlint("render " + lambertPlane() + " --aovs --spp 1 -o " + dir + "/a.png");
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("--aovs: the AOVs (albedo, normal, depth) go only into EXR output"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir + "/a.png"));
+}
+
+// A crop's summary says which pixels of which frame it holds; --threads above the core count
+// prints nothing but that summary (no warning from the thread library).
+TEST(CliRender, ACropSaysItsSizeAndManyThreadsWarnNothing) {
+  std::string dir = test::scratchDir("cli_crop_size");
+  test::CommandResult r = test::runGlint("render " + lambertPlane() +
+                                         " --width 40 --height 30 --spp 1 --threads 64 "
+                                         "--crop 4,2,20,12 -o " + dir + "/c.exr");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.err.find("(16x10 pixels 4,2..20,12 of the 40x30 frame, 1 spp"), std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
 TEST(CliInfo, ListsContentsAndEffects) {
   test::CommandResult r = test::runGlint("info " + lambertPlane());
   ASSERT_EQ(r.exitCode, 0) << r.err;
