@@ -150,6 +150,18 @@ std::string cornellBoxJson(int size, int spp, uint64_t seed, const std::string& 
       {"type": "sphere", "center": [0.45, 0.35, -0.3], "radius": 0.35, "material": "white"}]})";
 }
 
+std::string litBallJson(int width, int height) {
+  return R"({
+  "render": {"width": )" + std::to_string(width) + R"(, "height": )" + std::to_string(height) +
+         R"(, "camera": "c", "integrator": {"type": "path"},
+             "background": [0.2, 0.3, 0.4]},
+  "cameras": [{"name": "c", "position": [0, 0, 4], "look_at": [0, 0, 0], "yfov_degrees": 30}],
+  "lights": [{"type": "quad", "corner": [-0.5, 2, -0.5], "edge_u": [1, 0, 0],
+              "edge_v": [0, 0, 1], "intensity": 8}],
+  "materials": [{"name": "clay", "type": "lambert", "diffuse": [0.7, 0.5, 0.4]}],
+  "objects": [{"type": "sphere", "center": [0, 0, 0], "radius": 0.7, "material": "clay"}]})";
+}
+
 Film constantFilm(int w, int h, Rgb c, bool aovs) {
   Film film(w, h, aovs);
   for (size_t i = 0; i < film.color.size(); ++i) {

@@ -37,6 +37,10 @@ void useUniformEnvironment(RenderScene* scene, Rgb L);
 std::string cornellBoxJson(int size, int spp, uint64_t seed, const std::string& integrator,
                            bool pointLight = false);
 
+// A glint JSON scene: a Lambert ball under a quad light, path-traced, in front of a constant
+// background (the background's samples all agree, the ball's do not), width x height pixels.
+std::string litBallJson(int width, int height);
+
 // Folder of the project's own test data (tests/data).
 std::string dataDir();
 // The shared asset folder: $GLINT_ASSETS, else the CMake setting (../shared/assets).

@@ -17,14 +17,7 @@ namespace {
 
 // A Lambert ball under a quad light, path-traced, in front of a constant background: the
 // background's samples all agree, the ball's do not.
-const char* kScene = R"({
-  "render": {"width": 24, "height": 24, "camera": "c", "integrator": {"type": "path"},
-             "background": [0.2, 0.3, 0.4]},
-  "cameras": [{"name": "c", "position": [0, 0, 4], "look_at": [0, 0, 0], "yfov_degrees": 30}],
-  "lights": [{"type": "quad", "corner": [-0.5, 2, -0.5], "edge_u": [1, 0, 0],
-              "edge_v": [0, 0, 1], "intensity": 8}],
-  "materials": [{"name": "clay", "type": "lambert", "diffuse": [0.7, 0.5, 0.4]}],
-  "objects": [{"type": "sphere", "center": [0, 0, 0], "radius": 0.7, "material": "clay"}]})";
+const std::string kScene = test::litBallJson(24, 24);
 
 struct Setup {
   SceneDescription desc;
