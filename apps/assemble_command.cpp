@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -34,12 +35,14 @@ void assembleExr(const std::vector<std::string>& pieces, const std::string& outp
   Image whole;
   std::vector<uint8_t> covered;
   double seconds = 0;
+  bool interrupted = false;
   int nch = 0;
   for (const std::string& path : pieces) {
     const Image piece = readImage(path);
     if (piece.fullX != 0 || piece.fullY != 0 || piece.fullWidth <= 0 || piece.fullHeight <= 0)
       throw ImageReadError(fmt::format("{}: its display window does not start at 0,0", path));
     seconds += piece.meta.renderSeconds;
+    interrupted = interrupted || piece.meta.stop == "interrupted";
     if (covered.empty()) {
       whole = piece;  // the first piece's channels, storage and metadata
       whole.x = whole.y = 0;
@@ -88,6 +91,22 @@ void assembleExr(const std::vector<std::string>& pieces, const std::string& outp
                     first % size_t(whole.width), first / size_t(whole.width)));
   }
   whole.meta.renderSeconds = seconds;
+  if (interrupted) whole.meta.stop = "interrupted";
+  // The frame's estimated error (renderer/render.h estimatedRelativeError), not the first
+  // piece's: from its mean and variance channels.
+  const int c[3] = {whole.channel("R"), whole.channel("G"), whole.channel("B")};
+  const int v[3] = {whole.channel("variance.R"), whole.channel("variance.G"),
+                    whole.channel("variance.B")};
+  if (!whole.meta.stop.empty() && c[0] >= 0 && c[1] >= 0 && c[2] >= 0 && v[0] >= 0 && v[1] >= 0 &&
+      v[2] >= 0) {
+    double sum = 0;
+    for (size_t i = 0; i < covered.size(); ++i)
+      for (int k = 0; k < 3; ++k) {
+        const double mean = whole.pixels[i * size_t(nch) + size_t(c[k])];
+        sum += whole.pixels[i * size_t(nch) + size_t(v[k])] / (mean * mean + 0.01);
+      }
+    whole.meta.error = std::sqrt(sum / (3.0 * double(covered.size())));
+  }
   // Read back as float, every value is exactly what the pieces stored: the writer's checksum is
   // that of the frame rendered whole.
   writeImageFile(output, std::move(whole));

@@ -154,7 +154,12 @@ nlohmann::json sceneJson(const RenderArgs& args, const SceneDescription& desc,
   j["camera"] = scene.cameraName;
   j["width"] = scene.camera.width();
   j["height"] = scene.camera.height();
-  j["spp"] = desc.render.spp;
+  // The spp asked for; with a budget and no --spp there is no cap (spp_reached says where the
+  // render stopped).
+  j["spp"] = hasBudget(args) && !args.overrides.spp ? nlohmann::json(nullptr)
+                                                    : nlohmann::json(desc.render.spp);
+  if (args.timeLimit) j["time_limit_seconds"] = parseDuration(*args.timeLimit);
+  if (args.noiseTarget) j["noise_target"] = *args.noiseTarget;
   if (desc.render.adaptive.threshold > 0)
     j["adaptive"] = {{"threshold", desc.render.adaptive.threshold},
                      {"min_spp", desc.render.adaptive.minSpp}};

@@ -76,6 +76,8 @@ TEST(CliBudget, ANoiseTargetRenderIsReproducibleFromTheSppItReports) {
   EXPECT_EQ(stats["spp_reached"], budget.meta.spp);
   EXPECT_EQ(stats["stop"], "noise-target");
   EXPECT_DOUBLE_EQ(stats["estimated_error"].get<double>(), budget.error);
+  EXPECT_TRUE(stats["spp"].is_null());  // no --spp: no cap
+  EXPECT_EQ(stats["noise_target"], 0.08);
 
   r = test::runGlint("render " + scene + " --spp " + std::to_string(budget.meta.spp) +
                      " --threads 1 --quiet -o " + dir + "/s.exr");

@@ -91,6 +91,13 @@ TEST(Tiles, AssembledTilesEqualTheWholeFrameBitForBit) {
   EXPECT_EQ(assembled.spec.get_string_attribute("glint:checksum"),
             whole.spec.get_string_attribute("glint:checksum"));
   EXPECT_EQ(assembled.spec.get_string_attribute("glint:checksum").size(), 16u);
+  // The frame's estimated error, not the first tile's.
+  const auto error = [](const Pixels& p) {
+    const OIIO::ParamValue* e = p.spec.find_attribute("glint:error", OIIO::TypeDesc::DOUBLE);
+    return e ? e->get<double>() : -1.0;
+  };
+  EXPECT_GT(error(whole), 0);
+  EXPECT_DOUBLE_EQ(error(assembled), error(whole));
 }
 
 TEST(Tiles, ACropIsThatPartOfTheWholeFrame) {
