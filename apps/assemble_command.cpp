@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -13,6 +12,7 @@
 #include "apps/commands.h"
 #include "apps/frames.h"
 #include "image/io.h"
+#include "renderer/render.h"
 
 namespace glint::app {
 
@@ -92,20 +92,19 @@ void assembleExr(const std::vector<std::string>& pieces, const std::string& outp
   }
   whole.meta.renderSeconds = seconds;
   if (interrupted) whole.meta.stop = "interrupted";
-  // The frame's estimated error (renderer/render.h estimatedRelativeError), not the first
-  // piece's: from its mean and variance channels.
+  // The frame's estimated error, not the first piece's: from its mean and variance channels.
   const int c[3] = {whole.channel("R"), whole.channel("G"), whole.channel("B")};
   const int v[3] = {whole.channel("variance.R"), whole.channel("variance.G"),
                     whole.channel("variance.B")};
-  if (!whole.meta.stop.empty() && c[0] >= 0 && c[1] >= 0 && c[2] >= 0 && v[0] >= 0 && v[1] >= 0 &&
-      v[2] >= 0) {
-    double sum = 0;
-    for (size_t i = 0; i < covered.size(); ++i)
-      for (int k = 0; k < 3; ++k) {
-        const double mean = whole.pixels[i * size_t(nch) + size_t(c[k])];
-        sum += whole.pixels[i * size_t(nch) + size_t(v[k])] / (mean * mean + 0.01);
-      }
-    whole.meta.error = std::sqrt(sum / (3.0 * double(covered.size())));
+  if (!whole.meta.stop.empty() && std::min({c[0], c[1], c[2], v[0], v[1], v[2]}) >= 0) {
+    Film frame(whole.width, whole.height, false);
+    frame.samples.assign(frame.samples.size(), uint32_t(std::max(0, whole.meta.spp)));
+    for (size_t i = 0; i < covered.size(); ++i) {
+      const float* p = &whole.pixels[i * size_t(nch)];
+      frame.color[i] = Rgb{p[c[0]], p[c[1]], p[c[2]]};
+      frame.variance[i] = Rgb{p[v[0]], p[v[1]], p[v[2]]};
+    }
+    whole.meta.error = estimatedRelativeError(frame);
   }
   // Read back as float, every value is exactly what the pieces stored: the writer's checksum is
   // that of the frame rendered whole.

@@ -39,6 +39,7 @@ struct RenderArgs {
   std::optional<std::string> crop;  // "X0,Y0,X1,Y1"
   std::optional<std::string> tile;  // "I/N"
   std::optional<std::string> timeLimit;  // "30s", "2m", "1h30m", "90"
+  double timeLimitSeconds = 0;           // parsed by runRender
   std::optional<double> noiseTarget;     // estimated relative error
   SceneOverrides overrides;
   bool quiet = false;
@@ -92,7 +93,7 @@ bool hasBudget(const RenderArgs& args) { return args.timeLimit || args.noiseTarg
 StopRule stopRuleFor(const RenderArgs& args, const SceneDescription& desc) {
   StopRule rule;
   rule.cancel = args.cancel;
-  if (args.timeLimit) rule.timeLimit = parseDuration(*args.timeLimit);
+  rule.timeLimit = args.timeLimitSeconds;
   if (args.noiseTarget) rule.noiseTarget = *args.noiseTarget;
   rule.maxSpp = hasBudget(args) && !args.overrides.spp ? kNoSppCap : uint32_t(desc.render.spp);
   // A budget needs small first passes to fit a short limit; a plain render passes every 16 spp
@@ -158,7 +159,7 @@ nlohmann::json sceneJson(const RenderArgs& args, const SceneDescription& desc,
   // render stopped).
   j["spp"] = hasBudget(args) && !args.overrides.spp ? nlohmann::json(nullptr)
                                                     : nlohmann::json(desc.render.spp);
-  if (args.timeLimit) j["time_limit_seconds"] = parseDuration(*args.timeLimit);
+  if (args.timeLimit) j["time_limit_seconds"] = args.timeLimitSeconds;
   if (args.noiseTarget) j["noise_target"] = *args.noiseTarget;
   if (desc.render.adaptive.threshold > 0)
     j["adaptive"] = {{"threshold", desc.render.adaptive.threshold},
@@ -497,7 +498,7 @@ void runRender(RenderArgs args) {
     throw InputError("--time and --frames exclude each other (frame f is at time f / fps)");
   if (args.listMissing && !args.frames)
     throw InputError("--list-missing applies to a sequence (--frames A-B; one frame: --frames F-F)");
-  if (args.timeLimit) parseDuration(*args.timeLimit);
+  if (args.timeLimit) args.timeLimitSeconds = parseDuration(*args.timeLimit);
   if (args.noiseTarget && !(*args.noiseTarget > 0 && *args.noiseTarget < 1))
     throw InputError("--noise-target: must be > 0 and < 1 (a relative error: 0.01 is 1%)");
   if (args.crop || args.tile) {

@@ -337,9 +337,7 @@ void ProgressiveRender::State::renderTile(int tileIndex, uint32_t passEnd,
 
 void ProgressiveRender::State::updateFilm() {
   const size_t n = taken.size();
-  double errorSum = 0;
   uint64_t samplesTotal = 0;
-  bool enough = true;
   for (size_t i = 0; i < n; ++i) {
     const uint32_t k = taken[i];
     samplesTotal += k;
@@ -347,7 +345,6 @@ void ProgressiveRender::State::updateFilm() {
     if (k == 0) {
       film.color[i] = film.variance[i] = Rgb{};
       film.alpha[i] = 0;
-      enough = false;
       continue;
     }
     const PixelMoments& m = moments[i];
@@ -359,13 +356,8 @@ void ProgressiveRender::State::updateFilm() {
       film.normal[i] = normal[i] / float(k);
       film.depth[i] = hits[i] > 0 ? float(depth[i] / hits[i]) : 0.0f;
     }
-    if (k < 2) enough = false;
-    for (int c = 0; c < 3; ++c) {
-      const double mean = film.color[i][c];
-      errorSum += double(film.variance[i][c]) / (mean * mean + 0.01);
-    }
   }
-  error = enough && n > 0 ? std::sqrt(errorSum / (3.0 * double(n))) : 0.0;
+  error = estimatedRelativeError(film);
   stats.meanSpp = n ? double(samplesTotal) / double(n) : 0.0;
 }
 
