@@ -258,8 +258,8 @@ bool renderAndWrite(const RenderArgs& args, const SceneDescription& desc,
   return true;
 }
 
-void printSummary(const std::vector<std::string>& outputs, const SceneDescription& desc,
-                  const RenderScene& scene, const FrameRecord& record) {
+void printSummary(const std::vector<std::string>& outputs, const RenderScene& scene,
+                  const FrameRecord& record) {
   const RenderStats& stats = record.stats;
   double mrays =
       stats.renderSeconds > 0 ? double(stats.rays.total()) / stats.renderSeconds * 1e-6 : 0;
@@ -275,7 +275,6 @@ void printSummary(const std::vector<std::string>& outputs, const SceneDescriptio
   if (r.reason == StopReason::TimeLimit) ended += ", time limit reached";
   if (r.reason == StopReason::NoiseTarget) ended += ", noise target reached";
   if (r.reason == StopReason::Interrupted) ended += ", interrupted: --resume continues it";
-  (void)desc;
   // A crop or tile says which pixels of which frame it holds.
   const int w = scene.camera.width(), h = scene.camera.height();
   const std::string size =
@@ -378,7 +377,7 @@ void runSingle(const RenderArgs& args, const std::vector<std::string>& outputs) 
       j.update(frameJson(record));
       return j.dump(2) + "\n";
     }());
-  if (!args.quiet) printSummary(outputs, desc, scene, record);
+  if (!args.quiet) printSummary(outputs, scene, record);
 }
 
 // A sequence: frame f at time f / fps, one set of outputs per frame from the '#' patterns.
@@ -459,7 +458,7 @@ void runSequence(const RenderArgs& args, const std::vector<std::string>& pattern
     records.push_back(record);
     progress.advance();
     if (!args.quiet && (!terminal || record.result.reason == StopReason::Interrupted))
-      printSummary(outputs, desc, scene, record);
+      printSummary(outputs, scene, record);
     if (record.result.reason == StopReason::Interrupted) break;  // the rest: --resume
   }
   progress.finish();

@@ -71,6 +71,13 @@ class Preview {
     if (!r || r->status != 200) return json();
     return json::parse(r->body);
   }
+  // Waits for the first load's render to finish at `spp`. (Before the first load the state
+  // says rendering: false too, at generation 0: waiting on that alone races the load.)
+  json waitFinished(int spp) const {
+    return waitFor([spp](const json& s) {
+      return s["generation"].get<int>() >= 1 && s["spp"] == spp && s["rendering"] == false;
+    });
+  }
   // Polls the state until `done` holds (or 30 s pass); returns the last state.
   template <class F>
   json waitFor(F done) const {
@@ -88,6 +95,13 @@ class Preview {
   int pid_ = -1;
   int port_ = 0;
 };
+
+// Replaces `path` whole (a temporary file renamed over it, as many editors save), so the
+// watcher never sees it half written.
+void saveAs(const std::string& path, const std::string& text) {
+  std::ofstream(path + ".tmp") << text;
+  fs::rename(path + ".tmp", path);
+}
 
 bool isPng(const std::string& body) { return body.rfind("\x89PNG\r\n\x1a\n", 0) == 0; }
 
@@ -153,7 +167,7 @@ TEST(PreviewServer, EditsRestartAndABadEditIsShownAndKeepsTheImage) {
   const std::string dir = test::scratchDir("PreviewServer.Edits");
   Preview p(dir, "--spp 16");
   ASSERT_GT(p.port(), 0);
-  json s = p.waitFor([](const json& s) { return s["rendering"] == false; });
+  json s = p.waitFinished(16);
   const int generation = s["generation"];
   std::string text = test::slurp(p.scene());
   // The red wall turns blue.
@@ -161,7 +175,7 @@ TEST(PreviewServer, EditsRestartAndABadEditIsShownAndKeepsTheImage) {
                                         R"("diffuse": [0.1, 0.12, 0.7])");
   ASSERT_NE(blue, text);
   std::this_thread::sleep_for(1100ms);  // a new modification time even on coarse clocks
-  std::ofstream(p.scene()) << blue;
+  saveAs(p.scene(), blue);
   s = p.waitFor([&](const json& s) {
     return s["generation"].get<int>() > generation && s["rendering"] == false;
   });
@@ -172,8 +186,7 @@ TEST(PreviewServer, EditsRestartAndABadEditIsShownAndKeepsTheImage) {
   const auto image = [&] { return p.client().Get("/api/image")->body; };
   const std::string good = image();
   std::this_thread::sleep_for(1100ms);
-  std::ofstream(p.scene()) << std::regex_replace(blue, std::regex(R"("radius": 0.35)"),
-                                                 R"("radius": -1)");
+  saveAs(p.scene(), std::regex_replace(blue, std::regex(R"("radius": 0.35)"), R"("radius": -1)"));
   s = p.waitFor([](const json& s) { return !s["problem"].is_null(); });
   ASSERT_TRUE(s["problem"].is_string());
   EXPECT_EQ(s["problem"], p.scene() + ": /objects/7/radius: must be > 0");
@@ -181,7 +194,7 @@ TEST(PreviewServer, EditsRestartAndABadEditIsShownAndKeepsTheImage) {
 
   const int broken = s["generation"];
   std::this_thread::sleep_for(1100ms);
-  std::ofstream(p.scene()) << blue;
+  saveAs(p.scene(), blue);
   s = p.waitFor([&](const json& s) {
     return s["problem"].is_null() && s["generation"].get<int>() > broken;
   });
@@ -192,7 +205,7 @@ TEST(PreviewServer, TheCameraFollowsThePageAndPrintsAsASidecarBlock) {
   const std::string dir = test::scratchDir("PreviewServer.Camera");
   Preview p(dir, "--spp 8");
   ASSERT_GT(p.port(), 0);
-  json s = p.waitFor([](const json& s) { return s["rendering"] == false; });
+  json s = p.waitFinished(8);
   const int generation = s["generation"];
   auto r = p.client().Post("/api/camera",
                            R"({"position": [0, 1.5, 0.9], "look_at": [0, 0.5, -1],
@@ -294,7 +307,7 @@ TEST(PreviewServer, ConcurrentClientsAndAClosedTab) {
   for (std::thread& t : clients) t.join();
   EXPECT_EQ(good, 80);
   EXPECT_EQ(bad, 0);
-  json s = p.waitFor([](const json& s) { return s["rendering"] == false; });
+  json s = p.waitFinished(64);
   EXPECT_EQ(s["spp"], 64);  // the render went on
   EXPECT_EQ(p.stop(), 0);
 }
