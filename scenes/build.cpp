@@ -854,8 +854,13 @@ bool buildLights(const SceneDescription& desc, const ShutterTimes& shutter, Text
   addLights(desc, shutter, &textures, scene);
   if (desc.environment) scene->lights.push_back(makeEnvironmentLight(*desc.environment));
   // Emitting surfaces do not count: a glowing visor must not leave the rest of a helmet black.
+  // A scene of unlit (eyelight) surfaces and no media has nothing a light could reach.
+  const bool lightReachesSomething =
+      !desc.media.empty() ||
+      std::any_of(scene->materials.begin(), scene->materials.end(),
+                  [](const auto& m) { return (m->flags() & kBsdfUnlit) == 0; });
   const bool defaultLight = scene->lights.empty() && desc.render.defaultLight &&
-                            maxComponent(desc.render.background) <= 0;
+                            maxComponent(desc.render.background) <= 0 && lightReachesSomething;
   if (defaultLight) {
     EnvironmentDesc studio;
     studio.studio = true;
