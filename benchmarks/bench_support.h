@@ -4,6 +4,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include <time.h>
+
 #include <cstring>
 #include <map>
 #include <string>
@@ -26,6 +28,14 @@ inline std::string initialize(int argc, char** argv) {
   int n = int(args.size());
   benchmark::Initialize(&n, args.data());
   return out;
+}
+
+// CPU seconds used by the whole process so far, every thread. Rates per CPU second hold on a
+// machine busy with other work, where wall-clock rates fall with the share of cores left.
+inline double processCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
 }
 
 // Prints like the console reporter and keeps the counters of every measured (iteration) run by

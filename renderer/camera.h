@@ -91,6 +91,12 @@ class Camera {
   // one test, for loops that decide once per image (the render loop's plain path).
   bool isStaticPinhole() const { return pinhole_; }
   [[gnu::always_inline]] Ray pinholeRay(Vec2f pFilm, float time) const;
+  // pinholeRay at time 0 for n <= kMaxRayBatch film points (filmX[i], filmY[i]), written lane
+  // by lane so the compiler computes the rays' lengths several at a time: one square root and
+  // one division per ray, in sequence, were a fifth of the render loop's own time on the
+  // cheapest scenes. Same rays as pinholeRay up to the rounding of the reciprocal.
+  static constexpr int kMaxRayBatch = 16;
+  void pinholeRays(const float* filmX, const float* filmY, int n, Ray* out) const;
 
   Projection projection() const { return projection_; }
   // Placement at shutter open (time 0).

@@ -63,6 +63,7 @@ struct PixelMoments {
 
 // Camera rays handed to the accelerator together: Embree's widest packet.
 constexpr uint32_t kCameraBatch = 16;
+static_assert(kCameraBatch <= uint32_t(Camera::kMaxRayBatch), "a batch is one pinholeRays call");
 
 }  // namespace
 
@@ -280,11 +281,12 @@ void ProgressiveRender::State::renderTile(int tileIndex, uint32_t passEnd,
         uint32_t fx[kCameraBatch], fy[kCameraBatch];
         sample2DFractionBatch(first, n, filmSeeds, fx, fy);
         if (plain) {
+          float filmX[kCameraBatch], filmY[kCameraBatch];
           for (uint32_t i = 0; i < n; ++i) {
             Vec2f offset = filter.sampleOffsetFraction({fx[i], fy[i]});
-            rays[i] = scene.camera.pinholeRay(
-                {float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y}, 0.0f);
+            filmX[i] = float(x) + 0.5f + offset.x, filmY[i] = float(y) + 0.5f + offset.y;
           }
+          scene.camera.pinholeRays(filmX, filmY, int(n), rays);
         } else {
           uint32_t lx[kCameraBatch], ly[kCameraBatch];
           if (lens) sample2DFractionBatch(first, n, lensSeeds, lx, ly);

@@ -33,7 +33,7 @@ Rgb WhittedIntegrator::trace(const Ray& ray, const RayCone& cone, int depth, Sam
 
 Rgb WhittedIntegrator::shade(const Ray& ray, const Hit* found, const RayCone& cone, int depth,
                              Sampler& sampler, RayCounters& counters, PathAovs* aovs) const {
-  if (!found) return scene_.escaped(normalize(ray.d));
+  if (!found) return scene_.escapedAlong(ray.d);
   const Hit& hit = *found;
   const uint32_t materialIndex = scene_.materialIndex(hit);
   const Material& material = *scene_.materials[materialIndex];

@@ -68,6 +68,33 @@ std::vector<Vec2f> someLensSamples() {
   return v;
 }
 
+// The render loop's batch of pinhole rays is the one-ray path, vectorised: the same bits.
+TEST(Camera, PinholeRayBatchEqualsOneRayAtATime) {
+  const Transform placement = Transform::lookAt({0.3f, -2, 7}, {1, 0.5f, -1}, {0, 1, 0.2f});
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> film(-2.0f, 642.0f);
+  const Camera cameras[] = {Camera::perspective(placement, 0.9f, 640, 480, 0, kInfinity),
+                            Camera::perspective(placement, 0.4f, 640, 480, 0.25f, 30.0f),
+                            Camera::orthographic(placement, 3.0f, 640, 480, 0.5f, 12.0f)};
+  for (const Camera& camera : cameras)
+    for (int n = 1; n <= Camera::kMaxRayBatch; ++n) {
+      float x[Camera::kMaxRayBatch], y[Camera::kMaxRayBatch];
+      for (int i = 0; i < n; ++i) x[i] = film(rng), y[i] = film(rng) * 0.75f;
+      Ray batch[Camera::kMaxRayBatch];
+      camera.pinholeRays(x, y, n, batch);
+      for (int i = 0; i < n; ++i) {
+        const Ray one = camera.pinholeRay({x[i], y[i]}, 0.0f);
+        for (int k = 0; k < 3; ++k) {
+          EXPECT_EQ(batch[i].o[k], one.o[k]);
+          EXPECT_EQ(batch[i].d[k], one.d[k]);
+        }
+        EXPECT_EQ(batch[i].tMin, one.tMin);
+        EXPECT_EQ(batch[i].tMax, one.tMax);
+        EXPECT_EQ(batch[i].time, 0.0f);
+      }
+    }
+}
+
 TEST(Camera, ZeroApertureGivesThePinholeRayBitForBit) {
   Transform xf = Transform::lookAt({1, 2, 3}, {0, 0.5f, -1}, {0, 1, 0});
   for (bool ortho : {false, true}) {
