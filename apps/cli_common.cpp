@@ -63,6 +63,10 @@ void SceneOverrides::addOptions(CLI::App* cmd) {
                   "adaptive sampling: a pixel stops once its relative standard error is below "
                   "this (0 = off; --spp is then the most a pixel takes)")
       ->check(nonNegative);
+  cmd->add_option("--adaptive-min-spp", adaptiveMinSpp,
+                  "samples every pixel takes before --adaptive may stop it (default 32; 4 suits "
+                  "Whitted scenes, whose only noise is edges)")
+      ->check(numberIn({.ge = 2}, true));
   cmd->add_option("--env", env,
                   "environment light: 'studio' (the built-in default) or an equirectangular "
                   ".exr/.hdr file; replaces the scene's");
@@ -123,6 +127,7 @@ void SceneOverrides::apply(SceneDescription* desc) const {
   if (maxDepth) r.integrator.maxDepth = *maxDepth;
   if (lightSampler) r.integrator.lightSampler = *lightSampler;
   if (adaptive) r.adaptive.threshold = *adaptive;
+  if (adaptiveMinSpp) r.adaptive.minSpp = *adaptiveMinSpp;
   if (aovs) r.aovs = true;
   if (noDefaultLight) r.defaultLight = false;
   if (shutter) r.shutter = parseShutter(*shutter);

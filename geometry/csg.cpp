@@ -63,10 +63,12 @@ bool degenerate(const Span& s) {
   return std::abs(s.exit.t - s.enter.t) <= s.enter.tError + s.exit.tError;
 }
 
-// True when the ray's whole line (every real t) certainly misses the box. Conservative: the
-// slab distances are widened by their rounding error (pbrt-v4's gamma(3) idea), so a line that
-// grazes the box is never culled. Unbounded boxes are never culled.
-bool lineMissesBox(const Ray& ray, const Bounds3f& b) {
+// True when the part of the ray's line with t in [tLo, tHi] certainly misses the box (the whole
+// line: tLo = -inf, tHi = inf). Conservative: the slab distances are widened by their rounding
+// error (pbrt-v4's gamma(3) idea), so a line that grazes the box is never culled. Unbounded
+// boxes are never culled.
+// invD holds 1 / ray.d per axis (computed once per query, not once per node).
+bool segmentMissesBox(const Ray& ray, Vec3f invD, const Bounds3f& b, float tLo, float tHi) {
   if (isUnbounded(b) || b.empty()) return b.empty();
   float tNear = -kInfinity, tFar = kInfinity;
   for (int i = 0; i < 3; ++i) {
@@ -74,7 +76,7 @@ bool lineMissesBox(const Ray& ray, const Bounds3f& b) {
       if (ray.o[i] < b.lower[i] || ray.o[i] > b.upper[i]) return true;
       continue;
     }
-    float inv = 1 / ray.d[i];
+    const float inv = invD[i];
     float t0 = (b.lower[i] - ray.o[i]) * inv, t1 = (b.upper[i] - ray.o[i]) * inv;
     if (t0 > t1) std::swap(t0, t1);
     constexpr float w = 2 * gamma(3);
@@ -83,7 +85,25 @@ bool lineMissesBox(const Ray& ray, const Bounds3f& b) {
     tNear = std::max(tNear, t0);
     tFar = std::min(tFar, t1);
   }
-  return tNear > tFar;
+  return tNear > tFar || tFar < tLo || tNear > tHi;
+}
+
+// The stretch of the line a query must get right: the ray's [tMin, tMax], widened by far more
+// than any crossing's error and tie width (a thousandth of the larger |t|, and of the root
+// box's extent along the line). A subtree whose box misses it can only add crossings outside
+// it, which no hit in [tMin, tMax] depends on: the operators act point by point along the line,
+// ties join crossings within their widths, and a sliver dropped at the root is shorter than a
+// width. So such a subtree is culled like one the whole line misses; for shadow rays, which
+// end at the light, and closest-hit queries Embree has already shortened, that is most of the
+// tree. Spans are still whole-line spans wherever the window reaches.
+std::pair<float, float> queryWindow(const Ray& ray, const Bounds3f& root) {
+  if (isUnbounded(root) || root.empty()) return {-kInfinity, kInfinity};
+  const float extent = length(root.upper - root.lower) / std::max(length(ray.d), 1e-30f);
+  auto widen = [&](float t, float sign) {
+    if (std::isinf(t)) return t;
+    return t + sign * 1e-3f * (std::abs(t) + extent);
+  };
+  return {widen(ray.tMin, -1), widen(ray.tMax, 1)};
 }
 
 }  // namespace
@@ -211,9 +231,10 @@ Bounds3f CsgShape::nodeBounds(uint32_t node) const {
 size_t CsgShape::evaluate(uint32_t node, const Ray& ray, Scratch& scratch) const {
   std::vector<Span>& out = scratch.spans;
   const Node& n = nodes_[node];
-  // A subtree whose box the line misses contributes no spans (for a difference's first child
-  // or an intersection's child that empties the whole node).
-  if (lineMissesBox(ray, nodeBounds_[node])) return 0;
+  // A subtree whose box the query's window misses contributes no spans (for a difference's
+  // first child or an intersection's child that empties the whole node).
+  if (segmentMissesBox(ray, scratch.invD, nodeBounds_[node], scratch.tLo, scratch.tHi))
+    return 0;
   if (n.leaf != kNone) {
     Span s;
     const Leaf& leaf = leaves_[n.leaf];
@@ -261,9 +282,11 @@ size_t CsgShape::evaluate(uint32_t node, const Ray& ray, Scratch& scratch) const
   return count;
 }
 
-size_t CsgShape::evaluateRoot(const Ray& ray, Scratch& scratch) const {
+size_t CsgShape::evaluateRoot(const Ray& ray, float tLo, float tHi, Scratch& scratch) const {
   scratch.spans.clear();
   scratch.leafCrossings.clear();
+  scratch.tLo = tLo, scratch.tHi = tHi;
+  for (int i = 0; i < 3; ++i) scratch.invD[i] = ray.d[i] != 0 ? 1 / ray.d[i] : 0.0f;
   if (root_ == kNone) return 0;
   const size_t n = evaluate(root_, ray, scratch);
   // Where a ray passes within a leaf's tolerance of an edge, the operators may resolve a
@@ -290,14 +313,15 @@ size_t CsgShape::evaluateRoot(const Ray& ray, Scratch& scratch) const {
 
 std::vector<Span> CsgShape::spans(const Ray& ray) const {
   Scratch scratch;
-  evaluateRoot(ray, scratch);
+  evaluateRoot(ray, -kInfinity, kInfinity, scratch);
   return scratch.spans;
 }
 
 bool CsgShape::intersect(const Ray& ray, ShapeHit* hit) const {
   // Per-thread storage: after the first few rays no query allocates.
   thread_local Scratch scratch;
-  const size_t n = evaluateRoot(ray, scratch);
+  const auto [tLo, tHi] = queryWindow(ray, bounds_);
+  const size_t n = evaluateRoot(ray, tLo, tHi, scratch);
   for (size_t k = 0; k < 2 * n; ++k) {
     const Crossing& c = crossingAt(scratch.spans.data(), k);
     if (c.t > ray.tMax) return false;

@@ -87,16 +87,19 @@ class CsgShape final : public Shape {
     uint32_t leaf = kNone;  // set for leaves
   };
 
-  // Per-query storage: the span lists, and every leaf crossing's t and width.
+  // Per-query storage: the span lists, every leaf crossing's t and width, and the stretch of
+  // the line [tLo, tHi] the query needs right (subtrees whose boxes miss it are skipped).
   struct Scratch {
     std::vector<Span> spans;
     std::vector<std::pair<float, float>> leafCrossings;
+    float tLo = -kInfinity, tHi = kInfinity;
+    Vec3f invD;  // 1 / the ray's direction, per axis (0 where it is 0)
   };
   // Appends the spans of `node` to scratch.spans; returns how many.
   size_t evaluate(uint32_t node, const Ray& ray, Scratch& scratch) const;
   // The whole tree's spans in scratch.spans (returns how many), without the slivers below the
   // tree's resolution: a span shorter than the tie width of a leaf crossing inside it.
-  size_t evaluateRoot(const Ray& ray, Scratch& scratch) const;
+  size_t evaluateRoot(const Ray& ray, float tLo, float tHi, Scratch& scratch) const;
   Bounds3f nodeBounds(uint32_t node) const;
   void orient(uint32_t node, bool flip);
 

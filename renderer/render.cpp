@@ -63,6 +63,22 @@ struct PixelMoments {
 
 // Camera rays handed to the accelerator together: Embree's widest packet.
 constexpr uint32_t kCameraBatch = 16;
+
+// Where adaptive sampling may stop a pixel (AdaptiveSettings): at 2, 4 and 8 samples, then at
+// every multiple of kCameraBatch, from minSpp on. The early doublings let a pixel of a scene
+// without noise (hard shadows, mirrors: only its edges need samples) stop after a few samples,
+// as supersampling anti-aliasing does; the checkpoints are fixed sample counts, so a pixel's
+// decisions do not depend on how the samples were split into passes.
+bool isAdaptiveCheckpoint(uint32_t spp) {
+  return spp % kCameraBatch == 0 || (spp < kCameraBatch && (spp & (spp - 1)) == 0);
+}
+// The first checkpoint after `spp`: camera-ray batches stop there.
+uint32_t nextAdaptiveCheckpoint(uint32_t spp) {
+  if (spp >= kCameraBatch / 2) return (spp / kCameraBatch + 1) * kCameraBatch;
+  uint32_t next = 2;
+  while (next <= spp) next *= 2;
+  return next;
+}
 static_assert(kCameraBatch <= uint32_t(Camera::kMaxRayBatch), "a batch is one pinholeRays call");
 
 }  // namespace
@@ -155,7 +171,7 @@ ProgressiveRender::ProgressiveRender(const RenderScene& scene, const Integrator&
   State& st = *state_;
   const int width = scene.camera.width(), height = scene.camera.height();
   st.aovs = settings.aovs;
-  // Adaptive sampling: checked from minSpp on, at multiples of kCameraBatch.
+  // Adaptive sampling: checked from minSpp on, at the checkpoints (isAdaptiveCheckpoint).
   st.adaptive = settings.adaptive.threshold > 0;
   st.threshold2 = double(settings.adaptive.threshold) * settings.adaptive.threshold;
   st.minSpp = uint32_t(std::max(2, settings.adaptive.minSpp));
@@ -270,14 +286,19 @@ void ProgressiveRender::State::renderTile(int tileIndex, uint32_t passEnd,
       Rgb pixelAlbedo = aovs ? albedo[index] : Rgb{}, pixelNormal = aovs ? normal[index] : Rgb{};
       // The pixel's camera rays go to the accelerator in batches, which it may trace as
       // packets (they are coherent); each result is then shaded on its own. Batches never
-      // cross a multiple of kCameraBatch, where adaptive sampling checks the pixel, so its
-      // decisions are the same however the samples are split into passes.
+      // cross a multiple of kCameraBatch, nor a checkpoint where adaptive sampling checks the
+      // pixel, so its decisions are the same however the samples are split into passes.
       uint32_t first = taken[index];
       while (first < passEnd) {
-        if (adaptive && first >= minSpp && first % kCameraBatch == 0 &&
+        if (adaptive && first >= minSpp && isAdaptiveCheckpoint(first) &&
             acc.converged(first, threshold2))
           break;
-        const uint32_t n = std::min(kCameraBatch - first % kCameraBatch, passEnd - first);
+        uint32_t n = std::min(kCameraBatch - first % kCameraBatch, passEnd - first);
+        if (adaptive) {
+          uint32_t check = nextAdaptiveCheckpoint(first);
+          while (check < minSpp) check = nextAdaptiveCheckpoint(check);
+          n = std::min(n, check - first);
+        }
         uint32_t fx[kCameraBatch], fy[kCameraBatch];
         sample2DFractionBatch(first, n, filmSeeds, fx, fy);
         if (plain) {

@@ -58,8 +58,8 @@ struct IntegratorSettings {
 };
 
 // Adaptive sampling: a pixel stops drawing samples once its estimate is good enough, so the
-// samples go where the noise is. After `minSpp` samples, and after every batch of 16 from
-// then on, a pixel stops when every channel's variance of the mean satisfies
+// samples go where the noise is. At the checkpoints from `minSpp` samples on (2, 4, 8, then
+// every multiple of 16), a pixel stops when every channel's variance of the mean satisfies
 //   Var[mean] <= threshold² · (mean² + 0.01),
 // the relative error of the relative MSE metric (Rousselle et al.) that `glint diff` reports;
 // `spp` stays the most any pixel takes. The stopping rule looks at the pixel's own samples
@@ -67,7 +67,10 @@ struct IntegratorSettings {
 // not yet met a rare bright path looks converged); the bias vanishes as threshold -> 0.
 struct AdaptiveSettings {
   float threshold = 0;  // 0: off, every pixel takes spp samples
-  int minSpp = 32;      // samples every pixel takes first; at least 2
+  // Samples every pixel takes first; at least 2. A noisy (path-traced) pixel's variance needs
+  // tens of samples to be trusted; a Whitted scene's pixels (edges are their only noise) can
+  // be judged after 4, like supersampling anti-aliasing.
+  int minSpp = 32;
 };
 
 struct RenderSettings {
