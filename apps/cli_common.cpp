@@ -63,6 +63,11 @@ void SceneOverrides::addOptions(CLI::App* cmd) {
                   "adaptive sampling: a pixel stops once its relative standard error is below "
                   "this (0 = off; --spp is then the most a pixel takes)")
       ->check(nonNegative);
+  cmd->add_option("--antialias", antialias,
+                  "anti-aliasing by contrast (POV-Ray's +A): a pixel keeps sampling while its "
+                  "mean differs from a neighbour's by more than this, on x/(1+x), checked at 1, "
+                  "2, 4, 8 and 16 samples (0 = off; e.g. 0.05; --spp is the most a pixel takes)")
+      ->check(numberIn({.ge = 0, .le = 1}));
   cmd->add_option("--adaptive-min-spp", adaptiveMinSpp,
                   "samples every pixel takes before --adaptive may stop it (default 32; 4 suits "
                   "Whitted scenes, whose only noise is edges)")
@@ -128,6 +133,7 @@ void SceneOverrides::apply(SceneDescription* desc) const {
   if (lightSampler) r.integrator.lightSampler = *lightSampler;
   if (adaptive) r.adaptive.threshold = *adaptive;
   if (adaptiveMinSpp) r.adaptive.minSpp = *adaptiveMinSpp;
+  if (antialias) r.adaptive.contrast = *antialias;
   if (aovs) r.aovs = true;
   if (noDefaultLight) r.defaultLight = false;
   if (shutter) r.shutter = parseShutter(*shutter);

@@ -21,6 +21,7 @@ struct SceneOverrides {
   std::optional<int> maxDepth;
   std::optional<float> adaptive;  // adaptive sampling threshold
   std::optional<int> adaptiveMinSpp;
+  std::optional<float> antialias;  // AdaptiveSettings::contrast
   bool aovs = false;              // EXR output also carries albedo, normal, depth and variance
   std::optional<std::string> env;  // "studio" or an .exr/.hdr file: replaces the environment
   std::optional<float> envStrength, envRotation;  // the environment's intensity, degrees
@@ -29,7 +30,7 @@ struct SceneOverrides {
   std::optional<std::string> shutter;  // "S" (open for S seconds from the frame) or "OPEN,CLOSE"
 
   // Registers --width --height --spp --seed --threads --accel --camera --integrator
-  // --max-depth --light-sampler --adaptive --adaptive-min-spp --env --env-strength --env-rotation
+  // --max-depth --light-sampler --adaptive --adaptive-min-spp --antialias --env --env-strength --env-rotation
   // --no-default-light --variant --shutter on `cmd`
   // (--aovs is render's own).
   void addOptions(CLI::App* cmd);

@@ -15,9 +15,21 @@ PlacedShape::PlacedShape(const Shape* shape, const Transform& placement)
     absDet_ = 1;
     return;
   }
+  const auto& m = placement_.matrix().m;
+  translationOnly_ = true;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) translationOnly_ = translationOnly_ && m[r][c] == (r == c);
+  if (translationOnly_) {
+    // What the general case below computes for an identity 3x3 part (cofactors 1 and 0,
+    // det 1), without computing it: shading places a shape once per hit.
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) inverse_[r][c] = r == c;
+    inverseRelError_ = 0x1p-50 * 3;
+    absDet_ = 1;
+    return;
+  }
   // The inverse of the float matrix as given (not its rounded float inverse), in double, once:
   // the adjugate's entries are exact products of floats, then one division each.
-  const auto& m = placement_.matrix().m;
   double a[3][3], cof[3][3];
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) a[r][c] = m[r][c];
@@ -64,16 +76,23 @@ Ray PlacedShape::toObject(const Ray& ray, float* dt, Vec3f* originError) const {
   double x[3], dw[3];
   for (int i = 0; i < 3; ++i) x[i] = double(ray.o[i]) - m[i][3], dw[i] = ray.d[i];
   double od[3], dd[3], err[3];
-  for (int r = 0; r < 3; ++r) {
-    od[r] = dd[r] = err[r] = 0;
-    for (int c = 0; c < 3; ++c) {
-      double inv = inverse_[r][c];
-      od[r] += inv * x[c];
-      dd[r] += inv * dw[c];
-      err[r] += std::abs(inv * x[c]);
+  // A translation (common for CSG leaves): the inverse is exactly the identity, so the products
+  // below are x and dw themselves; the same values without the nine multiply-adds.
+  if (translationOnly_) {
+    for (int r = 0; r < 3; ++r)
+      od[r] = x[r], dd[r] = dw[r], err[r] = std::abs(x[r]) * (rel + 0x1p-49);
+  } else {
+    for (int r = 0; r < 3; ++r) {
+      od[r] = dd[r] = err[r] = 0;
+      for (int c = 0; c < 3; ++c) {
+        double inv = inverse_[r][c];
+        od[r] += inv * x[c];
+        dd[r] += inv * dw[c];
+        err[r] += std::abs(inv * x[c]);
+      }
+      // Inverse entries, x's own rounding (o - translation) and the dot product's sums.
+      err[r] *= rel + 0x1p-49;
     }
-    // Inverse entries, x's own rounding (o - translation) and the dot product's sums.
-    err[r] *= rel + 0x1p-49;
   }
   Vec3f d{float(dd[0]), float(dd[1]), float(dd[2])};
   *dt = 0;

@@ -209,6 +209,7 @@ class PlacedShape {
   const Shape* shape_;
   Transform placement_;
   bool identity_;
+  bool translationOnly_ = false;  // the 3x3 part is the identity (and the shift is not zero)
   double inverse_[3][3];    // of placement_'s 3x3 part, in double (see the constructor)
   double inverseRelError_;  // relative error bound of each inverse_ entry
   double absDet_;           // |det| of placement_'s 3x3 part

@@ -22,7 +22,8 @@ namespace {
 Image exrImage(const Film& film, const RenderSettings& settings) {
   Image img;
   img.names = {"R", "G", "B", "A", "variance.R", "variance.G", "variance.B"};
-  const bool samples = settings.adaptive.threshold > 0 && film.samples.size() == film.color.size();
+  const bool samples = (settings.adaptive.threshold > 0 || settings.adaptive.contrast > 0) &&
+                       film.samples.size() == film.color.size();
   if (samples) img.names.push_back("samples");
   if (film.hasAovs)
     img.names.insert(img.names.end(),

@@ -79,7 +79,8 @@ InstantRadiosityIntegrator::InstantRadiosityIntegrator(const RenderScene& scene,
     : WhittedIntegrator(scene, settings.maxDepth, settings.glassShadows),
       rrDepth_(settings.rrDepth),
       paths_(settings.vplPaths),
-      clamp_(settings.vplClamp) {
+      clamp_(settings.vplClamp),
+      shadowShare_(settings.vplShadowShare) {
   if (settings.vplPaths <= 0) throw InputError("instant radiosity: vpl_paths must be > 0");
   indirect_ = true;
   traceLightPaths(settings.vplPaths, seed);
@@ -89,6 +90,7 @@ std::vector<Integrator::SetupStat> InstantRadiosityIntegrator::setupStats() cons
   return {{"vpl_paths", double(paths_)},
           {"vpls", double(vpls_.size())},
           {"vpl_clamp", double(clamp_)},
+          {"vpl_shadow_share", double(shadowShare_)},
           {"light_path_rays", double(lightPathRays_)}};
 }
 
@@ -200,9 +202,17 @@ void InstantRadiosityIntegrator::traceLightPaths(int paths, uint64_t seed) {
 Rgb InstantRadiosityIntegrator::indirectLight(const SurfaceInteraction& si, const Bsdf& bsdf,
                                               float time, Sampler& sampler,
                                               RayCounters& counters) const {
-  Rgb L;
+  // Every VPL's unshadowed contribution first (see "Shadow rays by importance" in the header).
+  struct Candidate {
+    Rgb c;
+    uint32_t vpl;
+  };
+  thread_local std::vector<Candidate> candidates;
+  candidates.clear();
+  double total = 0;
   const float pointError = length(si.pError);
-  for (const Vpl& v : vpls_) {
+  for (uint32_t k = 0; k < vpls_.size(); ++k) {
+    const Vpl& v = vpls_[k];
     const Vec3f d = v.si.p - si.p;
     const float dist2 = dot(d, d);
     const float dist = std::sqrt(dist2);
@@ -217,20 +227,41 @@ Rgb InstantRadiosityIntegrator::indirectLight(const SurfaceInteraction& si, cons
     if (clamp_ > 0) G = std::min(G, clamp_);
     const Rgb contribution = f * fVpl * v.flux * G;
     if (!(maxComponent(contribution) > 0) || !isFinite(contribution)) continue;
-    if (shadows_) {
-      // Both ends leave their surfaces by their error bounds, as area-light shadow rays do.
-      ++counters.shadow;
-      const Ray shadow =
-          spawnRayToSurface(si.p, si.pError, si.ng, v.si.p, v.si.pError, v.si.ng, time);
-      if (scene_.accel->anyHit(shadow)) continue;
-      if (media()) {
-        const Rgb Tr = media()->transmittance(shadow, shadow.tMax, sampler);
-        if (!(maxComponent(Tr) > 0)) continue;
-        L += contribution * Tr;
-        continue;
-      }
+    candidates.push_back({contribution, k});
+    total += maxComponent(contribution);
+  }
+  // Drawn whether or not it is needed: the dimensions after it do not depend on the scene.
+  const float u = sampler.get1D();
+  if (candidates.empty()) return {};
+  // Visible light of VPL `k` sending `c`, 0 when shadowed.
+  auto visible = [&](const Candidate& cand) -> Rgb {
+    if (!shadows_) return cand.c;
+    const Vpl& v = vpls_[cand.vpl];
+    // Both ends leave their surfaces by their error bounds, as area-light shadow rays do.
+    ++counters.shadow;
+    const Ray shadow =
+        spawnRayToSurface(si.p, si.pError, si.ng, v.si.p, v.si.pError, v.si.ng, time);
+    if (scene_.accel->anyHit(shadow)) return {};
+    if (!media()) return cand.c;
+    const Rgb Tr = media()->transmittance(shadow, shadow.tMax, sampler);
+    return maxComponent(Tr) > 0 ? cand.c * Tr : Rgb{};
+  };
+  Rgb L;
+  const double share = shadowShare_ > 0 && shadows_ ? double(shadowShare_) * total : 0.0;
+  // Systematic sampling: the running sum of the small VPLs' p_i crosses u, u + 1, u + 2, ...
+  // once per pick; a VPL is picked when one of those falls in its stretch [sum, sum + p_i).
+  double running = 0, next = u;
+  for (const Candidate& cand : candidates) {
+    const double importance = maxComponent(cand.c);
+    if (share <= 0 || importance >= share) {
+      L += visible(cand);
+      continue;
     }
-    L += contribution;
+    const double p = importance / share;
+    running += p;
+    if (running <= next) continue;
+    next += 1;
+    L += visible(cand) * float(1 / p);
   }
   return L;
 }

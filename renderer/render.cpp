@@ -72,6 +72,18 @@ constexpr uint32_t kCameraBatch = 16;
 bool isAdaptiveCheckpoint(uint32_t spp) {
   return spp % kCameraBatch == 0 || (spp < kCameraBatch && (spp & (spp - 1)) == 0);
 }
+// Anti-aliasing by contrast (AdaptiveSettings::contrast): the checkpoints where a pixel looks at
+// its neighbours, and so how far a window's border pixels can depend on pixels outside it (one
+// pixel per checkpoint): the margin a crop or tile renders around its window.
+constexpr uint32_t kContrastCheckpoints[] = {1, 2, 4, 8, 16};
+constexpr int kContrastApron = int(std::size(kContrastCheckpoints));
+bool isContrastCheckpoint(uint32_t spp) {
+  return std::find(std::begin(kContrastCheckpoints), std::end(kContrastCheckpoints), spp) !=
+         std::end(kContrastCheckpoints);
+}
+// x / (1 + x): scene-linear radiance squeezed into [0, 1), where contrast is compared.
+float squeezed(float x) { return x > 0 ? x / (1 + x) : 0.0f; }
+
 // The first checkpoint after `spp`: camera-ray batches stop there.
 uint32_t nextAdaptiveCheckpoint(uint32_t spp) {
   if (spp >= kCameraBatch / 2) return (spp / kCameraBatch + 1) * kCameraBatch;
@@ -136,13 +148,19 @@ struct ProgressiveRender::State {
   bool adaptive, lens, motion, plain, aovs;
   double threshold2;
   uint32_t minSpp;
+  // Anti-aliasing by contrast: the threshold (0: off), and the pixels rendered: the window, or
+  // with contrast the window grown by kContrastApron (within the image). The per-pixel arrays
+  // below cover `region`; the film covers `window`.
+  float contrast = 0;
+  PixelWindow region;
+  std::vector<uint8_t> active;  // with contrast: still sampling (a checkpoint has not stopped it)
   int tilesX = 0, tilesY = 0, threads = 1;
   // More threads than TBB's default (the cores) are what the user asked for: allowed, rather
   // than TBB's warning and one worker fewer than asked.
   std::unique_ptr<tbb::global_control> allowThreads;
   std::unique_ptr<tbb::task_arena> arena;
 
-  // Per pixel of the window, across passes.
+  // Per pixel of the region, across passes.
   std::vector<PixelMoments> moments;
   std::vector<uint32_t> taken;  // samples drawn (fewer than spp where adaptive sampling stopped)
   std::vector<uint32_t> hits;   // camera rays that hit geometry
@@ -163,6 +181,11 @@ struct ProgressiveRender::State {
   void renderTile(int tileIndex, uint32_t passEnd, const std::atomic<bool>* cancel,
                   ThreadTally& tally, uint64_t* samplesTaken);
   void updateFilm();
+  // At a contrast checkpoint: stops the active pixels that took `spp` samples and meet the rule.
+  void stopQuietPixels(uint32_t spp);
+  size_t regionIndex(int x, int y) const {
+    return size_t(y - region.y0) * size_t(region.width()) + size_t(x - region.x0);
+  }
 };
 
 ProgressiveRender::ProgressiveRender(const RenderScene& scene, const Integrator& integrator,
@@ -190,7 +213,15 @@ ProgressiveRender::ProgressiveRender(const RenderScene& scene, const Integrator&
   st.film = Film(window.width(), window.height(), st.aovs);
   st.film.originX = window.x0, st.film.originY = window.y0;
   st.film.fullWidth = width, st.film.fullHeight = height;
-  const size_t n = size_t(window.width()) * size_t(window.height());
+  st.contrast = settings.adaptive.contrast;
+  st.region = window;
+  if (st.contrast > 0) {
+    const int a = kContrastApron;
+    st.region = {std::max(0, window.x0 - a), std::max(0, window.y0 - a),
+                 std::min(width, window.x1 + a), std::min(height, window.y1 + a)};
+  }
+  const size_t n = size_t(st.region.width()) * size_t(st.region.height());
+  if (st.contrast > 0) st.active.assign(n, 1);
   st.moments.assign(n, PixelMoments{});
   st.taken.assign(n, 0);
   st.hits.assign(n, 0);
@@ -200,8 +231,8 @@ ProgressiveRender::ProgressiveRender(const RenderScene& scene, const Integrator&
     st.depth.assign(n, 0.0);
   }
   const int tile = options.tileSize;
-  st.tilesX = (window.width() + tile - 1) / tile;
-  st.tilesY = (window.height() + tile - 1) / tile;
+  st.tilesX = (st.region.width() + tile - 1) / tile;
+  st.tilesY = (st.region.height() + tile - 1) / tile;
   st.threads = options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency());
   if (st.threads <= 0) st.threads = 1;
   if (st.threads > tbb::info::default_concurrency())
@@ -215,6 +246,11 @@ ProgressiveRender::~ProgressiveRender() = default;
 
 void ProgressiveRender::resumeFrom(const Film& partial, uint32_t spp) {
   State& st = *state_;
+  if (st.region.x0 != st.window.x0 || st.region.y0 != st.window.y0 ||
+      st.region.x1 != st.window.x1 || st.region.y1 != st.window.y1)
+    throw InputError(
+        "cannot continue a crop or tile rendered with anti-aliasing by contrast: its margin "
+        "pixels are not in the image");
   const size_t n = st.taken.size();
   if (partial.width != st.film.width || partial.height != st.film.height ||
       partial.originX != st.film.originX || partial.originY != st.film.originY)
@@ -239,6 +275,7 @@ void ProgressiveRender::resumeFrom(const Film& partial, uint32_t spp) {
     }
     st.moments[i] = m;
     st.taken[i] = k;
+    if (!st.active.empty()) st.active[i] = k >= spp;  // a pixel that stopped stays stopped
     st.hits[i] = uint32_t(std::lround(double(partial.alpha[i]) * k));
     if (st.aovs) {
       st.albedo[i] = partial.albedo[i] * float(k);
@@ -255,9 +292,9 @@ void ProgressiveRender::State::renderTile(int tileIndex, uint32_t passEnd,
                                           uint64_t* samplesTaken) {
   const int width = scene.camera.width();
   const int tile = options.tileSize;
-  const int x0 = window.x0 + (tileIndex % tilesX) * tile,
-            y0 = window.y0 + (tileIndex / tilesX) * tile;
-  const int x1 = std::min(x0 + tile, window.x1), y1 = std::min(y0 + tile, window.y1);
+  const int x0 = region.x0 + (tileIndex % tilesX) * tile,
+            y0 = region.y0 + (tileIndex / tilesX) * tile;
+  const int x1 = std::min(x0 + tile, region.x1), y1 = std::min(y0 + tile, region.y1);
   // A pixel's batch of camera rays and their hits, constructed once per tile: their default
   // initialisation per pixel was a fifth of this loop's own time at 4 spp. Every element a
   // pixel reads it writes first (closestHits overwrites each hit whole).
@@ -271,9 +308,10 @@ void ProgressiveRender::State::renderTile(int tileIndex, uint32_t passEnd,
         *samplesTaken = drawn;
         return;
       }
-      // (x, y) is the pixel's place in the whole image, which keys its samples; the film
-      // holds the window.
-      const size_t index = film.index(x - window.x0, y - window.y0);
+      // (x, y) is the pixel's place in the whole image, which keys its samples; the arrays
+      // hold the region.
+      const size_t index = regionIndex(x, y);
+      if (!active.empty() && !active[index]) continue;
       const uint64_t pixelKey = pixelSampleKey(settings.seed, size_t(y) * size_t(width) + size_t(x));
       // The film position, and the lens point where there is one, are 2D dimension pairs
       // whose seeds depend on the pixel only.
@@ -290,8 +328,9 @@ void ProgressiveRender::State::renderTile(int tileIndex, uint32_t passEnd,
       // pixel, so its decisions are the same however the samples are split into passes.
       uint32_t first = taken[index];
       while (first < passEnd) {
+        // (With contrast, checkpoints up to 16 are decided between passes: stopQuietPixels.)
         if (adaptive && first >= minSpp && isAdaptiveCheckpoint(first) &&
-            acc.converged(first, threshold2))
+            (contrast <= 0 || first > kCameraBatch) && acc.converged(first, threshold2))
           break;
         uint32_t n = std::min(kCameraBatch - first % kCameraBatch, passEnd - first);
         if (adaptive) {
@@ -359,10 +398,13 @@ void ProgressiveRender::State::renderTile(int tileIndex, uint32_t passEnd,
 }
 
 void ProgressiveRender::State::updateFilm() {
-  const size_t n = taken.size();
+  const size_t n = film.color.size();
   uint64_t samplesTotal = 0;
   for (size_t i = 0; i < n; ++i) {
-    const uint32_t k = taken[i];
+    // The film pixel's state in the region (the same index when the region is the window).
+    const size_t r = regionIndex(window.x0 + int(i % size_t(window.width())),
+                                 window.y0 + int(i / size_t(window.width())));
+    const uint32_t k = taken[r];
     samplesTotal += k;
     film.samples[i] = k;
     if (k == 0) {
@@ -370,18 +412,49 @@ void ProgressiveRender::State::updateFilm() {
       film.alpha[i] = 0;
       continue;
     }
-    const PixelMoments& m = moments[i];
+    const PixelMoments& m = moments[r];
     film.color[i] = m.mean(k);
     film.variance[i] = m.varianceOfMean(k);
-    film.alpha[i] = float(double(hits[i]) / k);
+    film.alpha[i] = float(double(hits[r]) / k);
     if (aovs) {
-      film.albedo[i] = albedo[i] / float(k);
-      film.normal[i] = normal[i] / float(k);
-      film.depth[i] = hits[i] > 0 ? float(depth[i] / hits[i]) : 0.0f;
+      film.albedo[i] = albedo[r] / float(k);
+      film.normal[i] = normal[r] / float(k);
+      film.depth[i] = hits[r] > 0 ? float(depth[r] / hits[r]) : 0.0f;
     }
   }
   error = estimatedRelativeError(film);
   stats.meanSpp = n ? double(samplesTotal) / double(n) : 0.0;
+}
+
+void ProgressiveRender::State::stopQuietPixels(uint32_t spp) {
+  const int w = region.width(), h = region.height();
+  // Decided from the means as they are at this checkpoint (read only), written to `stop`
+  // first: a pixel's decision never sees a neighbour's decision of the same checkpoint.
+  std::vector<uint8_t> stop(active.size(), 0);
+  arena->execute([&] {
+    tbb::parallel_for(0, h, [&](int y) {
+      for (int x = 0; x < w; ++x) {
+        const size_t i = size_t(y) * size_t(w) + size_t(x);
+        if (!active[i] || taken[i] != spp) continue;
+        if (adaptive && (spp < std::max(2u, minSpp) || !moments[i].converged(spp, threshold2)))
+          continue;
+        const Rgb mean = moments[i].mean(spp);
+        bool quiet = true;
+        for (int dy = -1; dy <= 1 && quiet; ++dy)
+          for (int dx = -1; dx <= 1 && quiet; ++dx) {
+            const int nx = x + dx, ny = y + dy;
+            if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+            const size_t j = size_t(ny) * size_t(w) + size_t(nx);
+            const Rgb other = taken[j] ? moments[j].mean(taken[j]) : mean;
+            for (int c = 0; c < 3; ++c)
+              quiet = quiet && std::abs(squeezed(mean[c]) - squeezed(other[c])) <= contrast;
+          }
+        stop[i] = quiet;
+      }
+    });
+  });
+  for (size_t i = 0; i < active.size(); ++i)
+    if (stop[i]) active[i] = 0;
 }
 
 bool ProgressiveRender::renderPass(uint32_t cap, const std::atomic<bool>* cancel,
@@ -396,19 +469,32 @@ bool ProgressiveRender::renderTo(uint32_t end, const std::atomic<bool>* cancel,
   if (end <= st.spp) return true;
   tbb::enumerable_thread_specific<ThreadTally> tallies;
   const auto start = std::chrono::steady_clock::now();
-  st.arena->execute([&] {
-    tbb::parallel_for(tbb::blocked_range<int>(0, st.tilesX * st.tilesY, 1),
-                      [&](const tbb::blocked_range<int>& r) {
-                        for (int t = r.begin(); t != r.end(); ++t) {
-                          uint64_t drawn = 0;
-                          st.renderTile(t, end, cancel, tallies.local(), &drawn);
-                          if (onTile) onTile(drawn);
-                        }
-                      });
-  });
-  if (cancel && cancel->load()) {
-    st.broken = true;
-    return false;
+  // With contrast, the pass stops at every contrast checkpoint on the way (however the caller
+  // splits the render, the decisions are taken at the same sample counts).
+  for (uint32_t done = st.spp; done < end;) {
+    uint32_t to = end;
+    if (st.contrast > 0)
+      for (uint32_t c : kContrastCheckpoints)
+        if (c > done) {
+          to = std::min(to, c);
+          break;
+        }
+    st.arena->execute([&] {
+      tbb::parallel_for(tbb::blocked_range<int>(0, st.tilesX * st.tilesY, 1),
+                        [&](const tbb::blocked_range<int>& r) {
+                          for (int t = r.begin(); t != r.end(); ++t) {
+                            uint64_t drawn = 0;
+                            st.renderTile(t, to, cancel, tallies.local(), &drawn);
+                            if (onTile) onTile(drawn);
+                          }
+                        });
+    });
+    if (cancel && cancel->load()) {
+      st.broken = true;
+      return false;
+    }
+    if (st.contrast > 0 && isContrastCheckpoint(to)) st.stopQuietPixels(to);
+    done = to;
   }
   st.stats.renderSeconds +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -55,6 +55,10 @@ struct IntegratorSettings {
   // Instant radiosity (Keller 1997).
   int vplPaths = 64;        // light paths traced from the lights (Halton-seeded)
   float vplClamp = 0;       // bound on the geometry term cos cos / d^2 of a VPL; 0 = no clamp
+  // VPLs sending a point at least this share of its unshadowed VPL light get a shadow ray
+  // each; the others share shadow rays by unbiased sampling (InstantRadiosityIntegrator).
+  // 0: every VPL gets a shadow ray.
+  float vplShadowShare = 1.0f / 16;
 };
 
 // Adaptive sampling: a pixel stops drawing samples once its estimate is good enough, so the
@@ -65,8 +69,21 @@ struct IntegratorSettings {
 // `spp` stays the most any pixel takes. The stopping rule looks at the pixel's own samples
 // only, so the image is still the same for any thread count. It is biased (a pixel that has
 // not yet met a rare bright path looks converged); the bias vanishes as threshold -> 0.
+//
+// Anti-aliasing by contrast (`contrast` > 0), the rule of POV-Ray's adaptive anti-aliasing: in
+// a scene without noise (hard shadows, mirrors, glass: Whitted) the only error is at edges, and
+// a pixel's own few samples may all fall on one side of one. So after 1, 2, 4, 8 and 16 samples
+// a pixel also compares its mean with its 8 neighbours' means, channel by channel on x/(1+x)
+// (scene-linear radiance squeezed into [0, 1), like a displayed value): it stops there only
+// when no neighbour differs by more than `contrast` (and, with `threshold` > 0, when its own
+// variance rule is met too, from 2 samples and minSpp on); a pixel still going after 16 takes
+// the rest (or stops by `threshold` alone). The decisions are made between passes over the
+// whole window, so they do not depend on the thread count; a crop or tile renders a margin of
+// kContrastApron pixels around its window (what its border pixels' decisions can depend on), so
+// its pixels are those of the whole frame's render.
 struct AdaptiveSettings {
   float threshold = 0;  // 0: off, every pixel takes spp samples
+  float contrast = 0;   // 0: off (see above)
   // Samples every pixel takes first; at least 2. A noisy (path-traced) pixel's variance needs
   // tens of samples to be trusted; a Whitted scene's pixels (edges are their only noise) can
   // be judged after 4, like supersampling anti-aliasing.

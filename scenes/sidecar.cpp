@@ -52,6 +52,7 @@ void readIntegrator(JsonReader& r, IntegratorSettings* s) {
   s->glassShadows = i.get<bool>("glass_shadows", s->glassShadows);
   s->vplPaths = i.get<int>("vpl_paths", s->vplPaths, kPositive);
   s->vplClamp = i.get<float>("vpl_clamp", s->vplClamp, kNonNegative);
+  s->vplShadowShare = i.get<float>("vpl_shadow_share", s->vplShadowShare, {.ge = 0, .le = 1});
 }
 
 // A "shutter": [open, close], seconds from the frame time (a camera's or the render block's).
@@ -71,6 +72,7 @@ void readRender(JsonReader& r, RenderSettings* s) {
   s->spp = r.get<int>("spp", s->spp, kPositive);
   if (JsonReader* a = r.optionalObject("adaptive")) {
     s->adaptive.threshold = a->get<float>("threshold", s->adaptive.threshold, kNonNegative);
+    s->adaptive.contrast = a->get<float>("contrast", s->adaptive.contrast, {.ge = 0, .le = 1});
     s->adaptive.minSpp = a->get<int>("min_spp", s->adaptive.minSpp, {.ge = 2});
   }
   s->seed = r.get<uint64_t>("seed", s->seed);

@@ -25,6 +25,19 @@ Bounds3f Sphere::bounds() const {
 }
 
 bool Sphere::span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) const {
+  {
+    // About half the rays Embree sends here (those that hit the bounding box) pass the ball by
+    // a wide margin. In float, the line's squared distance from the centre is off by a few
+    // ulps of |f|^2 (f = origin - centre); past r^2 by 1e-4 (|f|^2 + r^2), far beyond that,
+    // the double solve below would find the line certainly missing too.
+    const Vec3f fo = ray.o - center_;
+    const float A = dot(ray.d, ray.d);
+    if (A > 0) {
+      const Vec3f l = fo - ray.d * (dot(fo, ray.d) / A);
+      const float r2 = radius_ * radius_;
+      if (dot(l, l) - r2 > 1e-4f * (dot(fo, fo) + r2)) return false;
+    }
+  }
   double f[3], ef[3], d[3];
   for (int i = 0; i < 3; ++i) {
     f[i] = double(ray.o[i]) - double(center_[i]);

@@ -77,6 +77,39 @@ TEST(AdaptiveSampling, TheExtremesAreFixedSppRenders) {
   EXPECT_LT(stats.meanSpp, 64);
 }
 
+// From min_spp 2, a pixel may stop after 2, 4 or 8 samples, then at multiples of 16: the
+// background (its samples all agree) stops at 2, every pixel's count is a checkpoint, some lit
+// pixels stop in between, and the image is the same on one thread and when rendered in the
+// warm-up passes of a budget (1, 2, 4, 8, 16 spp, ...).
+TEST(AdaptiveSampling, EarlyCheckpointsLetQuietPixelsStopAfterAFewSamples) {
+  auto s = build();
+  RenderSettings settings = s->desc.render;
+  settings.spp = 64;
+  settings.seed = 7;
+  settings.adaptive.threshold = 0.2f;
+  settings.adaptive.minSpp = 2;
+  RenderStats stats;
+  const Film film = render(s->scene, *s->integrator, settings, {.threads = 2}, &stats);
+  int early = 0;
+  for (size_t i = 0; i < film.samples.size(); ++i) {
+    const uint32_t k = film.samples[i];
+    EXPECT_TRUE(k == 2 || k == 4 || k == 8 || k % 16 == 0) << "pixel " << i << ": " << k;
+    if (film.alpha[i] == 0) EXPECT_EQ(k, 2u) << "background pixel " << i;
+    early += film.alpha[i] > 0 && (k == 4 || k == 8);
+  }
+  EXPECT_GT(early, 0);
+  EXPECT_LT(stats.meanSpp, 64);
+  expectSameImage(render(s->scene, *s->integrator, settings, {.threads = 1}, nullptr), film);
+  StopRule warmup;
+  warmup.maxSpp = 64;
+  warmup.warmup = true;
+  RenderStats budgetStats;
+  ProgressiveResult result;
+  expectSameImage(renderUntil(s->scene, *s->integrator, settings, {.threads = 2}, warmup,
+                              &budgetStats, &result),
+                  film);
+}
+
 // In between: the background stops at min_spp, the lit ball takes more, and each pixel that
 // stopped early met the rule; one thread gives the same image.
 TEST(AdaptiveSampling, SamplesGoWhereTheNoiseIs) {
@@ -108,6 +141,74 @@ TEST(AdaptiveSampling, SamplesGoWhereTheNoiseIs) {
   expectSameImage(renderWith(*s, 256, threshold, 1, nullptr), film);
 }
 
+// Anti-aliasing by contrast on a noise-free (Whitted, point light) box: flat pixels stop after
+// one sample, edge pixels take all 16, every count is a contrast checkpoint, and the image is
+// the same on one thread and in a budget's warm-up passes.
+struct Whitted {
+  SceneDescription desc;
+  RenderScene scene;
+  std::unique_ptr<Integrator> integrator;
+  explicit Whitted(float contrast) {
+    desc.file = "adaptive_test (in code)";
+    applySceneJsonText(test::cornellBoxJson(40, 16, 3, R"({"type": "whitted"})", true), desc.file,
+                       SceneJsonKind::Scene, &desc);
+    desc.render.adaptive.contrast = contrast;
+    scene = buildRenderScene(desc);
+    integrator = makeIntegrator(scene, desc.render);
+  }
+  Film render(RenderOptions options, RenderStats* stats = nullptr) const {
+    return glint::render(scene, *integrator, desc.render, options, stats);
+  }
+};
+
+TEST(AntiAliasing, FlatPixelsStopEarlyAndEdgesTakeEverySample) {
+  const Whitted w(0.02f);
+  RenderStats stats;
+  const Film film = w.render({.threads = 2}, &stats);
+  int one = 0, all = 0;
+  for (size_t i = 0; i < film.samples.size(); ++i) {
+    const uint32_t k = film.samples[i];
+    EXPECT_TRUE(k == 1 || k == 2 || k == 4 || k == 8 || k == 16) << "pixel " << i << ": " << k;
+    one += k == 1, all += k == 16;
+  }
+  EXPECT_GT(one, int(film.samples.size()) / 2) << "most of a box is flat";
+  EXPECT_GT(all, 20) << "its edges are not";
+  EXPECT_LT(stats.meanSpp, 8);
+  expectSameImage(w.render({.threads = 1, .tileSize = 7}), film);
+  StopRule warmup;
+  warmup.maxSpp = 16;
+  ProgressiveResult result;
+  RenderStats budgetStats;
+  expectSameImage(renderUntil(w.scene, *w.integrator, w.desc.render, {.threads = 2}, warmup,
+                              &budgetStats, &result),
+                  film);
+  // Off, every pixel takes every sample.
+  const Whitted plain(0.0f);
+  RenderStats plainStats;
+  plain.render({.threads = 2}, &plainStats);
+  EXPECT_EQ(plainStats.meanSpp, 16);
+}
+
+// A crop (and so a farm tile) renders a margin around its window, so its pixels are exactly the
+// whole frame's: decisions at its border see the same neighbours.
+TEST(AntiAliasing, ACropHasTheWholeFramesPixels) {
+  const Whitted w(0.02f);
+  const Film full = w.render({.threads = 2});
+  for (PixelWindow crop : {PixelWindow{7, 5, 23, 31}, PixelWindow{0, 20, 40, 27}}) {
+    RenderOptions options{.threads = 2};
+    options.crop = crop;
+    const Film part = w.render(options);
+    ASSERT_EQ(part.width, crop.width());
+    for (int y = crop.y0; y < crop.y1; ++y)
+      for (int x = crop.x0; x < crop.x1; ++x) {
+        const size_t i = part.index(x - crop.x0, y - crop.y0), j = full.index(x, y);
+        ASSERT_EQ(part.color[i], full.color[j]) << x << "," << y;
+        ASSERT_EQ(part.variance[i], full.variance[j]) << x << "," << y;
+        ASSERT_EQ(part.samples[i], full.samples[j]) << x << "," << y;
+      }
+  }
+}
+
 TEST(AdaptiveSampling, SidecarSettingsAreChecked) {
   SceneDescription desc;
   applySceneJsonText(R"({"render": {"adaptive": {"threshold": 0.02, "min_spp": 64}}})",
@@ -124,6 +225,8 @@ TEST(AdaptiveSampling, SidecarSettingsAreChecked) {
                      "scene.json", "/render/adaptive/min_spp", ">= 2");
   EXPECT_SCENE_ERROR(test::errorFrom(load(R"({"render": {"adaptive": {"threshold": -1}}})")),
                      "scene.json", "/render/adaptive/threshold", ">= 0");
+  EXPECT_SCENE_ERROR(test::errorFrom(load(R"({"render": {"adaptive": {"contrast": 2}}})")),
+                     "scene.json", "/render/adaptive/contrast", "<= 1");
 }
 
 }  // namespace
