@@ -796,8 +796,9 @@ bool KdTreeAccelerator::anyMoving(const Ray& ray) const {
 //   * Stop only when the closest hit so far is nearer than the next cell's entry: primitives
 //     are tested over the whole ray, so a hit found in one cell may lie beyond it, and a
 //     nearer one may still wait in the next.
-template <bool kAny>
-bool KdTreeAccelerator::trace(const Ray& ray, Hit* hit) const {
+template <bool kAny, bool kCount>
+bool KdTreeAccelerator::trace(const Ray& ray, Hit* hit, KdTraversalCounts* counts) const {
+  if constexpr (kCount) ++counts->rays;
   if (tree_.nodes.empty()) return false;
   const Vec3f invDir{1 / ray.d.x, 1 / ray.d.y, 1 / ray.d.z};
   float tMin, tMax;
@@ -818,6 +819,7 @@ bool KdTreeAccelerator::trace(const Ray& ray, Hit* hit) const {
   uint32_t index = 0;
   for (;;) {
     const KdNode& node = nodes[index];
+    if constexpr (kCount) ++counts->nodes;
     if (!node.isLeaf()) {
       const int axis = node.axis();
       const float split = node.split();
@@ -851,9 +853,11 @@ bool KdTreeAccelerator::trace(const Ray& ray, Hit* hit) const {
 
     // A leaf: test its primitives over the whole remaining ray.
     const uint32_t count = node.primCount();
+    if constexpr (kCount) ++counts->leaves, counts->emptyLeaves += count == 0;
     const uint32_t* list = count == 1 ? &node.word : tree_.leafPrims.data() + node.word;
     for (uint32_t i = 0; i < count; ++i) {
       const uint32_t id = list[i];
+      if constexpr (kCount) ++counts->primTests;
       if (id < triCount) {
         float t, u, v;
         // A deforming mesh's tree holds time steps: the triangle where it is at the ray's time.
@@ -862,7 +866,10 @@ bool KdTreeAccelerator::trace(const Ray& ray, Hit* hit) const {
             prims_.timeSteps > 1 ? (blended = prims_.triangleAt(id, ray.time)) : prims_.triangles[id];
         if (prims_.triCull[id] != 0 && isCulled(tri, ray.d, prims_.triCull[id])) continue;
         if (!intersectTriangle(tri, wray, ray.tMin, closest, &t, &u, &v)) continue;
-        if constexpr (kAny) return true;
+        if constexpr (kAny) {
+          if constexpr (kCount) ++counts->hits;
+          return true;
+        }
         closest = t;
         found = true;
         *hit = {t, prims_.triInstance[id], prims_.triPrim[id], u, v};
@@ -871,7 +878,10 @@ bool KdTreeAccelerator::trace(const Ray& ray, Hit* hit) const {
         Ray r = ray;
         r.tMax = closest;
         if constexpr (kAny) {
-          if (prims_.shapes[s].occluded(r)) return true;
+          if (prims_.shapes[s].occluded(r)) {
+            if constexpr (kCount) ++counts->hits;
+            return true;
+          }
         } else {
           ShapeHit sh;
           if (!prims_.shapes[s].intersect(r, &sh)) continue;
@@ -883,7 +893,10 @@ bool KdTreeAccelerator::trace(const Ray& ray, Hit* hit) const {
     }
     // Next cell, unless the closest hit is already nearer than where it begins.
     for (;;) {
-      if (top == 0) return found;
+      if (top == 0) {
+        if constexpr (kCount) counts->hits += found;
+        return found;
+      }
       const Todo& next = todo[--top];
       if (closest < next.tMin) continue;
       index = next.node, tMin = next.tMin, tMax = next.tMax;
@@ -912,6 +925,11 @@ bool KdTreeAccelerator::closestHit(const Ray& ray, Hit* hit) const {
   if (trace<false>(shorter, hit) && hit->t < direct.t) return true;
   *hit = direct;
   return true;
+}
+
+bool KdTreeAccelerator::countedTrace(const Ray& ray, bool any, KdTraversalCounts* counts) const {
+  Hit hit;
+  return any ? trace<true, true>(ray, nullptr, counts) : trace<false, true>(ray, &hit, counts);
 }
 
 bool KdTreeAccelerator::anyHit(const Ray& ray) const {

@@ -153,6 +153,22 @@ void buildMedianKdTree(const KdPrimitives& prims, const KdCostModel& cost, KdTre
 
 enum class KdSplitMethod { Sah, Median };
 
+// What one traversal did, summed over rays (`glint bench-accel --traversal-counts`): the
+// numbers that say whether a ray rate is set by node steps, leaf visits or primitive tests.
+struct KdTraversalCounts {
+  uint64_t rays = 0;
+  uint64_t nodes = 0;        // every node visited, interior and leaf
+  uint64_t leaves = 0;       // leaves visited, empty ones included
+  uint64_t emptyLeaves = 0;
+  uint64_t primTests = 0;    // primitives tested (culled triangles included)
+  uint64_t hits = 0;         // rays with an answer of true
+  KdTraversalCounts& operator+=(const KdTraversalCounts& o) {
+    rays += o.rays, nodes += o.nodes, leaves += o.leaves, emptyLeaves += o.emptyLeaves;
+    primTests += o.primTests, hits += o.hits;
+    return *this;
+  }
+};
+
 class KdTreeAccelerator final : public Accelerator {
  public:
   KdTreeAccelerator(const GeometryScene& scene, KdSplitMethod method, const KdCostModel& cost = {});
@@ -166,11 +182,16 @@ class KdTreeAccelerator final : public Accelerator {
 
   // For tests: the tree as built.
   const KdTree& tree() const { return tree_; }
+  // closestHit (any = false) or anyHit (any = true) of the tree alone (no planes, no moving
+  // objects), adding what the traversal did to `counts`. The same code as the plain queries,
+  // compiled with counters; slower, so only for diagnosis.
+  bool countedTrace(const Ray& ray, bool any, KdTraversalCounts* counts) const;
 
  private:
   // Front-to-back traversal; with kAny it returns at the first hit and leaves `hit` alone.
-  template <bool kAny>
-  bool trace(const Ray& ray, Hit* hit) const;
+  // With kCount it adds its work to `counts`.
+  template <bool kAny, bool kCount = false>
+  bool trace(const Ray& ray, Hit* hit, KdTraversalCounts* counts = nullptr) const;
   // The moving instances, tested one by one at the ray's time.
   bool closestMoving(const Ray& ray, Hit* hit) const;
   bool anyMoving(const Ray& ray) const;

@@ -666,6 +666,34 @@ TEST(KdTree, ParallelBuildIsIdenticalForOneAndTwoThreads) {
   EXPECT_EQ(a.stats.sahCost, b.stats.sahCost);
 }
 
+// The counted traversal (glint bench-accel --traversal-counts) is the plain one with counters:
+// the same answers, and counts that add up.
+TEST(KdTree, CountedTraversalGivesThePlainAnswers) {
+  std::mt19937 rng(31);
+  GeometryScene scene = oneMeshScene(randomSoup(rng, 2000));
+  BruteForce brute(scene);
+  for (const char* name : {"kdtree", "kdtree-median"}) {
+    auto accel = makeAccelerator(name, scene);
+    const auto& kd = dynamic_cast<const KdTreeAccelerator&>(*accel);
+    KdTraversalCounts closest, any;
+    for (int i = 0; i < 2000; ++i) {
+      Ray ray = randomRay(rng, brute.bounds(), brute.triangles(), i % 4);
+      Hit plain;
+      const bool hit = kd.closestHit(ray, &plain);
+      ASSERT_EQ(kd.countedTrace(ray, false, &closest), hit) << name << " ray " << i;
+      ASSERT_EQ(kd.countedTrace(ray, true, &any), kd.anyHit(ray)) << name << " ray " << i;
+    }
+    for (const KdTraversalCounts* c : {&closest, &any}) {
+      EXPECT_EQ(c->rays, 2000u) << name;
+      EXPECT_GE(c->nodes, c->leaves) << name;
+      EXPECT_GE(c->leaves, c->emptyLeaves) << name;
+      EXPECT_GT(c->primTests, 0u) << name;
+    }
+    EXPECT_EQ(closest.hits, any.hits) << name;
+    EXPECT_LE(any.primTests, closest.primTests) << name;  // any-hit stops at the first hit
+  }
+}
+
 TEST(KdTree, FactoryNamesAllBackends) {
   EXPECT_EQ(acceleratorNames(), (std::vector<std::string>{"embree", "kdtree", "kdtree-median"}));
   GeometryScene scene;
