@@ -635,8 +635,10 @@ struct WatertightRay {
   }
 };
 
-// A hit with tMin < t <= tMax: t and Embree-convention barycentrics. Edges are shared
-// watertightly; a zero-area triangle has det == 0 and is never hit.
+// A hit with tMin < t <= tMax: t and Embree-convention barycentrics (with kAny, only whether
+// there is one: a shadow ray needs neither t nor u, v). Edges are shared watertightly; a
+// zero-area triangle has det == 0 and is never hit.
+template <bool kAny>
 bool intersectTriangle(const std::array<Vec3f, 3>& tri, const WatertightRay& r, float tMin,
                        float tMax, float* t, float* u, float* v) {
   Vec3f p[3];
@@ -675,9 +677,11 @@ bool intersectTriangle(const std::array<Vec3f, 3>& tri, const WatertightRay& r, 
   const float deltaT =
       3 * (gamma(3) * maxE * maxZ + deltaE * maxZ + deltaZ * maxE) * std::abs(invDet);
   if (!(tt - tMin > deltaT)) return false;
-  *t = tt;
-  *u = e1 * invDet;
-  *v = e2 * invDet;
+  if constexpr (!kAny) {
+    *t = tt;
+    *u = e1 * invDet;
+    *v = e2 * invDet;
+  }
   return true;
 }
 
@@ -865,7 +869,7 @@ bool KdTreeAccelerator::trace(const Ray& ray, Hit* hit, KdTraversalCounts* count
         const std::array<Vec3f, 3>& tri =
             prims_.timeSteps > 1 ? (blended = prims_.triangleAt(id, ray.time)) : prims_.triangles[id];
         if (prims_.triCull[id] != 0 && isCulled(tri, ray.d, prims_.triCull[id])) continue;
-        if (!intersectTriangle(tri, wray, ray.tMin, closest, &t, &u, &v)) continue;
+        if (!intersectTriangle<kAny>(tri, wray, ray.tMin, closest, &t, &u, &v)) continue;
         if constexpr (kAny) {
           if constexpr (kCount) ++counts->hits;
           return true;
@@ -891,14 +895,15 @@ bool KdTreeAccelerator::trace(const Ray& ray, Hit* hit, KdTraversalCounts* count
         }
       }
     }
-    // Next cell, unless the closest hit is already nearer than where it begins.
+    // Next cell, unless the closest hit is already nearer than where it begins (an any-hit
+    // query has returned at its first hit, so it takes every cell left).
     for (;;) {
       if (top == 0) {
         if constexpr (kCount) counts->hits += found;
         return found;
       }
       const Todo& next = todo[--top];
-      if (closest < next.tMin) continue;
+      if (!kAny && closest < next.tMin) continue;
       index = next.node, tMin = next.tMin, tMax = next.tMax;
       break;
     }
