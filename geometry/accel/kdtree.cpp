@@ -257,6 +257,31 @@ void KdTree::finish() {
   stats.sahCost = root > 0 ? areaCost_ / root : double(cost.intersection) * leafPrimRefs_;
 }
 
+void KdTree::packLeaves(const KdPrimitives& prims) {
+  leafRecords.clear();
+  leafRecords.reserve(leafPrimRefs_);
+  const bool deforming = prims.timeSteps > 1;
+  for (KdNode& node : nodes) {
+    if (!node.isLeaf()) continue;
+    const uint32_t count = node.primCount();
+    const uint32_t* ids = count == 1 ? &node.word : leafPrims.data() + node.word;
+    const uint32_t first = uint32_t(leafRecords.size());
+    for (uint32_t i = 0; i < count; ++i) {
+      const uint32_t id = ids[i];
+      if (prims.isTriangle(id))
+        leafRecords.push_back(KdLeafPrim::make(
+            id, prims.triCull[id], deforming ? std::array<Vec3f, 3>{} : prims.triangles[id]));
+      else
+        leafRecords.push_back(KdLeafPrim::make(id, 0, {}));
+    }
+    node = KdNode::leaf(count, first);
+  }
+  if (leafRecords.size() > KdNode::kMaxPayload)
+    throw std::runtime_error("kd-tree: too many leaf primitives");
+  leafPrims = {};
+  stats.bytes = nodes.size() * sizeof(KdNode) + leafRecords.size() * sizeof(KdLeafPrim);
+}
+
 // ---------------------------------------------------------------------------------------------
 // The SAH builder (Wald & Havran 2006)
 // ---------------------------------------------------------------------------------------------
@@ -687,7 +712,7 @@ bool intersectTriangle(const std::array<Vec3f, 3>& tri, const WatertightRay& r, 
 
 // Whether a single-sided triangle is seen from behind along d (`cull` as KdPrimitives::triCull,
 // nonzero). A ray grazing the plane (dot exactly 0) is not culled: it cannot hit anyway.
-bool isCulled(const std::array<Vec3f, 3>& tri, Vec3f d, int8_t cull) {
+bool isCulled(const std::array<Vec3f, 3>& tri, Vec3f d, int cull) {
   const float side = dot(cross(tri[1] - tri[0], tri[2] - tri[0]), d);
   return cull > 0 ? side > 0 : side < 0;
 }
@@ -703,6 +728,7 @@ KdTreeAccelerator::KdTreeAccelerator(const GeometryScene& scene, KdSplitMethod m
     buildSahKdTree(prims_, cost, &tree_);
   else
     buildMedianKdTree(prims_, cost, &tree_);
+  tree_.packLeaves(prims_);
 
   // Moving instances stay out of the tree (their world-space triangles change with time).
   std::vector<int> meshTree(scene.meshes.size(), -1);
@@ -747,6 +773,7 @@ KdTreeAccelerator::KdTreeAccelerator(const TriangleMesh& deforming, KdSplitMetho
     buildSahKdTree(prims_, cost, &tree_);
   else
     buildMedianKdTree(prims_, cost, &tree_);
+  tree_.packLeaves(prims_);
 }
 
 Ray KdTreeAccelerator::MovingMesh::objectRay(const Ray& ray) const {
@@ -819,7 +846,9 @@ bool KdTreeAccelerator::trace(const Ray& ray, Hit* hit, KdTraversalCounts* count
   float closest = ray.tMax;
   bool found = false;
   const KdNode* nodes = tree_.nodes.data();
+  const KdLeafPrim* records = tree_.leafRecords.data();
   const uint32_t triCount = uint32_t(prims_.triangles.size());
+  const bool deforming = prims_.timeSteps > 1;
   uint32_t index = 0;
   for (;;) {
     const KdNode& node = nodes[index];
@@ -858,17 +887,18 @@ bool KdTreeAccelerator::trace(const Ray& ray, Hit* hit, KdTraversalCounts* count
     // A leaf: test its primitives over the whole remaining ray.
     const uint32_t count = node.primCount();
     if constexpr (kCount) ++counts->leaves, counts->emptyLeaves += count == 0;
-    const uint32_t* list = count == 1 ? &node.word : tree_.leafPrims.data() + node.word;
+    const KdLeafPrim* run = records + node.word;
     for (uint32_t i = 0; i < count; ++i) {
-      const uint32_t id = list[i];
+      const KdLeafPrim& prim = run[i];
+      const uint32_t id = prim.id();
       if constexpr (kCount) ++counts->primTests;
       if (id < triCount) {
         float t, u, v;
         // A deforming mesh's tree holds time steps: the triangle where it is at the ray's time.
         std::array<Vec3f, 3> blended;
         const std::array<Vec3f, 3>& tri =
-            prims_.timeSteps > 1 ? (blended = prims_.triangleAt(id, ray.time)) : prims_.triangles[id];
-        if (prims_.triCull[id] != 0 && isCulled(tri, ray.d, prims_.triCull[id])) continue;
+            deforming ? (blended = prims_.triangleAt(id, ray.time)) : prim.v;
+        if (prim.cull() != 0 && isCulled(tri, ray.d, prim.cull())) continue;
         if (!intersectTriangle<kAny>(tri, wray, ray.tMin, closest, &t, &u, &v)) continue;
         if constexpr (kAny) {
           if constexpr (kCount) ++counts->hits;

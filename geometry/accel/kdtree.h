@@ -2,8 +2,8 @@
 // Havran 2006) and "kdtree-median" (the spatial-median baseline).
 //
 // Both trees share one compact node format (8 bytes, pbrt-v3's KdAccelNode layout), one leaf
-// primitive-index array and one robust front-to-back traversal; they differ only in where
-// they split. They hold every mesh triangle of the scene, flattened into world space (the
+// format (records holding the triangles themselves, KdLeafPrim) and one robust front-to-back
+// traversal; they differ only in where they split. They hold every mesh triangle of the scene, flattened into world space (the
 // vertices of each instance are transformed once at build time; barycentrics are invariant
 // under the affine placement, so Hit.u, v match Embree's object-space ones), and every
 // bounded analytic shape instance. Unbounded shapes (infinite planes) stay out of the tree,
@@ -40,8 +40,10 @@ namespace glint {
 // axis of an interior node, 3 = leaf) and a 30-bit payload above them: for an interior node
 // the index of its above child (the below child is the next node, depth-first layout), for a
 // leaf its primitive count. `word` is the split position (a float's bits) of an interior
-// node; for a leaf it is the primitive itself when the leaf holds exactly one, else the
-// offset of the leaf's run in the leaf primitive-index array.
+// node. For a leaf, as the builders make it, `word` is the primitive itself when the leaf
+// holds exactly one, else the offset of the leaf's run in the leaf primitive-index array;
+// once the leaves are packed (KdTree::packLeaves) it is the offset of its run of KdLeafPrim
+// records, whatever the count.
 struct KdNode {
   static constexpr uint32_t kLeaf = 3;
   static constexpr uint32_t kMaxPayload = (1u << 30) - 1;
@@ -62,6 +64,26 @@ struct KdNode {
   uint32_t primCount() const { return bits >> 2; }
 };
 static_assert(sizeof(KdNode) == 8, "kd-tree nodes must stay 8 bytes (cache-line density)");
+
+// A leaf's primitive as the traversal reads it: the records of one leaf are consecutive, and a
+// triangle's carries its world-space vertices and culling code. A shadow ray crosses leaves
+// in no order a cache can follow; reading a primitive id, then the vertices it names, then
+// its culling flag were three dependent loads to three arrays, each likely a miss. The price
+// is memory: a triangle in k leaves (perfect splits cut triangles into several cells) is
+// stored k times, 40 bytes each.
+struct KdLeafPrim {
+  std::array<Vec3f, 3> v{};  // a static triangle's vertices; unused for shapes and for the
+                             // triangles of a deforming mesh (placed at the ray's time)
+  uint32_t bits = 0;         // the primitive id (30 bits) and the culling code above it
+
+  static KdLeafPrim make(uint32_t id, int8_t cull, const std::array<Vec3f, 3>& v) {
+    return {v, id | uint32_t(cull == 0 ? 0 : cull > 0 ? 1 : 2) << 30};
+  }
+  uint32_t id() const { return bits & KdNode::kMaxPayload; }
+  // As KdPrimitives::triCull: 0, +1 or -1.
+  int cull() const { return int(bits >> 30 == 2 ? -1 : bits >> 30); }
+};
+static_assert(sizeof(KdLeafPrim) == 40, "leaf records: three vertices and one word");
 
 // The cost model of the SAH build (Wald & Havran, section 3). KT = 15, KI = 20 are the
 // paper's constants (section 3.1); a triangle test and a node step cost about the same in
@@ -116,7 +138,9 @@ struct KdPrimitives {
 
 struct KdTree {
   std::vector<KdNode> nodes;        // depth-first; the root is nodes[0]
-  std::vector<uint32_t> leafPrims;  // runs of primitive ids of leaves holding > 1
+  std::vector<uint32_t> leafPrims;  // runs of primitive ids of leaves holding > 1 (the
+                                    // builders' output; emptied by packLeaves)
+  std::vector<KdLeafPrim> leafRecords;  // what the traversal reads (packLeaves)
   Bounds3f bounds;                  // the root cell
   AccelStats stats;                 // filled in by addLeaf/addInterior/finish
   KdCostModel cost;                 // the model sahCost is evaluated with
@@ -137,6 +161,9 @@ struct KdTree {
   void append(const KdTree& sub);
   // Normalizes the SAH cost by the root area and fills the byte and mean counts.
   void finish();
+  // Replaces the leaves' primitive ids by records holding the primitives (leafRecords, in
+  // node order), points every leaf at its run and recounts the bytes. Same tree, same leaves.
+  void packLeaves(const KdPrimitives& prims);
 
  private:
   double areaCost_ = 0;  // sum of cost * surface area over all nodes
