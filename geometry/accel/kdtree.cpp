@@ -257,65 +257,6 @@ void KdTree::finish() {
   stats.sahCost = root > 0 ? areaCost_ / root : double(cost.intersection) * leafPrimRefs_;
 }
 
-void KdTree::finishForTracing(const KdPrimitives& prims) {
-  layoutTreelets();
-  packLeaves(prims);
-}
-
-// A shadow ray starts on a surface, deep in the tree, and each cell it crosses is reached by
-// a descent from the subtree the stack hands back: some 60 node steps per ray, in an order no
-// cache can predict. Depth-first order keeps only the below child next to its parent; the
-// above child is anywhere. Here both children of a node are one 16-byte pair, and pairs are
-// packed breadth-first into 64-byte lines: from a pair, its nodes' child pairs, then what
-// fits of the next level, so a descent reads a line for every two to three levels, and the
-// far child a ray pushes is usually in the line already read. Subtrees that do not fit
-// start lines of their own, depth-first after their parent's line (Havran's thesis compares
-// such subtree layouts; this is the simplest that fills every line).
-void KdTree::layoutTreelets() {
-  if (nodes.empty() || nodes[0].isLeaf()) return;
-  constexpr size_t kNodesPerLine = 64 / sizeof(KdNode);
-  // Where each built node goes. The root is alone (with padding, so pairs start at even
-  // indices); every other node is half of a pair, placed with its sibling.
-  std::vector<uint32_t> where(nodes.size());
-  where[0] = 0;
-  size_t next = 2;
-  // Interior nodes (built indices) whose child pair waits for a line of its own.
-  std::vector<uint32_t> roots{0};
-  std::vector<uint32_t> level, deeper;
-  while (!roots.empty()) {
-    level.assign(1, roots.back());
-    roots.pop_back();
-    const size_t lineEnd = (next / kNodesPerLine + 1) * kNodesPerLine;
-    // Breadth-first from this pair until the line is full; what is left becomes roots.
-    while (!level.empty()) {
-      deeper.clear();
-      for (size_t i = 0; i < level.size(); ++i) {
-        const uint32_t parent = level[i];
-        if (next >= lineEnd) {
-          // Pushed in reverse so they are laid out in order: this level's, then the next.
-          for (size_t j = deeper.size(); j-- > 0;) roots.push_back(deeper[j]);
-          for (size_t j = level.size(); j-- > i;) roots.push_back(level[j]);
-          level.clear(), deeper.clear();
-          break;
-        }
-        const uint32_t below = parent + 1, above = nodes[parent].aboveChild();
-        where[below] = uint32_t(next), where[above] = uint32_t(next + 1);
-        next += 2;
-        for (uint32_t child : {below, above})
-          if (!nodes[child].isLeaf()) deeper.push_back(child);
-      }
-      std::swap(level, deeper);
-    }
-  }
-  std::vector<KdNode, CacheLineAllocator<KdNode>> out(next);
-  out[1] = KdNode::leaf(0, 0);  // padding
-  for (uint32_t i = 0; i < nodes.size(); ++i) {
-    const KdNode& n = nodes[i];
-    out[where[i]] = n.isLeaf() ? n : KdNode::interior(n.axis(), n.split(), where[i + 1]);
-  }
-  nodes = std::move(out);
-}
-
 void KdTree::packLeaves(const KdPrimitives& prims) {
   leafRecords.clear();
   leafRecords.reserve(leafPrimRefs_);
@@ -787,7 +728,7 @@ KdTreeAccelerator::KdTreeAccelerator(const GeometryScene& scene, KdSplitMethod m
     buildSahKdTree(prims_, cost, &tree_);
   else
     buildMedianKdTree(prims_, cost, &tree_);
-  tree_.finishForTracing(prims_);
+  tree_.packLeaves(prims_);
 
   // Moving instances stay out of the tree (their world-space triangles change with time).
   std::vector<int> meshTree(scene.meshes.size(), -1);
@@ -832,7 +773,7 @@ KdTreeAccelerator::KdTreeAccelerator(const TriangleMesh& deforming, KdSplitMetho
     buildSahKdTree(prims_, cost, &tree_);
   else
     buildMedianKdTree(prims_, cost, &tree_);
-  tree_.finishForTracing(prims_);
+  tree_.packLeaves(prims_);
 }
 
 Ray KdTreeAccelerator::MovingMesh::objectRay(const Ray& ray) const {
@@ -921,7 +862,7 @@ bool KdTreeAccelerator::trace(const Ray& ray, Hit* hit, KdTraversalCounts* count
       const int axis = node.axis();
       const float split = node.split();
       const float o = ray.o[axis], d = ray.d[axis];
-      const uint32_t below = node.children(), above = below + 1;
+      const uint32_t below = index + 1, above = node.aboveChild();
       const float tPlane = (split - o) * invDir[axis];
       if (d == 0 || std::isnan(tPlane)) {
         if (o < split) {

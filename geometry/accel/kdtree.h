@@ -22,8 +22,6 @@
 
 #include <array>
 #include <bit>
-#include <cstddef>
-#include <new>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -40,16 +38,12 @@ namespace glint {
 
 // One kd-tree node in 8 bytes. `bits` holds the kind in its low 2 bits (0, 1, 2 = split
 // axis of an interior node, 3 = leaf) and a 30-bit payload above them: for an interior node
-// a child index, for a leaf its primitive count. `word` is the split position (a float's
-// bits) of an interior node.
-//
-// A tree has two forms. As the builders make it, the nodes are depth-first: an interior
-// node's below child is the next node and the payload is its above child; a leaf's `word` is
-// the primitive itself when the leaf holds exactly one, else the offset of the leaf's run in
-// the leaf primitive-index array. For tracing (KdTree::finishForTracing) the nodes are laid
-// out in cache-line treelets: an interior node's payload is the first of its two children,
-// which are adjacent (below, then above, at an even index); a leaf's `word` is the offset of
-// its run of KdLeafPrim records, whatever the count.
+// the index of its above child (the below child is the next node, depth-first layout), for a
+// leaf its primitive count. `word` is the split position (a float's bits) of an interior
+// node. For a leaf, as the builders make it, `word` is the primitive itself when the leaf
+// holds exactly one, else the offset of the leaf's run in the leaf primitive-index array;
+// once the leaves are packed (KdTree::packLeaves) it is the offset of its run of KdLeafPrim
+// records, whatever the count.
 struct KdNode {
   static constexpr uint32_t kLeaf = 3;
   static constexpr uint32_t kMaxPayload = (1u << 30) - 1;
@@ -66,25 +60,10 @@ struct KdNode {
   bool isLeaf() const { return (bits & 3) == kLeaf; }
   int axis() const { return int(bits & 3); }
   float split() const { return std::bit_cast<float>(word); }
-  uint32_t aboveChild() const { return bits >> 2; }  // as built
-  uint32_t children() const { return bits >> 2; }    // laid out: below; above is next to it
+  uint32_t aboveChild() const { return bits >> 2; }
   uint32_t primCount() const { return bits >> 2; }
 };
 static_assert(sizeof(KdNode) == 8, "kd-tree nodes must stay 8 bytes (cache-line density)");
-
-// Node arrays start on a cache line, so the treelets' lines are the hardware's.
-template <class T>
-struct CacheLineAllocator {
-  using value_type = T;
-  static constexpr std::align_val_t kAlign{64};
-  CacheLineAllocator() = default;
-  template <class U>
-  CacheLineAllocator(const CacheLineAllocator<U>&) {}
-  T* allocate(size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), kAlign)); }
-  void deallocate(T* p, size_t) { ::operator delete(p, kAlign); }
-  template <class U>
-  bool operator==(const CacheLineAllocator<U>&) const { return true; }
-};
 
 // A leaf's primitive as the traversal reads it: the records of one leaf are consecutive, and a
 // triangle's carries its world-space vertices and culling code. A shadow ray crosses leaves
@@ -158,8 +137,7 @@ struct KdPrimitives {
 // ---------------------------------------------------------------------------------------------
 
 struct KdTree {
-  // The root is nodes[0]; depth-first as built, treelets once finished for tracing.
-  std::vector<KdNode, CacheLineAllocator<KdNode>> nodes;
+  std::vector<KdNode> nodes;        // depth-first; the root is nodes[0]
   std::vector<uint32_t> leafPrims;  // runs of primitive ids of leaves holding > 1 (the
                                     // builders' output; emptied by packLeaves)
   std::vector<KdLeafPrim> leafRecords;  // what the traversal reads (packLeaves)
@@ -183,15 +161,8 @@ struct KdTree {
   void append(const KdTree& sub);
   // Normalizes the SAH cost by the root area and fills the byte and mean counts.
   void finish();
-  // The built tree in its tracing form: the nodes laid out in treelets (layoutTreelets), then
-  // the leaves packed (packLeaves). Same splits, same leaves; the statistics stay the build's
-  // except the bytes.
-  void finishForTracing(const KdPrimitives& prims);
-  // Reorders the nodes so that each 64-byte line holds a small subtree (see kdtree.cpp) and
-  // a node's two children are adjacent; nodes[1] is then padding, never reached.
-  void layoutTreelets();
   // Replaces the leaves' primitive ids by records holding the primitives (leafRecords, in
-  // node order), points every leaf at its run and recounts the bytes.
+  // node order), points every leaf at its run and recounts the bytes. Same tree, same leaves.
   void packLeaves(const KdPrimitives& prims);
 
  private:
