@@ -668,7 +668,8 @@ bool intersectTriangle(const std::array<Vec3f, 3>& tri, const WatertightRay& r, 
                        float tMax, float* t, float* u, float* v) {
   Vec3f p[3];
   for (int i = 0; i < 3; ++i) {
-    Vec3f q = tri[i] - r.o;
+    // A plain array: Vec3f's operator[] would branch on the ray's axes, three times a vertex.
+    const float q[3] = {tri[i].x - r.o.x, tri[i].y - r.o.y, tri[i].z - r.o.z};
     p[i] = {q[r.kx] + r.sx * q[r.kz], q[r.ky] + r.sy * q[r.kz], q[r.kz]};
   }
   float e0 = p[1].x * p[2].y - p[1].y * p[2].x;
