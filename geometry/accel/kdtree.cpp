@@ -199,7 +199,7 @@ int KdTree::maxDepthFor(uint32_t primCount) {
 }
 
 void KdTree::addLeaf(const uint32_t* prims, uint32_t count, const Bounds3f& box, int depth) {
-  if (count > KdNode::kMaxPayload || nodes.size() >= KdNode::kMaxPayload)
+  if (count > KdNode::kMaxPayload || nodes.size() >= KdNode::kMaxNodes)
     throw std::runtime_error("kd-tree: too many nodes or leaf primitives");
   if (count == 1) {
     nodes.push_back(KdNode::leaf(1, prims[0]));
@@ -215,7 +215,7 @@ void KdTree::addLeaf(const uint32_t* prims, uint32_t count, const Bounds3f& box,
 }
 
 uint32_t KdTree::addInterior(const Bounds3f& box, int depth) {
-  if (nodes.size() >= KdNode::kMaxPayload) throw std::runtime_error("kd-tree: too many nodes");
+  if (nodes.size() >= KdNode::kMaxNodes) throw std::runtime_error("kd-tree: too many nodes");
   nodes.emplace_back();
   stats.maxDepth = std::max(stats.maxDepth, uint32_t(depth));
   areaCost_ += double(cost.traversal) * halfArea(box);
@@ -228,7 +228,7 @@ void KdTree::setInterior(uint32_t node, int axis, float split) {
 
 void KdTree::append(const KdTree& sub) {
   const uint32_t nodeBase = uint32_t(nodes.size()), leafBase = uint32_t(leafPrims.size());
-  if (size_t(nodeBase) + sub.nodes.size() >= KdNode::kMaxPayload)
+  if (size_t(nodeBase) + sub.nodes.size() >= KdNode::kMaxNodes)
     throw std::runtime_error("kd-tree: too many nodes");
   for (KdNode n : sub.nodes) {
     if (!n.isLeaf())
@@ -245,7 +245,22 @@ void KdTree::append(const KdTree& sub) {
   leafPrimRefs_ += sub.leafPrimRefs_;
 }
 
+// A shadow ray leaving a surface crosses about four empty cells for every one holding
+// something (the SAH cuts empty space off around the surface, and most shadow rays escape):
+// visiting each cost a node read and a pop. With the flags, the parent's step skips them.
+void KdTree::markEmptyChildren() {
+  auto empty = [&](uint32_t i) { return nodes[i].isLeaf() && nodes[i].primCount() == 0; };
+  for (uint32_t i = 0; i < nodes.size(); ++i) {
+    KdNode& n = nodes[i];
+    if (n.isLeaf()) continue;
+    n.bits &= ~(KdNode::kBelowEmpty | KdNode::kAboveEmpty);
+    if (empty(i + 1)) n.bits |= KdNode::kBelowEmpty;
+    if (empty(n.aboveChild())) n.bits |= KdNode::kAboveEmpty;
+  }
+}
+
 void KdTree::finish() {
+  markEmptyChildren();
   stats.nodes = nodes.size();
   stats.bytes = nodes.size() * sizeof(KdNode) + leafPrims.size() * sizeof(uint32_t);
   uint64_t full = stats.leaves - stats.emptyLeaves;
@@ -878,59 +893,71 @@ bool KdTreeAccelerator::trace(const Ray& ray, Hit* hit, KdTraversalCounts* count
       const int axis = node.axis();
       const float tPlane = (node.split() - org[axis]) * inv[axis];
       const uint32_t below = index + 1, above = node.aboveChild();
-      const uint32_t nearChild = down[axis] ? above : below;
-      const uint32_t farChild = down[axis] ? below : above;
+      const bool d = down[axis];
+      const uint32_t nearChild = d ? above : below, farChild = d ? below : above;
+      const bool nearEmpty = d ? node.aboveEmpty() : node.belowEmpty();
+      const bool farEmpty = d ? node.belowEmpty() : node.aboveEmpty();
       // A NaN plane distance (a ray in the plane) fails both skip tests and every comparison
       // with tMin and tMax below, so both children are entered over the whole interval.
+      // An empty child is never entered: nothing is there to hit.
+      bool enter = true;
       if (tPlane > tMax + std::abs(tMax) * kSlack) {
         index = nearChild;
+        enter = !nearEmpty;
       } else if (tPlane < tMin - std::abs(tMin) * kSlack) {
         index = farChild;
+        enter = !farEmpty;
+      } else if (nearEmpty) {
+        // Straight on to the far cell, over the part of the ray beyond the plane.
+        tMin = tPlane > tMin ? tPlane : tMin;
+        index = farChild;
+        enter = !farEmpty && (kAny || !(closest < tMin));
       } else {
-        todo[top++] = {farChild, tPlane > tMin ? tPlane : tMin, tMax};
+        if (!farEmpty) todo[top++] = {farChild, tPlane > tMin ? tPlane : tMin, tMax};
         tMax = tPlane < tMax ? tPlane : tMax;
         index = nearChild;
       }
-      continue;
-    }
-
-    // A leaf: test its primitives over the whole remaining ray.
-    const uint32_t count = node.primCount();
-    if constexpr (kCount) ++counts->leaves, counts->emptyLeaves += count == 0;
-    const KdLeafPrim* run = records + node.word;
-    for (uint32_t i = 0; i < count; ++i) {
-      const KdLeafPrim& prim = run[i];
-      const uint32_t id = prim.id();
-      if constexpr (kCount) ++counts->primTests;
-      if (id < triCount) {
-        float t, u, v;
-        // A deforming mesh's tree holds time steps: the triangle where it is at the ray's time.
-        const std::array<Vec3f, 3>& tri =
-            deforming ? (blended = prims_.triangleAt(id, ray.time)) : prim.v;
-        if (prim.cull() != 0 && isCulled(tri, ray.d, prim.cull())) continue;
-        if (!intersectTriangle<kAny>(tri, wray, ray.tMin, closest, &t, &u, &v)) continue;
-        if constexpr (kAny) {
-          if constexpr (kCount) ++counts->hits;
-          return true;
-        }
-        closest = t;
-        found = true;
-        *hit = {t, prims_.triInstance[id], prims_.triPrim[id], u, v};
-      } else {
-        const uint32_t s = id - triCount;
-        Ray r = ray;
-        r.tMax = closest;
-        if constexpr (kAny) {
-          if (prims_.shapes[s].occluded(r)) {
+      if (enter) continue;
+    } else {
+      // A leaf: test its primitives over the whole remaining ray.
+      const uint32_t count = node.primCount();
+      if constexpr (kCount) ++counts->leaves, counts->emptyLeaves += count == 0;
+      const KdLeafPrim* run = records + node.word;
+      for (uint32_t i = 0; i < count; ++i) {
+        const KdLeafPrim& prim = run[i];
+        const uint32_t id = prim.id();
+        if constexpr (kCount) ++counts->primTests;
+        if (id < triCount) {
+          float t, u, v;
+          // A deforming mesh's tree holds time steps: the triangle where it is at the ray's
+          // time.
+          const std::array<Vec3f, 3>& tri =
+              deforming ? (blended = prims_.triangleAt(id, ray.time)) : prim.v;
+          if (prim.cull() != 0 && isCulled(tri, ray.d, prim.cull())) continue;
+          if (!intersectTriangle<kAny>(tri, wray, ray.tMin, closest, &t, &u, &v)) continue;
+          if constexpr (kAny) {
             if constexpr (kCount) ++counts->hits;
             return true;
           }
-        } else {
-          ShapeHit sh;
-          if (!prims_.shapes[s].intersect(r, &sh)) continue;
-          closest = sh.t;
+          closest = t;
           found = true;
-          *hit = {sh.t, prims_.shapeInstance[s], sh.part, 0, 0};
+          *hit = {t, prims_.triInstance[id], prims_.triPrim[id], u, v};
+        } else {
+          const uint32_t s = id - triCount;
+          Ray r = ray;
+          r.tMax = closest;
+          if constexpr (kAny) {
+            if (prims_.shapes[s].occluded(r)) {
+              if constexpr (kCount) ++counts->hits;
+              return true;
+            }
+          } else {
+            ShapeHit sh;
+            if (!prims_.shapes[s].intersect(r, &sh)) continue;
+            closest = sh.t;
+            found = true;
+            *hit = {sh.t, prims_.shapeInstance[s], sh.part, 0, 0};
+          }
         }
       }
     }

@@ -37,22 +37,26 @@ namespace glint {
 // ---------------------------------------------------------------------------------------------
 
 // One kd-tree node in 8 bytes. `bits` holds the kind in its low 2 bits (0, 1, 2 = split
-// axis of an interior node, 3 = leaf) and a 30-bit payload above them: for an interior node
-// the index of its above child (the below child is the next node, depth-first layout), for a
-// leaf its primitive count. `word` is the split position (a float's bits) of an interior
+// axis of an interior node, 3 = leaf). Above them, for a leaf, its primitive count (30
+// bits); for an interior node two flags, whether its below and its above child are empty
+// leaves (set by KdTree::markEmptyChildren, so a traversal skips them without reading them),
+// and the index of its above child (28 bits; the below child is the next node, depth-first
+// layout). `word` is the split position (a float's bits) of an interior
 // node. For a leaf, as the builders make it, `word` is the primitive itself when the leaf
 // holds exactly one, else the offset of the leaf's run in the leaf primitive-index array;
 // once the leaves are packed (KdTree::packLeaves) it is the offset of its run of KdLeafPrim
 // records, whatever the count.
 struct KdNode {
   static constexpr uint32_t kLeaf = 3;
-  static constexpr uint32_t kMaxPayload = (1u << 30) - 1;
+  static constexpr uint32_t kMaxPayload = (1u << 30) - 1;  // primitives and their counts
+  static constexpr uint32_t kMaxNodes = (1u << 28) - 1;    // child indices
+  static constexpr uint32_t kBelowEmpty = 4, kAboveEmpty = 8;
 
   uint32_t word = 0;
   uint32_t bits = kLeaf;
 
   static KdNode interior(int axis, float split, uint32_t aboveChild) {
-    return {std::bit_cast<uint32_t>(split), (aboveChild << 2) | uint32_t(axis)};
+    return {std::bit_cast<uint32_t>(split), (aboveChild << 4) | uint32_t(axis)};
   }
   // `first` is the primitive (count == 1) or the offset into the leaf array (count > 1).
   static KdNode leaf(uint32_t count, uint32_t first) { return {first, (count << 2) | kLeaf}; }
@@ -60,7 +64,9 @@ struct KdNode {
   bool isLeaf() const { return (bits & 3) == kLeaf; }
   int axis() const { return int(bits & 3); }
   float split() const { return std::bit_cast<float>(word); }
-  uint32_t aboveChild() const { return bits >> 2; }
+  uint32_t aboveChild() const { return bits >> 4; }
+  bool belowEmpty() const { return bits & kBelowEmpty; }
+  bool aboveEmpty() const { return bits & kAboveEmpty; }
   uint32_t primCount() const { return bits >> 2; }
 };
 static_assert(sizeof(KdNode) == 8, "kd-tree nodes must stay 8 bytes (cache-line density)");
@@ -159,8 +165,11 @@ struct KdTree {
   // Appends a subtree built on its own (a parallel build's task) as the next nodes: its
   // child and leaf-array indices are shifted, its statistics merged.
   void append(const KdTree& sub);
-  // Normalizes the SAH cost by the root area and fills the byte and mean counts.
+  // Normalizes the SAH cost by the root area, fills the byte and mean counts and marks the
+  // empty children.
   void finish();
+  // Sets the interior nodes' empty-child flags.
+  void markEmptyChildren();
   // Replaces the leaves' primitive ids by records holding the primitives (leafRecords, in
   // node order), points every leaf at its run and recounts the bytes. Same tree, same leaves.
   void packLeaves(const KdPrimitives& prims);

@@ -715,6 +715,26 @@ TEST(KdTree, PackedLeavesHoldTheBuiltLeavesPrimitives) {
   // by single_sided_test.cpp: all of them trace packed trees.
 }
 
+// Interior nodes flag their empty children (the traversal skips them unread), and only those.
+TEST(KdTree, EmptyChildrenAreFlagged) {
+  GeometryScene scene = loadBunny();
+  for (KdSplitMethod method : {KdSplitMethod::Sah, KdSplitMethod::Median}) {
+    KdTreeAccelerator accel(scene, method);
+    const KdTree& tree = accel.tree();
+    auto empty = [&](uint32_t i) { return tree.nodes[i].isLeaf() && tree.nodes[i].primCount() == 0; };
+    size_t flagged = 0;
+    for (uint32_t i = 0; i < tree.nodes.size(); ++i) {
+      const KdNode& n = tree.nodes[i];
+      if (n.isLeaf()) continue;
+      ASSERT_EQ(n.belowEmpty(), empty(i + 1)) << accel.name() << " node " << i;
+      ASSERT_EQ(n.aboveEmpty(), empty(n.aboveChild())) << accel.name() << " node " << i;
+      ASSERT_FALSE(n.belowEmpty() && n.aboveEmpty()) << accel.name() << " node " << i;
+      flagged += n.belowEmpty() + n.aboveEmpty();
+    }
+    EXPECT_EQ(flagged, accel.stats().emptyLeaves) << accel.name();
+  }
+}
+
 // The parallel build makes the same tree whatever the number of threads.
 TEST(KdTree, ParallelBuildIsIdenticalForOneAndTwoThreads) {
   GeometryScene scene = loadBunny();
