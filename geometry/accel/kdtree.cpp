@@ -874,6 +874,11 @@ bool KdTreeAccelerator::trace(const Ray& ray, Hit* hit, KdTraversalCounts* count
   const float inv[3] = {invDir.x, invDir.y, invDir.z};
   const bool down[3] = {std::signbit(ray.d.x), std::signbit(ray.d.y), std::signbit(ray.d.z)};
   float tMin = t0, tMax = t1;
+  // The skip thresholds of the interval, widened by the plane distance's rounding; they
+  // change only where tMin or tMax does, not at every node.
+  auto lowered = [&](float t) { return t - std::abs(t) * kSlack; };
+  auto raised = [&](float t) { return t + std::abs(t) * kSlack; };
+  float tMinLo = lowered(tMin), tMaxHi = raised(tMax);
   std::array<Vec3f, 3> blended;  // a deforming triangle at the ray's time
   uint32_t index = 0;
   [[maybe_unused]] uintptr_t lastLine = 0;  // kCount
@@ -901,20 +906,22 @@ bool KdTreeAccelerator::trace(const Ray& ray, Hit* hit, KdTraversalCounts* count
       // with tMin and tMax below, so both children are entered over the whole interval.
       // An empty child is never entered: nothing is there to hit.
       bool enter = true;
-      if (tPlane > tMax + std::abs(tMax) * kSlack) {
+      if (tPlane > tMaxHi) {
         index = nearChild;
         enter = !nearEmpty;
-      } else if (tPlane < tMin - std::abs(tMin) * kSlack) {
+      } else if (tPlane < tMinLo) {
         index = farChild;
         enter = !farEmpty;
       } else if (nearEmpty) {
         // Straight on to the far cell, over the part of the ray beyond the plane.
         tMin = tPlane > tMin ? tPlane : tMin;
+        tMinLo = lowered(tMin);
         index = farChild;
         enter = !farEmpty && (kAny || !(closest < tMin));
       } else {
         if (!farEmpty) todo[top++] = {farChild, tPlane > tMin ? tPlane : tMin, tMax};
         tMax = tPlane < tMax ? tPlane : tMax;
+        tMaxHi = raised(tMax);
         index = nearChild;
       }
       if (enter) continue;
@@ -971,6 +978,7 @@ bool KdTreeAccelerator::trace(const Ray& ray, Hit* hit, KdTraversalCounts* count
       const Todo& next = todo[--top];
       if (!kAny && closest < next.tMin) continue;
       index = next.node, tMin = next.tMin, tMax = next.tMax;
+      tMinLo = lowered(tMin), tMaxHi = raised(tMax);
       break;
     }
   }
