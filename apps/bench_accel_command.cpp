@@ -311,12 +311,12 @@ void printTable(const BenchArgs& a, size_t triangles, int threads, size_t camera
   for (const BackendResult& r : results) {
     if (!r.cameraCounts) continue;
     if (!header) {
-      std::printf("\ntraversal per ray: %-14s %8s %10s %8s %8s %10s\n", "", "nodes",
-                  "node lines", "leaves", "empty", "prim tests");
+      std::printf("\ntraversal per ray: %-14s %8s %10s %8s %8s %10s\n", "", "nodes", "node lines",
+                  "leaves", "empty", "prim tests");
       header = true;
     }
-    for (const auto& [kind, c] : {std::pair{"camera", *r.cameraCounts},
-                                  std::pair{"occlusion", *r.occlusionCounts}}) {
+    for (const auto& [kind, c] :
+         {std::pair{"camera", *r.cameraCounts}, std::pair{"occlusion", *r.occlusionCounts}}) {
       const double n = c.rays ? double(c.rays) : 1;
       std::printf("%-14s %-10s %8.2f %10.2f %8.2f %8.2f %10.2f\n", r.name.c_str(), kind,
                   double(c.nodes) / n, double(c.nodeLines) / n, double(c.leaves) / n,

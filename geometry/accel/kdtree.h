@@ -3,11 +3,12 @@
 //
 // Both trees share one compact node format (8 bytes, pbrt-v3's KdAccelNode layout), one leaf
 // format (records holding the triangles themselves, KdLeafPrim) and one robust front-to-back
-// traversal; they differ only in where they split. They hold every mesh triangle of the scene, flattened into world space (the
-// vertices of each instance are transformed once at build time; barycentrics are invariant
-// under the affine placement, so Hit.u, v match Embree's object-space ones), and every
-// bounded analytic shape instance. Unbounded shapes (infinite planes) stay out of the tree,
-// in an UnboundedShapes list tested first, as in the Embree backend.
+// traversal; they differ only in where they split. They hold every mesh triangle of the scene,
+// flattened into world space (the vertices of each instance are transformed once at build
+// time; barycentrics are invariant under the affine placement, so Hit.u, v match Embree's
+// object-space ones), and every bounded analytic shape instance. Unbounded shapes (infinite
+// planes) stay out of the tree, in an UnboundedShapes list tested first, as in the Embree
+// backend.
 //
 // Motion blur: moving instances (Instance::motion animated) stay out of the tree too, so a
 // static scene builds and traces exactly as before. A moving shape is placed at the ray's time
@@ -41,11 +42,10 @@ namespace glint {
 // bits); for an interior node two flags, whether its below and its above child are empty
 // leaves (set by KdTree::markEmptyChildren, so a traversal skips them without reading them),
 // and the index of its above child (28 bits; the below child is the next node, depth-first
-// layout). `word` is the split position (a float's bits) of an interior
-// node. For a leaf, as the builders make it, `word` is the primitive itself when the leaf
-// holds exactly one, else the offset of the leaf's run in the leaf primitive-index array;
-// once the leaves are packed (KdTree::packLeaves) it is the offset of its run of KdLeafPrim
-// records, whatever the count.
+// layout). `word` is the split position (a float's bits) of an interior node. For a leaf, as
+// the builders make it, `word` is the primitive itself when the leaf holds exactly one, else
+// the offset of the leaf's run in the leaf primitive-index array; once the leaves are packed
+// (KdTree::packLeaves) it is the offset of its run of KdLeafPrim records, whatever the count.
 struct KdNode {
   static constexpr uint32_t kLeaf = 3;
   static constexpr uint32_t kMaxPayload = (1u << 30) - 1;  // primitives and their counts
@@ -72,11 +72,11 @@ struct KdNode {
 static_assert(sizeof(KdNode) == 8, "kd-tree nodes must stay 8 bytes (cache-line density)");
 
 // A leaf's primitive as the traversal reads it: the records of one leaf are consecutive, and a
-// triangle's carries its world-space vertices and culling code. A shadow ray crosses leaves
-// in no order a cache can follow; reading a primitive id, then the vertices it names, then
-// its culling flag were three dependent loads to three arrays, each likely a miss. The price
-// is memory: a triangle in k leaves (perfect splits cut triangles into several cells) is
-// stored k times, 40 bytes each.
+// triangle's carries its world-space vertices and culling code, where a primitive id, then the
+// vertices it names, then its culling flag were three dependent loads from three arrays
+// (measured: shadow rays 6-11% faster, benchmarks/README.md, issue 27). The price is memory:
+// a triangle in k leaves (perfect splits cut triangles into several cells) is stored k times,
+// 40 bytes each, which triples the dragon's tree.
 struct KdLeafPrim {
   std::array<Vec3f, 3> v{};  // a static triangle's vertices; unused for shapes and for the
                              // triangles of a deforming mesh (placed at the ray's time)
@@ -143,13 +143,13 @@ struct KdPrimitives {
 // ---------------------------------------------------------------------------------------------
 
 struct KdTree {
-  std::vector<KdNode> nodes;        // depth-first; the root is nodes[0]
-  std::vector<uint32_t> leafPrims;  // runs of primitive ids of leaves holding > 1 (the
-                                    // builders' output; emptied by packLeaves)
+  std::vector<KdNode> nodes;            // depth-first; the root is nodes[0]
+  std::vector<uint32_t> leafPrims;      // runs of primitive ids of leaves holding > 1 (the
+                                        // builders' output; emptied by packLeaves)
   std::vector<KdLeafPrim> leafRecords;  // what the traversal reads (packLeaves)
-  Bounds3f bounds;                  // the root cell
-  AccelStats stats;                 // filled in by addLeaf/addInterior/finish
-  KdCostModel cost;                 // the model sahCost is evaluated with
+  Bounds3f bounds;                      // the root cell
+  AccelStats stats;                     // filled in by addLeaf/addInterior/finish
+  KdCostModel cost;                     // the model sahCost is evaluated with
 
   // The deepest tree a build may make: 8 + 1.3 log2 N (pbrt-v3's rule, also Wald & Havran's
   // safety net), capped by the traversal stack.
@@ -193,12 +193,12 @@ enum class KdSplitMethod { Sah, Median };
 // numbers that say whether a ray rate is set by node steps, leaf visits or primitive tests.
 struct KdTraversalCounts {
   uint64_t rays = 0;
-  uint64_t nodes = 0;        // every node visited, interior and leaf
-  uint64_t nodeLines = 0;    // visits to a node in another 64-byte line than the last one
-  uint64_t leaves = 0;       // leaves visited, empty ones included
+  uint64_t nodes = 0;      // every node visited, interior and leaf
+  uint64_t nodeLines = 0;  // visits to a node in another 64-byte line than the last one
+  uint64_t leaves = 0;     // leaves visited, empty ones included
   uint64_t emptyLeaves = 0;
-  uint64_t primTests = 0;    // primitives tested (culled triangles included)
-  uint64_t hits = 0;         // rays with an answer of true
+  uint64_t primTests = 0;  // primitives tested (culled triangles included)
+  uint64_t hits = 0;       // rays with an answer of true
   KdTraversalCounts& operator+=(const KdTraversalCounts& o) {
     rays += o.rays, nodes += o.nodes, nodeLines += o.nodeLines, leaves += o.leaves;
     emptyLeaves += o.emptyLeaves;
@@ -218,7 +218,7 @@ class KdTreeAccelerator final : public Accelerator {
   bool closestHit(const Ray& ray, Hit* hit) const override;
   bool anyHit(const Ray& ray) const override;
 
-  // For tests: the tree as built.
+  // For tests: the tree as built, its leaves packed.
   const KdTree& tree() const { return tree_; }
   // closestHit (any = false) or anyHit (any = true) of the tree alone (no planes, no moving
   // objects), adding what the traversal did to `counts`. The same code as the plain queries,

@@ -721,7 +721,9 @@ TEST(KdTree, EmptyChildrenAreFlagged) {
   for (KdSplitMethod method : {KdSplitMethod::Sah, KdSplitMethod::Median}) {
     KdTreeAccelerator accel(scene, method);
     const KdTree& tree = accel.tree();
-    auto empty = [&](uint32_t i) { return tree.nodes[i].isLeaf() && tree.nodes[i].primCount() == 0; };
+    auto empty = [&](uint32_t i) {
+      return tree.nodes[i].isLeaf() && tree.nodes[i].primCount() == 0;
+    };
     size_t flagged = 0;
     for (uint32_t i = 0; i < tree.nodes.size(); ++i) {
       const KdNode& n = tree.nodes[i];
