@@ -34,6 +34,7 @@
 #include "apps/commands.h"
 #include "benchmarks/bare_embree.h"
 #include "geometry/accel/embree_accel.h"
+#include "geometry/accel/kdtree.h"
 #include "geometry/interaction.h"
 #include "geometry/sampling.h"
 #include "renderer/progress.h"
@@ -57,6 +58,7 @@ struct BenchArgs {
   std::optional<std::string> json;
   bool quiet = false;
   bool embreeHighQuality = false;  // also time Embree's high-quality build (an extra JSON key)
+  bool traversalCounts = false;    // kd-trees: also count node visits etc. (stdout only)
 };
 
 struct BackendResult {
@@ -66,6 +68,7 @@ struct BackendResult {
   AccelStats stats;
   double cameraMrays = 0, occlusionMrays = 0;
   uint64_t cameraHits = 0, occluded = 0;
+  std::optional<KdTraversalCounts> cameraCounts, occlusionCounts;  // --traversal-counts
 };
 
 double seconds(Clock::time_point a, Clock::time_point b) {
@@ -219,6 +222,22 @@ double bareEmbreeSeconds(const std::vector<Ray>& rays, RTCScene rtc, tbb::task_a
   return seconds(start, end);
 }
 
+// The kd-tree's work over `rays`, in an untimed pass of its own (the counters slow it down).
+KdTraversalCounts countTraversal(const KdTreeAccelerator& kd, const std::vector<Ray>& rays,
+                                 bool any, tbb::task_arena& arena) {
+  KdTraversalCounts total;
+  arena.execute([&] {
+    total = tbb::parallel_reduce(
+        tbb::blocked_range<size_t>(0, rays.size(), 4096), KdTraversalCounts{},
+        [&](const tbb::blocked_range<size_t>& r, KdTraversalCounts c) {
+          for (size_t i = r.begin(); i != r.end(); ++i) kd.countedTrace(rays[i], any, &c);
+          return c;
+        },
+        [](KdTraversalCounts a, const KdTraversalCounts& b) { return a += b; });
+  });
+  return total;
+}
+
 double mrays(size_t rays, double seconds) {
   return seconds > 0 ? double(rays) / seconds * 1e-6 : 0;
 }
@@ -288,6 +307,22 @@ void printTable(const BenchArgs& a, size_t triangles, int threads, size_t camera
       std::printf("note: %s hits %lld camera rays more than Embree\n", r.name.c_str(),
                   (long long)r.cameraHits - (long long)referenceHits);
   std::printf("(bytes and tree statistics are 0 where a backend does not expose them)\n");
+  bool header = false;
+  for (const BackendResult& r : results) {
+    if (!r.cameraCounts) continue;
+    if (!header) {
+      std::printf("\ntraversal per ray: %-14s %8s %10s %8s %8s %10s\n", "", "nodes", "node lines",
+                  "leaves", "empty", "prim tests");
+      header = true;
+    }
+    for (const auto& [kind, c] :
+         {std::pair{"camera", *r.cameraCounts}, std::pair{"occlusion", *r.occlusionCounts}}) {
+      const double n = c.rays ? double(c.rays) : 1;
+      std::printf("%-14s %-10s %8.2f %10.2f %8.2f %8.2f %10.2f\n", r.name.c_str(), kind,
+                  double(c.nodes) / n, double(c.nodeLines) / n, double(c.leaves) / n,
+                  double(c.emptyLeaves) / n, double(c.primTests) / n);
+    }
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -369,6 +404,12 @@ void runBenchAccel(const BenchArgs& args) {
           occRays, arena, [&](const Ray& ray) { return acc.anyHit(ray); }, &r.occluded);
       r.cameraMrays = mrays(camRays.size(), camSeconds);
       r.occlusionMrays = mrays(occRays.size(), occSeconds);
+      const auto* kd = dynamic_cast<const KdTreeAccelerator*>(&acc);
+      if (args.traversalCounts && kd) {
+        note("counting the traversal of " + name);
+        r.cameraCounts = countTraversal(*kd, camRays, false, arena);
+        r.occlusionCounts = countTraversal(*kd, occRays, true, arena);
+      }
       results.push_back(r);
     }
   });
@@ -413,6 +454,9 @@ void addBenchAccelCommand(CLI::App& app) {
   cmd->add_flag("--embree-high-quality", args->embreeHighQuality,
                 "also time Embree's high-quality BVH build (adds high_quality_build_seconds to "
                 "the embree entry of the JSON)");
+  cmd->add_flag("--traversal-counts", args->traversalCounts,
+                "kd-trees: also count nodes, leaves and primitive tests per ray, in an untimed "
+                "pass (printed in the table only)");
   cmd->callback([args] { runBenchAccel(*args); });
 }
 

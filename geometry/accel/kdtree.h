@@ -2,12 +2,13 @@
 // Havran 2006) and "kdtree-median" (the spatial-median baseline).
 //
 // Both trees share one compact node format (8 bytes, pbrt-v3's KdAccelNode layout), one leaf
-// primitive-index array and one robust front-to-back traversal; they differ only in where
-// they split. They hold every mesh triangle of the scene, flattened into world space (the
-// vertices of each instance are transformed once at build time; barycentrics are invariant
-// under the affine placement, so Hit.u, v match Embree's object-space ones), and every
-// bounded analytic shape instance. Unbounded shapes (infinite planes) stay out of the tree,
-// in an UnboundedShapes list tested first, as in the Embree backend.
+// format (records holding the triangles themselves, KdLeafPrim) and one robust front-to-back
+// traversal; they differ only in where they split. They hold every mesh triangle of the scene,
+// flattened into world space (the vertices of each instance are transformed once at build
+// time; barycentrics are invariant under the affine placement, so Hit.u, v match Embree's
+// object-space ones), and every bounded analytic shape instance. Unbounded shapes (infinite
+// planes) stay out of the tree, in an UnboundedShapes list tested first, as in the Embree
+// backend.
 //
 // Motion blur: moving instances (Instance::motion animated) stay out of the tree too, so a
 // static scene builds and traces exactly as before. A moving shape is placed at the ray's time
@@ -37,20 +38,25 @@ namespace glint {
 // ---------------------------------------------------------------------------------------------
 
 // One kd-tree node in 8 bytes. `bits` holds the kind in its low 2 bits (0, 1, 2 = split
-// axis of an interior node, 3 = leaf) and a 30-bit payload above them: for an interior node
-// the index of its above child (the below child is the next node, depth-first layout), for a
-// leaf its primitive count. `word` is the split position (a float's bits) of an interior
-// node; for a leaf it is the primitive itself when the leaf holds exactly one, else the
-// offset of the leaf's run in the leaf primitive-index array.
+// axis of an interior node, 3 = leaf). Above them, for a leaf, its primitive count (30
+// bits); for an interior node two flags, whether its below and its above child are empty
+// leaves (set by KdTree::markEmptyChildren, so a traversal skips them without reading them),
+// and the index of its above child (28 bits; the below child is the next node, depth-first
+// layout). `word` is the split position (a float's bits) of an interior node. For a leaf, as
+// the builders make it, `word` is the primitive itself when the leaf holds exactly one, else
+// the offset of the leaf's run in the leaf primitive-index array; once the leaves are packed
+// (KdTree::packLeaves) it is the offset of its run of KdLeafPrim records, whatever the count.
 struct KdNode {
   static constexpr uint32_t kLeaf = 3;
-  static constexpr uint32_t kMaxPayload = (1u << 30) - 1;
+  static constexpr uint32_t kMaxPayload = (1u << 30) - 1;  // primitives and their counts
+  static constexpr uint32_t kMaxNodes = (1u << 28) - 1;    // child indices
+  static constexpr uint32_t kBelowEmpty = 4, kAboveEmpty = 8;
 
   uint32_t word = 0;
   uint32_t bits = kLeaf;
 
   static KdNode interior(int axis, float split, uint32_t aboveChild) {
-    return {std::bit_cast<uint32_t>(split), (aboveChild << 2) | uint32_t(axis)};
+    return {std::bit_cast<uint32_t>(split), (aboveChild << 4) | uint32_t(axis)};
   }
   // `first` is the primitive (count == 1) or the offset into the leaf array (count > 1).
   static KdNode leaf(uint32_t count, uint32_t first) { return {first, (count << 2) | kLeaf}; }
@@ -58,10 +64,32 @@ struct KdNode {
   bool isLeaf() const { return (bits & 3) == kLeaf; }
   int axis() const { return int(bits & 3); }
   float split() const { return std::bit_cast<float>(word); }
-  uint32_t aboveChild() const { return bits >> 2; }
+  uint32_t aboveChild() const { return bits >> 4; }
+  bool belowEmpty() const { return bits & kBelowEmpty; }
+  bool aboveEmpty() const { return bits & kAboveEmpty; }
   uint32_t primCount() const { return bits >> 2; }
 };
 static_assert(sizeof(KdNode) == 8, "kd-tree nodes must stay 8 bytes (cache-line density)");
+
+// A leaf's primitive as the traversal reads it: the records of one leaf are consecutive, and a
+// triangle's carries its world-space vertices and culling code, where a primitive id, then the
+// vertices it names, then its culling flag were three dependent loads from three arrays
+// (measured: shadow rays 6-11% faster, benchmarks/README.md, issue 27). The price is memory:
+// a triangle in k leaves (perfect splits cut triangles into several cells) is stored k times,
+// 40 bytes each, which triples the dragon's tree.
+struct KdLeafPrim {
+  std::array<Vec3f, 3> v{};  // a static triangle's vertices; unused for shapes and for the
+                             // triangles of a deforming mesh (placed at the ray's time)
+  uint32_t bits = 0;         // the primitive id (30 bits) and the culling code above it
+
+  static KdLeafPrim make(uint32_t id, int8_t cull, const std::array<Vec3f, 3>& v) {
+    return {v, id | uint32_t(cull == 0 ? 0 : cull > 0 ? 1 : 2) << 30};
+  }
+  uint32_t id() const { return bits & KdNode::kMaxPayload; }
+  // As KdPrimitives::triCull: 0, +1 or -1.
+  int cull() const { return int(bits >> 30 == 2 ? -1 : bits >> 30); }
+};
+static_assert(sizeof(KdLeafPrim) == 40, "leaf records: three vertices and one word");
 
 // The cost model of the SAH build (Wald & Havran, section 3). KT = 15, KI = 20 are the
 // paper's constants (section 3.1); a triangle test and a node step cost about the same in
@@ -115,11 +143,13 @@ struct KdPrimitives {
 // ---------------------------------------------------------------------------------------------
 
 struct KdTree {
-  std::vector<KdNode> nodes;        // depth-first; the root is nodes[0]
-  std::vector<uint32_t> leafPrims;  // runs of primitive ids of leaves holding > 1
-  Bounds3f bounds;                  // the root cell
-  AccelStats stats;                 // filled in by addLeaf/addInterior/finish
-  KdCostModel cost;                 // the model sahCost is evaluated with
+  std::vector<KdNode> nodes;            // depth-first; the root is nodes[0]
+  std::vector<uint32_t> leafPrims;      // runs of primitive ids of leaves holding > 1 (the
+                                        // builders' output; emptied by packLeaves)
+  std::vector<KdLeafPrim> leafRecords;  // what the traversal reads (packLeaves)
+  Bounds3f bounds;                      // the root cell
+  AccelStats stats;                     // filled in by addLeaf/addInterior/finish
+  KdCostModel cost;                     // the model sahCost is evaluated with
 
   // The deepest tree a build may make: 8 + 1.3 log2 N (pbrt-v3's rule, also Wald & Havran's
   // safety net), capped by the traversal stack.
@@ -135,8 +165,14 @@ struct KdTree {
   // Appends a subtree built on its own (a parallel build's task) as the next nodes: its
   // child and leaf-array indices are shifted, its statistics merged.
   void append(const KdTree& sub);
-  // Normalizes the SAH cost by the root area and fills the byte and mean counts.
+  // Normalizes the SAH cost by the root area, fills the byte and mean counts and marks the
+  // empty children.
   void finish();
+  // Sets the interior nodes' empty-child flags.
+  void markEmptyChildren();
+  // Replaces the leaves' primitive ids by records holding the primitives (leafRecords, in
+  // node order), points every leaf at its run and recounts the bytes. Same tree, same leaves.
+  void packLeaves(const KdPrimitives& prims);
 
  private:
   double areaCost_ = 0;  // sum of cost * surface area over all nodes
@@ -153,6 +189,24 @@ void buildMedianKdTree(const KdPrimitives& prims, const KdCostModel& cost, KdTre
 
 enum class KdSplitMethod { Sah, Median };
 
+// What one traversal did, summed over rays (`glint bench-accel --traversal-counts`): the
+// numbers that say whether a ray rate is set by node steps, leaf visits or primitive tests.
+struct KdTraversalCounts {
+  uint64_t rays = 0;
+  uint64_t nodes = 0;      // every node visited, interior and leaf
+  uint64_t nodeLines = 0;  // visits to a node in another 64-byte line than the last one
+  uint64_t leaves = 0;     // leaves visited, empty ones included
+  uint64_t emptyLeaves = 0;
+  uint64_t primTests = 0;  // primitives tested (culled triangles included)
+  uint64_t hits = 0;       // rays with an answer of true
+  KdTraversalCounts& operator+=(const KdTraversalCounts& o) {
+    rays += o.rays, nodes += o.nodes, nodeLines += o.nodeLines, leaves += o.leaves;
+    emptyLeaves += o.emptyLeaves;
+    primTests += o.primTests, hits += o.hits;
+    return *this;
+  }
+};
+
 class KdTreeAccelerator final : public Accelerator {
  public:
   KdTreeAccelerator(const GeometryScene& scene, KdSplitMethod method, const KdCostModel& cost = {});
@@ -164,13 +218,18 @@ class KdTreeAccelerator final : public Accelerator {
   bool closestHit(const Ray& ray, Hit* hit) const override;
   bool anyHit(const Ray& ray) const override;
 
-  // For tests: the tree as built.
+  // For tests: the tree as built, its leaves packed.
   const KdTree& tree() const { return tree_; }
+  // closestHit (any = false) or anyHit (any = true) of the tree alone (no planes, no moving
+  // objects), adding what the traversal did to `counts`. The same code as the plain queries,
+  // compiled with counters; slower, so only for diagnosis.
+  bool countedTrace(const Ray& ray, bool any, KdTraversalCounts* counts) const;
 
  private:
   // Front-to-back traversal; with kAny it returns at the first hit and leaves `hit` alone.
-  template <bool kAny>
-  bool trace(const Ray& ray, Hit* hit) const;
+  // With kCount it adds its work to `counts`.
+  template <bool kAny, bool kCount = false>
+  bool trace(const Ray& ray, Hit* hit, KdTraversalCounts* counts = nullptr) const;
   // The moving instances, tested one by one at the ray's time.
   bool closestMoving(const Ray& ray, Hit* hit) const;
   bool anyMoving(const Ray& ray) const;

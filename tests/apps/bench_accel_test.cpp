@@ -83,6 +83,28 @@ TEST(CliBenchAccel, HighQualityEmbreeBuildIsAnOptInKey) {
   EXPECT_FALSE(j["backends"]["kdtree"].contains("high_quality_build_seconds"));
 }
 
+// --traversal-counts adds a table of per-ray work for the kd-trees to stdout, nothing to the
+// JSON (whose keys the protocol fixes).
+TEST(CliBenchAccel, TraversalCountsAreAnOptInTableForKdTrees) {
+  std::string dir = test::scratchDir("bench_accel_counts");
+  std::string mesh = writeTray(dir);
+  std::string out = dir + "/counts.json";
+  test::CommandResult r = test::runGlint("bench-accel '" + mesh +
+                                         "' --width 32 --height 24 --spp 1 --accel embree,kdtree "
+                                         "--traversal-counts --json '" +
+                                         out + "'");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("traversal per ray"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("kdtree         occlusion"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("embree         camera"), std::string::npos) << r.out;
+  nlohmann::json j = readJson(out);
+  EXPECT_EQ(keys(j["backends"]["kdtree"]), keys(j["backends"]["embree"]));
+  test::CommandResult plain = test::runGlint("bench-accel '" + mesh +
+                                             "' --width 32 --height 24 --spp 1 --accel kdtree");
+  ASSERT_EQ(plain.exitCode, 0) << plain.err;
+  EXPECT_EQ(plain.out.find("traversal per ray"), std::string::npos);
+}
+
 TEST(CliBenchAccel, RaysAreTheSameForAnyThreadCount) {
   std::string dir = test::scratchDir("bench_accel_seed");
   std::string mesh = writeTray(dir);

@@ -7,6 +7,7 @@
 #include <tbb/task_arena.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <random>
 #include <sstream>
@@ -628,8 +629,9 @@ TEST(KdTree, StatsAreSensibleAndSahBeatsMedianOnBunny) {
   EXPECT_LT(sah->stats().sahCost, median->stats().sahCost);
 }
 
-TEST(KdTree, BytesAreEightPerNodePlusTheLeafLists) {
+TEST(KdTree, BytesAreEightPerNodePlusTheLeafRecords) {
   static_assert(sizeof(KdNode) == 8);
+  static_assert(sizeof(KdLeafPrim) == 40);
   std::mt19937 rng(15);
   GeometryScene scene = oneMeshScene(randomSoup(rng, 3000));
   for (const char* name : {"kdtree", "kdtree-median"}) {
@@ -637,12 +639,101 @@ TEST(KdTree, BytesAreEightPerNodePlusTheLeafLists) {
     const KdTree& tree = dynamic_cast<const KdTreeAccelerator&>(*accel).tree();
     AccelStats s = accel->stats();
     EXPECT_EQ(s.nodes, tree.nodes.size());
-    EXPECT_EQ(s.bytes, s.nodes * 8 + tree.leafPrims.size() * sizeof(uint32_t)) << name;
-    // Leaves of one primitive store it inline: the leaf list holds only the others.
-    uint64_t listed = 0;
-    for (const KdNode& n : tree.nodes)
-      if (n.isLeaf() && n.primCount() > 1) listed += n.primCount();
-    EXPECT_EQ(listed, tree.leafPrims.size());
+    EXPECT_EQ(s.bytes, s.nodes * 8 + tree.leafRecords.size() * sizeof(KdLeafPrim)) << name;
+    EXPECT_TRUE(tree.leafPrims.empty()) << name;  // the ids live in the records now
+    // Every leaf's run follows the previous leaf's, in node order, and they cover the records.
+    uint64_t next = 0;
+    for (const KdNode& n : tree.nodes) {
+      if (!n.isLeaf()) continue;
+      ASSERT_EQ(n.word, next) << name;
+      next += n.primCount();
+    }
+    EXPECT_EQ(next, tree.leafRecords.size());
+  }
+}
+
+// Packing the leaves changes where a leaf's primitives are read from, nothing else: the packed
+// tree is the built one node for node, and each record holds its primitive's id, world-space
+// vertices (bit for bit) and culling code. Single-sided, mirrored and analytic primitives
+// included, so every culling code and the shapes' records occur.
+TEST(KdTree, PackedLeavesHoldTheBuiltLeavesPrimitives) {
+  std::mt19937 rng(16);
+  GeometryScene scene;
+  scene.meshes.push_back(randomSoup(rng, 800));
+  scene.meshes.push_back(randomSoup(rng, 400, 0.5f, 0.1f));
+  scene.meshes[1].singleSided = true;
+  scene.instances.push_back({0, Transform()});
+  scene.instances.push_back({1, Transform::translate({0.5f, 0, 0})});
+  scene.instances.push_back({1, Transform::scale({-1, 1, 1})});  // mirrored: cull code -1
+  for (int i = 0; i < 10; ++i) {
+    scene.shapes.push_back(std::make_unique<Sphere>(Vec3f{0.2f * i - 1, 0, 0}, 0.1f));
+    scene.instances.push_back({Instance::kNone, Transform(), uint32_t(scene.shapes.size() - 1)});
+  }
+  UnboundedShapes unbounded;
+  unbounded.build(scene);
+  KdPrimitives prims;
+  prims.gather(scene, unbounded);
+  int culls[3] = {0, 0, 0};
+  for (int8_t c : prims.triCull) ++culls[c + 1];
+  ASSERT_GT(culls[0], 0);
+  ASSERT_GT(culls[1], 0);
+  ASSERT_GT(culls[2], 0);
+  for (KdSplitMethod method : {KdSplitMethod::Sah, KdSplitMethod::Median}) {
+    KdTree built;
+    if (method == KdSplitMethod::Sah)
+      buildSahKdTree(prims, KdCostModel{}, &built);
+    else
+      buildMedianKdTree(prims, KdCostModel{}, &built);
+    KdTreeAccelerator accel(scene, method);
+    const KdTree& packed = accel.tree();
+    SCOPED_TRACE(accel.name());
+    ASSERT_EQ(packed.nodes.size(), built.nodes.size());
+    int shapes = 0;
+    for (size_t i = 0; i < built.nodes.size(); ++i) {
+      const KdNode &b = built.nodes[i], &p = packed.nodes[i];
+      ASSERT_EQ(p.bits, b.bits) << "node " << i;  // kind, axis, child or count
+      if (!b.isLeaf()) {
+        ASSERT_EQ(p.word, b.word) << "node " << i;  // the split
+        continue;
+      }
+      const uint32_t* ids = b.primCount() == 1 ? &b.word : built.leafPrims.data() + b.word;
+      for (uint32_t k = 0; k < b.primCount(); ++k) {
+        const KdLeafPrim& r = packed.leafRecords[p.word + k];
+        ASSERT_EQ(r.id(), ids[k]) << "node " << i;
+        if (!prims.isTriangle(r.id())) {
+          ++shapes;
+          continue;
+        }
+        EXPECT_EQ(r.cull(), prims.triCull[r.id()]);
+        EXPECT_EQ(std::memcmp(r.v.data(), prims.triangles[r.id()].data(), sizeof(r.v)), 0)
+            << "node " << i;
+      }
+    }
+    EXPECT_GT(shapes, 0);
+  }
+  // What the packed trees answer is checked by the brute-force tests above and, for culling,
+  // by single_sided_test.cpp: all of them trace packed trees.
+}
+
+// Interior nodes flag their empty children (the traversal skips them unread), and only those.
+TEST(KdTree, EmptyChildrenAreFlagged) {
+  GeometryScene scene = loadBunny();
+  for (KdSplitMethod method : {KdSplitMethod::Sah, KdSplitMethod::Median}) {
+    KdTreeAccelerator accel(scene, method);
+    const KdTree& tree = accel.tree();
+    auto empty = [&](uint32_t i) {
+      return tree.nodes[i].isLeaf() && tree.nodes[i].primCount() == 0;
+    };
+    size_t flagged = 0;
+    for (uint32_t i = 0; i < tree.nodes.size(); ++i) {
+      const KdNode& n = tree.nodes[i];
+      if (n.isLeaf()) continue;
+      ASSERT_EQ(n.belowEmpty(), empty(i + 1)) << accel.name() << " node " << i;
+      ASSERT_EQ(n.aboveEmpty(), empty(n.aboveChild())) << accel.name() << " node " << i;
+      ASSERT_FALSE(n.belowEmpty() && n.aboveEmpty()) << accel.name() << " node " << i;
+      flagged += n.belowEmpty() + n.aboveEmpty();
+    }
+    EXPECT_EQ(flagged, accel.stats().emptyLeaves) << accel.name();
   }
 }
 
@@ -662,8 +753,39 @@ TEST(KdTree, ParallelBuildIsIdenticalForOneAndTwoThreads) {
     ASSERT_EQ(a.nodes[i].word, b.nodes[i].word) << "node " << i;
     ASSERT_EQ(a.nodes[i].bits, b.nodes[i].bits) << "node " << i;
   }
-  EXPECT_EQ(a.leafPrims, b.leafPrims);
+  ASSERT_EQ(a.leafRecords.size(), b.leafRecords.size());
+  EXPECT_EQ(std::memcmp(a.leafRecords.data(), b.leafRecords.data(),
+                        a.leafRecords.size() * sizeof(KdLeafPrim)),
+            0);
   EXPECT_EQ(a.stats.sahCost, b.stats.sahCost);
+}
+
+// The counted traversal (glint bench-accel --traversal-counts) is the plain one with counters:
+// the same answers, and counts that add up.
+TEST(KdTree, CountedTraversalGivesThePlainAnswers) {
+  std::mt19937 rng(31);
+  GeometryScene scene = oneMeshScene(randomSoup(rng, 2000));
+  BruteForce brute(scene);
+  for (const char* name : {"kdtree", "kdtree-median"}) {
+    auto accel = makeAccelerator(name, scene);
+    const auto& kd = dynamic_cast<const KdTreeAccelerator&>(*accel);
+    KdTraversalCounts closest, any;
+    for (int i = 0; i < 2000; ++i) {
+      Ray ray = randomRay(rng, brute.bounds(), brute.triangles(), i % 4);
+      Hit plain;
+      const bool hit = kd.closestHit(ray, &plain);
+      ASSERT_EQ(kd.countedTrace(ray, false, &closest), hit) << name << " ray " << i;
+      ASSERT_EQ(kd.countedTrace(ray, true, &any), kd.anyHit(ray)) << name << " ray " << i;
+    }
+    for (const KdTraversalCounts* c : {&closest, &any}) {
+      EXPECT_EQ(c->rays, 2000u) << name;
+      EXPECT_GE(c->nodes, c->leaves) << name;
+      EXPECT_GE(c->leaves, c->emptyLeaves) << name;
+      EXPECT_GT(c->primTests, 0u) << name;
+    }
+    EXPECT_EQ(closest.hits, any.hits) << name;
+    EXPECT_LE(any.primTests, closest.primTests) << name;  // any-hit stops at the first hit
+  }
 }
 
 TEST(KdTree, FactoryNamesAllBackends) {
