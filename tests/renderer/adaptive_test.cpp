@@ -162,7 +162,7 @@ struct Whitted {
 };
 
 TEST(AntiAliasing, FlatPixelsStopEarlyAndEdgesTakeEverySample) {
-  const Whitted w(0.02f);
+  const Whitted w(0.1f);
   RenderStats stats;
   const Film film = w.render({.threads = 2}, &stats);
   int one = 0, all = 0;
