@@ -3,6 +3,8 @@
 
 Usage: compare.py [--glint PATH] [--povray PATH] [--repeats 3] [--threads 2]
                   [--glint-spp 1,2,4,...] [--glint-ref-spp 1024] [--glint-filters LIST]
+                  [--glint-antialias C,C,...] [--glint-antialias-spp 16]
+                  [--glint-antialias-high C,C,...] [--glint-antialias-high-spp 64]
                   [--pov-configs LIST] [--pov-ref CONFIG] [--fresh-references]
                   [--work DIR] [--out-json FILE] [--out-svg FILE] [--out-png FILE]
                   [--quick] [--report] [--keep-images] [--no-install]
@@ -22,7 +24,11 @@ the script
   2. renders its quality sweep --repeats times (default 3), every point once per round,
      the two renderers' points interleaved (the order reversed every other round), all with
      --threads (default 2: glint --threads 2, POV-Ray +WT2): glint at --glint-spp samples per
-     pixel (seed = round), POV-Ray at each of --pov-configs;
+     pixel (seed = round) and with anti-aliasing by contrast (`--antialias C --spp CAP`, POV-
+     Ray's rule: a pixel stops after 1, 2, 4, 8 or 16 samples unless its mean differs from a
+     neighbour's by more than C) at each C of --glint-antialias (cap --glint-antialias-spp,
+     default 16) and of --glint-antialias-high (cap --glint-antialias-high-spp, default 64),
+     POV-Ray at each of --pov-configs;
   3. for every render records the wall time of the process, the renderer's own time (glint:
      `--stats` render_seconds, plus load and BVH build; POV-Ray: its printed Parse, Bounding
      and Trace times), the CPU seconds of the child process and the load average, and the
@@ -31,9 +37,12 @@ the script
   4. takes each point's median time (and the min-max spread) and median error, and reports
      time to equal error: for each POV-Ray point, glint's time at that error, interpolated
      log-log along glint's curve (the lower-left front of its points), and the ratio
-     POV-Ray time / glint time (> 1: glint is faster). Once with the renderers' own tracing
-     times (glint render_seconds, POV-Ray Trace Time), once with whole-process wall times;
-     for each glint filter on its own.
+     POV-Ray time / glint time (> 1: glint is faster). With the renderers' own tracing
+     times (glint render_seconds, POV-Ray Trace Time), the processes' CPU seconds and their
+     wall times; for each glint series on its own: a filter's spp ladder, or its sweep over
+     the contrast C at one cap (the contrast is the series' parameter, the mean spp glint
+     reports is recorded with each point); and the best series per filter, plain or
+     anti-aliased.
 
 It writes --out-json (default benchmarks/results/povray_csg.json: every render, the medians,
 the ratios, the machine, the versions, the commit and the command line), --out-svg (default
@@ -89,6 +98,17 @@ DEFAULT_GLINT_SPP = [1, 2, 4, 8, 16, 32, 64]
 # pixel's own square: the integral POV-Ray's anti-aliasing estimates.
 GLINT_FILTERS = {"gaussian": None, "box": {"type": "box", "radius": 0.5}}
 GLINT_COLOURS = {"gaussian": "#1f77b4", "box": "#2ca02c"}
+# glint's anti-aliasing by contrast (--antialias C, POV-Ray's rule: after 1, 2, 4, 8 and 16
+# samples a pixel stops unless its mean differs from a neighbour's by more than C; --spp caps
+# it): a sweep over C per filter and per cap, each (filter, cap) its own series. The second cap
+# lets the smallest thresholds reach the errors of POV-Ray's deepest settings.
+DEFAULT_GLINT_ANTIALIAS = [0.1, 0.05, 0.02, 0.01, 0.005]
+DEFAULT_GLINT_ANTIALIAS_SPP = 16
+DEFAULT_GLINT_ANTIALIAS_HIGH = [0.02, 0.01, 0.005]
+DEFAULT_GLINT_ANTIALIAS_HIGH_SPP = 64
+# (filter, cap) -> colour of an anti-aliased series; plain ladders use GLINT_COLOURS.
+GLINT_AA_COLOURS = {("gaussian", 16): "#9467bd", ("gaussian", 64): "#17becf",
+                    ("box", 16): "#bcbd22", ("box", 64): "#8c564b"}
 GLINT_REF_SEED = 1000  # the sweep uses seeds 1..repeats: the reference shares no samples
 # POV-Ray configurations: "none" (no anti-aliasing: one ray through each pixel centre) or
 # "amM:THRESHOLD:DEPTH[:j]": +AM<M> +A<THRESHOLD> +R<DEPTH> [+J]. Method 1 supersamples a pixel
@@ -107,6 +127,7 @@ DEFAULT_POV_REF = "am2:0.0:6:j"
 QUICK = {
     "width": 160, "height": 120,
     "glint_spp": [1, 4, 16], "glint_ref_spp": 256,
+    "glint_antialias": [0.05, 0.01], "glint_antialias_high": [0.01],
     "pov_configs": ["none", "am1:0.3:3", "am1:0.0:3", "am2:0.0:3"],
     "pov_ref": "am2:0.0:5:j",
     "repeats": 1,
@@ -492,12 +513,16 @@ def glint_scene(ctx, filt):
     return path
 
 
-def render_glint(ctx, scene, spp, seed, out_path):
+def render_glint(ctx, scene, spp, seed, out_path, antialias=0.0):
+    """One glint render: spp samples in every pixel, or with antialias > 0 anti-aliasing by
+    contrast (--antialias) with spp the most a pixel takes."""
     stats_path = out_path[:-4] + ".stats.json"
     cmd = [ctx["glint"], "render", scene, "-q", "-o", out_path, "--stats", stats_path,
            "--spp", str(spp), "--seed", str(seed), "--threads", str(ctx["threads"]),
            "--width", str(ctx["width"]), "--height", str(ctx["height"]),
            "--integrator", "whitted"]
+    if antialias:
+        cmd += ["--antialias", f"{antialias:g}"]
     load = os.getloadavg()
     cpu0, t0 = _child_cpu(), time.perf_counter()
     r = subprocess.run(cmd, capture_output=True, text=True)
@@ -516,6 +541,7 @@ def render_glint(ctx, scene, spp, seed, out_path):
             "cpu_seconds": cpu, "load_average": load,
             "mrays_per_second": st.get("mrays_per_second"),
             "stats": {"rays": st.get("rays"), "spp_reached": st.get("spp_reached"),
+                      "mean_spp": st.get("mean_spp"), "antialias": antialias or None,
                       "integrator": st.get("integrator"), "threads": st.get("threads")}}
 
 
@@ -605,8 +631,40 @@ def summarize(records):
     return out
 
 
+def glint_label(f, spp, contrast):
+    return f"{f} {spp} spp" if not contrast else f"{f} AA {contrast:g} ≤{spp}"
+
+
 def glint_filters(glint_points):
     return list(dict.fromkeys(p["filter"] for p in glint_points))
+
+
+def series_of(p):
+    """A glint point's series: its filter for the plain spp ladder (as in JSON written before
+    the anti-aliased series existed), "FILTER aaCAP" for anti-aliasing by contrast with the
+    cap CAP (the point's spp)."""
+    if p.get("series"):
+        return p["series"]
+    return p["filter"] if not p.get("antialias") else f"{p['filter']} aa{p['spp']}"
+
+
+def glint_series(glint_points):
+    """The series in order: per filter, the plain ladder, then the anti-aliased ones by cap."""
+    seen = {}
+    for p in glint_points:
+        seen.setdefault(series_of(p), p)
+    order = {f: i for i, f in enumerate(glint_filters(glint_points))}
+    return sorted(seen, key=lambda s: (order[seen[s]["filter"]],
+                                       seen[s]["spp"] if seen[s].get("antialias") else 0))
+
+
+def series_info(glint_points, s):
+    p = next(q for q in glint_points if series_of(q) == s)
+    cap = p["spp"] if p.get("antialias") else None
+    return {"filter": p["filter"], "cap": cap,
+            "label": p["filter"] if cap is None else f"{p['filter']} AA≤{cap}",
+            "colour": (GLINT_COLOURS.get(p["filter"], "#17becf") if cap is None else
+                       GLINT_AA_COLOURS.get((p["filter"], cap), "#e377c2"))}
 
 
 # The three times compared: the renderer's own tracing time, the CPU seconds of the process
@@ -616,18 +674,22 @@ TIME_KINDS = (("trace_seconds", "trace"), ("cpu_seconds", "cpu"), ("wall_seconds
 
 
 def equal_error(glint_points, pov_points):
-    """For each POV-Ray point and each glint filter: glint's time at the POV-Ray point's error
-    and the ratio, with each kind of time."""
+    """For each POV-Ray point and each glint series (a filter's plain spp ladder, or its sweep
+    over anti-aliasing contrasts at one cap): glint's time at the POV-Ray point's error and the
+    ratio, with each kind of time. row["best"]["FILTER plain" / "FILTER antialias"]: for each
+    kind of time, the series with the highest ratio (interpolated within a series, never
+    between two)."""
     rows = []
-    fronts = {(f, k): front([p for p in glint_points if p["filter"] == f], k)
-              for f in glint_filters(glint_points) for k, _ in TIME_KINDS}
+    series = glint_series(glint_points)
+    fronts = {(s, k): front([p for p in glint_points if series_of(p) == s], k)
+              for s in series for k, _ in TIME_KINDS}
     pov_front = {p["config"] for p in front(pov_points, "trace_seconds")}
     for p in pov_points:
         row = {"config": p["config"], "label": p["label"], "rmse": p["rmse"],
                "pov_on_front": p["config"] in pov_front, "glint": {}}
         for k, short in TIME_KINDS:
             row[f"pov_{short}_seconds"] = p[k]
-        for f in glint_filters(glint_points):
+        for f in series:
             g = row["glint"][f] = {}
             for k, short in TIME_KINDS:
                 t, how = time_at_error(fronts[(f, k)], k, p["rmse"])
@@ -637,6 +699,20 @@ def equal_error(glint_points, pov_points):
                 # lower bound; 'beyond': glint's dearest point does not reach it: an upper bound.
                 g[f"ratio_{short}_bound"] = {"interpolated": "=", "faster": ">=",
                                              "beyond": "<="}[how]
+        row["best"] = {}
+        for f in series:
+            info = series_info(glint_points, f)
+            group = f"{info['filter']} {'plain' if info['cap'] is None else 'antialias'}"
+            b = row["best"].setdefault(group, {})
+            for _, short in TIME_KINDS:
+                r = row["glint"][f][f"ratio_{short}"]
+                bound = row["glint"][f][f"ratio_{short}_bound"]
+                # An upper bound (the series never reaches the error) loses to any value or
+                # lower bound, whatever its number.
+                if short not in b or (bound != "<=", r) > (b[short]["bound"] != "<=",
+                                                           b[short]["ratio"]):
+                    b[short] = {"series": f, "ratio": r, "bound": bound,
+                                "glint_seconds": row["glint"][f][f"{short}_seconds"]}
         rows.append(row)
     return rows
 
@@ -665,36 +741,60 @@ def tables(res):
         + ", POV-Ray {} ({:.1f} s tracing)".format(
             parse_pov_config(refs["povray"]["settings"]["config"])["label"],
             refs["povray"]["render"]["trace_seconds"]))
+    series = glint_series(res["glint"])
+    infos = {sr: series_info(res["glint"], sr) for sr in series}
     lines.append("")
-    lines.append(f"{'glint':<20} {'trace s':>20} {'cpu s':>7} {'wall s':>20} {'RMSE':>9} "
-                 f"{'Mrays/s':>8}")
-    for p in res["glint"]:
-        lines.append(f"{p['label']:<20} {_span(p, 'trace_seconds'):>20} "
-                     f"{p['cpu_seconds']:7.2f} {_span(p, 'wall_seconds'):>20} {p['rmse']:9.5f} "
-                     f"{(p['mrays_per_second'] or 0):8.2f}")
+    lines.append(f"{'glint':<24} {'trace s':>20} {'cpu s':>7} {'wall s':>20} {'RMSE':>9} "
+                 f"{'mean spp':>8} {'Mrays/s':>8}")
+    for sr in series:
+        pts = [p for p in res["glint"] if series_of(p) == sr]
+        pts.sort(key=lambda p: (p["spp"], -(p.get("antialias") or 0)))
+        for p in pts:
+            lines.append(f"{p['label']:<24} {_span(p, 'trace_seconds'):>20} "
+                         f"{p['cpu_seconds']:7.2f} {_span(p, 'wall_seconds'):>20} "
+                         f"{p['rmse']:9.5f} {p.get('mean_spp') or p['spp']:8.2f} "
+                         f"{(p['mrays_per_second'] or 0):8.2f}")
     lines.append("")
     head = (f"{'POV-Ray':<16} {'trace s':>20} {'cpu s':>7} {'wall s':>20} {'RMSE':>9} "
-            f"{'Mrays/s':>8}")
-    for f in filters:
-        head += f" | {'glint ' + f + ' s':>17} {'ratio':>6} {'cpu':>6} {'wall':>6}"
+            f"{'Mrays/s':>8} |")
+    for sr in series:
+        head += f" {infos[sr]['label']:>13}"
     lines.append(head)
+    lines.insert(len(lines) - 1, "POV-Ray's points; right of |: the ratio by trace time for "
+                 "each glint series")
     by_config = {r["config"]: r for r in res["equal_error"]}
     for p in res["povray"]:
         r = by_config[p["config"]]
         mark = "*" if r["pov_on_front"] else " "
         line = (f"{p['label']:<15}{mark} {_span(p, 'trace_seconds'):>20} "
                 f"{p['cpu_seconds']:7.2f} {_span(p, 'wall_seconds'):>20} {p['rmse']:9.5f} "
-                f"{(p['mrays_per_second'] or 0):8.2f}")
-        for f in filters:
-            g = r["glint"][f]
-            line += (f" | {g['trace_seconds']:17.3f} "
-                     f"{fmt_ratio(g['ratio_trace'], g['ratio_trace_bound']):>6} "
-                     f"{fmt_ratio(g['ratio_cpu'], g['ratio_cpu_bound']):>6} "
-                     f"{fmt_ratio(g['ratio_wall'], g['ratio_wall_bound']):>6}")
+                f"{(p['mrays_per_second'] or 0):8.2f} |")
+        for sr in series:
+            g = r["glint"][sr]
+            line += f" {fmt_ratio(g['ratio_trace'], g['ratio_trace_bound']):>13}"
         lines.append(line)
     lines.append("")
-    lines.append("ratio = POV-Ray trace time / glint's trace time at the same RMSE; cpu, wall = "
-                 "the same with the processes' CPU seconds and wall times (> 1: glint faster);")
+    groups = list(dict.fromkeys(g for r in res["equal_error"] for g in r.get("best", {})))
+    if groups:
+        lines.append("best glint series at each POV-Ray point: ratio by trace / CPU / wall "
+                     "time [series of each: the cap of the anti-aliased one]")
+        lines.append(f"{'POV-Ray':<16} {'RMSE':>9} " + " ".join(f"| {g:<29}" for g in groups))
+        for r in res["equal_error"]:
+            mark = "*" if r["pov_on_front"] else " "
+            line = f"{r['label']:<15}{mark} {r['rmse']:9.5f} "
+            for g in groups:
+                b = r["best"][g]
+                cell = " ".join(fmt_ratio(b[k]["ratio"], b[k]["bound"]) for k in
+                                ("trace", "cpu", "wall"))
+                if g.endswith("antialias"):
+                    cell += " [" + ",".join(str(infos[b[k]["series"]]["cap"]) for k in
+                                            ("trace", "cpu", "wall")) + "]"
+                line += f"| {cell:<29} "
+            lines.append(line)
+    lines.append("")
+    lines.append("ratio = POV-Ray trace time / glint's trace time at the same RMSE, interpolated "
+                 "along one glint series; cpu, wall = the same with the processes' CPU seconds "
+                 "and wall times (> 1: glint faster); AA≤N: --antialias C --spp N, C swept;")
     lines.append("* = on POV-Ray's time-error front (its best settings); ≥ / ≤: the error is "
                  "outside glint's measured range, so the ratio is a bound")
     lines.append("cross-renderer RMSE between the references (translation fidelity; "
@@ -731,6 +831,16 @@ def _pov_series(points):
         key = (c["method"], c.get("depth", 0), c.get("jitter", False))
         series.setdefault(key, []).append((c, p))
     return series
+
+
+def _glint_aa_marker(x, y, cap, colour):
+    """An anti-aliased glint point: a ring for the lower cap (16), a filled inverted triangle
+    for a higher one."""
+    if cap <= 16:
+        return (f'<circle cx="{x:.1f}" cy="{y:.1f}" r="4" fill="white" stroke="{colour}" '
+                f'stroke-width="2"/>')
+    return (f'<polygon points="{x - 5:.1f},{y - 4:.1f} {x + 5:.1f},{y - 4:.1f} '
+            f'{x:.1f},{y + 5:.1f}" fill="{colour}"/>')
 
 
 def svg_plot(res):
@@ -825,25 +935,43 @@ def svg_plot(res):
             path = " ".join(f"{X(p[key]):.1f},{Y(p['rmse']):.1f}" for p in pf)
             out.append(f'<polyline points="{path}" fill="none" stroke="#d62728" '
                        f'stroke-width="1" stroke-dasharray="5,4"/>')
-        # glint: one spp ladder per pixel filter, the spp written beside each point.
-        for f in glint_filters(res["glint"]):
-            colour = GLINT_COLOURS.get(f, "#17becf")
-            g = sorted((p for p in res["glint"] if p["filter"] == f), key=lambda p: p["spp"])
+        # glint: one spp ladder per pixel filter, the spp written beside each point; one
+        # series of contrast thresholds per filter and cap (--antialias), the contrast written
+        # beside each point (".02" for 0.02).
+        for sr in glint_series(res["glint"]):
+            info = series_info(res["glint"], sr)
+            colour, aa = info["colour"], info["cap"] is not None
+            g = [p for p in res["glint"] if series_of(p) == sr]
+            g.sort(key=(lambda p: -p["antialias"]) if aa else (lambda p: p["spp"]))
             path = " ".join(f"{X(p[key]):.1f},{Y(p['rmse']):.1f}" for p in g)
+            dash = ' stroke-dasharray="6,2"' if aa and info["cap"] > 16 else ""
             out.append(f'<polyline points="{path}" fill="none" stroke="{colour}" '
-                       f'stroke-width="2"/>')
+                       f'stroke-width="{1.5 if aa else 2}"{dash}/>')
             for p in g:
                 errbar(p, colour)
                 x, y = X(p[key]), Y(p["rmse"])
-                out.append(f'<circle cx="{x:.1f}" cy="{y:.1f}" r="4" fill="{colour}"/>')
-                dx, anchor = (-7, "end") if f == "gaussian" else (7, "start")
-                out.append(f'<text x="{x + dx:.1f}" y="{y - 7:.1f}" text-anchor="{anchor}" '
-                           f'font-size="10" fill="{colour}">{p["spp"]}</text>')
+                if not aa:
+                    out.append(f'<circle cx="{x:.1f}" cy="{y:.1f}" r="4" fill="{colour}"/>')
+                    dx, anchor = (-7, "end") if info["filter"] == "gaussian" else (7, "start")
+                    text, dy = str(p["spp"]), -7
+                else:
+                    out.append(_glint_aa_marker(x, y, info["cap"], colour))
+                    dx, anchor = (7, "start") if info["filter"] == "gaussian" else (-7, "end")
+                    text, dy = f"{p['antialias']:g}".replace("0.", ".", 1), 12
+                out.append(f'<text x="{x + dx:.1f}" y="{y + dy:.1f}" text-anchor="{anchor}" '
+                           f'font-size="9" fill="{colour}">{text}</text>')
     # Legend, under the panels.
     ly = top + ph + 58
-    legend = [(f"glint, Whitted, {f} filter{' (default)' if f == 'gaussian' else ''}, "
-               "spp as labelled", GLINT_COLOURS.get(f, "#17becf"), "circle", False)
-              for f in glint_filters(res["glint"])]
+    legend = []
+    for sr in glint_series(res["glint"]):
+        info = series_info(res["glint"], sr)
+        f = info["filter"]
+        if info["cap"] is None:
+            legend.append((f"glint, Whitted, {f} filter{' (default)' if f == 'gaussian' else ''}"
+                           ", spp as labelled", info["colour"], "circle", False))
+        else:
+            legend.append((f"glint {f}, --antialias C --spp {info['cap']}, C as labelled",
+                           info["colour"], f"aa{info['cap']}", False))
     for (method, depth, jitter), items in sorted(_pov_series(res["povray"]).items()):
         thresholds = sorted({c.get("threshold", 0) for c, _ in items}, reverse=True)
         a = (f"{thresholds[0]:g}" if len(thresholds) == 1 else
@@ -860,6 +988,8 @@ def svg_plot(res):
         fill = "white" if hollow else colour
         if shape == "circle":
             out.append(f'<circle cx="{x}" cy="{y - 4}" r="4" fill="{colour}"/>')
+        elif shape.startswith("aa"):
+            out.append(_glint_aa_marker(x, y - 4, int(shape[2:]), colour))
         elif shape == "square":
             out.append(f'<rect x="{x - 4}" y="{y - 8}" width="8" height="8" fill="{fill}" '
                        f'stroke="{colour}" stroke-width="1.5"/>')
@@ -911,6 +1041,19 @@ def main():
     ap.add_argument("--glint-filters", default=",".join(GLINT_FILTERS),
                     help="pixel filters, each its own spp ladder and reference: gaussian (the "
                          "scene as written, glint's default), box (radius 0.5)")
+    ap.add_argument("--glint-antialias", default=",".join(map(str, DEFAULT_GLINT_ANTIALIAS)),
+                    help="contrast thresholds C for glint's anti-aliasing by contrast "
+                         "(--antialias C), one series per filter; empty: none")
+    ap.add_argument("--glint-antialias-spp", type=int, default=DEFAULT_GLINT_ANTIALIAS_SPP,
+                    help="their cap, --spp (default %(default)s)")
+    ap.add_argument("--glint-antialias-high",
+                    default=",".join(map(str, DEFAULT_GLINT_ANTIALIAS_HIGH)),
+                    help="thresholds of a second series per filter at a higher cap (default "
+                         "the smallest: reaching the errors of POV-Ray's deepest settings); "
+                         "empty: none")
+    ap.add_argument("--glint-antialias-high-spp", type=int,
+                    default=DEFAULT_GLINT_ANTIALIAS_HIGH_SPP,
+                    help="their cap (default %(default)s)")
     ap.add_argument("--pov-configs", default=",".join(DEFAULT_POV_CONFIGS),
                     help="comma-separated: none, or amM:THRESHOLD:DEPTH[:j]")
     ap.add_argument("--pov-ref", default=DEFAULT_POV_REF)
@@ -931,7 +1074,7 @@ def main():
 
     if args.quick:
         for k, v in QUICK.items():
-            if k in ("glint_spp", "pov_configs"):
+            if k in ("glint_spp", "pov_configs", "glint_antialias", "glint_antialias_high"):
                 v = ",".join(map(str, v))
             setattr(args, k, v)
         for k, name in (("out_json", "quick.json"), ("out_svg", "quick.svg"),
@@ -950,6 +1093,14 @@ def main():
         log("numpy not found in this interpreter: reading the images in pure Python "
             "(slower, same numbers; Debian's /usr/bin/python3 with python3-numpy is faster)")
     glint_spp = [int(s) for s in args.glint_spp.split(",")]
+    # (spp, contrast): the plain ladder (contrast 0), then the anti-aliased points.
+    glint_settings = [(n, 0.0) for n in glint_spp]
+    for cs, cap in ((args.glint_antialias, args.glint_antialias_spp),
+                    (args.glint_antialias_high, args.glint_antialias_high_spp)):
+        for c in (float(x) for x in cs.split(",") if x.strip()):
+            if not 0 < c <= 1:
+                sys.exit(f"anti-aliasing contrast {c}: must be in (0, 1]")
+            glint_settings.append((cap, c))
     filters = args.glint_filters.split(",")
     for f in filters:
         if f not in GLINT_FILTERS:
@@ -978,12 +1129,12 @@ def main():
 
     # The sweep: every round renders every point once, glint's and POV-Ray's alternating (the
     # order reversed every other round, so a drift in the machine's load hits both alike).
-    jobs = [("glint", (f, s)) for s in glint_spp for f in filters]
+    jobs = [("glint", (f, s, c)) for s, c in glint_settings for f in filters]
     pov_jobs = [("povray", c) for c in pov_configs]
     order = []
     for i in range(max(len(jobs), len(pov_jobs))):
         order += jobs[i:i + 1] + pov_jobs[i:i + 1]
-    records = {("glint", f, s): [] for f in filters for s in glint_spp}
+    records = {("glint", f, s, c): [] for f in filters for s, c in glint_settings}
     records.update({("povray", c["name"]): [] for c in pov_configs})
     scenes = {f: glint_scene(ctx, f) for f in filters}
     total = len(order) * args.repeats
@@ -992,11 +1143,11 @@ def main():
         for renderer, what in (order if rnd % 2 == 0 else order[::-1]):
             done += 1
             if renderer == "glint":
-                f, s = what
-                out = os.path.join(scratch, f"glint_{f}_{s}spp_r{rnd}.exr")
-                rec = render_glint(ctx, scenes[f], s, rnd + 1, out)
+                f, s, c = what
+                out = os.path.join(scratch, f"glint_{f}_{s}spp_aa{c:g}_r{rnd}.exr")
+                rec = render_glint(ctx, scenes[f], s, rnd + 1, out, antialias=c)
                 rec["seed"] = rnd + 1
-                key, ref, label = ("glint", f, s), f"glint:{f}", f"{f} {s} spp"
+                key, ref, label = ("glint", f, s, c), f"glint:{f}", glint_label(f, s, c)
             else:
                 out = os.path.join(scratch, f"pov_{what['name'].replace(':', '_')}_r{rnd}.exr")
                 rec = render_povray(ctx, what, out)
@@ -1012,9 +1163,13 @@ def main():
 
     glint_points = []
     for f in filters:
-        for s in glint_spp:
-            p = {"renderer": "glint", "filter": f, "spp": s, "label": f"{f} {s} spp",
-                 **summarize(records[("glint", f, s)]), "runs": records[("glint", f, s)]}
+        for s, c in glint_settings:
+            rs = records[("glint", f, s, c)]
+            mean_spp = [r["stats"]["mean_spp"] for r in rs if r["stats"].get("mean_spp")]
+            p = {"renderer": "glint", "filter": f, "spp": s, "antialias": c,
+                 "series": f if not c else f"{f} aa{s}", "label": glint_label(f, s, c),
+                 "mean_spp": statistics.median(mean_spp) if mean_spp else None,
+                 **summarize(rs), "runs": rs}
             glint_points.append(p)
     pov_points = []
     for c in pov_configs:
@@ -1039,6 +1194,11 @@ def main():
         "versions": versions,
         "settings": {"width": args.width, "height": args.height, "threads": args.threads,
                      "repeats": args.repeats, "glint_spp": glint_spp,
+                     "glint_antialias": {"contrasts": args.glint_antialias,
+                                         "spp": args.glint_antialias_spp,
+                                         "high_contrasts": args.glint_antialias_high,
+                                         "high_spp": args.glint_antialias_high_spp,
+                                         "options": "--antialias C --spp CAP"},
                      "glint_filters": {f: GLINT_FILTERS[f] or "the scene's (glint's default: "
                                        "gaussian, radius 1.5 pixels)" for f in filters},
                      "glint_ref_spp": args.glint_ref_spp, "glint_ref_seed": GLINT_REF_SEED,
