@@ -61,36 +61,55 @@ void Camera::setLens(const ThinLens& lens) {
   lensAngle0_ = kPi / 2 + lens.rotation;
 }
 
+// What a batch of perspective pinhole rays needs from the camera.
+struct PinholeBatch {
+  const std::array<std::array<float, 4>, 4>* worldFromCamera;
+  Vec3f origin;
+  float filmToScreenX, filmToScreenY, halfWidth, halfHeight, znear, zfar;
+};
+
+void pinholeRayBatch(const PinholeBatch& c, const float* filmX, const float* filmY, int n,
+                     Ray* out);
+
 // Structure of arrays, then one plain loop per step, so the square roots and divisions run
 // 8 (AVX2) or 4 (SSE) rays at a time; the expressions are pinholeRayAt's, so the rays are too.
-__attribute__((target_clones("avx2", "default"))) void Camera::pinholeRays(const float* filmX,
-                                                                         const float* filmY, int n,
-                                                                         Ray* out) const {
-  assert(pinhole_ && n <= kMaxRayBatch);
-  if (projection_ != Projection::Perspective) {
-    for (int i = 0; i < n; ++i) out[i] = pinholeRay({filmX[i], filmY[i]}, 0.0f);
-    return;
-  }
-  const auto& m = worldFromCamera0_.matrix().m;
-  float dx[kMaxRayBatch], dy[kMaxRayBatch], dz[kMaxRayBatch], len[kMaxRayBatch];
+// A free function: Clang does not multiversion member functions (target_clones).
+__attribute__((target_clones("avx2", "default"))) void pinholeRayBatch(const PinholeBatch& c,
+                                                                     const float* filmX,
+                                                                     const float* filmY, int n,
+                                                                     Ray* out) {
+  const auto& m = *c.worldFromCamera;
+  constexpr int kMax = Camera::kMaxRayBatch;
+  float dx[kMax], dy[kMax], dz[kMax], len[kMax];
   for (int i = 0; i < n; ++i) {
-    const float sx = (filmX[i] * filmToScreenX_ - 1) * halfWidth_;
-    const float sy = (1 - filmY[i] * filmToScreenY_) * halfHeight_;
+    const float sx = (filmX[i] * c.filmToScreenX - 1) * c.halfWidth;
+    const float sy = (1 - filmY[i] * c.filmToScreenY) * c.halfHeight;
     dx[i] = m[0][0] * sx + m[0][1] * sy + m[0][2] * -1.0f;
     dy[i] = m[1][0] * sx + m[1][1] * sy + m[1][2] * -1.0f;
     dz[i] = m[2][0] * sx + m[2][1] * sy + m[2][2] * -1.0f;
   }
   for (int i = 0; i < n; ++i) len[i] = std::sqrt(dx[i] * dx[i] + dy[i] * dy[i] + dz[i] * dz[i]);
   for (int i = 0; i < n; ++i) dx[i] /= len[i], dy[i] /= len[i], dz[i] /= len[i];
-  const bool finiteFar = !std::isinf(zfar_);
+  const bool finiteFar = !std::isinf(c.zfar);
   for (int i = 0; i < n; ++i) {
     Ray& r = out[i];
-    r.o = origin_;
+    r.o = c.origin;
     r.d = {dx[i], dy[i], dz[i]};
-    r.tMin = znear_ * len[i];
-    r.tMax = finiteFar ? zfar_ * len[i] : kInfinity;
+    r.tMin = c.znear * len[i];
+    r.tMax = finiteFar ? c.zfar * len[i] : kInfinity;
     r.time = 0;
   }
+}
+
+void Camera::pinholeRays(const float* filmX, const float* filmY, int n, Ray* out) const {
+  assert(pinhole_ && n <= kMaxRayBatch);
+  if (projection_ != Projection::Perspective) {
+    for (int i = 0; i < n; ++i) out[i] = pinholeRay({filmX[i], filmY[i]}, 0.0f);
+    return;
+  }
+  const PinholeBatch batch{&worldFromCamera0_.matrix().m, origin_, filmToScreenX_, filmToScreenY_,
+                           halfWidth_, halfHeight_, znear_, zfar_};
+  pinholeRayBatch(batch, filmX, filmY, n, out);
 }
 
 Ray Camera::lensOrMotionRay(const CameraSample& s) const {
