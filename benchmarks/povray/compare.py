@@ -364,14 +364,15 @@ def sha256_file(path):
 
 
 def cpu_model():
+    """The CPU's model name: accel_report.py's (one reader of /proc/cpuinfo for the benchmarks),
+    else what Python's platform module says."""
+    sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     try:
-        with open("/proc/cpuinfo") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown CPU"
+        from accel_report import cpu_model as read_cpu_model
+    finally:
+        sys.path.pop(0)
+    name = read_cpu_model()
+    return name if name != "unknown CPU" else (platform.processor() or name)
 
 
 def git_commit():

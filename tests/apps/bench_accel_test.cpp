@@ -69,14 +69,20 @@ TEST(CliBenchAccel, JsonHasTheDocumentedShape) {
   EXPECT_LE(e["camera_hits"].get<int64_t>(), 64 * 48 * 2);
 }
 
+// bench-accel on a tray of 32x24 pixels, 1 spp, Embree and the kd-tree, with `flag`; its JSON
+// goes to `out`.
+test::CommandResult smallEmbreeAndKdTree(const std::string& dir, const std::string& flag,
+                                         const std::string& out) {
+  const std::string mesh = writeTray(dir);
+  return test::runGlint("bench-accel '" + mesh +
+                        "' --width 32 --height 24 --spp 1 --accel embree,kdtree " + flag +
+                        " --json '" + out + "'");
+}
+
 TEST(CliBenchAccel, HighQualityEmbreeBuildIsAnOptInKey) {
   std::string dir = test::scratchDir("bench_accel_hq");
-  std::string mesh = writeTray(dir);
   std::string out = dir + "/hq.json";
-  test::CommandResult r = test::runGlint("bench-accel '" + mesh +
-                                         "' --width 32 --height 24 --spp 1 --accel embree,kdtree "
-                                         "--embree-high-quality --json '" +
-                                         out + "'");
+  test::CommandResult r = smallEmbreeAndKdTree(dir, "--embree-high-quality", out);
   ASSERT_EQ(r.exitCode, 0) << r.err;
   nlohmann::json j = readJson(out);
   EXPECT_GE(j["backends"]["embree"]["high_quality_build_seconds"].get<double>(), 0.0);
@@ -87,19 +93,15 @@ TEST(CliBenchAccel, HighQualityEmbreeBuildIsAnOptInKey) {
 // JSON (whose keys the protocol fixes).
 TEST(CliBenchAccel, TraversalCountsAreAnOptInTableForKdTrees) {
   std::string dir = test::scratchDir("bench_accel_counts");
-  std::string mesh = writeTray(dir);
   std::string out = dir + "/counts.json";
-  test::CommandResult r = test::runGlint("bench-accel '" + mesh +
-                                         "' --width 32 --height 24 --spp 1 --accel embree,kdtree "
-                                         "--traversal-counts --json '" +
-                                         out + "'");
+  test::CommandResult r = smallEmbreeAndKdTree(dir, "--traversal-counts", out);
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_NE(r.out.find("traversal per ray"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("kdtree         occlusion"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("embree         camera"), std::string::npos) << r.out;
   nlohmann::json j = readJson(out);
   EXPECT_EQ(keys(j["backends"]["kdtree"]), keys(j["backends"]["embree"]));
-  test::CommandResult plain = test::runGlint("bench-accel '" + mesh +
+  test::CommandResult plain = test::runGlint("bench-accel '" + writeTray(dir) +
                                              "' --width 32 --height 24 --spp 1 --accel kdtree");
   ASSERT_EQ(plain.exitCode, 0) << plain.err;
   EXPECT_EQ(plain.out.find("traversal per ray"), std::string::npos);
