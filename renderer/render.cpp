@@ -428,9 +428,8 @@ void ProgressiveRender::State::updateFilm() {
 
 void ProgressiveRender::State::stopQuietPixels(uint32_t spp) {
   const int w = region.width(), h = region.height();
-  // Decided from the means as they are at this checkpoint (read only), written to `stop`
-  // first: a pixel's decision never sees a neighbour's decision of the same checkpoint.
-  std::vector<uint8_t> stop(active.size(), 0);
+  // Decided from the means as they are at this checkpoint, which no decision changes: a pixel
+  // reads its neighbours' means, never their flags, so each row clears its own flags in place.
   arena->execute([&] {
     tbb::parallel_for(0, h, [&](int y) {
       for (int x = 0; x < w; ++x) {
@@ -449,12 +448,10 @@ void ProgressiveRender::State::stopQuietPixels(uint32_t spp) {
             for (int c = 0; c < 3; ++c)
               quiet = quiet && std::abs(squeezed(mean[c]) - squeezed(other[c])) <= contrast;
           }
-        stop[i] = quiet;
+        if (quiet) active[i] = 0;
       }
     });
   });
-  for (size_t i = 0; i < active.size(); ++i)
-    if (stop[i]) active[i] = 0;
 }
 
 bool ProgressiveRender::renderPass(uint32_t cap, const std::atomic<bool>* cancel,
