@@ -49,14 +49,18 @@ inline uint32_t owenScramble(uint32_t v, uint32_t seed) {
 }
 
 // Sobol's second dimension of index i, bit-reversed (least significant bit first): what the
-// Owen scramble takes, so the sample path needs no reversal. Four 256-entry lookups; the
-// table lives in sampler.cpp and stays in L1 on the camera-ray path.
-extern const std::array<std::array<uint32_t, 256>, 4> kReversedSobolSecondDimension;
+// Owen scramble takes, so the sample path needs no reversal. Its generator matrix is the
+// Pascal matrix mod 2, whose entry (k, j) is odd exactly when k's bits are a subset of j's
+// (Lucas' theorem), so output bit k is the XOR of the index bits j that contain k: a
+// superset transform over the five bits of a bit position, done in five shift-mask-XOR steps.
+// No table, so a batch of indices vectorises without gathers.
 inline uint32_t reversedSobolSecondDimension(uint32_t i) {
-  return kReversedSobolSecondDimension[0][i & 0xff] ^
-         kReversedSobolSecondDimension[1][(i >> 8) & 0xff] ^
-         kReversedSobolSecondDimension[2][(i >> 16) & 0xff] ^
-         kReversedSobolSecondDimension[3][i >> 24];
+  i ^= (i >> 1) & 0x55555555u;
+  i ^= (i >> 2) & 0x33333333u;
+  i ^= (i >> 4) & 0x0f0f0f0fu;
+  i ^= (i >> 8) & 0x00ff00ffu;
+  i ^= (i >> 16) & 0x0000ffffu;
+  return i;
 }
 
 // The second Sobol dimension of index i as a 32-bit fraction (the first is reverseBits(i)).

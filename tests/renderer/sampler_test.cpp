@@ -32,13 +32,24 @@ TEST(Sampler, SeedPixelAndSampleChangeTheValues) {
   EXPECT_NE(base.x, first(10, 3, 1).x);
 }
 
+// The closed form (a superset transform of the index bits) against the generator matrix's
+// columns applied bit by bit: every 16-bit index, and high-bit indices from a hash.
 TEST(Sampler, SobolSecondDimensionMatchesTheBitLoop) {
-  for (uint32_t i : {0u, 1u, 2u, 3u, 77u, 1000u, 65535u, 0x12345678u, 0xffffffffu}) {
-    uint32_t r = 0, idx = i;
+  auto bitLoop = [](uint32_t idx) {
+    uint32_t r = 0;
     for (uint32_t v = 1u << 31; idx; idx >>= 1, v ^= v >> 1)
       if (idx & 1) r ^= v;
-    EXPECT_EQ(sobolSecondDimension(i), r) << i;
+    return r;
+  };
+  int mismatches = 0;
+  for (uint32_t i = 0; i < 65536; ++i) mismatches += sobolSecondDimension(i) != bitLoop(i);
+  for (uint32_t k = 0; k < 65536; ++k) {
+    const uint32_t i = uint32_t(mixBits(k));
+    mismatches += sobolSecondDimension(i) != bitLoop(i);
   }
+  EXPECT_EQ(mismatches, 0);
+  for (uint32_t i : {0x12345678u, 0x80000000u, 0xffffffffu})
+    EXPECT_EQ(sobolSecondDimension(i), bitLoop(i)) << i;
 }
 
 TEST(Sampler, OwenScrambleIsABijectionOnLowBits) {
