@@ -1211,10 +1211,10 @@ class Loader {
         mesh.tangents[i] = {t.x, t.y, t.z, w < 0 ? -1.0f : 1.0f};
       }
     }
-    auto readUvs = [&](int accessor, const char* name, std::vector<Vec2f>* uvs) {
+    auto readUvs = [&](int accessor, const char* set, std::vector<Vec2f>* uvs) {
       if (accessor < 0) return;
-      const Accessor& ta = attribute(accessor, p, name, {"VEC2"}, Kind::TexCoord);
-      sameCount(accessor, name);
+      const Accessor& ta = attribute(accessor, p, set, {"VEC2"}, Kind::TexCoord);
+      sameCount(accessor, set);
       std::vector<double> v = reader_.read(accessor);
       uvs->resize(n);
       for (size_t i = 0; i < n; ++i) {
