@@ -76,7 +76,7 @@ float scrambledRadicalInverse(uint32_t base, uint64_t index, uint64_t scramble) 
 InstantRadiosityIntegrator::InstantRadiosityIntegrator(const RenderScene& scene,
                                                        const IntegratorSettings& settings,
                                                        uint64_t seed)
-    : WhittedIntegrator(scene, settings.maxDepth, settings.glassShadows),
+    : WhittedIntegrator(scene, settings.maxDepth, settings.glassShadows, settings.minWeight),
       rrDepth_(settings.rrDepth),
       paths_(settings.vplPaths),
       clamp_(settings.vplClamp),

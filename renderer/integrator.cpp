@@ -133,7 +133,7 @@ std::unique_ptr<Integrator> makeIntegrator(const RenderScene& scene,
   const IntegratorSettings& s = settings.integrator;
   switch (resolveIntegrator(scene, s)) {
     case IntegratorKind::Whitted:
-      return std::make_unique<WhittedIntegrator>(scene, s.maxDepth, s.glassShadows);
+      return std::make_unique<WhittedIntegrator>(scene, s.maxDepth, s.glassShadows, s.minWeight);
     case IntegratorKind::Path:
       return std::make_unique<PathIntegrator>(scene, s);
     case IntegratorKind::InstantRadiosity:

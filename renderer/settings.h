@@ -52,6 +52,10 @@ struct IntegratorSettings {
   // approximation, no caustics); false: glass casts a black shadow. The path tracer ignores
   // it (it finds the light through glass itself).
   bool glassShadows = true;
+  // Whitted (and instant radiosity's specular bounces): mirror and glass branches whose weight
+  // as the camera sees it falls below this are followed by Russian roulette (unbiased; see
+  // Integrator::specularBounces). POV-Ray's adc_bailout default; 0 follows every branch.
+  float minWeight = 1.0f / 255;
   // Instant radiosity (Keller 1997).
   int vplPaths = 64;        // light paths traced from the lights (Halton-seeded)
   float vplClamp = 0;       // bound on the geometry term cos cos / d^2 of a VPL; 0 = no clamp

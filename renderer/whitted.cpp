@@ -7,8 +7,9 @@
 
 namespace glint {
 
-WhittedIntegrator::WhittedIntegrator(const RenderScene& scene, int maxDepth, bool glassShadows)
-    : Integrator(scene), maxDepth_(maxDepth) {
+WhittedIntegrator::WhittedIntegrator(const RenderScene& scene, int maxDepth, bool glassShadows,
+                                     float minWeight)
+    : Integrator(scene), maxDepth_(maxDepth), minWeight_(minWeight) {
   shadows_ = scene.features.has(Feature::Shadows);
   glassShadows_ = glassShadows && shadows_ && scene.features.has(Feature::Refraction);
   media_ = scene.features.has(Feature::Volumes) ? scene.media.get() : nullptr;
@@ -17,22 +18,24 @@ WhittedIntegrator::WhittedIntegrator(const RenderScene& scene, int maxDepth, boo
 
 Rgb WhittedIntegrator::LiFromHit(const Ray& ray, const Hit* hit, Sampler& sampler,
                                  RayCounters& counters, PathAovs& aovs) const {
-  if (media_) return throughMedia(ray, hit, cameraCone_, 0, sampler, counters, &aovs);
-  return shade(ray, hit, cameraCone_, 0, sampler, counters, &aovs);
+  if (media_) return throughMedia(ray, hit, cameraCone_, 0, 1, sampler, counters, &aovs);
+  return shade(ray, hit, cameraCone_, 0, 1, sampler, counters, &aovs);
 }
 
-Rgb WhittedIntegrator::trace(const Ray& ray, const RayCone& cone, int depth, Sampler& sampler,
-                             RayCounters& counters) const {
+Rgb WhittedIntegrator::trace(const Ray& ray, const RayCone& cone, int depth, float weight,
+                             Sampler& sampler, RayCounters& counters) const {
   ++counters.secondary;
   Hit hit;
   bool found = scene_.accel->closestHit(ray, &hit);
   if (media_)
-    return throughMedia(ray, found ? &hit : nullptr, cone, depth, sampler, counters, nullptr);
-  return shade(ray, found ? &hit : nullptr, cone, depth, sampler, counters, nullptr);
+    return throughMedia(ray, found ? &hit : nullptr, cone, depth, weight, sampler, counters,
+                        nullptr);
+  return shade(ray, found ? &hit : nullptr, cone, depth, weight, sampler, counters, nullptr);
 }
 
 Rgb WhittedIntegrator::shade(const Ray& ray, const Hit* found, const RayCone& cone, int depth,
-                             Sampler& sampler, RayCounters& counters, PathAovs* aovs) const {
+                             float weight, Sampler& sampler, RayCounters& counters,
+                             PathAovs* aovs) const {
   if (!found) return scene_.escapedAlong(ray.d);
   const Hit& hit = *found;
   const uint32_t materialIndex = scene_.materialIndex(hit);
@@ -53,7 +56,8 @@ Rgb WhittedIntegrator::shade(const Ray& ray, const Hit* found, const RayCone& co
   Rgb behind;
   if (opacity < 1) {
     if (depth < maxDepth_)
-      behind = trace(si.spawnRay(ray.d, ray.time), next(), depth + 1, sampler, counters);
+      behind = trace(si.spawnRay(ray.d, ray.time), next(), depth + 1, weight * (1 - opacity),
+                     sampler, counters);
     if (opacity <= 0) return behind * inside;
   }
 
@@ -69,19 +73,23 @@ Rgb WhittedIntegrator::shade(const Ray& ray, const Hit* found, const RayCone& co
     L += indirectLight(si, bsdf, ray.time, sampler, counters);
   // Mirror and glass: follow the reflected and the refracted ray, each with its own weight.
   if ((shading.flags & kBsdfSpecular) && depth < maxDepth_)
-    L += specularBounces(bsdf, si, shading.flags, ray.time, sampler, [&](const Ray& r) {
-      return trace(r, next(), depth + 1, sampler, counters);
-    });
+    L += specularBounces(bsdf, si, shading.flags, ray.time, sampler, weight, minWeight_,
+                         [&](const Ray& r, float branchWeight) {
+                           return trace(r, next(), depth + 1, branchWeight, sampler, counters);
+                         });
   return (opacity < 1 ? L * opacity + behind * (1 - opacity) : L) * inside;
 }
 
 Rgb WhittedIntegrator::throughMedia(const Ray& ray, const Hit* hit, const RayCone& cone, int depth,
-                                    Sampler& sampler, RayCounters& counters, PathAovs* aovs) const {
+                                    float weight, Sampler& sampler, RayCounters& counters,
+                                    PathAovs* aovs) const {
   const VolumeSegment seg =
       media_->integrate(scene_, ray, hit ? hit->t : kInfinity, sampler, counters);
   // Behind an opaque medium the surface cannot be seen: no need to shade it (AOVs aside).
   if (maxComponent(seg.T) <= 0 && !aovs) return seg.L;
-  return seg.T * shade(ray, hit, cone, depth, sampler, counters, aovs) + seg.L;
+  return seg.T * shade(ray, hit, cone, depth, weight * maxComponent(seg.T), sampler, counters,
+                       aovs) +
+         seg.L;
 }
 
 Rgb WhittedIntegrator::directLight(const SurfaceInteraction& si, const Bsdf& bsdf, float time,

@@ -1,7 +1,10 @@
 // glint — Whitted-style ray tracing: direct light from every light with hard shadows, the
 // eyelight shortcut, emission, and recursion along the delta lobes of mirrors and glass (both
 // the reflected and the refracted ray, each weighted by its Fresnel share) and through
-// transparent surfaces, up to `maxDepth` bounces.
+// transparent surfaces, up to `maxDepth` bounces. Branches too faint for the camera to see
+// (weight below `minWeight`, 1/255 by default as POV-Ray's adc_bailout) go on by Russian
+// roulette instead of to the depth limit: unbiased, and glass no longer spawns a full binary
+// tree of rays (Integrator::specularBounces).
 //
 // Shadow rays stop at the first opaque surface. Through glass and glTF transmission they go on
 // straight, unrefracted, keeping each surface's Fresnel transmittance and tint, two crossings
@@ -27,7 +30,9 @@ namespace glint {
 
 class WhittedIntegrator : public Integrator {
  public:
-  WhittedIntegrator(const RenderScene& scene, int maxDepth, bool glassShadows = true);
+  // `minWeight`: see IntegratorSettings::minWeight (0 here: every branch followed).
+  WhittedIntegrator(const RenderScene& scene, int maxDepth, bool glassShadows = true,
+                    float minWeight = 0);
   Rgb LiFromHit(const Ray& ray, const Hit* hit, Sampler& sampler, RayCounters& counters,
                 PathAovs& aovs) const override;
 
@@ -46,16 +51,17 @@ class WhittedIntegrator : public Integrator {
   bool shadows_;
 
  private:
-  // Radiance along `ray`, which hit `hit` (null: escaped), `depth` bounces from the camera.
-  // `aovs` is the camera ray's (null for deeper rays).
-  Rgb shade(const Ray& ray, const Hit* hit, const RayCone& cone, int depth, Sampler& sampler,
-            RayCounters& counters, PathAovs* aovs) const;
+  // Radiance along `ray`, which hit `hit` (null: escaped), `depth` bounces from the camera,
+  // which sees it with weight `weight` (1 for camera rays; see specularBounces). `aovs` is the
+  // camera ray's (null for deeper rays).
+  Rgb shade(const Ray& ray, const Hit* hit, const RayCone& cone, int depth, float weight,
+            Sampler& sampler, RayCounters& counters, PathAovs* aovs) const;
   // Traces a secondary ray and shades what it finds.
-  Rgb trace(const Ray& ray, const RayCone& cone, int depth, Sampler& sampler,
+  Rgb trace(const Ray& ray, const RayCone& cone, int depth, float weight, Sampler& sampler,
             RayCounters& counters) const;
   // The radiance `surface` (found at `hit`, null: escaped) seen through the media along `ray`.
-  Rgb throughMedia(const Ray& ray, const Hit* hit, const RayCone& cone, int depth, Sampler& sampler,
-                   RayCounters& counters, PathAovs* aovs) const;
+  Rgb throughMedia(const Ray& ray, const Hit* hit, const RayCone& cone, int depth, float weight,
+                   Sampler& sampler, RayCounters& counters, PathAovs* aovs) const;
   // Direct light at a lit surface point: sum over all lights, shadow rays when enabled.
   Rgb directLight(const SurfaceInteraction& si, const Bsdf& bsdf, float time, Sampler& sampler,
                   RayCounters& counters) const;
@@ -65,6 +71,7 @@ class WhittedIntegrator : public Integrator {
 
   const MediaScene* media_;  // null without media: rays take the media-free path
   bool glassShadows_;        // shadow rays cross glass (the scene has some, and it is asked)
+  float minWeight_;          // faint specular branches go by Russian roulette below this
   RayCone cameraCone_;
 };
 

@@ -50,6 +50,7 @@ void readIntegrator(JsonReader& r, IntegratorSettings* s) {
   s->volumeEstimator = i.oneOf("volume_estimator", kVolumeEstimators, s->volumeEstimator);
   s->volumeStep = i.get<float>("volume_step", s->volumeStep, kNonNegative);
   s->glassShadows = i.get<bool>("glass_shadows", s->glassShadows);
+  s->minWeight = i.get<float>("min_weight", s->minWeight, {.ge = 0, .le = 1});
   s->vplPaths = i.get<int>("vpl_paths", s->vplPaths, kPositive);
   s->vplClamp = i.get<float>("vpl_clamp", s->vplClamp, kNonNegative);
   s->vplShadowShare = i.get<float>("vpl_shadow_share", s->vplShadowShare, {.ge = 0, .le = 1});

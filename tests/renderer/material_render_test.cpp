@@ -71,6 +71,48 @@ TEST(MaterialRender, GlassOfIndexOneAndAHalfIsVisible) {
   EXPECT_EQ(with.stats.nonfiniteSamples, 0u);
 }
 
+// Faint mirror and glass branches go by Russian roulette (integrator.min_weight): unbiased, so
+// the image's mean agrees with following every branch, within the noise the roulette adds,
+// and fewer secondary rays are traced. The two renders share their camera samples (the
+// roulette's number is drawn either way), so their difference is the roulette's noise alone.
+TEST(MaterialRender, FaintBranchRouletteIsUnbiasedAndTracesFewerRays) {
+  auto scene = [](const std::string& minWeight) {
+    return R"({
+      "render": {"width": 48, "height": 36, "spp": 64, "camera": "c", "seed": 5,
+                 "background": [0.3, 0.4, 0.6],
+                 "integrator": {"type": "whitted", "max_depth": 8, "min_weight": )" +
+           minWeight + R"(}},
+      "cameras": [{"name": "c", "position": [0, 1.5, 4], "look_at": [0, 1, 0]}],
+      "lights": [{"type": "point", "position": [3, 6, 4], "intensity": 60}],
+      "materials": [{"name": "floor", "type": "lambert", "diffuse": [0.7, 0.7, 0.7]},
+                    {"name": "g", "type": "glass", "ior": 1.5},
+                    {"name": "m", "type": "mirror", "color": [0.9, 0.9, 0.9]}],
+      "objects": [{"type": "plane", "material": "floor"},
+                  {"type": "sphere", "center": [-0.6, 1, 0], "radius": 0.7, "material": "g"},
+                  {"type": "sphere", "center": [0.9, 0.8, -0.5], "radius": 0.6, "material": "m"}]})";
+  };
+  Rendered every = renderJson(scene("0"));
+  Rendered roulette = renderJson(scene("0.2"));
+  ASSERT_EQ(every.film.color.size(), roulette.film.color.size());
+  EXPECT_LT(roulette.stats.rays.secondary, every.stats.rays.secondary * 3 / 4);
+  // Per channel: the mean difference against its standard error from the roulette film's
+  // variance of each pixel's mean (the roulette's noise and the shared anti-aliasing noise).
+  const double n = double(every.film.color.size());
+  for (int c = 0; c < 3; ++c) {
+    double difference = 0, variance = 0, mean = 0;
+    for (size_t i = 0; i < every.film.color.size(); ++i) {
+      difference += roulette.film.color[i][c] - every.film.color[i][c];
+      variance += roulette.film.variance[i][c];
+      mean += every.film.color[i][c];
+    }
+    const double z = std::abs(difference / n) / std::sqrt(variance / (n * n));
+    EXPECT_LT(z, 4.0) << "channel " << c << ", image mean " << mean / n;
+  }
+  // The roulette changes something (a stand-in that followed every branch would not).
+  EXPECT_GT(maxDifference(roulette.film, every.film), 1e-4f);
+  EXPECT_EQ(roulette.stats.nonfiniteSamples, 0u);
+}
+
 TEST(MaterialRender, FullyTransparentEyelightIsInvisible) {
   Rendered without = renderJson(sceneJson("", "", false));
   Rendered with = renderJson(sceneJson(

@@ -328,6 +328,13 @@ TEST(Sidecar, NegativeSppIsRejected) {
   EXPECT_SCENE_ERROR(applyError(R"({"render": {"spp": -4}})"), kFile, "/render/spp", "must be > 0");
 }
 
+TEST(Sidecar, MinWeightOutsideZeroToOneIsRejected) {
+  EXPECT_SCENE_ERROR(applyError(R"({"render": {"integrator": {"min_weight": -0.1}}})"), kFile,
+                     "/render/integrator/min_weight", "must be >= 0");
+  EXPECT_SCENE_ERROR(applyError(R"({"render": {"integrator": {"min_weight": 2}}})"), kFile,
+                     "/render/integrator/min_weight", "<= 1");
+}
+
 TEST(Sidecar, ZeroWidthIsRejected) {
   EXPECT_SCENE_ERROR(applyError(R"({"render": {"width": 0}})"), kFile, "/render/width",
                      "must be > 0");
@@ -469,7 +476,7 @@ TEST(Sidecar, RenderSettingsAreApplied) {
       "accel": "embree", "camera": "Main", "integrator": {"type": "whitted", "max_depth": 5, "rr_depth": 2,
                      "light_sampler": "uniform", "volume": "emission",
                      "volume_estimator": "track", "volume_step": 0.25, "vpl_paths": 7,
-                     "vpl_clamp": 3},
+                     "vpl_clamp": 3, "min_weight": 0.01},
       "filter": {"type": "tent", "radius": 2},
       "background": [0.1, 0.2, 0.3],
       "exr": {"half": true, "aovs": true},
@@ -494,6 +501,7 @@ TEST(Sidecar, RenderSettingsAreApplied) {
   EXPECT_FLOAT_EQ(r.integrator.volumeStep, 0.25f);
   EXPECT_EQ(r.integrator.vplPaths, 7);
   EXPECT_FLOAT_EQ(r.integrator.vplClamp, 3);
+  EXPECT_FLOAT_EQ(r.integrator.minWeight, 0.01f);
   EXPECT_EQ(r.filter.type, "tent");
   EXPECT_FLOAT_EQ(r.filter.radius, 2);
   EXPECT_EQ(r.background, (Rgb{0.1f, 0.2f, 0.3f}));
