@@ -19,7 +19,22 @@ WhittedIntegrator::WhittedIntegrator(const RenderScene& scene, int maxDepth, boo
 Rgb WhittedIntegrator::LiFromHit(const Ray& ray, const Hit* hit, Sampler& sampler,
                                  RayCounters& counters, PathAovs& aovs) const {
   if (media_) return throughMedia(ray, hit, cameraCone_, 0, 1, sampler, counters, &aovs);
-  return shade(ray, hit, cameraCone_, 0, 1, sampler, counters, &aovs);
+  if (!hit) return scene_.escapedAlong(ray.d);
+  const uint32_t materialIndex = scene_.materialIndex(*hit);
+  const MaterialShading& shading = shading_[materialIndex];
+  if (shading.unlit && !shading.transparent && !shading.absorbs)
+    return shadeUnlit(ray, *hit, materialIndex, aovs);
+  return shadeAt(ray, *hit, materialIndex, cameraCone_, 0, 1, sampler, counters, &aovs);
+}
+
+Rgb WhittedIntegrator::shadeUnlit(const Ray& ray, const Hit& hit, uint32_t materialIndex,
+                                  PathAovs& aovs) const {
+  const Material& material = *scene_.materials[materialIndex];
+  MovingFrame movingFrame;
+  const SurfaceInteraction si = shadingPoint(ray, hit, cameraCone_, materialIndex, &movingFrame);
+  TextureLookups lookups(si);
+  aovs.record(material, si, lookups, hit.t * length(ray.d));
+  return material.unlitRadiance(si, lookups);
 }
 
 Rgb WhittedIntegrator::trace(const Ray& ray, const RayCone& cone, int depth, float weight,
@@ -37,8 +52,13 @@ Rgb WhittedIntegrator::shade(const Ray& ray, const Hit* found, const RayCone& co
                              float weight, Sampler& sampler, RayCounters& counters,
                              PathAovs* aovs) const {
   if (!found) return scene_.escapedAlong(ray.d);
-  const Hit& hit = *found;
-  const uint32_t materialIndex = scene_.materialIndex(hit);
+  return shadeAt(ray, *found, scene_.materialIndex(*found), cone, depth, weight, sampler, counters,
+                 aovs);
+}
+
+Rgb WhittedIntegrator::shadeAt(const Ray& ray, const Hit& hit, uint32_t materialIndex,
+                               const RayCone& cone, int depth, float weight, Sampler& sampler,
+                               RayCounters& counters, PathAovs* aovs) const {
   const Material& material = *scene_.materials[materialIndex];
   const MaterialShading& shading = shading_[materialIndex];
   MovingFrame movingFrame;  // a moving object's frame: lives as long as `si`

@@ -56,6 +56,14 @@ class WhittedIntegrator : public Integrator {
   // camera ray's (null for deeper rays).
   Rgb shade(const Ray& ray, const Hit* hit, const RayCone& cone, int depth, float weight,
             Sampler& sampler, RayCounters& counters, PathAovs* aovs) const;
+  // shade() for a hit on material `materialIndex`.
+  Rgb shadeAt(const Ray& ray, const Hit& hit, uint32_t materialIndex, const RayCone& cone,
+              int depth, float weight, Sampler& sampler, RayCounters& counters,
+              PathAovs* aovs) const;
+  // What shade() returns for a camera ray's hit on an opaque unlit (eyelight) surface that
+  // absorbs nothing: its colour, and the AOVs. Kept apart so that the cheapest scene there is
+  // (pipeline_bench) pays none of shade()'s set-up for the other cases.
+  Rgb shadeUnlit(const Ray& ray, const Hit& hit, uint32_t materialIndex, PathAovs& aovs) const;
   // Traces a secondary ray and shades what it finds.
   Rgb trace(const Ray& ray, const RayCone& cone, int depth, float weight, Sampler& sampler,
             RayCounters& counters) const;

@@ -94,7 +94,9 @@ TEST(AdaptiveSampling, EarlyCheckpointsLetQuietPixelsStopAfterAFewSamples) {
   for (size_t i = 0; i < film.samples.size(); ++i) {
     const uint32_t k = film.samples[i];
     EXPECT_TRUE(k == 2 || k == 4 || k == 8 || k % 16 == 0) << "pixel " << i << ": " << k;
-    if (film.alpha[i] == 0) EXPECT_EQ(k, 2u) << "background pixel " << i;
+    if (film.alpha[i] == 0) {
+      EXPECT_EQ(k, 2u) << "background pixel " << i;
+    }
     early += film.alpha[i] > 0 && (k == 4 || k == 8);
   }
   EXPECT_GT(early, 0);
