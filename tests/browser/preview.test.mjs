@@ -327,7 +327,11 @@ describe('glint preview in Chromium', {timeout: 240_000}, () => {
     console.log(`glint preview stopped ${Date.now() - start} ms after SIGINT (exit ${code})`);
     assert.equal(code, 0);
     await page.waitForSelector('#connection', {state: 'visible', timeout: 15_000});
-    const rgb = await mean();
-    assert.ok(rgb && rgb[0] + rgb[1] + rgb[2] > 15, 'the image went away with the server');
+    // The image may be mid-swap to the server's last version (then it is not yet `complete`);
+    // it must settle to a visible image, not a broken one.
+    let rgb;
+    await waitFor(async () => (rgb = await mean()) !== null,
+                  'the image to be shown (a broken image never is)', 5_000);
+    assert.ok(rgb[0] + rgb[1] + rgb[2] > 15, `the image went away with the server: mean ${rgb}`);
   });
 });
