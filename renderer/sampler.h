@@ -12,7 +12,6 @@
 // cost is on the camera-ray path of every render.
 #pragma once
 
-#include <array>
 #include <cstdint>
 
 #include "geometry/math.h"
