@@ -14,6 +14,7 @@
 //   - bumped surfaces multiply f by the shadow-terminator term (Chiang et al. 2019).
 #pragma once
 
+#include <algorithm>
 #include <optional>
 #include <variant>
 
@@ -33,6 +34,18 @@ struct BsdfFrame {
   BsdfFrame(const SurfaceInteraction& si, bool perturbed)
       : frame(Frame::fromZ(si.ns)), ng(si.ng), wo(frame.toLocal(si.wo)), terminator(perturbed) {}
 };
+
+// Chiang, Li and Burley (2019), "Taming the Shadow Terminator": a shadowing term for shading
+// normals that differ from the geometric one, smooth and 1 wherever ns = ng. Multiplying the
+// reflected light by it removes the hard terminator that bump maps otherwise show on lit
+// spheres, at the price of slightly darkening strongly bumped grazing regions.
+// Inline: instant radiosity's VPL loop applies it twice per VPL.
+inline float terminatorShadowing(Vec3f ng, Vec3f ns, Vec3f wi) {
+  const float cosNs = dot(ns, wi), cosNg = dot(ng, wi), cosNsNg = dot(ns, ng);
+  if (cosNs <= 0 || cosNg <= 0 || cosNsNg <= 0) return cosNg > 0 ? 1.0f : 0.0f;
+  const float g = std::min(1.0f, cosNg / (cosNs * cosNsNg));
+  return -g * g * g + g * g + g;  // the smooth form of the paper's eq. 4
+}
 
 class Bsdf {
  public:
@@ -65,6 +78,28 @@ class Bsdf {
   // The shading normal the BSDF is built around.
   Vec3f ns() const { return frame_.frame.n; }
 
+  // A caller evaluating one BSDF in many directions (instant radiosity's VPL loop) can skip
+  // the general evaluation for a Lambert lobe: f(wi) is then R / pi where wi is on the side of
+  // both the shading and the geometric normal, zero elsewhere, times the terminator term where
+  // the normal was perturbed. lambertR() returns R / pi for a Lambert BSDF (nullopt for every
+  // other), lambertF() computes f from it exactly as f() does.
+  std::optional<Rgb> lambertR() const {
+    const DiffuseBxdf* d = std::get_if<DiffuseBxdf>(&lobes_);
+    if (!d) return std::nullopt;
+    return d->R * kInvPi;
+  }
+  Rgb lambertF(Vec3f wi, Rgb rOverPi) const {
+    return lambertF(wi, frame_.frame.n, frame_.ng, frame_.terminator, rOverPi);
+  }
+  // The same for a BSDF known by its normals and terminator flag (kept apart by the caller).
+  static Rgb lambertF(Vec3f wi, Vec3f ns, Vec3f ng, bool terminator, Rgb rOverPi) {
+    if (!(dot(wi, ns) > 0) || !(dot(wi, ng) > 0)) return {};
+    return terminator ? rOverPi * terminatorShadowing(ng, ns, wi) : rOverPi;
+  }
+  // The geometric normal, and whether the terminator term applies.
+  Vec3f ng() const { return frame_.ng; }
+  bool terminator() const { return frame_.terminator; }
+
   // What a shadow ray crossing this surface along `w`, straight and unrefracted, keeps: the
   // tint of the surface's specular transmission and its Fresnel reflectance R, taken from the
   // outside (the side the surface's front faces; `frontFace` says whether this hit is on that
@@ -89,10 +124,5 @@ class Bsdf {
   Lobes lobes_;
 };
 
-// Chiang, Li and Burley (2019), "Taming the Shadow Terminator": a shadowing term for shading
-// normals that differ from the geometric one, smooth and 1 wherever ns = ng. Multiplying the
-// reflected light by it removes the hard terminator that bump maps otherwise show on lit
-// spheres, at the price of slightly darkening strongly bumped grazing regions.
-float terminatorShadowing(Vec3f ng, Vec3f ns, Vec3f wi);
 
 }  // namespace glint

@@ -653,13 +653,6 @@ std::optional<BsdfSample> PbrBxdf::sample(Vec3f wo, Vec2f u, float uLobe, uint32
 // ---------------------------------------------------------------------------------------------
 // The BSDF: dispatch and the geometric-side rules
 // ---------------------------------------------------------------------------------------------
-float terminatorShadowing(Vec3f ng, Vec3f ns, Vec3f wi) {
-  const float cosNs = dot(ns, wi), cosNg = dot(ng, wi), cosNsNg = dot(ns, ng);
-  if (cosNs <= 0 || cosNg <= 0 || cosNsNg <= 0) return cosNg > 0 ? 1.0f : 0.0f;
-  const float g = std::min(1.0f, cosNg / (cosNs * cosNsNg));
-  return -g * g * g + g * g + g;  // the smooth form of the paper's eq. 4
-}
-
 Rgb Bsdf::evaluate(Vec3f wi, float* pdf) const {
   *pdf = 0;
   if (std::holds_alternative<std::monostate>(lobes_)) return {};

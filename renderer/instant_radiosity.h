@@ -89,6 +89,46 @@ struct Vpl {
   int vertex = 1;         // which vertex of its light path (1: the first surface hit)
 };
 
+// The VPLs as the gather loop reads them, one array per quantity, so that where the gather
+// point and every VPL are Lambert surfaces the loop runs several VPLs per instruction
+// (InstantRadiosityIntegrator::indirectLight).
+struct VplArrays {
+  std::vector<float> px, py, pz;   // si.p
+  std::vector<float> errorLength;  // length(si.pError)
+  std::vector<float> nx, ny, nz;   // si.ns
+  std::vector<float> bx, by, bz;   // the BSDF's shading normal
+  std::vector<float> gx, gy, gz;   // the BSDF's geometric normal
+  // dot(BSDF shading normal, geometric normal) where the BSDF applies the terminator term,
+  // else 0 (terminatorShadowing is 1 wherever this is not positive)
+  std::vector<float> cosNsNg;
+  std::vector<float> rr, rg, rb;  // Bsdf::lambertR (0 for other BSDFs)
+  std::vector<float> fr, fg, fb;  // flux
+  std::vector<uint8_t> lambert;   // Bsdf::lambertR exists
+  void add(const Vpl& v);
+  size_t size() const { return px.size(); }
+};
+
+// A Lambert gather point (Bsdf::lambertR), as lambertVplContributions reads it.
+struct LambertGatherPoint {
+  float x, y, z, error;  // si.p, length(si.pError)
+  float nx, ny, nz;      // si.ns
+  float bx, by, bz;      // its BSDF's shading normal
+  float gx, gy, gz;      // its BSDF's geometric normal
+  float cosNsNg;         // as VplArrays::cosNsNg
+  float r, g, b;         // Bsdf::lambertR
+  float clamp;           // the bound on G (0: none)
+  // Null when `bsdf` is not a Lambert BSDF.
+  static std::optional<LambertGatherPoint> at(const SurfaceInteraction& si, const Bsdf& bsdf,
+                                              float clamp);
+};
+
+// The unshadowed light every VPL of `vpls` (all of them Lambert) sends to the Lambert gather
+// point `q`, per channel into out*[k]: f(wi) fVpl(-wi) flux G, G bounded by q.clamp, exactly
+// the values the general evaluation (Bsdf::f at both ends) gives, 0 where it gives nothing
+// (wrong side, the VPL at the point itself). Several VPLs per instruction.
+void lambertVplContributions(const VplArrays& vpls, const LambertGatherPoint& q, float* outR,
+                             float* outG, float* outB);
+
 // Whitted's integrator (renderer/whitted.h: direct light, emission, mirror and glass
 // recursion) with the light of every VPL added at diffuse and glossy points.
 class InstantRadiosityIntegrator final : public WhittedIntegrator {
@@ -117,6 +157,10 @@ class InstantRadiosityIntegrator final : public WhittedIntegrator {
   float clamp_;  // bound on G; 0 = none
   float shadowShare_;  // IntegratorSettings::vplShadowShare
   std::vector<Vpl> vpls_;
+  // What the gather loop reads of each VPL, one array per quantity (VplArrays): built from
+  // vpls_ once the light paths are traced.
+  VplArrays points_;
+  bool allLambert_ = false;  // every VPL's BSDF is Lambert (Bsdf::lambertR)
   uint64_t lightPathRays_ = 0;
 };
 
