@@ -29,6 +29,7 @@ namespace {
 struct ThreadTally {
   RayCounters rays;
   uint64_t nonfinite = 0;
+  uint64_t samples = 0;  // renderOnce: samples its pixels took (for RenderStats::meanSpp)
 };
 
 // Per-pixel sums of radiance and squared radiance, in double: a pixel has at most a few
@@ -207,6 +208,9 @@ struct ProgressiveRender::State {
 
   uint32_t spp = 0;
   int passes = 0;
+  // render()'s single pass (renderOnce): each pixel's samples go from zero straight to the
+  // film, and no sums are kept.
+  bool direct = false;
   bool broken = false;  // a dropped pass left the sums part-way
   Film film;
   // estimatedRelativeError(film), computed when first asked after a pass (a render that only
@@ -220,8 +224,17 @@ struct ProgressiveRender::State {
 
   void renderTile(int tileIndex, uint32_t passEnd, const std::atomic<bool>* cancel,
                   ThreadTally& tally, uint64_t* samplesTaken);
+  // The per-pixel sums, zero, on the first pass or resume (render()'s single pass keeps none).
+  void allocateSums();
+  // Film pixel i from a pixel's sums: k samples, `hitCount` of them on geometry, and the AOV
+  // sums.
+  void writeFilmPixel(size_t i, const PixelMoments& m, uint32_t k, uint32_t hitCount,
+                      Rgb albedoSum, Rgb normalSum, double depthSum);
   // Film pixel i from region pixel r's sums.
-  void setFilmPixel(size_t i, size_t r);
+  void setFilmPixel(size_t i, size_t r) {
+    writeFilmPixel(i, moments[r], taken[r], hits[r], aovs ? albedo[r] : Rgb{},
+                   aovs ? normal[r] : Rgb{}, aovs ? depth[r] : 0.0);
+  }
   // Every film pixel from the sums.
   void updateFilm();
   // At a contrast checkpoint: stops the active pixels that took `spp` samples and meet the rule.
@@ -263,16 +276,8 @@ ProgressiveRender::ProgressiveRender(const RenderScene& scene, const Integrator&
     st.region = {std::max(0, window.x0 - a), std::max(0, window.y0 - a),
                  std::min(width, window.x1 + a), std::min(height, window.y1 + a)};
   }
-  const size_t n = size_t(st.region.width()) * size_t(st.region.height());
-  if (st.contrast > 0) st.active.assign(n, 1);
-  st.moments.assign(n, PixelMoments{});
-  st.taken.assign(n, 0);
-  st.hits.assign(n, 0);
-  if (st.aovs) {
-    st.albedo.assign(n, Rgb{});
-    st.normal.assign(n, Rgb{});
-    st.depth.assign(n, 0.0);
-  }
+  if (st.contrast > 0)
+    st.active.assign(size_t(st.region.width()) * size_t(st.region.height()), 1);
   const int tile = options.tileSize;
   st.tilesX = (st.region.width() + tile - 1) / tile;
   st.tilesY = (st.region.height() + tile - 1) / tile;
@@ -294,7 +299,7 @@ void ProgressiveRender::resumeFrom(const Film& partial, uint32_t spp) {
     throw InputError(
         "cannot continue a crop or tile rendered with anti-aliasing by contrast: its margin "
         "pixels are not in the image");
-  const size_t n = st.taken.size();
+  const size_t n = size_t(st.region.width()) * size_t(st.region.height());
   if (partial.width != st.film.width || partial.height != st.film.height ||
       partial.originX != st.film.originX || partial.originY != st.film.originY)
     throw InputError(fmt::format(
@@ -305,6 +310,7 @@ void ProgressiveRender::resumeFrom(const Film& partial, uint32_t spp) {
     throw InputError("cannot continue an image without per-pixel samples and variance");
   if (st.aovs && !partial.hasAovs)
     throw InputError("cannot continue an image without AOVs into one with them");
+  st.allocateSums();
   for (size_t i = 0; i < n; ++i) {
     const uint32_t k = partial.samples[i];
     if (k > spp) throw InputError("an image's pixel holds more samples than its spp");
@@ -361,15 +367,16 @@ void ProgressiveRender::State::renderTile(int tileIndex, uint32_t passEnd,
       const DimensionSeeds filmSeeds(pixelKey, kFilmDimension);
       const DimensionSeeds lensSeeds =
           lens ? DimensionSeeds(pixelKey, kLensDimension) : DimensionSeeds();
-      PixelMoments acc = moments[index];
-      uint32_t pixelHits = hits[index];
-      double pixelDepth = aovs ? depth[index] : 0.0;
-      Rgb pixelAlbedo = aovs ? albedo[index] : Rgb{}, pixelNormal = aovs ? normal[index] : Rgb{};
+      PixelMoments acc = direct ? PixelMoments{} : moments[index];
+      uint32_t pixelHits = direct ? 0 : hits[index];
+      double pixelDepth = aovs && !direct ? depth[index] : 0.0;
+      Rgb pixelAlbedo = aovs && !direct ? albedo[index] : Rgb{},
+          pixelNormal = aovs && !direct ? normal[index] : Rgb{};
       // The pixel's camera rays go to the accelerator in batches, which it may trace as
       // packets (they are coherent); each result is then shaded on its own. Batches never
       // cross a multiple of kCameraBatch, nor a checkpoint where adaptive sampling checks the
       // pixel, so its decisions are the same however the samples are split into passes.
-      uint32_t first = taken[index];
+      uint32_t first = direct ? 0 : taken[index];
       while (first < passEnd) {
         // (With contrast, checkpoints up to 16 are decided between passes: stopQuietPixels.)
         if (adaptive && first >= minSpp && isAdaptiveCheckpoint(first) &&
@@ -428,6 +435,12 @@ void ProgressiveRender::State::renderTile(int tileIndex, uint32_t passEnd,
         first += n;
         drawn += n;
       }
+      if (direct) {
+        // The region is the film's window (renderOnce has no contrast margin).
+        writeFilmPixel(index, acc, first, pixelHits, pixelAlbedo, pixelNormal, pixelDepth);
+        tally.samples += first;
+        continue;
+      }
       moments[index] = acc;
       taken[index] = first;
       hits[index] = pixelHits;
@@ -440,23 +453,36 @@ void ProgressiveRender::State::renderTile(int tileIndex, uint32_t passEnd,
   *samplesTaken = drawn;
 }
 
-void ProgressiveRender::State::setFilmPixel(size_t i, size_t r) {
-  const uint32_t k = taken[r];
+void ProgressiveRender::State::allocateSums() {
+  if (!moments.empty()) return;
+  const size_t n = size_t(region.width()) * size_t(region.height());
+  moments.assign(n, PixelMoments{});
+  taken.assign(n, 0);
+  hits.assign(n, 0);
+  if (aovs) {
+    albedo.assign(n, Rgb{});
+    normal.assign(n, Rgb{});
+    depth.assign(n, 0.0);
+  }
+}
+
+void ProgressiveRender::State::writeFilmPixel(size_t i, const PixelMoments& m, uint32_t k,
+                                              uint32_t hitCount, Rgb albedoSum, Rgb normalSum,
+                                              double depthSum) {
   film.samples[i] = k;
   if (k == 0) {
     film.color[i] = film.variance[i] = Rgb{};
     film.alpha[i] = 0;
     return;
   }
-  const PixelMoments& m = moments[r];
   const double invK = 1.0 / k;
   film.color[i] = m.meanTimes(invK);
   film.variance[i] = k >= 2 ? m.varianceOfMeanTimes(invK, 1.0 / (double(k - 1) * k)) : Rgb{};
-  film.alpha[i] = float(double(hits[r]) * invK);
+  film.alpha[i] = float(double(hitCount) * invK);
   if (aovs) {
-    film.albedo[i] = albedo[r] / float(k);
-    film.normal[i] = normal[r] / float(k);
-    film.depth[i] = hits[r] > 0 ? float(depth[r] / hits[r]) : 0.0f;
+    film.albedo[i] = albedoSum / float(k);
+    film.normal[i] = normalSum / float(k);
+    film.depth[i] = hitCount > 0 ? float(depthSum / hitCount) : 0.0f;
   }
 }
 
@@ -520,6 +546,7 @@ bool ProgressiveRender::renderTo(uint32_t end, const std::atomic<bool>* cancel,
   State& st = *state_;
   if (st.broken) throw std::logic_error("ProgressiveRender: a dropped pass ended this render");
   if (end <= st.spp) return true;
+  st.allocateSums();
   tbb::enumerable_thread_specific<ThreadTally> tallies;
   const auto start = std::chrono::steady_clock::now();
   // With contrast, the pass stops at every contrast checkpoint on the way (however the caller
@@ -559,6 +586,45 @@ bool ProgressiveRender::renderTo(uint32_t end, const std::atomic<bool>* cancel,
   ++st.passes;
   st.updateFilm();
   return true;
+}
+
+void ProgressiveRender::renderOnce(uint32_t spp, const std::function<void(uint64_t)>& onTile) {
+  State& st = *state_;
+  if (st.broken) throw std::logic_error("ProgressiveRender: a dropped pass ended this render");
+  // Anti-aliasing by contrast decides at checkpoints from the neighbours' sums, and a resumed
+  // or rendered state has sums to continue: those take the passes' way.
+  if (st.contrast > 0 || st.spp > 0 || !st.moments.empty()) {
+    renderTo(spp, nullptr, onTile);
+    st.broken = true;
+    return;
+  }
+  st.direct = true;
+  st.broken = true;  // no sums: this render cannot go on
+  tbb::enumerable_thread_specific<ThreadTally> tallies;
+  const auto start = std::chrono::steady_clock::now();
+  st.arena->execute([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, st.tilesX * st.tilesY, 1),
+                      [&](const tbb::blocked_range<int>& r) {
+                        for (int t = r.begin(); t != r.end(); ++t) {
+                          uint64_t drawn = 0;
+                          st.renderTile(t, spp, nullptr, tallies.local(), &drawn);
+                          if (onTile) onTile(drawn);
+                        }
+                      });
+  });
+  st.stats.renderSeconds +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  uint64_t samples = 0;
+  for (const ThreadTally& t : tallies) {
+    st.stats.rays += t.rays;
+    st.stats.nonfiniteSamples += t.nonfinite;
+    samples += t.samples;
+  }
+  st.spp = spp;
+  ++st.passes;
+  const size_t n = st.film.color.size();
+  st.stats.meanSpp = n ? double(samples) / double(n) : 0.0;
+  st.error.reset();
 }
 
 uint32_t ProgressiveRender::spp() const { return state_->spp; }
@@ -682,7 +748,7 @@ Film render(const RenderScene& scene, const Integrator& integrator, const Render
   ProgressiveRender pr(scene, integrator, settings, options);
   const uint32_t spp = uint32_t(std::max(settings.spp, 1));
   ProgressBar bar("rendering", uint64_t(spp) * pr.film().color.size(), options.progress);
-  pr.renderTo(spp, nullptr, [&](uint64_t samples) { bar.advance(samples); });
+  pr.renderOnce(spp, [&](uint64_t samples) { bar.advance(samples); });
   bar.finish();
   if (stats) *stats = pr.stats();
   return pr.takeFilm();

@@ -130,6 +130,13 @@ class ProgressiveRender {
   bool renderTo(uint32_t end, const std::atomic<bool>* cancel = nullptr,
                 const std::function<void(uint64_t)>& onTile = {});
 
+  // What render() does: `spp` samples per pixel in one pass from nothing, each pixel's
+  // samples summed on the stack and written straight to the film, with no per-pixel sums kept
+  // (their memory traffic was a visible share of a short render). The same image as
+  // renderTo(spp); the render cannot go on afterwards. With anti-aliasing by contrast (whose
+  // checkpoints need the sums), or after a resume or a pass, it is renderTo(spp).
+  void renderOnce(uint32_t spp, const std::function<void(uint64_t)>& onTile = {});
+
   uint32_t spp() const;        // samples per pixel of the completed passes
   int passes() const;          // passes completed by this object (not counting a resume)
   const Film& film() const;    // the image after the completed passes

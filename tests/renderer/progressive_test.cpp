@@ -9,6 +9,7 @@
 #include <fstream>
 #include <cmath>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "renderer/render.h"
@@ -58,6 +59,13 @@ void expectSameImage(const Film& a, const Film& b) {
     ASSERT_EQ(a.alpha[i], b.alpha[i]) << "pixel " << i;
     ASSERT_EQ(a.samples[i], b.samples[i]) << "pixel " << i;
   }
+  ASSERT_EQ(a.hasAovs, b.hasAovs);
+  if (!a.hasAovs) return;
+  for (size_t i = 0; i < a.color.size(); ++i) {
+    ASSERT_EQ(a.albedo[i], b.albedo[i]) << "pixel " << i;
+    ASSERT_EQ(a.normal[i], b.normal[i]) << "pixel " << i;
+    ASSERT_EQ(a.depth[i], b.depth[i]) << "pixel " << i;
+  }
 }
 
 // |a - b| within `rel` of their size (plus a floor for values near 0).
@@ -101,6 +109,32 @@ TEST(ProgressiveRender, EachPassIsTheRenderAtItsSpp) {
   expectSameImage(last, renderAt(*s, 40));
   EXPECT_EQ(stats.rays.camera, 40u * 20 * 18);
   EXPECT_DOUBLE_EQ(stats.meanSpp, 40.0);
+}
+
+// render() takes its samples in one pass straight to the film (renderOnce, no per-pixel sums
+// kept): the same image, AOVs and statistics as the passes' way (renderTo), with adaptive
+// sampling stopping pixels part-way too.
+TEST(ProgressiveRender, RenderOnceIsRenderTo) {
+  for (const float adaptive : {0.0f, 0.05f}) {
+    auto s = build(true, adaptive);
+    RenderSettings settings = s->settings;
+    settings.spp = 48;
+    RenderStats once;
+    const Film a = render(s->scene, *s->integrator, settings, {.threads = 2}, &once);
+    ProgressiveRender pr(s->scene, *s->integrator, settings, {.threads = 1});
+    ASSERT_TRUE(pr.renderTo(48));
+    expectSameImage(a, pr.film());
+    EXPECT_EQ(once.meanSpp, pr.stats().meanSpp);
+    EXPECT_EQ(once.rays.camera, pr.stats().rays.camera);
+    if (adaptive > 0) {
+      EXPECT_LT(once.meanSpp, 48.0) << "adaptive sampling stopped no pixel";
+    }
+    // And renderOnce ends the render: it keeps nothing to continue from.
+    ProgressiveRender ended(s->scene, *s->integrator, settings, {.threads = 2});
+    ended.renderOnce(8);
+    EXPECT_EQ(ended.spp(), 8u);
+    EXPECT_THROW(ended.renderTo(16), std::logic_error);
+  }
 }
 
 // Ctrl-C during a pass drops it: the film is the last completed pass's, exactly.
