@@ -224,6 +224,21 @@ struct ProgressiveRender::State {
 
   void renderTile(int tileIndex, uint32_t passEnd, const std::atomic<bool>* cancel,
                   ThreadTally& tally, uint64_t* samplesTaken);
+  // Every tile up to `passEnd` samples per pixel, in parallel, counting into `tallies`.
+  void renderTiles(uint32_t passEnd, const std::atomic<bool>* cancel,
+                   tbb::enumerable_thread_specific<ThreadTally>& tallies,
+                   const std::function<void(uint64_t)>& onTile) {
+    arena->execute([&] {
+      tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY, 1),
+                        [&](const tbb::blocked_range<int>& r) {
+                          for (int t = r.begin(); t != r.end(); ++t) {
+                            uint64_t drawn = 0;
+                            renderTile(t, passEnd, cancel, tallies.local(), &drawn);
+                            if (onTile) onTile(drawn);
+                          }
+                        });
+    });
+  }
   // The per-pixel sums, zero, on the first pass or resume (render()'s single pass keeps none).
   void allocateSums();
   // Film pixel i from a pixel's sums: k samples, `hitCount` of them on geometry, and the AOV
@@ -559,16 +574,7 @@ bool ProgressiveRender::renderTo(uint32_t end, const std::atomic<bool>* cancel,
           to = std::min(to, c);
           break;
         }
-    st.arena->execute([&] {
-      tbb::parallel_for(tbb::blocked_range<int>(0, st.tilesX * st.tilesY, 1),
-                        [&](const tbb::blocked_range<int>& r) {
-                          for (int t = r.begin(); t != r.end(); ++t) {
-                            uint64_t drawn = 0;
-                            st.renderTile(t, to, cancel, tallies.local(), &drawn);
-                            if (onTile) onTile(drawn);
-                          }
-                        });
-    });
+    st.renderTiles(to, cancel, tallies, onTile);
     if (cancel && cancel->load()) {
       st.broken = true;
       return false;
@@ -602,16 +608,7 @@ void ProgressiveRender::renderOnce(uint32_t spp, const std::function<void(uint64
   st.broken = true;  // no sums: this render cannot go on
   tbb::enumerable_thread_specific<ThreadTally> tallies;
   const auto start = std::chrono::steady_clock::now();
-  st.arena->execute([&] {
-    tbb::parallel_for(tbb::blocked_range<int>(0, st.tilesX * st.tilesY, 1),
-                      [&](const tbb::blocked_range<int>& r) {
-                        for (int t = r.begin(); t != r.end(); ++t) {
-                          uint64_t drawn = 0;
-                          st.renderTile(t, spp, nullptr, tallies.local(), &drawn);
-                          if (onTile) onTile(drawn);
-                        }
-                      });
-  });
+  st.renderTiles(spp, nullptr, tallies, onTile);
   st.stats.renderSeconds +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   uint64_t samples = 0;
