@@ -142,8 +142,8 @@ namespace {
 
 // Row y's share of estimatedRelativeError: the sum over its pixels of Var[mean] / (mean² + 0.01)
 // per channel; nullopt when a pixel has fewer than 2 samples (no variance yet). Sums go row by
-// row and then over the rows in order, so the serial and the parallel sum (updateFilm) are the
-// same number whatever the threads.
+// row and then over the rows in order, so the serial sum here and the parallel one
+// (ProgressiveRender::estimatedError) are the same number whatever the threads.
 std::optional<double> rowRelativeError(const Film& film, size_t y) {
   const size_t w = size_t(film.width);
   double sum = 0;
@@ -211,7 +211,7 @@ struct ProgressiveRender::State {
   // render()'s single pass (renderOnce): each pixel's samples go from zero straight to the
   // film, and no sums are kept.
   bool direct = false;
-  bool broken = false;  // a dropped pass left the sums part-way
+  bool broken = false;  // a dropped pass left the sums part-way, or renderOnce kept none
   Film film;
   // estimatedRelativeError(film), computed when first asked after a pass (a render that only
   // wants its image never pays for it).
