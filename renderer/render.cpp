@@ -55,15 +55,8 @@ struct PixelMoments {
     }
     return true;
   }
-  Rgb varianceOfMean(double n) const {
-    if (n < 2) return {};
-    Rgb v;
-    for (int c = 0; c < 3; ++c)
-      v[c] = float(std::max(0.0, (sumSq[c] - sum[c] * sum[c] / n) / ((n - 1) * n)));
-    return v;
-  }
-  // mean(n) and varianceOfMean(n) from 1/n and 1/((n - 1) n): the film update's form, two
-  // divisions per pixel instead of seven (equal to the above within a rounding).
+  // The mean, and the variance of the mean (sumSq - sum² / n) / ((n - 1) n), from 1/n and
+  // 1/((n - 1) n): the film update's form, two divisions a pixel instead of seven.
   Rgb meanTimes(double invN) const {
     return {float(sum[0] * invN), float(sum[1] * invN), float(sum[2] * invN)};
   }
@@ -141,9 +134,7 @@ std::string_view stopReasonName(StopReason reason) {
 namespace {
 
 // Row y's share of estimatedRelativeError: the sum over its pixels of Var[mean] / (mean² + 0.01)
-// per channel; nullopt when a pixel has fewer than 2 samples (no variance yet). Sums go row by
-// row and then over the rows in order, so the serial sum here and the parallel one
-// (ProgressiveRender::estimatedError) are the same number whatever the threads.
+// per channel; nullopt when a pixel has fewer than 2 samples (no variance yet).
 std::optional<double> rowRelativeError(const Film& film, size_t y) {
   const size_t w = size_t(film.width);
   double sum = 0;
@@ -157,24 +148,30 @@ std::optional<double> rowRelativeError(const Film& film, size_t y) {
   return sum;
 }
 
-double relativeErrorFromRows(const std::vector<std::optional<double>>& rows, size_t pixels) {
+// estimatedRelativeError with the rows visited by `forEachRow(count, body)`, serially or in
+// parallel: the sums go row by row and then over the rows in order, so every way of visiting
+// them gives the same number.
+template <class ForEachRow>
+double relativeError(const Film& film, ForEachRow&& forEachRow) {
+  const size_t n = film.color.size();
+  if (n == 0 || film.variance.size() != n || size_t(film.width) * size_t(film.height) != n)
+    return 0;
+  std::vector<std::optional<double>> rows(size_t(film.height));
+  forEachRow(rows.size(), [&](size_t y) { rows[y] = rowRelativeError(film, y); });
   double sum = 0;
   for (const std::optional<double>& r : rows) {
     if (!r) return 0;
     sum += *r;
   }
-  return std::sqrt(sum / (3.0 * double(pixels)));
+  return std::sqrt(sum / (3.0 * double(n)));
 }
 
 }  // namespace
 
 double estimatedRelativeError(const Film& film) {
-  const size_t n = film.color.size();
-  if (n == 0 || film.variance.size() != n || size_t(film.width) * size_t(film.height) != n)
-    return 0;
-  std::vector<std::optional<double>> rows(size_t(film.height));
-  for (size_t y = 0; y < rows.size(); ++y) rows[y] = rowRelativeError(film, y);
-  return relativeErrorFromRows(rows, n);
+  return relativeError(film, [](size_t count, const auto& body) {
+    for (size_t y = 0; y < count; ++y) body(y);
+  });
 }
 
 struct ProgressiveRender::State {
@@ -633,21 +630,10 @@ Film ProgressiveRender::takeFilm() {
 }
 double ProgressiveRender::estimatedError() const {
   const State& st = *state_;
-  if (!st.error) {
-    // estimatedRelativeError(film), its rows in parallel (the same sums, in the same order).
-    const Film& film = st.film;
-    const size_t n = film.color.size();
-    if (n == 0 || film.variance.size() != n || size_t(film.width) * size_t(film.height) != n) {
-      st.error = 0.0;
-    } else {
-      std::vector<std::optional<double>> rows(size_t(film.height));
-      st.arena->execute([&] {
-        tbb::parallel_for(size_t(0), rows.size(),
-                          [&](size_t y) { rows[y] = rowRelativeError(film, y); });
-      });
-      st.error = relativeErrorFromRows(rows, n);
-    }
-  }
+  if (!st.error)
+    st.error = relativeError(st.film, [&](size_t count, const auto& body) {
+      st.arena->execute([&] { tbb::parallel_for(size_t(0), count, body); });
+    });
   return *st.error;
 }
 const RenderStats& ProgressiveRender::stats() const { return state_->stats; }

@@ -1,7 +1,6 @@
 // glint — the vectorised batch of film samples.
 #include "renderer/sampler.h"
 
-
 namespace glint {
 
 namespace {
