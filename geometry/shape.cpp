@@ -68,10 +68,33 @@ Bounds3f PlacedShape::bounds() const {
 }
 
 Ray PlacedShape::toObject(const Ray& ray, float* dt, Vec3f* originError) const {
+  const auto& m = placement_.matrix().m;
+  if (translationOnly_) {
+    // A translation (common for CSG leaves and placed objects), in float: the direction is
+    // exact, and the origin x = o - translation rounds once (within u|x_i|, u the unit
+    // roundoff). The move along d below rounds twice more (the product and the sum), so the
+    // moved origin is within 2u|x_i| (1 + u) + (2u + u^2)|d_i dt| of x + d dt, exactly; dt is
+    // under 2u (1 + u)|x|_2 / |d|, so |d_i dt| is under 2.1u sum|x| and e_i = 2u|x_i| +
+    // 16u^2 sum|x| bounds it all. The shift covers e projected onto d, and 1 + gamma(8) the
+    // roundings of its own sums and quotient. Degenerate directions and overflow take the
+    // double solve below.
+    constexpr float u = kMachineEpsilon;
+    const Vec3f x{ray.o.x - m[0][3], ray.o.y - m[1][3], ray.o.z - m[2][3]};
+    const Vec3f ax = abs(x), ad = abs(ray.d);
+    const float spread = 16 * u * u * (ax.x + ax.y + ax.z);
+    const Vec3f e = ax * (2 * u) + Vec3f{spread, spread, spread};
+    const float l2 = dot(ray.d, ray.d), along = dot(ad, e);
+    if (l2 > 0x1p-100f && l2 < kInfinity && along < kInfinity) {
+      *dt = nextFloatUp(along / l2 * (1 + gamma(8)));
+      const Vec3f o = x + ray.d * *dt;
+      if (originError)
+        for (int i = 0; i < 3; ++i) (*originError)[i] = nextFloatUp(e[i] * (1 + gamma(2)));
+      return Ray{o, ray.d, ray.tMin, ray.tMax - *dt, ray.time};
+    }
+  }
   // Solved in double from the float matrix as given (not its rounded inverse), origin taken
   // relative to the translation first: no cancellation against a large translation, and the
   // origin's error is essentially its final rounding to float.
-  const auto& m = placement_.matrix().m;
   const double rel = inverseRelError_;
   double x[3], dw[3];
   for (int i = 0; i < 3; ++i) x[i] = double(ray.o[i]) - m[i][3], dw[i] = ray.d[i];
