@@ -4,6 +4,12 @@
 // 29 spare mantissa bits the rounding of the solve is far below a float ULP, so the error
 // bounds below can be simple and generous (first-order terms with slack) and still come out
 // at about one float ULP of t. The final rounding to float is added to every bound exactly.
+//
+// Where float is enough, float: a slab (box faces, cylinder and cone caps) is one subtraction
+// and one division, bounded exactly in float at 1-3 ULPs of t; the plane settles most rays in
+// float and defers to double where its bound is loose (Plane::span); a translated shape's ray
+// goes to object space in float (PlacedShape::toObject). Each gave 3-8% of a CSG-heavy render
+// (benchmarks/README.md, "Analytic shapes and CSG"); the quadrics stay in double.
 #pragma once
 
 #include <algorithm>
