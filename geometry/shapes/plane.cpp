@@ -28,7 +28,9 @@ bool Plane::span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) c
     // dn: the dot product; each bound times 1 + gamma(2) for its own rounding). Where the
     // bound is within 16u |t| (u the unit roundoff; about 9u |t| for an axis-aligned plane,
     // where the ray's origin is not close to the plane and the ray does not graze it), the
-    // float crossing stands; otherwise the double solve below decides.
+    // float crossing stands; otherwise the double solve below decides. Not for CSG leaves (a
+    // tolerance given): there a crossing's error bound is part of its tie width, and 16u |t|
+    // would merge faces that the double solve's ULP keeps apart (a thin skin seen from afar).
     const Vec3f rel = ray.o - point_;
     const float s = dot(rel, normal_), dn = dot(ray.d, normal_);
     const float es = gamma(5) * dot(abs(rel), abs(normal_)) * (1 + gamma(2));
@@ -37,9 +39,9 @@ bool Plane::span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) c
     // The quotient of two bounded values plus its own rounding; 1 + gamma(8) covers |t| against
     // the exact quotient and the seven roundings of this line.
     const float e = ((es + absT * edn) / (std::abs(dn) - edn) + gamma(1) * absT) * (1 + gamma(8));
-    if (std::abs(dn) > 2 * edn && std::isfinite(t) && e <= 16 * kMachineEpsilon * absT) {
-      Crossing c{t, e, 0};
-      if (!tolerance.none()) setTieWidth(&c, ray, tolerance, normal_);
+    if (tolerance.none() && std::abs(dn) > 2 * edn && std::isfinite(t) &&
+        e <= 16 * kMachineEpsilon * absT) {
+      const Crossing c{t, e, 0};
       *out = dn > 0 ? Span{minusInf, c} : Span{c, plusInf};
       return true;
     }

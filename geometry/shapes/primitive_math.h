@@ -7,7 +7,7 @@
 //
 // Where float is enough, float: a slab (box faces, cylinder and cone caps) is one subtraction
 // and one division, bounded exactly in float at 1-3 ULPs of t; the plane settles most rays in
-// float and defers to double where its bound is loose (Plane::span); a translated shape's ray
+// float and defers to double where its bound is loose or it is a CSG leaf (Plane::span); a translated shape's ray
 // goes to object space in float (PlacedShape::toObject). Each gave 3-8% of a CSG-heavy render
 // (benchmarks/README.md, "Analytic shapes and CSG"); the quadrics stay in double.
 #pragma once
