@@ -94,7 +94,8 @@ class Camera {
   // pinholeRay at time 0 for n <= kMaxRayBatch film points (filmX[i], filmY[i]), written lane
   // by lane so the compiler computes the rays' lengths several at a time: one square root and
   // one division per ray, in sequence, were a fifth of the render loop's own time on the
-  // cheapest scenes. Same rays as pinholeRay up to the rounding of the reciprocal.
+  // cheapest scenes. The same rays as pinholeRay, bit for bit (tested); fewer than 8 are made
+  // one at a time.
   static constexpr int kMaxRayBatch = 16;
   void pinholeRays(const float* filmX, const float* filmY, int n, Ray* out) const;
 
