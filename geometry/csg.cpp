@@ -63,31 +63,6 @@ bool degenerate(const Span& s) {
   return std::abs(s.exit.t - s.enter.t) <= s.enter.tError + s.exit.tError;
 }
 
-// True when the part of the ray's line with t in [tLo, tHi] certainly misses the box (the whole
-// line: tLo = -inf, tHi = inf). Conservative: the slab distances are widened by their rounding
-// error (pbrt-v4's gamma(3) idea), so a line that grazes the box is never culled. Unbounded
-// boxes are never culled.
-// invD holds 1 / ray.d per axis (computed once per query, not once per node).
-bool segmentMissesBox(const Ray& ray, Vec3f invD, const Bounds3f& b, float tLo, float tHi) {
-  if (isUnbounded(b) || b.empty()) return b.empty();
-  float tNear = -kInfinity, tFar = kInfinity;
-  for (int i = 0; i < 3; ++i) {
-    if (ray.d[i] == 0) {
-      if (ray.o[i] < b.lower[i] || ray.o[i] > b.upper[i]) return true;
-      continue;
-    }
-    const float inv = invD[i];
-    float t0 = (b.lower[i] - ray.o[i]) * inv, t1 = (b.upper[i] - ray.o[i]) * inv;
-    if (t0 > t1) std::swap(t0, t1);
-    constexpr float w = 2 * gamma(3);
-    t0 = t0 > 0 ? t0 * (1 - w) : t0 * (1 + w);  // moved down
-    t1 = t1 > 0 ? t1 * (1 + w) : t1 * (1 - w);  // moved up
-    tNear = std::max(tNear, t0);
-    tFar = std::min(tFar, t1);
-  }
-  return tNear > tFar || tFar < tLo || tNear > tHi;
-}
-
 // The stretch of the line a query must get right: the ray's [tMin, tMax], widened by far more
 // than any crossing's error and tie width (a thousandth of the larger |t|, and of the root
 // box's extent along the line). A subtree whose box misses it can only add crossings outside
@@ -286,7 +261,7 @@ size_t CsgShape::evaluateRoot(const Ray& ray, float tLo, float tHi, Scratch& scr
   scratch.spans.clear();
   scratch.leafCrossings.clear();
   scratch.tLo = tLo, scratch.tHi = tHi;
-  for (int i = 0; i < 3; ++i) scratch.invD[i] = ray.d[i] != 0 ? 1 / ray.d[i] : 0.0f;
+  scratch.invD = reciprocalDirection(ray.d);
   if (root_ == kNone) return 0;
   const size_t n = evaluate(root_, ray, scratch);
   // Where a ray passes within a leaf's tolerance of an edge, the operators may resolve a

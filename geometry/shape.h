@@ -160,6 +160,39 @@ inline bool isUnbounded(const Bounds3f& b) {
   return false;
 }
 
+// 1 / d per axis, 0 where d is 0: what segmentMissesBox takes.
+inline Vec3f reciprocalDirection(Vec3f d) {
+  Vec3f r;
+  for (int i = 0; i < 3; ++i) r[i] = d[i] != 0 ? 1 / d[i] : 0.0f;
+  return r;
+}
+
+// True when the part of the ray's line with t in [tLo, tHi] certainly misses the box (the whole
+// line: tLo = -inf, tHi = inf). Conservative: the slab distances are widened by their rounding
+// error (pbrt-v4's gamma(3) idea), so a line that grazes the box is never culled. Unbounded
+// boxes are never culled.
+// invD is reciprocalDirection(ray.d) (CSG computes it once per query, not once per node).
+inline bool segmentMissesBox(const Ray& ray, Vec3f invD, const Bounds3f& b, float tLo,
+                             float tHi) {
+  if (isUnbounded(b) || b.empty()) return b.empty();
+  float tNear = -kInfinity, tFar = kInfinity;
+  for (int i = 0; i < 3; ++i) {
+    if (ray.d[i] == 0) {
+      if (ray.o[i] < b.lower[i] || ray.o[i] > b.upper[i]) return true;
+      continue;
+    }
+    const float inv = invD[i];
+    float t0 = (b.lower[i] - ray.o[i]) * inv, t1 = (b.upper[i] - ray.o[i]) * inv;
+    if (t0 > t1) std::swap(t0, t1);
+    constexpr float w = 2 * gamma(3);
+    t0 = t0 > 0 ? t0 * (1 - w) : t0 * (1 + w);  // moved down
+    t1 = t1 > 0 ? t1 * (1 + w) : t1 * (1 - w);  // moved up
+    tNear = std::max(tNear, t0);
+    tFar = std::min(tFar, t1);
+  }
+  return tNear > tFar || tFar < tLo || tNear > tHi;
+}
+
 // A shape placed by an affine transform (any invertible 3x4: translation, rotation,
 // non-uniform scale, shear). Rays are taken to object space with the rounding error of the
 // transformed origin accounted for (pbrt-v4's Transform::ApplyInverse(Ray)); t values are

@@ -35,25 +35,6 @@ bool clipToBox(const Ray& ray, const Bounds3f& box, float* t0, float* t1) {
   return true;
 }
 
-// True when the segment [t0, t1] of the ray certainly misses the box: the slab t values are
-// widened by three roundings each (pbrt-v4's 1 + 2 gamma(3)), so a grazing segment is kept.
-bool segmentCertainlyMisses(const Ray& ray, const Bounds3f& box, float t0, float t1) {
-  constexpr float kWiden = 1 + 2 * gamma(3);
-  for (int a = 0; a < 3; ++a) {
-    const float inv = 1 / ray.d[a];
-    float tNear = (box.lower[a] - ray.o[a]) * inv;
-    float tFar = (box.upper[a] - ray.o[a]) * inv;
-    if (tNear > tFar) std::swap(tNear, tFar);
-    tNear = tNear > 0 ? tNear / kWiden : tNear * kWiden;
-    tFar = tFar > 0 ? tFar * kWiden : tFar / kWiden;
-    // NaN (origin on a slab plane of a parallel ray) decides nothing.
-    if (tNear > t0) t0 = tNear;
-    if (tFar < t1) t1 = tFar;
-    if (t0 > t1) return true;
-  }
-  return false;
-}
-
 // (1 - exp(-sigma_t s)) / sigma_t per channel: what a constant source of 1 per unit length
 // adds over a homogeneous stretch of length s (s itself where sigma_t = 0).
 Rgb sourceIntegral(Rgb sigmaT, float s) {
@@ -141,7 +122,7 @@ void MediaScene::intervals(const Ray& ray, float tMax, std::vector<Interval>* ou
     float t0 = std::max(0.0f, ray.tMin), t1 = tMax;
     if (r.placed) {
       // Most rays pass a bounded region by: its box settles them before the exact span.
-      if (segmentCertainlyMisses(ray, r.box, t0, t1)) continue;
+      if (segmentMissesBox(ray, reciprocalDirection(ray.d), r.box, t0, t1)) continue;
       Span span;
       if (!r.placed->span(ray, {}, &span)) continue;
       t0 = std::max(t0, span.enter.t), t1 = std::min(t1, span.exit.t);

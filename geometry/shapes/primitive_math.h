@@ -7,9 +7,10 @@
 //
 // Where float is enough, float: a slab (box faces, cylinder and cone caps) is one subtraction
 // and one division, bounded exactly in float at 1-3 ULPs of t; the plane settles most rays in
-// float and defers to double where its bound is loose or it is a CSG leaf (Plane::span); a translated shape's ray
-// goes to object space in float (PlacedShape::toObject). Each gave 3-8% of a CSG-heavy render
-// (benchmarks/README.md, "Analytic shapes and CSG"); the quadrics stay in double.
+// float and defers to double where its bound is loose or it is a CSG leaf (Plane::span); a
+// translated shape's ray goes to object space in float (PlacedShape::toObject). Each gave 3-8%
+// of a CSG-heavy render (benchmarks/README.md, "Analytic shapes and CSG"). The quadrics stay in
+// double: a float sphere's bound (closest-approach form) is 20-40 ULPs of t, too loose to keep.
 #pragma once
 
 #include <algorithm>

@@ -455,7 +455,9 @@ TEST(PlacedShape, RaysLeavingATranslatedSolidFromItsSurfaceFindNothing) {
   cases[2].shape = std::make_shared<Plane>(Vec3f{0, 0, 0}, n.toFloat(), 1.0f);
   const V3 nf(normalize(n.toFloat()));
   cases[2].F = [nf](V3 x) { return prim::dot(x, nf); };
-  cases[2].P = [=](uint32_t, double u, double v) { return (t1 * (2 * u - 1) + t2 * (2 * v - 1)) * R; };
+  cases[2].P = [=](uint32_t, double u, double v) {
+    return (t1 * (2 * u - 1) + t2 * (2 * v - 1)) * R;
+  };
   for (Case& k : cases) {
     k.size = R;
     if (k.parts.empty()) k.parts = {0};
