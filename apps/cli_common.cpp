@@ -66,7 +66,8 @@ void SceneOverrides::addOptions(CLI::App* cmd) {
   cmd->add_option("--antialias", antialias,
                   "anti-aliasing by contrast (POV-Ray's +A): a pixel keeps sampling while its "
                   "mean differs from a neighbour's by more than this, on x/(1+x), checked at 1, "
-                  "2, 4, 8 and 16 samples (0 = off; e.g. 0.05; --spp is the most a pixel takes)")
+                  "2, 4, 8 and 16 samples; the first goes through the pixel's centre (0 = off; "
+                  "e.g. 0.05; --spp is the most a pixel takes)")
       ->check(numberIn({.ge = 0, .le = 1}));
   cmd->add_option("--adaptive-min-spp", adaptiveMinSpp,
                   "samples every pixel takes before --adaptive may stop it (default 32; 4 suits "

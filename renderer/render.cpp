@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <optional>
@@ -190,6 +191,9 @@ struct ProgressiveRender::State {
   float contrast = 0;
   PixelWindow region;
   std::vector<uint8_t> active;  // with contrast: still sampling (a checkpoint has not stopped it)
+  // With contrast: each pixel's mean, squeezed, as of its last checkpoint (a stopped pixel's
+  // mean no longer changes), so a checkpoint squeezes each mean once, not once per neighbour.
+  std::vector<std::array<float, 3>> squeezedMeans;
   int tilesX = 0, tilesY = 0, threads = 1;
   // More threads than TBB's default (the cores) are what the user asked for: allowed, rather
   // than TBB's warning and one worker fewer than asked.
@@ -389,6 +393,18 @@ void ProgressiveRender::State::renderTile(int tileIndex, uint32_t passEnd,
       // cross a multiple of kCameraBatch, nor a checkpoint where adaptive sampling checks the
       // pixel, so its decisions are the same however the samples are split into passes.
       uint32_t first = direct ? 0 : taken[index];
+      // Anti-aliasing by contrast: the first look goes through the pixel's centre; a pixel the
+      // first checkpoint does not stop drops it and takes its stratified samples from the
+      // start (AdaptiveSettings). The first pass ends at that checkpoint (renderTo), so the
+      // centre is always a batch of its own.
+      const bool centreLook = contrast > 0 && first == 0;
+      if (contrast > 0 && first == 1 && passEnd > 1) {
+        first = 0;
+        acc = PixelMoments{};
+        pixelHits = 0;
+        pixelDepth = 0;
+        pixelAlbedo = pixelNormal = Rgb{};
+      }
       while (first < passEnd) {
         // (With contrast, checkpoints up to 16 are decided between passes: stopQuietPixels.)
         if (adaptive && first >= minSpp && isAdaptiveCheckpoint(first) &&
@@ -405,7 +421,8 @@ void ProgressiveRender::State::renderTile(int tileIndex, uint32_t passEnd,
         if (plain) {
           float filmX[kCameraBatch], filmY[kCameraBatch];
           for (uint32_t i = 0; i < n; ++i) {
-            Vec2f offset = filter.sampleOffsetFraction({fx[i], fy[i]});
+            const Vec2f offset =
+                centreLook ? Vec2f{} : filter.sampleOffsetFraction({fx[i], fy[i]});
             filmX[i] = float(x) + 0.5f + offset.x, filmY[i] = float(y) + 0.5f + offset.y;
           }
           scene.camera.pinholeRays(filmX, filmY, int(n), rays);
@@ -413,7 +430,8 @@ void ProgressiveRender::State::renderTile(int tileIndex, uint32_t passEnd,
           uint32_t lx[kCameraBatch], ly[kCameraBatch];
           if (lens) sample2DFractionBatch(first, n, lensSeeds, lx, ly);
           for (uint32_t i = 0; i < n; ++i) {
-            Vec2f offset = filter.sampleOffsetFraction({fx[i], fy[i]});
+            const Vec2f offset =
+                centreLook ? Vec2f{} : filter.sampleOffsetFraction({fx[i], fy[i]});
             CameraSample cs;
             cs.pFilm = {float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y};
             if (lens) cs.pLens = Fraction2{lx[i], ly[i]}.toFloat();
@@ -509,7 +527,8 @@ void ProgressiveRender::State::updateFilm() {
       uint64_t samples = 0;
       for (size_t x = 0; x < w; ++x) {
         setFilmPixel(y * w + x, r0 + x);
-        samples += taken[r0 + x];
+        // With contrast, a pixel that went on past its centre look dropped it: one more.
+        samples += taken[r0 + x] + (contrast > 0 && taken[r0 + x] > 1 ? 1 : 0);
       }
       rowSamples[y] = samples;
     });
@@ -522,6 +541,21 @@ void ProgressiveRender::State::updateFilm() {
 
 void ProgressiveRender::State::stopQuietPixels(uint32_t spp) {
   const int w = region.width(), h = region.height();
+  // The pixels that sampled up to this checkpoint bring their squeezed means up to date; the
+  // others stopped earlier, with the mean they have (all of them, at a render's first
+  // checkpoint: a resumed render's pixels may have stopped in the run it continues). A pixel
+  // with no samples, only possible in a resumed render, compares as equal to every neighbour.
+  const bool first = squeezedMeans.empty();
+  if (first) squeezedMeans.resize(size_t(w) * size_t(h));
+  arena->execute([&] {
+    tbb::parallel_for(0, h, [&](int y) {
+      for (size_t i = size_t(y) * size_t(w), end = i + size_t(w); i < end; ++i) {
+        if (taken[i] == 0 || (!first && taken[i] != spp)) continue;
+        const Rgb mean = moments[i].mean(spp);
+        for (int c = 0; c < 3; ++c) squeezedMeans[i][c] = squeezed(mean[c]);
+      }
+    });
+  });
   // Decided from the means as they are at this checkpoint, which no decision changes: a pixel
   // reads its neighbours' means, never their flags, so each row clears its own flags in place.
   arena->execute([&] {
@@ -531,16 +565,16 @@ void ProgressiveRender::State::stopQuietPixels(uint32_t spp) {
         if (!active[i] || taken[i] != spp) continue;
         if (adaptive && (spp < std::max(2u, minSpp) || !moments[i].converged(spp, threshold2)))
           continue;
-        const Rgb mean = moments[i].mean(spp);
+        const std::array<float, 3>& mean = squeezedMeans[i];
         bool quiet = true;
         for (int dy = -1; dy <= 1 && quiet; ++dy)
           for (int dx = -1; dx <= 1 && quiet; ++dx) {
             const int nx = x + dx, ny = y + dy;
             if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
             const size_t j = size_t(ny) * size_t(w) + size_t(nx);
-            const Rgb other = taken[j] ? moments[j].mean(taken[j]) : mean;
-            for (int c = 0; c < 3; ++c)
-              quiet = quiet && std::abs(squeezed(mean[c]) - squeezed(other[c])) <= contrast;
+            if (!taken[j]) continue;
+            const std::array<float, 3>& other = squeezedMeans[j];
+            for (int c = 0; c < 3; ++c) quiet = quiet && std::abs(mean[c] - other[c]) <= contrast;
           }
         if (quiet) active[i] = 0;
       }

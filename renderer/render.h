@@ -30,7 +30,7 @@ struct RenderStats {
   int threads = 0;
   RayCounters rays;
   uint64_t nonfiniteSamples = 0;  // NaN/Inf radiance samples: counted, replaced by zero
-  double meanSpp = 0;             // samples a pixel took on average (< spp when adaptive)
+  double meanSpp = 0;             // camera rays a pixel traced on average (< spp when adaptive)
 };
 
 // A rectangle of pixels [x0, x1) x [y0, y1) of the image.

@@ -85,6 +85,12 @@ struct IntegratorSettings {
 // whole window, so they do not depend on the thread count; a crop or tile renders a margin of
 // kContrastApron pixels around its window (what its border pixels' decisions can depend on), so
 // its pixels are those of the whole frame's render.
+// A pixel's first look goes through its centre, as POV-Ray's does: the midpoint rule, exact for
+// a linear gradient across the pixel (a highlight's slope), where one sample at a random place
+// in the pixel errs by the slope times its offset. A pixel that is not stopped there drops that
+// look and takes its stratified samples from the first (a centre mixed into a stratified set
+// breaks its strata: measured worse), so its estimate is a plain render's; the film's sample
+// count is the samples in the estimate, RenderStats::meanSpp counts the dropped look too.
 struct AdaptiveSettings {
   float threshold = 0;  // 0: off, every pixel takes spp samples
   float contrast = 0;   // 0: off (see above)

@@ -3,6 +3,7 @@
 // does not depend on the thread count), and the samples go where the noise is.
 #include <gtest/gtest.h>
 
+#include <map>
 #include <memory>
 #include <string>
 
@@ -189,6 +190,49 @@ TEST(AntiAliasing, FlatPixelsStopEarlyAndEdgesTakeEverySample) {
   RenderStats plainStats;
   plain.render({.threads = 2}, &plainStats);
   EXPECT_EQ(plainStats.meanSpp, 16);
+}
+
+// A pixel the first checkpoint stops is its centre's radiance (POV-Ray's one ray per pixel:
+// exact for a linear gradient across the pixel); a pixel that went on dropped that look, so
+// with k samples it is a plain k-spp render's pixel, bit for bit (the same stratified samples,
+// added in the same order); the mean spp counts the dropped looks.
+TEST(AntiAliasing, AStoppedPixelIsItsCentreAndARefinedOneAPlainRendersPixel) {
+  const Whitted w(0.1f);
+  RenderStats stats;
+  const Film film = w.render({.threads = 2}, &stats);
+  std::map<uint32_t, Film> plain;
+  for (uint32_t k : {2u, 4u, 8u, 16u}) {
+    RenderSettings settings = w.desc.render;
+    settings.adaptive.contrast = 0;
+    settings.spp = int(k);
+    plain.emplace(k, glint::render(w.scene, *w.integrator, settings, {.threads = 2}, nullptr));
+  }
+  int centres = 0, refined = 0;
+  uint64_t traced = 0;
+  for (int y = 0; y < film.height; ++y)
+    for (int x = 0; x < film.width; ++x) {
+      const size_t i = film.index(x, y);
+      const uint32_t k = film.samples[i];
+      traced += k + (k > 1 ? 1 : 0);
+      if (k > 1) {
+        ASSERT_EQ(film.color[i], plain.at(k).color[i]) << x << "," << y << ": " << k;
+        ASSERT_EQ(film.variance[i], plain.at(k).variance[i]) << x << "," << y;
+        ++refined;
+        continue;
+      }
+      ASSERT_EQ(k, 1u);
+      const Ray ray = w.scene.camera.pinholeRay({float(x) + 0.5f, float(y) + 0.5f}, 0);
+      Sampler sampler(pixelSampleKey(w.desc.render.seed, i), 0, kIntegratorDimension);
+      RayCounters counters;
+      PathAovs aovs;
+      const Rgb L = w.integrator->Li(ray, sampler, counters, aovs);
+      for (int c = 0; c < 3; ++c)
+        ASSERT_NEAR(film.color[i][c], L[c], 1e-6f * std::max(1.0f, L[c])) << x << "," << y;
+      ++centres;
+    }
+  EXPECT_GT(centres, int(film.color.size()) / 2);
+  EXPECT_GT(refined, 20);
+  EXPECT_DOUBLE_EQ(stats.meanSpp, double(traced) / double(film.color.size()));
 }
 
 // A crop (and so a farm tile) renders a margin around its window, so its pixels are exactly the
