@@ -348,6 +348,10 @@ void ProgressiveRender::resumeFrom(const Film& partial, uint32_t spp) {
       st.depth[i] = double(partial.depth[i]) * st.hits[i];
     }
   }
+  // A pixel that stopped at a contrast checkpoint holds exactly that checkpoint's samples, like
+  // one that went on: the file cannot tell them apart, so the checkpoint is decided again, from
+  // the same means (up to the rounding of the sums rebuilt above).
+  if (st.contrast > 0 && isContrastCheckpoint(spp)) st.stopQuietPixels(spp);
   st.spp = spp;
   st.updateFilm();
 }
@@ -551,7 +555,7 @@ void ProgressiveRender::State::stopQuietPixels(uint32_t spp) {
     tbb::parallel_for(0, h, [&](int y) {
       for (size_t i = size_t(y) * size_t(w), end = i + size_t(w); i < end; ++i) {
         if (taken[i] == 0 || (!first && taken[i] != spp)) continue;
-        const Rgb mean = moments[i].mean(spp);
+        const Rgb mean = moments[i].mean(taken[i]);
         for (int c = 0; c < 3; ++c) squeezedMeans[i][c] = squeezed(mean[c]);
       }
     });

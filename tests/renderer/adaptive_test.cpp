@@ -5,6 +5,7 @@
 
 #include <map>
 #include <memory>
+#include <utility>
 #include <string>
 
 #include "renderer/render.h"
@@ -233,6 +234,34 @@ TEST(AntiAliasing, AStoppedPixelIsItsCentreAndARefinedOneAPlainRendersPixel) {
   EXPECT_GT(centres, int(film.color.size()) / 2);
   EXPECT_GT(refined, 20);
   EXPECT_DOUBLE_EQ(stats.meanSpp, double(traced) / double(film.color.size()));
+}
+
+// A render continued from an image (--resume, an interrupted budget) takes the same samples in
+// every pixel as one rendered straight through, also when the image ends at a checkpoint where
+// some of its pixels stopped (4, 16) or on the centre look alone (1).
+TEST(AntiAliasing, AContinuedRenderMatchesAFreshOne) {
+  const Whitted w(0.1f);
+  for (auto [from, to] : {std::pair{1u, 16u}, {4u, 16u}, {16u, 32u}, {3u, 8u}}) {
+    SCOPED_TRACE(std::to_string(from) + " -> " + std::to_string(to));
+    RenderSettings settings = w.desc.render;
+    settings.spp = int(from);
+    const Film partial = glint::render(w.scene, *w.integrator, settings, {.threads = 2}, nullptr);
+    settings.spp = int(to);
+    const Film fresh = glint::render(w.scene, *w.integrator, settings, {.threads = 2}, nullptr);
+    StopRule rule;
+    rule.maxSpp = to;
+    ProgressiveResult result;
+    const Film continued = renderUntil(w.scene, *w.integrator, settings, {.threads = 2}, rule,
+                                       nullptr, &result, &partial, from);
+    ASSERT_EQ(continued.samples.size(), fresh.samples.size());
+    for (size_t i = 0; i < fresh.samples.size(); ++i) {
+      ASSERT_EQ(continued.samples[i], fresh.samples[i]) << "pixel " << i;
+      for (int c = 0; c < 3; ++c)
+        ASSERT_NEAR(continued.color[i][c], fresh.color[i][c],
+                    1e-5f * std::max(1.0f, std::abs(fresh.color[i][c])))
+            << "pixel " << i;
+    }
+  }
 }
 
 // A crop (and so a farm tile) renders a margin around its window, so its pixels are exactly the
