@@ -387,28 +387,23 @@ void ProgressiveRender::State::renderTile(int tileIndex, uint32_t passEnd,
       const DimensionSeeds filmSeeds(pixelKey, kFilmDimension);
       const DimensionSeeds lensSeeds =
           lens ? DimensionSeeds(pixelKey, kLensDimension) : DimensionSeeds();
-      PixelMoments acc = direct ? PixelMoments{} : moments[index];
-      uint32_t pixelHits = direct ? 0 : hits[index];
-      double pixelDepth = aovs && !direct ? depth[index] : 0.0;
-      Rgb pixelAlbedo = aovs && !direct ? albedo[index] : Rgb{},
-          pixelNormal = aovs && !direct ? normal[index] : Rgb{};
-      // The pixel's camera rays go to the accelerator in batches, which it may trace as
-      // packets (they are coherent); each result is then shaded on its own. Batches never
-      // cross a multiple of kCameraBatch, nor a checkpoint where adaptive sampling checks the
-      // pixel, so its decisions are the same however the samples are split into passes.
-      uint32_t first = direct ? 0 : taken[index];
       // Anti-aliasing by contrast: the first look goes through the pixel's centre; a pixel the
       // first checkpoint does not stop drops it and takes its stratified samples from the
       // start (AdaptiveSettings). The first pass ends at that checkpoint (renderTo), so the
       // centre is always a batch of its own.
-      const bool centreLook = contrast > 0 && first == 0;
-      if (contrast > 0 && first == 1 && passEnd > 1) {
-        first = 0;
-        acc = PixelMoments{};
-        pixelHits = 0;
-        pixelDepth = 0;
-        pixelAlbedo = pixelNormal = Rgb{};
-      }
+      const bool dropsCentre = contrast > 0 && !direct && taken[index] == 1 && passEnd > 1;
+      const bool fromZero = direct || dropsCentre;  // the pixel's sums start empty
+      PixelMoments acc = fromZero ? PixelMoments{} : moments[index];
+      uint32_t pixelHits = fromZero ? 0 : hits[index];
+      double pixelDepth = aovs && !fromZero ? depth[index] : 0.0;
+      Rgb pixelAlbedo = aovs && !fromZero ? albedo[index] : Rgb{},
+          pixelNormal = aovs && !fromZero ? normal[index] : Rgb{};
+      // The pixel's camera rays go to the accelerator in batches, which it may trace as
+      // packets (they are coherent); each result is then shaded on its own. Batches never
+      // cross a multiple of kCameraBatch, nor a checkpoint where adaptive sampling checks the
+      // pixel, so its decisions are the same however the samples are split into passes.
+      uint32_t first = fromZero ? 0 : taken[index];
+      const bool centreLook = contrast > 0 && !direct && taken[index] == 0;
       while (first < passEnd) {
         // (With contrast, checkpoints up to 16 are decided between passes: stopQuietPixels.)
         if (adaptive && first >= minSpp && isAdaptiveCheckpoint(first) &&
