@@ -5,8 +5,8 @@
 
 #include <map>
 #include <memory>
-#include <utility>
 #include <string>
+#include <utility>
 
 #include "renderer/render.h"
 #include "scene_error_support.h"
