@@ -78,13 +78,13 @@ float scrambledRadicalInverse(uint32_t base, uint64_t index, uint64_t scramble) 
 InstantRadiosityIntegrator::InstantRadiosityIntegrator(const RenderScene& scene,
                                                        const IntegratorSettings& settings,
                                                        uint64_t seed)
-    : WhittedIntegrator(scene, settings.maxDepth, settings.glassShadows, settings.minWeight),
+    : WhittedIntegrator(scene, settings.maxDepth, settings.glassShadows, settings.minWeight,
+                        /*indirect=*/true),
       rrDepth_(settings.rrDepth),
       paths_(settings.vplPaths),
       clamp_(settings.vplClamp),
       shadowShare_(settings.vplShadowShare) {
   if (settings.vplPaths <= 0) throw InputError("instant radiosity: vpl_paths must be > 0");
-  indirect_ = true;
   traceLightPaths(settings.vplPaths, seed);
   allLambert_ = true;
   for (const Vpl& v : vpls_) {

@@ -8,12 +8,19 @@
 namespace glint {
 
 WhittedIntegrator::WhittedIntegrator(const RenderScene& scene, int maxDepth, bool glassShadows,
-                                     float minWeight)
-    : Integrator(scene), maxDepth_(maxDepth), minWeight_(minWeight) {
+                                     float minWeight, bool indirect)
+    : Integrator(scene), indirect_(indirect), maxDepth_(maxDepth), minWeight_(minWeight) {
   shadows_ = scene.features.has(Feature::Shadows);
   glassShadows_ = glassShadows && shadows_ && scene.features.has(Feature::Refraction);
   media_ = scene.features.has(Feature::Volumes) ? scene.media.get() : nullptr;
   cameraCone_ = scene.camera.pixelCone();
+  const bool plainScene = !media_ && !glassShadows_ && !indirect_;
+  plain_.resize(shading_.size());
+  for (size_t m = 0; m < shading_.size(); ++m) {
+    const MaterialShading& s = shading_[m];
+    plain_[m] = plainScene && !s.unlit && !s.transparent && !s.emits && !s.absorbs &&
+                !(s.flags & kBsdfSpecular);
+  }
 }
 
 Rgb WhittedIntegrator::LiFromHit(const Ray& ray, const Hit* hit, Sampler& sampler,
@@ -22,9 +29,11 @@ Rgb WhittedIntegrator::LiFromHit(const Ray& ray, const Hit* hit, Sampler& sample
   if (!hit) return scene_.escapedAlong(ray.d);
   const uint32_t materialIndex = scene_.materialIndex(*hit);
   const MaterialShading& shading = shading_[materialIndex];
+  if (plain_[materialIndex])
+    return shadeAt<true>(ray, *hit, materialIndex, cameraCone_, 0, 1, sampler, counters, &aovs);
   if (shading.unlit && !shading.transparent && !shading.absorbs)
     return shadeUnlit(ray, *hit, materialIndex, aovs);
-  return shadeAt(ray, *hit, materialIndex, cameraCone_, 0, 1, sampler, counters, &aovs);
+  return shadeAt<false>(ray, *hit, materialIndex, cameraCone_, 0, 1, sampler, counters, &aovs);
 }
 
 Rgb WhittedIntegrator::shadeUnlit(const Ray& ray, const Hit& hit, uint32_t materialIndex,
@@ -52,10 +61,15 @@ Rgb WhittedIntegrator::shade(const Ray& ray, const Hit* found, const RayCone& co
                              float weight, Sampler& sampler, RayCounters& counters,
                              PathAovs* aovs) const {
   if (!found) return scene_.escapedAlong(ray.d);
-  return shadeAt(ray, *found, scene_.materialIndex(*found), cone, depth, weight, sampler, counters,
-                 aovs);
+  const uint32_t materialIndex = scene_.materialIndex(*found);
+  if (plain_[materialIndex])
+    return shadeAt<true>(ray, *found, materialIndex, cone, depth, weight, sampler, counters,
+                         aovs);
+  return shadeAt<false>(ray, *found, materialIndex, cone, depth, weight, sampler, counters,
+                        aovs);
 }
 
+template <bool kPlain>
 Rgb WhittedIntegrator::shadeAt(const Ray& ray, const Hit& hit, uint32_t materialIndex,
                                const RayCone& cone, int depth, float weight, Sampler& sampler,
                                RayCounters& counters, PathAovs* aovs) const {
@@ -65,6 +79,10 @@ Rgb WhittedIntegrator::shadeAt(const Ray& ray, const Hit& hit, uint32_t material
   SurfaceInteraction si = shadingPoint(ray, hit, cone, materialIndex, &movingFrame);
   TextureLookups lookups(si);
   if (aovs) aovs->record(material, si, lookups, hit.t * length(ray.d));
+  if constexpr (kPlain) {
+    (void)cone, (void)depth, (void)weight;
+    return directLight<true>(si, material.bsdf(si, lookups), ray.time, sampler, counters);
+  }
   // Light reaching a back face of an absorbing volume crossed its inside.
   const Rgb inside = insideTransmittance(material, shading, si, hit.t * length(ray.d));
   if (!(maxComponent(inside) > 0)) return {};
@@ -88,7 +106,7 @@ Rgb WhittedIntegrator::shadeAt(const Ray& ray, const Hit& hit, uint32_t material
   }
   const Bsdf bsdf = material.bsdf(si, lookups);
   if (shading.emits) L = material.emitted(si, lookups);
-  L += directLight(si, bsdf, ray.time, sampler, counters);
+  L += directLight<false>(si, bsdf, ray.time, sampler, counters);
   if (indirect_ && (shading.flags & (kBsdfDiffuse | kBsdfGlossy)))
     L += indirectLight(si, bsdf, ray.time, sampler, counters);
   // Mirror and glass: follow the reflected and the refracted ray, each with its own weight.
@@ -112,6 +130,7 @@ Rgb WhittedIntegrator::throughMedia(const Ray& ray, const Hit* hit, const RayCon
          seg.L;
 }
 
+template <bool kPlain>
 Rgb WhittedIntegrator::directLight(const SurfaceInteraction& si, const Bsdf& bsdf, float time,
                                    Sampler& sampler, RayCounters& counters) const {
   Rgb L;
@@ -125,7 +144,9 @@ Rgb WhittedIntegrator::directLight(const SurfaceInteraction& si, const Bsdf& bsd
   const DirectLightOptions options{.pmf = 1, .shadows = shadows_, .mis = false};
   for (const auto& light : scene_.lights) {
     const Vec2f u = light->isDelta() ? Vec2f{0.5f, 0.5f} : sampler.get2D();
-    if (glassShadows_) {
+    if constexpr (kPlain) {
+      L += sampleDirectLight(scene_, ctx, *light, u, options, scatter, noMedia, counters);
+    } else if (glassShadows_) {
       // The shadow ray is followed through glass here rather than stopped at the first hit.
       const DirectLightOptions through{
           .pmf = 1, .shadows = true, .mis = false, .transmittanceTraces = true};

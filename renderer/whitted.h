@@ -31,14 +31,15 @@ namespace glint {
 class WhittedIntegrator : public Integrator {
  public:
   // `minWeight`: see IntegratorSettings::minWeight (0 here: every branch followed).
+  // `indirect`: indirectLight() adds light (a subclass's; plain Whitted has none).
   WhittedIntegrator(const RenderScene& scene, int maxDepth, bool glassShadows = true,
-                    float minWeight = 0);
+                    float minWeight = 0, bool indirect = false);
   Rgb LiFromHit(const Ray& ray, const Hit* hit, Sampler& sampler, RayCounters& counters,
                 PathAovs& aovs) const override;
 
  protected:
   // Light beyond the direct at a diffuse or glossy point (instant radiosity's VPLs), asked
-  // only when `indirect_` is set. Plain Whitted has none.
+  // only when `indirect_` is set (the constructor's `indirect`). Plain Whitted has none.
   virtual Rgb indirectLight(const SurfaceInteraction& si, const Bsdf& bsdf, float time,
                             Sampler& sampler, RayCounters& counters) const {
     (void)si, (void)bsdf, (void)time, (void)sampler, (void)counters;
@@ -46,7 +47,7 @@ class WhittedIntegrator : public Integrator {
   }
   // The scene's media when it has them (Feature::Volumes), else null.
   const MediaScene* media() const { return media_; }
-  bool indirect_ = false;
+  const bool indirect_;
   int maxDepth_;
   bool shadows_;
 
@@ -56,7 +57,9 @@ class WhittedIntegrator : public Integrator {
   // camera ray's (null for deeper rays).
   Rgb shade(const Ray& ray, const Hit* hit, const RayCone& cone, int depth, float weight,
             Sampler& sampler, RayCounters& counters, PathAovs* aovs) const;
-  // shade() for a hit on material `materialIndex`.
+  // shade() for a hit on material `materialIndex`. kPlain: the material is `plain_` (see
+  // there), and the branches for what it does not do are compiled out.
+  template <bool kPlain>
   Rgb shadeAt(const Ray& ray, const Hit& hit, uint32_t materialIndex, const RayCone& cone,
               int depth, float weight, Sampler& sampler, RayCounters& counters,
               PathAovs* aovs) const;
@@ -71,7 +74,10 @@ class WhittedIntegrator : public Integrator {
   Rgb throughMedia(const Ray& ray, const Hit* hit, const RayCone& cone, int depth, float weight,
                    Sampler& sampler, RayCounters& counters, PathAovs* aovs) const;
   // Direct light at a lit surface point: sum over all lights, shadow rays when enabled.
-  Rgb directLight(const SurfaceInteraction& si, const Bsdf& bsdf, float time, Sampler& sampler,
+  // kPlain: shadow rays neither cross glass nor media (the scene has neither). Inlined into
+  // its one caller, shadeAt<kPlain>: a call per hit was a visible share of a plain scene.
+  template <bool kPlain>
+  [[gnu::always_inline]] inline Rgb directLight(const SurfaceInteraction& si, const Bsdf& bsdf, float time, Sampler& sampler,
                   RayCounters& counters) const;
   // What reaches the end of `shadow` through the glass on its way (zero behind anything
   // opaque): the shadow ray followed from surface to surface (see the file comment).
@@ -80,6 +86,11 @@ class WhittedIntegrator : public Integrator {
   const MediaScene* media_;  // null without media: rays take the media-free path
   bool glassShadows_;        // shadow rays cross glass (the scene has some, and it is asked)
   float minWeight_;          // faint specular branches go by Russian roulette below this
+  // Per material: its hits take shadeAt<true>, the plain Whitted of an opaque, lit surface
+  // that neither emits, absorbs inside nor bounces specularly, in a scene whose shadow rays
+  // cross no glass or media and with no indirect light. What a scene does not call for it
+  // does not pay for, not even a test (benchmarks/features_bench).
+  std::vector<uint8_t> plain_;
   RayCone cameraCone_;
 };
 
