@@ -63,10 +63,8 @@ Rgb WhittedIntegrator::shade(const Ray& ray, const Hit* found, const RayCone& co
   if (!found) return scene_.escapedAlong(ray.d);
   const uint32_t materialIndex = scene_.materialIndex(*found);
   if (plain_[materialIndex])
-    return shadeAt<true>(ray, *found, materialIndex, cone, depth, weight, sampler, counters,
-                         aovs);
-  return shadeAt<false>(ray, *found, materialIndex, cone, depth, weight, sampler, counters,
-                        aovs);
+    return shadeAt<true>(ray, *found, materialIndex, cone, depth, weight, sampler, counters, aovs);
+  return shadeAt<false>(ray, *found, materialIndex, cone, depth, weight, sampler, counters, aovs);
 }
 
 template <bool kPlain>

@@ -77,8 +77,9 @@ class WhittedIntegrator : public Integrator {
   // kPlain: shadow rays neither cross glass nor media (the scene has neither). Inlined into
   // its one caller, shadeAt<kPlain>: a call per hit was a visible share of a plain scene.
   template <bool kPlain>
-  [[gnu::always_inline]] inline Rgb directLight(const SurfaceInteraction& si, const Bsdf& bsdf, float time, Sampler& sampler,
-                  RayCounters& counters) const;
+  [[gnu::always_inline]] inline Rgb directLight(const SurfaceInteraction& si, const Bsdf& bsdf,
+                                                float time, Sampler& sampler,
+                                                RayCounters& counters) const;
   // What reaches the end of `shadow` through the glass on its way (zero behind anything
   // opaque): the shadow ray followed from surface to surface (see the file comment).
   Rgb throughGlass(const Ray& shadow, RayCounters& counters) const;
