@@ -148,6 +148,55 @@ TEST(MaterialRender, ScenesWithoutSpecularMaterialsTraceNoSecondaryRays) {
   EXPECT_TRUE(plain.features.has(Feature::Procedural));  // the checker
 }
 
+// Whitted shades a plain material (lit, opaque, not emitting or absorbing, no specular lobe)
+// through its own instantiation, compiled without the other branches, when the scene has no
+// media, no shadows through glass and no indirect light (WhittedIntegrator::plain_). Adding a
+// glass ball below the floor, where nothing can see it, turns on shadows through glass and so
+// sends every material through the general path: the image must not change. The plain
+// materials here are textured, bumped and glossy; the mirror and the emitter take the general
+// path in both, and the mirror's reflections reach the plain ones through secondary rays.
+TEST(MaterialRender, WhittedShadesPlainMaterialsAsTheGeneralPathDoes) {
+  auto scene = [](const std::string& extraObjects) {
+    return R"({
+      "render": {"width": 48, "height": 36, "spp": 4, "camera": "c", "seed": 9,
+                 "background": [0.3, 0.4, 0.6],
+                 "integrator": {"type": "whitted", "max_depth": 4}},
+      "cameras": [{"name": "c", "position": [0, 2, 6], "look_at": [0, 0.8, 0]}],
+      "lights": [{"type": "point", "position": [3, 6, 4], "intensity": 60},
+                 {"type": "directional", "direction": [-0.3, -1, -0.2], "intensity": 0.5}],
+      "textures": [{"name": "checks", "type": "checker",
+                    "colors": [[0.8, 0.8, 0.8], [0.1, 0.1, 0.1]],
+                    "mapping": {"space": "world", "plane": "xz", "scale": 2}}],
+      "materials": [{"name": "floor", "type": "lambert", "diffuse": "checks"},
+                    {"name": "wall", "type": "lambert", "diffuse": [0.6, 0.3, 0.2],
+                     "bump": {"texture": "checks", "strength": 0.5}},
+                    {"name": "ball", "type": "phong", "diffuse": [0.3, 0.5, 0.3],
+                     "specular": [0.4, 0.4, 0.4], "shininess": 20},
+                    {"name": "m", "type": "mirror", "color": [0.9, 0.9, 0.9]},
+                    {"name": "glow", "type": "lambert", "diffuse": [0.2, 0.2, 0.2],
+                     "emissive": [2, 1, 0.5]},
+                    {"name": "g", "type": "glass", "ior": 1.5}],
+      "objects": [{"type": "plane", "material": "floor"},
+                  {"type": "box", "min": [-4, 0, -3], "max": [4, 3, -2.5], "material": "wall"},
+                  {"type": "sphere", "center": [-1.2, 0.8, 0], "radius": 0.8, "material": "ball"},
+                  {"type": "sphere", "center": [1.2, 0.8, 0], "radius": 0.8, "material": "m"},
+                  {"type": "sphere", "center": [0, 0.3, 1.2], "radius": 0.3, "material": "glow"})" +
+           extraObjects + "]}";
+  };
+  const Rendered plain = renderJson(scene(""));
+  const Rendered general = renderJson(
+      scene(R"(, {"type": "sphere", "center": [0, -5, 0], "radius": 1, "material": "g"})"));
+  EXPECT_FALSE(plain.features.has(Feature::Refraction));
+  EXPECT_TRUE(general.features.has(Feature::Refraction));  // shadows now cross glass
+  ASSERT_EQ(plain.film.color.size(), general.film.color.size());
+  double mean = 0;
+  for (const Rgb& c : plain.film.color) mean += c.y;
+  EXPECT_GT(mean / double(plain.film.color.size()), 0.05);
+  EXPECT_GT(plain.stats.rays.secondary, 0u);  // the mirror's reflections
+  EXPECT_LT(maxDifference(plain.film, general.film), 1e-5f);
+  EXPECT_EQ(plain.stats.nonfiniteSamples, 0u);
+}
+
 TEST(MaterialRender, MirrorReflectsTheBackground) {
   // An orthographic camera looking down at a mirror tilted by 45 degrees sees the horizon:
   // the background radiance times the mirror's reflectance.
