@@ -14,11 +14,11 @@ WhittedIntegrator::WhittedIntegrator(const RenderScene& scene, int maxDepth, boo
   glassShadows_ = glassShadows && shadows_ && scene.features.has(Feature::Refraction);
   media_ = scene.features.has(Feature::Volumes) ? scene.media.get() : nullptr;
   cameraCone_ = scene.camera.pixelCone();
-  const bool plainScene = !media_ && !glassShadows_ && !indirect_;
+  plainShadows_ = !media_ && !glassShadows_;
   plain_.resize(shading_.size());
   for (size_t m = 0; m < shading_.size(); ++m) {
     const MaterialShading& s = shading_[m];
-    plain_[m] = plainScene && !s.unlit && !s.transparent && !s.emits && !s.absorbs &&
+    plain_[m] = !indirect_ && !s.unlit && !s.transparent && !s.emits && !s.absorbs &&
                 !(s.flags & kBsdfSpecular);
   }
 }
@@ -79,7 +79,9 @@ Rgb WhittedIntegrator::shadeAt(const Ray& ray, const Hit& hit, uint32_t material
   if (aovs) aovs->record(material, si, lookups, hit.t * length(ray.d));
   if constexpr (kPlain) {
     (void)cone, (void)depth, (void)weight;
-    return directLight<true>(si, material.bsdf(si, lookups), ray.time, sampler, counters);
+    const Bsdf bsdf = material.bsdf(si, lookups);
+    return plainShadows_ ? directLight<true>(si, bsdf, ray.time, sampler, counters)
+                         : directLight<false>(si, bsdf, ray.time, sampler, counters);
   }
   // Light reaching a back face of an absorbing volume crossed its inside.
   const Rgb inside = insideTransmittance(material, shading, si, hit.t * length(ray.d));
@@ -128,7 +130,7 @@ Rgb WhittedIntegrator::throughMedia(const Ray& ray, const Hit* hit, const RayCon
          seg.L;
 }
 
-template <bool kPlain>
+template <bool kPlainShadows>
 Rgb WhittedIntegrator::directLight(const SurfaceInteraction& si, const Bsdf& bsdf, float time,
                                    Sampler& sampler, RayCounters& counters) const {
   Rgb L;
@@ -142,7 +144,7 @@ Rgb WhittedIntegrator::directLight(const SurfaceInteraction& si, const Bsdf& bsd
   const DirectLightOptions options{.pmf = 1, .shadows = shadows_, .mis = false};
   for (const auto& light : scene_.lights) {
     const Vec2f u = light->isDelta() ? Vec2f{0.5f, 0.5f} : sampler.get2D();
-    if constexpr (kPlain) {
+    if constexpr (kPlainShadows) {
       L += sampleDirectLight(scene_, ctx, *light, u, options, scatter, noMedia, counters);
     } else if (glassShadows_) {
       // The shadow ray is followed through glass here rather than stopped at the first hit.

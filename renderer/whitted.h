@@ -74,9 +74,9 @@ class WhittedIntegrator : public Integrator {
   Rgb throughMedia(const Ray& ray, const Hit* hit, const RayCone& cone, int depth, float weight,
                    Sampler& sampler, RayCounters& counters, PathAovs* aovs) const;
   // Direct light at a lit surface point: sum over all lights, shadow rays when enabled.
-  // kPlain: shadow rays neither cross glass nor media (the scene has neither). Inlined into
-  // its one caller, shadeAt<kPlain>: a call per hit was a visible share of a plain scene.
-  template <bool kPlain>
+  // kPlainShadows: shadow rays neither cross glass nor media (`plainShadows_`). Inlined into
+  // shadeAt: a call per hit was a visible share of a plain scene's time.
+  template <bool kPlainShadows>
   [[gnu::always_inline]] inline Rgb directLight(const SurfaceInteraction& si, const Bsdf& bsdf,
                                                 float time, Sampler& sampler,
                                                 RayCounters& counters) const;
@@ -88,10 +88,11 @@ class WhittedIntegrator : public Integrator {
   bool glassShadows_;        // shadow rays cross glass (the scene has some, and it is asked)
   float minWeight_;          // faint specular branches go by Russian roulette below this
   // Per material: its hits take shadeAt<true>, the plain Whitted of an opaque, lit surface
-  // that neither emits, absorbs inside nor bounces specularly, in a scene whose shadow rays
-  // cross no glass or media and with no indirect light. What a scene does not call for it
-  // does not pay for, not even a test (benchmarks/features_bench).
+  // that neither emits, absorbs inside nor bounces specularly, when there is no indirect
+  // light: direct light and nothing else. What a material does not call for its hits do not
+  // pay for, not even a test (benchmarks/features_bench).
   std::vector<uint8_t> plain_;
+  bool plainShadows_;  // shadow rays cross no glass (glassShadows_) and no media
   RayCone cameraCone_;
 };
 

@@ -3,6 +3,9 @@
 // mirror shows what it faces, and scenes without such materials trace no secondary rays.
 #include <gtest/gtest.h>
 
+#include <string>
+#include <utility>
+
 #include "renderer/light.h"
 #include "renderer/render.h"
 #include "scenes/build.h"
@@ -149,14 +152,18 @@ TEST(MaterialRender, ScenesWithoutSpecularMaterialsTraceNoSecondaryRays) {
 }
 
 // Whitted shades a plain material (lit, opaque, not emitting or absorbing, no specular lobe)
-// through its own instantiation, compiled without the other branches, when the scene has no
-// media, no shadows through glass and no indirect light (WhittedIntegrator::plain_). Adding a
-// glass ball below the floor, where nothing can see it, turns on shadows through glass and so
-// sends every material through the general path: the image must not change. The plain
-// materials here are textured, bumped and glossy; the mirror and the emitter take the general
-// path in both, and the mirror's reflections reach the plain ones through secondary rays.
+// through its own instantiation, compiled without the other branches, when there is no
+// indirect light (WhittedIntegrator::plain_); its shadow rays take the plain any-hit path when
+// they cross no glass or media (plainShadows_). The same scene four ways must give one image:
+// - `mask`: the plain materials get alpha_mode "mask" at full alpha, which changes nothing but
+//   makes them transparent-capable, so their hits take the general path;
+// - `glass`: a glass ball below the floor, where nothing can see it, turns on shadows through
+//   glass for every material.
+// The plain materials here are textured, bumped and glossy; the mirror and the emitter take the
+// general path throughout, and the mirror's reflections reach the plain ones as secondary rays.
 TEST(MaterialRender, WhittedShadesPlainMaterialsAsTheGeneralPathDoes) {
-  auto scene = [](const std::string& extraObjects) {
+  auto scene = [](bool mask, bool glass) {
+    const std::string m = mask ? R"(, "alpha_mode": "mask")" : "";
     return R"({
       "render": {"width": 48, "height": 36, "spp": 4, "camera": "c", "seed": 9,
                  "background": [0.3, 0.4, 0.6],
@@ -167,11 +174,14 @@ TEST(MaterialRender, WhittedShadesPlainMaterialsAsTheGeneralPathDoes) {
       "textures": [{"name": "checks", "type": "checker",
                     "colors": [[0.8, 0.8, 0.8], [0.1, 0.1, 0.1]],
                     "mapping": {"space": "world", "plane": "xz", "scale": 2}}],
-      "materials": [{"name": "floor", "type": "lambert", "diffuse": "checks"},
+      "materials": [{"name": "floor", "type": "lambert", "diffuse": "checks")" +
+           m + R"(},
                     {"name": "wall", "type": "lambert", "diffuse": [0.6, 0.3, 0.2],
-                     "bump": {"texture": "checks", "strength": 0.5}},
+                     "bump": {"texture": "checks", "strength": 0.5})" +
+           m + R"(},
                     {"name": "ball", "type": "phong", "diffuse": [0.3, 0.5, 0.3],
-                     "specular": [0.4, 0.4, 0.4], "shininess": 20},
+                     "specular": [0.4, 0.4, 0.4], "shininess": 20)" +
+           m + R"(},
                     {"name": "m", "type": "mirror", "color": [0.9, 0.9, 0.9]},
                     {"name": "glow", "type": "lambert", "diffuse": [0.2, 0.2, 0.2],
                      "emissive": [2, 1, 0.5]},
@@ -181,20 +191,26 @@ TEST(MaterialRender, WhittedShadesPlainMaterialsAsTheGeneralPathDoes) {
                   {"type": "sphere", "center": [-1.2, 0.8, 0], "radius": 0.8, "material": "ball"},
                   {"type": "sphere", "center": [1.2, 0.8, 0], "radius": 0.8, "material": "m"},
                   {"type": "sphere", "center": [0, 0.3, 1.2], "radius": 0.3, "material": "glow"})" +
-           extraObjects + "]}";
+           (glass ? R"(, {"type": "sphere", "center": [0, -5, 0], "radius": 1, "material": "g"})"
+                  : "") +
+           "]}";
   };
-  const Rendered plain = renderJson(scene(""));
-  const Rendered general = renderJson(
-      scene(R"(, {"type": "sphere", "center": [0, -5, 0], "radius": 1, "material": "g"})"));
+  const Rendered plain = renderJson(scene(false, false));
+  EXPECT_FALSE(plain.features.has(Feature::Transparency));
   EXPECT_FALSE(plain.features.has(Feature::Refraction));
-  EXPECT_TRUE(general.features.has(Feature::Refraction));  // shadows now cross glass
-  ASSERT_EQ(plain.film.color.size(), general.film.color.size());
   double mean = 0;
   for (const Rgb& c : plain.film.color) mean += c.y;
   EXPECT_GT(mean / double(plain.film.color.size()), 0.05);
   EXPECT_GT(plain.stats.rays.secondary, 0u);  // the mirror's reflections
-  EXPECT_LT(maxDifference(plain.film, general.film), 1e-5f);
-  EXPECT_EQ(plain.stats.nonfiniteSamples, 0u);
+  for (const auto& [mask, glass] : {std::pair{true, false}, {false, true}, {true, true}}) {
+    SCOPED_TRACE(std::string(mask ? "mask" : "") + (glass ? " glass" : ""));
+    const Rendered other = renderJson(scene(mask, glass));
+    EXPECT_EQ(other.features.has(Feature::Transparency), mask);
+    EXPECT_EQ(other.features.has(Feature::Refraction), glass);  // shadows cross glass
+    ASSERT_EQ(plain.film.color.size(), other.film.color.size());
+    EXPECT_LT(maxDifference(plain.film, other.film), 1e-5f);
+    EXPECT_EQ(other.stats.nonfiniteSamples, 0u);
+  }
 }
 
 TEST(MaterialRender, MirrorReflectsTheBackground) {
