@@ -78,7 +78,6 @@ Rgb WhittedIntegrator::shadeAt(const Ray& ray, const Hit& hit, uint32_t material
   TextureLookups lookups(si);
   if (aovs) aovs->record(material, si, lookups, hit.t * length(ray.d));
   if constexpr (kPlain) {
-    (void)cone, (void)depth, (void)weight;
     const Bsdf bsdf = material.bsdf(si, lookups);
     return plainShadows_ ? directLight<true>(si, bsdf, ray.time, sampler, counters)
                          : directLight<false>(si, bsdf, ray.time, sampler, counters);
