@@ -69,6 +69,12 @@ void SceneOverrides::addOptions(CLI::App* cmd) {
                   "2, 4, 8 and 16 samples; the first goes through the pixel's centre (0 = off; "
                   "e.g. 0.05; --spp is the most a pixel takes)")
       ->check(numberIn({.ge = 0, .le = 1}));
+  cmd->add_option("--subdivide", subdivide,
+                  "anti-aliasing by recursive subdivision (POV-Ray's +AM2; its +Rn is N = n-1): "
+                  "one look per pixel corner, shared with the neighbours; a square whose corners "
+                  "differ by more than --antialias is cut in four, down to N levels (1-6; 0 = "
+                  "off; --spp and the filter are not used)")
+      ->check(numberIn({.ge = 0, .le = kMaxSubdivision}, true));
   cmd->add_option("--adaptive-min-spp", adaptiveMinSpp,
                   "samples every pixel takes before --adaptive may stop it (default 32; 4 suits "
                   "Whitted scenes, whose only noise is edges)")
@@ -135,6 +141,7 @@ void SceneOverrides::apply(SceneDescription* desc) const {
   if (adaptive) r.adaptive.threshold = *adaptive;
   if (adaptiveMinSpp) r.adaptive.minSpp = *adaptiveMinSpp;
   if (antialias) r.adaptive.contrast = *antialias;
+  if (subdivide) r.adaptive.subdivide = *subdivide;
   if (aovs) r.aovs = true;
   if (noDefaultLight) r.defaultLight = false;
   if (shutter) r.shutter = parseShutter(*shutter);

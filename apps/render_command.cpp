@@ -161,10 +161,12 @@ nlohmann::json sceneJson(const RenderArgs& args, const SceneDescription& desc,
                                                     : nlohmann::json(desc.render.spp);
   if (args.timeLimit) j["time_limit_seconds"] = args.timeLimitSeconds;
   if (args.noiseTarget) j["noise_target"] = *args.noiseTarget;
-  if (desc.render.adaptive.threshold > 0 || desc.render.adaptive.contrast > 0)
+  if (desc.render.adaptive.threshold > 0 || desc.render.adaptive.contrast > 0 ||
+      desc.render.adaptive.subdivide > 0)
     j["adaptive"] = {{"threshold", desc.render.adaptive.threshold},
                      {"contrast", desc.render.adaptive.contrast},
-                     {"min_spp", desc.render.adaptive.minSpp}};
+                     {"min_spp", desc.render.adaptive.minSpp},
+                     {"subdivide", desc.render.adaptive.subdivide}};
   j["seed"] = desc.render.seed;
   j["threads"] = threads;
   j["triangles"] = scene.geometry.instancedTriangleCount();

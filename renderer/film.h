@@ -35,4 +35,8 @@ struct Film {
   size_t index(int x, int y) const { return size_t(y) * size_t(width) + size_t(x); }
 };
 
+// x / (1 + x): scene-linear radiance squeezed into [0, 1), like a displayed value; where
+// anti-aliasing compares contrast.
+inline float squeezedRadiance(float x) { return x > 0 ? x / (1 + x) : 0.0f; }
+
 }  // namespace glint

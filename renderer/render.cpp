@@ -21,6 +21,7 @@
 #include "geometry/error.h"
 #include "renderer/filter.h"
 #include "renderer/progress.h"
+#include "renderer/subdivide.h"
 
 namespace glint {
 
@@ -89,8 +90,6 @@ bool isContrastCheckpoint(uint32_t spp) {
   return std::find(std::begin(kContrastCheckpoints), std::end(kContrastCheckpoints), spp) !=
          std::end(kContrastCheckpoints);
 }
-// x / (1 + x): scene-linear radiance squeezed into [0, 1), where contrast is compared.
-float squeezed(float x) { return x > 0 ? x / (1 + x) : 0.0f; }
 
 // The first checkpoint after `spp`: camera-ray batches stop there.
 uint32_t nextAdaptiveCheckpoint(uint32_t spp) {
@@ -551,7 +550,7 @@ void ProgressiveRender::State::stopQuietPixels(uint32_t spp) {
       for (size_t i = size_t(y) * size_t(w), end = i + size_t(w); i < end; ++i) {
         if (taken[i] == 0 || (!first && taken[i] != spp)) continue;
         const Rgb mean = moments[i].mean(taken[i]);
-        for (int c = 0; c < 3; ++c) squeezedMeans[i][c] = squeezed(mean[c]);
+        for (int c = 0; c < 3; ++c) squeezedMeans[i][c] = squeezedRadiance(mean[c]);
       }
     });
   });
@@ -671,10 +670,48 @@ double ProgressiveRender::estimatedError() const {
 }
 const RenderStats& ProgressiveRender::stats() const { return state_->stats; }
 
+namespace {
+
+// renderUntil and render with anti-aliasing by subdivision: one pass, which only Ctrl-C stops.
+Film renderSubdividedUntil(const RenderScene& scene, const Integrator& integrator,
+                           const RenderSettings& settings, const RenderOptions& options,
+                           const StopRule& rule, RenderStats* stats, ProgressiveResult* result,
+                           bool resuming) {
+  if (resuming)
+    throw InputError("cannot continue an image rendered with anti-aliasing by subdivision: it "
+                     "is rendered in one pass");
+  if (rule.timeLimit > 0 || rule.noiseTarget > 0)
+    throw InputError("anti-aliasing by subdivision renders in one pass: it takes no time limit "
+                     "or noise target");
+  const uint64_t pixels = options.crop ? uint64_t(options.crop->width()) * options.crop->height()
+                                       : uint64_t(scene.camera.width()) * scene.camera.height();
+  ProgressBar bar("rendering", 2 * std::max<uint64_t>(pixels, 1), options.progress);
+  Film film;
+  RenderStats st;
+  const bool done = renderSubdivided(scene, integrator, settings, options, &film, &st,
+                                     rule.cancel, [&](uint64_t n) { bar.advance(n); });
+  if (done) bar.finish();
+  if (result) {
+    // The most looks a pixel can hold: what "spp" means here.
+    const uint32_t side = (1u << settings.adaptive.subdivide) + 1;
+    result->reason = done ? StopReason::Spp : StopReason::Interrupted;
+    result->spp = done ? side * side : 0;
+    result->error = done ? estimatedRelativeError(film) : 0;
+    result->passes = done ? 1 : 0;
+  }
+  if (stats) *stats = st;
+  return film;
+}
+
+}  // namespace
+
 Film renderUntil(const RenderScene& scene, const Integrator& integrator,
                  const RenderSettings& settings, const RenderOptions& options, const StopRule& rule,
                  RenderStats* stats, ProgressiveResult* result, const Film* resume,
                  uint32_t resumeSpp, const std::function<void(const ProgressiveRender&)>& onPass) {
+  if (settings.adaptive.subdivide > 0)
+    return renderSubdividedUntil(scene, integrator, settings, options, rule, stats, result,
+                                 resume != nullptr);
   ProgressiveRender pr(scene, integrator, settings, options);
   if (resume) pr.resumeFrom(*resume, resumeSpp);
   const uint32_t startSpp = pr.spp();
@@ -761,6 +798,9 @@ Film renderUntil(const RenderScene& scene, const Integrator& integrator,
 
 Film render(const RenderScene& scene, const Integrator& integrator, const RenderSettings& settings,
             const RenderOptions& options, RenderStats* stats) {
+  if (settings.adaptive.subdivide > 0)
+    return renderSubdividedUntil(scene, integrator, settings, options, StopRule{}, stats, nullptr,
+                                 false);
   ProgressiveRender pr(scene, integrator, settings, options);
   const uint32_t spp = uint32_t(std::max(settings.spp, 1));
   ProgressBar bar("rendering", uint64_t(spp) * pr.film().color.size(), options.progress);

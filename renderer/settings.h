@@ -91,9 +91,18 @@ struct IntegratorSettings {
 // look and takes its stratified samples from the first (a centre mixed into a stratified set
 // breaks its strata: measured worse), so its estimate is a plain render's; the film's sample
 // count is the samples in the estimate, RenderStats::meanSpp counts the dropped look too.
+// The deepest anti-aliasing by subdivision (AdaptiveSettings::subdivide): 2^6 = 64 squares per
+// pixel side, at most 65² looks in a pixel.
+inline constexpr int kMaxSubdivision = 6;
+
 struct AdaptiveSettings {
   float threshold = 0;  // 0: off, every pixel takes spp samples
   float contrast = 0;   // 0: off (see above)
+  // Anti-aliasing by recursive subdivision (renderer/subdivide.h, POV-Ray's method 2): up to
+  // this many levels of squares cut in four inside a pixel where their corners differ by more
+  // than `contrast`, instead of whole-pixel samples; 0: off. spp and the filter are then not
+  // used, and the render is one pass (a preview takes whole-pixel samples instead).
+  int subdivide = 0;
   // Samples every pixel takes first; at least 2. A noisy (path-traced) pixel's variance needs
   // tens of samples to be trusted; a Whitted scene's pixels (edges are their only noise) can
   // be judged after 4, like supersampling anti-aliasing.

@@ -75,6 +75,8 @@ void readRender(JsonReader& r, RenderSettings* s) {
     s->adaptive.threshold = a->get<float>("threshold", s->adaptive.threshold, kNonNegative);
     s->adaptive.contrast = a->get<float>("contrast", s->adaptive.contrast, {.ge = 0, .le = 1});
     s->adaptive.minSpp = a->get<int>("min_spp", s->adaptive.minSpp, {.ge = 2});
+    s->adaptive.subdivide =
+        a->get<int>("subdivide", s->adaptive.subdivide, {.ge = 0, .le = kMaxSubdivision});
   }
   s->seed = r.get<uint64_t>("seed", s->seed);
   s->threads = r.get<int>("threads", s->threads, kNonNegative);
