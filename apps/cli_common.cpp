@@ -75,6 +75,10 @@ void SceneOverrides::addOptions(CLI::App* cmd) {
                   "differ by more than --antialias is cut in four, down to N levels (1-6; 0 = "
                   "off; --spp and the filter are not used)")
       ->check(numberIn({.ge = 0, .le = kMaxSubdivision}, true));
+  cmd->add_option("--jitter", jitter,
+                  "with --subdivide: each look moves off its lattice point by up to +-J/2 of "
+                  "the finest step (POV-Ray's +J; default 1, 0 = on the lattice)")
+      ->check(numberIn({.ge = 0, .le = 1}));
   cmd->add_option("--adaptive-min-spp", adaptiveMinSpp,
                   "samples every pixel takes before --adaptive may stop it (default 32; 4 suits "
                   "Whitted scenes, whose only noise is edges)")
@@ -142,6 +146,7 @@ void SceneOverrides::apply(SceneDescription* desc) const {
   if (adaptiveMinSpp) r.adaptive.minSpp = *adaptiveMinSpp;
   if (antialias) r.adaptive.contrast = *antialias;
   if (subdivide) r.adaptive.subdivide = *subdivide;
+  if (jitter) r.adaptive.jitter = *jitter;
   if (aovs) r.aovs = true;
   if (noDefaultLight) r.defaultLight = false;
   if (shutter) r.shutter = parseShutter(*shutter);

@@ -23,6 +23,7 @@ struct SceneOverrides {
   std::optional<int> adaptiveMinSpp;
   std::optional<float> antialias;  // AdaptiveSettings::contrast
   std::optional<int> subdivide;    // AdaptiveSettings::subdivide
+  std::optional<float> jitter;     // AdaptiveSettings::jitter
   bool aovs = false;              // EXR output also carries albedo, normal, depth and variance
   std::optional<std::string> env;  // "studio" or an .exr/.hdr file: replaces the environment
   std::optional<float> envStrength, envRotation;  // the environment's intensity, degrees

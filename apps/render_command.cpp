@@ -166,7 +166,8 @@ nlohmann::json sceneJson(const RenderArgs& args, const SceneDescription& desc,
     j["adaptive"] = {{"threshold", desc.render.adaptive.threshold},
                      {"contrast", desc.render.adaptive.contrast},
                      {"min_spp", desc.render.adaptive.minSpp},
-                     {"subdivide", desc.render.adaptive.subdivide}};
+                     {"subdivide", desc.render.adaptive.subdivide},
+                     {"jitter", desc.render.adaptive.jitter}};
   j["seed"] = desc.render.seed;
   j["threads"] = threads;
   j["triangles"] = scene.geometry.instancedTriangleCount();

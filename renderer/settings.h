@@ -103,6 +103,11 @@ struct AdaptiveSettings {
   // than `contrast`, instead of whole-pixel samples; 0: off. spp and the filter are then not
   // used, and the render is one pass (a preview takes whole-pixel samples instead).
   int subdivide = 0;
+  // With subdivision: each look moves off its lattice point by up to ±jitter/2 of the finest
+  // lattice step, by its own random numbers (POV-Ray's +J, on by default there too): a regular
+  // lattice errs the same way along a straight edge and beats with fine patterns; jittered,
+  // the errors do not add up (measured: 16-22% lower RMSE at equal looks, benchmarks/README).
+  float jitter = 1;
   // Samples every pixel takes first; at least 2. A noisy (path-traced) pixel's variance needs
   // tens of samples to be trusted; a Whitted scene's pixels (edges are their only noise) can
   // be judged after 4, like supersampling anti-aliasing.

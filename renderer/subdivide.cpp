@@ -119,6 +119,7 @@ class Subdivider {
       : scene_(scene), integrator_(integrator), settings_(settings),
         depth_(settings.adaptive.subdivide), side_(1u << depth_),
         keyScale_(1u << (kMaxSubdivision - depth_)), contrast_(settings.adaptive.contrast),
+        jitter_(settings.adaptive.jitter),
         aovs_(settings.aovs), lens_(scene.camera.hasLens()),
         motion_(scene.features.has(Feature::MotionBlur)),
         plain_(!lens_ && !motion_ && scene.camera.isStaticPinhole()),
@@ -136,6 +137,10 @@ class Subdivider {
     for (int i = 0; i < n; ++i) {
       keys[i] = key(gx[i], gy[i]);
       filmX[i] = float(gx[i]) * inv, filmY[i] = float(gy[i]) * inv;
+      if (jitter_ > 0) {
+        const Vec2f u = Sampler(keys[i], 0, kFilmDimension).get2D();
+        filmX[i] += (u.x - 0.5f) * jitter_ * inv, filmY[i] += (u.y - 0.5f) * jitter_ * inv;
+      }
     }
     if (plain_) {
       scene_.camera.pinholeRays(filmX, filmY, n, rays);
@@ -247,7 +252,7 @@ class Subdivider {
   const RenderSettings& settings_;
   int depth_;
   uint32_t side_, keyScale_;
-  float contrast_;
+  float contrast_, jitter_;
   bool aovs_, lens_, motion_, plain_;
   uint64_t keyRow_;
 };

@@ -15,9 +15,11 @@
 //    estimate of the pixel's box integral. render.filter is not used.
 //
 // Looks lie on a lattice of 2^subdivide points per pixel side, each keyed by its place in the
-// whole image (its lens point, time and integrator numbers come from that key), so a look is
-// the same whichever tile, thread, crop or pixel asks for it: the image does not depend on the
-// thread count, and a crop's pixels are the whole frame's.
+// whole image (its jitter, lens point, time and integrator numbers come from that key), so a
+// look is the same whichever tile, thread, crop or pixel asks for it: the image does not depend
+// on the thread count, and a crop's pixels are the whole frame's. With `jitter` (default 1) a
+// look moves off its lattice point by up to half the finest lattice step, as POV-Ray's +J
+// does; the squares and their weights stay the lattice's.
 //
 // The film holds each pixel's estimate; `samples` = the distinct looks in it (4 + 5 per cut),
 // `variance` = their area-weighted spread divided by that count (a spread, not a variance: the

@@ -77,6 +77,7 @@ void readRender(JsonReader& r, RenderSettings* s) {
     s->adaptive.minSpp = a->get<int>("min_spp", s->adaptive.minSpp, {.ge = 2});
     s->adaptive.subdivide =
         a->get<int>("subdivide", s->adaptive.subdivide, {.ge = 0, .le = kMaxSubdivision});
+    s->adaptive.jitter = a->get<float>("jitter", s->adaptive.jitter, {.ge = 0, .le = 1});
   }
   s->seed = r.get<uint64_t>("seed", s->seed);
   s->threads = r.get<int>("threads", s->threads, kNonNegative);

@@ -51,10 +51,11 @@ struct Box {
     integrator = makeIntegrator(scene, desc.render);
   }
   Film render(float contrast, int levels, RenderOptions options = {.threads = 2},
-              RenderStats* stats = nullptr) const {
+              RenderStats* stats = nullptr, float jitter = 1) const {
     RenderSettings settings = desc.render;
     settings.adaptive.contrast = contrast;
     settings.adaptive.subdivide = levels;
+    settings.adaptive.jitter = jitter;
     return glint::render(scene, *integrator, settings, options, stats);
   }
   // The radiance through film point (x, y): the scene has no randomness, so any sampler does.
@@ -83,10 +84,11 @@ void expectNear(Rgb a, Rgb b, const std::string& where) {
 
 // A contrast nothing reaches (x/(1+x) differs by less than 1) cuts no square: every pixel is
 // the mean of its four corner looks, and each corner is traced once for the whole image.
+// (Without jitter, so the looks are at the lattice points.)
 TEST(Subdivision, AnUncutPixelIsTheMeanOfItsCornerLooks) {
   const Box box;
   RenderStats stats;
-  const Film film = box.render(1.0f, 3, {.threads = 2}, &stats);
+  const Film film = box.render(1.0f, 3, {.threads = 2}, &stats, 0);
   ASSERT_EQ(film.width, 40);
   for (int y = 0; y < film.height; ++y)
     for (int x = 0; x < film.width; ++x) {
@@ -107,7 +109,7 @@ TEST(Subdivision, AnUncutPixelIsTheMeanOfItsCornerLooks) {
 TEST(Subdivision, ContrastZeroIsTheTrapezoidRuleOnTheWholeLattice) {
   const Box box(13, 10);
   RenderStats stats;
-  const Film film = box.render(0.0f, 2, {.threads = 2}, &stats);
+  const Film film = box.render(0.0f, 2, {.threads = 2}, &stats, 0);
   for (int y = 0; y < film.height; ++y)
     for (int x = 0; x < film.width; ++x) {
       const size_t i = film.index(x, y);
@@ -161,7 +163,8 @@ double rmse(const Film& a, const Film& b) {
 
 // The cuts go where the contrast is, and buy accuracy there: against the pixel integrals (a
 // 1,024-sample box-filter render), two levels reach a lower error than 4 whole-pixel samples
-// with fewer camera rays, and a third level lowers it further.
+// with fewer camera rays, a third level lowers it further, and jittered looks more than looks
+// on the lattice points.
 TEST(Subdivision, CutsGoToEdgesAndBeatWholePixelSamples) {
   const Box box;
   RenderSettings settings = box.desc.render;
@@ -181,15 +184,18 @@ TEST(Subdivision, CutsGoToEdgesAndBeatWholePixelSamples) {
   EXPECT_GT(flat, int(three.samples.size()) / 2) << "most of the image is flat";
   EXPECT_GT(cut, 40) << "its edges are not";
 
+  const Film lattice = box.render(0.05f, 3, {.threads = 2}, nullptr, 0);
   const double ePlain = rmse(plain, reference), eUncut = rmse(uncut, reference),
                eTwo = rmse(two, reference), eThree = rmse(three, reference);
   // (Measured: plain 4 spp 0.0073; uncut 0.022; two levels 0.0044 at 2.25 looks per pixel;
-  // three 0.0021 at 3.7.)
+  // three 0.0016 at 3.7, 0.0021 with its looks on the lattice points.)
   EXPECT_LT(eTwo, 0.3 * eUncut);
   EXPECT_LT(eThree, 0.7 * eTwo);
   EXPECT_LT(eTwo, 0.8 * ePlain);
   EXPECT_LT(stats2.meanSpp, 0.75 * plainStats.meanSpp);
   EXPECT_LT(stats2.meanSpp, stats3.meanSpp);
+  // Jitter: a straight edge's lattice errors no longer line up.
+  EXPECT_LT(eThree, 0.9 * rmse(lattice, reference));
 }
 
 // What a one-pass quadrature cannot do is refused with a clear error, and the sidecar checks
