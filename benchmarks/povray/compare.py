@@ -5,6 +5,7 @@ Usage: compare.py [--glint PATH] [--povray PATH] [--repeats 3] [--threads 2]
                   [--glint-spp 1,2,4,...] [--glint-ref-spp 1024] [--glint-filters LIST]
                   [--glint-antialias C,C,...] [--glint-antialias-spp 16]
                   [--glint-antialias-high C,C,...] [--glint-antialias-high-spp 32]
+                  [--glint-subdivide D:C,D:C,...]
                   [--pov-configs LIST] [--pov-ref CONFIG] [--fresh-references]
                   [--work DIR] [--out-json FILE] [--out-svg FILE] [--out-png FILE]
                   [--quick] [--report] [--keep-images] [--no-install]
@@ -28,7 +29,9 @@ the script
      Ray's rule: a pixel stops after 1, 2, 4, 8 or 16 samples unless its mean differs from a
      neighbour's by more than C) at each C of --glint-antialias (cap --glint-antialias-spp,
      default 16) and of --glint-antialias-high (cap --glint-antialias-high-spp, default 32),
-     POV-Ray at each of --pov-configs;
+     and with anti-aliasing by subdivision (`--subdivide D --antialias C`, POV-Ray's method
+     2: shared corner looks, squares cut where their corners differ; box filter only, the
+     integral it estimates) at each D:C of --glint-subdivide, POV-Ray at each of --pov-configs;
   3. for every render records the wall time of the process, the renderer's own time (glint:
      `--stats` render_seconds, plus load and BVH build; POV-Ray: its printed Parse, Bounding
      and Trace times), the CPU seconds of the child process and the load average, and the
@@ -114,6 +117,13 @@ DEFAULT_GLINT_ANTIALIAS_HIGH_SPP = 32
 GLINT_AA_COLOURS = {("gaussian", 16): "#9467bd", ("gaussian", 32): "#17becf",
                     ("gaussian", 64): "#17becf", ("box", 16): "#bcbd22",
                     ("box", 32): "#8c564b", ("box", 64): "#8c564b"}
+# glint's anti-aliasing by recursive subdivision (--subdivide D --antialias C, POV-Ray's method
+# 2 with jittered looks, glint's --jitter default): (depth, contrast) points, one series per
+# depth. It estimates the pixel's box integral, so it is judged against the box reference only.
+# Depth D is POV-Ray's +R(D+1).
+DEFAULT_GLINT_SUBDIVIDE = ["2:0.3", "2:0.1", "2:0.05", "2:0.02", "3:0.3", "3:0.1", "3:0.05",
+                           "3:0.03", "3:0.02", "3:0.01", "4:0.1", "4:0.05", "4:0.03", "4:0.02"]
+GLINT_SUB_COLOURS = {2: "#98df8a", 3: "#d62fd6", 4: "#393b79", 5: "#637939"}
 GLINT_REF_SEED = 1000  # the sweep uses seeds 1..repeats: the reference shares no samples
 # POV-Ray configurations: "none" (no anti-aliasing: one ray through each pixel centre) or
 # "amM:THRESHOLD:DEPTH[:j]": +AM<M> +A<THRESHOLD> +R<DEPTH> [+J]. Method 1 supersamples a pixel
@@ -126,6 +136,10 @@ DEFAULT_POV_CONFIGS = (
     + [f"am1:0.0:{r}" for r in (2, 4, 5)]
     + [f"am2:{a}:{r}" for r in (2, 3, 4) for a in ("0.3", "0.1", "0.03", "0.0")]
     + ["am1:0.0:3:j", "am2:0.0:3:j"]
+    # POV-Ray's own defaults jitter (+J1.0 unless -J): its jittered method 2 at depths 3 and 4
+    # reaches a lower error than the same setting unjittered, at the same time.
+    + ["am1:0.3:3:j", "am2:0.3:3:j", "am2:0.1:3:j", "am2:0.3:4:j", "am2:0.1:4:j",
+       "am2:0.03:4:j"]
 )
 DEFAULT_POV_REF = "am2:0.0:6:j"
 
@@ -133,6 +147,7 @@ QUICK = {
     "width": 160, "height": 120,
     "glint_spp": [1, 4, 16], "glint_ref_spp": 256,
     "glint_antialias": [0.05, 0.01], "glint_antialias_high": [0.01],
+    "glint_subdivide": ["2:0.1", "3:0.05"],
     "pov_configs": ["none", "am1:0.3:3", "am1:0.0:3", "am2:0.0:3"],
     "pov_ref": "am2:0.0:5:j",
     "repeats": 1,
@@ -519,16 +534,19 @@ def glint_scene(ctx, filt):
     return path
 
 
-def render_glint(ctx, scene, spp, seed, out_path, antialias=0.0):
+def render_glint(ctx, scene, spp, seed, out_path, antialias=0.0, subdivide=0):
     """One glint render: spp samples in every pixel, or with antialias > 0 anti-aliasing by
-    contrast (--antialias) with spp the most a pixel takes."""
+    contrast (--antialias) with spp the most a pixel takes, or with subdivide > 0 anti-aliasing
+    by subdivision (--subdivide) at contrast antialias."""
     stats_path = out_path[:-4] + ".stats.json"
     cmd = [ctx["glint"], "render", scene, "-q", "-o", out_path, "--stats", stats_path,
            "--spp", str(spp), "--seed", str(seed), "--threads", str(ctx["threads"]),
            "--width", str(ctx["width"]), "--height", str(ctx["height"]),
            "--integrator", "whitted"]
-    if antialias:
+    if antialias or subdivide:
         cmd += ["--antialias", f"{antialias:g}"]
+    if subdivide:
+        cmd += ["--subdivide", str(subdivide)]
     load = os.getloadavg()
     cpu0, t0 = _child_cpu(), time.perf_counter()
     r = subprocess.run(cmd, capture_output=True, text=True)
@@ -548,6 +566,7 @@ def render_glint(ctx, scene, spp, seed, out_path, antialias=0.0):
             "mrays_per_second": st.get("mrays_per_second"),
             "stats": {"rays": st.get("rays"), "spp_reached": st.get("spp_reached"),
                       "mean_spp": st.get("mean_spp"), "antialias": antialias or None,
+                      "subdivide": subdivide or None,
                       "integrator": st.get("integrator"), "threads": st.get("threads")}}
 
 
@@ -637,7 +656,9 @@ def summarize(records):
     return out
 
 
-def glint_label(f, spp, contrast):
+def glint_label(f, spp, contrast, subdivide=0):
+    if subdivide:
+        return f"{f} sub{subdivide} {contrast:g}"
     return f"{f} {spp} spp" if not contrast else f"{f} AA {contrast:g} ≤{spp}"
 
 
@@ -660,14 +681,23 @@ def glint_series(glint_points):
     for p in glint_points:
         seen.setdefault(series_of(p), p)
     order = {f: i for i, f in enumerate(glint_filters(glint_points))}
-    return sorted(seen, key=lambda s: (order[seen[s]["filter"]],
-                                       seen[s]["spp"] if seen[s].get("antialias") else 0))
+    return sorted(seen, key=lambda s: (order[seen[s]["filter"]], bool(seen[s].get("subdivide")),
+                                       seen[s].get("subdivide") or
+                                       (seen[s]["spp"] if seen[s].get("antialias") else 0)))
 
 
 def series_info(glint_points, s):
+    """kind: plain (the spp ladder), antialias (contrast at cap `cap`) or subdivide (contrast
+    at depth `depth`)."""
     p = next(q for q in glint_points if series_of(q) == s)
-    cap = p["spp"] if p.get("antialias") else None
-    return {"filter": p["filter"], "cap": cap,
+    depth = p.get("subdivide") or None
+    cap = p["spp"] if p.get("antialias") and not depth else None
+    if depth:
+        return {"filter": p["filter"], "cap": None, "depth": depth, "kind": "subdivide",
+                "label": f"{p['filter']} sub{depth}",
+                "colour": GLINT_SUB_COLOURS.get(depth, "#e377c2")}
+    return {"filter": p["filter"], "cap": cap, "depth": None,
+            "kind": "plain" if cap is None else "antialias",
             "label": p["filter"] if cap is None else f"{p['filter']} AA≤{cap}",
             "colour": (GLINT_COLOURS.get(p["filter"], "#17becf") if cap is None else
                        GLINT_AA_COLOURS.get((p["filter"], cap), "#e377c2"))}
@@ -708,7 +738,7 @@ def equal_error(glint_points, pov_points):
         row["best"] = {}
         for f in series:
             info = series_info(glint_points, f)
-            group = f"{info['filter']} {'plain' if info['cap'] is None else 'antialias'}"
+            group = f"{info['filter']} {info['kind']}"
             b = row["best"].setdefault(group, {})
             for _, short in TIME_KINDS:
                 r = row["glint"][f][f"ratio_{short}"]
@@ -783,7 +813,8 @@ def tables(res):
     groups = list(dict.fromkeys(g for r in res["equal_error"] for g in r.get("best", {})))
     if groups:
         lines.append("best glint series at each POV-Ray point: ratio by trace / CPU / wall "
-                     "time [series of each: the cap of the anti-aliased one]")
+                     "time [series of each: the cap of the anti-aliased one, the depth of the "
+                 "subdivided one]")
         lines.append(f"{'POV-Ray':<16} {'RMSE':>9} " + " ".join(f"| {g:<29}" for g in groups))
         for r in res["equal_error"]:
             mark = "*" if r["pov_on_front"] else " "
@@ -792,15 +823,17 @@ def tables(res):
                 b = r["best"][g]
                 cell = " ".join(fmt_ratio(b[k]["ratio"], b[k]["bound"]) for k in
                                 ("trace", "cpu", "wall"))
-                if g.endswith("antialias"):
-                    cell += " [" + ",".join(str(infos[b[k]["series"]]["cap"]) for k in
+                if g.endswith("antialias") or g.endswith("subdivide"):
+                    what = "cap" if g.endswith("antialias") else "depth"
+                    cell += " [" + ",".join(str(infos[b[k]["series"]][what]) for k in
                                             ("trace", "cpu", "wall")) + "]"
                 line += f"| {cell:<29} "
             lines.append(line)
     lines.append("")
     lines.append("ratio = POV-Ray trace time / glint's trace time at the same RMSE, interpolated "
                  "along one glint series; cpu, wall = the same with the processes' CPU seconds "
-                 "and wall times (> 1: glint faster); AA≤N: --antialias C --spp N, C swept;")
+                 "and wall times (> 1: glint faster); AA≤N: --antialias C --spp N, C swept; "
+                 "subD: --subdivide D --antialias C, C swept;")
     lines.append("* = on POV-Ray's time-error front (its best settings); ≥ / ≤: the error is "
                  "outside glint's measured range, so the ratio is a bound")
     lines.append("cross-renderer RMSE between the references (translation fidelity; "
@@ -946,11 +979,12 @@ def svg_plot(res):
         # beside each point (".02" for 0.02).
         for sr in glint_series(res["glint"]):
             info = series_info(res["glint"], sr)
-            colour, aa = info["colour"], info["cap"] is not None
+            colour, aa = info["colour"], info["kind"] != "plain"
+            sub = info["kind"] == "subdivide"
             g = [p for p in res["glint"] if series_of(p) == sr]
             g.sort(key=(lambda p: -p["antialias"]) if aa else (lambda p: p["spp"]))
             path = " ".join(f"{X(p[key]):.1f},{Y(p['rmse']):.1f}" for p in g)
-            dash = ' stroke-dasharray="6,2"' if aa and info["cap"] > 16 else ""
+            dash = ' stroke-dasharray="6,2"' if aa and not sub and info["cap"] > 16 else ""
             out.append(f'<polyline points="{path}" fill="none" stroke="{colour}" '
                        f'stroke-width="{1.5 if aa else 2}"{dash}/>')
             for p in g:
@@ -960,6 +994,11 @@ def svg_plot(res):
                     out.append(f'<circle cx="{x:.1f}" cy="{y:.1f}" r="4" fill="{colour}"/>')
                     dx, anchor = (-7, "end") if info["filter"] == "gaussian" else (7, "start")
                     text, dy = str(p["spp"]), -7
+                elif sub:
+                    out.append(f'<rect x="{x - 3.5:.1f}" y="{y - 3.5:.1f}" width="7" height="7" '
+                               f'fill="{colour}" transform="rotate(45 {x:.1f} {y:.1f})"/>')
+                    dx, anchor = 7, "start"
+                    text, dy = f"{p['antialias']:g}".replace("0.", ".", 1), -6
                 else:
                     out.append(_glint_aa_marker(x, y, info["cap"], colour))
                     dx, anchor = (7, "start") if info["filter"] == "gaussian" else (-7, "end")
@@ -972,7 +1011,10 @@ def svg_plot(res):
     for sr in glint_series(res["glint"]):
         info = series_info(res["glint"], sr)
         f = info["filter"]
-        if info["cap"] is None:
+        if info["kind"] == "subdivide":
+            legend.append((f"glint --subdivide {info['depth']} --antialias C, C as labelled",
+                           info["colour"], "sub", False))
+        elif info["cap"] is None:
             legend.append((f"glint, Whitted, {f} filter{' (default)' if f == 'gaussian' else ''}"
                            ", spp as labelled", info["colour"], "circle", False))
         else:
@@ -996,6 +1038,9 @@ def svg_plot(res):
             out.append(f'<circle cx="{x}" cy="{y - 4}" r="4" fill="{colour}"/>')
         elif shape.startswith("aa"):
             out.append(_glint_aa_marker(x, y - 4, int(shape[2:]), colour))
+        elif shape == "sub":
+            out.append(f'<rect x="{x - 3.5}" y="{y - 7.5}" width="7" height="7" fill="{colour}" '
+                       f'transform="rotate(45 {x} {y - 4})"/>')
         elif shape == "square":
             out.append(f'<rect x="{x - 4}" y="{y - 8}" width="8" height="8" fill="{fill}" '
                        f'stroke="{colour}" stroke-width="1.5"/>')
@@ -1060,6 +1105,9 @@ def main():
     ap.add_argument("--glint-antialias-high-spp", type=int,
                     default=DEFAULT_GLINT_ANTIALIAS_HIGH_SPP,
                     help="their cap (default %(default)s)")
+    ap.add_argument("--glint-subdivide", default=",".join(DEFAULT_GLINT_SUBDIVIDE),
+                    help="anti-aliasing by subdivision points DEPTH:CONTRAST (--subdivide "
+                         "DEPTH --antialias CONTRAST), box filter only; empty: none")
     ap.add_argument("--pov-configs", default=",".join(DEFAULT_POV_CONFIGS),
                     help="comma-separated: none, or amM:THRESHOLD:DEPTH[:j]")
     ap.add_argument("--pov-ref", default=DEFAULT_POV_REF)
@@ -1080,7 +1128,8 @@ def main():
 
     if args.quick:
         for k, v in QUICK.items():
-            if k in ("glint_spp", "pov_configs", "glint_antialias", "glint_antialias_high"):
+            if k in ("glint_spp", "pov_configs", "glint_antialias", "glint_antialias_high",
+                     "glint_subdivide"):
                 v = ",".join(map(str, v))
             setattr(args, k, v)
         for k, name in (("out_json", "quick.json"), ("out_svg", "quick.svg"),
@@ -1099,14 +1148,24 @@ def main():
         log("numpy not found in this interpreter: reading the images in pure Python "
             "(slower, same numbers; Debian's /usr/bin/python3 with python3-numpy is faster)")
     glint_spp = [int(s) for s in args.glint_spp.split(",")]
-    # (spp, contrast): the plain ladder (contrast 0), then the anti-aliased points.
-    glint_settings = [(n, 0.0) for n in glint_spp]
+    # (spp, contrast, depth): the plain ladder (contrast 0), then the anti-aliased points, then
+    # the subdivided ones (depth > 0; box filter only).
+    glint_settings = [(n, 0.0, 0) for n in glint_spp]
     for cs, cap in ((args.glint_antialias, args.glint_antialias_spp),
                     (args.glint_antialias_high, args.glint_antialias_high_spp)):
         for c in (float(x) for x in cs.split(",") if x.strip()):
             if not 0 < c <= 1:
                 sys.exit(f"anti-aliasing contrast {c}: must be in (0, 1]")
-            glint_settings.append((cap, c))
+            glint_settings.append((cap, c, 0))
+    for dc in (x for x in args.glint_subdivide.split(",") if x.strip()):
+        try:
+            d, c = dc.split(":")
+            d, c = int(d), float(c)
+        except ValueError:
+            sys.exit(f"--glint-subdivide: '{dc}': expected DEPTH:CONTRAST")
+        if not (1 <= d <= 6 and 0 <= c <= 1):
+            sys.exit(f"--glint-subdivide: '{dc}': depth 1-6, contrast 0-1")
+        glint_settings.append((1, c, d))
     filters = args.glint_filters.split(",")
     for f in filters:
         if f not in GLINT_FILTERS:
@@ -1135,12 +1194,16 @@ def main():
 
     # The sweep: every round renders every point once, glint's and POV-Ray's alternating (the
     # order reversed every other round, so a drift in the machine's load hits both alike).
-    jobs = [("glint", (f, s, c)) for s, c in glint_settings for f in filters]
+    def wanted(f, d):  # subdivision estimates the box integral: judged against box only
+        return not d or f == "box"
+    jobs = [("glint", (f, s, c, d)) for s, c, d in glint_settings for f in filters
+            if wanted(f, d)]
     pov_jobs = [("povray", c) for c in pov_configs]
     order = []
     for i in range(max(len(jobs), len(pov_jobs))):
         order += jobs[i:i + 1] + pov_jobs[i:i + 1]
-    records = {("glint", f, s, c): [] for f in filters for s, c in glint_settings}
+    records = {("glint", f, s, c, d): [] for f in filters for s, c, d in glint_settings
+               if wanted(f, d)}
     records.update({("povray", c["name"]): [] for c in pov_configs})
     scenes = {f: glint_scene(ctx, f) for f in filters}
     total = len(order) * args.repeats
@@ -1149,11 +1212,11 @@ def main():
         for renderer, what in (order if rnd % 2 == 0 else order[::-1]):
             done += 1
             if renderer == "glint":
-                f, s, c = what
-                out = os.path.join(scratch, f"glint_{f}_{s}spp_aa{c:g}_r{rnd}.exr")
-                rec = render_glint(ctx, scenes[f], s, rnd + 1, out, antialias=c)
+                f, s, c, d = what
+                out = os.path.join(scratch, f"glint_{f}_{s}spp_aa{c:g}_sub{d}_r{rnd}.exr")
+                rec = render_glint(ctx, scenes[f], s, rnd + 1, out, antialias=c, subdivide=d)
                 rec["seed"] = rnd + 1
-                key, ref, label = ("glint", f, s, c), f"glint:{f}", glint_label(f, s, c)
+                key, ref, label = ("glint", f, s, c, d), f"glint:{f}", glint_label(f, s, c, d)
             else:
                 out = os.path.join(scratch, f"pov_{what['name'].replace(':', '_')}_r{rnd}.exr")
                 rec = render_povray(ctx, what, out)
@@ -1169,11 +1232,15 @@ def main():
 
     glint_points = []
     for f in filters:
-        for s, c in glint_settings:
-            rs = records[("glint", f, s, c)]
+        for s, c, d in glint_settings:
+            if not wanted(f, d):
+                continue
+            rs = records[("glint", f, s, c, d)]
             mean_spp = [r["stats"]["mean_spp"] for r in rs if r["stats"].get("mean_spp")]
             p = {"renderer": "glint", "filter": f, "spp": s, "antialias": c,
-                 "series": f if not c else f"{f} aa{s}", "label": glint_label(f, s, c),
+                 "subdivide": d or None,
+                 "series": f"{f} sub{d}" if d else (f if not c else f"{f} aa{s}"),
+                 "label": glint_label(f, s, c, d),
                  "mean_spp": statistics.median(mean_spp) if mean_spp else None,
                  **summarize(rs), "runs": rs}
             glint_points.append(p)
@@ -1205,6 +1272,9 @@ def main():
                                          "high_contrasts": args.glint_antialias_high,
                                          "high_spp": args.glint_antialias_high_spp,
                                          "options": "--antialias C --spp CAP"},
+                     "glint_subdivide": {"points": args.glint_subdivide,
+                                         "options": "--subdivide D --antialias C (box filter "
+                                                    "scene; glint's default --jitter 1)"},
                      "glint_filters": {f: GLINT_FILTERS[f] or "the scene's (glint's default: "
                                        "gaussian, radius 1.5 pixels)" for f in filters},
                      "glint_ref_spp": args.glint_ref_spp, "glint_ref_seed": GLINT_REF_SEED,
