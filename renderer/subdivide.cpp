@@ -169,8 +169,11 @@ class Subdivider {
       look.L = L;
       for (int c = 0; c < 3; ++c) look.squeezed[c] = squeezedRadiance(L[c]);
       look.hit = pathAovs.hit;
-      if (aovs_) look.albedo = pathAovs.albedo, look.normal = pathAovs.normal,
-                 look.depth = pathAovs.depth;
+      if (aovs_) {
+        look.albedo = pathAovs.albedo;
+        look.normal = pathAovs.normal;
+        look.depth = pathAovs.depth;
+      }
     }
   }
 

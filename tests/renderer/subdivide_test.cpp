@@ -198,6 +198,40 @@ TEST(Subdivision, CutsGoToEdgesAndBeatWholePixelSamples) {
   EXPECT_LT(eThree, 0.9 * rmse(lattice, reference));
 }
 
+// Alpha and the AOVs are area-weighted like the colour: a pixel wholly on the objects has alpha
+// 1 and their depth, one wholly on the background alpha 0 and no depth, and an edge pixel the
+// covered share of its area in between.
+TEST(Subdivision, AlphaAndAovsAreAreaWeighted) {
+  const Box box;
+  RenderSettings settings = box.desc.render;
+  settings.adaptive.contrast = 0.05f;
+  settings.adaptive.subdivide = 3;
+  settings.aovs = true;
+  const Film film = render(box.scene, *box.integrator, settings, {.threads = 2}, nullptr);
+  ASSERT_TRUE(film.hasAovs);
+  int covered = 0, empty = 0, partial = 0;
+  for (size_t i = 0; i < film.alpha.size(); ++i) {
+    const float a = film.alpha[i];
+    ASSERT_GE(a, 0.0f);
+    ASSERT_LE(a, 1.0f);
+    if (a == 1.0f) {
+      ++covered;
+      EXPECT_GT(film.depth[i], 0.5f) << i;
+      EXPECT_GT(length(film.normal[i]), 0.3f) << i;  // a mean of unit normals
+    } else if (a == 0.0f) {
+      ++empty;
+      EXPECT_EQ(film.depth[i], 0.0f) << i;
+      EXPECT_EQ(film.albedo[i], Rgb{}) << i;
+    } else {
+      ++partial;
+      EXPECT_GT(film.samples[i], 4u) << "an edge pixel's corners differ: it is cut " << i;
+    }
+  }
+  EXPECT_GT(covered, 300);
+  EXPECT_GT(empty, 100);
+  EXPECT_GT(partial, 10);
+}
+
 // What a one-pass quadrature cannot do is refused with a clear error, and the sidecar checks
 // its depth.
 TEST(Subdivision, WhatItCannotDoIsRefused) {
