@@ -19,6 +19,7 @@
 #include "image/tonemap.h"
 #include "renderer/progress.h"
 #include "renderer/render.h"
+#include "renderer/subdivide.h"
 #include "scenes/build.h"
 #include "scenes/load.h"
 
@@ -96,6 +97,10 @@ StopRule stopRuleFor(const RenderArgs& args, const SceneDescription& desc) {
   rule.timeLimit = args.timeLimitSeconds;
   if (args.noiseTarget) rule.noiseTarget = *args.noiseTarget;
   rule.maxSpp = hasBudget(args) && !args.overrides.spp ? kNoSppCap : uint32_t(desc.render.spp);
+  // Anti-aliasing by subdivision records the most looks a pixel can hold as its spp (what
+  // --resume compares); it refuses budgets itself.
+  if (desc.render.adaptive.subdivide > 0 && !hasBudget(args))
+    rule.maxSpp = subdivisionMaxLooks(desc.render.adaptive.subdivide);
   // A budget needs small first passes to fit a short limit; a plain render passes every 16 spp
   // (the widest packets), which keeps it interruptible.
   rule.warmup = hasBudget(args);
@@ -113,6 +118,7 @@ struct FrameRecord {
   BuildTimings build;
   RenderStats stats;
   std::vector<Integrator::SetupStat> integratorSetup;  // e.g. instant radiosity's VPLs
+  int subdivide = 0;  // levels of anti-aliasing by subdivision (0: whole-pixel samples)
 };
 
 // What one render measured: its time, timings, rays and dropped samples.
@@ -247,6 +253,7 @@ bool renderAndWrite(const RenderArgs& args, const SceneDescription& desc,
     options.progress = tileProgress;
     // Arguments were checked in runRender; whether the window fits is known only now.
     record->window = requestedWindow(args, scene.camera.width(), scene.camera.height());
+    record->subdivide = desc.render.adaptive.subdivide;
     if (args.crop || args.tile) options.crop = record->window;
     film = renderUntil(scene, *integ, desc.render, options, rule, &record->stats, &record->result,
                        from ? &from->film : nullptr, from ? from->spp : 0);
@@ -287,12 +294,16 @@ void printSummary(const std::vector<std::string>& outputs, const RenderScene& sc
           : fmt::format("{}x{} pixels {},{}..{},{} of the {}x{} frame", record.window.width(),
                         record.window.height(), record.window.x0, record.window.y0,
                         record.window.x1, record.window.y1, w, h);
-  // One sample per pixel has no variance: no estimate.
-  const std::string error =
-      r.error > 0 ? fmt::format(", estimated error {:.2g}%", 100 * r.error) : "";
-  std::fprintf(stderr, "glint: wrote %s (%s, %u spp%s, %.2f s, %.1f Mrays/s%s%s)\n",
-               names.c_str(), size.c_str(), r.spp, error.c_str(), stats.renderSeconds, mrays,
-               dropped.c_str(), ended.c_str());
+  // One sample per pixel has no variance: no estimate. A subdivided pixel is a quadrature, not
+  // a mean of samples: it says how many looks it took instead.
+  const std::string sampling =
+      record.subdivide > 0
+          ? fmt::format("subdivision {}, {:.2f} looks per pixel", record.subdivide, stats.meanSpp)
+          : fmt::format("{} spp", r.spp) +
+                (r.error > 0 ? fmt::format(", estimated error {:.2g}%", 100 * r.error) : "");
+  std::fprintf(stderr, "glint: wrote %s (%s, %s, %.2f s, %.1f Mrays/s%s%s)\n", names.c_str(),
+               size.c_str(), sampling.c_str(), stats.renderSeconds, mrays, dropped.c_str(),
+               ended.c_str());
 }
 
 // What --resume found for one frame's outputs.
@@ -317,7 +328,8 @@ ResumePlan planResume(const RenderArgs& args, const SceneDescription& desc,
   for (const std::string& out : outputs)
     if (std::string why = whyIncomplete(out, expected); !why.empty())
       plan.incomplete.emplace_back(out, why);
-  if (plan.incomplete.empty()) return plan;
+  // A subdivided render is one pass: an unfinished one is rendered again, not continued.
+  if (plan.incomplete.empty() || desc.render.adaptive.subdivide > 0) return plan;
   for (const std::string& out : outputs) {
     std::optional<PartialRender> p = continuableRender(out, expected, nullptr);
     if (p && (!plan.partial || p->spp > plan.partial->spp)) plan.partial = std::move(p);

@@ -693,9 +693,8 @@ Film renderSubdividedUntil(const RenderScene& scene, const Integrator& integrato
   if (done) bar.finish();
   if (result) {
     // The most looks a pixel can hold: what "spp" means here.
-    const uint32_t side = (1u << settings.adaptive.subdivide) + 1;
     result->reason = done ? StopReason::Spp : StopReason::Interrupted;
-    result->spp = done ? side * side : 0;
+    result->spp = done ? subdivisionMaxLooks(settings.adaptive.subdivide) : 0;
     result->error = done ? estimatedRelativeError(film) : 0;
     result->passes = done ? 1 : 0;
   }

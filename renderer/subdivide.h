@@ -39,6 +39,13 @@ namespace glint {
 // from worker threads as pixels finish (each pixel counts twice: its corner, then its squares).
 // Throws InputError for a crop outside the image, a depth out of range, or an adaptive
 // threshold (the noise rule has no samples to judge here).
+// The most looks a pixel can hold with `levels` of subdivision, (2^levels + 1)²: what a
+// subdivided render reports as its spp.
+inline uint32_t subdivisionMaxLooks(int levels) {
+  const uint32_t side = (1u << levels) + 1;
+  return side * side;
+}
+
 bool renderSubdivided(const RenderScene& scene, const Integrator& integrator,
                       const RenderSettings& settings, const RenderOptions& options, Film* film,
                       RenderStats* stats, const std::atomic<bool>* cancel = nullptr,

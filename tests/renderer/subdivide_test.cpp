@@ -262,8 +262,8 @@ TEST(Subdivision, WhatItCannotDoIsRefused) {
                      "scene.json", "/render/adaptive/subdivide", "<= 6");
 }
 
-// The command line: --subdivide renders, says so in --stats, and refuses a time limit with
-// exit code 2.
+// The command line: --subdivide renders, says so in --stats, resumes by rendering again, and
+// refuses a time limit with exit code 2.
 TEST(Subdivision, TheCommandLineRendersAndRefusesBudgets) {
   const std::string dir = test::scratchDir("subdivide_cli");
   const std::string scene = dir + "/scene.json";
@@ -279,6 +279,16 @@ TEST(Subdivision, TheCommandLineRendersAndRefusesBudgets) {
   ASSERT_EQ(ok.exitCode, 0) << ok.err;
   const std::string stats = test::slurp(dir + "/stats.json");
   EXPECT_NE(stats.find("\"subdivide\": 2"), std::string::npos) << stats;
+  // --resume: the same settings are complete; another depth is rendered again (one pass, so
+  // never continued).
+  const std::string again = "render " + scene + " --antialias 0.05 -o " + dir + "/box.exr --resume";
+  const auto complete = test::runGlint(again + " --subdivide 2");
+  ASSERT_EQ(complete.exitCode, 0) << complete.err;
+  EXPECT_NE(complete.err.find("nothing to do"), std::string::npos) << complete.err;
+  const auto redone = test::runGlint(again + " --subdivide 3");
+  ASSERT_EQ(redone.exitCode, 0) << redone.err;
+  EXPECT_NE(redone.err.find("redoing"), std::string::npos) << redone.err;
+  EXPECT_NE(redone.err.find("subdivision 3"), std::string::npos) << redone.err;
   const auto refused = test::runGlint("render " + scene +
                                       " --antialias 0.05 --subdivide 2 --time-limit 2 -o " + dir +
                                       "/budget.exr --quiet");
