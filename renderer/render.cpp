@@ -444,12 +444,8 @@ void ProgressiveRender::State::renderTile(int tileIndex, uint32_t passEnd,
           Sampler sampler(pixelKey, first + i, kIntegratorDimension);
           PathAovs pathAovs;
           pathAovs.wanted = aovs;
-          const Hit* hit = found[i].instance != Hit::kInvalid ? &found[i] : nullptr;
-          Rgb L = integrator.LiFromHit(rays[i], hit, sampler, tally.rays, pathAovs);
-          if (!isFinite(L)) {
-            ++tally.nonfinite;
-            L = {};
-          }
+          const Rgb L = cameraRadiance(integrator, rays[i], found[i], sampler, tally.rays, pathAovs,
+                                       &tally.nonfinite);
           acc.add(L);
           if (pathAovs.hit) {
             pixelHits += 1;

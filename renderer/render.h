@@ -33,6 +33,19 @@ struct RenderStats {
   double meanSpp = 0;             // camera rays a pixel traced on average (< spp when adaptive)
 };
 
+// The radiance a camera ray brings to the film once the accelerator has traced it (`found`:
+// its hit, instance Hit::kInvalid when it escaped): the integrator's LiFromHit, with a NaN/Inf
+// result counted in *nonfinite and replaced by zero, so it never reaches the film.
+inline Rgb cameraRadiance(const Integrator& integrator, const Ray& ray, const Hit& found,
+                          Sampler& sampler, RayCounters& rays, PathAovs& aovs,
+                          uint64_t* nonfinite) {
+  const Hit* hit = found.instance != Hit::kInvalid ? &found : nullptr;
+  const Rgb L = integrator.LiFromHit(ray, hit, sampler, rays, aovs);
+  if (isFinite(L)) return L;
+  ++*nonfinite;
+  return {};
+}
+
 // A rectangle of pixels [x0, x1) x [y0, y1) of the image.
 struct PixelWindow {
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;

@@ -159,12 +159,8 @@ class Subdivider {
       Sampler sampler(keys[i], 0, kIntegratorDimension);
       PathAovs pathAovs;
       pathAovs.wanted = aovs_;
-      const Hit* hit = found[i].instance != Hit::kInvalid ? &found[i] : nullptr;
-      Rgb L = integrator_.LiFromHit(rays[i], hit, sampler, w.rays, pathAovs);
-      if (!isFinite(L)) {
-        ++w.nonfinite;
-        L = {};
-      }
+      const Rgb L =
+          cameraRadiance(integrator_, rays[i], found[i], sampler, w.rays, pathAovs, &w.nonfinite);
       Look& look = out[i];
       look.L = L;
       for (int c = 0; c < 3; ++c) look.squeezed[c] = squeezedRadiance(L[c]);
