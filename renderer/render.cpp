@@ -691,7 +691,7 @@ Film renderSubdividedUntil(const RenderScene& scene, const Integrator& integrato
     // The most looks a pixel can hold: what "spp" means here.
     result->reason = done ? StopReason::Spp : StopReason::Interrupted;
     result->spp = done ? subdivisionMaxLooks(settings.adaptive.subdivide) : 0;
-    result->error = done ? estimatedRelativeError(film) : 0;
+    result->error = 0;  // a quadrature, not a mean of samples: no noise estimate
     result->passes = done ? 1 : 0;
   }
   if (stats) *stats = st;

@@ -65,6 +65,10 @@ struct IntegratorSettings {
   float vplShadowShare = 1.0f / 16;
 };
 
+// The deepest anti-aliasing by subdivision (AdaptiveSettings::subdivide): 2^6 = 64 squares per
+// pixel side, at most 65² looks in a pixel.
+inline constexpr int kMaxSubdivision = 6;
+
 // Adaptive sampling: a pixel stops drawing samples once its estimate is good enough, so the
 // samples go where the noise is. At the checkpoints from `minSpp` samples on (2, 4, 8, then
 // every multiple of 16), a pixel stops when every channel's variance of the mean satisfies
@@ -91,10 +95,6 @@ struct IntegratorSettings {
 // look and takes its stratified samples from the first (a centre mixed into a stratified set
 // breaks its strata: measured worse), so its estimate is a plain render's; the film's sample
 // count is the samples in the estimate, RenderStats::meanSpp counts the dropped look too.
-// The deepest anti-aliasing by subdivision (AdaptiveSettings::subdivide): 2^6 = 64 squares per
-// pixel side, at most 65² looks in a pixel.
-inline constexpr int kMaxSubdivision = 6;
-
 struct AdaptiveSettings {
   float threshold = 0;  // 0: off, every pixel takes spp samples
   float contrast = 0;   // 0: off (see above)

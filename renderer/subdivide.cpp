@@ -127,15 +127,15 @@ class Subdivider {
 
   uint32_t side() const { return side_; }
 
-  // The looks at lattice points (gx[i], gy[i]) (units of 1/side pixels), n <= kMaxRayBatch.
-  void trace(const uint32_t* gx, const uint32_t* gy, int n, Look* out, Worker& w) const {
+  // The looks at lattice points (gx[i], gy[i]) (units of 1/side pixels) whose keys are
+  // keys[i] (key()), n <= kMaxRayBatch.
+  void trace(const uint32_t* gx, const uint32_t* gy, const uint64_t* keys, int n, Look* out,
+             Worker& w) const {
     Ray rays[Camera::kMaxRayBatch];
     Hit found[Camera::kMaxRayBatch];
-    uint64_t keys[Camera::kMaxRayBatch];
     const float inv = 1.0f / float(side_);
     float filmX[Camera::kMaxRayBatch], filmY[Camera::kMaxRayBatch];
     for (int i = 0; i < n; ++i) {
-      keys[i] = key(gx[i], gy[i]);
       filmX[i] = float(gx[i]) * inv, filmY[i] = float(gy[i]) * inv;
       if (jitter_ > 0) {
         const Vec2f u = Sampler(keys[i], 0, kFilmDimension).get2D();
@@ -186,7 +186,6 @@ class Subdivider {
            side_, corners, 1.0, w, sums);
   }
 
- private:
   // A lattice point's key: its place in the whole image on the finest lattice, so a point has
   // the same key (and look) at every depth that has it.
   uint64_t key(uint32_t gx, uint32_t gy) const {
@@ -194,6 +193,7 @@ class Subdivider {
                           uint64_t(gy) * keyScale_ * keyRow_ + uint64_t(gx) * keyScale_);
   }
 
+ private:
   bool differ(const std::array<Look, 4>& c) const {
     if (contrast_ <= 0) return true;
     for (int ch = 0; ch < 3; ++ch) {
@@ -221,22 +221,24 @@ class Subdivider {
     const uint32_t my[5] = {gy, gy + h, gy + h, gy + h, gy + size};
     std::array<Look, 5> m;
     uint32_t tx[5], ty[5];
+    uint64_t tkey[5];
     int missing[5], n = 0;
     for (int i = 0; i < 5; ++i) {
       const uint32_t local = (my[i] - py) * (side_ + 1) + (mx[i] - px);
       if (w.counted[local] != w.pixelStamp) w.counted[local] = w.pixelStamp, ++w.looksInPixel;
-      if (const Look* cached = w.cache.find(key(mx[i], my[i]))) {
+      const uint64_t k = key(mx[i], my[i]);
+      if (const Look* cached = w.cache.find(k)) {
         m[size_t(i)] = *cached;
       } else {
-        tx[n] = mx[i], ty[n] = my[i], missing[n++] = i;
+        tx[n] = mx[i], ty[n] = my[i], tkey[n] = k, missing[n++] = i;
       }
     }
     if (n > 0) {
       Look traced[5];
-      trace(tx, ty, n, traced, w);
+      trace(tx, ty, tkey, n, traced, w);
       for (int j = 0; j < n; ++j) {
         m[size_t(missing[j])] = traced[j];
-        w.cache.insert(key(tx[j], ty[j]), traced[j]);
+        w.cache.insert(tkey[j], traced[j]);
       }
     }
     const double quarter = area * 0.25;
@@ -314,11 +316,14 @@ bool renderSubdivided(const RenderScene& scene, const Integrator& integrator,
         if (cancelled()) return;
         Worker& w = workers.local();
         uint32_t gx[Camera::kMaxRayBatch], gy[Camera::kMaxRayBatch];
+        uint64_t keys[Camera::kMaxRayBatch];
         for (int c0 = 0; c0 <= columns; c0 += Camera::kMaxRayBatch) {
           const int n = std::min(Camera::kMaxRayBatch, columns + 1 - c0);
-          for (int i = 0; i < n; ++i)
+          for (int i = 0; i < n; ++i) {
             gx[i] = uint32_t(window.x0 + c0 + i) * side, gy[i] = uint32_t(y0 + r) * side;
-          sub.trace(gx, gy, n, &corners[size_t(r) * cornerRow + size_t(c0)], w);
+            keys[i] = sub.key(gx[i], gy[i]);
+          }
+          sub.trace(gx, gy, keys, n, &corners[size_t(r) * cornerRow + size_t(c0)], w);
         }
       });
     });

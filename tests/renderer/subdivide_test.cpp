@@ -40,11 +40,11 @@ std::string sceneJson(int width, int height, const std::string& lens = "") {
       {"type": "sphere", "center": [0.45, 0.4, 0.1], "radius": 0.4, "material": "red"}]})";
 }
 
-struct Box {
+struct Stage {
   SceneDescription desc;
   RenderScene scene;
   std::unique_ptr<Integrator> integrator;
-  explicit Box(int width = 40, int height = 30, const std::string& lens = "") {
+  explicit Stage(int width = 40, int height = 30, const std::string& lens = "") {
     desc.file = "subdivide_test (in code)";
     applySceneJsonText(sceneJson(width, height, lens), desc.file, SceneJsonKind::Scene, &desc);
     scene = buildRenderScene(desc);
@@ -86,17 +86,17 @@ void expectNear(Rgb a, Rgb b, const std::string& where) {
 // the mean of its four corner looks, and each corner is traced once for the whole image.
 // (Without jitter, so the looks are at the lattice points.)
 TEST(Subdivision, AnUncutPixelIsTheMeanOfItsCornerLooks) {
-  const Box box;
+  const Stage stage;
   RenderStats stats;
-  const Film film = box.render(1.0f, 3, {.threads = 2}, &stats, 0);
+  const Film film = stage.render(1.0f, 3, {.threads = 2}, &stats, 0);
   ASSERT_EQ(film.width, 40);
   for (int y = 0; y < film.height; ++y)
     for (int x = 0; x < film.width; ++x) {
       const size_t i = film.index(x, y);
       ASSERT_EQ(film.samples[i], 4u);
       const float fx = float(x), fy = float(y);
-      const Rgb mean = (box.look(fx, fy) + box.look(fx + 1, fy) + box.look(fx, fy + 1) +
-                        box.look(fx + 1, fy + 1)) *
+      const Rgb mean = (stage.look(fx, fy) + stage.look(fx + 1, fy) + stage.look(fx, fy + 1) +
+                        stage.look(fx + 1, fy + 1)) *
                        0.25f;
       expectNear(film.color[i], mean, std::to_string(x) + "," + std::to_string(y));
     }
@@ -107,9 +107,9 @@ TEST(Subdivision, AnUncutPixelIsTheMeanOfItsCornerLooks) {
 // Contrast 0 cuts every square to the deepest level: each pixel is the trapezoid rule on its
 // (2^levels + 1)² lattice points, and points on pixel borders are traced once.
 TEST(Subdivision, ContrastZeroIsTheTrapezoidRuleOnTheWholeLattice) {
-  const Box box(13, 10);
+  const Stage stage(13, 10);
   RenderStats stats;
-  const Film film = box.render(0.0f, 2, {.threads = 2}, &stats, 0);
+  const Film film = stage.render(0.0f, 2, {.threads = 2}, &stats, 0);
   for (int y = 0; y < film.height; ++y)
     for (int x = 0; x < film.width; ++x) {
       const size_t i = film.index(x, y);
@@ -119,7 +119,7 @@ TEST(Subdivision, ContrastZeroIsTheTrapezoidRuleOnTheWholeLattice) {
         for (int k = 0; k <= 4; ++k) {
           // Trapezoid weights: 1 inside, 1/2 on an edge, 1/4 at a corner, over 16 squares.
           const float w = (j == 0 || j == 4 ? 0.5f : 1.0f) * (k == 0 || k == 4 ? 0.5f : 1.0f);
-          sum += box.look(float(x) + 0.25f * float(k), float(y) + 0.25f * float(j)) * (w / 16);
+          sum += stage.look(float(x) + 0.25f * float(k), float(y) + 0.25f * float(j)) * (w / 16);
         }
       expectNear(film.color[i], sum, std::to_string(x) + "," + std::to_string(y));
     }
@@ -133,15 +133,15 @@ TEST(Subdivision, ContrastZeroIsTheTrapezoidRuleOnTheWholeLattice) {
 TEST(Subdivision, TheImageDoesNotDependOnThreadsTilesOrCrops) {
   for (const std::string lens : {"", R"(, "aperture": 0.08, "focus_distance": 2.2)"}) {
     SCOPED_TRACE(lens);
-    const Box box(40, 30, lens);
-    const Film film = box.render(0.05f, 3);
-    expectSameImage(box.render(0.05f, 3, {.threads = 1, .tileSize = 7}), film);
-    expectSameImage(box.render(0.05f, 3, {.threads = 3, .tileSize = 64}), film);
+    const Stage stage(40, 30, lens);
+    const Film film = stage.render(0.05f, 3);
+    expectSameImage(stage.render(0.05f, 3, {.threads = 1, .tileSize = 7}), film);
+    expectSameImage(stage.render(0.05f, 3, {.threads = 3, .tileSize = 64}), film);
     for (PixelWindow crop :
          {PixelWindow{7, 5, 23, 29}, PixelWindow{0, 20, 40, 27}, PixelWindow{31, 22, 40, 30}}) {
       RenderOptions options{.threads = 2};
       options.crop = crop;
-      const Film part = box.render(0.05f, 3, options);
+      const Film part = stage.render(0.05f, 3, options);
       ASSERT_EQ(part.width, crop.width());
       ASSERT_EQ(part.originX, crop.x0);
       for (int y = crop.y0; y < crop.y1; ++y)
@@ -166,25 +166,25 @@ double rmse(const Film& a, const Film& b) {
 // with fewer camera rays, a third level lowers it further, and jittered looks more than looks
 // on the lattice points.
 TEST(Subdivision, CutsGoToEdgesAndBeatWholePixelSamples) {
-  const Box box;
-  RenderSettings settings = box.desc.render;
+  const Stage stage;
+  RenderSettings settings = stage.desc.render;
   settings.filter = {"box", 0.5f};
   settings.spp = 1024;
-  const Film reference = render(box.scene, *box.integrator, settings, {.threads = 2}, nullptr);
+  const Film reference = render(stage.scene, *stage.integrator, settings, {.threads = 2}, nullptr);
   settings.spp = 4;
   RenderStats plainStats;
-  const Film plain = render(box.scene, *box.integrator, settings, {.threads = 2}, &plainStats);
+  const Film plain = render(stage.scene, *stage.integrator, settings, {.threads = 2}, &plainStats);
 
   RenderStats stats2, stats3;
-  const Film uncut = box.render(1.0f, 3);
-  const Film two = box.render(0.05f, 2, {.threads = 2}, &stats2);
-  const Film three = box.render(0.05f, 3, {.threads = 2}, &stats3);
+  const Film uncut = stage.render(1.0f, 3);
+  const Film two = stage.render(0.05f, 2, {.threads = 2}, &stats2);
+  const Film three = stage.render(0.05f, 3, {.threads = 2}, &stats3);
   int flat = 0, cut = 0;
   for (uint32_t k : three.samples) flat += k == 4, cut += k > 4;
   EXPECT_GT(flat, int(three.samples.size()) / 2) << "most of the image is flat";
   EXPECT_GT(cut, 40) << "its edges are not";
 
-  const Film lattice = box.render(0.05f, 3, {.threads = 2}, nullptr, 0);
+  const Film lattice = stage.render(0.05f, 3, {.threads = 2}, nullptr, 0);
   const double ePlain = rmse(plain, reference), eUncut = rmse(uncut, reference),
                eTwo = rmse(two, reference), eThree = rmse(three, reference);
   // (Measured: plain 4 spp 0.0073; uncut 0.022; two levels 0.0044 at 2.25 looks per pixel;
@@ -202,12 +202,12 @@ TEST(Subdivision, CutsGoToEdgesAndBeatWholePixelSamples) {
 // 1 and their depth, one wholly on the background alpha 0 and no depth, and an edge pixel the
 // covered share of its area in between.
 TEST(Subdivision, AlphaAndAovsAreAreaWeighted) {
-  const Box box;
-  RenderSettings settings = box.desc.render;
+  const Stage stage;
+  RenderSettings settings = stage.desc.render;
   settings.adaptive.contrast = 0.05f;
   settings.adaptive.subdivide = 3;
   settings.aovs = true;
-  const Film film = render(box.scene, *box.integrator, settings, {.threads = 2}, nullptr);
+  const Film film = render(stage.scene, *stage.integrator, settings, {.threads = 2}, nullptr);
   ASSERT_TRUE(film.hasAovs);
   int covered = 0, empty = 0, partial = 0;
   for (size_t i = 0; i < film.alpha.size(); ++i) {
@@ -235,20 +235,20 @@ TEST(Subdivision, AlphaAndAovsAreAreaWeighted) {
 // What a one-pass quadrature cannot do is refused with a clear error, and the sidecar checks
 // its depth.
 TEST(Subdivision, WhatItCannotDoIsRefused) {
-  const Box box(8, 6);
-  RenderSettings settings = box.desc.render;
+  const Stage stage(8, 6);
+  RenderSettings settings = stage.desc.render;
   settings.adaptive.subdivide = 2;
   settings.adaptive.contrast = 0.1f;
   StopRule budget;
   budget.timeLimit = 5;
-  EXPECT_THROW(renderUntil(box.scene, *box.integrator, settings, {}, budget, nullptr, nullptr),
+  EXPECT_THROW(renderUntil(stage.scene, *stage.integrator, settings, {}, budget, nullptr, nullptr),
                InputError);
-  const Film partial = render(box.scene, *box.integrator, settings, {}, nullptr);
-  EXPECT_THROW(renderUntil(box.scene, *box.integrator, settings, {}, StopRule{}, nullptr,
+  const Film partial = render(stage.scene, *stage.integrator, settings, {}, nullptr);
+  EXPECT_THROW(renderUntil(stage.scene, *stage.integrator, settings, {}, StopRule{}, nullptr,
                            nullptr, &partial, 25),
                InputError);
   settings.adaptive.threshold = 0.01f;
-  EXPECT_THROW(render(box.scene, *box.integrator, settings, {}, nullptr), InputError);
+  EXPECT_THROW(render(stage.scene, *stage.integrator, settings, {}, nullptr), InputError);
 
   SceneDescription desc;
   applySceneJsonText(R"({"render": {"adaptive": {"contrast": 0.1, "subdivide": 3}}})",
@@ -275,13 +275,13 @@ TEST(Subdivision, TheCommandLineRendersAndRefusesBudgets) {
     std::fclose(f);
   }
   const auto ok = test::runGlint("render " + scene + " --antialias 0.05 --subdivide 2 -o " + dir +
-                                 "/box.exr --stats " + dir + "/stats.json --quiet");
+                                 "/stage.exr --stats " + dir + "/stats.json --quiet");
   ASSERT_EQ(ok.exitCode, 0) << ok.err;
   const std::string stats = test::slurp(dir + "/stats.json");
   EXPECT_NE(stats.find("\"subdivide\": 2"), std::string::npos) << stats;
   // --resume: the same settings are complete; another depth is rendered again (one pass, so
   // never continued).
-  const std::string again = "render " + scene + " --antialias 0.05 -o " + dir + "/box.exr --resume";
+  const std::string again = "render " + scene + " --antialias 0.05 -o " + dir + "/stage.exr --resume";
   const auto complete = test::runGlint(again + " --subdivide 2");
   ASSERT_EQ(complete.exitCode, 0) << complete.err;
   EXPECT_NE(complete.err.find("nothing to do"), std::string::npos) << complete.err;
