@@ -316,6 +316,11 @@ describe('glint preview in Chromium', {timeout: 240_000}, () => {
     await page.click('#scene-camera');
     const s = await waitForState((s) => !s.custom_camera, 'custom_camera false');
     assert.ok(distance(s.camera.position, [0, 1, 0.95]) < 1e-6);
+    // The page shows a pass from it. (The camera the wheel dollied out sits outside the closed
+    // box, whose outside is unlit: its image is black, and a page stopped before the first pass
+    // from inside arrived would keep that one, which the next step would take for a lost image.)
+    const pass = await waitForState((s) => !s.custom_camera && s.spp >= 1, 'a pass from the scene camera');
+    await page.waitForFunction((v) => Number(document.body.dataset.imageVersion) >= v, pass.version);
   });
 
   step('when the server goes away the page says so and keeps the image', async () => {
@@ -332,6 +337,12 @@ describe('glint preview in Chromium', {timeout: 240_000}, () => {
     let rgb;
     await waitFor(async () => (rgb = await mean()) !== null,
                   'the image to be shown (a broken image never is)', 5_000);
-    assert.ok(rgb[0] + rgb[1] + rgb[2] > 15, `the image went away with the server: mean ${rgb}`);
+    const shownImage = await page.evaluate(() => {
+      const img = document.getElementById('image');
+      return `version ${document.body.dataset.imageVersion}, query ${document.body.dataset.imageQuery}, ` +
+             `${img.naturalWidth}x${img.naturalHeight}, src ${img.src}`;
+    });
+    assert.ok(rgb[0] + rgb[1] + rgb[2] > 15,
+              `the image went away with the server: mean ${rgb} (${shownImage})`);
   });
 });
