@@ -3,8 +3,6 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
-#include <tbb/global_control.h>
-#include <tbb/info.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -15,12 +13,12 @@
 #include <chrono>
 #include <cmath>
 #include <optional>
-#include <thread>
 #include <vector>
 
 #include "geometry/error.h"
 #include "renderer/filter.h"
 #include "renderer/progress.h"
+#include "renderer/render_setup.h"
 #include "renderer/subdivide.h"
 
 namespace glint {
@@ -193,11 +191,8 @@ struct ProgressiveRender::State {
   // With contrast: each pixel's mean, squeezed, as of its last checkpoint (a stopped pixel's
   // mean no longer changes), so a checkpoint squeezes each mean once, not once per neighbour.
   std::vector<std::array<float, 3>> squeezedMeans;
-  int tilesX = 0, tilesY = 0, threads = 1;
-  // More threads than TBB's default (the cores) are what the user asked for: allowed, rather
-  // than TBB's warning and one worker fewer than asked.
-  std::unique_ptr<tbb::global_control> allowThreads;
-  std::unique_ptr<tbb::task_arena> arena;
+  int tilesX = 0, tilesY = 0;
+  std::unique_ptr<RenderThreads> threads;
 
   // Per pixel of the region, across passes.
   std::vector<PixelMoments> moments;
@@ -228,7 +223,7 @@ struct ProgressiveRender::State {
   void renderTiles(uint32_t passEnd, const std::atomic<bool>* cancel,
                    tbb::enumerable_thread_specific<ThreadTally>& tallies,
                    const std::function<void(uint64_t)>& onTile) {
-    arena->execute([&] {
+    threads->arena->execute([&] {
       tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY, 1),
                         [&](const tbb::blocked_range<int>& r) {
                           for (int t = r.begin(); t != r.end(); ++t) {
@@ -275,11 +270,7 @@ ProgressiveRender::ProgressiveRender(const RenderScene& scene, const Integrator&
   st.motion = scene.features.has(Feature::MotionBlur);
   // Neither: the pinhole rays of before, with no per-ray test.
   st.plain = !st.lens && !st.motion && scene.camera.isStaticPinhole();
-  const PixelWindow window = options.crop.value_or(PixelWindow{0, 0, width, height});
-  if (window.x0 < 0 || window.y0 < 0 || window.x1 > width || window.y1 > height ||
-      window.width() <= 0 || window.height() <= 0)
-    throw InputError(fmt::format("crop window {},{},{},{} is empty or outside the {}x{} image",
-                                 window.x0, window.y0, window.x1, window.y1, width, height));
+  const PixelWindow window = renderWindow(options, width, height);
   st.window = window;
   st.film = Film(window.width(), window.height(), st.aovs);
   st.film.originX = window.x0, st.film.originY = window.y0;
@@ -296,13 +287,8 @@ ProgressiveRender::ProgressiveRender(const RenderScene& scene, const Integrator&
   const int tile = options.tileSize;
   st.tilesX = (st.region.width() + tile - 1) / tile;
   st.tilesY = (st.region.height() + tile - 1) / tile;
-  st.threads = options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency());
-  if (st.threads <= 0) st.threads = 1;
-  if (st.threads > tbb::info::default_concurrency())
-    st.allowThreads = std::make_unique<tbb::global_control>(
-        tbb::global_control::max_allowed_parallelism, size_t(st.threads));
-  st.arena = std::make_unique<tbb::task_arena>(st.threads);
-  st.stats.threads = st.threads;
+  st.threads = std::make_unique<RenderThreads>(options.threads);
+  st.stats.threads = st.threads->count;
 }
 
 ProgressiveRender::~ProgressiveRender() = default;
@@ -514,7 +500,7 @@ void ProgressiveRender::State::updateFilm() {
   // Row by row in parallel: a serial pass over the film was a visible share of a short render.
   const size_t w = size_t(window.width()), h = size_t(window.height());
   std::vector<uint64_t> rowSamples(h, 0);
-  arena->execute([&] {
+  threads->arena->execute([&] {
     tbb::parallel_for(size_t(0), h, [&](size_t y) {
       // The film row's pixels in the region (the same indices when the region is the window).
       const size_t r0 = regionIndex(window.x0, window.y0 + int(y));
@@ -541,7 +527,7 @@ void ProgressiveRender::State::stopQuietPixels(uint32_t spp) {
   // with no samples, only possible in a resumed render, compares as equal to every neighbour.
   const bool first = squeezedMeans.empty();
   if (first) squeezedMeans.resize(size_t(w) * size_t(h));
-  arena->execute([&] {
+  threads->arena->execute([&] {
     tbb::parallel_for(0, h, [&](int y) {
       for (size_t i = size_t(y) * size_t(w), end = i + size_t(w); i < end; ++i) {
         if (taken[i] == 0 || (!first && taken[i] != spp)) continue;
@@ -552,7 +538,7 @@ void ProgressiveRender::State::stopQuietPixels(uint32_t spp) {
   });
   // Decided from the means as they are at this checkpoint, which no decision changes: a pixel
   // reads its neighbours' means, never their flags, so each row clears its own flags in place.
-  arena->execute([&] {
+  threads->arena->execute([&] {
     tbb::parallel_for(0, h, [&](int y) {
       for (int x = 0; x < w; ++x) {
         const size_t i = size_t(y) * size_t(w) + size_t(x);
@@ -660,7 +646,7 @@ double ProgressiveRender::estimatedError() const {
   const State& st = *state_;
   if (!st.error)
     st.error = relativeError(st.film, [&](size_t count, const auto& body) {
-      st.arena->execute([&] { tbb::parallel_for(size_t(0), count, body); });
+      st.threads->arena->execute([&] { tbb::parallel_for(size_t(0), count, body); });
     });
   return *st.error;
 }

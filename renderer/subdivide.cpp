@@ -3,8 +3,6 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
-#include <tbb/global_control.h>
-#include <tbb/info.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -13,10 +11,10 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
-#include <thread>
 #include <vector>
 
 #include "geometry/error.h"
+#include "renderer/render_setup.h"
 
 namespace glint {
 
@@ -116,9 +114,10 @@ class Subdivider {
  public:
   Subdivider(const RenderScene& scene, const Integrator& integrator,
              const RenderSettings& settings)
-      : scene_(scene), integrator_(integrator), settings_(settings),
-        depth_(settings.adaptive.subdivide), side_(1u << depth_),
-        keyScale_(1u << (kMaxSubdivision - depth_)), contrast_(settings.adaptive.contrast),
+      : scene_(scene), integrator_(integrator), seed_(settings.seed),
+        side_(1u << settings.adaptive.subdivide),
+        keyScale_(1u << (kMaxSubdivision - settings.adaptive.subdivide)),
+        contrast_(settings.adaptive.contrast),
         jitter_(settings.adaptive.jitter),
         aovs_(settings.aovs), lens_(scene.camera.hasLens()),
         motion_(scene.features.has(Feature::MotionBlur)),
@@ -189,7 +188,7 @@ class Subdivider {
   // A lattice point's key: its place in the whole image on the finest lattice, so a point has
   // the same key (and look) at every depth that has it.
   uint64_t key(uint32_t gx, uint32_t gy) const {
-    return pixelSampleKey(settings_.seed,
+    return pixelSampleKey(seed_,
                           uint64_t(gy) * keyScale_ * keyRow_ + uint64_t(gx) * keyScale_);
   }
 
@@ -250,8 +249,7 @@ class Subdivider {
 
   const RenderScene& scene_;
   const Integrator& integrator_;
-  const RenderSettings& settings_;
-  int depth_;
+  uint64_t seed_;
   uint32_t side_, keyScale_;
   float contrast_, jitter_;
   bool aovs_, lens_, motion_, plain_;
@@ -276,18 +274,9 @@ bool renderSubdivided(const RenderScene& scene, const Integrator& integrator,
     throw InputError(
         "anti-aliasing by subdivision cannot be combined with adaptive sampling by noise "
         "(render.adaptive.threshold, --adaptive): its looks are not samples of a pixel's mean");
-  const PixelWindow window = options.crop.value_or(PixelWindow{0, 0, width, height});
-  if (window.x0 < 0 || window.y0 < 0 || window.x1 > width || window.y1 > height ||
-      window.width() <= 0 || window.height() <= 0)
-    throw InputError(fmt::format("crop window {},{},{},{} is empty or outside the {}x{} image",
-                                 window.x0, window.y0, window.x1, window.y1, width, height));
-  int threads = options.threads > 0 ? options.threads : int(std::thread::hardware_concurrency());
-  if (threads <= 0) threads = 1;
-  std::unique_ptr<tbb::global_control> allowThreads;
-  if (threads > tbb::info::default_concurrency())
-    allowThreads = std::make_unique<tbb::global_control>(
-        tbb::global_control::max_allowed_parallelism, size_t(threads));
-  tbb::task_arena arena(threads);
+  const PixelWindow window = renderWindow(options, width, height);
+  const RenderThreads threads(options.threads);
+  tbb::task_arena& arena = *threads.arena;
 
   const Subdivider sub(scene, integrator, settings);
   const uint32_t side = sub.side();
@@ -367,7 +356,7 @@ bool renderSubdivided(const RenderScene& scene, const Integrator& integrator,
   RenderStats st;
   st.renderSeconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  st.threads = threads;
+  st.threads = threads.count;
   for (const Worker& w : workers) {
     st.rays += w.rays;
     st.nonfiniteSamples += w.nonfinite;
