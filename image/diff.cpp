@@ -1,14 +1,14 @@
 // glint — numeric image comparison: images from image/io.h's reader, compared with
-// OpenImageIO's ImageBufAlgo (idiff's own metrics).
+// OpenImageIO's ImageBufAlgo (idiff's own metrics), in the OpenImageIO plugin.
 #include "image/diff.h"
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+
+#include "image/oiio/plugin.h"
 
 namespace glint {
 
@@ -41,18 +41,16 @@ ChannelMap commonChannels(const Image& a, const Image& b) {
   return map;
 }
 
-// The channels `order` of `image` as an ImageBuf at origin 0,0: the pixel grids are compared,
-// whatever the files' data-window origins.
-OIIO::ImageBuf select(const Image& image, const std::vector<int>& order) {
+// The channels `order` of `image`, interleaved: the pixel grids are compared, whatever the
+// files' data-window origins.
+std::vector<float> select(const Image& image, const std::vector<int>& order) {
   const int nch = int(order.size());
-  OIIO::ImageBuf out(OIIO::ImageSpec(image.width, image.height, nch, OIIO::TypeDesc::FLOAT));
   std::vector<float> px(image.pixelCount() * size_t(nch));
   for (size_t i = 0; i < image.pixelCount(); ++i)
     for (int c = 0; c < nch; ++c)
       px[i * size_t(nch) + size_t(c)] =
           image.pixels[i * size_t(image.channels) + size_t(order[size_t(c)])];
-  out.set_pixels(out.roi(), OIIO::TypeDesc::FLOAT, px.data());
-  return out;
+  return px;
 }
 
 }  // namespace
@@ -85,41 +83,32 @@ DiffResult diffImages(const std::string& pathA, const std::string& pathB, const 
   if (map.names.empty())
     throw ImageReadError(fmt::format("{}: no channels in common with {}", pathA, pathB));
   r.channels = map.names;
-  OIIO::ImageBuf A = select(fileA, map.a);
-  OIIO::ImageBuf B = select(fileB, map.b);
   r.pixels = uint64_t(fileA.pixelCount());
-
-  namespace IBA = OIIO::ImageBufAlgo;
-  IBA::CompareResults cr = IBA::compare(A, B, float(t.fail), float(t.warn));
-  // cr.error is also set when pixels fail; only a recorded message is a real error.
-  if (std::string why = OIIO::geterror(); cr.error && !why.empty())
-    throw ImageReadError(fmt::format("{} vs {}: {}", pathA, pathB, why));
-  r.meanAbsError = cr.meanerror;
-  r.rmse = cr.rms_error;
-  r.psnr = cr.rms_error > 0 ? 20.0 * std::log10(1.0 / cr.rms_error)
-                            : std::numeric_limits<double>::infinity();
-  r.maxError = cr.maxerror;
-  r.maxX = cr.maxx;
-  r.maxY = cr.maxy;
-  r.maxChannel = cr.maxc >= 0 && cr.maxc < int(r.channels.size()) ? r.channels[cr.maxc] : "";
-  r.failPixels = cr.nfail;
-  r.warnPixels = cr.nwarn;
+  const oiio::CompareStats cr = oiio::plugin().compare(
+      select(fileA, map.a), select(fileB, map.b), fileA.width, fileA.height,
+      int(map.names.size()), float(t.fail), float(t.warn));
+  if (!cr.error.empty()) throw ImageReadError(fmt::format("{} vs {}: {}", pathA, pathB, cr.error));
+  r.meanAbsError = cr.meanError;
+  r.rmse = cr.rmsError;
+  r.psnr = cr.rmsError > 0 ? 20.0 * std::log10(1.0 / cr.rmsError)
+                           : std::numeric_limits<double>::infinity();
+  r.maxError = cr.maxError;
+  r.maxX = cr.maxX;
+  r.maxY = cr.maxY;
+  r.maxChannel = cr.maxChannel >= 0 && cr.maxChannel < int(r.channels.size())
+                     ? r.channels[size_t(cr.maxChannel)]
+                     : "";
+  r.failPixels = cr.failPixels;
+  r.warnPixels = cr.warnPixels;
   double pixels = double(std::max<uint64_t>(r.pixels, 1));
-  r.failPixelPercent = 100.0 * double(cr.nfail) / pixels;
-  r.warnPixelPercent = 100.0 * double(cr.nwarn) / pixels;
-
-  // Relative MSE (as in Rousselle et al. / Mitsuba's tests): (a−b)² / (b² + 0.01), averaged.
-  OIIO::ImageBuf diff = IBA::sub(A, B);
-  OIIO::ImageBuf relative = IBA::div(IBA::mul(diff, diff), IBA::add(IBA::mul(B, B), 0.01f));
-  IBA::PixelStats stats = IBA::computePixelStats(relative);
-  double sum = 0;
-  for (float avg : stats.avg) sum += avg;
-  r.relMse = stats.avg.empty() ? 0 : sum / double(stats.avg.size());
+  r.failPixelPercent = 100.0 * double(cr.failPixels) / pixels;
+  r.warnPixelPercent = 100.0 * double(cr.warnPixels) / pixels;
+  r.relMse = cr.relMse;
 
   // idiff's rule: more than P % of the pixels over the threshold.
-  if (double(cr.nfail) > t.failPercent / 100.0 * double(r.pixels))
+  if (double(cr.failPixels) > t.failPercent / 100.0 * double(r.pixels))
     r.verdict = DiffVerdict::Fail;
-  else if (double(cr.nwarn) > t.warnPercent / 100.0 * double(r.pixels))
+  else if (double(cr.warnPixels) > t.warnPercent / 100.0 * double(r.pixels))
     r.verdict = DiffVerdict::Warn;
   return r;
 }

@@ -1,8 +1,8 @@
-// glint — the one image reader and the one atomic image writer, on OpenImageIO.
+// glint — the one image reader and the one atomic image writer: OpenEXR through the OpenEXR
+// library (exr.cpp), every other format through the OpenImageIO plugin (oiio/plugin.h).
 #include "image/io.h"
 
 #include <Imath/half.h>
-#include <OpenImageIO/imageio.h>
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <unistd.h>
@@ -14,6 +14,10 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <functional>
+
+#include "image/exr.h"
+#include "image/oiio/plugin.h"
 
 namespace fs = std::filesystem;
 
@@ -32,63 +36,6 @@ Format formatOf(const std::string& path) {
   if (ext == ".jpg" || ext == ".jpeg") return Format::Jpeg;
   if (ext == ".tif" || ext == ".tiff") return Format::Tiff;
   return Format::Unknown;
-}
-
-// ---- metadata --------------------------------------------------------------------------------
-
-void addMetadata(OIIO::ImageSpec& spec, const ImageMetadata& meta) {
-  spec.attribute("glint:scene", meta.scene);
-  spec.attribute("glint:spp", meta.spp);
-  spec.attribute("glint:seed", std::to_string(meta.seed));  // 64-bit: no EXR integer holds it
-  double seconds = meta.renderSeconds;
-  spec.attribute("glint:render_seconds", OIIO::TypeDesc::DOUBLE, &seconds);
-  spec.attribute("glint:accel", meta.accel);
-  spec.attribute("glint:integrator", meta.integrator);
-  double time = meta.time;
-  spec.attribute("glint:time", OIIO::TypeDesc::DOUBLE, &time);
-  if (!meta.stop.empty()) {
-    spec.attribute("glint:stop", meta.stop);
-    double error = meta.error;
-    spec.attribute("glint:error", OIIO::TypeDesc::DOUBLE, &error);
-  }
-}
-
-// glint's attributes of an image (what addMetadata wrote); absent ones keep their defaults.
-ImageMetadata metadataOf(const OIIO::ImageSpec& spec) {
-  ImageMetadata meta;
-  meta.scene = spec.get_string_attribute("glint:scene");
-  meta.spp = spec.get_int_attribute("glint:spp");
-  meta.seed = std::strtoull(spec.get_string_attribute("glint:seed", "0").c_str(), nullptr, 10);
-  meta.renderSeconds = spec.get_float_attribute("glint:render_seconds");
-  meta.accel = spec.get_string_attribute("glint:accel");
-  meta.integrator = spec.get_string_attribute("glint:integrator");
-  if (const OIIO::ParamValue* t = spec.find_attribute("glint:time", OIIO::TypeDesc::DOUBLE))
-    meta.time = t->get<double>();
-  meta.stop = spec.get_string_attribute("glint:stop");
-  if (const OIIO::ParamValue* e = spec.find_attribute("glint:error", OIIO::TypeDesc::DOUBLE))
-    meta.error = e->get<double>();
-  return meta;
-}
-
-PixelType pixelTypeOf(OIIO::TypeDesc t) {
-  if (t == OIIO::TypeDesc::HALF) return PixelType::Half;
-  if (t == OIIO::TypeDesc::UINT8) return PixelType::UInt8;
-  if (t == OIIO::TypeDesc::UINT16) return PixelType::UInt16;
-  return PixelType::Float;
-}
-
-OIIO::TypeDesc typeDescOf(PixelType t) {
-  switch (t) {
-    case PixelType::UInt8:
-      return OIIO::TypeDesc::UINT8;
-    case PixelType::UInt16:
-      return OIIO::TypeDesc::UINT16;
-    case PixelType::Half:
-      return OIIO::TypeDesc::HALF;
-    case PixelType::Float:
-      break;
-  }
-  return OIIO::TypeDesc::FLOAT;
 }
 
 // ---- atomic write ----------------------------------------------------------------------------
@@ -135,23 +82,15 @@ void syncFile(const fs::path& path) {
   ::close(fd);
 }
 
-void writeAtomically(const std::string& target, const OIIO::ImageSpec& spec,
-                     const std::vector<float>& pixels) {
+// Runs `write` on a temporary file beside `target`, then renames it over `target`. `write`
+// throws OutputError on failure.
+void writeAtomically(const std::string& target,
+                     const std::function<void(const std::string& file)>& write) {
   TempFile temp{temporaryPath(fs::path(target))};
   auto fail = [&](const std::string& why) {
     return OutputError(fmt::format("cannot write '{}': {}", target, why));
   };
-
-  auto out = OIIO::ImageOutput::create(target);
-  if (!out) throw fail(OIIO::geterror());
-  if (!out->open(temp.path.string(), spec)) throw fail(out->geterror());
-  if (!out->write_image(OIIO::TypeDesc::FLOAT, pixels.data())) {
-    std::string why = out->geterror();
-    out->close();
-    throw fail(why);
-  }
-  if (!out->close()) throw fail(out->geterror());
-  out.reset();
+  write(temp.path.string());
   syncFile(temp.path);
 
   std::error_code ec;
@@ -183,41 +122,12 @@ Image readImage(const std::string& path, bool pixels) {
   if (!fs::exists(path, ec)) throw ImageReadError(fmt::format("{}: no such file", path));
   if (fs::is_directory(path, ec))
     throw ImageReadError(fmt::format("{}: is a folder, not an image", path));
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) {
-    std::string why = OIIO::geterror();
-    throw DecodeError(path, why.empty() ? "cannot read the image" : why, false);
-  }
-  const OIIO::ImageSpec spec = in->spec();
+  if (isExrFile(path)) return readExrImage(path, pixels);
   Image image;
-  image.format = in->format_name();
-  image.width = spec.width;
-  image.depth = std::max(spec.depth, 1);
-  image.height = spec.height * image.depth;
-  image.channels = spec.nchannels;
-  image.names = spec.channelnames;
-  image.x = spec.x, image.y = spec.y;
-  image.fullX = spec.full_x, image.fullY = spec.full_y;
-  image.fullWidth = spec.full_width, image.fullHeight = spec.full_height;
-  image.floatingPoint = spec.format.is_floating_point();  // as stored, not as read
-  image.type = pixelTypeOf(spec.format);
-  for (const OIIO::TypeDesc& t : spec.channelformats)
-    if (t == OIIO::TypeDesc::HALF) image.type = PixelType::Half;
-  image.meta = metadataOf(spec);
-  image.hasMeta = spec.find_attribute("glint:scene") != nullptr;
-  image.hasSeed = spec.find_attribute("glint:seed") != nullptr;
-  image.hasTime = spec.find_attribute("glint:time", OIIO::TypeDesc::DOUBLE) != nullptr;
-  for (const OIIO::ParamValue& p : spec.extra_attribs)
-    if (p.name().string().rfind("glint:", 0) == 0)
-      image.glintAttributes.emplace_back(p.name().string(), spec.metadata_val(p));
-  image.checksum = spec.get_string_attribute("glint:checksum");
-  if (!pixels) return image;
-
-  image.pixels.resize(image.pixelCount() * size_t(image.channels));
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data())) {
-    std::string why = in->geterror();
-    throw DecodeError(path, why.empty() ? "cannot read the image" : why, true);
-  }
+  std::string why;
+  bool afterHeader = false;
+  if (!oiio::plugin().readImage(path, pixels, &image, &why, &afterHeader))
+    throw DecodeError(path, why.empty() ? "cannot read the image" : why, afterHeader);
   return image;
 }
 
@@ -249,34 +159,30 @@ void writeImageFile(const std::string& path, Image image) {
       image.pixels.size() != image.pixelCount() * size_t(nch))
     throw OutputError(fmt::format("cannot write '{}': the image is empty", path));
 
-  OIIO::ImageSpec spec(image.width, image.height, nch, typeDescOf(image.type));
-  if (!image.names.empty()) {
-    spec.channelnames = image.names;
-    spec.alpha_channel = image.channel("A");
-    spec.z_channel = image.channel("Z");
-  }
   if (format == Format::Exr) {
-    // A crop is the data window of the whole frame (the display window).
-    spec.x = image.x, spec.y = image.y;
-    spec.full_x = image.fullX, spec.full_y = image.fullY;
-    spec.full_width = image.fullWidth > 0 ? image.fullWidth : image.width;
-    spec.full_height = image.fullHeight > 0 ? image.fullHeight : image.height;
-    if (image.type == PixelType::Half && spec.z_channel >= 0) {
-      spec.channelformats.assign(size_t(nch), OIIO::TypeDesc::HALF);
-      spec.channelformats[size_t(spec.z_channel)] = OIIO::TypeDesc::FLOAT;
+    // Unnamed channels get OpenImageIO's default names, as before.
+    if (image.names.size() != size_t(nch)) {
+      image.names.clear();
+      for (int c = 0; c < nch; ++c)
+        image.names.push_back(c < 4 ? std::string(1, "RGBA"[c]) : fmt::format("channel{}", c));
     }
-    spec.attribute("compression", "zip");
-    // Round half channels here rather than in OIIO's conversion, so the checksum is of the
-    // values the file holds (the rounding is the same: Imath's, to nearest even).
+    // Round half channels first (Imath's rounding, to nearest even, as OpenEXR's), so the
+    // checksum is of the values the file holds.
+    const int z = image.channel("Z");
     if (image.type == PixelType::Half)
       for (size_t i = 0; i < image.pixels.size(); ++i)
-        if (int(i % size_t(nch)) != spec.z_channel)
-          image.pixels[i] = float(Imath::half(image.pixels[i]));
-    spec.attribute("glint:checksum", pixelChecksum(image.pixels, spec.channelnames));
+        if (int(i % size_t(nch)) != z) image.pixels[i] = float(Imath::half(image.pixels[i]));
+    const std::string checksum = pixelChecksum(image.pixels, image.names);
+    writeAtomically(path, [&](const std::string& file) {
+      writeExrImage(file, path, image, checksum);
+    });
+    return;
   }
-  spec.attribute("Software", "glint");
-  if (image.hasMeta) addMetadata(spec, image.meta);
-  writeAtomically(path, spec, image.pixels);
+  writeAtomically(path, [&](const std::string& file) {
+    std::string failure;
+    if (!oiio::plugin().writeImage(file, path, image, &failure))
+      throw OutputError(fmt::format("cannot write '{}': {}", path, failure));
+  });
 }
 
 std::string pixelChecksum(const std::vector<float>& pixels,

@@ -1,9 +1,10 @@
-// glint — the one image reader and the one image writer (OpenImageIO underneath; its types stay
-// in io.cpp). Every image glint reads (environment maps, diff, tonemap, assemble, --resume) goes
-// through readImage; every image it writes goes through writeImageFile: atomically (temporary
-// file, then rename), with glint's metadata, and an EXR with the checksum of its pixels.
-// Image textures are the exception: they are read by OIIO's TextureSystem (materials/), which
-// needs its own tiled, MIP-mapped cache for filtered lookups.
+// glint — the one image reader and the one image writer. Every image glint reads (environment
+// maps, diff, tonemap, assemble, --resume) goes through readImage; every image it writes goes
+// through writeImageFile: atomically (temporary file, then rename), with glint's metadata, and
+// an EXR with the checksum of its pixels. OpenEXR files go through the OpenEXR library
+// (exr.h); every other format through OpenImageIO, in the plugin glint loads only when it needs
+// it (oiio/plugin.h). Image textures are the exception: they are read by OIIO's TextureSystem
+// (materials/image_texture.h), which needs its own tiled, MIP-mapped cache for filtered lookups.
 #pragma once
 
 #include <cstdint>
@@ -90,7 +91,8 @@ class DecodeError : public ImageReadError {
   bool afterHeader_;
 };
 
-// Reads `path` (any format OpenImageIO reads); with `pixels` false, everything but the pixels.
+// Reads `path` (OpenEXR, known by its magic number, or any format OpenImageIO reads); with
+// `pixels` false, everything but the pixels.
 // Throws ImageReadError "<path>: no such file" or "<path>: is a folder, not an image", and
 // DecodeError when the file does not decode.
 Image readImage(const std::string& path, bool pixels = true);

@@ -1,7 +1,8 @@
 // glint — image textures through OpenImageIO's TextureSystem: MIP-mapped, filtered lookups with
 // wrap modes, from images in memory (glTF buffers) or files, decoded from sRGB or linear.
 //
-// OpenImageIO stays behind this header (glint_materials links it privately).
+// OpenImageIO stays behind this header: the TextureSystem lives in the OpenImageIO plugin
+// (image/oiio/textures.cpp), which glint loads the first time a scene has an image texture.
 #pragma once
 
 #include <memory>
@@ -23,9 +24,8 @@ enum class ColorEncoding { Linear, Srgb };
 // Lookups are thread-safe and deterministic; add images before looking them up (adding is
 // thread-safe too, and never disturbs lookups of images added earlier).
 class TextureImages {
-  struct Image;
-
  public:
+  struct Image;  // one image of the set; defined by the backend
   // Names one image of this set; default-constructed = invalid.
   struct Handle {
     const Image* image = nullptr;
@@ -81,9 +81,31 @@ class TextureImages {
   Vec4f lookup(Handle h, const TexCoord2& c, TextureWrap wrapS, TextureWrap wrapT,
                TextureFilter filter) const;
 
+ // What serves the set: OpenImageIO's TextureSystem, in the plugin (image/oiio/textures.cpp).
+  // Each member does what the TextureImages member of the same name promises.
+  class Backend {
+   public:
+    virtual ~Backend() = default;
+    virtual Handle addPixels(const std::string& name, int width, int height, int channels,
+                             const std::vector<float>& pixels, ColorEncoding enc) = 0;
+    virtual Handle addEncoded(const std::string& name, std::shared_ptr<const std::string> bytes,
+                              ColorEncoding enc) = 0;
+    virtual void startDecoding() = 0;
+    virtual std::vector<std::pair<std::string, std::string>> waitForDecodes() = 0;
+    virtual Handle addFile(const std::string& path, ColorEncoding enc) = 0;
+    virtual Handle findEncoded(const std::string& name, const std::string* bytes) const = 0;
+    virtual Handle findFile(const std::string& path, ColorEncoding enc) const = 0;
+    virtual size_t size() const = 0;
+    virtual bool contains(const std::string& name) const = 0;
+    virtual int width(Handle h) const = 0;
+    virtual int height(Handle h) const = 0;
+    virtual int channels(Handle h) const = 0;
+    virtual Vec4f lookup(Handle h, const TexCoord2& c, TextureWrap wrapS, TextureWrap wrapT,
+                         TextureFilter filter) const = 0;
+  };
+
  private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
+  std::unique_ptr<Backend> impl_;
 };
 
 // An encoded image file in memory, as OpenImageIO reads it (PNG, JPEG, WebP, BMP, GIF).

@@ -108,8 +108,4 @@ Vec4f TextureLookups::operator()(const Texture* texture) {
   return v;
 }
 
-float srgbToLinear(float v) {
-  return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
-}
-
 }  // namespace glint

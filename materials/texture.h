@@ -162,6 +162,8 @@ class CheckerTexture final : public Texture {
 enum class TextureWrap { Repeat, Clamp, Mirror, Black };
 
 // sRGB transfer function (IEC 61966-2-1), encoded value -> linear.
-float srgbToLinear(float v);
+inline float srgbToLinear(float v) {
+  return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+}
 
 }  // namespace glint
