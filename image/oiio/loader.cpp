@@ -48,8 +48,9 @@ const Plugin* load() {
       tried += "\n  " + path + ": no such file";
       continue;
     }
-    // RTLD_LOCAL: OpenImageIO's libraries stay out of the global symbol scope.
-    void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    // RTLD_LOCAL: OpenImageIO's libraries stay out of the global symbol scope. RTLD_LAZY: the
+    // module's own calls bind on first use (most of its libraries bind everything at load).
+    void* handle = ::dlopen(path.c_str(), RTLD_LAZY | RTLD_LOCAL);
     if (!handle) {
       const char* why = ::dlerror();
       tried += "\n  " + path + ": " + (why ? why : "cannot be loaded");
