@@ -147,7 +147,7 @@ Image readExrImage(const std::string& path, bool pixels) {
     image.fullHeight = display.max.y - display.min.y + 1;
 
     std::vector<ChannelOrder> order;
-    bool anyHalf = false, anyFloat = false, allHalf = true;
+    bool anyHalf = false, anyFloat = false;
     for (auto it = h.channels().begin(); it != h.channels().end(); ++it) {
       const Imf::Channel& c = it.channel();
       if (c.xSampling != 1 || c.ySampling != 1)
@@ -157,14 +157,13 @@ Image readExrImage(const std::string& path, bool pixels) {
                           false);
       anyHalf |= c.type == Imf::HALF;
       anyFloat |= c.type != Imf::UINT;
-      allHalf &= c.type == Imf::HALF;
       order.emplace_back(it.name());
     }
     std::sort(order.begin(), order.end());
     for (const ChannelOrder& c : order) image.names.push_back(c.name);
     image.channels = int(order.size());
-    // As OpenImageIO's merged type: all half is Half; any half at all reads as Half too.
-    image.type = anyHalf || allHalf ? PixelType::Half : PixelType::Float;
+    // As io.h says (and as OpenImageIO's reader gave it): Half when any channel is half.
+    image.type = anyHalf ? PixelType::Half : PixelType::Float;
     image.floatingPoint = anyFloat;
     readMetadata(h, &image);
     if (!pixels) return image;

@@ -276,6 +276,8 @@ class TextureCache {
       imageWhere_[name] = img.where;
       return pixels_[key] = images().addEncoded(
                  name, img.encoded, srgb ? ColorEncoding::Srgb : ColorEncoding::Linear);
+    } catch (const FailureError&) {
+      throw;  // not the scene's fault (the OpenImageIO plugin is missing): exit code 1
     } catch (const std::exception& e) {
       throw SceneError(td.where, e.what());
     }

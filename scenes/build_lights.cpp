@@ -122,6 +122,8 @@ std::unique_ptr<Light> makeEnvironmentLight(const EnvironmentDesc& env) {
   Film film;
   try {
     film = readSceneLinear(env.image);
+  } catch (const FailureError&) {
+    throw;  // not the scene's fault (the OpenImageIO plugin is missing): exit code 1
   } catch (const std::exception& e) {
     // The sidecar's "image" key, or the command line's --env itself.
     throw SceneError(env.where.file == "command line" ? env.where : env.where.child("image"),

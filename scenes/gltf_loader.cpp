@@ -535,6 +535,8 @@ ImageDesc convertImage(const gltf::Image& im, const tinygltf::Image& file, size_
   try {
     const EncodedImageInfo info = probeEncodedImage(*d.encoded);
     d.width = info.width, d.height = info.height, d.channels = info.channels, d.bits = info.bits;
+  } catch (const FailureError&) {
+    throw;  // not the file's fault (the OpenImageIO plugin is missing): exit code 1
   } catch (const std::exception& e) {
     throw SceneError(im.where, e.what());
   }

@@ -155,6 +155,14 @@ TEST(ImageIo, OnlyOtherFormatsNeedTheOpenImageIOPlugin) {
   EXPECT_NE(png.err.find("missing/libglint_oiio.so"), std::string::npos) << png.err;
   EXPECT_FALSE(std::filesystem::exists(dir + "/ball.png"));
   EXPECT_EQ(test::listFolder(dir), (std::vector<std::string>{"ball.exr", "ball.json"}));
+
+  // An image texture needs it too; its absence is not the scene's fault (exit code 1, not 2).
+  test::CommandResult textured = test::runGlint(
+      "render '" + test::dataDir() + "/scenes/textured_quad.gltf' -q --spp 1 -o '" + dir +
+      "/quad.exr'");
+  EXPECT_EQ(textured.exitCode, 1) << textured.err;
+  EXPECT_NE(textured.err.find("OpenImageIO plugin"), std::string::npos) << textured.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/quad.exr"));
 }
 
 }  // namespace
