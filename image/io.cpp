@@ -105,12 +105,6 @@ const char* temporaryOutputInFlight() { return inFlight.load() ? inFlightPath : 
 
 // ---- reading ---------------------------------------------------------------------------------
 
-int Image::channel(const std::string& name) const {
-  for (size_t c = 0; c < names.size(); ++c)
-    if (names[c] == name) return int(c);
-  return -1;
-}
-
 std::string Image::attribute(const std::string& name) const {
   for (const auto& [key, value] : glintAttributes)
     if (key == name) return value;

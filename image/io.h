@@ -72,7 +72,11 @@ struct Image {
   std::vector<std::pair<std::string, std::string>> glintAttributes;
   std::string checksum;
 
-  int channel(const std::string& name) const;            // index, or -1
+  int channel(const std::string& name) const {  // index, or -1 (inline: the plugin uses it)
+    for (size_t c = 0; c < names.size(); ++c)
+      if (names[c] == name) return int(c);
+    return -1;
+  }
   std::string attribute(const std::string& name) const;  // glint attribute text, or "(none)"
   size_t pixelCount() const { return size_t(width) * size_t(height); }
 };

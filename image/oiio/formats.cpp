@@ -71,12 +71,6 @@ OIIO::TypeDesc typeDescOf(PixelType t) {
   return OIIO::TypeDesc::FLOAT;
 }
 
-int channelIndex(const Image& image, const char* name) {
-  for (size_t c = 0; c < image.names.size(); ++c)
-    if (image.names[c] == name) return int(c);
-  return -1;
-}
-
 // The channels of a width × height × channels buffer as an ImageBuf at origin 0,0.
 OIIO::ImageBuf bufferOf(const std::vector<float>& px, int width, int height, int channels) {
   OIIO::ImageBuf out(OIIO::ImageSpec(width, height, channels, OIIO::TypeDesc::FLOAT));
@@ -132,8 +126,8 @@ class OiioPlugin final : public Plugin {
     OIIO::ImageSpec spec(image.width, image.height, image.channels, typeDescOf(image.type));
     if (!image.names.empty()) {
       spec.channelnames = image.names;
-      spec.alpha_channel = channelIndex(image, "A");
-      spec.z_channel = channelIndex(image, "Z");
+      spec.alpha_channel = image.channel("A");
+      spec.z_channel = image.channel("Z");
     }
     spec.attribute("Software", "glint");
     if (image.hasMeta) addMetadata(spec, image.meta);
