@@ -8,10 +8,9 @@ namespace glint {
 
 namespace {
 
-SurfaceInteraction shapeInteraction(const GeometryScene& scene, const Ray& ray, const Hit& hit) {
+SurfaceInteraction shapeInteraction(const GeometryScene& scene, const Ray& ray, const Hit& hit,
+                                    const PlacedShape& placed) {
   const Instance& inst = scene.instances[hit.instance];
-  // A moving shape where it was at the ray's time: the placement traversal intersected.
-  PlacedShape placed = scene.placedShape(hit.instance, ray.time);
   ShapeSurface s = placed.surface(ray, ShapeHit{hit.t, hit.prim});
   SurfaceInteraction si;
   si.p = s.p;
@@ -230,9 +229,14 @@ Vec3f instanceRayTransformError(const Transform& xf, Vec3f p) {
 }  // namespace
 
 SurfaceInteraction computeSurfaceInteraction(const GeometryScene& scene, const Ray& ray,
-                                             const Hit& hit, SurfaceNeeds needs) {
+                                             const Hit& hit, SurfaceNeeds needs,
+                                             const PlacedShape* placed) {
   const Instance& inst = scene.instances[hit.instance];
-  if (inst.isShape()) return shapeInteraction(scene, ray, hit);
+  if (inst.isShape()) {
+    if (placed) return shapeInteraction(scene, ray, hit, *placed);
+    // A moving shape where it was at the ray's time: the placement traversal intersected.
+    return shapeInteraction(scene, ray, hit, scene.placedShape(hit.instance, ray.time));
+  }
   if (inst.moves() || scene.meshes[inst.mesh].deforms())
     return movingTriangleInteraction(scene, ray, hit, needs, inst);
   return triangleInteraction(scene, ray, hit, needs, inst, inst.worldFromObject, false, false);

@@ -70,8 +70,11 @@ struct SurfaceInteraction {
 // is re-evaluated from the vertices and barycentrics, which is far more accurate than o + t d,
 // with its error bound propagated through the instance transform. Analytic shapes: their own
 // surface() (re-projected point, error bound, normal, uv, dp/du, dp/dv) in world space. A moving
-// instance is placed by its transform at ray.time (Instance::worldFromObjectAt).
+// instance is placed by its transform at ray.time (Instance::worldFromObjectAt). `placed`, when
+// given, is the hit shape instance's static placement made beforehand (RenderScene::placedShape),
+// which saves making it again for this hit.
 SurfaceInteraction computeSurfaceInteraction(const GeometryScene& scene, const Ray& ray,
-                                             const Hit& hit, SurfaceNeeds needs = {});
+                                             const Hit& hit, SurfaceNeeds needs = {},
+                                             const PlacedShape* placed = nullptr);
 
 }  // namespace glint

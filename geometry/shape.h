@@ -23,6 +23,7 @@
 // re-hits the surface it leaves. There is no fixed epsilon anywhere.
 #pragma once
 
+#include <bit>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -77,11 +78,13 @@ struct Crossing {
 // (CsgShape::addLeaf); everything else passes none.
 struct SurfaceTolerance {
   std::array<std::array<float, 4>, 3> m{};
+  // True when every entry is zero (+0 or -0). Branch-free over the twelve entries: every CSG
+  // leaf span asks, and the early-exit loop this replaced was a percent of a CSG render.
   bool none() const {
+    uint32_t bits = 0;
     for (const auto& row : m)
-      for (float x : row)
-        if (x != 0) return false;
-    return true;
+      for (float x : row) bits |= std::bit_cast<uint32_t>(x) & 0x7fffffffu;
+    return bits == 0;
   }
 };
 

@@ -202,6 +202,10 @@ void writeExrImage(const std::string& file, const std::string& target, const Ima
   const Imath::Box2i data({image.x, image.y}, {image.x + width - 1, image.y + height - 1});
   Imf::Header h(display, data);
   h.compression() = Imf::ZIP_COMPRESSION;
+  // Deflate's fastest level: on glint's float channels (the variance's mantissas are noise)
+  // it makes files within 0.2% of the default level's size in 7-10% less time
+  // (benchmarks/README.md, "Writing EXR").
+  h.zipCompressionLevel() = 1;
   h.insert("Software", Imf::StringAttribute("glint"));
   if (image.hasMeta) writeMetadata(h, image.meta);
   h.insert("glint:checksum", Imf::StringAttribute(checksum));

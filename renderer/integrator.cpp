@@ -64,7 +64,8 @@ SurfaceInteraction Integrator::shadingPoint(const Ray& ray, const Hit& hit, cons
                                             uint32_t materialIndex,
                                             MovingFrame* movingFrame) const {
   const MaterialShading& s = shading_[materialIndex];
-  SurfaceInteraction si = computeSurfaceInteraction(scene_.geometry, ray, hit, s.needs);
+  SurfaceInteraction si = computeSurfaceInteraction(scene_.geometry, ray, hit, s.needs,
+                                                    scene_.placedShape(hit.instance));
   if (s.objectSpace) {
     // A moving object's texture moves with it: its frame at the ray's time.
     const Instance& inst = scene_.geometry.instances[hit.instance];

@@ -61,4 +61,13 @@ SceneFeatures detectFeatures(const RenderScene& scene, const IntegratorSettings&
   return f;
 }
 
+void RenderScene::buildAccelerator(const std::string& name) {
+  accel = makeAccelerator(name, geometry);
+  placedShapes.assign(geometry.instances.size(), std::nullopt);
+  for (uint32_t i = 0; i < geometry.instances.size(); ++i) {
+    const Instance& inst = geometry.instances[i];
+    if (inst.isShape() && !inst.moves()) placedShapes[i].emplace(geometry.placedShape(i));
+  }
+}
+
 }  // namespace glint

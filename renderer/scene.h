@@ -2,6 +2,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -50,7 +51,18 @@ struct RenderScene {
   SceneFeatures features;
   // Participating media (renderer/volume.h); null when the scene has none (Feature::Volumes).
   std::unique_ptr<MediaScene> media;
-  std::unique_ptr<Accelerator> accel;  // built last, over `geometry`
+  std::unique_ptr<Accelerator> accel;  // built last, over `geometry` (buildAccelerator)
+  // Per instance, its analytic shape placed in the world once, for shading: the placement's
+  // inverse and flags are not worked out again at every hit. Empty for meshes and moving shapes
+  // (placed at each ray's time), and empty altogether unless buildAccelerator made it.
+  std::vector<std::optional<PlacedShape>> placedShapes;
+
+  // Builds `accel` over `geometry` and fills `placedShapes`: once the geometry is final.
+  void buildAccelerator(const std::string& name);
+  // The static placement of shape instance `i`, or null (a mesh, a moving shape, or none built).
+  const PlacedShape* placedShape(uint32_t i) const {
+    return i < placedShapes.size() && placedShapes[i] ? &*placedShapes[i] : nullptr;
+  }
 
   // Radiance along an escaping ray of unit direction d: the environment lights', or the
   // background (which lights nothing) when there are none.

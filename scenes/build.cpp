@@ -925,7 +925,7 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
   scene.features = detectFeatures(scene, desc.render.integrator, notes);
 
   auto accelStart = Clock::now();
-  scene.accel = makeAccelerator(desc.render.accel, scene.geometry);
+  scene.buildAccelerator(desc.render.accel);
   auto accelEnd = Clock::now();
   if (options.decodeImages) textures.waitForDecodes();
   auto end = Clock::now();

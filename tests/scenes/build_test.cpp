@@ -2,7 +2,9 @@
 // and which features a scene calls for.
 #include <gtest/gtest.h>
 
+#include "geometry/interaction.h"
 #include "scenes/build.h"
+#include "scenes/sidecar.h"
 
 namespace glint {
 namespace {
@@ -133,6 +135,68 @@ TEST(Build, PhongThatReflectsMoreThanItReceivesIsRejected) {
   } catch (const SceneError& e) {
     EXPECT_EQ(e.where().pointer, "/materials/0");
   }
+}
+
+// Shading takes a static shape's placement from the scene (made once, with the accelerator)
+// instead of making it at every hit; a moving shape is placed at the ray's time and a mesh has
+// none. The surface details must be those of a placement made for the hit itself.
+TEST(Build, StaticShapesArePlacedOnceAndShadeAsPlacedPerHit) {
+  SceneDescription d;
+  d.file = "scene.json";
+  applySceneJsonText(R"({
+    "render": {"integrator": "whitted", "camera": "c"},
+    "cameras": [{"name": "c", "position": [0, 1, 6], "look_at": [0, 0, 0], "yfov_degrees": 50,
+                 "shutter": [0, 0.5]}],
+    "materials": [{"name": "m", "type": "lambert", "diffuse": [0.6, 0.5, 0.4]}],
+    "objects": [
+      {"name": "cut", "type": "csg", "material": "m",
+       "transform": [{"rotate": {"axis": [1, 1, 0], "degrees": 37}}, {"translate": [-1.5, 0, 0]}],
+       "tree": {"op": "difference", "children": [
+         {"type": "box", "min": [-0.8, -0.8, -0.8], "max": [0.8, 0.8, 0.8]},
+         {"type": "cylinder", "radius": 0.5, "height": 2,
+          "transform": [{"translate": [0, -1, 0]}, {"rotate": {"axis": [0, 0, 1], "degrees": 90}}]}]}},
+      {"name": "ball", "type": "sphere", "radius": 0.7, "material": "m",
+       "transform": [{"scale": [1, 0.5, 1.5]}, {"rotate": {"axis": [0, 1, 0], "degrees": 20}},
+                     {"translate": [1.5, 0, 0]}]},
+      {"name": "mover", "type": "sphere", "center": [0, 1.5, 0], "radius": 0.3, "material": "m",
+       "animation": {"translation": {"keys": [[0, [0, 0, 0]], [1, [0, 0.4, 0]]]}}},
+      {"type": "plane", "point": [0, -1, 0], "normal": [0, 1, 0], "material": "m"}]})",
+                     d.file, SceneJsonKind::Scene, &d);
+  d.meshes = {unitTriangle()};
+  d.instances = {{0, Transform::translate({0, 0, -3}), "tri", {}}};
+  const RenderScene s = buildRenderScene(d);
+  ASSERT_EQ(s.placedShapes.size(), s.geometry.instances.size());
+  int placed = 0, moving = 0;
+  for (uint32_t i = 0; i < s.geometry.instances.size(); ++i) {
+    const Instance& inst = s.geometry.instances[i];
+    EXPECT_EQ(s.placedShape(i) != nullptr, inst.isShape() && !inst.moves()) << "instance " << i;
+    placed += s.placedShape(i) != nullptr;
+    moving += inst.isShape() && inst.moves();
+  }
+  EXPECT_EQ(placed, 3);  // the CSG tree, the ball and the plane
+  EXPECT_EQ(moving, 1);
+
+  // Rays through a grid over the picture: every shape hit shades the same either way.
+  int shapeHits = 0;
+  for (int y = 0; y < 24; ++y)
+    for (int x = 0; x < 32; ++x) {
+      const Vec3f target{-3 + 6 * (x + 0.5f) / 32, 2 - 3.5f * (y + 0.5f) / 24, 0};
+      const Ray ray{{0, 1, 6}, target - Vec3f{0, 1, 6}, 0, kInfinity, 0.3f};
+      Hit hit;
+      if (!s.accel->closestHit(ray, &hit)) continue;
+      const PlacedShape* p = s.placedShape(hit.instance);
+      if (!p) continue;
+      ++shapeHits;
+      const SurfaceInteraction a = computeSurfaceInteraction(s.geometry, ray, hit, {}, p);
+      const SurfaceInteraction b = computeSurfaceInteraction(s.geometry, ray, hit);
+      EXPECT_EQ(a.p, b.p);
+      EXPECT_EQ(a.pError, b.pError);
+      EXPECT_EQ(a.ng, b.ng);
+      EXPECT_EQ(a.uv, b.uv);
+      EXPECT_EQ(a.dpdu, b.dpdu);
+      EXPECT_EQ(a.materialSlot, b.materialSlot);
+    }
+  EXPECT_GT(shapeHits, 300);
 }
 
 }  // namespace
