@@ -10,6 +10,9 @@
 #include <map>
 #include <mutex>
 #include <set>
+#include <string>
+
+#include "image/install_layout.h"
 
 namespace OCIO = OCIO_NAMESPACE;
 
@@ -37,6 +40,17 @@ OCIO::ConstConfigRcPtr loadCached(const std::string& path) {
   return config;
 }
 
+// The config used without $OCIO: an installed glint's (PREFIX/share/glint/ocio, see
+// image/install_layout.h), else the source tree's, whose path the build compiled in.
+std::string defaultConfigPath() {
+  static const std::string path = [] {
+    const std::filesystem::path installed =
+        installedFile(executableFolder(), "share/glint/ocio/config.ocio");
+    return installed.empty() ? std::string(GLINT_DEFAULT_OCIO_CONFIG) : installed.string();
+  }();
+  return path;
+}
+
 LoadedConfig currentConfig() {
   std::lock_guard<std::mutex> lock(configMutex);
   std::string envError;
@@ -49,14 +63,14 @@ LoadedConfig currentConfig() {
       static std::set<std::string> warned;
       if (warned.insert(env).second)
         fmt::print(stderr, "glint: warning: cannot load $OCIO config '{}' ({}); using '{}'\n", env,
-                   envError, GLINT_DEFAULT_OCIO_CONFIG);
+                   envError, defaultConfigPath());
     }
   }
   try {
-    return {loadCached(GLINT_DEFAULT_OCIO_CONFIG), GLINT_DEFAULT_OCIO_CONFIG};
+    return {loadCached(defaultConfigPath()), defaultConfigPath()};
   } catch (const OCIO::Exception& e) {
     std::string message = fmt::format("cannot load the OpenColorIO config '{}': {}",
-                                      GLINT_DEFAULT_OCIO_CONFIG, e.what());
+                                      defaultConfigPath(), e.what());
     if (!envError.empty()) message += fmt::format(" (nor $OCIO '{}': {})", env, envError);
     throw ColorError(message);
   }
@@ -109,7 +123,7 @@ std::pair<std::string, std::string> resolve(const LoadedConfig& loaded, const st
 
 // ---- public API ------------------------------------------------------------------------------
 
-std::string defaultOcioConfigPath() { return GLINT_DEFAULT_OCIO_CONFIG; }
+std::string defaultOcioConfigPath() { return defaultConfigPath(); }
 
 ColorConfigInfo colorConfigInfo() {
   LoadedConfig loaded = currentConfig();

@@ -33,7 +33,9 @@ struct ColorConfigInfo {
   std::vector<DisplayViews> displays;  // active displays, in config order
 };
 
-// The config file glint ships (compiled-in path; exists in the source tree).
+// The config file glint ships, used without $OCIO: an installed glint's
+// (PREFIX/share/glint/ocio/config.ocio, image/install_layout.h), else the source tree's
+// (its path compiled in).
 std::string defaultOcioConfigPath();
 
 // Loads (or reuses) the config in effect now: $OCIO, falling back to the shipped config with a

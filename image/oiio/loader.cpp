@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "image/install_layout.h"
 #include "image/oiio/plugin.h"
 
 namespace glint::oiio {
@@ -15,12 +16,6 @@ namespace glint::oiio {
 namespace {
 
 constexpr const char* kModuleName = "libglint_oiio.so";
-
-std::filesystem::path executableFolder() {
-  std::error_code ec;
-  std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
-  return ec ? std::filesystem::path() : exe.parent_path();
-}
 
 // The places plugin() tries, in order.
 std::vector<std::string> candidates() {
