@@ -204,7 +204,7 @@ void writeExrImage(const std::string& file, const std::string& target, const Ima
   h.compression() = Imf::ZIP_COMPRESSION;
   // Deflate's fastest level: on glint's float channels (the variance's mantissas are noise)
   // it makes files within 0.2% of the default level's size in 7-10% less time
-  // (benchmarks/README.md, "Writing EXR").
+  // (benchmarks/README.md, "EXR writing at deflate level 1").
   h.zipCompressionLevel() = 1;
   h.insert("Software", Imf::StringAttribute("glint"));
   if (image.hasMeta) writeMetadata(h, image.meta);
