@@ -2,7 +2,6 @@
 #pragma once
 
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -52,16 +51,21 @@ struct RenderScene {
   // Participating media (renderer/volume.h); null when the scene has none (Feature::Volumes).
   std::unique_ptr<MediaScene> media;
   std::unique_ptr<Accelerator> accel;  // built last, over `geometry` (buildAccelerator)
-  // Per instance, its analytic shape placed in the world once, for shading: the placement's
-  // inverse and flags are not worked out again at every hit. Empty for meshes and moving shapes
-  // (placed at each ray's time), and empty altogether unless buildAccelerator made it.
-  std::vector<std::optional<PlacedShape>> placedShapes;
+  // The static analytic shapes placed in the world once, for shading: the placement's inverse
+  // and flags are not worked out again at every hit. placedShapeOf[instance] indexes
+  // placedShapes (kNoPlacement for meshes and moving shapes, placed at each ray's time); both
+  // stay empty in a scene without static shapes, and unless buildAccelerator made them.
+  static constexpr uint32_t kNoPlacement = ~0u;
+  std::vector<PlacedShape> placedShapes;
+  std::vector<uint32_t> placedShapeOf;
 
   // Builds `accel` over `geometry` and fills `placedShapes`: once the geometry is final.
   void buildAccelerator(const std::string& name);
   // The static placement of shape instance `i`, or null (a mesh, a moving shape, or none built).
   const PlacedShape* placedShape(uint32_t i) const {
-    return i < placedShapes.size() && placedShapes[i] ? &*placedShapes[i] : nullptr;
+    return i < placedShapeOf.size() && placedShapeOf[i] != kNoPlacement
+               ? &placedShapes[placedShapeOf[i]]
+               : nullptr;
   }
 
   // Radiance along an escaping ray of unit direction d: the environment lights', or the

@@ -165,7 +165,7 @@ TEST(Build, StaticShapesArePlacedOnceAndShadeAsPlacedPerHit) {
   d.meshes = {unitTriangle()};
   d.instances = {{0, Transform::translate({0, 0, -3}), "tri", {}}};
   const RenderScene s = buildRenderScene(d);
-  ASSERT_EQ(s.placedShapes.size(), s.geometry.instances.size());
+  ASSERT_EQ(s.placedShapeOf.size(), s.geometry.instances.size());
   int placed = 0, moving = 0;
   for (uint32_t i = 0; i < s.geometry.instances.size(); ++i) {
     const Instance& inst = s.geometry.instances[i];
@@ -197,6 +197,15 @@ TEST(Build, StaticShapesArePlacedOnceAndShadeAsPlacedPerHit) {
       EXPECT_EQ(a.materialSlot, b.materialSlot);
     }
   EXPECT_GT(shapeHits, 300);
+
+  // A scene of meshes alone keeps no per-instance table.
+  SceneDescription meshes;
+  meshes.meshes = {unitTriangle()};
+  meshes.instances = {{0, Transform::translate({1, 0, 0}), "a", {}},
+                      {0, Transform::translate({-1, 0, 0}), "b", {}}};
+  const RenderScene m = buildRenderScene(meshes);
+  EXPECT_TRUE(m.placedShapeOf.empty());
+  EXPECT_EQ(m.placedShape(0), nullptr);
 }
 
 }  // namespace
