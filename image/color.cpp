@@ -45,7 +45,7 @@ OCIO::ConstConfigRcPtr loadCached(const std::string& path) {
 std::string defaultConfigPath() {
   static const std::string path = [] {
     const std::filesystem::path installed =
-        installedFile(executableFolder(), "share/glint/ocio/config.ocio");
+        installedFile(executableFolder(), kInstalledOcioConfig);
     return installed.empty() ? std::string(GLINT_DEFAULT_OCIO_CONFIG) : installed.string();
   }();
   return path;

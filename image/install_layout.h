@@ -23,12 +23,22 @@ inline std::filesystem::path executableFolder() {
   return ec ? std::filesystem::path() : exe.parent_path();
 }
 
-// `relative` (e.g. "share/glint/ocio/config.ocio") under the prefix an executable in
-// `binFolder` was installed to (binFolder/..), or empty when no such file is there.
+// Where `cmake --install` puts each file, relative to the prefix.
+inline constexpr const char* kInstalledPlugin = "lib/glint/libglint_oiio.so";
+inline constexpr const char* kInstalledOcioConfig = "share/glint/ocio/config.ocio";
+
+// `relative` (e.g. kInstalledOcioConfig) under the prefix an executable in `binFolder` was
+// installed to (binFolder/..), whether or not the file is there.
+inline std::filesystem::path installedPath(const std::filesystem::path& binFolder,
+                                           const std::filesystem::path& relative) {
+  return (binFolder / ".." / relative).lexically_normal();
+}
+
+// The same, or empty when no such file is there (or binFolder is empty).
 inline std::filesystem::path installedFile(const std::filesystem::path& binFolder,
                                            const std::filesystem::path& relative) {
   if (binFolder.empty()) return {};
-  const std::filesystem::path p = (binFolder / ".." / relative).lexically_normal();
+  const std::filesystem::path p = installedPath(binFolder, relative);
   std::error_code ec;
   return std::filesystem::is_regular_file(p, ec) ? p : std::filesystem::path();
 }

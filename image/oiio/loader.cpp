@@ -1,6 +1,5 @@
 // glint — finding and loading the OpenImageIO plugin (see plugin.h).
 #include <dlfcn.h>
-#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -27,7 +26,7 @@ std::vector<std::string> candidates() {
   const std::filesystem::path exe = executableFolder();
   if (!exe.empty()) {
     paths.push_back((exe / kModuleName).string());
-    paths.push_back((exe / ".." / "lib" / "glint" / kModuleName).lexically_normal().string());
+    paths.push_back(installedPath(exe, kInstalledPlugin).string());
   }
 #ifdef GLINT_OIIO_PLUGIN_BUILD_PATH
   paths.emplace_back(GLINT_OIIO_PLUGIN_BUILD_PATH);
