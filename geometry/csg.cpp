@@ -310,9 +310,10 @@ bool CsgShape::intersect(const Ray& ray, ShapeHit* hit) const {
   return false;
 }
 
-ShapeSurface CsgShape::surface(const Ray& ray, const ShapeHit& hit) const {
+ShapeSurface CsgShape::surface(const Ray& ray, const ShapeHit& hit,
+                               SurfaceDetails details) const {
   const Leaf& leaf = leaves_[hit.part >> 3];
-  ShapeSurface s = leaf.placed.surface(ray, ShapeHit{hit.t, hit.part & 7});
+  ShapeSurface s = leaf.placed.surface(ray, ShapeHit{hit.t, hit.part & 7}, details);
   if (leaf.flipNormal) s.n = -s.n;
   return s;
 }

@@ -9,9 +9,10 @@ namespace glint {
 namespace {
 
 SurfaceInteraction shapeInteraction(const GeometryScene& scene, const Ray& ray, const Hit& hit,
-                                    const PlacedShape& placed) {
+                                    SurfaceNeeds needs, const PlacedShape& placed) {
   const Instance& inst = scene.instances[hit.instance];
-  ShapeSurface s = placed.surface(ray, ShapeHit{hit.t, hit.prim});
+  ShapeSurface s = placed.surface(ray, ShapeHit{hit.t, hit.prim},
+                                  SurfaceDetails{.uv = needs.uvs, .tangents = needs.tangents});
   SurfaceInteraction si;
   si.p = s.p;
   si.pError = s.pError;
@@ -233,9 +234,9 @@ SurfaceInteraction computeSurfaceInteraction(const GeometryScene& scene, const R
                                              const PlacedShape* placed) {
   const Instance& inst = scene.instances[hit.instance];
   if (inst.isShape()) {
-    if (placed) return shapeInteraction(scene, ray, hit, *placed);
+    if (placed) return shapeInteraction(scene, ray, hit, needs, *placed);
     // A moving shape where it was at the ray's time: the placement traversal intersected.
-    return shapeInteraction(scene, ray, hit, scene.placedShape(hit.instance, ray.time));
+    return shapeInteraction(scene, ray, hit, needs, scene.placedShape(hit.instance, ray.time));
   }
   if (inst.moves() || scene.meshes[inst.mesh].deforms())
     return movingTriangleInteraction(scene, ray, hit, needs, inst);

@@ -15,8 +15,8 @@ struct SurfaceNeeds {
   // p and pError, for spawning rays. Unlit (eyelight) shading reads only normals and wo, so
   // it skips the hit point and its error bound.
   bool position = true;
-  // dp/du and dp/dv of triangles (from their UVs), for bump and normal maps and texture
-  // footprints. Analytic shapes always provide theirs.
+  // dp/du and dp/dv (triangles: from their UVs; analytic shapes: from their own uv), for bump
+  // and normal maps and texture footprints.
   bool tangents = false;
 };
 
@@ -28,12 +28,13 @@ struct SurfaceInteraction {
   Vec3f ns;                 // unit shading normal (world), in ng's hemisphere
   Vec3f nsUnperturbed;      // ns before a bump or normal map changed it (set only then)
   Vec3f wo;                 // unit direction back along the ray
-  Vec2f uv;                 // TEXCOORD_0 (or barycentrics when the mesh has none); a shape's own uv
+  Vec2f uv;                 // TEXCOORD_0 (or barycentrics when the mesh has none); a shape's own
+                            // uv (only with SurfaceNeeds::uvs; zero otherwise)
   Vec2f uv1;                // TEXCOORD_1 (uv when the mesh has no second set)
   // How uv1 changes with uv across the triangle (columns d uv1 / du, d uv1 / dv): carries uv's
   // pixel footprint over to uv1 (identity without a second set).
   Vec2f duv1du{1, 0}, duv1dv{0, 1};
-  Vec3f dpdu, dpdv;         // world-space partial derivatives of p by uv (triangles: only with
+  Vec3f dpdu, dpdv;         // world-space partial derivatives of p by uv (only with
                             // SurfaceNeeds::tangents; zero otherwise)
   Vec4f color{1, 1, 1, 1};  // COLOR_0, white when absent
   // The mesh's TANGENT (world, unit) and the bitangent's handedness, when it has one (only

@@ -159,18 +159,18 @@ bool PlacedShape::occluded(const Ray& ray) const {
   return intersect(ray, &hit);
 }
 
-ShapeSurface PlacedShape::surface(const Ray& ray, const ShapeHit& hit) const {
-  if (identity_) return shape_->surface(ray, hit);
+ShapeSurface PlacedShape::surface(const Ray& ray, const ShapeHit& hit,
+                                  SurfaceDetails details) const {
+  if (identity_) return shape_->surface(ray, hit, details);
   float dt;
   Ray r = toObject(ray, &dt);
-  ShapeSurface s = shape_->surface(r, ShapeHit{hit.t - dt, hit.part});
+  ShapeSurface s = shape_->surface(r, ShapeHit{hit.t - dt, hit.part}, details);
   ShapeSurface w;
   w.p = placement_.point(s.p, s.pError, &w.pError);
   // The inverse transpose keeps solids' normals outward even when handedness flips.
   w.n = normalize(placement_.normal(s.n));
   w.uv = s.uv;
-  w.dpdu = placement_.vector(s.dpdu);
-  w.dpdv = placement_.vector(s.dpdv);
+  if (details.tangents) w.dpdu = placement_.vector(s.dpdu), w.dpdv = placement_.vector(s.dpdv);
   return w;
 }
 

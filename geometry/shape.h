@@ -52,6 +52,15 @@ struct ShapeSurface {
   Vec3f dpdu, dpdv;  // partial derivatives of p with respect to uv (bump mapping)
 };
 
+// Which of a surface's optional details surface() works out; the point, its error bound and
+// the normal it always does. A material without textures reads no uv, and one without bump
+// or normal maps or filtered textures no dp/du and dp/dv (SurfaceNeeds): for a sphere the uv
+// alone is an acos and an atan2 per hit. Details not asked for are zero.
+struct SurfaceDetails {
+  bool uv = true;
+  bool tangents = true;  // dpdu and dpdv
+};
+
 // A point drawn on a shape's surface.
 struct ShapeSample {
   Vec3f p;        // on the surface
@@ -114,8 +123,9 @@ class Shape {
     ShapeHit hit;
     return intersect(ray, &hit);
   }
-  // Surface details of a hit this shape reported for `ray`.
-  virtual ShapeSurface surface(const Ray& ray, const ShapeHit& hit) const = 0;
+  // Surface details of a hit this shape reported for `ray` (`details`: which optional ones).
+  virtual ShapeSurface surface(const Ray& ray, const ShapeHit& hit,
+                               SurfaceDetails details) const = 0;
   // True for closed convex solids that can be CSG leaves (sphere, box, capped cylinder and
   // cone, the plane as the half-space below it).
   virtual bool isSolid() const { return false; }
@@ -212,7 +222,7 @@ class PlacedShape {
   Bounds3f bounds() const;
   bool intersect(const Ray& ray, ShapeHit* hit) const;
   bool occluded(const Ray& ray) const;
-  ShapeSurface surface(const Ray& ray, const ShapeHit& hit) const;
+  ShapeSurface surface(const Ray& ray, const ShapeHit& hit, SurfaceDetails details = {}) const;
   // `tolerance` is in the shape's object space.
   bool span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) const;
 

@@ -36,7 +36,7 @@ bool Box::intersect(const Ray& ray, ShapeHit* hit) const {
   return span(ray, {}, &s) && firstAccepted(ray, s, hit);
 }
 
-ShapeSurface Box::surface(const Ray& ray, const ShapeHit& hit) const {
+ShapeSurface Box::surface(const Ray& ray, const ShapeHit& hit, SurfaceDetails details) const {
   int axis = int(hit.part / 2) % 3;
   bool upperFace = hit.part % 2 == 1;
   V3 pd = rayPoint(ray, hit.t);
@@ -62,12 +62,10 @@ ShapeSurface Box::surface(const Ray& ray, const ShapeHit& hit) const {
   static constexpr int kU[3] = {2, 0, 0}, kV[3] = {1, 2, 1};
   int ua = kU[axis], va = kV[axis];
   float su = upper_[ua] - lower_[ua], sv = upper_[va] - lower_[va];
-  s.uv = {std::clamp((s.p[ua] - lower_[ua]) / su, 0.0f, 1.0f),
-          std::clamp((s.p[va] - lower_[va]) / sv, 0.0f, 1.0f)};
-  s.dpdu = {};
-  s.dpdv = {};
-  s.dpdu[ua] = su;
-  s.dpdv[va] = sv;
+  if (details.uv)
+    s.uv = {std::clamp((s.p[ua] - lower_[ua]) / su, 0.0f, 1.0f),
+            std::clamp((s.p[va] - lower_[va]) / sv, 0.0f, 1.0f)};
+  if (details.tangents) s.dpdu[ua] = su, s.dpdv[va] = sv;
   return s;
 }
 

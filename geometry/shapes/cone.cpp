@@ -109,15 +109,15 @@ bool Cone::intersect(const Ray& ray, ShapeHit* hit) const {
   return nappeSpan(ray, &side, t) && firstOnOpenSide(ray, side, t, height_, hit);
 }
 
-ShapeSurface Cone::surface(const Ray& ray, const ShapeHit& hit) const {
+ShapeSurface Cone::surface(const Ray& ray, const ShapeHit& hit, SurfaceDetails details) const {
   V3 pd = rayPoint(ray, hit.t);
   double r = radius_, h = height_, k = r / h;
   ShapeSurface s;
   if (hit.part == 0) {
+    // cos(phi) and sin(phi) straight from the point (x and z over their length in the xz
+    // plane); at the apex phi is 0.
     double rho = std::sqrt(pd.x * pd.x + pd.z * pd.z);
-    double phi = rho > 0 ? std::atan2(pd.z, pd.x) : 0;
-    if (phi < 0) phi += 2 * kPiD;
-    double cosPhi = std::cos(phi), sinPhi = std::sin(phi);
+    double cosPhi = rho > 0 ? pd.x / rho : 1.0, sinPhi = rho > 0 ? pd.z / rho : 0.0;
     // Gradient of x^2 + z^2 - k^2 (h - y)^2, written per unit radius (finite at the apex).
     s.n = normalized({cosPhi, k, sinPhi});
     // The point on the cone at height y, re-projected radially.
@@ -141,9 +141,15 @@ ShapeSurface Cone::surface(const Ray& ray, const ShapeHit& hit) const {
       q = place(yMin);
     else if (h - y < wMin && wMin < h / 2)
       q = place(h - wMin);
-    s.uv = {float(phi / (2 * kPiD)), float(q.y / h)};
-    s.dpdu = (V3(-q.z, 0, q.x) * (2 * kPiD)).toFloat();
-    s.dpdv = (V3(-k * cosPhi, 1, -k * sinPhi) * h).toFloat();
+    if (details.uv) {
+      double phi = rho > 0 ? std::atan2(pd.z, pd.x) : 0;
+      if (phi < 0) phi += 2 * kPiD;
+      s.uv = {float(phi / (2 * kPiD)), float(q.y / h)};
+    }
+    if (details.tangents) {
+      s.dpdu = (V3(-q.z, 0, q.x) * (2 * kPiD)).toFloat();
+      s.dpdv = (V3(-k * cosPhi, 1, -k * sinPhi) * h).toFloat();
+    }
     return s;
   }
   double x = pd.x, z = pd.z, rho = std::sqrt(x * x + z * z);
@@ -151,10 +157,8 @@ ShapeSurface Cone::surface(const Ray& ray, const ShapeHit& hit) const {
   double slack = gammaD(8) * r;
   s.p = roundedDiskPoint(x, 0, z, r, slack, &s.pError);
   s.n = {0, -1, 0};
-  s.uv = {std::clamp(float(x / (2 * r) + 0.5), 0.0f, 1.0f),
-          std::clamp(float(z / (2 * r) + 0.5), 0.0f, 1.0f)};
-  s.dpdu = {2 * radius_, 0, 0};
-  s.dpdv = {0, 0, 2 * radius_};
+  if (details.uv) s.uv = capUv(x, z, r);
+  if (details.tangents) s.dpdu = {2 * radius_, 0, 0}, s.dpdv = {0, 0, 2 * radius_};
   return s;
 }
 

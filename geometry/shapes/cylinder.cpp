@@ -65,7 +65,8 @@ bool Cylinder::intersect(const Ray& ray, ShapeHit* hit) const {
   return sideSpan(ray, &side, &t[0], &t[1]) && firstOnOpenSide(ray, side, t, height_, hit);
 }
 
-ShapeSurface Cylinder::surface(const Ray& ray, const ShapeHit& hit) const {
+ShapeSurface Cylinder::surface(const Ray& ray, const ShapeHit& hit,
+                               SurfaceDetails details) const {
   V3 pd = rayPoint(ray, hit.t);
   double r = radius_, h = height_;
   ShapeSurface s;
@@ -77,11 +78,15 @@ ShapeSurface Cylinder::surface(const Ray& ray, const ShapeHit& hit) const {
     double slack = gammaD(8) * (r + h);
     s.p = roundedPoint({x, y, z}, {slack, slack, slack}, &s.pError);
     s.n = normalized({x, 0, z});
-    double phi = std::atan2(z, x);
-    if (phi < 0) phi += 2 * kPiD;
-    s.uv = {float(phi / (2 * kPiD)), float(y / h)};
-    s.dpdu = (V3(-z, 0, x) * (2 * kPiD)).toFloat();
-    s.dpdv = {0, height_, 0};
+    if (details.uv) {
+      double phi = std::atan2(z, x);
+      if (phi < 0) phi += 2 * kPiD;
+      s.uv = {float(phi / (2 * kPiD)), float(y / h)};
+    }
+    if (details.tangents) {
+      s.dpdu = (V3(-z, 0, x) * (2 * kPiD)).toFloat();
+      s.dpdv = {0, height_, 0};
+    }
     return s;
   }
   // Caps: y exact on the cap plane, (x, z) clamped into the disk.
@@ -91,10 +96,8 @@ ShapeSurface Cylinder::surface(const Ray& ray, const ShapeHit& hit) const {
   double slack = gammaD(8) * r;
   s.p = roundedDiskPoint(x, y, z, r, slack, &s.pError);
   s.n = {0, hit.part == 1 ? -1.0f : 1.0f, 0};
-  s.uv = {std::clamp(float(x / (2 * r) + 0.5), 0.0f, 1.0f),
-          std::clamp(float(z / (2 * r) + 0.5), 0.0f, 1.0f)};
-  s.dpdu = {2 * radius_, 0, 0};
-  s.dpdv = {0, 0, 2 * radius_};
+  if (details.uv) s.uv = capUv(x, z, r);
+  if (details.tangents) s.dpdu = {2 * radius_, 0, 0}, s.dpdv = {0, 0, 2 * radius_};
   return s;
 }
 

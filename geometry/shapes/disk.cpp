@@ -24,7 +24,7 @@ bool Disk::intersect(const Ray& ray, ShapeHit* hit) const {
   return true;
 }
 
-ShapeSurface Disk::surface(const Ray& ray, const ShapeHit& hit) const {
+ShapeSurface Disk::surface(const Ray& ray, const ShapeHit& hit, SurfaceDetails details) const {
   prim::V3 pd = rayPoint(ray, hit.t);
   double r = radius_, x = pd.x, z = pd.z, rho = std::sqrt(x * x + z * z);
   if (rho > r) x *= r / rho, z *= r / rho;
@@ -32,10 +32,8 @@ ShapeSurface Disk::surface(const Ray& ray, const ShapeHit& hit) const {
   double slack = gammaD(8) * r;
   s.p = roundedDiskPoint(x, 0, z, r, slack, &s.pError);
   s.n = {0, 1, 0};
-  s.uv = {std::clamp(float(x / (2 * r) + 0.5), 0.0f, 1.0f),
-          std::clamp(float(z / (2 * r) + 0.5), 0.0f, 1.0f)};
-  s.dpdu = {2 * radius_, 0, 0};
-  s.dpdv = {0, 0, 2 * radius_};
+  if (details.uv) s.uv = prim::capUv(x, z, r);
+  if (details.tangents) s.dpdu = {2 * radius_, 0, 0}, s.dpdv = {0, 0, 2 * radius_};
   return s;
 }
 
@@ -51,8 +49,7 @@ std::optional<ShapeSample> Disk::sample(Vec2f u) const {
   ShapeSample s;
   s.p = prim::roundedDiskPoint(x, 0, z, r, prim::gammaD(8) * r, &s.pError);
   s.n = {0, 1, 0};
-  s.uv = {std::clamp(float(x / (2 * r) + 0.5), 0.0f, 1.0f),
-          std::clamp(float(z / (2 * r) + 0.5), 0.0f, 1.0f)};
+  s.uv = prim::capUv(x, z, r);
   s.pdf = 1 / area();
   return s;
 }

@@ -79,7 +79,7 @@ bool Plane::intersect(const Ray& ray, ShapeHit* hit) const {
   return span(ray, {}, &s) && firstAccepted(ray, s, hit);
 }
 
-ShapeSurface Plane::surface(const Ray& ray, const ShapeHit& hit) const {
+ShapeSurface Plane::surface(const Ray& ray, const ShapeHit& hit, SurfaceDetails details) const {
   // In float. p = o + t d is near the hit (each component within gamma(3) (|o_i| + |t d_i|) of
   // the exact o + t d); projecting it onto the plane leaves it off the plane by the
   // projection's own roundings alone, whatever p's error was: rel = p - q and the dot product s
@@ -97,10 +97,11 @@ ShapeSurface Plane::surface(const Ray& ray, const ShapeHit& hit) const {
   for (int i = 0; i < 3; ++i)  // 1 + gamma(4): this line's own roundings
     s.pError[i] = nextFloatUp((gamma(3) * (ao[i] + atd[i]) + gamma(8) * m) * (1 + gamma(4)));
   s.n = normal_;
-  const Vec3f onPlane = on - point_;
-  s.uv = {dot(onPlane, frame_.s) / uvScale_, dot(onPlane, frame_.t) / uvScale_};
-  s.dpdu = frame_.s * uvScale_;
-  s.dpdv = frame_.t * uvScale_;
+  if (details.uv) {
+    const Vec3f onPlane = on - point_;
+    s.uv = {dot(onPlane, frame_.s) / uvScale_, dot(onPlane, frame_.t) / uvScale_};
+  }
+  if (details.tangents) s.dpdu = frame_.s * uvScale_, s.dpdv = frame_.t * uvScale_;
   return s;
 }
 

@@ -119,6 +119,13 @@ inline Vec3f roundedDiskPoint(double x, double y, double z, double r, double sla
   return p;
 }
 
+// The uv of a point (x, z) on a disk of radius r about the y axis (disks, cylinder and cone
+// caps): x and z mapped to [0, 1].
+inline Vec2f capUv(double x, double z, double r) {
+  return {std::clamp(float(x / (2 * r) + 0.5), 0.0f, 1.0f),
+          std::clamp(float(z / (2 * r) + 0.5), 0.0f, 1.0f)};
+}
+
 // A uniform point on the cap of radius r in the plane y, facing `normalY` (+1 or -1): the
 // cylinder's and the cone's caps, with the uv their surface() gives (x and z mapped to [0, 1]).
 // The caller sets the pdf.
@@ -128,8 +135,7 @@ inline ShapeSample sampleCap(Vec2f u, double r, double y, float normalY) {
   const double x = q.x * r, z = q.y * r;
   s.p = roundedDiskPoint(x, y, z, r, gammaD(8) * r, &s.pError);
   s.n = {0, normalY, 0};
-  s.uv = {std::clamp(float(x / (2 * r) + 0.5), 0.0f, 1.0f),
-          std::clamp(float(z / (2 * r) + 0.5), 0.0f, 1.0f)};
+  s.uv = capUv(x, z, r);
   return s;
 }
 

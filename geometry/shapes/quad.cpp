@@ -64,7 +64,7 @@ bool Quad::intersect(const Ray& ray, ShapeHit* hit) const {
   return true;
 }
 
-ShapeSurface Quad::surface(const Ray& ray, const ShapeHit& hit) const {
+ShapeSurface Quad::surface(const Ray& ray, const ShapeHit& hit, SurfaceDetails details) const {
   V3 pd = rayPoint(ray, hit.t);
   double pa[3] = {pd.x, pd.y, pd.z}, a, b;
   coordinates(pa, &a, &b);
@@ -77,9 +77,8 @@ ShapeSurface Quad::surface(const Ray& ray, const ShapeHit& hit) const {
   ShapeSurface s;
   s.p = roundedPoint(p, {slack, slack, slack}, &s.pError);
   s.n = normal_;
-  s.uv = {float(a), float(b)};
-  s.dpdu = edgeU_;
-  s.dpdv = edgeV_;
+  if (details.uv) s.uv = {float(a), float(b)};
+  if (details.tangents) s.dpdu = edgeU_, s.dpdv = edgeV_;
   return s;
 }
 

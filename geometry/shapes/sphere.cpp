@@ -63,7 +63,7 @@ bool Sphere::intersect(const Ray& ray, ShapeHit* hit) const {
   return span(ray, {}, &s) && firstAccepted(ray, s, hit);
 }
 
-ShapeSurface Sphere::surface(const Ray& ray, const ShapeHit& hit) const {
+ShapeSurface Sphere::surface(const Ray& ray, const ShapeHit& hit, SurfaceDetails details) const {
   V3 c(center_);
   V3 v = rayPoint(ray, hit.t) - c;
   double len = std::sqrt(dot(v, v));
@@ -75,18 +75,22 @@ ShapeSurface Sphere::surface(const Ray& ray, const ShapeHit& hit) const {
   s.p = roundedPoint(p, {slack, slack, slack}, &s.pError);
   s.n = normalized(rel);
   double cosTheta = std::clamp(rel.y / radius_, -1.0, 1.0);
-  double theta = std::acos(cosTheta);
-  double phi = std::atan2(rel.z, rel.x);
-  if (phi < 0) phi += 2 * kPiD;
-  s.uv = {float(phi / (2 * kPiD)), float(theta / kPiD)};
-  // p(u, v) = c + r (sin(theta) cos(phi), cos(theta), sin(theta) sin(phi)). cos(phi) and
-  // sin(phi) straight from the point (x and z over their length in the xz plane), not from phi
-  // again; at a pole phi is atan2(0, 0) = 0.
-  double sinTheta = std::sqrt(std::max(0.0, 1 - cosTheta * cosTheta));
-  const double rho = std::sqrt(rel.x * rel.x + rel.z * rel.z);
-  const double cosPhi = rho > 0 ? rel.x / rho : 1.0, sinPhi = rho > 0 ? rel.z / rho : 0.0;
-  s.dpdu = (V3(-rel.z, 0, rel.x) * (2 * kPiD)).toFloat();
-  s.dpdv = (V3(cosTheta * cosPhi, -sinTheta, cosTheta * sinPhi) * (kPiD * radius_)).toFloat();
+  if (details.uv) {
+    double theta = std::acos(cosTheta);
+    double phi = std::atan2(rel.z, rel.x);
+    if (phi < 0) phi += 2 * kPiD;
+    s.uv = {float(phi / (2 * kPiD)), float(theta / kPiD)};
+  }
+  if (details.tangents) {
+    // p(u, v) = c + r (sin(theta) cos(phi), cos(theta), sin(theta) sin(phi)). cos(phi) and
+    // sin(phi) straight from the point (x and z over their length in the xz plane), not from
+    // phi; at a pole phi is atan2(0, 0) = 0.
+    double sinTheta = std::sqrt(std::max(0.0, 1 - cosTheta * cosTheta));
+    const double rho = std::sqrt(rel.x * rel.x + rel.z * rel.z);
+    const double cosPhi = rho > 0 ? rel.x / rho : 1.0, sinPhi = rho > 0 ? rel.z / rho : 0.0;
+    s.dpdu = (V3(-rel.z, 0, rel.x) * (2 * kPiD)).toFloat();
+    s.dpdv = (V3(cosTheta * cosPhi, -sinTheta, cosTheta * sinPhi) * (kPiD * radius_)).toFloat();
+  }
   return s;
 }
 

@@ -162,14 +162,14 @@ TEST(Csg, DifferenceHitsTheCutFaceWithAnOutwardNormal) {
   ASSERT_TRUE(csg->intersect(ray, &hit));
   EXPECT_NEAR(hit.t, 5.0f, 1e-5f);
   EXPECT_EQ(csg->materialSlot(hit.part), 1u);  // the box's leaf
-  ShapeSurface s = csg->surface(ray, hit);
+  ShapeSurface s = csg->surface(ray, hit, {});
   EXPECT_NEAR(s.p.x, 0.0f, 1e-5f);
   EXPECT_NEAR(s.n.x, 1.0f, 1e-5f);
   // From -X: the sphere's own surface, normal -X.
   Ray back{{-5, 0.1f, 0.2f}, {1, 0, 0}};
   ASSERT_TRUE(csg->intersect(back, &hit));
   EXPECT_EQ(csg->materialSlot(hit.part), 0u);
-  EXPECT_LT(csg->surface(back, hit).n.x, -0.9f);
+  EXPECT_LT(csg->surface(back, hit, {}).n.x, -0.9f);
 }
 
 TEST(Csg, RayStartingInsideFindsTheExit) {
@@ -210,7 +210,7 @@ TEST(Csg, NestedDifferenceFlipsNormalsTwice) {
   ASSERT_TRUE(csg->intersect(ray, &hit));
   EXPECT_NEAR(hit.t, 9.5f, 1e-5f);
   EXPECT_EQ(csg->materialSlot(hit.part), 2u);
-  EXPECT_NEAR(csg->surface(ray, hit).n.z, 1.0f, 1e-5f);
+  EXPECT_NEAR(csg->surface(ray, hit, {}).n.z, 1.0f, 1e-5f);
   // Beside the ball, inside the tunnel, the ray passes through the whole object.
   Ray beside{{0.8f, 0, 10}, {0, 0, -1}};
   EXPECT_FALSE(csg->intersect(beside, &hit));
@@ -246,7 +246,7 @@ TEST(Csg, HalfSpaceIntersectionIsBounded) {
   Ray down{{0.2f, 5, 0}, {0, -1, 0}};
   ASSERT_TRUE(csg->intersect(down, &hit));
   EXPECT_NEAR(hit.t, 5.0f, 1e-5f);  // the flat cut at y = 0
-  EXPECT_NEAR(csg->surface(down, hit).n.y, 1.0f, 1e-5f);
+  EXPECT_NEAR(csg->surface(down, hit, {}).n.y, 1.0f, 1e-5f);
 }
 
 TEST(Csg, LeafTransformsApply) {
@@ -282,7 +282,7 @@ TEST(Csg, CoincidentFacesGiveOneAnswerAcrossTheFace) {
         ShapeHit hit;
         ASSERT_TRUE(csg->intersect(ray, &hit));
         // The result's top is the cut at y = 0 (B's bottom face, flipped up).
-        if (std::abs(hit.t - 3.0f) < 1e-4f && csg->surface(ray, hit).n.y > 0.99f)
+        if (std::abs(hit.t - 3.0f) < 1e-4f && csg->surface(ray, hit, {}).n.y > 0.99f)
           ++cut;
         else
           ++other;
@@ -327,7 +327,7 @@ TEST(Csg, FacesStoredDifferentlyStillTie) {
     // representations 6e-8 apart may be far apart).
     bool same = hit == hitPlain;
     if (same && hit) {
-      const ShapeSurface sc = csg->surface(ray, h), sp = plain.surface(ray, hp);
+      const ShapeSurface sc = csg->surface(ray, h, {}), sp = plain.surface(ray, hp, {});
       same = dot(sc.n, sp.n) > 0.999f && std::abs(dot(sc.p - sp.p, sp.n)) < 1e-6f;
     }
     differ += !same;
@@ -346,7 +346,7 @@ TEST(Csg, FacesApartByMoreThanTheTolerancesLeaveASkin) {
     ShapeHit hit;
     ASSERT_TRUE(csg->intersect(ray, &hit)) << d.x;
     EXPECT_NEAR(hit.t, 2 - 1e-4f / -d.y, 2e-5f) << d.x;
-    EXPECT_GT(csg->surface(ray, hit).n.y, 0.99f);
+    EXPECT_GT(csg->surface(ray, hit, {}).n.y, 0.99f);
   }
 }
 
@@ -365,7 +365,7 @@ TEST(Csg, RayAlongASharedFaceFollowsTheTieRule) {
   Ray along{{1, 0.5f, 0.5f}, {0, 1, 0}};
   ASSERT_TRUE(csg->intersect(along, &hit));
   EXPECT_NEAR(hit.t, 0.5f, 1e-5f);
-  EXPECT_NEAR(csg->surface(along, hit).n.y, 1.0f, 1e-5f);
+  EXPECT_NEAR(csg->surface(along, hit, {}).n.y, 1.0f, 1e-5f);
 }
 
 TEST(Csg, SpawnedRaysFromCsgSurfacesNeverReHit) {
@@ -379,7 +379,7 @@ TEST(Csg, SpawnedRaysFromCsgSurfacesNeverReHit) {
     Ray ray{o, target - o};
     ShapeHit hit;
     if (!csg->intersect(ray, &hit)) continue;
-    ShapeSurface s = csg->surface(ray, hit);
+    ShapeSurface s = csg->surface(ray, hit, {});
     // Leave on the side the ray came from, in a random direction of that hemisphere.
     Vec3f n = dot(s.n, ray.d) < 0 ? s.n : -s.n;
     Vec3f d{u(rng), u(rng), u(rng)};

@@ -205,7 +205,9 @@ TEST(EmbreeShapes, SurfaceInteractionOfAShapeHit) {
   Ray ray{target + Vec3f{3, 3, 0}, normalize(Vec3f{-3, -3, 0})};
   Hit hit;
   ASSERT_TRUE(accel->closestHit(ray, &hit));
-  SurfaceInteraction si = computeSurfaceInteraction(scene, ray, hit);
+  SurfaceNeeds needs;
+  needs.tangents = true;
+  SurfaceInteraction si = computeSurfaceInteraction(scene, ray, hit, needs);
   EXPECT_LT(distance(si.p, target), 1e-4f);
   // Gradient of (x/2)^2 + y^2 + z^2 at the object point (sqrt .5, sqrt .5, 0) -> (x/4, y, z).
   Vec3f expected = normalize(Vec3f{std::sqrt(0.5f) / 2, std::sqrt(0.5f), 0});
@@ -213,6 +215,51 @@ TEST(EmbreeShapes, SurfaceInteractionOfAShapeHit) {
   EXPECT_EQ(si.mesh, Instance::kNone);
   EXPECT_EQ(si.materialSlot, 0u);
   EXPECT_GT(lengthSquared(si.dpdu), 0.0f);
+}
+
+// A material without textures or bump maps asks for no uv and no dp/du: the shapes skip them
+// (a sphere's uv is an acos and an atan2), and what they do give must not change.
+TEST(EmbreeShapes, SurfaceDetailsNotAskedForAreZeroAndChangeNothingElse) {
+  std::mt19937 rng(11);
+  GeometryScene scene = randomShapes(rng, 24, true);
+  auto csg = std::make_unique<CsgShape>();
+  const uint32_t box =
+      csg->addLeaf(std::make_unique<Box>(Vec3f{-1, -1, -1}, Vec3f{1, 1, 1}), Transform());
+  const uint32_t ball = csg->addLeaf(std::make_unique<Sphere>(Vec3f{0, 0, 1}, 0.6f),
+                                     Transform::rotate(30, {1, 1, 0}));
+  csg->finish(csg->addOperation(CsgOperation::Difference, {box, ball}));
+  addShape(&scene, std::move(csg), Transform::translate({0, 1, 0}) * Transform::rotate(20, {0, 1, 1}));
+  auto accel = makeAccelerator("embree", scene);
+  SurfaceNeeds full, uvOnly, lean;
+  full.tangents = uvOnly.uvs = true;
+  lean.uvs = lean.tangents = uvOnly.tangents = false;
+  int hits = 0, withTangents = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const Ray ray = randomRay(rng);
+    Hit hit;
+    if (!accel->closestHit(ray, &hit)) continue;
+    ++hits;
+    const SurfaceInteraction a = computeSurfaceInteraction(scene, ray, hit, full);
+    const SurfaceInteraction b = computeSurfaceInteraction(scene, ray, hit, uvOnly);
+    const SurfaceInteraction c = computeSurfaceInteraction(scene, ray, hit, lean);
+    for (const SurfaceInteraction* x : {&b, &c}) {
+      EXPECT_EQ(x->p, a.p);
+      EXPECT_EQ(x->pError, a.pError);
+      EXPECT_EQ(x->ng, a.ng);
+      EXPECT_EQ(x->ns, a.ns);
+      EXPECT_EQ(x->frontFace, a.frontFace);
+      EXPECT_EQ(x->materialSlot, a.materialSlot);
+      EXPECT_EQ(x->dpdu, Vec3f{});
+      EXPECT_EQ(x->dpdv, Vec3f{});
+    }
+    EXPECT_EQ(b.uv.x, a.uv.x);
+    EXPECT_EQ(b.uv.y, a.uv.y);
+    EXPECT_EQ(c.uv.x, 0.0f);
+    EXPECT_EQ(c.uv.y, 0.0f);
+    withTangents += lengthSquared(cross(a.dpdu, a.dpdv)) > 0;
+  }
+  EXPECT_GT(hits, 1000);
+  EXPECT_EQ(withTangents, hits);  // asked for, every shape gives its frame
 }
 
 TEST(EmbreeShapes, CsgMaterialSlotsReachTheInteraction) {

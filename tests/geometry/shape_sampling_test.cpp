@@ -66,7 +66,7 @@ std::optional<ShapeSurface> trace(const PlacedShape& s, Vec3f o, Vec3f d) {
   Ray ray{o, d, 0, kInfinity, 0};
   ShapeHit hit;
   if (!s.intersect(ray, &hit)) return std::nullopt;
-  return s.surface(ray, hit);
+  return s.surface(ray, hit, {});
 }
 
 float uDistance(float a, float b, bool wraps) {

@@ -349,7 +349,7 @@ TEST(Shapes, RandomSurfaceHitsMatchDoubleReference) {
         EXPECT_EQ(s.enter.t, hit.t);
         EXPECT_LE(std::abs(s.enter.t - tRef), s.enter.tError * 1.0001 + 1e-15) << i;
       }
-      ShapeSurface sf = k.shape->surface(ray, hit);
+      ShapeSurface sf = k.shape->surface(ray, hit, {});
       ASSERT_TRUE(isFiniteSurface(sf));
       EXPECT_LE(std::abs(k.F(V3(sf.p))), 2 * length(sf.pError) + 1e-12 * k.size) << i;
       EXPECT_NEAR(length(sf.n), 1, 1e-5);
@@ -671,7 +671,7 @@ void expectSane(const Shape& shape, const Ray& ray) {
   ASSERT_FALSE(std::isnan(hit.t));
   EXPECT_GT(hit.t, ray.tMin);
   EXPECT_LE(hit.t, ray.tMax);
-  EXPECT_TRUE(isFiniteSurface(shape.surface(ray, hit)));
+  EXPECT_TRUE(isFiniteSurface(shape.surface(ray, hit, {})));
   Span s;
   if (shape.span(ray, {}, &s)) {
     EXPECT_FALSE(std::isnan(s.enter.t) || std::isnan(s.exit.t));
@@ -762,7 +762,7 @@ TEST(Cone, AxisParallelRaysHitSideAndCap) {
   ShapeHit hit;
   ASSERT_TRUE(cone.intersect(Ray{{0, h + 1, 0}, {0, -1, 0}}, &hit));
   EXPECT_NEAR(hit.t, 1, 1e-6);
-  EXPECT_TRUE(isFiniteSurface(cone.surface(Ray{{0, h + 1, 0}, {0, -1, 0}}, hit)));
+  EXPECT_TRUE(isFiniteSurface(cone.surface(Ray{{0, h + 1, 0}, {0, -1, 0}}, hit, {})));
 }
 
 // Rays through a rim point towards a point inside the solid: exactly one entry (side or cap),
@@ -778,7 +778,7 @@ void checkRimRays(const Shape& shape, const std::function<V3(double)>& rimPoint,
     ASSERT_TRUE(shape.intersect(ray, &hit)) << i;
     ASSERT_TRUE(hit.part == 0 || hit.part == capPart) << i;
     EXPECT_NEAR(hit.t, 1, 1e-5) << i;
-    ShapeSurface s = shape.surface(ray, hit);
+    ShapeSurface s = shape.surface(ray, hit, {});
     ASSERT_TRUE(isFiniteSurface(s));
     Span sp;
     ASSERT_TRUE(shape.span(ray, {}, &sp));
@@ -844,7 +844,7 @@ TEST(Sphere, ThinShellNeverLeaks) {
       bool isInner;
       ASSERT_TRUE(closest(ray, &hit, &isInner)) << "escaped: ray " << i << " bounce " << bounce;
       const Sphere& s = isInner ? inner : outer;
-      ShapeSurface sf = s.surface(ray, hit);
+      ShapeSurface sf = s.surface(ray, hit, {});
       // Inner sphere hit from outside, outer sphere from inside.
       double facing = prim::dot(V3(ray.d), V3(sf.n));
       if (isInner)

@@ -137,7 +137,7 @@ std::optional<LightHit> trace(const Shape& shape, Vec3f p, Vec3f w,
   Ray ray{objectFromWorld.point(p), objectFromWorld.vector(w), 0, kInfinity, 0};
   ShapeHit h;
   if (!shape.intersect(ray, &h)) return std::nullopt;
-  ShapeSurface s = shape.surface(ray, h);
+  ShapeSurface s = shape.surface(ray, h, {});
   return LightHit{p + w * h.t, normalize(world.normal(s.n))};
 }
 
