@@ -21,28 +21,40 @@ Bounds3f Plane::bounds() const {
   return {{-kInfinity, -kInfinity, -kInfinity}, {kInfinity, kInfinity, kInfinity}};
 }
 
+Plane::FloatSolve Plane::floatSolve(const Ray& ray) const {
+  // With bounds on every rounding: s, the subtraction and the dot product; dn, the dot product;
+  // each bound times 1 + gamma(2) for its own rounding.
+  const Vec3f rel = ray.o - point_;
+  FloatSolve f;
+  f.s = dot(rel, normal_), f.dn = dot(ray.d, normal_);
+  f.es = gamma(5) * dot(abs(rel), abs(normal_)) * (1 + gamma(2));
+  f.edn = gamma(3) * dot(abs(ray.d), abs(normal_)) * (1 + gamma(2));
+  return f;
+}
+
 bool Plane::span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) const {
+  return spanFrom(floatSolve(ray), ray, tolerance, out);
+}
+
+bool Plane::spanFrom(const FloatSolve& f, const Ray& ray, const SurfaceTolerance& tolerance,
+                     Span* out) const {
   const Crossing minusInf{-kInfinity, 0, 0}, plusInf{kInfinity, 0, 0};
   {
-    // In float first, with bounds on every rounding (s: the subtraction and the dot product;
-    // dn: the dot product; each bound times 1 + gamma(2) for its own rounding). Where the
-    // bound is within 16u |t| (u the unit roundoff; about 9u |t| for an axis-aligned plane,
-    // where the ray's origin is not close to the plane and the ray does not graze it), the
-    // float crossing stands; otherwise the double solve below decides. Not for CSG leaves (a
-    // tolerance given): there a crossing's error bound is part of its tie width, and 16u |t|
-    // would merge faces that the double solve's ULP keeps apart (a thin skin seen from afar).
-    const Vec3f rel = ray.o - point_;
-    const float s = dot(rel, normal_), dn = dot(ray.d, normal_);
-    const float es = gamma(5) * dot(abs(rel), abs(normal_)) * (1 + gamma(2));
-    const float edn = gamma(3) * dot(abs(ray.d), abs(normal_)) * (1 + gamma(2));
-    const float t = -s / dn, absT = std::abs(t);
+    // In float first (f). Where the crossing's bound is within 16u |t| (u the unit roundoff;
+    // about 9u |t| for an axis-aligned plane, where the ray's origin is not close to the plane
+    // and the ray does not graze it), the float crossing stands; otherwise the double solve
+    // below decides. Not for CSG leaves (a tolerance given): there a crossing's error bound is
+    // part of its tie width, and 16u |t| would merge faces that the double solve's ULP keeps
+    // apart (a thin skin seen from afar).
+    const float t = -f.s / f.dn, absT = std::abs(t);
     // The quotient of two bounded values plus its own rounding; 1 + gamma(8) covers |t| against
     // the exact quotient and the seven roundings of this line.
-    const float e = ((es + absT * edn) / (std::abs(dn) - edn) + gamma(1) * absT) * (1 + gamma(8));
-    if (tolerance.none() && std::abs(dn) > 2 * edn && std::isfinite(t) &&
+    const float e =
+        ((f.es + absT * f.edn) / (std::abs(f.dn) - f.edn) + gamma(1) * absT) * (1 + gamma(8));
+    if (tolerance.none() && std::abs(f.dn) > 2 * f.edn && std::isfinite(t) &&
         e <= 16 * kMachineEpsilon * absT) {
       const Crossing c{t, e, 0};
-      *out = dn > 0 ? Span{minusInf, c} : Span{c, plusInf};
+      *out = f.dn > 0 ? Span{minusInf, c} : Span{c, plusInf};
       return true;
     }
   }
@@ -65,18 +77,13 @@ bool Plane::span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) c
 
 bool Plane::intersect(const Ray& ray, ShapeHit* hit) const {
   // Most rays meet the plane behind their origin: shadow rays leaving a floor, or any ray
-  // above it heading up. In float, with bounds on every rounding (s: the subtraction and the
-  // dot product; dn: the dot product), "certainly on one side and certainly heading away"
-  // settles them without the double solve; anything closer to a decision takes the full path.
-  if (ray.tMin >= 0) {
-    const Vec3f rel = ray.o - point_;
-    const float s = dot(rel, normal_), dn = dot(ray.d, normal_);
-    const float es = gamma(5) * dot(abs(rel), abs(normal_)) * (1 + gamma(2));
-    const float edn = gamma(3) * dot(abs(ray.d), abs(normal_)) * (1 + gamma(2));
-    if ((s > es && dn > edn) || (s < -es && dn < -edn)) return false;
-  }
+  // above it heading up. "Certainly on one side and certainly heading away", by the float
+  // bounds, settles them; the rest take the span from the same float values.
+  const FloatSolve f = floatSolve(ray);
+  if (ray.tMin >= 0 && ((f.s > f.es && f.dn > f.edn) || (f.s < -f.es && f.dn < -f.edn)))
+    return false;
   Span s;
-  return span(ray, {}, &s) && firstAccepted(ray, s, hit);
+  return spanFrom(f, ray, {}, &s) && firstAccepted(ray, s, hit);
 }
 
 ShapeSurface Plane::surface(const Ray& ray, const ShapeHit& hit, SurfaceDetails details) const {

@@ -32,6 +32,15 @@ class Plane final : public Shape {
   float uvScale() const { return uvScale_; }
 
  private:
+  // The float values both span() and intersect() start from (plane.cpp).
+  struct FloatSolve {
+    float s, dn;    // (o - point) . n and d . n
+    float es, edn;  // bounds on their rounding errors
+  };
+  FloatSolve floatSolve(const Ray& ray) const;
+  bool spanFrom(const FloatSolve& f, const Ray& ray, const SurfaceTolerance& tolerance,
+                Span* out) const;
+
   Vec3f point_, normal_;
   Frame frame_;
   float uvScale_;
