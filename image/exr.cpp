@@ -20,6 +20,7 @@
 #include <fstream>
 #include <mutex>
 #include <thread>
+#include <type_traits>
 
 namespace glint {
 
@@ -86,18 +87,19 @@ const T* typed(const Imf::Header& h, const char* name) {
 }
 
 void readMetadata(const Imf::Header& h, Image* image) {
-  ImageMetadata& meta = image->meta;
-  if (auto* a = typed<Imf::StringAttribute>(h, "glint:scene")) meta.scene = a->value();
-  if (auto* a = typed<Imf::IntAttribute>(h, "glint:spp")) meta.spp = a->value();
-  if (auto* a = typed<Imf::StringAttribute>(h, "glint:seed"))
-    meta.seed = std::strtoull(a->value().c_str(), nullptr, 10);
-  if (auto* a = typed<Imf::DoubleAttribute>(h, "glint:render_seconds"))
-    meta.renderSeconds = a->value();
-  if (auto* a = typed<Imf::StringAttribute>(h, "glint:accel")) meta.accel = a->value();
-  if (auto* a = typed<Imf::StringAttribute>(h, "glint:integrator")) meta.integrator = a->value();
-  if (auto* a = typed<Imf::DoubleAttribute>(h, "glint:time")) meta.time = a->value();
-  if (auto* a = typed<Imf::StringAttribute>(h, "glint:stop")) meta.stop = a->value();
-  if (auto* a = typed<Imf::DoubleAttribute>(h, "glint:error")) meta.error = a->value();
+  forEachMetadataField(image->meta, [&](const char* name, auto& field, bool) {
+    using T = std::decay_t<decltype(field)>;
+    if constexpr (std::is_same_v<T, std::string>) {
+      if (auto* a = typed<Imf::StringAttribute>(h, name)) field = a->value();
+    } else if constexpr (std::is_same_v<T, int>) {
+      if (auto* a = typed<Imf::IntAttribute>(h, name)) field = a->value();
+    } else if constexpr (std::is_same_v<T, uint64_t>) {
+      if (auto* a = typed<Imf::StringAttribute>(h, name)) parseMetadataText(a->value(), &field);
+    } else {
+      static_assert(std::is_same_v<T, double>);
+      if (auto* a = typed<Imf::DoubleAttribute>(h, name)) field = a->value();
+    }
+  });
   image->hasMeta = h.find("glint:scene") != h.end();
   image->hasSeed = h.find("glint:seed") != h.end();
   image->hasTime = typed<Imf::DoubleAttribute>(h, "glint:time") != nullptr;
@@ -108,18 +110,18 @@ void readMetadata(const Imf::Header& h, Image* image) {
 }
 
 void writeMetadata(Imf::Header& h, const ImageMetadata& meta) {
-  h.insert("glint:scene", Imf::StringAttribute(meta.scene));
-  h.insert("glint:spp", Imf::IntAttribute(meta.spp));
-  // 64-bit: no EXR integer holds it.
-  h.insert("glint:seed", Imf::StringAttribute(std::to_string(meta.seed)));
-  h.insert("glint:render_seconds", Imf::DoubleAttribute(meta.renderSeconds));
-  h.insert("glint:accel", Imf::StringAttribute(meta.accel));
-  h.insert("glint:integrator", Imf::StringAttribute(meta.integrator));
-  h.insert("glint:time", Imf::DoubleAttribute(meta.time));
-  if (!meta.stop.empty()) {
-    h.insert("glint:stop", Imf::StringAttribute(meta.stop));
-    h.insert("glint:error", Imf::DoubleAttribute(meta.error));
-  }
+  forEachMetadataField(meta, [&](const char* name, const auto& field, bool whenStopped) {
+    if (whenStopped && meta.stop.empty()) return;
+    using T = std::decay_t<decltype(field)>;
+    if constexpr (std::is_same_v<T, std::string>)
+      h.insert(name, Imf::StringAttribute(field));
+    else if constexpr (std::is_same_v<T, int>)
+      h.insert(name, Imf::IntAttribute(field));
+    else if constexpr (std::is_same_v<T, uint64_t>)
+      h.insert(name, Imf::StringAttribute(metadataText(field)));
+    else
+      h.insert(name, Imf::DoubleAttribute(field));
+  });
 }
 
 }  // namespace

@@ -7,8 +7,10 @@
 // (materials/image_texture.h), which needs its own tiled, MIP-mapped cache for filtered lookups.
 #pragma once
 
+#include <charconv>
 #include <cstdint>
 #include <string>
+#include <system_error>
 #include <utility>
 #include <vector>
 
@@ -43,6 +45,49 @@ struct ImageMetadata {
   std::string stop;
   double error = 0;
 };
+
+// glint's attributes, listed once: the EXR reader and writer (exr.cpp) and the OpenImageIO
+// plugin's (oiio/formats.cpp) walk this list, so an attribute is added here and in
+// ImageMetadata and nowhere else. Calls f(name, field, whenStopped) for each field of `meta`
+// (ImageMetadata or const ImageMetadata) by reference: std::string, int, uint64_t or double.
+// Fields marked whenStopped (the stop reason and its error) are written only when `stop` is set.
+template <class Meta, class F>
+void forEachMetadataField(Meta& meta, F&& f) {
+  f("glint:scene", meta.scene, false);
+  f("glint:spp", meta.spp, false);
+  f("glint:seed", meta.seed, false);  // 64-bit: written as text, as no EXR integer holds it
+  f("glint:render_seconds", meta.renderSeconds, false);
+  f("glint:accel", meta.accel, false);
+  f("glint:integrator", meta.integrator, false);
+  f("glint:time", meta.time, false);
+  f("glint:stop", meta.stop, true);
+  f("glint:error", meta.error, true);
+}
+
+// A field's value as text (a number in its shortest form that reads back to the same value),
+// and back: how formats that keep attributes only as text store them (PNG's tEXt chunks, the
+// description of a TIFF or JPEG). parseMetadataText is false, and leaves *value alone, when
+// the whole text is not a value of that type. Inline: the OpenImageIO plugin uses them too.
+inline std::string metadataText(const std::string& value) { return value; }
+template <class Number>
+std::string metadataText(Number value) {
+  char text[32];
+  const auto [end, ec] = std::to_chars(text, text + sizeof text, value);
+  return ec == std::errc() ? std::string(text, end) : std::string();
+}
+inline bool parseMetadataText(const std::string& text, std::string* value) {
+  *value = text;
+  return true;
+}
+template <class Number>
+bool parseMetadataText(const std::string& text, Number* value) {
+  Number parsed{};
+  const char* end = text.data() + text.size();
+  const auto [stop, ec] = std::from_chars(text.data(), end, parsed);
+  if (ec != std::errc() || stop != end || text.empty()) return false;
+  *value = parsed;
+  return true;
+}
 
 // How a file stores its pixel values.
 enum class PixelType { UInt8, UInt16, Half, Float };

@@ -4,8 +4,14 @@
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cstdlib>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
 
 #include "image/oiio/plugin.h"
 #include "image/oiio/textures.h"
@@ -15,39 +21,89 @@ namespace glint::oiio {
 namespace {
 
 // ---- metadata --------------------------------------------------------------------------------
+//
+// glint's attributes (forEachMetadataField) are written as text: PNG keeps text attributes as
+// tEXt chunks but drops numbers, and TIFF, JPEG and the rest keep no attributes of their own
+// names at all, so there they go into the image description as one JSON object. Read back, a
+// field's text is parsed as its type; an attribute stored with a number type (an image another
+// program wrote) is taken as it is.
 
-void addMetadata(OIIO::ImageSpec& spec, const ImageMetadata& meta) {
-  spec.attribute("glint:scene", meta.scene);
-  spec.attribute("glint:spp", meta.spp);
-  spec.attribute("glint:seed", std::to_string(meta.seed));  // 64-bit: as in EXR files
-  double seconds = meta.renderSeconds;
-  spec.attribute("glint:render_seconds", OIIO::TypeDesc::DOUBLE, &seconds);
-  spec.attribute("glint:accel", meta.accel);
-  spec.attribute("glint:integrator", meta.integrator);
-  double time = meta.time;
-  spec.attribute("glint:time", OIIO::TypeDesc::DOUBLE, &time);
-  if (!meta.stop.empty()) {
-    spec.attribute("glint:stop", meta.stop);
-    double error = meta.error;
-    spec.attribute("glint:error", OIIO::TypeDesc::DOUBLE, &error);
-  }
+// The glint attributes to write, name and text, in forEachMetadataField's order.
+std::vector<std::pair<std::string, std::string>> metadataTexts(const ImageMetadata& meta) {
+  std::vector<std::pair<std::string, std::string>> texts;
+  forEachMetadataField(meta, [&](const char* name, const auto& field, bool whenStopped) {
+    if (whenStopped && meta.stop.empty()) return;
+    texts.emplace_back(name, metadataText(field));
+  });
+  return texts;
 }
 
-// glint's attributes of an image (what addMetadata wrote); absent ones keep their defaults.
-ImageMetadata metadataOf(const OIIO::ImageSpec& spec) {
-  ImageMetadata meta;
-  meta.scene = spec.get_string_attribute("glint:scene");
-  meta.spp = spec.get_int_attribute("glint:spp");
-  meta.seed = std::strtoull(spec.get_string_attribute("glint:seed", "0").c_str(), nullptr, 10);
-  meta.renderSeconds = spec.get_float_attribute("glint:render_seconds");
-  meta.accel = spec.get_string_attribute("glint:accel");
-  meta.integrator = spec.get_string_attribute("glint:integrator");
-  if (const OIIO::ParamValue* t = spec.find_attribute("glint:time", OIIO::TypeDesc::DOUBLE))
-    meta.time = t->get<double>();
-  meta.stop = spec.get_string_attribute("glint:stop");
-  if (const OIIO::ParamValue* e = spec.find_attribute("glint:error", OIIO::TypeDesc::DOUBLE))
-    meta.error = e->get<double>();
-  return meta;
+void addMetadata(OIIO::ImageSpec& spec, const ImageMetadata& meta, bool attributesKept) {
+  const auto texts = metadataTexts(meta);
+  if (attributesKept) {
+    for (const auto& [name, text] : texts) spec.attribute(name, text);
+    return;
+  }
+  nlohmann::ordered_json description = nlohmann::ordered_json::object();
+  for (const auto& [name, text] : texts) description[name] = text;
+  spec.attribute("ImageDescription", description.dump());
+}
+
+// One glint attribute as the file holds it: its text, and whether it was stored as text.
+struct StoredAttribute {
+  std::string name, text;
+  bool isText = true;
+};
+
+// glint's attributes of an image: its attributes named glint:..., or else those of a JSON
+// object in its description (see addMetadata).
+std::vector<StoredAttribute> storedAttributes(const OIIO::ImageSpec& spec) {
+  std::vector<StoredAttribute> stored;
+  for (const OIIO::ParamValue& p : spec.extra_attribs) {
+    if (p.name().string().rfind("glint:", 0) != 0) continue;
+    if (p.type() == OIIO::TypeDesc::STRING)
+      stored.push_back({p.name().string(), p.get_string(), true});
+    else
+      stored.push_back({p.name().string(), spec.metadata_val(p), false});
+  }
+  if (!stored.empty()) return stored;
+  const auto description =
+      nlohmann::json::parse(spec.get_string_attribute("ImageDescription"), nullptr, false);
+  if (!description.is_object()) return stored;
+  for (const auto& [name, value] : description.items())
+    if (name.rfind("glint:", 0) == 0 && value.is_string())
+      stored.push_back({name, value.get<std::string>(), true});
+  return stored;
+}
+
+const StoredAttribute* findStored(const std::vector<StoredAttribute>& stored,
+                                  const std::string& name) {
+  for (const StoredAttribute& a : stored)
+    if (a.name == name) return &a;
+  return nullptr;
+}
+
+// Fills image's metadata, its has... flags and its attribute list from `stored`; fields whose
+// text is absent or does not parse keep their defaults.
+void readMetadata(const std::vector<StoredAttribute>& stored, Image* image) {
+  forEachMetadataField(image->meta, [&](const char* name, auto& field, bool) {
+    if (const StoredAttribute* a = findStored(stored, name)) parseMetadataText(a->text, &field);
+  });
+  image->hasMeta = findStored(stored, "glint:scene") != nullptr;
+  image->hasSeed = findStored(stored, "glint:seed") != nullptr;
+  double time = 0;
+  const StoredAttribute* t = findStored(stored, "glint:time");
+  image->hasTime = t && parseMetadataText(t->text, &time);
+  if (const StoredAttribute* c = findStored(stored, "glint:checksum")) image->checksum = c->text;
+  // As the EXR reader shows them: text quoted, numbers bare (a number glint wrote as text
+  // included).
+  for (const StoredAttribute& a : stored) {
+    bool number = !a.isText;
+    forEachMetadataField(image->meta, [&](const char* name, const auto& field, bool) {
+      if (a.name == name) number = !std::is_same_v<std::decay_t<decltype(field)>, std::string>;
+    });
+    image->glintAttributes.emplace_back(a.name, number ? a.text : "\"" + a.text + "\"");
+  }
 }
 
 PixelType pixelTypeOf(OIIO::TypeDesc t) {
@@ -102,14 +158,7 @@ class OiioPlugin final : public Plugin {
     image->type = pixelTypeOf(spec.format);
     for (const OIIO::TypeDesc& t : spec.channelformats)
       if (t == OIIO::TypeDesc::HALF) image->type = PixelType::Half;
-    image->meta = metadataOf(spec);
-    image->hasMeta = spec.find_attribute("glint:scene") != nullptr;
-    image->hasSeed = spec.find_attribute("glint:seed") != nullptr;
-    image->hasTime = spec.find_attribute("glint:time", OIIO::TypeDesc::DOUBLE) != nullptr;
-    for (const OIIO::ParamValue& p : spec.extra_attribs)
-      if (p.name().string().rfind("glint:", 0) == 0)
-        image->glintAttributes.emplace_back(p.name().string(), spec.metadata_val(p));
-    image->checksum = spec.get_string_attribute("glint:checksum");
+    readMetadata(storedAttributes(spec), image);
     if (!pixels) return true;
 
     *afterHeader = true;
@@ -130,12 +179,12 @@ class OiioPlugin final : public Plugin {
       spec.z_channel = image.channel("Z");
     }
     spec.attribute("Software", "glint");
-    if (image.hasMeta) addMetadata(spec, image.meta);
     auto out = OIIO::ImageOutput::create(formatPath);
     if (!out) {
       *why = OIIO::geterror();
       return false;
     }
+    if (image.hasMeta) addMetadata(spec, image.meta, std::string(out->format_name()) == "png");
     if (!out->open(file, spec)) {
       *why = out->geterror();
       return false;

@@ -107,6 +107,66 @@ TEST(ImageIo, GlintExrRoundTripsThroughItsOwnReader) {
   EXPECT_EQ(back.checksum, pixelChecksum(back.pixels, back.names));
 }
 
+// Every glint attribute comes back as it was written, whatever the format: the EXR writer and
+// the OpenImageIO plugin walk one list of them (forEachMetadataField), and a format that keeps
+// attributes as text (PNG) hands numbers back as strings, which the reader parses.
+TEST(ImageIo, GlintAttributesRoundTripInEveryFormat) {
+  const std::string dir = test::scratchDir("ImageIo.GlintAttributesRoundTripInEveryFormat");
+  Image image;
+  image.width = 4, image.height = 2, image.channels = 4;
+  image.names = {"R", "G", "B", "A"};
+  image.fullWidth = 4, image.fullHeight = 2;
+  for (int i = 0; i < 32; ++i) image.pixels.push_back(float(i % 4) / 4.0f);
+  image.hasMeta = true;
+  image.meta.scene = "scenes/a b.json";
+  image.meta.spp = 1024;
+  image.meta.seed = 18446744073709551557ull;  // above 2^63: no integer attribute holds it
+  image.meta.renderSeconds = 12.345678912345;
+  image.meta.accel = "kdtree";
+  image.meta.integrator = "whitted";
+  image.meta.time = 1.0 / 3.0;
+  image.meta.stop = "noise-target";
+  image.meta.error = 0.0123456789012;
+  for (const char* ext : {"exr", "png", "tif", "jpg"}) {
+    SCOPED_TRACE(ext);
+    Image written = image;
+    if (std::string(ext) != "exr") written.type = PixelType::UInt8;
+    const std::string path = dir + "/a." + ext;
+    writeImageFile(path, written);
+    const Image back = readImage(path);
+    EXPECT_TRUE(back.hasMeta);
+    EXPECT_TRUE(back.hasSeed);
+    EXPECT_TRUE(back.hasTime);
+    EXPECT_EQ(back.meta.scene, image.meta.scene);
+    EXPECT_EQ(back.meta.spp, image.meta.spp);
+    EXPECT_EQ(back.meta.seed, image.meta.seed);
+    EXPECT_EQ(back.meta.accel, image.meta.accel);
+    EXPECT_EQ(back.meta.integrator, image.meta.integrator);
+    EXPECT_EQ(back.meta.stop, image.meta.stop);
+    // Doubles to the last bit where the format stores them, and to the text's 17 digits where
+    // it stores text: the same either way.
+    EXPECT_EQ(back.meta.renderSeconds, image.meta.renderSeconds);
+    EXPECT_EQ(back.meta.time, image.meta.time);
+    EXPECT_EQ(back.meta.error, image.meta.error);
+    // Shown as the EXR reader shows them: text quoted, numbers bare.
+    EXPECT_EQ(back.attribute("glint:scene"), "\"scenes/a b.json\"");
+    EXPECT_EQ(back.attribute("glint:spp"), "1024");
+  }
+  // Without a stop reason the stop and its error are not written at all.
+  Image plain = image;
+  plain.meta.stop.clear();
+  plain.type = PixelType::UInt8;
+  for (const char* ext : {"exr", "png"}) {
+    const std::string path = dir + "/plain." + ext;
+    writeImageFile(path, plain);
+    const Image back = readImage(path);
+    EXPECT_EQ(back.attribute("glint:stop"), "(none)") << ext;
+    EXPECT_EQ(back.attribute("glint:error"), "(none)") << ext;
+    EXPECT_EQ(back.meta.error, 0.0) << ext;
+    EXPECT_EQ(back.meta.spp, 1024) << ext;
+  }
+}
+
 TEST(ImageIo, TruncatedExrIsADecodeErrorAfterItsHeader) {
   const std::string dir = test::scratchDir("ImageIo.TruncatedExrIsADecodeErrorAfterItsHeader");
   Image image;
