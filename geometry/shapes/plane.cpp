@@ -87,22 +87,27 @@ bool Plane::intersect(const Ray& ray, ShapeHit* hit) const {
 }
 
 ShapeSurface Plane::surface(const Ray& ray, const ShapeHit& hit, SurfaceDetails details) const {
-  // In float. p = o + t d is near the hit (each component within gamma(3) (|o_i| + |t d_i|) of
-  // the exact o + t d); projecting it onto the plane leaves it off the plane by the
-  // projection's own roundings alone, whatever p's error was: rel = p - q and the dot product s
-  // are within gamma(4) M of their exact values (M = sum |p_i| + sum |q_i|, |n_i| <= 1), and
-  // n_i s and the final subtraction round twice more, so every component of the projected
-  // point is within gamma(8) M of the exact projection of p. (This was a double solve; the
-  // float one is a twentieth of a CSG scene's profile less.)
+  // In float. p = o + t d is near the hit; projecting it onto the plane leaves it off the
+  // plane by the projection's own roundings alone, whatever p's error was (so pError bounds
+  // the distance to the plane, which is what spawned rays must clear; where on the plane the
+  // hit lies is t's business). With rel = p - q and s = rel . n (both rounded): s is within
+  // gamma(4) sum_j |rel_j n_j| of the exact signed distance (the subtraction and the dot
+  // product); n_i s inherits that times |n_i|, plus gamma(3) |n_i s| for n's own length
+  // (|n|^2 = 1 within a few ulps) and the product's rounding; the final subtraction rounds
+  // once more, u |on_i|. The bound therefore grows with the distance from the plane's anchor
+  // point only through rel, and with the point's magnitude only by its last rounding: two
+  // float steps at 1e6, where summing every coordinate (an earlier bound) offset shadow rays
+  // by 3 units and lost every shadow on a floor there.
   const Vec3f p = ray.o + ray.d * hit.t;
   const Vec3f rel = p - point_;
-  const Vec3f on = p - normal_ * dot(rel, normal_);
-  const Vec3f ap = abs(p), aq = abs(point_), ao = abs(ray.o), atd = abs(ray.d * hit.t);
-  const float m = (ap.x + ap.y + ap.z) + (aq.x + aq.y + aq.z);
+  const float dist = dot(rel, normal_);
+  const Vec3f on = p - normal_ * dist;
+  const float along = gamma(4) * dot(abs(rel), abs(normal_)) + gamma(3) * std::abs(dist);
   ShapeSurface s;
   s.p = on;
   for (int i = 0; i < 3; ++i)  // 1 + gamma(4): this line's own roundings
-    s.pError[i] = nextFloatUp((gamma(3) * (ao[i] + atd[i]) + gamma(8) * m) * (1 + gamma(4)));
+    s.pError[i] = nextFloatUp((std::abs(normal_[i]) * along + gamma(1) * std::abs(on[i])) *
+                              (1 + gamma(4)));
   s.n = normal_;
   if (details.uv) {
     const Vec3f onPlane = on - point_;
