@@ -6,11 +6,14 @@
 // one HTML file with plain JavaScript (apps/preview/index.html), built into the executable:
 // nothing is served from disk, so no request can reach a file.
 //
-// The contract (paths, parameters, the state JSON) is docs/preview.md.
+// The contract (paths, parameters, the state JSON, who may ask) is docs/preview.md.
 #include <fmt/format.h>
 #include <httplib.h>
+#include <sys/random.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -19,6 +22,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <string_view>
 
 #include "apps/cli_common.h"
 #include "apps/commands.h"
@@ -235,6 +239,106 @@ std::string encodePng(const Film& film, const std::string& aov, const ToneMapSet
   return readAndRemove(path);
 }
 
+// ---- Who may ask: the Host, the Origin and the run's token ----
+//
+// Binding to 127.0.0.1 keeps other machines out, not other web pages: any page open in the
+// user's browser can send requests to 127.0.0.1:PORT, and through DNS rebinding (a name of its
+// own that resolves to 127.0.0.1) read the answers. So, as Jupyter's server does, a request is
+// answered only when its Host names this server, when it changes nothing or comes from the
+// page's own origin, and when it carries the token printed with the address.
+
+// 256 bits from the kernel's random source (getrandom), as 64 hex digits: new each run.
+std::string newToken() {
+  std::array<unsigned char, 32> bytes{};
+  size_t got = 0;
+  while (got < bytes.size()) {
+    const ssize_t n = ::getrandom(bytes.data() + got, bytes.size() - got, 0);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0)
+      throw FailureError(std::string("cannot make the preview's token: getrandom: ") +
+                         std::strerror(errno));
+    got += size_t(n);
+  }
+  std::string hex;
+  for (unsigned char b : bytes) hex += fmt::format("{:02x}", b);
+  return hex;
+}
+
+// Whether `given` is `secret`, in a time that does not depend on where they first differ (the
+// length is no secret: every token has 64 digits).
+bool sameSecret(std::string_view given, std::string_view secret) {
+  if (given.size() != secret.size()) return false;
+  volatile unsigned char differ = 0;  // volatile: no early exit may be compiled in
+  for (size_t i = 0; i < secret.size(); ++i)
+    differ = differ | static_cast<unsigned char>(given[i] ^ secret[i]);
+  return differ == 0;
+}
+
+std::string lowerAscii(std::string text) {
+  for (char& c : text)
+    if (c >= 'A' && c <= 'Z') c = char(c - 'A' + 'a');
+  return text;
+}
+
+// The three checks, for the port the server is bound to and the run's token.
+class AccessGuard {
+ public:
+  AccessGuard(int port, std::string token) : token_(std::move(token)), port_(std::to_string(port)) {
+    for (const char* name : {"127.0.0.1", "localhost", "[::1]"}) {
+      hosts_.push_back(fmt::format("{}:{}", name, port));
+      origins_.push_back(fmt::format("http://{}:{}", name, port));
+      // A Host without a port names port 80 (RFC 9110, 7.2; browsers leave the default port
+      // out), so it is this server only when this server is on port 80.
+      if (port == 80) {
+        hosts_.push_back(name);
+        origins_.push_back(fmt::format("http://{}", name));
+      }
+    }
+  }
+  const std::string& token() const { return token_; }
+
+  // Why `req` is refused: a one-line answer for a 403 that never repeats the token; nullopt to
+  // serve it.
+  std::optional<std::string> refusal(const httplib::Request& req) const {
+    // Exactly one Host, naming the loopback address and this port: a page of another name
+    // that resolves to 127.0.0.1 (DNS rebinding) sends its own name.
+    if (req.get_header_value_count("Host") != 1 ||
+        !accepted(hosts_, lowerAscii(req.get_header_value("Host"))))
+      return "refused: the Host header must name this preview (127.0.0.1:" + port_ +
+             " or localhost:" + port_ + ")\n";
+    // A request that changes something (the camera, a saved file) from another web page: the
+    // browser says where it comes from in Origin. Without an Origin it is no browser's
+    // cross-origin request; the token below still has to be right. (cpp-httplib drops a
+    // header with an empty value: an empty Origin counts as none.)
+    const bool changes = req.method != "GET" && req.method != "HEAD" && req.method != "OPTIONS";
+    if (changes && req.has_header("Origin") &&
+        (req.get_header_value_count("Origin") != 1 ||
+         !accepted(origins_, lowerAscii(req.get_header_value("Origin")))))
+      return "refused: another web page may not change the preview\n";
+    // The token: the header X-Glint-Token (what the page sends), or the query's token (the
+    // printed address, for the page itself and for tools).
+    const bool inHeader = req.has_header("X-Glint-Token");
+    if (!inHeader && !req.has_param("token"))
+      return "refused: no token; open the address glint preview printed (it ends in "
+             "?token=...)\n";
+    const std::string given =
+        inHeader ? req.get_header_value("X-Glint-Token") : req.get_param_value("token");
+    if (!sameSecret(given, token_))
+      return "refused: wrong token; open the address this glint preview printed\n";
+    return std::nullopt;
+  }
+
+ private:
+  static bool accepted(const std::vector<std::string>& values, const std::string& value) {
+    return std::find(values.begin(), values.end(), value) != values.end();
+  }
+
+  std::string token_, port_;
+  std::vector<std::string> hosts_, origins_;  // lower case
+};
+
+// ---- The command ----
+
 ImageMetadata metadataOf(const PreviewArgs& args, const PreviewSnapshot& s) {
   ImageMetadata meta{args.scene, int(s.spp), s.settings.seed, s.seconds, s.settings.accel,
                      s.integrator};
@@ -266,11 +370,30 @@ void runPreview(const PreviewArgs& args) {
   httplib::Server server;
   // Loopback only; cpp-httplib reads bodies up to this size (a camera is a few hundred bytes).
   server.set_payload_max_length(64 * 1024);
+  // Bound first: the Host and Origin checks need the port the system chose.
+  const int port = args.port == 0 ? server.bind_to_any_port("127.0.0.1")
+                                  : (server.bind_to_port("127.0.0.1", args.port) ? args.port : -1);
+  if (port <= 0)
+    throw InputError(fmt::format("--port {}: cannot listen on 127.0.0.1:{} ({})", args.port,
+                                 args.port, std::strerror(errno)));
+  const AccessGuard guard(port, newToken());
+  // On every answer: no type sniffing of a text answer; the page's address, token included,
+  // never goes out as a Referer.
+  server.set_default_headers(
+      {{"X-Content-Type-Options", "nosniff"}, {"Referrer-Policy", "no-referrer"}});
   PreviewSession session(options);
   const std::string stem = fs::path(args.scene).stem().string();
 
-  const auto guarded = [](auto handler) {
-    return [handler](const httplib::Request& req, httplib::Response& res) {
+  // Every route is served through here: the guard first (after cpp-httplib has read the body,
+  // so a refused request leaves nothing on a kept-alive connection), then the handler, its
+  // BadRequest a 400. Paths with no route get 404 whoever asks: there is nothing to learn there.
+  const auto serve = [&guard](auto handler) {
+    return [&guard, handler](const httplib::Request& req, httplib::Response& res) {
+      if (const std::optional<std::string> why = guard.refusal(req)) {
+        res.status = 403;
+        res.set_content(*why, "text/plain");
+        return;
+      }
       try {
         handler(req, res);
       } catch (const BadRequest& e) {
@@ -283,11 +406,14 @@ void runPreview(const PreviewArgs& args) {
     };
   };
 
-  server.Get("/", [](const httplib::Request&, httplib::Response& res) {
-    res.set_header("Cache-Control", "no-store");
-    res.set_content(std::string(kPreviewPage, kPreviewPage_size), "text/html; charset=utf-8");
-  });
-  server.Get("/api/state", guarded([&](const httplib::Request& req, httplib::Response& res) {
+  server.Get("/", serve([](const httplib::Request&, httplib::Response& res) {
+               res.set_header("Cache-Control", "no-store");
+               // No other site may frame the page (and make the user drag its camera).
+               res.set_header("Content-Security-Policy", "frame-ancestors 'none'");
+               res.set_content(std::string(kPreviewPage, kPreviewPage_size),
+                               "text/html; charset=utf-8");
+             }));
+  server.Get("/api/state", serve([&](const httplib::Request& req, httplib::Response& res) {
                PreviewSnapshot s;
                if (req.has_param("after")) {
                  const double after = queryNumber(req, "after", 0, 0, 1e18);
@@ -298,7 +424,7 @@ void runPreview(const PreviewArgs& args) {
                res.set_header("Cache-Control", "no-store");
                res.set_content(stateJson(s, colors).dump(), "application/json");
              }));
-  server.Get("/api/image", guarded([&](const httplib::Request& req, httplib::Response& res) {
+  server.Get("/api/image", serve([&](const httplib::Request& req, httplib::Response& res) {
                const std::string aov = req.has_param("aov") ? req.get_param_value("aov") : "beauty";
                if (aov != "beauty" && aov != "albedo" && aov != "normal" && aov != "depth" &&
                    aov != "variance" && aov != "alpha")
@@ -316,21 +442,21 @@ void runPreview(const PreviewArgs& args) {
                res.set_header("Access-Control-Expose-Headers", "X-Glint-Version");
                res.set_content(encodePng(*s.film, aov, t, scratch), "image/png");
              }));
-  server.Post("/api/camera", guarded([&](const httplib::Request& req, httplib::Response& res) {
+  server.Post("/api/camera", serve([&](const httplib::Request& req, httplib::Response& res) {
                 session.setCamera(parseView(req.body));
                 res.set_content("{}", "application/json");
               }));
-  server.Delete("/api/camera", [&](const httplib::Request&, httplib::Response& res) {
-    session.setCamera(std::nullopt);
-    res.set_content("{}", "application/json");
-  });
-  server.Get("/api/camera.json", [&](const httplib::Request&, httplib::Response& res) {
-    const std::string block = cameraBlock(session.snapshot().camera);
-    std::fputs(block.c_str(), stdout);
-    std::fflush(stdout);
-    res.set_content(block, "application/json");
-  });
-  server.Post("/api/save", guarded([&](const httplib::Request& req, httplib::Response& res) {
+  server.Delete("/api/camera", serve([&](const httplib::Request&, httplib::Response& res) {
+                  session.setCamera(std::nullopt);
+                  res.set_content("{}", "application/json");
+                }));
+  server.Get("/api/camera.json", serve([&](const httplib::Request&, httplib::Response& res) {
+               const std::string block = cameraBlock(session.snapshot().camera);
+               std::fputs(block.c_str(), stdout);
+               std::fflush(stdout);
+               res.set_content(block, "application/json");
+             }));
+  server.Post("/api/save", serve([&](const httplib::Request& req, httplib::Response& res) {
                 const std::string format =
                     req.has_param("format") ? req.get_param_value("format") : "exr";
                 if (format != "exr" && format != "png")
@@ -357,12 +483,8 @@ void runPreview(const PreviewArgs& args) {
       res.set_content(res.status == 404 ? "not found\n" : "error\n", "text/plain");
   });
 
-  const int port = args.port == 0 ? server.bind_to_any_port("127.0.0.1")
-                                   : (server.bind_to_port("127.0.0.1", args.port) ? args.port : -1);
-  if (port <= 0)
-    throw InputError(fmt::format("--port {}: cannot listen on 127.0.0.1:{} ({})", args.port,
-                                 args.port, std::strerror(errno)));
-  std::printf("glint: preview at http://127.0.0.1:%d/\n", port);
+  // The token is printed here and nowhere else: not in answers, errors or the messages below.
+  std::printf("glint: preview at http://127.0.0.1:%d/?token=%s\n", port, guard.token().c_str());
   std::fflush(stdout);
   if (!args.quiet) std::fprintf(stderr, "glint: Ctrl-C stops the preview\n");
 

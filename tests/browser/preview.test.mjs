@@ -1,12 +1,14 @@
 // glint preview in a real browser: playwright-core drives Debian's /usr/bin/chromium against
-// `glint preview` on a small Cornell box (a glint .json scene, no assets). The page's contract
-// is docs/preview.md. Run: GLINT_EXECUTABLE=build/glint node --test tests/browser/preview.test.mjs
+// `glint preview` on a small Cornell box (a glint .json scene, no assets), opened at the address
+// it prints (with its token), and checks that other web pages get nothing from it. The page's
+// contract is docs/preview.md. Run: GLINT_EXECUTABLE=build/glint node --test tests/browser/preview.test.mjs
 // (ctest does this as Browser.PreviewInChromium). Needs `npm ci --prefix tests/browser`, which
 // scripts/setup.sh runs.
 import {after, before, describe, it} from 'node:test';
 import assert from 'node:assert/strict';
 import {spawn, execFile} from 'node:child_process';
 import fs from 'node:fs';
+import http from 'node:http';
 import os from 'node:os';
 import path from 'node:path';
 import readline from 'node:readline';
@@ -74,12 +76,12 @@ const distance = (a, b) => Math.hypot(...a.map((x, i) => x - b[i]));
 describe('glint preview in Chromium', {timeout: 240_000}, () => {
   const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'glint-preview-test-'));
   const scene = path.join(dir, 'box.json');
-  let server, serverLog = '', url, browser, page;
+  let server, serverLog = '', url, token, browser, page;
   const cameraPosts = [];
   let failed = false;
 
   async function state() {
-    const response = await fetch(new URL('api/state', url));
+    const response = await fetch(new URL('api/state', url), {headers: {'X-Glint-Token': token}});
     assert.equal(response.status, 200);
     return response.json();
   }
@@ -121,15 +123,19 @@ describe('glint preview in Chromium', {timeout: 240_000}, () => {
       server.once('error', reject);
       lines.once('line', (line) => {
         clearTimeout(timer);
-        const match = /^glint: preview at (http:\/\/127\.0\.0\.1:\d+\/)$/.exec(line);
-        if (match) resolve(match[1]);
-        else reject(new Error(`first stdout line is not the URL: ${JSON.stringify(line)}`));
+        const match = /^glint: preview at (http:\/\/127\.0\.0\.1:\d+\/\?token=([0-9a-f]{64}))$/.exec(line);
+        if (match) {
+          token = match[2];
+          resolve(match[1]);
+        } else reject(new Error(`first stdout line is not the URL: ${JSON.stringify(line)}`));
       });
     });
     lines.on('line', (line) => { serverLog += `${line}\n`; });
 
+    // evil.example stands for another site, and for DNS rebinding: a name of its own that
+    // resolves to 127.0.0.1.
     browser = await chromium.launch({executablePath: chromiumPath, headless: true,
-                                     args: ['--no-sandbox']});
+                                     args: ['--no-sandbox', '--host-resolver-rules=MAP evil.example 127.0.0.1']});
     page = await browser.newPage({viewport: {width: 1100, height: 800}});
     page.setDefaultTimeout(20_000);
     page.on('pageerror', (e) => { serverLog += `page error: ${e}\n`; });
@@ -170,6 +176,47 @@ describe('glint preview in Chromium', {timeout: 240_000}, () => {
     assert.equal(s.scene, 'box.json');
     assert.deepEqual([s.width, s.height], [96, 72]);
     assert.deepEqual(await page.$$eval('#aov option', (o) => o.map((x) => x.value)), s.aovs);
+  });
+
+  step('other web pages get nothing: no token, another Host, a change from another origin', async () => {
+    const {origin, port} = new URL(url);  // http://127.0.0.1:PORT
+    const other = await browser.newPage();
+    other.setDefaultTimeout(20_000);
+    // A page of another site, served on another port of evil.example.
+    const site = http.createServer((request, response) => {
+      response.writeHead(200, {'Content-Type': 'text/html'});
+      response.end('<!DOCTYPE html><title>another site</title>');
+    });
+    await new Promise((resolve) => site.listen(0, '127.0.0.1', resolve));
+    try {
+      // The page without its token.
+      let response = await other.goto(`${origin}/`);
+      assert.equal(response.status(), 403);
+      assert.match(await response.text(), /token/);
+      // DNS rebinding: a name that resolves to 127.0.0.1 (the token known, even) gets nothing.
+      response = await other.goto(`http://evil.example:${port}/?token=${token}`);
+      assert.equal(response.status(), 403);
+      assert.match(await response.text(), /Host/);
+      // Another site's page posts a camera: a "simple" request, sent without a preflight,
+      // the token known even. The browser says where it comes from; the server refuses it.
+      const s0 = await state();
+      await other.goto(`http://evil.example:${site.address().port}/`);
+      const [answer] = await Promise.all([
+        other.waitForResponse((r) => new URL(r.url()).pathname === '/api/camera'),
+        other.evaluate(([target, body]) => fetch(target, {method: 'POST', mode: 'no-cors', body})
+          .then(() => 'sent', (e) => `${e}`),
+        [`${origin}/api/camera?token=${token}`, JSON.stringify({position: [0, 1.5, 0.9], look_at: [0, 0.5, -1]})]),
+      ]);
+      assert.equal(answer.status(), 403);
+      await sleep(300);
+      const s1 = await state();
+      assert.equal(s1.custom_camera, false);
+      assert.equal(s1.generation, s0.generation);
+    } finally {
+      await other.close();
+      site.close();
+    }
+    assert.ok(await page.isHidden('#connection'), 'the preview\'s own page lost its server');
   });
 
   let blue;
@@ -344,5 +391,15 @@ describe('glint preview in Chromium', {timeout: 240_000}, () => {
     });
     assert.ok(rgb[0] + rgb[1] + rgb[2] > 15,
               `the image went away with the server: mean ${rgb} (${shownImage})`);
+  });
+
+  step('a preview started again on the port refuses the old page\'s token, and the page says so', async () => {
+    server = spawn(glint, ['preview', scene, '--port', new URL(url).port, '--spp', '4', '--output-dir', dir],
+                   {cwd: dir, stdio: ['ignore', 'pipe', 'pipe']});
+    server.stderr.on('data', (d) => { serverLog += d; });
+    await page.waitForFunction(
+      () => document.getElementById('connection').textContent.includes('wrong token'));
+    assert.ok(await page.isVisible('#connection'));
+    assert.match(await page.textContent('#connection'), /^glint preview refused: wrong token/);
   });
 });
