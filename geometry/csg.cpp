@@ -292,17 +292,50 @@ std::vector<Span> CsgShape::spans(const Ray& ray) const {
   return scratch.spans;
 }
 
+CsgShape::Reorigined CsgShape::reoriginate(const Ray& ray) const {
+  Reorigined r{ray, 0, 0};
+  if (isUnbounded(bounds_) || bounds_.empty()) return r;
+  // Where the line enters the root box (slab test; a line parallel to a slab leaves that
+  // slab's entry at -inf). Only a start before it is moved: from inside the box, or for a ray
+  // that starts near it, |t| is already of the tree's size.
+  float entry = -kInfinity;
+  for (int i = 0; i < 3; ++i) {
+    if (ray.d[i] == 0) continue;
+    const float t0 = (bounds_.lower[i] - ray.o[i]) / ray.d[i];
+    const float t1 = (bounds_.upper[i] - ray.o[i]) / ray.d[i];
+    entry = std::max(entry, std::min(t0, t1));
+  }
+  if (!(entry > 0) || !std::isfinite(entry)) return r;
+  r.ray.o = ray.at(entry);
+  r.shift = entry;
+  // The moved origin is off the exact line by the rounding of o + t d, at most gamma(2) of
+  // |o| + |t d| per axis; as a t along d that is at most this much (|d|^2 scaled).
+  const Vec3f a = abs(ray.o) + abs(ray.d * entry);
+  r.shiftError = gamma(2) * (a.x + a.y + a.z) / std::max(length(ray.d), 1e-30f) + gamma(1) * entry;
+  r.ray.tMin = ray.tMin - entry;
+  r.ray.tMax = ray.tMax - entry;
+  return r;
+}
+
 bool CsgShape::intersect(const Ray& ray, ShapeHit* hit) const {
   // Per-thread storage: after the first few rays no query allocates.
   thread_local Scratch scratch;
-  const auto [tLo, tHi] = queryWindow(ray, bounds_);
-  const size_t n = evaluateRoot(ray, tLo, tHi, scratch);
+  // The tree's crossings are found on the ray moved to the root box's entry, so that their t
+  // values, error bounds and tie widths are those of a ray starting at the tree (see csg.h).
+  const Reorigined r = reoriginate(ray);
+  const auto [tLo, tHi] = queryWindow(r.ray, bounds_);
+  const size_t n = evaluateRoot(r.ray, tLo, tHi, scratch);
   for (size_t k = 0; k < 2 * n; ++k) {
     const Crossing& c = crossingAt(scratch.spans.data(), k);
-    if (c.t > ray.tMax) return false;
+    if (std::isinf(c.t)) {
+      if (c.t > 0) return false;
+      continue;
+    }
+    const float t = c.t + r.shift;
+    if (t > ray.tMax) return false;
     // Certainly beyond tMin given t's error bound (the Shape robustness contract).
-    if (c.t - c.tError > ray.tMin && !std::isinf(c.t)) {
-      hit->t = c.t;
+    if (t - (c.tError + r.shiftError) > ray.tMin) {
+      hit->t = t;
       hit->part = c.part;
       return true;
     }
@@ -313,7 +346,11 @@ bool CsgShape::intersect(const Ray& ray, ShapeHit* hit) const {
 ShapeSurface CsgShape::surface(const Ray& ray, const ShapeHit& hit,
                                SurfaceDetails details) const {
   const Leaf& leaf = leaves_[hit.part >> 3];
-  ShapeSurface s = leaf.placed.surface(ray, ShapeHit{hit.t, hit.part & 7}, details);
+  // The same moved ray intersect() found the hit on: the leaf works out the point from an
+  // origin near it.
+  const Reorigined r = reoriginate(ray);
+  ShapeSurface s =
+      leaf.placed.surface(r.ray, ShapeHit{hit.t - r.shift, hit.part & 7}, details);
   if (leaf.flipNormal) s.n = -s.n;
   return s;
 }

@@ -96,6 +96,16 @@ class CsgShape final : public Shape {
     float tLo = -kInfinity, tHi = kInfinity;
     Vec3f invD;  // 1 / the ray's direction, per axis (0 where it is 0)
   };
+  // The query ray moved to where its line enters the root box (t shifted by `shift`, the move's
+  // own rounding within `shiftError` along the ray), or the ray itself when it starts inside
+  // or past the box. A ray from 300 units away carries t errors of some 300 ulps, as wide as
+  // a 4e-5 wall of the tree: crossings of the wall's two faces would tie, and the wall would
+  // vanish. From the box's entry the errors are those of the tree's own size.
+  struct Reorigined {
+    Ray ray;
+    float shift, shiftError;
+  };
+  Reorigined reoriginate(const Ray& ray) const;
   // Appends the spans of `node` to scratch.spans; returns how many.
   size_t evaluate(uint32_t node, const Ray& ray, Scratch& scratch) const;
   // The whole tree's spans in scratch.spans (returns how many), without the slivers below the

@@ -434,5 +434,44 @@ TEST(Csg, SpawnedRaysNeverReHitUnderTransforms) {
   EXPECT_GT(tested, 1000);
 }
 
+// Issue 49, item 2: a closed shell 4e-5 thick (a box minus the same box 4e-5 smaller on every
+// side) keeps its walls however far the ray starts. From 300 units the t errors of a ray that
+// starts there are as wide as the wall, and its two faces' crossings tied: the camera saw the
+// lit inside. The tree now works on the ray moved to its box's entry.
+TEST(Csg, AThinShellKeepsItsWallsFromAnyDistance) {
+  const float e = 4e-5f;
+  CsgShape csg;
+  const uint32_t outer = csg.addLeaf(std::make_unique<Box>(Vec3f{-1, 0.5f, -1}, Vec3f{1, 2.5f, 1}),
+                                     Transform());
+  const uint32_t inner = csg.addLeaf(
+      std::make_unique<Box>(Vec3f{-1 + e, 0.5f + e, -1 + e}, Vec3f{1 - e, 2.5f - e, 1 - e}),
+      Transform());
+  csg.finish(csg.addOperation(CsgOperation::Difference, {outer, inner}));
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(-0.9f, 0.9f);
+  for (float distance : {1.0f, 8.0f, 300.0f, 1e4f}) {
+    int hits = 0;
+    for (int i = 0; i < 200; ++i) {
+      // Towards a point inside the shell from far away on a random side and slant.
+      const Vec3f target{u(rng), 1.5f + u(rng), u(rng)};
+      Vec3f dir = normalize(Vec3f{u(rng), u(rng), 1});
+      const Ray ray{target + dir * distance, -dir};
+      ShapeHit hit;
+      ASSERT_TRUE(csg.intersect(ray, &hit)) << distance << " ray " << i;
+      // The first hit is the outer wall's outer face: nearer than the inside's farther faces,
+      // and on the outer box (leaf 0), facing the ray.
+      EXPECT_EQ(hit.part >> 3, 0u) << distance << " ray " << i;
+      const ShapeSurface s = csg.surface(ray, hit, {});
+      EXPECT_LT(dot(s.n, ray.d), 0) << distance << " ray " << i;
+      // A shadow ray from the inside towards the camera is blocked by the wall.
+      const Ray out{target, dir, 0, distance};
+      ShapeHit wall;
+      EXPECT_TRUE(csg.intersect(out, &wall)) << distance << " ray " << i;
+      ++hits;
+    }
+    EXPECT_EQ(hits, 200);
+  }
+}
+
 }  // namespace
 }  // namespace glint
