@@ -200,7 +200,8 @@ Vec3f instanceRayTransformError(const Transform& xf, Vec3f p) {
       const float tLen = length(t);
       if (tLen > 0) {
         si.tangent = t / tLen;
-        si.bitangentSign = t0.w < 0 ? -1.0f : 1.0f;
+        // A mirroring placement turns cross(n, t) against the bitangent: the sign flips.
+        si.bitangentSign = (t0.w < 0) != (!identity && xf.swapsHandedness()) ? -1.0f : 1.0f;
       }
     }
   }

@@ -14,6 +14,52 @@ void placeVertices(const Transform& world, std::vector<Vec3f>* positions,
     for (size_t t = 0; t + 2 < indices->size(); t += 3) std::swap((*indices)[t + 1], (*indices)[t + 2]);
 }
 
+std::vector<Vec4f> vertexTangents(const std::vector<Vec3f>& positions,
+                                  const std::vector<Vec3f>& normals,
+                                  const std::vector<Vec2f>& uvs,
+                                  const std::vector<uint32_t>& indices) {
+  const size_t n = positions.size();
+  // Per vertex, the weighted sums of the right-handed and the mirrored triangles' tangents.
+  std::vector<Vec3f> sum[2] = {std::vector<Vec3f>(n), std::vector<Vec3f>(n)};
+  std::vector<float> weight[2] = {std::vector<float>(n), std::vector<float>(n)};
+  for (size_t t = 0; t + 2 < indices.size(); t += 3) {
+    const uint32_t v[3] = {indices[t], indices[t + 1], indices[t + 2]};
+    const Vec3f dp1 = positions[v[1]] - positions[v[0]], dp2 = positions[v[2]] - positions[v[0]];
+    const Vec2f duv1 = uvs[v[1]] - uvs[v[0]], duv2 = uvs[v[2]] - uvs[v[0]];
+    const float det = duv1.x * duv2.y - duv1.y * duv2.x;
+    if (!(std::abs(det) > 0)) continue;
+    const Vec3f dpdu = (dp1 * duv2.y - dp2 * duv1.y) / det;
+    const Vec3f dpdv = (dp2 * duv1.x - dp1 * duv2.x) / det;
+    const Vec3f face = cross(dp1, dp2);
+    if (!isFinite(dpdu) || !isFinite(dpdv) || !(lengthSquared(face) > 0)) continue;
+    const int side = uvHandedness(normalize(face), dpdu, dpdv) > 0 ? 0 : 1;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3f nv = normals[v[k]];
+      const Vec3f projected = dpdu - nv * dot(nv, dpdu);
+      const float len = length(projected);
+      if (!(len > 0)) continue;
+      // The triangle's angle at this corner.
+      const Vec3f a = positions[v[(k + 1) % 3]] - positions[v[k]];
+      const Vec3f b = positions[v[(k + 2) % 3]] - positions[v[k]];
+      const float la = length(a), lb = length(b);
+      if (!(la > 0) || !(lb > 0)) continue;
+      const float angle = std::acos(std::clamp(dot(a, b) / (la * lb), -1.0f, 1.0f));
+      sum[side][v[k]] += projected * (angle / len);
+      weight[side][v[k]] += angle;
+    }
+  }
+  std::vector<Vec4f> tangents(n);
+  for (size_t i = 0; i < n; ++i) {
+    const int side = weight[1][i] > weight[0][i] ? 1 : 0;
+    const Vec3f nv = normals[i];
+    Vec3f t = sum[side][i] - nv * dot(nv, sum[side][i]);
+    const float len = length(t);
+    t = len > 0 && std::isfinite(len) ? t / len : Frame::fromZ(nv).s;
+    tangents[i] = {t.x, t.y, t.z, side == 0 ? 1.0f : -1.0f};
+  }
+  return tangents;
+}
+
 Bounds3f TriangleMesh::bounds() const {
   Bounds3f b;
   for (Vec3f p : positions) b.extend(p);

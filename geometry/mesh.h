@@ -73,6 +73,28 @@ TriangleMesh::StepBlend timeStepBlend(float time, size_t stepCount);
 void placeVertices(const Transform& world, std::vector<Vec3f>* positions,
                    std::vector<uint32_t>* indices);
 
+// The handedness w of glTF's tangent space where a triangle's uv layout gives dp/du and dp/dv
+// around the unit normal n: the bitangent cross(n, t) w points to decreasing v, the image's
+// up, where a normal map's green channel points (glTF's uv origin is the image's top left).
+// +1 for a layout as drawn, -1 for a mirrored one.
+inline float uvHandedness(Vec3f n, Vec3f dpdu, Vec3f dpdv) {
+  return dot(cross(n, dpdu), dpdv) > 0 ? -1.0f : 1.0f;
+}
+
+// Per-vertex tangents (xyz unit, w the handedness) of a mesh whose file gives none, from its
+// positions, unit normals and the uv set its normal map reads, as glTF asks ("client
+// implementations SHOULD calculate tangents using default MikkTSpace algorithms"): each
+// triangle's dp/du, projected into the vertex's tangent plane, weighted by the triangle's
+// angle at the vertex, summed per vertex and handedness; a vertex takes the handedness that
+// carries more weight (files split their vertices at uv seams, mirror seams included, so the
+// two rarely meet). The tangent frame then turns smoothly over a smooth mesh as MikkTSpace's
+// does, where one frame per triangle would crease the shading at every edge. A vertex no
+// triangle gives a direction (degenerate uvs) gets any tangent perpendicular to its normal.
+std::vector<Vec4f> vertexTangents(const std::vector<Vec3f>& positions,
+                                  const std::vector<Vec3f>& normals,
+                                  const std::vector<Vec2f>& uvs,
+                                  const std::vector<uint32_t>& indices);
+
 // One placement of a mesh or of an analytic shape (exactly one of the two indices is set).
 // Meshes placed several times are built once and instanced.
 struct Instance {

@@ -1,7 +1,10 @@
 // glint — bump mapping, normal maps and snow.
 #include "materials/bump.h"
 
+#include <algorithm>
 #include <cmath>
+
+#include "geometry/mesh.h"
 
 namespace glint {
 
@@ -11,6 +14,29 @@ Vec3f clampToHemisphere(Vec3f ns, Vec3f ng) {
   const float c = dot(ns, ng);
   if (c >= kMinCos) return ns;
   return normalize(ns + ng * (kMinCos - c));
+}
+
+Vec3f reflectionSafeNormal(Vec3f ns, Vec3f ng, Vec3f wo) {
+  const float z = dot(wo, ng);  // >= 0: ng faces wo
+  const float q = std::min(0.9f * z, 0.01f);
+  const float c = dot(ns, ng);
+  if (2 * dot(wo, ns) * c - z >= q) return ns;  // reflect(wo, ns) . ng
+  // n(theta) = cos(theta) ng + sin(theta) x, with x the unit tangential part of ns: then
+  // reflect(wo, n) . ng = 2 (wo.n)(n.ng) - z = wx sin(2 theta) + z cos(2 theta)
+  //                     = A cos(2 theta - phi),  A = |(wx, z)|, phi = atan2(wx, z).
+  // It is z >= q at theta = 0 and below q at ns's own angle, so the largest theta that keeps
+  // it at q is (phi + acos(q / A)) / 2.
+  Vec3f x = ns - ng * c;
+  const float lx = length(x);
+  if (!(lx > 0)) return ns;  // ns = ng: the mirror direction is wo's own height above
+  x = x / lx;
+  const float wx = dot(wo, x);
+  const float A = std::sqrt(wx * wx + z * z);
+  if (!(A > 0)) return ng;
+  const float theta =
+      0.5f * (std::atan2(wx, z) + std::acos(std::clamp(q / A, -1.0f, 1.0f)));
+  if (!(theta > 0)) return ng;
+  return normalize(ng * std::cos(theta) + x * std::sin(theta));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -64,26 +90,35 @@ void BumpMap::apply(SurfaceInteraction& si) const {
 // ---------------------------------------------------------------------------------------------
 
 namespace {
-// dp/du1 from dp/du, dp/dv and J = d uv1 / d uv (columns si.duv1du = (a, c), si.duv1dv =
-// (b, d)): dp/d uv1 = dp/d uv J^-1, whose first column is (d dp/du - c dp/dv) / det J. dp/du
-// where J is singular (no second set: J is the identity).
-Vec3f dpdu1(const SurfaceInteraction& si) {
+// dp/du1 and dp/dv1 from dp/du, dp/dv and J = d uv1 / d uv (columns si.duv1du = (a, c),
+// si.duv1dv = (b, d)): dp/d uv1 = dp/d uv J^-1, whose columns are (d dp/du - c dp/dv) / det J
+// and (a dp/dv - b dp/du) / det J. dp/du and dp/dv where J is singular (no second set: J is
+// the identity).
+void dpdUv1(const SurfaceInteraction& si, Vec3f* dpdu1, Vec3f* dpdv1) {
   const float a = si.duv1du.x, c = si.duv1du.y, b = si.duv1dv.x, d = si.duv1dv.y;
   const float det = a * d - b * c;
-  if (!(std::abs(det) > 1e-12f) || !std::isfinite(det)) return si.dpdu;
-  return (si.dpdu * d - si.dpdv * c) / det;
+  if (!(std::abs(det) > 1e-12f) || !std::isfinite(det)) {
+    *dpdu1 = si.dpdu, *dpdv1 = si.dpdv;
+    return;
+  }
+  *dpdu1 = (si.dpdu * d - si.dpdv * c) / det;
+  *dpdv1 = (si.dpdv * a - si.dpdu * b) / det;
 }
 }  // namespace
 
 bool tangentFrame(const SurfaceInteraction& si, Vec3f front, Vec3f* t, Vec3f* b, int uvSet) {
   const bool given = lengthSquared(si.tangent) > 0;
-  const Vec3f source = given ? si.tangent : uvSet == 1 ? dpdu1(si) : si.dpdu;
+  Vec3f dpdu = si.dpdu, dpdv = si.dpdv;
+  if (!given && uvSet == 1) dpdUv1(si, &dpdu, &dpdv);
+  const Vec3f source = given ? si.tangent : dpdu;
   const Vec3f projected = source - front * dot(front, source);
   if (!(lengthSquared(projected) > 0)) return false;
   *t = normalize(projected);
-  // Without a TANGENT the bitangent is cross(n, t), as in the Khronos reference viewer (UV
-  // layouts mirrored in v then come out inverted; MikkTSpace tangents would fix that).
-  *b = cross(front, *t) * (given ? si.bitangentSign : 1.0f);
+  // Without a TANGENT (analytic shapes, meshes whose material gained a normal map after
+  // loading; scenes/build.cpp derives per-vertex tangents for the rest) the handedness comes
+  // from the uv layout, so that a mirrored layout is not shown inverted (the Khronos reference
+  // viewer's cross(n, t) alone inverts it).
+  *b = cross(front, *t) * (given ? si.bitangentSign : uvHandedness(front, dpdu, dpdv));
   return true;
 }
 

@@ -30,15 +30,15 @@ class BumpMap final : public NormalModifier {
 };
 
 // A tangent-space normal map (glTF normalTexture): rgb * 2 - 1 in the frame (t, w n x t, n),
-// the x and y components scaled by `scale`. t is the mesh's TANGENT (w its handedness) or,
-// when the mesh carries none, dp/du from the UVs with w = 1 (as the Khronos reference viewer
-// does).
+// the x and y components scaled by `scale`. t is the mesh's TANGENT (w its handedness; the
+// builder derives per-vertex ones for files without, mesh.h's vertexTangents) or, for surfaces
+// without any, dp/du from the UVs with the layout's own handedness (uvHandedness).
 // The tangent frame (t, b) of glTF's tangent space at si around `front` (the normal on the
 // surface's front side): the mesh's TANGENT with its bitangent handedness when it has one, else
 // dp/du of the texture coordinate set `uvSet` (0: TEXCOORD_0, 1: TEXCOORD_1, whose dp/du1
-// follows from dp/du, dp/dv and the triangle's map from uv to uv1), as glTF prescribes;
-// projected onto the plane of `front`. False when that projection vanishes. Normal maps and
-// anisotropy share it.
+// follows from dp/du, dp/dv and the triangle's map from uv to uv1) with the handedness of the
+// uv layout; projected onto the plane of `front`. False when that projection vanishes. Normal
+// maps and anisotropy share it.
 bool tangentFrame(const SurfaceInteraction& si, Vec3f front, Vec3f* t, Vec3f* b, int uvSet = 0);
 
 class NormalMap final : public NormalModifier {
@@ -71,5 +71,17 @@ class SnowPerturbation final : public NormalModifier {
 // Keeps a perturbed normal in the geometric normal's hemisphere (tilted just above the
 // surface when it would point below it).
 Vec3f clampToHemisphere(Vec3f ns, Vec3f ng);
+
+// The shading normal nearest `ns`, towards `ng`, about which the mirror direction of `wo`
+// stays above the geometric surface: reflect(wo, n) . ng >= min(0.9 wo . ng, 0.01) (ng on
+// wo's side, ns in ng's hemisphere, all unit). A normal map, a bump or a coarse mesh's
+// interpolated normal can tilt ns away from a grazing view until wo skims it or falls below
+// it; a BSDF built around such a normal divides by wo . ns (a glossy lobe's 1 / (4 wo.n wi.n),
+// a mirror's F / cos) and sends its mirror direction into the surface. Tilting ns back in the
+// plane of ng and ns just far enough (as Cycles' ensure_valid_reflection does) keeps every
+// lobe's value, density and direction consistent with one another, and bounds
+// wo . n >= wo . ng / 2. Returns ns itself where nothing is needed, which is almost every
+// hit: one test of two dot products.
+Vec3f reflectionSafeNormal(Vec3f ns, Vec3f ng, Vec3f wo);
 
 }  // namespace glint

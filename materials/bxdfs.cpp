@@ -53,7 +53,10 @@ std::optional<BsdfSample> DiffuseBxdf::sample(Vec3f, Vec2f u, float, uint32_t lo
 
 PhongBxdf::PhongBxdf(Rgb kd_, Rgb ks_, float shininess_, bool blinn_)
     : kd(kd_), ks(ks_), shininess(shininess_), blinn(blinn_) {
-  const float d = luminance(kd), s = luminance(ks);
+  // Lobes chosen by their largest channel, not their luminance: a sample's weight in any channel
+  // is then at most d + s (a red diffuse under a grey highlight chosen by luminance weighed
+  // 1.6 in red).
+  const float d = maxComponent(kd), s = maxComponent(ks);
   pSpecular = d + s > 0 ? s / (d + s) : 0;
 }
 
@@ -230,7 +233,7 @@ PbrBxdf::PbrBxdf(Vec3f wo, const PbrHit& h) : hit(h) {
   const float opaque = 1 - hit.transmission;
   // The diffuse layer's albedo scaling and the metal's multiple scattering (pbr.h): their
   // parts that depend on wo alone. Their albedos at wo, (1 - E_spec(wo)) and
-  // F_ms (1 - E(wo)), weight the cosine-sampled lobe that carries both.
+  // F_ms (1 - E(wo)), weight the two lobes that sample them (kDiff, kMulti).
   Rgb diffuseAlbedo, multipleAlbedo;
   if (dielectric * opaque > 0) {
     const Rgb eWo = dielectricAlbedo(wo.z), eAvg = dielectricAverageAlbedo();
@@ -254,13 +257,17 @@ PbrBxdf::PbrBxdf(Vec3f wo, const PbrHit& h) : hit(h) {
   }
   w_[kCoat] = coatFresnelWo_;
   w_[kSheen] = (1 - coatFresnelWo_) * sheenMax * sheenE;
-  w_[kSpec] = baseScale * (hit.metallic + dielectric * F);
+  // Each lobe weighs by its largest channel, so that a sample's weight f cos / pdf in any
+  // channel stays below the sum of the weights, about the surface's albedo (by luminance, or
+  // with the metal's reflectance taken as 1, a red metal's diffuse samples weighed 3 in red).
+  w_[kSpec] = baseScale * (hit.metallic * maxComponent(metalFresnel(wo.z)) +
+                           dielectric * maxComponent(fresnelWo_));
   w_[kDiff] = baseScale * std::max(dielectric * opaque * (1 - hit.diffuseTransmission) *
-                                           luminance(hit.base * diffuseAlbedo) +
-                                       hit.metallic * luminance(multipleAlbedo),
+                                       maxComponent(hit.base * diffuseAlbedo),
                                    0.0f);
+  w_[kMulti] = baseScale * std::max(hit.metallic * maxComponent(multipleAlbedo), 0.0f);
   w_[kDiffTrans] = baseScale * dielectric * opaque * hit.diffuseTransmission *
-                   std::max(luminance(hit.diffuseTransmissionColor * diffuseAlbedo), 0.0f);
+                   std::max(maxComponent(hit.diffuseTransmissionColor * diffuseAlbedo), 0.0f);
   // A rough surface transmits through tilted microfacets even where the macro-surface reflects
   // totally (F = 1 seen from inside past the critical angle): the transmission lobe keeps a
   // minimum weight there, or sample() would never reach light that f() says passes.
@@ -371,10 +378,10 @@ PbrBxdf::LobeProbabilities PbrBxdf::lobeProbabilities(uint32_t lobes) const {
   LobeProbabilities r;
   float w[kLobeCount];
   std::copy(std::begin(w_), std::end(w_), w);
-  if (!(lobes & kBsdfReflection)) w[kCoat] = w[kSheen] = w[kSpec] = w[kDiff] = 0;
+  if (!(lobes & kBsdfReflection)) w[kCoat] = w[kSheen] = w[kSpec] = w[kDiff] = w[kMulti] = 0;
   if (!(lobes & kBsdfTransmission)) w[kDiffTrans] = w[kTrans] = 0;
   if (lobes & kBsdfSpecular) {  // only the delta lobes
-    w[kSheen] = w[kDiff] = w[kDiffTrans] = 0;
+    w[kSheen] = w[kDiff] = w[kMulti] = w[kDiffTrans] = 0;
     if (!smooth) w[kSpec] = w[kTrans] = 0;
     if (!coatSmooth) w[kCoat] = 0;
   }
@@ -388,7 +395,7 @@ PbrBxdf::LobeProbabilities PbrBxdf::lobeProbabilities(uint32_t lobes) const {
 uint32_t PbrBxdf::flags() const {
   uint32_t f = kBsdfReflection;
   const float* p = p_.p;
-  if (p[kDiff] > 0 || p[kDiffTrans] > 0) f |= kBsdfDiffuse;
+  if (p[kDiff] > 0 || p[kMulti] > 0 || p[kDiffTrans] > 0) f |= kBsdfDiffuse;
   if (p[kSheen] > 0) f |= kBsdfGlossy;
   if (p[kSpec] > 0 || p[kTrans] > 0) f |= smooth ? kBsdfSpecular : kBsdfGlossy;
   if (p[kCoat] > 0) f |= coatSmooth ? kBsdfSpecular : kBsdfGlossy;
@@ -423,6 +430,7 @@ PbrBxdf::Eval PbrBxdf::evaluateLocal(Vec3f wo, Vec3f wi, const LobeProbabilities
     if (metalMultipleWo_ != Rgb{})
       f += metalMultipleWo_ * (hit.metallic * (1 - ggxAlbedo(wi.z, tableRoughness_)));
     r.pdf = (p[kDiff] + p[kSheen]) * cosineHemispherePdf(wi.z);
+    if (p[kMulti] > 0) r.pdf += p[kMulti] * multipleScatteringPdf(wi.z, tableRoughness_);
     Vec3f h = wo + wi;
     if (lengthSquared(h) == 0) {
       r.f = f * baseScale;
@@ -601,6 +609,15 @@ std::optional<BsdfSample> PbrBxdf::sample(Vec3f wo, Vec2f u, float uLobe, uint32
       wi = sampleCosineHemisphere(u);
       s.flags = kBsdfDiffuse | kBsdfReflection;
       break;
+    case kMulti: {
+      float unused;
+      const float mu = sampleMultipleScatteringCos(tableRoughness_, u.x, &unused);
+      const float sinTheta = std::sqrt(std::max(0.0f, 1 - mu * mu));
+      const float phi = 2 * kPi * u.y;
+      wi = {sinTheta * std::cos(phi), sinTheta * std::sin(phi), mu};
+      s.flags = kBsdfDiffuse | kBsdfReflection;
+      break;
+    }
     case kSheen:
       wi = sampleCosineHemisphere(u);
       s.flags = kBsdfGlossy | kBsdfReflection;
@@ -688,8 +705,14 @@ std::optional<BsdfSample> Bsdf::sample(Vec2f u, float uLobe, uint32_t lobes) con
     if ((s->flags & kBsdfReflection) && dot(s->wi, ng) <= 0) {
       // A mirror direction about a strongly tilted shading normal (normal maps, coarse smooth
       // meshes) can point into the surface; fold it back above the geometric plane rather
-      // than lose it.
-      s->wi = normalize(s->wi - ng * (2 * dot(s->wi, ng)));
+      // than lose it. (Integrators tilt such normals back first, reflectionSafeNormal; this
+      // catches what rounding leaves.) f was F / cos at the unfolded direction: rescaled to
+      // the folded one's cosine, so the sample's weight f |cos| / pdf stays F / pdf.
+      const Vec3f folded = normalize(s->wi - ng * (2 * dot(s->wi, ng)));
+      const float cosFolded = std::abs(dot(folded, frame_.frame.n));
+      if (!(cosFolded > 0)) return std::nullopt;
+      s->f *= std::abs(localZ) / cosFolded;
+      s->wi = folded;
       return s;
     }
     if (!consistentSide(s->wi, localZ)) return std::nullopt;

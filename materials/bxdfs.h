@@ -144,7 +144,9 @@ struct PbrBxdf {
   uint32_t flags() const;
 
   // The lobes sample() chooses among.
-  enum Lobe { kCoat, kSheen, kSpec, kDiff, kDiffTrans, kTrans, kLobeCount };
+  // kMulti: the rough metal's multiple scattering (Kulla-Conty), sampled by its own density
+  // (microfacet_albedo.h); kDiff: the dielectric's diffuse layer, by the cosine.
+  enum Lobe { kCoat, kSheen, kSpec, kDiff, kMulti, kDiffTrans, kTrans, kLobeCount };
   struct LobeProbabilities {
     float p[kLobeCount] = {};
   };

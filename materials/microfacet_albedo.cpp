@@ -73,6 +73,68 @@ struct AlbedoTables {
     return lo + (row(f.i + 1) - lo) * f.w;
   }
 
+  // The multiple-scattering lobe's density in mu, per roughness row: msPdf[r][k] mu over bin
+  // k of kMsBins (uniform in sqrt(mu)), normalised; msCdf[r][k] the bins' running shares
+  // (msCdf[r][kMsBins] = 1); msMass[r] = int (1 - E(mu)) mu dmu.
+  static constexpr int kMsBins = 64;
+  std::vector<float> msPdf, msCdf, msMass;
+
+  void buildMultipleScattering() {
+    msPdf.assign(size_t(kRough * kMsBins), 0);
+    msCdf.assign(size_t(kRough * (kMsBins + 1)), 0);
+    msMass.assign(size_t(kRough), 0);
+    for (int r = 0; r < kRough; ++r) {
+      const float roughness = float(r) / (kRough - 1);
+      double total = 0;
+      std::vector<double> bin(kMsBins);
+      for (int k = 0; k < kMsBins; ++k) {
+        // Bins uniform in sqrt(mu), as the table is: 1 - E rises steeply near the horizon,
+        // most steeply for smooth surfaces. 8 midpoints in mu per bin.
+        const double lo = double(k) / kMsBins, hi = double(k + 1) / kMsBins;
+        const double a = lo * lo, b = hi * hi;
+        double sum = 0;
+        for (int j = 0; j < 8; ++j) {
+          const float mu = float(a + (b - a) * (j + 0.5) / 8);
+          sum += std::max(0.0f, 1 - lookup(mu, roughness, 1)) * mu;
+        }
+        bin[size_t(k)] = sum * (b - a) / 8;
+        total += bin[size_t(k)];
+      }
+      msMass[size_t(r)] = float(total);
+      float* pdf = &msPdf[size_t(r * kMsBins)];
+      float* cdf = &msCdf[size_t(r * (kMsBins + 1))];
+      double running = 0;
+      for (int k = 0; k < kMsBins; ++k) {
+        // Within a bin [a, b] of mu the density goes as mu (the cosine in the lobe), so that
+        // only 1 - E is left to vary inside it: pdf(mu) = share 2 mu / (b^2 - a^2).
+        const double lo = double(k) / kMsBins, hi = double(k + 1) / kMsBins;
+        const double a = lo * lo, b = hi * hi;
+        const double share = total > 0 ? bin[size_t(k)] / total : b * b - a * a;
+        pdf[k] = float(share * 2 / (b * b - a * a));  // times mu: the density per unit mu
+        running += share;
+        cdf[k + 1] = float(running);
+      }
+      cdf[kMsBins] = 1;
+    }
+  }
+
+  // The two rows around `roughness` and the probability of the lower one (their masses
+  // weighted by the interpolation weights: the mixture is then proportional to the
+  // interpolated 1 - E).
+  struct MsRows {
+    int lo;
+    float pLo;
+  };
+  MsRows msRows(float roughness) const {
+    const AxisPosition r = axis(roughness, kRough);
+    const float a = (1 - r.w) * msMass[size_t(r.i)], b = r.w * msMass[size_t(r.i + 1)];
+    return {r.i, a + b > 0 ? a / (a + b) : 1 - r.w};
+  }
+  float rowPdf(int r, float mu) const {
+    const int k = std::min(int(std::sqrt(mu) * kMsBins), kMsBins - 1);
+    return msPdf[size_t(r * kMsBins + k)] * mu;
+  }
+
   AlbedoTables() : avg(size_t(kF0 * kRough)) {
     // The averages of the interpolated rows (what a lookup at mu_i returns), by the midpoint
     // rule in mu.
@@ -88,6 +150,7 @@ struct AlbedoTables {
         avg[size_t(f * kRough + r)] = float(2 * sum / kAverageSteps);
       }
     }
+    buildMultipleScattering();
     // The smooth interface's average Fresnel reflectance, finely.
     fresnelAvg.resize(kFresnelAverageEntries);
     constexpr int kSteps = 2048;
@@ -125,6 +188,41 @@ float ggxAlbedo(float cosO, float roughness) {
 
 float ggxAverageAlbedo(float roughness) {
   return tables().lookupAverage(clampRoughness(roughness), 1);
+}
+
+float multipleScatteringPdf(float mu, float roughness) {
+  if (!(mu > 0)) return 0;
+  const AlbedoTables& t = tables();
+  const AlbedoTables::MsRows rows = t.msRows(clampRoughness(roughness));
+  mu = std::min(mu, 1.0f);
+  const float density =
+      rows.pLo * t.rowPdf(rows.lo, mu) + (1 - rows.pLo) * t.rowPdf(rows.lo + 1, mu);
+  return density * (0.5f * kInvPi);  // per unit mu, over 2 pi of azimuth
+}
+
+float sampleMultipleScatteringCos(float roughness, float u, float* pdf) {
+  const AlbedoTables& t = tables();
+  roughness = clampRoughness(roughness);
+  const AlbedoTables::MsRows rows = t.msRows(roughness);
+  // The row, then the bin by its cumulative share, then mu uniformly inside the bin.
+  int r = rows.lo;
+  if (u < rows.pLo) {
+    u /= rows.pLo;
+  } else {
+    u = (u - rows.pLo) / (1 - rows.pLo);
+    ++r;
+  }
+  u = std::clamp(u, 0.0f, 0x1.fffffep-1f);
+  const float* cdf = &t.msCdf[size_t(r * (AlbedoTables::kMsBins + 1))];
+  const int k = int(std::upper_bound(cdf + 1, cdf + AlbedoTables::kMsBins, u) - (cdf + 1));
+  const float width = cdf[k + 1] - cdf[k];
+  const float within = width > 0 ? (u - cdf[k]) / width : 0.5f;
+  // Density proportional to mu inside the bin [a, b]: mu = sqrt(a^2 + within (b^2 - a^2)).
+  const float lo = float(k) / AlbedoTables::kMsBins, hi = float(k + 1) / AlbedoTables::kMsBins;
+  const float a = lo * lo, b = hi * hi;
+  const float mu = std::clamp(std::sqrt(a * a + within * (b * b - a * a)), 1e-6f, 1.0f);
+  *pdf = multipleScatteringPdf(mu, roughness);
+  return mu;
 }
 
 float ggxDielectricAlbedo(float cosO, float roughness, float eta) {

@@ -36,6 +36,17 @@ float ggxAverageAlbedo(float roughness);
 float ggxDielectricAlbedo(float cosO, float roughness, float eta);
 float ggxDielectricAverageAlbedo(float roughness, float eta);
 
+// Sampling Kulla and Conty's multiple-scattering lobe, f_ms(wo, wi) proportional to
+// 1 - E(cos wi): cos wi drawn with density proportional to (1 - E(mu)) mu (over 64 bins of
+// sqrt(mu) per roughness row of the table, each bin's share exact and mu-shaped inside it;
+// neighbouring rows mixed by their share of the lobe), the azimuth uniform. A cosine-sampled
+// lobe weighs (1 - E(mu)) / (1 - E_avg) per sample, 9 and more for a smooth metal seen and lit
+// at grazing angles; sampled this way the weight stays near the lobe's albedo whatever the
+// direction. Returns cos wi; *pdf is the density per unit solid angle.
+float sampleMultipleScatteringCos(float roughness, float u, float* pdf);
+// That density at cos wi = mu (0 below the horizon).
+float multipleScatteringPdf(float mu, float roughness);
+
 // The cosine-weighted hemispherical average of the exact dielectric Fresnel reflectance,
 // 2 int F(mu, eta) mu dmu (a 256-entry table over sqrt(F0)): the smooth interface's E_F,avg.
 float dielectricFresnelAverage(float eta);

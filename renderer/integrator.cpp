@@ -2,6 +2,7 @@
 #include "renderer/integrator.h"
 
 #include "geometry/error.h"
+#include "materials/bump.h"
 #include "renderer/instant_radiosity.h"
 #include "renderer/path.h"
 #include "renderer/whitted.h"
@@ -79,6 +80,8 @@ SurfaceInteraction Integrator::shadingPoint(const Ray& ray, const Hit& hit, cons
     setPixelFootprint(si, ray.d / len, cone.widthAt(hit.t * len));
   }
   scene_.materials[materialIndex]->perturbNormal(si);
+  // Every shading normal, interpolated or perturbed, reflects wo above the surface (bump.h).
+  si.ns = reflectionSafeNormal(si.ns, si.ng, si.wo);
   return si;
 }
 

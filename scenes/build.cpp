@@ -584,6 +584,42 @@ int variantMaterial(const MeshDesc& mesh, const std::string& variant) {
   return mesh.material;
 }
 
+// Whether a mesh's vertices keep their detail when baked into world coordinates: the world
+// box's largest coordinate is at most 1024 times the mesh's own size, so the float grid there
+// (2^-23 of the coordinate) stays below 1e-4 of the mesh (a fraction of a pixel wherever the
+// mesh fills one).
+bool keepsDetailBaked(const std::vector<Vec3f>& positions, const Transform& world) {
+  Bounds3f object;
+  for (Vec3f p : positions) object.extend(p);
+  if (object.empty()) return true;
+  Bounds3f placed;
+  for (int c = 0; c < 8; ++c)
+    placed.extend(world.point({c & 1 ? object.upper.x : object.lower.x,
+                               c & 2 ? object.upper.y : object.lower.y,
+                               c & 4 ? object.upper.z : object.lower.z}));
+  const float size = length(placed.diagonal());
+  const float reach = maxComponent(max(abs(placed.lower), abs(placed.upper)));
+  return reach <= 1024 * size;
+}
+
+// Tangents for a mesh whose file gives none, when its material reads glTF's tangent space (a
+// normal map or anisotropy): per vertex from the uv set the normal map reads (vertexTangents),
+// as MikkTSpace would make them. Without normals or that uv set, or for materials that do not
+// need them, none: the shading then takes each triangle's dp/du (bump.h, tangentFrame).
+std::vector<Vec4f> derivedTangents(const SceneDescription& desc, const MeshDesc& mesh,
+                                   int material) {
+  if (!mesh.tangents.empty() || mesh.normals.empty() || material < 0 ||
+      size_t(material) >= desc.materials.size())
+    return mesh.tangents;
+  const MaterialDesc& m = desc.materials[size_t(material)];
+  const int map = m.normalTexture >= 0 ? m.normalTexture : m.layers.clearcoatNormalTexture;
+  if (map < 0 && !(m.layers.anisotropy > 0)) return {};
+  const int uvSet = map >= 0 ? desc.textures[size_t(map)].mapping.uvSet : 0;
+  const std::vector<Vec2f>& uvs = uvSet == 1 ? mesh.uvs1 : mesh.uvs;
+  if (uvs.empty()) return {};
+  return vertexTangents(mesh.positions, mesh.normals, uvs, mesh.indices);
+}
+
 // Deformation blur: a skinned or morphed instance whose pose changes inside the shutter gets
 // time steps (TriangleMesh::positionSteps), posed at K = 2^n + 1 uniform times over it. From
 // two segments, the count doubles until posing at the middle of every segment lands within
@@ -653,8 +689,12 @@ void buildMeshes(const SceneDescription& desc, const ShutterTimes& shutter, Rend
     MeshDesc posedDesc;
     if (posed) posedDesc = posedMesh(desc, inst, 0.5 * (shutter.open + shutter.close));
     const MeshDesc& md = posed ? posedDesc : desc.meshes[size_t(inst.mesh)];
-    // A moving mesh keeps its object space: Embree moves it as an instance.
-    const bool bake = (posed || uses[key] == 1) && !motion.isAnimated();
+    // A moving mesh keeps its object space: Embree moves it as an instance. So does a mesh
+    // placed far from the origin for its size: baked there, its vertices would snap to the
+    // float grid of the world coordinates (0.06 at 1e6), and a dragon 8 units long lost its
+    // shape; in object space the placement's rounding is the instance transform's alone.
+    const bool bake = (posed || uses[key] == 1) && !motion.isAnimated() &&
+                      keepsDetailBaked(md.positions, world);
     scene->objectFromWorld.push_back(world.inverse());
     if (auto it = meshIndex.find(key); !posed && !bake && it != meshIndex.end()) {
       Instance placed{it->second, world};
@@ -662,10 +702,11 @@ void buildMeshes(const SceneDescription& desc, const ShutterTimes& shutter, Rend
       scene->geometry.instances.push_back(placed);
       continue;
     }
+    const int material = inst.material >= 0 ? inst.material : variantMaterial(md, desc.render.variant);
     TriangleMesh mesh;
     mesh.positions = md.positions;
     mesh.normals = md.normals;
-    mesh.tangents = md.tangents;
+    mesh.tangents = derivedTangents(desc, md, material);
     mesh.uvs = md.uvs;
     mesh.uvs1 = md.uvs1;
     mesh.colors = md.colors;
@@ -680,16 +721,16 @@ void buildMeshes(const SceneDescription& desc, const ShutterTimes& shutter, Rend
         for (Vec3f& p : step) p = placement.point(p);
       for (std::vector<Vec3f>& step : mesh.normalSteps)
         for (Vec3f& n : step) n = normalize(placement.normal(n));
+      // A mirroring placement turns cross(n, t) against the bitangent it carries: w flips.
+      const float handedness = placement.swapsHandedness() ? -1.0f : 1.0f;
       for (Vec4f& t : mesh.tangents) {
         Vec3f v = normalize(placement.vector({t.x, t.y, t.z}));
-        t = {v.x, v.y, v.z, t.w};
+        t = {v.x, v.y, v.z, t.w * handedness};
       }
       placement = Transform();
     }
     if (!posed) meshIndex[key] = uint32_t(scene->geometry.meshes.size());
-    materials->meshes.push_back(
-        {inst.material >= 0 ? inst.material : variantMaterial(md, desc.render.variant),
-         !md.colors.empty()});
+    materials->meshes.push_back({material, !md.colors.empty()});
     scene->geometry.meshes.push_back(std::move(mesh));
     Instance placed{uint32_t(scene->geometry.meshes.size() - 1), placement};
     if (motion.isAnimated()) placed.motion = motion;

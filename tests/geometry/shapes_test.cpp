@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "geometry/ray.h"
 #include "geometry/shape.h"
 #include "geometry/shapes/box.h"
 #include "geometry/shapes/cone.h"
@@ -970,6 +971,38 @@ TEST(Shapes, SpanAgreesWithIntersectForSolids) {
       }
     }
     EXPECT_GT(insideRays, 20);
+  }
+}
+
+// Issue 49, item 1: a floor plane 1e6 from the origin. The offset a spawned ray takes off the
+// plane comes from the error bound along the normal; it must be a few float steps of the
+// coordinates there (0.0625), not a sum over every coordinate (2.9 units, which lifted shadow
+// rays over a unit sphere resting on the floor and lost its shadow).
+TEST(Shapes, PlaneFarFromTheOriginKeepsItsOffsetToAFewFloatSteps) {
+  for (float far : {1e3f, 1e4f, 1e5f, 1e6f}) {
+    const Vec3f anchor{far, far, -far};
+    Plane plane(anchor, {0, 1, 0}, 1);
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(-5, 5);
+    for (int i = 0; i < 200; ++i) {
+      const Vec3f from = anchor + Vec3f{u(rng), 3 + u(rng) * 0.5f, u(rng)};
+      const Vec3f to = anchor + Vec3f{u(rng), 0, u(rng)};
+      const Ray ray{from, to - from};
+      ShapeHit hit;
+      ASSERT_TRUE(plane.intersect(ray, &hit)) << far;
+      const ShapeSurface s = plane.surface(ray, hit, {});
+      const float offset = dot(abs(s.n), s.pError);
+      // Two float steps at the point's magnitude, four rounding units of it.
+      const float step = far * 0x1p-23f;
+      EXPECT_LE(offset, 2 * step) << far;
+      // And still a bound: the point is within it of the plane (double arithmetic).
+      const double distance = double(s.p.y) - double(anchor.y);
+      EXPECT_LE(std::abs(distance), double(offset)) << far;
+      // A ray spawned up from it clears the plane.
+      const Ray up = spawnRay(s.p, s.pError, s.n, {0.3f, 1, 0.2f}, 0);
+      ShapeHit again;
+      EXPECT_FALSE(plane.intersect(up, &again)) << far;
+    }
   }
 }
 

@@ -6,11 +6,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "chi2.h"
+#include "materials/bxdfs.h"
 #include "materials/pbr.h"
 #include "materials/scattering.h"
 
@@ -294,6 +296,54 @@ TEST(PbrChi2, NoticesAWrongRoughness) {
       },
       [&](Vec3f wi) { return claimed.bsdf(si).pdf(wi); }, options);
   EXPECT_FALSE(r.passed) << r.message;
+}
+
+// Issue 49, item 0: under a uniform sky of radiance 1 every BSDF sample carries its weight
+// f |cos| / pdf straight to the pixel, so a weight far above the surface's albedo is a
+// firefly. Lobes are chosen by their largest channel and the rough metal's multiple
+// scattering is sampled by its own density, which bounds every channel of every sample by the
+// sum of the lobe weights at wo, below 1.5 for any glTF metal-roughness surface seen from any
+// angle (measured: 1.44 at worst over these draws). Before, a red smooth metal's diffuse
+// samples weighed 3 in red (luminance selection) and a rough metal's multiple scattering up to
+// 9 at grazing angles (cosine sampling).
+TEST(PbrSampling, NoSampleWeighsMoreThanTheLobesTogether) {
+  std::mt19937 rng(2049);
+  std::uniform_real_distribution<float> u(0, 1);
+  float worst = 0;
+  for (int m = 0; m < 300; ++m) {
+    PbrHit h;
+    h.base = {u(rng), u(rng), u(rng)};
+    h.metallic = m % 2 ? 1.0f : u(rng);
+    h.roughness = m % 5 == 0 ? 0.2f * u(rng) : u(rng);
+    // Views from normal incidence down to a hundredth above the horizon.
+    const float cz = m % 3 == 0 ? 0.01f + 0.1f * u(rng) : std::max(0.01f, u(rng));
+    const Vec3f wo = normalize(Vec3f{std::sqrt(1 - cz * cz), 0, cz});
+    const PbrBxdf bxdf(wo, h);
+    for (int i = 0; i < 4000; ++i) {
+      const std::optional<BsdfSample> s = bxdf.sample(wo, {u(rng), u(rng)}, u(rng), kBsdfAllLobes);
+      if (!s || !(s->pdf > 0)) continue;
+      const float w = maxComponent(s->f) * std::abs(s->wi.z) / s->pdf;
+      worst = std::max(worst, w);
+      ASSERT_LE(w, 1.5f) << "material " << m << " roughness " << h.roughness << " metallic "
+                         << h.metallic << " cos " << cz;
+    }
+  }
+  EXPECT_GT(worst, 1.0f);  // the bound is reached for, not a loose one
+}
+
+// Phong: a red diffuse under a grey highlight (the primitives scene's ball) chosen by
+// luminance weighed 1.6 in red; by the largest channel, at most (kd + ks) in any channel,
+// times (n + 2) / (n + 1) (the normalised lobe over its sampling density).
+TEST(PhongSampling, NoSampleWeighsMoreThanItsTwoColoursTogether) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(0, 1);
+  const PhongBxdf phong({0.7f, 0.1f, 0.08f}, {0.28f, 0.28f, 0.28f}, 40, false);
+  const Vec3f wo = normalize(Vec3f{0.3f, 0.1f, 0.9f});
+  for (int i = 0; i < 20000; ++i) {
+    const std::optional<BsdfSample> s = phong.sample(wo, {u(rng), u(rng)}, u(rng), kBsdfAllLobes);
+    if (!s || !(s->pdf > 0)) continue;
+    EXPECT_LE(s->f.x * std::abs(s->wi.z) / s->pdf, (0.7f + 0.28f) * 42 / 41 * (1 + 1e-3f)) << i;
+  }
 }
 
 }  // namespace

@@ -392,10 +392,13 @@ TEST(NormalMap, FlatTexelKeepsTheNormal) {
   }
 }
 
-// Red > 0.5 tilts the normal towards +dp/du (the tangent), green > 0.5 towards n x dp/du, by
-// the texel's angle: (0.75, 0.5, 1) is (0.5, 0, 1) in tangent space, atan(0.5) = 26.6
-// degrees, scaled in x and y by `scale`. Seen from the back (frontFace false, ns = -outward)
-// the relief is the same surface: the result is exactly the front's, negated.
+// Red > 0.5 tilts the normal towards +dp/du (the tangent), green > 0.5 towards the image's up,
+// -dp/dv (glTF's v runs down the image), by the texel's angle: (0.75, 0.5, 1) is (0.5, 0, 1)
+// in tangent space, atan(0.5) = 26.6 degrees, scaled in x and y by `scale`. For a layout as
+// drawn, -dp/dv is n x dp/du; for a mirrored one (dp/dv along n x dp/du) green still goes to
+// -dp/dv, which is then -(n x dp/du) (the Khronos viewer's cross(n, t) alone showed mirrored
+// halves inverted). Seen from the back (frontFace false, ns = -outward) the relief is the same
+// surface: the result is exactly the front's, negated.
 TEST(NormalMap, TiltedTexelTiltsTowardsTheTangentAndMirrorsOnBackFaces) {
   const CheckerTexture red = constantTexel({0.75f, 0.5f, 1});
   const CheckerTexture green = constantTexel({0.5f, 0.75f, 1});
@@ -403,11 +406,13 @@ TEST(NormalMap, TiltedTexelTiltsTowardsTheTangentAndMirrorsOnBackFaces) {
   for (int i = 0; i < 50; ++i) {
     const Vec3f n = randomUnit(rng);
     const Frame f = Frame::fromZ(n);
-    for (float scale : {1.0f, 0.5f}) {
+    for (float scale : {1.0f, 0.5f, -0.5f}) {  // the last: a mirrored layout, half strength
+      const bool mirrored = scale < 0;
+      scale = std::abs(scale);
       SurfaceInteraction front;
       front.ng = front.ns = n;
       front.dpdu = f.s * 2.0f;
-      front.dpdv = f.t * 3.0f;
+      front.dpdv = f.t * (mirrored ? 3.0f : -3.0f);  // f.t = n x f.s
       SurfaceInteraction back = front;
       back.ng = back.ns = -n;
       back.frontFace = false;
@@ -420,7 +425,7 @@ TEST(NormalMap, TiltedTexelTiltsTowardsTheTangentAndMirrorsOnBackFaces) {
       EXPECT_NEAR(std::acos(std::clamp(dot(front.ns, n), -1.0f, 1.0f)), expectedAngle, 1e-4f);
       EXPECT_NEAR(dot(front.ns, f.s), std::sin(expectedAngle), 1e-5f);  // towards +dp/du
       EXPECT_NEAR(dot(front.ns, f.t), 0, 1e-5f);
-      EXPECT_NEAR(dot(frontGreen.ns, cross(n, f.s)), std::sin(expectedAngle), 1e-5f);
+      EXPECT_NEAR(dot(frontGreen.ns, -normalize(front.dpdv)), std::sin(expectedAngle), 1e-5f);
       EXPECT_NEAR(back.ns.x, -front.ns.x, 1e-6f);
       EXPECT_NEAR(back.ns.y, -front.ns.y, 1e-6f);
       EXPECT_NEAR(back.ns.z, -front.ns.z, 1e-6f);
@@ -564,6 +569,43 @@ TEST(TerminatorShadowing, IsOneWithoutPerturbationAndSmoothInTheUnitInterval) {
     EXPECT_EQ(terminatorShadowing(ng, ns, ng), 1);
     EXPECT_LT(terminatorShadowing(ng, ns, normalize(Vec3f{1, 0, 0.2f})), 0.9f);
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// A shading normal that reflects above the surface
+// ---------------------------------------------------------------------------------------------
+
+// reflectionSafeNormal: unchanged where the mirror direction of wo is already above the
+// geometric plane by the threshold; elsewhere tilted towards ng, in the plane of ng and ns,
+// just far enough (the threshold reached within rounding), never past ng. Then wo . n is at
+// least half of wo . ng, which bounds every lobe's 1 / (wo . n).
+TEST(ReflectionSafeNormal, TiltsJustFarEnoughTowardsTheGeometricNormal) {
+  std::mt19937_64 rng(59);
+  std::uniform_real_distribution<float> u(0, 1);
+  int changed = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const Vec3f ng = randomUnit(rng);
+    Vec3f ns = randomUnit(rng);
+    if (dot(ns, ng) < 0) ns = -ns;
+    ns = clampToHemisphere(ns, ng);
+    Vec3f wo = randomUnit(rng);
+    if (dot(wo, ng) < 0) wo = -wo;
+    const float z = dot(wo, ng), q = std::min(0.9f * z, 0.01f);
+    auto height = [&](Vec3f n) { return dot(2 * dot(wo, n) * n - wo, ng); };
+    const Vec3f n = reflectionSafeNormal(ns, ng, wo);
+    EXPECT_NEAR(length(n), 1, 1e-5f);
+    if (height(ns) >= q) {
+      EXPECT_EQ(n, ns) << i;
+      continue;
+    }
+    ++changed;
+    EXPECT_NEAR(height(n), q, 2e-4f) << i;
+    EXPECT_GE(dot(wo, n), 0.5f * z - 1e-4f) << i;
+    // In the plane of ng and ns, between them.
+    EXPECT_NEAR(dot(n, cross(ng, ns)), 0, 1e-4f) << i;
+    EXPECT_GE(dot(n, ng), dot(ns, ng) - 1e-5f) << i;
+  }
+  EXPECT_GT(changed, 1000);
 }
 
 }  // namespace

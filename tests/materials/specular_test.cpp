@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -358,6 +359,36 @@ TEST(RoughPbr, HasNoDeltaLobes) {
   const SurfaceInteraction si = makeSurface({0, 0, 1}, viewAtDegrees(30), true);
   for (float uLobe : {0.01f, 0.5f, 0.99f})
     EXPECT_FALSE(pbr.bsdf(si).sample({0.5f, 0.5f}, uLobe, kBsdfSpecular | kBsdfAllLobes));
+}
+
+// Issue 49, item 0: a mirror whose shading normal is tilted away from a grazing view (a normal
+// map on DamagedHelmet's visor rim) reflects into the surface and is folded back above it.
+// The fold kept f = F / cos of the unfolded direction, times the folded direction's cosine:
+// weights of 1,393 where F is 0.9. Whatever the tilt, a delta sample's weight is F.
+TEST(Mirror, AFoldedReflectionStillWeighsItsReflectance) {
+  MirrorMaterial mirror(ColorParam{{0.9f, 0.5f, 0.2f}});
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0, 1);
+  int folded = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const Vec3f ng{0, 0, 1};
+    // A shading normal tilted 60-88 degrees towards +x, a view from the -x side.
+    const float tilt = (60 + 28 * u(rng)) * kPi / 180, phi = 0.3f * (u(rng) - 0.5f);
+    SurfaceInteraction si = makeSurface(ng, {0, 0, 1}, true);
+    si.ns = normalize(Vec3f{std::sin(tilt) * std::cos(phi), std::sin(tilt) * std::sin(phi),
+                            std::cos(tilt)});
+    const float view = (2 + 60 * u(rng)) * kPi / 180;  // above the geometric plane
+    si.wo = normalize(Vec3f{-std::cos(view), 0.2f * (u(rng) - 0.5f), std::sin(view)});
+    if (dot(si.wo, si.ns) <= 0) continue;
+    const std::optional<BsdfSample> s = mirror.bsdf(si).sample({0.5f, 0.5f}, 0.5f);
+    if (!s) continue;
+    EXPECT_GT(dot(s->wi, ng), 0);
+    const Rgb w = s->weight(si.ns);
+    EXPECT_NEAR(w.x, 0.9f, 1e-4f) << i;
+    EXPECT_NEAR(w.z, 0.2f, 1e-4f) << i;
+    if (dot(2 * dot(si.wo, si.ns) * si.ns - si.wo, ng) <= 0) ++folded;
+  }
+  EXPECT_GT(folded, 100);  // the case was reached
 }
 
 }  // namespace
