@@ -291,8 +291,9 @@ TEST(SmoothPbr, SpecularMaskGivesTheDeltaLobeWeights) {
             }
 
             // Both delta lobes: never the diffuse one, reflection chosen in proportion
-            // F_spec : T_weight (the Fresnel weights at wo).
-            const float specWeight = metallic + (1 - metallic) * F;
+            // F_spec : T_weight (the Fresnel weights at wo; the metal's by its largest channel).
+            const float specWeight =
+                metallic * maxComponent(schlickReference(base, cosO)) + (1 - metallic) * F;
             constexpr int kGrid = 2000;
             int reflections = 0;
             for (int i = 0; i < kGrid; ++i) {
@@ -372,13 +373,14 @@ TEST(Mirror, AFoldedReflectionStillWeighsItsReflectance) {
   int folded = 0;
   for (int i = 0; i < 2000; ++i) {
     const Vec3f ng{0, 0, 1};
-    // A shading normal tilted 60-88 degrees towards +x, a view from the -x side.
+    // A shading normal tilted 60-88 degrees towards +x, a grazing view from the same side:
+    // its mirror image about ns dips under the geometric plane.
     const float tilt = (60 + 28 * u(rng)) * kPi / 180, phi = 0.3f * (u(rng) - 0.5f);
     SurfaceInteraction si = makeSurface(ng, {0, 0, 1}, true);
     si.ns = normalize(Vec3f{std::sin(tilt) * std::cos(phi), std::sin(tilt) * std::sin(phi),
                             std::cos(tilt)});
     const float view = (2 + 60 * u(rng)) * kPi / 180;  // above the geometric plane
-    si.wo = normalize(Vec3f{-std::cos(view), 0.2f * (u(rng) - 0.5f), std::sin(view)});
+    si.wo = normalize(Vec3f{std::cos(view), 0.2f * (u(rng) - 0.5f), std::sin(view)});
     if (dot(si.wo, si.ns) <= 0) continue;
     const std::optional<BsdfSample> s = mirror.bsdf(si).sample({0.5f, 0.5f}, 0.5f);
     if (!s) continue;
