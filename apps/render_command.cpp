@@ -136,6 +136,7 @@ nlohmann::json frameJson(const FrameRecord& r) {
   j["mrays_per_second"] =
       r.stats.renderSeconds > 0 ? double(r.stats.rays.total()) / r.stats.renderSeconds * 1e-6 : 0.0;
   j["nonfinite_samples"] = r.stats.nonfiniteSamples;
+  j["brightest_sample"] = r.stats.brightestSample;
   j["mean_spp"] = r.stats.meanSpp;
   j["spp_reached"] = r.result.spp;
   j["stop"] = std::string(stopReasonName(r.result.reason));

@@ -28,7 +28,7 @@ namespace {
 // Per-thread tallies, merged at the end.
 struct ThreadTally {
   RayCounters rays;
-  uint64_t nonfinite = 0;
+  SampleChecks checks;
   uint64_t samples = 0;  // renderOnce: samples its pixels took (for RenderStats::meanSpp)
 };
 
@@ -431,7 +431,7 @@ void ProgressiveRender::State::renderTile(int tileIndex, uint32_t passEnd,
           PathAovs pathAovs;
           pathAovs.wanted = aovs;
           const Rgb L = cameraRadiance(integrator, rays[i], found[i], sampler, tally.rays, pathAovs,
-                                       &tally.nonfinite);
+                                       &tally.checks);
           acc.add(L);
           if (pathAovs.hit) {
             pixelHits += 1;
@@ -597,7 +597,7 @@ bool ProgressiveRender::renderTo(uint32_t end, const std::atomic<bool>* cancel,
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   for (const ThreadTally& t : tallies) {
     st.stats.rays += t.rays;
-    st.stats.nonfiniteSamples += t.nonfinite;
+    t.checks.mergeInto(st.stats);
   }
   st.spp = end;
   ++st.passes;
@@ -625,7 +625,7 @@ void ProgressiveRender::renderOnce(uint32_t spp, const std::function<void(uint64
   uint64_t samples = 0;
   for (const ThreadTally& t : tallies) {
     st.stats.rays += t.rays;
-    st.stats.nonfiniteSamples += t.nonfinite;
+    t.checks.mergeInto(st.stats);
     samples += t.samples;
   }
   st.spp = spp;

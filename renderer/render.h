@@ -1,6 +1,8 @@
 // glint — the render loop: tiles over threads, samples per pixel, statistics.
 #pragma once
 
+#include <algorithm>
+
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -30,19 +32,37 @@ struct RenderStats {
   int threads = 0;
   RayCounters rays;
   uint64_t nonfiniteSamples = 0;  // NaN/Inf radiance samples: counted, replaced by zero
-  double meanSpp = 0;             // camera rays a pixel traced on average (< spp when adaptive)
+  // The largest channel of any one sample that reached the film: the tail a mean hides. Under
+  // a sky of radiance 1 no sample of a surface without emission may exceed about 1 (the
+  // energy-bound tests read it).
+  float brightestSample = 0;
+  double meanSpp = 0;  // camera rays a pixel traced on average (< spp when adaptive)
+};
+
+// What the film's guard saw of the samples it let through or dropped.
+struct SampleChecks {
+  uint64_t nonfinite = 0;
+  float brightest = 0;
+  void mergeInto(RenderStats& stats) const {
+    stats.nonfiniteSamples += nonfinite;
+    stats.brightestSample = std::max(stats.brightestSample, brightest);
+  }
 };
 
 // The radiance a camera ray brings to the film once the accelerator has traced it (`found`:
 // its hit, instance Hit::kInvalid when it escaped): the integrator's LiFromHit, with a NaN/Inf
-// result counted in *nonfinite and replaced by zero, so it never reaches the film.
+// result counted in checks->nonfinite and replaced by zero, so it never reaches the film, and
+// the brightest channel of the rest kept in checks->brightest.
 inline Rgb cameraRadiance(const Integrator& integrator, const Ray& ray, const Hit& found,
                           Sampler& sampler, RayCounters& rays, PathAovs& aovs,
-                          uint64_t* nonfinite) {
+                          SampleChecks* checks) {
   const Hit* hit = found.instance != Hit::kInvalid ? &found : nullptr;
   const Rgb L = integrator.LiFromHit(ray, hit, sampler, rays, aovs);
-  if (isFinite(L)) return L;
-  ++*nonfinite;
+  if (isFinite(L)) {
+    checks->brightest = std::max(checks->brightest, maxComponent(L));
+    return L;
+  }
+  ++checks->nonfinite;
   return {};
 }
 

@@ -104,7 +104,7 @@ class LookCache {
 struct Worker {
   LookCache cache;
   RayCounters rays;
-  uint64_t nonfinite = 0;
+  SampleChecks checks;
   std::vector<uint32_t> counted;  // per lattice point of a pixel: the pixel stamp that counted it
   uint32_t pixelStamp = 0;
   uint32_t looksInPixel = 0;
@@ -159,7 +159,7 @@ class Subdivider {
       PathAovs pathAovs;
       pathAovs.wanted = aovs_;
       const Rgb L =
-          cameraRadiance(integrator_, rays[i], found[i], sampler, w.rays, pathAovs, &w.nonfinite);
+          cameraRadiance(integrator_, rays[i], found[i], sampler, w.rays, pathAovs, &w.checks);
       Look& look = out[i];
       look.L = L;
       for (int c = 0; c < 3; ++c) look.squeezed[c] = squeezedRadiance(L[c]);
@@ -359,7 +359,7 @@ bool renderSubdivided(const RenderScene& scene, const Integrator& integrator,
   st.threads = threads.count;
   for (const Worker& w : workers) {
     st.rays += w.rays;
-    st.nonfiniteSamples += w.nonfinite;
+    w.checks.mergeInto(st);
   }
   st.meanSpp = double(st.rays.camera) / (double(window.width()) * double(window.height()));
   if (stats) *stats = st;
