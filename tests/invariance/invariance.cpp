@@ -706,7 +706,7 @@ double varianceOf(const Film& f, size_t i, int k) {
 }  // namespace
 
 Comparison compareFilms(const Film& fullA, const Film& fullB, const Tolerance& tol,
-                        const Film* alternate) {
+                        const std::vector<const Film*>& alternates) {
   Comparison r;
   if (fullA.width != fullB.width || fullA.height != fullB.height)
     throw std::runtime_error("films of different sizes");
@@ -749,20 +749,26 @@ Comparison compareFilms(const Film& fullA, const Film& fullB, const Tolerance& t
             tol.sigmas * slope * std::sqrt(varianceOf(a, i, k) + varianceOf(b, i, k));
       }
     }
-  if (alternate && tol.meanSigmas > 0 && r.meanA > 0) {
-    double sumAlt = 0;
-    for (const Rgb& c : alternate->color) sumAlt += luminanceOf(c);
-    r.meanNoise += tol.meanSigmas * std::abs(sumAlt / n - r.meanA) / r.meanA;
+  if (!alternates.empty() && tol.meanSigmas > 0 && r.meanA > 0) {
+    double sq = 0;
+    for (const Film* alt : alternates) {
+      double sumAlt = 0;
+      for (const Rgb& c : alt->color) sumAlt += luminanceOf(c);
+      sq += (sumAlt / n - r.meanA) * (sumAlt / n - r.meanA);
+    }
+    r.meanNoise += tol.meanSigmas * std::sqrt(sq / double(alternates.size())) / r.meanA;
   }
-  if (alternate) {
-    // The seed-to-seed difference's root mean square over each window.
-    const Film alt = blockAverage(*alternate, tol.block);
-    std::vector<double> d2(va.size());
-    for (size_t i = 0; i < alt.color.size(); ++i)
-      for (int k = 0; k < 3; ++k) {
-        const double d = squeeze(channel(alt.color[i], k)) - va[3 * i + size_t(k)];
-        d2[3 * i + size_t(k)] = d * d;
-      }
+  if (!alternates.empty()) {
+    // The seed-to-seed differences' root mean square over each window.
+    std::vector<double> d2(va.size(), 0.0);
+    for (const Film* alternate : alternates) {
+      const Film alt = blockAverage(*alternate, tol.block);
+      for (size_t i = 0; i < alt.color.size(); ++i)
+        for (int k = 0; k < 3; ++k) {
+          const double d = squeeze(channel(alt.color[i], k)) - va[3 * i + size_t(k)];
+          d2[3 * i + size_t(k)] += d * d / double(alternates.size());
+        }
+    }
     const int rad = std::max(1, tol.radius);
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x)

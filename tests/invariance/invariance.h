@@ -123,7 +123,7 @@ struct Tolerance {
   double sigmas = 0;
   double meanSigmas = 0;  // the same for the mean (independent noise only: shared samples
                           // make the two means' noise the same)
-  double altSigmas = 0;   // compareFilms' `alternate`: multiples of the seed-to-seed difference
+  double altSigmas = 0;   // compareFilms' `alternates`: multiples of the seed-to-seed difference
 };
 
 struct Comparison {
@@ -161,13 +161,13 @@ struct Comparison {
 // "no pixel off by more than tol away from edges dilated by radius" rule with the edges taken
 // from both images, but an isolated speckle cannot excuse itself as an edge.
 //
-// `alternate`, when given, is `a` rendered again with another seed: noise that the films'
+// `alternates`, when given, are `a` rendered again with other seeds: noise that the films'
 // variance does not hold (instant radiosity's one set of VPLs for the whole image) shows as
-// the difference between the two seeds, and each pixel's (block's) tolerance grows by
-// `altSigmas` times its root mean square over the window (the mean's by `meanSigmas` times
-// the two seeds' difference of means).
+// the differences between the seeds, and each pixel's (block's) tolerance grows by
+// `altSigmas` times their root mean square over the window (the mean's by `meanSigmas` times
+// the root mean square of the seeds' differences of means).
 Comparison compareFilms(const Film& a, const Film& b, const Tolerance& tol,
-                        const Film* alternate = nullptr);
+                        const std::vector<const Film*>& alternates = {});
 
 // Writes film as EXR and PNG (path without extension); the PNG is best effort.
 void writeFilm(const std::string& pathStem, const Film& film);
