@@ -19,7 +19,7 @@
 //
 // The scenes that cannot be invariant under a map by design are in kExclusions below with the
 // reason; the ones adapted so that the part that can be invariant is checked are in
-// adaptForRotation and the scene list. Cases that fail today because of an open renderer bug
+// adaptForTurning and the scene list. Cases that fail today because of an open renderer bug
 // are in kKnownOpen: printed as KNOWN-OPEN with their numbers, left out of the pass assertion
 // (empty it as the bugs are fixed). Each comparison check is shown to fail a real change in
 // the InvarianceControls tests at the end.
@@ -362,19 +362,19 @@ const Exclusion kExclusions[] = {
 // not asserted either way. Empty this as the bugs are fixed (see issue 49; the findings with
 // their reproductions were written to /tmp/inv-findings/FINDINGS.md while the net was built).
 const std::set<std::string> kKnownOpen = {
-    // F1: at 1e6 the shadow of the sheared box on the rotated box is lost over a region of its
+    // At 1e6 the shadow of the sheared box on the rotated box is lost over a region of its
     // face (at 512 x 384: 183 pixels); 1 pixel at the net's size.
     "transforms/translate-edit/1e6", "transforms/translate-root/1e6",
-    // F2: at 1e6 shadow rays from CSG surfaces leave black acne on the inside of
+    // At 1e6 shadow rays from CSG surfaces leave black acne on the inside of
     // box_minus_sphere and in the tower's notches.
     "csg_scene/translate-edit/1e6", "csg_scene/translate-root/1e6",
-    // F4: glTF meshes far from the origin, kept as instances since fa2d869, get black acne
+    // glTF meshes far from the origin, kept as instances since fa2d869, get black acne
     // (lit pixels become 0): from 1e5 on the card of TextureCoordinateTest, at 1e6 the glass
     // sphere of first_image.
     "texture_coordinate_test/translate-edit/1e5", "texture_coordinate_test/translate-root/1e5",
     "texture_coordinate_test/translate-edit/1e6", "texture_coordinate_test/translate-root/1e6",
     "first_image/translate-edit/1e6", "first_image/translate-root/1e6",
-    // F3/F4: glTF meshes at 1e6 (before fa2d869 baked onto the world's 0.0625 grid: the
+    // glTF meshes at 1e6 (before fa2d869 baked onto the world's 0.0625 grid: the
     // dragons destroyed, mean -14%; since, instanced): the demo's mean -4.6%, the material
     // spheres' +4.2%.
     "demo/translate-edit/1e6", "demo/translate-root/1e6",
@@ -385,7 +385,7 @@ const std::set<std::string> kKnownOpen = {
 // The same for the sweep only (GLINT_INVARIANCE_SWEEP=1): what its larger images, other
 // offsets and rotations show beyond the quick net's list.
 const std::set<std::string> kKnownOpenInSweep = {
-    // F4 (instanced glTF meshes far out): TextureCoordinateTest's acne shows from 1e4 at
+    // Instanced glTF meshes far out, as above: TextureCoordinateTest's acne shows from 1e4 at
     // 192 x 144 (12 pixels), 38 at 3e4, 3060 at 3e5; the path-traced glTF scenes at 3e5 (2-3
     // black or firefly pixels, material_extensions' mean +2.2%).
     "texture_coordinate_test/translate-edit/1e4", "texture_coordinate_test/translate-root/1e4",
@@ -394,14 +394,14 @@ const std::set<std::string> kKnownOpenInSweep = {
     "demo/translate-edit/3e5", "demo/translate-root/3e5",
     "first_image/translate-edit/3e5", "first_image/translate-root/3e5",
     "material_extensions/translate-edit/3e5", "material_extensions/translate-root/3e5",
-    // F2 (CSG acne far out): csg.json at 1e6 (1 black pixel), csg_scene from 3e5.
+    // CSG acne far out, as above: csg.json at 1e6 (1 black pixel), csg_scene from 3e5.
     "csg/translate-root/1e6", "csg_scene/translate-edit/3e5", "csg_scene/translate-root/3e5",
-    // F6: NormalTangentTest's normal-mapped rings shade differently from 1e5 on (4 pixels at
+    // NormalTangentTest's normal-mapped rings shade differently from 1e5 on (4 pixels at
     // 192 x 144; 195 at 384 x 288).
     "normal_tangent_test/translate-edit/1e5", "normal_tangent_test/translate-root/1e5",
     "normal_tangent_test/translate-edit/3e5", "normal_tangent_test/translate-root/3e5",
     "normal_tangent_test/translate-edit/1e6", "normal_tangent_test/translate-root/1e6",
-    // F5: Snowy's instant radiosity leaves VPLs of enormous power for some seeds (also at the
+    // Snowy's instant radiosity leaves VPLs of enormous power for some seeds (also at the
     // origin: seed 2023 of the unchanged scene has mean 1.26 where the others have 0.31): any
     // change of coordinates redraws the VPLs, and some draws light the balls up (+534%).
     "snowy/rotate/1", "snowy/rotate/2", "snowy/rotate/3", "snowy/rotate/4", "snowy/rotate/5",
