@@ -2,7 +2,6 @@
 #pragma once
 
 #include <algorithm>
-
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -33,8 +32,8 @@ struct RenderStats {
   RayCounters rays;
   uint64_t nonfiniteSamples = 0;  // NaN/Inf radiance samples: counted, replaced by zero
   // The largest channel of any one sample that reached the film: the tail a mean hides. Under
-  // a sky of radiance 1 no sample of a surface without emission may exceed about 1 (the
-  // energy-bound tests read it).
+  // a sky of radiance 1 a bounce adds at most about 2.25 to a sample of a surface without
+  // emission (tests/renderer/energy_bound_test.cpp derives the bound and reads this).
   float brightestSample = 0;
   double meanSpp = 0;  // camera rays a pixel traced on average (< spp when adaptive)
 };
