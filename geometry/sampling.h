@@ -73,6 +73,15 @@ inline Vec3f sampleCosineHemisphere(Vec2f u) {
 }
 inline float cosineHemispherePdf(float cosTheta) { return cosTheta > 0 ? cosTheta * kInvPi : 0; }
 
+// Uniform direction on the hemisphere around +Z; pdf = 1 / (2 pi).
+inline Vec3f sampleUniformHemisphere(Vec2f u) {
+  const float z = u.x;
+  const float r = std::sqrt(std::max(0.0f, 1 - z * z));
+  const float phi = 2 * kPi * u.y;
+  return {r * std::cos(phi), r * std::sin(phi), z};
+}
+inline float uniformHemispherePdf(float cosTheta) { return cosTheta > 0 ? 0.5f * kInvPi : 0; }
+
 // Uniform direction on the unit sphere; pdf = 1 / (4 pi).
 inline Vec3f sampleUniformSphere(Vec2f u) {
   const float z = 1 - 2 * u.x;

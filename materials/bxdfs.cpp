@@ -150,10 +150,6 @@ std::optional<BsdfSample> GlassBxdf::sample(Vec3f wo, Vec2f, float uLobe, uint32
 // ---------------------------------------------------------------------------------------------
 
 namespace {
-// The least share (1 - Fresnel) the lobe selection gives rough transmission (see PbrBxdf's
-// constructor).
-constexpr float kMinRoughTransmissionWeight = 0.2f;
-
 float mean(Rgb c) { return (c.x + c.y + c.z) / 3; }
 Rgb clamp01(Rgb c) {
   return {std::clamp(c.x, 0.0f, 1.0f), std::clamp(c.y, 0.0f, 1.0f), std::clamp(c.z, 0.0f, 1.0f)};
@@ -268,11 +264,10 @@ PbrBxdf::PbrBxdf(Vec3f wo, const PbrHit& h) : hit(h) {
   w_[kMulti] = baseScale * std::max(hit.metallic * maxComponent(multipleAlbedo), 0.0f);
   w_[kDiffTrans] = baseScale * dielectric * opaque * hit.diffuseTransmission *
                    std::max(maxComponent(hit.diffuseTransmissionColor * diffuseAlbedo), 0.0f);
-  // A rough surface transmits through tilted microfacets even where the macro-surface reflects
-  // totally (F = 1 seen from inside past the critical angle): the transmission lobe keeps a
-  // minimum weight there, or sample() would never reach light that f() says passes.
-  const float fTransmission = smooth ? F : std::min(F, 1 - kMinRoughTransmissionWeight);
-  w_[kTrans] = baseScale * dielectric * hit.transmission * (1 - fTransmission);
+  // A rough interface chooses between reflection and refraction per microfacet (reflectShare),
+  // so it transmits through tilted microfacets even where the macro-surface reflects totally
+  // (F = 1 seen from inside past the critical angle): w[kSpec] + w[kTrans] is its weight.
+  w_[kTrans] = baseScale * dielectric * hit.transmission * (1 - F);
   p_ = lobeProbabilities(kBsdfAllLobes);
 }
 
@@ -389,7 +384,30 @@ PbrBxdf::LobeProbabilities PbrBxdf::lobeProbabilities(uint32_t lobes) const {
   for (float v : w) sum += v;
   if (sum > 0)
     for (int i = 0; i < kLobeCount; ++i) r.p[i] = w[i] / sum;
+  // A rough refracting interface (not a thin sheet's, whose 'refraction' is a mirrored
+  // reflection through the sheet: same microfacet, same split).
+  if (!smooth && hit.transmission > 0 && hit.metallic < 1 && !(lobes & kBsdfSpecular)) {
+    r.reflects = (lobes & kBsdfReflection) != 0;
+    r.refracts = (lobes & kBsdfTransmission) != 0;
+    r.interface = r.p[kSpec] + r.p[kTrans];
+    r.grouped = r.interface > 0;
+  }
   return r;
+}
+
+float PbrBxdf::reflectShare(Vec3f wo, Vec3f wm, float eta, const LobeProbabilities& pr) const {
+  if (!pr.refracts) return 1;
+  if (!pr.reflects) return 0;
+  // The two sides' weights at this microfacet, each by its largest channel (as the lobes'
+  // weights at wo): a sample's weight is then about their sum over the share's own side.
+  const float c = dot(wo, wm);
+  const float dielectric = 1 - hit.metallic;
+  const Rgb F = dielectricFresnel(c, eta);
+  const float reflect = hit.metallic * maxComponent(metalFresnel(c)) + dielectric * maxComponent(F);
+  const float refract =
+      dielectric * hit.transmission * std::max(maxComponent(hit.base * (kOne - F)), 0.0f);
+  if (!(reflect + refract > 0)) return 1;
+  return reflect / (reflect + refract);
 }
 
 uint32_t PbrBxdf::flags() const {
@@ -429,7 +447,7 @@ PbrBxdf::Eval PbrBxdf::evaluateLocal(Vec3f wo, Vec3f wi, const LobeProbabilities
           (dielectric * opaque * (1 - hit.diffuseTransmission) * kInvPi);
     if (metalMultipleWo_ != Rgb{})
       f += metalMultipleWo_ * (hit.metallic * (1 - ggxAlbedo(wi.z, tableRoughness_)));
-    r.pdf = (p[kDiff] + p[kSheen]) * cosineHemispherePdf(wi.z);
+    r.pdf = p[kDiff] * cosineHemispherePdf(wi.z) + p[kSheen] * uniformHemispherePdf(wi.z);
     if (p[kMulti] > 0) r.pdf += p[kMulti] * multipleScatteringPdf(wi.z, tableRoughness_);
     Vec3f h = wo + wi;
     if (lengthSquared(h) == 0) {
@@ -443,7 +461,10 @@ PbrBxdf::Eval PbrBxdf::evaluateLocal(Vec3f wo, Vec3f wi, const LobeProbabilities
       const float spec = distribution.D(h) * distribution.G(wo, wi) / (4 * wo.z * wi.z);
       f += metalFresnel(cosH) * (hit.metallic * spec) +
            dielectricFresnel(cosH) * (dielectric * spec);
-      if (p[kSpec] > 0 && woH > 0) r.pdf += p[kSpec] * distribution.PDF(wo, h) / (4 * woH);
+      if (woH > 0) {
+        const float pSpec = pr.grouped ? pr.interface * reflectShare(wo, h, hit.eta, pr) : p[kSpec];
+        if (pSpec > 0) r.pdf += pSpec * distribution.PDF(wo, h) / (4 * woH);
+      }
     }
     r.f = f * baseScale;
     if (hit.sheenColor != Rgb{0, 0, 0}) {
@@ -482,7 +503,9 @@ PbrBxdf::Eval PbrBxdf::evaluateLocal(Vec3f wo, Vec3f wi, const LobeProbabilities
       const float spec = distribution.D(h) * distribution.G(wo, wr) / (4 * wo.z * wr.z);
       r.f += hit.base * (kOne - dielectricFresnel(woH)) * (weight * spec);
     }
-    if (p[kTrans] > 0) r.pdf += p[kTrans] * distribution.PDF(wo, h) / (4 * woH);
+    const float pTrans =
+        pr.grouped ? pr.interface * (1 - reflectShare(wo, h, hit.eta, pr)) : p[kTrans];
+    if (pTrans > 0) r.pdf += pTrans * distribution.PDF(wo, h) / (4 * woH);
     return r;
   }
   // Refraction through a microfacet: the generalized half vector of Walter et al. (2007); with
@@ -507,9 +530,12 @@ PbrBxdf::Eval PbrBxdf::evaluateLocal(Vec3f wo, Vec3f wi, const LobeProbabilities
       else
         r.f[c] += t[c];
     }
-    pdfSum += distribution.PDF(wo, wm) * std::abs(wiM) / denom;
+    // sample() splits by the index of the whole (hit.eta) before it picks a channel.
+    const float share = pr.grouped ? 1 - reflectShare(wo, wm, hit.eta, pr) : 1.0f;
+    pdfSum += share * distribution.PDF(wo, wm) * std::abs(wiM) / denom;
   }
-  if (p[kTrans] > 0) r.pdf += p[kTrans] * pdfSum / float(channels);
+  const float pTrans = pr.grouped ? pr.interface : p[kTrans];
+  if (pTrans > 0) r.pdf += pTrans * pdfSum / float(channels);
   return r;
 }
 
@@ -619,7 +645,9 @@ std::optional<BsdfSample> PbrBxdf::sample(Vec3f wo, Vec2f u, float uLobe, uint32
       break;
     }
     case kSheen:
-      wi = sampleCosineHemisphere(u);
+      // Uniformly: the sheen peaks towards the horizon, where a cosine density vanishes (it
+      // gave samples of 2.33 under a sky of 1).
+      wi = sampleUniformHemisphere(u);
       s.flags = kBsdfGlossy | kBsdfReflection;
       break;
     case kDiffTrans:
@@ -636,16 +664,27 @@ std::optional<BsdfSample> PbrBxdf::sample(Vec3f wo, Vec2f u, float uLobe, uint32
       s.flags = kBsdfGlossy | kBsdfReflection;
       break;
     }
-    case kSpec: {
-      const TrowbridgeReitzDistribution distribution(alphaX, alphaY);
-      wi = reflect(wo, distribution.Sample_wm(wo, u));
-      if (wi.z <= 0) return std::nullopt;
-      s.flags = kBsdfGlossy | kBsdfReflection;
-      break;
-    }
-    default: {  // kTrans, rough
+    case kSpec:
+    case kTrans: {  // rough
       const TrowbridgeReitzDistribution distribution(alphaX, alphaY);
       const Vec3f wm = distribution.Sample_wm(wo, u);
+      // The side: the lobe chosen, or for a grouped interface the Fresnel factor at this
+      // microfacet (what is left of uLobe, uRest, decides, and then what is left of it
+      // chooses the dispersion channel).
+      float uChannel = uRest;
+      bool reflects = lobe == kSpec;
+      if (pr.grouped) {
+        const float share = reflectShare(wo, wm, hit.eta, pr);
+        reflects = uRest < share;
+        uChannel = reflects ? uRest / share : (uRest - share) / (1 - share);
+        uChannel = std::clamp(uChannel, 0.0f, 0.99999994f);
+      }
+      if (reflects) {
+        wi = reflect(wo, wm);
+        if (wi.z <= 0) return std::nullopt;
+        s.flags = kBsdfGlossy | kBsdfReflection;
+        break;
+      }
       s.flags = kBsdfGlossy | kBsdfTransmission;
       if (hit.thinWalled) {
         const Vec3f wr = reflect(wo, wm);
@@ -653,11 +692,15 @@ std::optional<BsdfSample> PbrBxdf::sample(Vec3f wo, Vec2f u, float uLobe, uint32
         wi = {wr.x, wr.y, -wr.z};
         break;
       }
-      const float eta = hit.dispersion > 0 ? channelEta(std::min(int(uRest * 3), 2)) : hit.eta;
+      const float eta =
+          hit.dispersion > 0 ? channelEta(std::min(int(uChannel * 3), 2)) : hit.eta;
       float etaCrossed = 1;
       if (!refract(wo, wm, eta, &etaCrossed, &wi) || wi.z >= 0) return std::nullopt;
       s.eta = etaCrossed;
+      break;
     }
+    default:
+      return std::nullopt;
   }
   const Eval e = evaluateLocal(wo, wi, pr);
   if (!(e.pdf > 0)) return std::nullopt;

@@ -149,6 +149,12 @@ struct PbrBxdf {
   enum Lobe { kCoat, kSheen, kSpec, kDiff, kMulti, kDiffTrans, kTrans, kLobeCount };
   struct LobeProbabilities {
     float p[kLobeCount] = {};
+    // A rough interface that refracts: its reflection (kSpec) and refraction (kTrans) share
+    // one microfacet sample, split between them by the Fresnel factor at that microfacet
+    // (pbrt-v4's DielectricBxDF). `interface` = p[kSpec] + p[kTrans]; each side may be
+    // masked off by the requested lobes.
+    bool grouped = false, reflects = false, refracts = false;
+    float interface = 0;
   };
 
   PbrHit hit;
@@ -175,6 +181,9 @@ struct PbrBxdf {
     float pdf = 0;
   };
   Eval evaluateLocal(Vec3f wo, Vec3f wi, const LobeProbabilities& pr) const;
+  // The share of a grouped interface's samples (LobeProbabilities::grouped) that reflect off
+  // the microfacet of normal wm (wo . wm > 0) with the relative index `eta`.
+  float reflectShare(Vec3f wo, Vec3f wm, float eta, const LobeProbabilities& pr) const;
   LobeProbabilities lobeProbabilities(uint32_t lobes) const;
   Rgb dielectricFresnel(float c, float eta) const;
   Rgb metalFresnel(float c) const;  // Schlick from the base colour, or the film on the metal
