@@ -87,10 +87,24 @@ void secondUvSet(const TriangleMesh& mesh, uint32_t i0, uint32_t i1, uint32_t i2
 // M maps that back to world space. Where the cancellation in W o is large (a small triangle
 // far from the origin) this dwarfs p's own error, and without it a spawned ray can start
 // behind the surface Embree sees. k = 3 for the product plus a margin for the inverse.
+//
+// A placement that only translates (a glTF node's translation, a scene moved as a whole) is
+// exact in Embree's hands: its inverse is the negated translation, the products are by 1 and 0,
+// and o - t rounds once, at the magnitude of the small object-space result. The general bound
+// there is gamma(8) (|o| + |t|): a unit refraction offset for a glass sphere at 1e6, which
+// carried the refracted ray out through the far side.
 Vec3f instanceRayTransformError(const Transform& xf, Vec3f p) {
   constexpr int kTransformRoundings = 8;
   const auto& w = xf.inverseMatrix().m;
   const auto& m = xf.matrix().m;
+  const bool translates = m[0][0] == 1 && m[1][1] == 1 && m[2][2] == 1 && m[0][1] == 0 &&
+                          m[0][2] == 0 && m[1][0] == 0 && m[1][2] == 0 && m[2][0] == 0 &&
+                          m[2][1] == 0;
+  if (translates) {
+    Vec3f e;
+    for (int r = 0; r < 3; ++r) e[r] = gamma(2) * std::abs(p[r] - m[r][3]);
+    return e;
+  }
   float obj[3];
   for (int r = 0; r < 3; ++r)
     obj[r] = gamma(kTransformRoundings) * (std::abs(w[r][0] * p.x) + std::abs(w[r][1] * p.y) +

@@ -119,17 +119,32 @@ Transform Transform::lookAt(Vec3f eye, Vec3f target, Vec3f up) {
 }
 
 Vec3f Transform::point(Vec3f p, Vec3f* error) const {
+  // Affine part only, each row summed in double and rounded once to float; that rounding is
+  // measured, not bounded. The linear terms keep pbrt-v4's float bound, gamma(3) of their
+  // magnitudes (spawned rays off sheared, unevenly scaled shapes rely on that margin,
+  // Shapes.SpawnedRaysNeverReHitUnderWildTransforms), but the translation's magnitude no longer
+  // enters it: far from the origin the bound was gamma(3) |t|, 0.18 at 1e6 (three float steps
+  // there) whatever the point, and shadow rays started that far above the surface.
   const auto& m = m_.m;
-  // Affine part only: rounding error of each row's 3 products and 3 sums.
-  Vec3f absSum{
-      std::abs(m[0][0] * p.x) + std::abs(m[0][1] * p.y) + std::abs(m[0][2] * p.z) +
-          std::abs(m[0][3]),
-      std::abs(m[1][0] * p.x) + std::abs(m[1][1] * p.y) + std::abs(m[1][2] * p.z) +
-          std::abs(m[1][3]),
-      std::abs(m[2][0] * p.x) + std::abs(m[2][1] * p.y) + std::abs(m[2][2] * p.z) +
-          std::abs(m[2][3])};
-  *error = gamma(3) * absSum;
-  return point(p);
+  if (m[3][0] != 0 || m[3][1] != 0 || m[3][2] != 0 || m[3][3] != 1) {  // projective
+    Vec3f absSum;
+    for (int i = 0; i < 3; ++i)
+      absSum[i] = std::abs(m[i][0] * p.x) + std::abs(m[i][1] * p.y) + std::abs(m[i][2] * p.z) +
+                  std::abs(m[i][3]);
+    *error = gamma(3) * absSum;
+    return point(p);
+  }
+  Vec3f r;
+  for (int i = 0; i < 3; ++i) {
+    const double sum = double(m[i][0]) * p.x + double(m[i][1]) * p.y + double(m[i][2]) * p.z +
+                       double(m[i][3]);
+    const float linear =
+        std::abs(m[i][0] * p.x) + std::abs(m[i][1] * p.y) + std::abs(m[i][2] * p.z);
+    r[i] = float(sum);
+    const double rounding = std::abs(double(r[i]) - sum) + std::abs(double(m[i][3])) * 0x1p-50;
+    (*error)[i] = nextFloatUp(float(rounding) + gamma(4) * linear);
+  }
+  return r;
 }
 
 Vec3f Transform::point(Vec3f p, Vec3f pError, Vec3f* error) const {

@@ -246,6 +246,61 @@ TEST(SpawnedRays, LeaveCoplanarOverlappingTwinsBehind) {
   EXPECT_EQ(reHits, 0);
 }
 
+// A small closed mesh (a 0.6 cube, glass in a scene) placed by a translation far from the
+// origin: Embree moves a ray into its object space exactly there (o - t rounds once, at the
+// small result's magnitude), so the hit's error bound stays at the world grid's few steps. The
+// general bound, gamma(8) (|o| + |t|), was a whole unit at 1e6: a ray refracted into the cube
+// started beyond its far face and passed through nothing (the glass sphere of first_image at
+// 1e6 in the invariance net). Rays going in must meet the far side; rays going out nothing.
+TEST(SpawnedRays, TranslatedInstancesFarOutKeepTheirOffsetsToTheWorldGrid) {
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<float> u(-1, 1);
+  TriangleMesh cube;
+  const float h = 0.3f;
+  for (int i = 0; i < 8; ++i)
+    cube.positions.push_back({i & 1 ? h : -h, i & 2 ? h : -h, i & 4 ? h : -h});
+  cube.indices = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
+                  2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
+  for (float offset : {1e3f, 1e4f, 1e5f, 1e6f}) {
+    SCOPED_TRACE(::testing::Message() << "offset " << offset);
+    GeometryScene scene;
+    scene.meshes.push_back(cube);
+    const Vec3f at{offset, -offset, offset};
+    scene.instances.push_back({0, Transform::translate(at)});
+    auto accel = makeAccelerator("embree", scene);
+    const float step = std::nextafter(offset, 2 * offset) - offset;  // the world grid there
+    int in = 0, lostInside = 0, reHits = 0;
+    float worstError = 0;
+    for (int i = 0; i < 2000; ++i) {
+      const Vec3f target = at + Vec3f{u(rng), u(rng), u(rng)} * (0.8f * h);
+      const Vec3f dir = normalize(Vec3f{u(rng), u(rng), u(rng)});
+      const Ray r{target - dir * 5.0f, dir};
+      Hit hit;
+      if (!accel->closestHit(r, &hit)) continue;
+      const SurfaceInteraction si = computeSurfaceInteraction(scene, r, hit);
+      worstError = std::max(worstError, maxComponent(si.pError));
+      // Within two grid steps of an edge a spawned origin may round out past the neighbouring
+      // face (the cube is ten steps wide at 1e6): the grid's limit, not the offset's.
+      const Vec3f local = si.p - at;
+      int nearFaces = 0;
+      for (int k = 0; k < 3; ++k) nearFaces += std::abs(local[k]) > h - 2 * step;
+      if (nearFaces > 1) continue;
+      // Into the cube, as a refraction would go: the far side is there to meet.
+      Vec3f w = normalize(Vec3f{u(rng), u(rng), u(rng)} * 0.5f - si.ng);
+      if (dot(w, si.ng) >= 0) continue;
+      ++in;
+      Hit far;
+      if (!accel->closestHit(si.spawnRay(w, 0), &far)) ++lostInside;
+      // And out of it: nothing.
+      if (accel->anyHit(si.spawnRay(-w, 0))) ++reHits;
+    }
+    EXPECT_GT(in, 600);
+    EXPECT_EQ(lostInside, 0);
+    EXPECT_EQ(reHits, 0);
+    EXPECT_LE(worstError, 2 * step);
+  }
+}
+
 // Unlit shading skips the hit point; everything else must be exactly what the full
 // computation gives, with and without an instance transform.
 TEST(SurfaceInteraction, WithoutPositionTheRestIsUnchanged) {
