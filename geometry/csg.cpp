@@ -27,10 +27,11 @@ const Crossing& crossingAt(const Span* spans, size_t k) {
 }
 
 // Two crossings are one event when their t values cannot be told apart given their rounding
-// bounds and their surfaces' tolerances.
+// bounds and their surfaces' tolerances, and they lie on one surface (parallel normals): the
+// crossings of two faces that meet at an edge are two events however near the edge the line
+// passes, in the order of their t.
 bool coincide(const Crossing& a, const Crossing& b) {
-  if (a.t == b.t) return true;  // includes equal infinities
-  return std::abs(a.t - b.t) <= (a.tError + b.tError) + (a.tieWidth + b.tieWidth);
+  return crossingsTie(a, b) && sameSurface(a, b);
 }
 
 // A leaf's surface tolerance in its object space (see the tie rule in csg.h): its placement's
@@ -53,14 +54,14 @@ SurfaceTolerance toleranceOf(const Transform& treeFromLeaf, const TransformError
   return t;
 }
 
-// A span whose ends cannot be told apart by rounding has no interior: a tangent ray, or a
-// sliver below the error bound. Tie widths do not count here: a leaf's thin sliver near an edge
-// (a ray clipping a corner) is as real as its twin's from a leaf with a narrower tolerance, and
-// dropping one but not the other would leave the difference of the two as a speck. The slivers
-// meet in combineSpans instead, where their crossings tie.
-bool degenerate(const Span& s) {
-  if (s.enter.t == s.exit.t) return true;
-  return std::abs(s.exit.t - s.enter.t) <= s.enter.tError + s.exit.tError;
+// Whether two crossings that bound a result span (or a gap between two) are below the tree's
+// resolution: their t values cannot be told apart by rounding, or they come from two different
+// leaves and tie (the two leaves' faces meet within their tolerances there, and which of them the
+// line crosses first is decided by rounding). A span between two faces of one leaf is that
+// leaf's corner, as real as the plain solid's.
+bool unresolved(const Crossing& a, const Crossing& b) {
+  if (a.t == b.t || std::abs(a.t - b.t) <= a.tError + b.tError) return true;
+  return (a.part >> 3) != (b.part >> 3) && crossingsTie(a, b);
 }
 
 // The stretch of the line a query must get right: the ray's [tMin, tMax], widened by far more
@@ -120,8 +121,7 @@ void combineSpans(CsgOperation op, const Span* a, size_t na, const Span* b, size
     if (now) {
       open = boundary;
     } else {
-      Span s{open, boundary};
-      if (!degenerate(s)) out.push_back(s);
+      out.push_back(Span{open, boundary});
     }
     in = now;
   }
@@ -168,8 +168,8 @@ void CsgShape::finish(uint32_t root) {
   root_ = root;
   orient(root_, false);
   nodeBounds_.resize(nodes_.size());
-  for (uint32_t n = 0; n < nodes_.size(); ++n) nodeBounds_[n] = nodeBounds(n);
-  bounds_ = nodeBounds_[root_];
+  for (uint32_t n = 0; n < nodes_.size(); ++n) nodeBounds_[n] = nodeBounds(n, true);
+  bounds_ = nodeBounds(root_, false);
 }
 
 void CsgShape::orient(uint32_t node, bool flip) {
@@ -186,13 +186,36 @@ void CsgShape::orient(uint32_t node, bool flip) {
   }
 }
 
-Bounds3f CsgShape::nodeBounds(uint32_t node) const {
+Bounds3f CsgShape::nodeBounds(uint32_t node, bool padded) const {
   const Node& n = nodes_[node];
-  if (n.leaf != kNone) return leaves_[n.leaf].placed.bounds();
-  Bounds3f b = nodeBounds(n.children[0]);
+  if (n.leaf != kNone) {
+    if (!padded) return leaves_[n.leaf].placed.bounds();
+    // Padded by the leaf's tolerance (twice its bound at the box's corners, taken to tree space):
+    // a line that misses the leaf by less is a near miss (see leafSpan in
+    // geometry/shapes/primitive_math.h), whose crossings the operators need.
+    const Leaf& leaf = leaves_[n.leaf];
+    Bounds3f b = leaf.placed.bounds();
+    const Bounds3f ob = leaf.shape->bounds();
+    if (isUnbounded(b) || isUnbounded(ob) || b.empty()) return b;
+    float tau[3];
+    for (int k = 0; k < 3; ++k) {
+      const auto& row = leaf.tolerance.m[size_t(k)];
+      tau[k] = row[3];
+      for (int j = 0; j < 3; ++j)
+        tau[k] += row[size_t(j)] * std::max(std::abs(ob.lower[j]), std::abs(ob.upper[j]));
+    }
+    const auto& m = leaf.placed.placement().matrix().m;
+    for (int i = 0; i < 3; ++i) {
+      float pad = 0;
+      for (int k = 0; k < 3; ++k) pad += std::abs(m[i][k]) * tau[k];
+      b.lower[i] -= 2 * pad, b.upper[i] += 2 * pad;
+    }
+    return b;
+  }
+  Bounds3f b = nodeBounds(n.children[0], padded);
   if (n.op == CsgOperation::Difference) return b;  // never larger than what is subtracted from
   for (size_t c = 1; c < n.children.size(); ++c) {
-    Bounds3f cb = nodeBounds(n.children[c]);
+    Bounds3f cb = nodeBounds(n.children[c], padded);
     if (n.op == CsgOperation::Union) {
       b.extend(cb);
     } else {
@@ -217,10 +240,7 @@ size_t CsgShape::evaluate(uint32_t node, const Ray& ray, Scratch& scratch) const
     uint32_t tag = n.leaf << 3;
     s.enter.part = tag | (s.enter.part & 7);
     s.exit.part = tag | (s.exit.part & 7);
-    if (degenerate(s)) return 0;
-    out.push_back(s);
-    for (const Crossing* c : {&s.enter, &s.exit})
-      if (c->tieWidth > 0) scratch.leafCrossings.emplace_back(c->t, c->tieWidth);
+    out.push_back(s);  // zero-length ones too: their crossings take part (see evaluateRoot)
     return 1;
   }
   // The first child's spans sit at [base, base + count); each further child is evaluated after
@@ -259,28 +279,26 @@ size_t CsgShape::evaluate(uint32_t node, const Ray& ray, Scratch& scratch) const
 
 size_t CsgShape::evaluateRoot(const Ray& ray, float tLo, float tHi, Scratch& scratch) const {
   scratch.spans.clear();
-  scratch.leafCrossings.clear();
   scratch.tLo = tLo, scratch.tHi = tHi;
   scratch.invD = reciprocalDirection(ray.d);
   if (root_ == kNone) return 0;
   const size_t n = evaluate(root_, ray, scratch);
-  // Where a ray passes within a leaf's tolerance of an edge, the operators may resolve a
-  // sliver differently in two subtrees that mean the same solid (one eroded by its wider
-  // tolerance, its twin not), and the difference would survive as a speck. A result span
-  // shorter than the tie width of some leaf crossing inside it is below the tree's resolution
-  // there, whatever the operators made of it: it goes. A span without leaf crossings inside
-  // (a real thin skin, a ray clipping a plain corner) stays.
-  float widest = 0;
-  for (const auto& c : scratch.leafCrossings) widest = std::max(widest, c.second);
-  size_t kept = 0;
+  // The result regularised once, at the root: every sliver and crack took part in the operators
+  // below (dropped earlier, a leaf's sliver at a seam lost the face it entered by, and the seam
+  // bounded the result instead). A gap between two result spans whose crossings are below the
+  // tree's resolution closes, then a span whose two ends are goes.
+  size_t joined = 0;
   for (size_t k = 0; k < n; ++k) {
     const Span& s = scratch.spans[k];
-    const float length = s.exit.t - s.enter.t;
-    bool resolved = true;
-    if (length <= widest)  // most spans are longer than every width: nothing to look at
-      for (const auto& [t, width] : scratch.leafCrossings)
-        if (t > s.enter.t && t < s.exit.t && width >= length) resolved = false;
-    if (resolved) scratch.spans[kept++] = s;
+    if (joined > 0 && unresolved(scratch.spans[joined - 1].exit, s.enter))
+      scratch.spans[joined - 1].exit = s.exit;
+    else
+      scratch.spans[joined++] = s;
+  }
+  size_t kept = 0;
+  for (size_t k = 0; k < joined; ++k) {
+    const Span& s = scratch.spans[k];
+    if (s.exit.t >= s.enter.t && !unresolved(s.enter, s.exit)) scratch.spans[kept++] = s;
   }
   scratch.spans.resize(kept);
   return kept;

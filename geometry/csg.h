@@ -7,11 +7,11 @@
 // and any-hit queries correct by construction.
 //
 // Tie rule (coincident surfaces: A - B sharing a face, A u A, touching spheres). Crossings of
-// different children whose t values differ by no more than the sum of their widths are one
-// event: the operator's inside/outside state is evaluated only before and after the whole
-// group, so the result is a regularized set operation. A shared face of A - B is removed (no
-// zero-thickness skin), A u A is A, touching solids merge without an inner wall, and zero-
-// length spans (tangent rays) are dropped. When a group changes the result, the boundary is
+// different children that lie on one surface (their normals parallel) and whose t values differ
+// by no more than the sum of their widths are one event: the operator's inside/outside state is
+// evaluated only before and after the whole group, so the result is a regularized set
+// operation. A shared face of A - B is removed (no zero-thickness skin), A u A is A, touching
+// solids merge without an inner wall. When a group changes the result, the boundary is
 // attributed to the left-most child that has a crossing in the group.
 //
 // A crossing's width is its t's rounding-error bound plus its tie width: how far t moves when
@@ -26,10 +26,22 @@
 // on a unit solid is some 30 times wider than the widths of leaves written with 7-digit scale
 // factors (about 3e-6 of the coordinates).
 //
-// Two refinements keep slivers consistent where a ray clips an edge within the tolerances: an
-// event takes at most one crossing of each child, pairing a joining crossing with its nearer
-// twin (combineSpans), and a result span shorter than the tie width of a leaf crossing inside
-// it is below the tree's resolution and is dropped at the root.
+// Where a ray passes within the tolerances of an edge (at grazing angles, a long stretch of
+// it), the leaves sharing a face must classify its crossings alike (issue 49, item 3):
+//  * Crossings of two faces that meet at an edge never tie, however near the edge: they are two
+//    events in the order of their t. (Tying them by t alone removed a leaf's corner sliver
+//    against its twin's other face and left the twin's remaining sliver floating in the air.)
+//  * Leaves keep their slivers, and report a line that misses them by less than their tolerance
+//    as a span of zero length with both faces (leafSpan, geometry/shapes/primitive_math.h); a
+//    face the line runs along within the tolerance does not bound a leaf's span. Dropped at
+//    the leaf, a union's half lost the outer face a ray entered by at the seam, and the seam's
+//    inner face bounded the result.
+//  * An event takes at most one crossing of each child, pairing a joining crossing with its
+//    nearer twin (combineSpans).
+//  * The result is regularized once, at the root: a gap between two spans, then a span, whose
+//    two crossings cannot be told apart by rounding, or come from two different leaves and tie
+//    (the leaves' faces meet within their tolerances there), goes. A span between two faces of
+//    one leaf (a ray clipping its corner) is as real as the plain solid's and stays.
 #pragma once
 
 #include <cstdint>
@@ -88,11 +100,10 @@ class CsgShape final : public Shape {
     uint32_t leaf = kNone;  // set for leaves
   };
 
-  // Per-query storage: the span lists, every leaf crossing's t and width, and the stretch of
-  // the line [tLo, tHi] the query needs right (subtrees whose boxes miss it are skipped).
+  // Per-query storage: the span lists, and the stretch of the line [tLo, tHi] the query needs
+  // right (subtrees whose boxes miss it are skipped).
   struct Scratch {
     std::vector<Span> spans;
-    std::vector<std::pair<float, float>> leafCrossings;
     float tLo = -kInfinity, tHi = kInfinity;
     Vec3f invD;  // 1 / the ray's direction, per axis (0 where it is 0)
   };
@@ -108,15 +119,18 @@ class CsgShape final : public Shape {
   Reorigined reoriginate(const Ray& ray) const;
   // Appends the spans of `node` to scratch.spans; returns how many.
   size_t evaluate(uint32_t node, const Ray& ray, Scratch& scratch) const;
-  // The whole tree's spans in scratch.spans (returns how many), without the slivers below the
-  // tree's resolution: a span shorter than the tie width of a leaf crossing inside it.
+  // The whole tree's spans in scratch.spans (returns how many), without the slivers and cracks
+  // below the tree's resolution (see the tie rule above).
   size_t evaluateRoot(const Ray& ray, float tLo, float tHi, Scratch& scratch) const;
-  Bounds3f nodeBounds(uint32_t node) const;
+  // `padded`: each leaf's box grown by its tolerance, for culling subtrees (a line that misses a
+  // leaf by less is a near miss, whose crossings the operators need); the tree's own bounds are
+  // not padded (a near miss alone is never a hit).
+  Bounds3f nodeBounds(uint32_t node, bool padded) const;
   void orient(uint32_t node, bool flip);
 
   std::vector<Leaf> leaves_;
   std::vector<Node> nodes_;
-  std::vector<Bounds3f> nodeBounds_;  // per node, for culling subtrees the ray's line misses
+  std::vector<Bounds3f> nodeBounds_;  // per node, padded, for culling subtrees the line misses
   uint32_t root_ = kNone;
   Bounds3f bounds_;
 };

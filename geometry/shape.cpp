@@ -2,10 +2,18 @@
 // rounding error carried into t (pbrt-v4's Transform::ApplyInverse(Ray) idea).
 #include "geometry/shape.h"
 
+#include <algorithm>
+#include <limits>
+
 namespace glint {
 
 PlacedShape::PlacedShape(const Shape* shape, const Transform& placement)
     : shape_(shape), placement_(placement), identity_(placement.isIdentity()) {
+  objectBounds_ = shape_->bounds();
+  if (!isUnbounded(objectBounds_) && !objectBounds_.empty()) {
+    const Vec3f size = objectBounds_.upper - objectBounds_.lower;
+    farReach_ = kFarReach * std::max({size.x, size.y, size.z});
+  }
   if (identity_) {
     // Every member function takes the shortcut for an identity placement before it reads the
     // inverse; shapes placed by no transform are common (and placed once per hit).
@@ -67,7 +75,16 @@ Bounds3f PlacedShape::bounds() const {
   return r;
 }
 
-Ray PlacedShape::toObject(const Ray& ray, float* dt, Vec3f* originError) const {
+bool PlacedShape::startsFar(const double o[3]) const {
+  if (!(farReach_ < kInfinity)) return false;
+  for (int i = 0; i < 3; ++i)
+    if (objectBounds_.lower[i] - o[i] > farReach_ || o[i] - objectBounds_.upper[i] > farReach_)
+      return true;
+  return false;
+}
+
+Ray PlacedShape::toObject(const Ray& ray, float* shift, float* shiftError,
+                          Vec3f* originError) const {
   const auto& m = placement_.matrix().m;
   if (translationOnly_) {
     // A translation (common for CSG leaves and placed objects), in float: the direction is
@@ -76,20 +93,22 @@ Ray PlacedShape::toObject(const Ray& ray, float* dt, Vec3f* originError) const {
     // moved origin is within 2u|x_i| (1 + u) + (2u + u^2)|d_i dt| of x + d dt, exactly; dt is
     // under 2u (1 + u)|x|_2 / |d|, so |d_i dt| is under 2.1u sum|x| and e_i = 2u|x_i| +
     // 16u^2 sum|x| bounds it all. The shift covers e projected onto d, and 1 + gamma(8) the
-    // roundings of its own sums and quotient. Degenerate directions and overflow take the
-    // double solve below.
+    // roundings of its own sums and quotient. Degenerate directions, overflow and far origins
+    // take the double solve below.
     constexpr float u = kMachineEpsilon;
     const Vec3f x{ray.o.x - m[0][3], ray.o.y - m[1][3], ray.o.z - m[2][3]};
+    const double xd[3] = {x.x, x.y, x.z};
     const Vec3f ax = abs(x), ad = abs(ray.d);
     const float spread = 16 * u * u * (ax.x + ax.y + ax.z);
     const Vec3f e = ax * (2 * u) + Vec3f{spread, spread, spread};
     const float l2 = dot(ray.d, ray.d), along = dot(ad, e);
-    if (l2 > 0x1p-100f && l2 < kInfinity && along < kInfinity) {
-      *dt = nextFloatUp(along / l2 * (1 + gamma(8)));
-      const Vec3f o = x + ray.d * *dt;
+    if (l2 > 0x1p-100f && l2 < kInfinity && along < kInfinity && !startsFar(xd)) {
+      const float dt = nextFloatUp(along / l2 * (1 + gamma(8)));
+      *shift = *shiftError = dt;
+      const Vec3f o = x + ray.d * dt;
       if (originError)
         for (int i = 0; i < 3; ++i) (*originError)[i] = nextFloatUp(e[i] * (1 + gamma(2)));
-      return Ray{o, ray.d, ray.tMin, ray.tMax - *dt, ray.time};
+      return Ray{o, ray.d, ray.tMin, ray.tMax - dt, ray.time};
     }
   }
   // Solved in double from the float matrix as given (not its rounded inverse), origin taken
@@ -99,9 +118,9 @@ Ray PlacedShape::toObject(const Ray& ray, float* dt, Vec3f* originError) const {
   double x[3], dw[3];
   for (int i = 0; i < 3; ++i) x[i] = double(ray.o[i]) - m[i][3], dw[i] = ray.d[i];
   double od[3], dd[3], err[3];
-  // A translation (common for CSG leaves): the inverse is exactly the identity, so the products
-  // below are x and dw themselves; the same values without the nine multiply-adds.
-  if (translationOnly_) {
+  // A translation or the identity: the inverse is exactly the identity, so the products below
+  // are x and dw themselves; the same values without the nine multiply-adds.
+  if (translationOnly_ || identity_) {
     for (int r = 0; r < 3; ++r)
       od[r] = x[r], dd[r] = dw[r], err[r] = std::abs(x[r]) * (rel + 0x1p-49);
   } else {
@@ -118,8 +137,30 @@ Ray PlacedShape::toObject(const Ray& ray, float* dt, Vec3f* originError) const {
     }
   }
   Vec3f d{float(dd[0]), float(dd[1]), float(dd[2])};
-  *dt = 0;
-  double l2 = dd[0] * dd[0] + dd[1] * dd[1] + dd[2] * dd[2];
+  const double l2 = dd[0] * dd[0] + dd[1] * dd[1] + dd[2] * dd[2];
+  // From far away, first along the line to where it enters the shape's box (a float: t values
+  // shift by it exactly), still in double: the moved origin is as exact as the solve, and its
+  // rounding to float below is relative to coordinates of the shape's size. The t offset is
+  // exact; the move's own rounding joins the origin's error.
+  float entry = 0;
+  if (l2 > 0 && startsFar(od)) {
+    double tEntry = -std::numeric_limits<double>::infinity();
+    for (int i = 0; i < 3; ++i) {
+      if (dd[i] == 0) continue;
+      const double t0 = (objectBounds_.lower[i] - od[i]) / dd[i];
+      const double t1 = (objectBounds_.upper[i] - od[i]) / dd[i];
+      tEntry = std::max(tEntry, std::min(t0, t1));
+    }
+    if (tEntry > 0 && tEntry < std::numeric_limits<float>::max()) {
+      entry = float(tEntry);
+      for (int i = 0; i < 3; ++i) {
+        const double step = dd[i] * double(entry);  // exact: a product of two floats
+        err[i] += 0x1p-52 * (std::abs(od[i]) + std::abs(step));
+        od[i] += step;
+      }
+    }
+  }
+  float dt = 0;
   if (l2 > 0) {
     // Move the origin to the far end of its error box along d (the rounding to float
     // included): the object-space ray never starts behind the caller's origin; t values
@@ -128,25 +169,33 @@ Ray PlacedShape::toObject(const Ray& ray, float* dt, Vec3f* originError) const {
     for (int i = 0; i < 3; ++i)
       along += std::abs(dd[i]) * (err[i] + kMachineEpsilon * 1.0001 * std::abs(od[i]));
     double t = along / l2;
-    *dt = float(t);
-    if (double(*dt) < t) *dt = nextFloatUp(*dt);
-    for (int i = 0; i < 3; ++i) od[i] += dd[i] * double(*dt);
+    dt = float(t);
+    if (double(dt) < t) dt = nextFloatUp(dt);
+    for (int i = 0; i < 3; ++i) od[i] += dd[i] * double(dt);
   }
   Vec3f o{float(od[0]), float(od[1]), float(od[2])};
   if (originError)  // the solve's error, then two roundings to float (before and after the move)
     for (int i = 0; i < 3; ++i)
       (*originError)[i] = nextFloatUp(float(err[i]) + 2.0001f * kMachineEpsilon * std::abs(o[i]));
-  // tMin stays: a hit counts only when certainly past the (uncertain) origin.
-  return Ray{o, d, ray.tMin, ray.tMax - *dt, ray.time};
+  if (entry == 0) {
+    *shift = *shiftError = dt;
+    // tMin stays: a hit counts only when certainly past the (uncertain) origin.
+    return Ray{o, d, ray.tMin, ray.tMax - dt, ray.time};
+  }
+  // The offsets' sum rounds once (within half an ulp); tMin moves back by the entry alone
+  // (rounded up), so a hit still counts only when certainly past the caller's tMin.
+  *shift = entry + dt;
+  *shiftError = nextFloatUp(dt + gamma(1) * *shift);
+  return Ray{o, d, nextFloatUp(ray.tMin - entry), ray.tMax - *shift, ray.time};
 }
 
 bool PlacedShape::intersect(const Ray& ray, ShapeHit* hit) const {
-  if (identity_) return shape_->intersect(ray, hit);
-  float dt;
-  Ray r = toObject(ray, &dt);
+  if (identity_ && !startsFar(ray.o)) return shape_->intersect(ray, hit);
+  float shift, shiftError;
+  Ray r = toObject(ray, &shift, &shiftError);
   ShapeHit h;
   if (!shape_->intersect(r, &h)) return false;
-  float t = h.t + dt;
+  float t = h.t + shift;
   if (!(t <= ray.tMax)) return false;  // rounding of the shift past tMax
   hit->t = t;
   hit->part = h.part;
@@ -154,17 +203,33 @@ bool PlacedShape::intersect(const Ray& ray, ShapeHit* hit) const {
 }
 
 bool PlacedShape::occluded(const Ray& ray) const {
-  if (identity_) return shape_->occluded(ray);
+  if (identity_ && !startsFar(ray.o)) return shape_->occluded(ray);
   ShapeHit hit;
   return intersect(ray, &hit);
 }
 
 ShapeSurface PlacedShape::surface(const Ray& ray, const ShapeHit& hit,
                                   SurfaceDetails details) const {
-  if (identity_) return shape_->surface(ray, hit, details);
-  float dt;
-  Ray r = toObject(ray, &dt);
-  ShapeSurface s = shape_->surface(r, ShapeHit{hit.t - dt, hit.part}, details);
+  if (identity_ && !startsFar(ray.o)) return shape_->surface(ray, hit, details);
+  float shift, shiftError;
+  Ray r = toObject(ray, &shift, &shiftError);
+  ShapeHit local{hit.t - shift, hit.part};
+  if (shift > shiftError) {
+    // Moved from far away: the caller's t is the shape's t plus the shift, rounded at the
+    // caller's scale (a float step of t at 1e4 is 1e-3, far more than the shape's own error
+    // bound allows for, and a point placed by it could lie inside a thin wall). The shape's own
+    // t comes from intersecting the same moved ray again: its first hit past tMin, which is
+    // the one found before as long as it is the same part at the same t within that rounding.
+    // Only rays from far away pay for this.
+    ShapeHit again;
+    Ray unbounded = r;
+    unbounded.tMax = kInfinity;
+    if (shape_->intersect(unbounded, &again) && again.part == hit.part &&
+        std::abs(again.t - local.t) <= 2 * gamma(1) * std::abs(hit.t) + shiftError)
+      local = again;
+  }
+  ShapeSurface s = shape_->surface(r, local, details);
+  if (identity_) return s;
   ShapeSurface w;
   w.p = placement_.point(s.p, s.pError, &w.pError);
   // The inverse transpose keeps solids' normals outward even when handedness flips.
@@ -175,11 +240,11 @@ ShapeSurface PlacedShape::surface(const Ray& ray, const ShapeHit& hit,
 }
 
 bool PlacedShape::span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) const {
-  if (identity_) return shape_->span(ray, tolerance, out);
-  float dt;
+  if (identity_ && !startsFar(ray.o)) return shape_->span(ray, tolerance, out);
+  float shift, shiftError;
   Vec3f originError;
-  Ray r = toObject(ray, &dt, &originError);
-  // dt covers the origin's error along the ray; across it, the error moves a crossing by the
+  Ray r = toObject(ray, &shift, &shiftError, &originError);
+  // shiftError covers the origin's error along the ray; across it, the error moves a crossing by the
   // error along the surface's normal over |d . n|, like a surface tolerance: where crossings
   // tie (tolerance given), the origin's error joins the tolerance, and so does the direction's
   // rounding (half an ulp of each component, times |t|: at most half an ulp of |p - o|).
@@ -194,9 +259,12 @@ bool PlacedShape::span(const Ray& ray, const SurfaceTolerance& tolerance, Span* 
   if (!shape_->span(r, tol, &s)) return false;
   for (Crossing* c : {&s.enter, &s.exit}) {
     if (std::isinf(c->t)) continue;
-    // dt is also the origin's uncertainty along the ray; then the sum's own rounding.
-    c->t += dt;
-    c->tError = nextFloatUp(c->tError + dt + gamma(1) * std::abs(c->t));
+    // The shift's uncertainty is also the origin's along the ray; then the sum's own rounding.
+    c->t += shift;
+    c->tError = nextFloatUp(c->tError + shiftError + gamma(1) * std::abs(c->t));
+    // The normal in the caller's space (through the inverse transpose, as surface() does).
+    if (!translationOnly_ && (c->n.x != 0 || c->n.y != 0 || c->n.z != 0))
+      c->n = normalize(placement_.normal(c->n));
   }
   *out = s;
   return true;

@@ -78,7 +78,29 @@ struct Crossing {
   // How far t may move if the surface moves within its SurfaceTolerance (span()'s argument):
   // the tolerance along the normal over |d . n|. 0 without a tolerance. CSG ties use it.
   float tieWidth = 0;
+  // The surface's unit normal there (either sign), in the space the span was asked in; set
+  // with the tie width (zero without a tolerance, and for infinite t). CSG ties pair crossings
+  // of the same surface only (sameSurface).
+  Vec3f n;
 };
+
+// Two crossings that cannot be told apart: their t values differ by no more than their rounding
+// bounds and tie widths together (CSG's tie rule, geometry/csg.h).
+inline bool crossingsTie(const Crossing& a, const Crossing& b) {
+  if (a.t == b.t) return true;  // includes equal infinities
+  return std::abs(a.t - b.t) <= (a.tError + b.tError) + (a.tieWidth + b.tieWidth);
+}
+
+// Whether two crossings may lie on one surface: their normals are parallel (either sign) to
+// within 0.8 degrees, or one of them is unknown. Faces that coincide as meant are parallel to
+// within their rounding (1e-6); two faces meeting at an edge are not, however close to the
+// edge the ray passes.
+inline bool sameSurface(const Crossing& a, const Crossing& b) {
+  const float d = a.n.x * b.n.x + a.n.y * b.n.y + a.n.z * b.n.z;
+  const bool unknown = (a.n.x == 0 && a.n.y == 0 && a.n.z == 0) ||
+                       (b.n.x == 0 && b.n.y == 0 && b.n.z == 0);
+  return unknown || std::abs(d) >= 0.9999f;
+}
 
 // How far a solid's stored surface may lie from the surface its author meant, per axis of the
 // space the shape is asked in: at a point p, sum_j m[k][j] |p_j| + m[k][3] along axis k (a
@@ -247,10 +269,21 @@ class PlacedShape {
   // An object-space sample moved to the destination space.
   ShapeSample toDestination(const ShapeSample& s) const;
 
-  // `ray` in object space, with its origin moved forward past the transform's rounding error;
-  // `dt` receives the t offset to add to object-space t values, and `originError` (when given)
-  // a bound on the object-space origin's error per axis.
-  Ray toObject(const Ray& ray, float* dt, Vec3f* originError = nullptr) const;
+  // `ray` in object space, with its origin moved forward past the transform's rounding error,
+  // and, for a ray that starts far from the shape (farther from its box than kFarReach times
+  // the box's size), along its line to the box first, in double: the shape then works with t
+  // values and coordinates of its own size (seen from 1e4 units, the two faces of a 4e-5 wall
+  // are less than t's rounding apart). `shift` receives the t offset to add to object-space t
+  // values, `shiftError` its uncertainty, and `originError` (when given) a bound on the
+  // object-space origin's error per axis.
+  Ray toObject(const Ray& ray, float* shift, float* shiftError, Vec3f* originError = nullptr) const;
+  // Whether an object-space origin is farther from the shape's box than farReach_.
+  bool startsFar(const double o[3]) const;
+  bool startsFar(Vec3f o) const {
+    const double od[3] = {o.x, o.y, o.z};
+    return startsFar(od);
+  }
+  static constexpr float kFarReach = 8;
 
   const Shape* shape_;
   Transform placement_;
@@ -259,6 +292,8 @@ class PlacedShape {
   double inverse_[3][3];    // of placement_'s 3x3 part, in double (see the constructor)
   double inverseRelError_;  // relative error bound of each inverse_ entry
   double absDet_;           // |det| of placement_'s 3x3 part
+  Bounds3f objectBounds_;   // the shape's, in object space
+  float farReach_ = kInfinity;  // kFarReach times the box's largest side (inf: unbounded, empty)
 };
 
 }  // namespace glint

@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -65,6 +66,37 @@ class Accelerator {
       if (!closestHit(rays[i], &hits[i])) hits[i] = Hit{};
   }
 };
+
+// Hits far along their rays. Traversal finds a closest hit with a t rounded at the scale of the
+// ray's origin and length (a float step of t at 1e4 is 1e-3, and Embree's triangle test is
+// good to a few of them): of two faces closer together than that, a 4e-5 wall seen from 1e4
+// units away, either may come first, and the wall's back face shaded from the front shows as a
+// hole. A hit farther along its ray than kFarHit times its own largest coordinate is therefore
+// found again on a short stretch of the same line around it, traced from an origin moved there
+// in double, so that the faces' order is resolved at the float grid of the hit point. Rays
+// from near their hits (all but camera rays from far away, and rays towards the world origin)
+// never pay for it. Backends call refineFarHit on each closest hit they found.
+constexpr float kFarHit = 64;
+
+// The stretch of `ray`'s line to trace again around a hit at t, and the t offset of its
+// origin; nothing when the hit is not far along its ray.
+struct FarHitStretch {
+  Ray ray;
+  float shift = 0;
+};
+std::optional<FarHitStretch> farHitStretch(const Ray& ray, float t);
+
+// Replaces *hit by the closest hit `trace` (a backend's unrefined closest-hit query) finds on
+// the stretch, when the hit is far along its ray and the stretch has one.
+template <class Trace>
+void refineFarHit(const Ray& ray, Hit* hit, Trace&& trace) {
+  const std::optional<FarHitStretch> stretch = farHitStretch(ray, hit->t);
+  if (!stretch) return;
+  Hit near;
+  if (!trace(stretch->ray, &near)) return;  // the line moved off a silhouette: keep the first
+  near.t += stretch->shift;
+  if (near.t <= ray.tMax) *hit = near;
+}
 
 // Builds the backend called `name` over `scene`, which must outlive the accelerator.
 // Throws InputError (geometry/error.h) for an unknown name and std::runtime_error if the build

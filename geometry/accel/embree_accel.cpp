@@ -177,6 +177,12 @@ void EmbreeAccelerator::checkError(const char* what) {
 }
 
 bool EmbreeAccelerator::closestHit(const Ray& ray, Hit* hit) const {
+  if (!closestHitUnrefined(ray, hit)) return false;
+  refineFarHit(ray, hit, [this](const Ray& r, Hit* h) { return closestHitUnrefined(r, h); });
+  return true;
+}
+
+bool EmbreeAccelerator::closestHitUnrefined(const Ray& ray, Hit* hit) const {
   if (!unbounded_.empty()) {
     // The nearest plane shortens the ray Embree traces.
     Hit plane;
@@ -264,6 +270,8 @@ void EmbreeAccelerator::closestHits(const Ray* rays, Hit* hits, int count) const
       hit.prim = rh.hit.primID[i];
       hit.u = rh.hit.u[i];
       hit.v = rh.hit.v[i];
+      refineFarHit(rays[first + i], &hit,
+                   [this](const Ray& r, Hit* h) { return traceClosest(r, h); });
     }
   }
 }

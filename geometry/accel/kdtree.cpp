@@ -985,6 +985,12 @@ bool KdTreeAccelerator::trace(const Ray& ray, Hit* hit, KdTraversalCounts* count
 }
 
 bool KdTreeAccelerator::closestHit(const Ray& ray, Hit* hit) const {
+  if (!closestHitUnrefined(ray, hit)) return false;
+  refineFarHit(ray, hit, [this](const Ray& r, Hit* h) { return closestHitUnrefined(r, h); });
+  return true;
+}
+
+bool KdTreeAccelerator::closestHitUnrefined(const Ray& ray, Hit* hit) const {
   const bool moving = !movingShapes_.empty() || !movingMeshes_.empty();
   if (unbounded_.empty() && !moving) return trace<false>(ray, hit);
   // The nearest plane or moving object shortens the ray the tree traces (as the Embree

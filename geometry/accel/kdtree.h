@@ -226,6 +226,7 @@ class KdTreeAccelerator final : public Accelerator {
   bool countedTrace(const Ray& ray, bool any, KdTraversalCounts* counts) const;
 
  private:
+  bool closestHitUnrefined(const Ray& ray, Hit* hit) const;  // without refineFarHit
   // Front-to-back traversal; with kAny it returns at the first hit and leaves `hit` alone.
   // With kCount it adds its work to `counts`.
   template <bool kAny, bool kCount = false>

@@ -18,15 +18,22 @@ Box::Box(Vec3f lower, Vec3f upper) : lower_(lower), upper_(upper) {
 
 bool Box::span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) const {
   Span s{{-kInfinity, 0, 0}, {kInfinity, 0, 0}};
-  for (int a = 0; a < 3; ++a) {
-    Span sa;
-    uint32_t lo = uint32_t(2 * a), hi = lo + 1;
-    if (!slab(ray.o[a], ray.d[a], lower_[a], upper_[a], lo, hi, &sa)) return false;
-    if (!intersectSpans(s, sa, &s)) return false;
+  if (tolerance.none()) {
+    for (int a = 0; a < 3; ++a) {
+      Span sa;
+      uint32_t lo = uint32_t(2 * a), hi = lo + 1;
+      if (!slab(ray.o[a], ray.d[a], lower_[a], upper_[a], lo, hi, &sa)) return false;
+      if (!intersectSpans(s, sa, &s)) return false;
+    }
+  } else {
+    Span slabs[3];
+    for (int a = 0; a < 3; ++a) {
+      uint32_t lo = uint32_t(2 * a), hi = lo + 1;
+      if (!slab(ray.o[a], ray.d[a], lower_[a], upper_[a], lo, hi, &slabs[a])) return false;
+    }
+    auto width = [&](Crossing* c) { setTieWidth(c, ray, tolerance, axisNormal(int(c->part / 2))); };
+    if (!leafSpan(slabs, 3, length(upper_ - lower_) / length(ray.d), width, &s)) return false;
   }
-  if (!tolerance.none())
-    for (Crossing* c : {&s.enter, &s.exit})
-      setTieWidth(c, ray, tolerance, axisNormal(int(c->part / 2)));
   *out = s;
   return true;
 }

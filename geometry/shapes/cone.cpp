@@ -87,16 +87,18 @@ bool Cone::span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) co
   if (!nappeSpan(ray, &side, t)) return false;
   // Entering through y = height can only be at the apex: label it as the side.
   if (!slab(ray.o.y, ray.d.y, 0, height_, 1, 0, &ys)) return false;
-  if (!intersectSpans(side, ys, out)) return false;
-  if (!tolerance.none()) {
-    // The side's normal is along (x, k rho, z); at the apex, where it has none, the direction
-    // of the ray stands in (the narrowest width).
-    const float k = radius_ / height_;
-    setRevolvedTieWidths(out, ray, tolerance, [&](Vec3f p, float rho) {
+  if (tolerance.none()) return intersectSpans(side, ys, out);
+  // The side's normal is along (x, k rho, z); at the apex, where it has none, the direction
+  // of the ray stands in (the narrowest width).
+  const float k = radius_ / height_;
+  auto width = [&](Crossing* c) {
+    setRevolvedTieWidth(c, ray, tolerance, [&](Vec3f p, float rho) {
       return rho > 0 ? Vec3f{p.x, k * rho, p.z} / (rho * std::sqrt(1 + k * k)) : normalize(ray.d);
     });
-  }
-  return true;
+  };
+  const Span parts[2] = {side, ys};
+  return leafSpan(parts, 2, std::sqrt(4 * radius_ * radius_ + height_ * height_) / length(ray.d),
+                  width, out);
 }
 
 bool Cone::intersect(const Ray& ray, ShapeHit* hit) const {

@@ -43,15 +43,17 @@ bool Cylinder::span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out
   double t0, t1;
   if (!sideSpan(ray, &side, &t0, &t1)) return false;
   if (!slab(ray.o.y, ray.d.y, 0, height_, 1, 2, &ys)) return false;
-  if (!intersectSpans(side, ys, out)) return false;
-  if (!tolerance.none()) {
-    const float speed = std::sqrt(ray.d.x * ray.d.x + ray.d.z * ray.d.z);
-    setRevolvedTieWidths(
-        out, ray, tolerance,
+  if (tolerance.none()) return intersectSpans(side, ys, out);
+  const float speed = std::sqrt(ray.d.x * ray.d.x + ray.d.z * ray.d.z);
+  auto width = [&](Crossing* c) {
+    setRevolvedTieWidth(
+        c, ray, tolerance,
         [](Vec3f p, float rho) { return rho > 0 ? Vec3f{p.x / rho, 0, p.z / rho} : Vec3f{1, 0, 0}; },
         radius_, speed);
-  }
-  return true;
+  };
+  const Span parts[2] = {side, ys};
+  return leafSpan(parts, 2, std::sqrt(4 * radius_ * radius_ + height_ * height_) / length(ray.d),
+                  width, out);
 }
 
 bool Cylinder::intersect(const Ray& ray, ShapeHit* hit) const {

@@ -312,8 +312,9 @@ inline Vec3f normalized(V3 v) { return (v * (1 / std::sqrt(dot(v, v)))).toFloat(
 inline V3 rayPoint(const Ray& ray, float t) { return V3(ray.o) + V3(ray.d) * double(t); }
 
 // Sets the tie width of a crossing of `ray` where the surface's unit normal is n (either
-// sign): the surface's tolerance along n at the crossing point over |d . n|, the t-range in
-// which the line stays within the tolerance of the surface to first order. For a curved
+// sign), and the crossing's normal n. The width is the surface's tolerance along n at the
+// crossing point over |d . n|, the t-range in which the line stays within the tolerance of the
+// surface to first order. For a curved
 // surface of radius `radius` (with `speed` the ray's speed across the curvature) the width is
 // at most sqrt(tau (2 r + tau)) / speed, how long a tangent line stays within tau of the curve.
 // Infinite crossings keep width 0. In float: a tolerance is a doubled bound, and 1e-5 covers
@@ -334,6 +335,7 @@ inline void setTieWidth(Crossing* c, const Ray& ray, const SurfaceTolerance& tol
   if (radius > 0 && (2 * radius + tau) * dn * dn < tau * speed * speed)
     w = std::sqrt(tau * (2 * radius + tau)) / speed;
   c->tieWidth = w * (1 + 1e-5f);
+  c->n = n;
 }
 inline void setTieWidth(Crossing* c, const Ray& ray, const SurfaceTolerance& tolerance, Vec3f n) {
   setTieWidth(c, ray, tolerance, ray.o + ray.d * c->t, n);
@@ -342,21 +344,82 @@ inline void setTieWidth(Crossing* c, const Ray& ray, const SurfaceTolerance& tol
 // The unit normal of an axis-aligned face crossed on `axis` (the sign does not matter).
 inline Vec3f axisNormal(int axis) { return {float(axis == 0), float(axis == 1), float(axis == 2)}; }
 
-// The tie widths of a span of a capped solid of revolution about +Y (cylinder, cone): part 0
+// A CSG leaf's span (a tolerance given) from its components' spans: a box's three slabs, a
+// capped cylinder's or cone's side and caps. `width(c)` sets a crossing's tie width and normal
+// (setTieWidth); `extent` is the leaf's size along the ray (in t). Returns false for a miss.
+// Two things differ from the plain intersection of the components:
+//
+//  * The line may run along a face within the leaf's tolerance of it: the face's crossing is
+//    then so wide (its tie width exceeds `extent`) that where the line crosses that face is not
+//    defined, and which side of it the line is on across the leaf is decided by rounding. When
+//    such a face bounds the span and the line stays within its width of it over the rest of the
+//    leaf, it does not bound the span (the other components do): the line counts as inside
+//    along it. Two leaves meant to share that face then agree: a union of two boxes meant to
+//    touch (5e-8 apart as written) showed the one box's inner face where a ray ran along the
+//    seam between them.
+//  * Components that do not overlap by no more than their crossings' rounding bounds and tie
+//    widths: the line passes within the tolerance of an edge, outside it. A twin leaf (the same
+//    solid written another way, or a neighbour meant to touch it) may be entered there, and its
+//    crossings must find these two to tie with, or an inner face of the twin would bound the
+//    result, or a sliver of it survive the operators. The span is then one of zero length at
+//    the better placed crossing (the narrower tie width), the other one moved there with its
+//    error bound grown by the move, each keeping its face. Zero-length spans are dropped at the
+//    root of the tree (CsgShape).
+template <class Width>
+bool leafSpan(const Span* parts, int n, float extent, Width width, Span* out) {
+  // The later entry and the earlier exit of the components, optionally without component `skip`.
+  auto meet = [&](int skip, int* enterIndex, int* exitIndex) {
+    Span s;
+    *enterIndex = *exitIndex = -1;
+    for (int i = 0; i < n; ++i) {
+      if (i == skip) continue;
+      if (*enterIndex < 0 || parts[i].enter.t > s.enter.t) s.enter = parts[i].enter, *enterIndex = i;
+      if (*exitIndex < 0 || parts[i].exit.t < s.exit.t) s.exit = parts[i].exit, *exitIndex = i;
+    }
+    return s;
+  };
+  int ie = -1, ix = -1;
+  Span s = meet(-1, &ie, &ix);
+  width(&s.enter);
+  width(&s.exit);
+  if (n > 1 && s.enter.tieWidth > extent) {
+    int je = -1, jx = -1;
+    Span others = meet(ie, &je, &jx);
+    width(&others.enter);
+    if (s.enter.t - others.enter.t <= s.enter.tieWidth + s.enter.tError + others.enter.tError)
+      s.enter = others.enter;
+  }
+  if (n > 1 && s.exit.tieWidth > extent) {
+    int je = -1, jx = -1;
+    Span others = meet(ix, &je, &jx);
+    width(&others.exit);
+    if (others.exit.t - s.exit.t <= s.exit.tieWidth + s.exit.tError + others.exit.tError)
+      s.exit = others.exit;
+  }
+  if (s.enter.t > s.exit.t) {
+    if (!crossingsTie(s.enter, s.exit)) return false;
+    const float gap = s.enter.t - s.exit.t;
+    const bool enterWider = s.enter.tieWidth > s.exit.tieWidth;
+    Crossing& moved = enterWider ? s.enter : s.exit;
+    moved.t = enterWider ? s.exit.t : s.enter.t;
+    moved.tError = nextFloatUp(moved.tError + gap);
+  }
+  *out = s;
+  return true;
+}
+
+// The tie width of a crossing of a capped solid of revolution about +Y (cylinder, cone): part 0
 // is the side, whose unit normal at a point p at distance rho from the axis is
 // sideNormal(p, rho); the other parts are caps. `radius` and `speed` as for setTieWidth.
 template <class SideNormal>
-void setRevolvedTieWidths(Span* s, const Ray& ray, const SurfaceTolerance& tolerance,
-                          SideNormal sideNormal, float radius = 0, float speed = 0) {
-  for (Crossing* c : {&s->enter, &s->exit}) {
-    if (c->part != 0) {
-      setTieWidth(c, ray, tolerance, axisNormal(1));
-      continue;
-    }
-    const Vec3f p = ray.o + ray.d * c->t;
-    setTieWidth(c, ray, tolerance, p, sideNormal(p, std::sqrt(p.x * p.x + p.z * p.z)), radius,
-                speed);
+void setRevolvedTieWidth(Crossing* c, const Ray& ray, const SurfaceTolerance& tolerance,
+                         SideNormal sideNormal, float radius = 0, float speed = 0) {
+  if (c->part != 0) {
+    setTieWidth(c, ray, tolerance, axisNormal(1));
+    return;
   }
+  const Vec3f p = ray.o + ray.d * c->t;
+  setTieWidth(c, ray, tolerance, p, sideNormal(p, std::sqrt(p.x * p.x + p.z * p.z)), radius, speed);
 }
 
 }  // namespace glint::prim

@@ -15,6 +15,7 @@
 #include <functional>
 #include <numbers>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "renderer/integrator.h"
@@ -380,6 +381,7 @@ struct Solid {
   V3 lo, hi;            // box
   V3 centre;            // sphere centre; cylinder/cone base centre
   double radius = 0, height = 0;
+  int thinAxis = -1;    // a thin plate (a box): the axis it is thin along, never split
 
   bool flatBottom() const { return kind != Sphere; }
 };
@@ -556,7 +558,8 @@ class TreeWriter {
           return op("intersection", {express(s, depth), express(s, depth)});
         case 2: {  // a box split in two along a lattice plane
           if (s.kind != Solid::Box) break;
-          const int axis = rng_.below(3);
+          int axis = rng_.below(3);
+          if (axis == s.thinAxis) axis = (axis + 1 + rng_.below(2)) % 3;  // a plate splits across
           const double m = s.lo[axis] + (s.hi[axis] - s.lo[axis]) * (1 + rng_.below(3)) / 4;
           Solid a = s, b = s;
           a.hi[axis] = m, b.lo[axis] = m;
@@ -703,8 +706,15 @@ class TreeWriter {
   Rng rng_;
 };
 
+// The thicknesses of the thin plates, as fractions of the trees' size (2.6, the width of the
+// region the solids stand in): 4e-5 of it is 1.04e-4, some 30 times the leaves' tolerances.
+constexpr double kThinWalls[] = {4e-5, 2e-4, 1e-3};
+constexpr double kTreeSize = 2.6;
+
 // 1 or 2 solids on a lattice of 1/8, side by side, in [-1.3, 1.3] x [-1, 1] x [-0.8, 0.8].
-std::vector<Solid> randomSolids(Rng& rng) {
+// `thin`: one of them may be a thin plate instead, a box one of kThinWalls thick along a random
+// axis, its faces on the lattice and that far from it.
+std::vector<Solid> randomSolids(Rng& rng, bool thin = false) {
   std::vector<Solid> solids;
   const int count = 1 + rng.below(2);
   for (int i = 0; i < count; ++i) {
@@ -724,6 +734,13 @@ std::vector<Solid> randomSolids(Rng& rng) {
       s.height = lattice(0.5, 1.5);
       if (s.kind == Solid::Sphere) s.centre.y = lattice(-0.75, 0);
     }
+    if (thin && i == 0 && rng.chance(0.6)) {
+      s = Solid{};
+      s.lo = {lattice(cx - half, cx - 0.125), lattice(-1, -0.25), lattice(-0.75, -0.125)};
+      s.hi = {lattice(cx + 0.125, cx + half), lattice(0, 0.75), lattice(0.125, 0.75)};
+      s.thinAxis = rng.below(3);
+      s.hi[s.thinAxis] = s.lo[s.thinAxis] + rng.pick(kThinWalls) * kTreeSize;
+    }
     solids.push_back(s);
   }
   return solids;
@@ -736,13 +753,18 @@ struct GeneratedScene {
   std::vector<Op> turn;  // the root's last operation, shared with the plain objects
   std::string plainObjects;  // JSON array items
   std::string camera, light;
+  std::string grazing;  // the grazing view, for messages ("axis 1, 4 degrees"; empty: none)
 };
 
-GeneratedScene generate(uint64_t seed) {
+// `thinAndGrazing`: the solids may hold a thin plate (randomSolids), and the camera looks 4 or 1
+// degrees above the planes of one axis of the tree's frame, turned with the tree (nearly in the
+// plane of its faces along that axis, shared ones included). Without it the trees and views of
+// the first generator test, seed for seed.
+GeneratedScene generate(uint64_t seed, bool thinAndGrazing = false) {
   TreeWriter writer(seed);
   Rng& rng = writer.rng();
   GeneratedScene g;
-  g.solids = randomSolids(rng);
+  g.solids = randomSolids(rng, thinAndGrazing);
   const std::vector<Solid>& solids = g.solids;
   std::vector<Node> parts;
   for (const Solid& s : solids) parts.push_back(writer.express(s, 3, solids.size() > 1));
@@ -767,10 +789,26 @@ GeneratedScene generate(uint64_t seed) {
     g.plainObjects += plainJson(s, turn) + R"(, "material": "grey"})";
   }
   const double azimuth = rng.uniform() * 2 * std::numbers::pi;
-  const double elevation = (rng.chance(0.2) ? 2 : 10 + rng.uniform() * 60) * std::numbers::pi / 180;
   const double distance = 4.5;
-  const V3 eye{distance * std::cos(elevation) * std::cos(azimuth), distance * std::sin(elevation),
-               distance * std::cos(elevation) * std::sin(azimuth)};
+  V3 eye;
+  if (thinAndGrazing) {
+    // Grazing: along the plane of axis k of the tree's frame, 4 or 1 degrees out of it.
+    const int k = rng.below(3);
+    const double degrees = rng.chance(0.5) ? 4 : 1;
+    V3 n, u, v;
+    n[k] = 1, u[(k + 1) % 3] = 1, v[(k + 2) % 3] = 1;
+    const double a = degrees * std::numbers::pi / 180;
+    V3 dir = (u * std::cos(azimuth) + v * std::sin(azimuth)) * std::cos(a) + n * std::sin(a);
+    for (const Op& o : g.turn) dir = o.apply(dir);
+    // Above the floor (y = -1.3): the other side of the plane, the same angle, when not.
+    if (-0.2 + distance * dir.y < -1.0) dir = V3{} - dir;
+    eye = V3{0, -0.2, 0} + dir * distance;
+    g.grazing = "axis " + std::to_string(k) + ", " + num(degrees) + " degrees";
+  } else {
+    const double elevation = (rng.chance(0.2) ? 2 : 10 + rng.uniform() * 60) * std::numbers::pi / 180;
+    eye = {distance * std::cos(elevation) * std::cos(azimuth), distance * std::sin(elevation),
+           distance * std::cos(elevation) * std::sin(azimuth)};
+  }
   g.camera = R"({"name": "c", "position": )" + vec(eye) +
              R"(, "look_at": [0, -0.2, 0], "yfov_degrees": 45})";
   const double la = rng.uniform() * 2 * std::numbers::pi;
@@ -778,6 +816,59 @@ GeneratedScene generate(uint64_t seed) {
             vec({3 * std::cos(la), 2.5 + rng.uniform() * 2, 3 * std::sin(la)}) +
             R"(, "intensity": 40})";
   return g;
+}
+
+int countLeaves(const Node& n) {
+  int c = n.isLeaf() ? 1 : 0;
+  for (const Node& k : n.children) c += countLeaves(k);
+  return c;
+}
+
+// What one generated scene gave: differing pixels of each file form against the plain solids,
+// and the CSG render (JSON form) for further comparisons.
+struct SeedResult {
+  bool valid = false;  // the generator's own check that the tree is its solids passed
+  Difference forms[2];
+  Film csg;
+};
+
+// Checks that the tree of `g` is its solids (100,000 points in double), writes the tree as a
+// .csg file and the three scenes (plain solids, the tree as JSON, the tree from the file) into
+// `dir`, renders them and compares each form with the plain solids.
+SeedResult runSeed(const GeneratedScene& g, uint64_t seed, const std::string& dir) {
+  SeedResult r;
+  // The tree is the solids (without the root's turn, which the plain objects share).
+  Node unturned = g.tree;
+  if (!g.turn.empty()) unturned.ops.pop_back();
+  Rng points(seed);
+  int wrong = 0;
+  V3 example;
+  for (int i = 0; i < 100000; ++i) {
+    const V3 p{points.uniform() * 3.4 - 1.7, points.uniform() * 2.6 - 1.6, points.uniform() * 2.4 - 1.2};
+    bool inSolids = false;
+    for (const Solid& s : g.solids) inSolids = inSolids || contains(s, p);
+    if (contains(unturned, p) != inSolids) ++wrong, example = p;
+  }
+  if (wrong != 0) {
+    ADD_FAILURE() << "seed " << seed << ": the generator's tree is not its solid at (" << example.x
+                  << ", " << example.y << ", " << example.z << "):\n"
+                  << toRpn(g.tree);
+    return r;
+  }
+  std::filesystem::create_directories(dir);
+  writeFile(dir + "/tree.csg", toRpn(g.tree));
+  writeFile(dir + "/plain.json", sceneJson(g.plainObjects, g.camera, g.light));
+  writeFile(dir + "/json.json",
+            sceneJson(R"({"type": "csg", "material": "grey", "tree": )" + toJson(g.tree) + "}",
+                      g.camera, g.light));
+  writeFile(dir + "/rpn.json",
+            sceneJson(R"({"type": "csg", "material": "grey", "file": "tree.csg"})", g.camera, g.light));
+  const Film plain = renderFile(dir + "/plain.json");
+  r.csg = renderFile(dir + "/json.json");
+  r.forms[0] = compareFilms(r.csg, plain);
+  r.forms[1] = compareFilms(renderFile(dir + "/rpn.json"), plain);
+  r.valid = true;
+  return r;
 }
 
 // Each seed's tree in both file forms against the plain solids. Zero speckles: no differing
@@ -790,44 +881,15 @@ TEST(CsgGenerator, RandomTreesWithSharedFacesRenderLikeThePlainSolids) {
   const char* seeds = std::getenv("GLINT_CSG_SEEDS");
   const int kSeeds = seeds ? std::max(1, std::atoi(seeds)) : 60;
   int edgePixels = 0, leaves = 0;
-  std::function<int(const Node&)> countLeaves = [&](const Node& n) {
-    int c = n.isLeaf() ? 1 : 0;
-    for (const Node& k : n.children) c += countLeaves(k);
-    return c;
-  };
   for (uint64_t seed = 1; seed <= uint64_t(kSeeds); ++seed) {
     const GeneratedScene g = generate(seed);
     leaves += countLeaves(g.tree);
-    // The tree is the solids (without the root's turn, which the plain objects share).
-    Node unturned = g.tree;
-    if (!g.turn.empty()) unturned.ops.pop_back();
-    Rng points(seed);
-    int wrong = 0;
-    V3 example;
-    for (int i = 0; i < 100000; ++i) {
-      const V3 p{points.uniform() * 3.4 - 1.7, points.uniform() * 2.6 - 1.6, points.uniform() * 2.4 - 1.2};
-      bool inSolids = false;
-      for (const Solid& s : g.solids) inSolids = inSolids || contains(s, p);
-      if (contains(unturned, p) != inSolids) ++wrong, example = p;
-    }
-    ASSERT_EQ(wrong, 0) << "seed " << seed << ": the generator's tree is not its solid at ("
-                        << example.x << ", " << example.y << ", " << example.z << "):\n"
-                        << toRpn(g.tree);
-    const std::string dir = root + "/seed" + std::to_string(seed);  // kept for a failure's files
-    std::filesystem::create_directories(dir);
-    writeFile(dir + "/tree.csg", toRpn(g.tree));
-    writeFile(dir + "/plain.json", sceneJson(g.plainObjects, g.camera, g.light));
-    writeFile(dir + "/json.json",
-              sceneJson(R"({"type": "csg", "material": "grey", "tree": )" + toJson(g.tree) + "}",
-                        g.camera, g.light));
-    writeFile(dir + "/rpn.json",
-              sceneJson(R"({"type": "csg", "material": "grey", "file": "tree.csg"})", g.camera,
-                        g.light));
-    const Film plain = renderFile(dir + "/plain.json");
-    for (const char* form : {"json", "rpn"}) {
-      const Difference d = compareFilms(renderFile(dir + "/" + form + ".json"), plain);
-      EXPECT_EQ(d.awayFromEdges, 0) << "seed " << seed << " (" << form << ")" << d.where
-                                    << ", tree:\n"
+    const SeedResult r = runSeed(g, seed, root + "/seed" + std::to_string(seed));
+    ASSERT_TRUE(r.valid);
+    for (int f = 0; f < 2; ++f) {
+      const Difference& d = r.forms[f];
+      EXPECT_EQ(d.awayFromEdges, 0) << "seed " << seed << " (" << (f ? "rpn" : "json") << ")"
+                                    << d.where << ", tree:\n"
                                     << toRpn(g.tree);
       edgePixels += d.pixels - d.awayFromEdges;
     }
@@ -837,6 +899,61 @@ TEST(CsgGenerator, RandomTreesWithSharedFacesRenderLikeThePlainSolids) {
   std::printf("[ csg generator ] %d seeds, %d leaves, %d differing edge pixels in %d renders\n",
               kSeeds, leaves, edgePixels, 2 * kSeeds);
   EXPECT_LE(edgePixels, 2 * kSeeds / 10);
+}
+
+// Issue 49, item 4 (the invariance net's CSG rewriting part): the generator again, with thin
+// plates among the solids (4e-5, 2e-4 or 1e-3 of the trees' size thick, written through the
+// same random equivalent transforms, shared faces and all) and every view grazing: 4 or 1 degrees
+// out of the planes of one axis of the tree's frame, turned with the tree. Zero speckles, a few
+// silhouette pixels at most, as for the first test. GLINT_CSG_SEEDS hunts longer here too.
+//
+// The control: the same renders against the plain solids without their plate must differ, by
+// many pixels for most seeds (a plate seen edge-on, or hidden behind the other solid, may
+// show on a few pixels only): the comparison would see a lost wall.
+TEST(CsgGenerator, ThinWallsAndGrazingViewsRenderLikeThePlainSolids) {
+  const std::string root = test::scratchDir("csg_generator_thin");
+  const char* seeds = std::getenv("GLINT_CSG_SEEDS");
+  const int kSeeds = seeds ? std::max(1, std::atoi(seeds)) : 40;
+  int edgePixels = 0, leaves = 0, plates = 0, platesSeen = 0;
+  for (uint64_t seed = 1; seed <= uint64_t(kSeeds); ++seed) {
+    const GeneratedScene g = generate(seed, true);
+    leaves += countLeaves(g.tree);
+    const std::string dir = root + "/seed" + std::to_string(seed);
+    const SeedResult r = runSeed(g, seed, dir);
+    ASSERT_TRUE(r.valid);
+    for (int f = 0; f < 2; ++f) {
+      const Difference& d = r.forms[f];
+      EXPECT_EQ(d.awayFromEdges, 0) << "seed " << seed << " (" << (f ? "rpn" : "json") << ", "
+                                    << g.grazing << ")" << d.where << ", tree:\n"
+                                    << toRpn(g.tree);
+      edgePixels += d.pixels - d.awayFromEdges;
+    }
+    // The control: the solids without the plate.
+    std::string others;
+    bool plate = false;
+    for (const Solid& s : g.solids) {
+      if (s.thinAxis >= 0) {
+        plate = true;
+        continue;
+      }
+      others += std::string(others.empty() ? "" : ", ") + plainJson(s, g.turn) + R"(, "material": "grey"})";
+    }
+    if (!plate) continue;
+    ++plates;
+    if (others.empty()) others = R"({"type": "sphere", "radius": 0.01, "center": [0, 5, 9]})";
+    writeFile(dir + "/without_plate.json", sceneJson(others, g.camera, g.light));
+    const int lost = compareFilms(r.csg, renderFile(dir + "/without_plate.json")).pixels;
+    platesSeen += lost > 20;
+  }
+  RecordProperty("edge_pixels", edgePixels);
+  RecordProperty("leaves", leaves);
+  std::printf("[ csg generator ] thin walls, grazing views: %d seeds, %d leaves, %d differing edge "
+              "pixels in %d renders; %d plates, %d of them differ by more than 20 pixels from "
+              "the solids without them\n",
+              kSeeds, leaves, edgePixels, 2 * kSeeds, plates, platesSeen);
+  EXPECT_LE(edgePixels, 2 * kSeeds / 10);
+  EXPECT_GT(plates, 0);
+  EXPECT_GE(2 * platesSeen, plates) << "the plates should show in most views";
 }
 
 // The negative control: a plate 1e-4 thick (a box minus all of it but a skin), written through
@@ -870,6 +987,199 @@ TEST(CsgGenerator, ARealThinSkinStillRendersAsASkin) {
     EXPECT_GT(compareFilms(csg, renderFile(dir + "/empty.json")).pixels, 2000) << "seed " << seed;
   }
 }
+
+
+// ---------------------------------------------------------------------------------------------
+// Issue 49, item 3: shared faces seen at grazing angles
+// ---------------------------------------------------------------------------------------------
+
+// Trees whose leaves share faces, each equal to one plain box: A - B with B flush against four of
+// A's faces, the union of two halves sharing the face x = 0.5 (and four coplanar ones), A n C
+// with C flush against four of A's faces; the leaves in the same frame, or one of them written
+// another way (as the outside cases: scaled by 0.3333333, turned a quarter and moved back, B
+// scaled and moved into place).
+struct GrazingTree {
+  const char* name;
+  const char* csg;  // the tree as a .csg file, without the whole tree's turn
+  const char* lo;   // the plain box it equals
+  const char* hi;
+};
+
+const GrazingTree kGrazingTrees[] = {
+    {"DifferenceSameFrame", "box min 0 0 0 max 1 1 1\nbox min 0.5 0 0 max 1 1 1\ndifference",
+     "[0, 0, 0]", "[0.5, 1, 1]"},
+    {"DifferenceScaledByAThird",
+     "box min 0 0 0 max 3 3 3 scale 0.3333333 0.3333333 0.3333333\nbox min 0.5 0 0 max 1 1 1\ndifference",
+     "[0, 0, 0]", "[0.5, 1, 1]"},
+    {"DifferenceTurnedAndMovedBack",
+     "box min 0 0 0 max 1 1 1 rotate 90 0 1 0 translate 0 0 1\nbox min 0.5 0 0 max 1 1 1\ndifference",
+     "[0, 0, 0]", "[0.5, 1, 1]"},
+    {"DifferenceScaledCut",
+     "box min 0 0 0 max 1 1 1\nbox min 0 0 0 max 1 1 1 scale 0.5 1 1 translate 0.5 0 0\ndifference",
+     "[0, 0, 0]", "[0.5, 1, 1]"},
+    {"UnionSameFrame", "box min 0 0 0 max 0.5 1 1\nbox min 0.5 0 0 max 1 1 1\nunion", "[0, 0, 0]",
+     "[1, 1, 1]"},
+    {"UnionScaledByAThird",
+     "box min 0 0 0 max 1.5 3 3 scale 0.3333333 0.3333333 0.3333333\nbox min 0.5 0 0 max 1 1 1\nunion",
+     "[0, 0, 0]", "[1, 1, 1]"},
+    {"IntersectionSameFrame", "box min 0 0 0 max 1 1 1\nbox min -0.5 0 0 max 0.5 1 1\nintersection",
+     "[0, 0, 0]", "[0.5, 1, 1]"},
+    {"IntersectionScaledByAThird",
+     "box min 0 0 0 max 3 3 3 scale 0.3333333 0.3333333 0.3333333\nbox min -0.5 0 0 max 0.5 1 1\nintersection",
+     "[0, 0, 0]", "[0.5, 1, 1]"},
+};
+
+// The whole tree turned (or not): the plain box gets the same turn.
+const std::vector<Op> kGrazingTurn = {{Op::Rotate, {0, 1, 0}, 30}, {Op::Rotate, {1, 0, 0}, 20}};
+
+struct GrazingView {
+  V3 eye, target, up;
+  bool inSeamPlane = false;  // the eye in the plane x = 0.5: the middle column looks along it
+  double fov = 0;
+  std::string name;
+};
+
+// Views 4 and 1 degrees out of the planes of the trees' faces (x, y and z = 0 and 1: all of
+// them shared by two leaves, or coplanar with a face of the other leaf), from 3 units away,
+// looking at the face's centre (on the plane x = 0.5 for the y and z faces: the union's seam,
+// the difference's cut, the intersection's new face):
+//  * for the y and z faces, twice from within the plane x = 0.5, along the face, with an 8 degree
+//    field of view: the middle column of pixels then looks along that plane, onto the seam or
+//    edge, every ray there within a float step of the plane; and twice from other directions,
+//    once from the far side of the face's plane (-4 or -1 degrees), with 40 degrees;
+//  * for the x faces, from four directions around the face's normal, two of them from the far
+//    side of its plane, with 8 and 40 degrees.
+// `all` (GLINT_CSG_GRAZING_VIEWS=all, a longer hunt): 16 directions, both sides of the plane and
+// both fields of view for every face and angle.
+std::vector<GrazingView> grazingViews(bool all) {
+  struct Direction {
+    double phi, fov, side;  // azimuth in the face's plane, field of view, +1 or -1: which side
+  };
+  const double pi = std::numbers::pi;
+  std::vector<GrazingView> views;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side) {
+      std::vector<Direction> directions;
+      if (all) {
+        for (int k = 0; k < 16; ++k)
+          for (double fov : {8.0, 40.0})
+            for (double sign : {1.0, -1.0}) directions.push_back({k * pi / 8, fov, sign});
+      } else if (axis == 0) {
+        directions = {{0.1, 8, 1}, {0.1 + pi / 2, 40, -1}, {0.1 + pi, 8, -1}, {0.1 + 1.5 * pi, 40, 1}};
+      } else {
+        directions = {{0, 8, 1}, {pi, 8, 1}, {0.8, 40, 1}, {0.8 + pi, 40, -1}};
+      }
+      V3 n, target{0.5, 0.5, 0.5}, along, across;
+      n[axis] = side ? 1 : -1;
+      target[axis] = side;
+      if (axis == 0) {
+        along = {0, 1, 0}, across = {0, 0, 1};
+      } else {
+        along[axis == 1 ? 2 : 1] = 1;  // in the face and in the plane x = 0.5
+        across = {1, 0, 0};
+      }
+      for (double degrees : {4.0, 1.0})
+        for (const Direction& d : directions) {
+          const double a = d.side * degrees * pi / 180;
+          const V3 inFace = along * std::cos(d.phi) + across * std::sin(d.phi);
+          GrazingView v;
+          v.target = target;
+          v.eye = target + (inFace * std::cos(a) + n * std::sin(a)) * 3;
+          v.up = n;
+          v.fov = d.fov;
+          v.inSeamPlane = axis != 0 && (d.phi == 0 || d.phi == pi);
+          v.name = std::string("face ") + "xyz"[axis] + " = " + std::to_string(side) + ", " +
+                   num(d.side * degrees) + " degrees, azimuth " + num(d.phi) + ", fov " + num(d.fov);
+          views.push_back(v);
+        }
+    }
+  return views;
+}
+
+// Pixels of `a` and `b` that differ by more than 0.02 in some channel, outside column `skip`.
+int differingOutsideColumn(const Film& a, const Film& b, int skip) {
+  int n = 0;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x) {
+      if (x == skip) continue;
+      const Rgb ca = a.color[a.index(x, y)], cb = b.color[b.index(x, y)];
+      n += std::abs(ca.x - cb.x) > 0.02f || std::abs(ca.y - cb.y) > 0.02f || std::abs(ca.z - cb.z) > 0.02f;
+    }
+  return n;
+}
+
+// A scene for the grazing views: 97 x 97 pixels (the middle column looks along the plane
+// x = 0.5), one sample at each pixel's centre (a box filter 1e-4 pixels wide: the camera rays
+// are the ones a pixel-centre render traces, so a speckle does not hide in a pixel's average).
+std::string grazingSceneJson(const std::string& object, const GrazingView& v, const std::vector<Op>& turn) {
+  V3 eye = v.eye, target = v.target, up = v.up;
+  for (const Op& o : turn) eye = o.apply(eye), target = o.apply(target), up = o.apply(up);
+  const std::string camera = R"({"name": "c", "position": )" + vec(eye) + R"(, "look_at": )" + vec(target) +
+                             R"(, "up": )" + vec(up) + R"(, "yfov_degrees": )" + num(v.fov) + "}";
+  std::string scene = sceneJson(object, camera, R"({"type": "point", "position": [2.5, 3, 1.5], "intensity": 25})", 97);
+  const std::string filter = R"("spp": 1,)";
+  scene.replace(scene.find(filter), filter.size(), R"("spp": 1, "filter": {"type": "box", "radius": 0.0001},)");
+  return scene;
+}
+
+class CsgGrazingViews : public testing::TestWithParam<std::tuple<GrazingTree, bool>> {};
+
+// Every grazing view of the tree renders like the plain box: no speckle (a pixel that differs
+// where the plain box's image is flat around it), and at most one differing pixel on an edge a
+// view on average (a ray within the leaves' tolerance of an edge may fall either side), besides
+// the middle column of the views from within the plane x = 0.5: rays along the cut or new face
+// of a difference or intersection, which is seen edge-on there, may fall either side of it.
+//
+// Before the fix (at a150da7) the unions failed: 14 speckles in UnionSameFrame, 21 in
+// UnionSameFrameTurned, 6 in UnionScaledByAThird, 28 in UnionScaledByAThirdTurned, lines of
+// them down the middle column: the seam face of one half, shaded black or dark, bounded the
+// union where a ray entered the outer face at the seam (or ran along the seam, between halves
+// 5e-8 apart as written). A pixel-centre hunt over 6,144 grazing views at 256 x 256 found 13
+// speckles, on the unions and on DifferenceTurnedAndMovedBackTurned: slivers of A's corner
+// floating in the air where B, flush against that corner, was missed by rounding. Each render's images and
+// scenes of a failing view stay in test_output/csg_grazing_TREE/.
+TEST_P(CsgGrazingViews, RenderLikeThePlainBox) {
+  const auto& [tree, turned] = GetParam();
+  const std::vector<Op> turn = turned ? kGrazingTurn : std::vector<Op>{};
+  const std::string dir = test::scratchDir(std::string("csg_grazing_") + tree.name + (turned ? "_turned" : ""));
+  writeFile(dir + "/tree.csg", std::string(tree.csg) + opsRpn(turn) + "\n");
+  const std::string plain = std::string(R"({"type": "box", "min": )") + tree.lo + R"(, "max": )" + tree.hi +
+                            R"(, "material": "grey", "transform": )" + opsJson(turn) + "}";
+  const char* csgObject = R"({"type": "csg", "file": "tree.csg", "material": "grey"})";
+  const char* all = std::getenv("GLINT_CSG_GRAZING_VIEWS");
+  int speckles = 0, edges = 0, alongSeam = 0, views = 0;
+  for (const GrazingView& v : grazingViews(all && std::string(all) == "all")) {
+    ++views;
+    writeFile(dir + "/csg.json", grazingSceneJson(csgObject, v, turn));
+    writeFile(dir + "/plain.json", grazingSceneJson(plain, v, turn));
+    const Film csg = renderFile(dir + "/csg.json"), box = renderFile(dir + "/plain.json");
+    const Difference d = compareFilms(csg, box);
+    const int outside = v.inSeamPlane ? differingOutsideColumn(csg, box, csg.width / 2) : d.pixels;
+    speckles += d.awayFromEdges;
+    const int column = d.pixels - outside;  // differing pixels in the middle column
+    edges += std::max(0, d.pixels - d.awayFromEdges - column);
+    alongSeam += column;
+    if (d.awayFromEdges > 0) {
+      const std::string stem = dir + "/view" + std::to_string(views);
+      writeFile(stem + "_csg.json", grazingSceneJson(csgObject, v, turn));
+      writeFile(stem + "_plain.json", grazingSceneJson(plain, v, turn));
+      writeImage(stem + "_csg.png", csg, RenderSettings{}, ImageMetadata{});
+      writeImage(stem + "_plain.png", box, RenderSettings{}, ImageMetadata{});
+      ADD_FAILURE() << tree.name << (turned ? " turned" : "") << ", " << v.name << ": " << d.awayFromEdges
+                    << " speckles:" << d.where << "\n  scenes and images: " << stem << "_{csg,plain}.{json,png}";
+    }
+  }
+  std::printf("[ csg grazing ] %s%s: %d views, %d speckles, %d differing edge pixels (%d more on "
+              "the plane x = 0.5 seen edge-on)\n",
+              tree.name, turned ? " turned" : "", views, speckles, edges, alongSeam);
+  EXPECT_LE(edges, views) << "at most one differing edge pixel a view on average";
+}
+
+INSTANTIATE_TEST_SUITE_P(Issue49, CsgGrazingViews,
+                         testing::Combine(testing::ValuesIn(kGrazingTrees), testing::Bool()),
+                         [](const testing::TestParamInfo<std::tuple<GrazingTree, bool>>& p) {
+                           return std::string(std::get<0>(p.param).name) + (std::get<1>(p.param) ? "Turned" : "");
+                         });
 
 }  // namespace
 }  // namespace glint
