@@ -382,20 +382,19 @@ bool leafSpan(const Span* parts, int n, float extent, Width width, Span* out) {
   Span s = meet(-1, &ie, &ix);
   width(&s.enter);
   width(&s.exit);
-  if (n > 1 && s.enter.tieWidth > extent) {
+  // A bounding crossing (`end`, of component `index`) on a face the line runs along gives way
+  // to the other components' when the line stays within its width of that face up to there.
+  auto runsAlong = [&](Crossing Span::*end, int index, float sign) {
+    Crossing& c = s.*end;
+    if (n < 2 || c.tieWidth <= extent) return;
     int je = -1, jx = -1;
-    Span others = meet(ie, &je, &jx);
-    width(&others.enter);
-    if (s.enter.t - others.enter.t <= s.enter.tieWidth + s.enter.tError + others.enter.tError)
-      s.enter = others.enter;
-  }
-  if (n > 1 && s.exit.tieWidth > extent) {
-    int je = -1, jx = -1;
-    Span others = meet(ix, &je, &jx);
-    width(&others.exit);
-    if (others.exit.t - s.exit.t <= s.exit.tieWidth + s.exit.tError + others.exit.tError)
-      s.exit = others.exit;
-  }
+    Span others = meet(index, &je, &jx);
+    Crossing& o = others.*end;
+    width(&o);
+    if (sign * (c.t - o.t) <= c.tieWidth + c.tError + o.tError) c = o;
+  };
+  runsAlong(&Span::enter, ie, 1);
+  runsAlong(&Span::exit, ix, -1);
   if (s.enter.t > s.exit.t) {
     if (!crossingsTie(s.enter, s.exit)) return false;
     const float gap = s.enter.t - s.exit.t;
