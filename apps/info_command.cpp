@@ -7,6 +7,7 @@
 #include "apps/cli_common.h"
 #include "apps/commands.h"
 #include "apps/frames.h"
+#include "materials/image_texture.h"
 #include "renderer/integrator.h"
 #include "scenes/build.h"
 #include "scenes/load.h"
@@ -175,6 +176,17 @@ void runInfo(const InfoArgs& args) {
                        materialTypeName(m.type) + ")";
               }).c_str());
   std::printf("textures:   %zu (%zu images)\n", desc.textures.size(), desc.images.size());
+  // Where each image the textures read lives: in memory (a MIP pyramid glint looks up itself)
+  // or in OpenImageIO's texture cache (tiled, MIP-mapped files, and images too big to hold).
+  if (scene.images) {
+    size_t resident = 0;
+    for (TextureImages::Handle h : scene.images->handles()) {
+      std::printf("  image %s\n", scene.images->describe(h).c_str());
+      resident += scene.images->residentBytes(h);
+    }
+    std::printf("  images in memory: %.1f MiB once decoded\n",
+                double(resident) / (1024.0 * 1024.0));
+  }
   if (!desc.variants.empty()) {
     std::string names;
     for (const std::string& v : desc.variants) names += (names.empty() ? "" : ", ") + v;

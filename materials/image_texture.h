@@ -1,36 +1,66 @@
-// glint — image textures through OpenImageIO's TextureSystem: MIP-mapped, filtered lookups with
-// wrap modes, from images in memory (glTF buffers) or files, decoded from sRGB or linear.
+// glint — image textures: a set of images with filtered lookups and wrap modes, from images in
+// memory (glTF buffers) or files, decoded from sRGB or linear.
 //
-// OpenImageIO stays behind this header: the TextureSystem lives in the OpenImageIO plugin
-// (image/oiio/textures.cpp), which glint loads the first time a scene has an image texture.
+// Where each image's texels live is chosen per image (TextureStorage):
+// - In memory, as a MipMap (mipmap.h): every image glint decodes whole anyway (glTF's PNG and
+//   JPEG bytes, pixels handed over, and image files of moderate size). 8-bit images stay 8-bit.
+// - In OpenImageIO's TextureSystem (image/oiio/textures.cpp, in the OpenImageIO plugin, loaded
+//   on first use): files that are tiled and MIP-mapped already (a `.tx` made by maketx, a tiled
+//   EXR with MIP levels), which the cache pages in tile by tile within a memory budget, and
+//   files too large to hold decoded (kMemoryLimitBytes).
+// OpenImageIO decodes the images in memory too (the plugin's decoders), but never looks them up.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "materials/mipmap.h"
 #include "materials/texture.h"
 
 namespace glint {
 
-// Nearest: the closest texel, no MIP maps. Linear: bilinear, no MIP maps. Mipmap: OIIO's
-// MIP-mapped lookup, filtered over the footprint (anisotropic, bilinear within each level).
-enum class TextureFilter { Nearest, Linear, Mipmap };
+// Where an image's texels live. Auto: the TextureSystem for tiled, MIP-mapped files and files
+// over kMemoryLimitBytes decoded, memory for everything else.
+enum class TextureStorage { Auto, Memory, Cache };
+const char* textureStorageName(TextureStorage s);  // "memory", "cache" ("auto")
 
-// How the stored colour channels are encoded; alpha is always linear.
-enum class ColorEncoding { Linear, Srgb };
+// What a decoder makes of an image: 8-bit samples as their bytes, deeper ones as floats; values
+// in [0, 1] as stored (no colour decoding), `channels` per pixel, rows top to bottom.
+struct DecodedImage {
+  int width = 0, height = 0, channels = 0;
+  std::vector<uint8_t> bytes;
+  std::vector<float> floats;
+};
 
-// A set of images served by one private OpenImageIO TextureSystem (and its ImageCache).
-// Lookups are thread-safe and deterministic; add images before looking them up (adding is
-// thread-safe too, and never disturbs lookups of images added earlier).
+// An encoded image file in memory, as OpenImageIO reads it (PNG, JPEG, WebP, BMP, GIF).
+struct EncodedImageInfo {
+  int width = 0, height = 0, channels = 0;
+  int bits = 8;  // per channel as stored: 8, or 16 (and more) otherwise
+};
+
+// An image file's header: what choosing its storage needs.
+struct ImageFileInfo {
+  int width = 0, height = 0, channels = 0;
+  int bits = 8;            // per channel as stored (8, 16, 32)
+  bool tiled = false;      // stored in tiles
+  int mipLevels = 1;       // MIP levels stored in the file
+};
+
+// A set of images. Lookups are thread-safe and deterministic; add images before looking them
+// up (adding is thread-safe too, and never disturbs lookups of images added earlier).
 class TextureImages {
  public:
-  struct Image;  // one image of the set; defined by the backend
+  struct Image;  // one image of the set (image_texture.cpp)
   // Names one image of this set; default-constructed = invalid.
   struct Handle {
     const Image* image = nullptr;
     bool valid() const { return image != nullptr; }
   };
+  // Decoded files over this size (level 0) stay in the TextureSystem's cache.
+  static constexpr size_t kMemoryLimitBytes = size_t(1) << 30;
 
   TextureImages();
   ~TextureImages();
@@ -46,9 +76,8 @@ class TextureImages {
   // An encoded image file held in memory (a glTF image: PNG, JPEG, WebP, ...), its size known
   // from the header at once and its pixels decoded later, once: by startDecoding's background
   // tasks (several images decode in parallel while the caller goes on), or else by the first
-  // lookup that needs them. 8-bit images are kept as their bytes (linear) or as linearised
-  // halves (sRGB), others as floats, with their MIP levels. Throws std::runtime_error when the header cannot be read, and
-  // std::logic_error for a repeated name.
+  // lookup that needs them. Kept in memory: 8-bit images as bytes, others as floats. Throws
+  // std::runtime_error when the header cannot be read, and std::logic_error for a repeated name.
   Handle addEncoded(const std::string& name, std::shared_ptr<const std::string> bytes,
                     ColorEncoding enc);
   // Starts decoding every encoded image added so far, on TBB tasks; returns at once.
@@ -56,9 +85,11 @@ class TextureImages {
   // Starts and waits for all of them; returns those whose pixels cannot be decoded, as
   // (name, reason), in the order they were added.
   std::vector<std::pair<std::string, std::string>> waitForDecodes();
-  // An image file (PNG, JPEG, EXR, TIFF, ...), read on demand by the cache. Throws
-  // std::runtime_error("<path>: <reason>") when it cannot be opened.
-  Handle addFile(const std::string& path, ColorEncoding enc);
+  // An image file (PNG, JPEG, EXR, TIFF, ...), stored as `storage` says (Auto: see
+  // TextureStorage). In memory it is decoded here, at once. Throws
+  // std::runtime_error("<path>: <reason>") when it cannot be opened or decoded.
+  Handle addFile(const std::string& path, ColorEncoding enc,
+                 TextureStorage storage = TextureStorage::Auto);
 
   // The image this set already holds for the same source, or an invalid handle: an encoded
   // image added under `name` from the very same bytes (the same buffer, not equal contents),
@@ -69,50 +100,44 @@ class TextureImages {
 
   size_t size() const;  // how many images the set holds
   bool contains(const std::string& name) const;  // an image added under `name`
+  std::vector<Handle> handles() const;           // every image, in the order added
 
+  const std::string& name(Handle h) const;
   int width(Handle h) const;
   int height(Handle h) const;
   int channels(Handle h) const;  // as stored (1..4 are used; more are ignored)
+  TextureStorage storage(Handle h) const;  // Memory or Cache
+  // The bytes an image in memory holds once decoded (its MIP pyramid; known before decoding),
+  // 0 for one in the cache (whose budget bounds what it holds of all its files).
+  size_t residentBytes(Handle h) const;
+  // One line for `glint info`: size, channels, samples, encoding and where it lives.
+  std::string describe(Handle h) const;
 
   // Filtered linear RGBA at c.st (t = 0 is the top row; outside [0,1] the wrap modes apply),
   // over the footprint c.dstdx, c.dstdy (Mipmap only). Grey images give (g, g, g, a); a
   // missing alpha is 1. Colour is not premultiplied by alpha. Throws std::runtime_error if
-  // the image's pixels cannot be read (a file damaged after addFile).
+  // the image's pixels cannot be read (a file damaged after addFile, an encoded image that
+  // does not decode).
   Vec4f lookup(Handle h, const TexCoord2& c, TextureWrap wrapS, TextureWrap wrapT,
                TextureFilter filter) const;
 
- // What serves the set: OpenImageIO's TextureSystem, in the plugin (image/oiio/textures.cpp).
-  // Each member does what the TextureImages member of the same name promises.
-  class Backend {
+  // The images kept on disk: OpenImageIO's TextureSystem, in the plugin
+  // (image/oiio/textures.cpp).
+  class Cache {
    public:
-    virtual ~Backend() = default;
-    virtual Handle addPixels(const std::string& name, int width, int height, int channels,
-                             const std::vector<float>& pixels, ColorEncoding enc) = 0;
-    virtual Handle addEncoded(const std::string& name, std::shared_ptr<const std::string> bytes,
-                              ColorEncoding enc) = 0;
-    virtual void startDecoding() = 0;
-    virtual std::vector<std::pair<std::string, std::string>> waitForDecodes() = 0;
-    virtual Handle addFile(const std::string& path, ColorEncoding enc) = 0;
-    virtual Handle findEncoded(const std::string& name, const std::string* bytes) const = 0;
-    virtual Handle findFile(const std::string& path, ColorEncoding enc) const = 0;
-    virtual size_t size() const = 0;
-    virtual bool contains(const std::string& name) const = 0;
-    virtual int width(Handle h) const = 0;
-    virtual int height(Handle h) const = 0;
-    virtual int channels(Handle h) const = 0;
-    virtual Vec4f lookup(Handle h, const TexCoord2& c, TextureWrap wrapS, TextureWrap wrapT,
+    struct File;  // one file of the cache
+    virtual ~Cache() = default;
+    // Opens `path`, read through `enc`; throws std::runtime_error("<path>: <reason>").
+    virtual const File* add(const std::string& path, ColorEncoding enc) = 0;
+    virtual Vec4f lookup(const File* f, const TexCoord2& c, TextureWrap wrapS, TextureWrap wrapT,
                          TextureFilter filter) const = 0;
   };
 
  private:
-  std::unique_ptr<Backend> impl_;
+  struct Set;
+  std::unique_ptr<Set> set_;
 };
 
-// An encoded image file in memory, as OpenImageIO reads it (PNG, JPEG, WebP, BMP, GIF).
-struct EncodedImageInfo {
-  int width = 0, height = 0, channels = 0;
-  int bits = 8;  // per channel as stored: 8, or 16 (and more) otherwise
-};
 // Reads the header alone. Throws std::runtime_error(reason) when it is not such an image or
 // has more than 4 channels.
 EncodedImageInfo probeEncodedImage(const std::string& bytes);

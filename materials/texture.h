@@ -165,5 +165,9 @@ enum class TextureWrap { Repeat, Clamp, Mirror, Black };
 inline float srgbToLinear(float v) {
   return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
 }
+// And its inverse, linear -> encoded.
+inline float linearToSrgb(float v) {
+  return v <= 0.0031308f ? v * 12.92f : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+}
 
 }  // namespace glint

@@ -33,8 +33,10 @@ struct AreaEmission {
   bool twoSided = false;
 
   // Radiance leaving point p (unit normal n, shading normal ns, texture coordinates uv and
-  // uv1: glTF's TEXCOORD_0 and _1) towards unit direction wo.
-  Rgb at(Vec3f p, Vec3f n, Vec3f ns, Vec2f uv, Vec2f uv1, Vec3f wo) const;
+  // uv1: glTF's TEXCOORD_0 and _1) towards unit direction wo; textures filtered over the uv
+  // footprint duvdx, duvdy (zero: a point sample).
+  Rgb at(Vec3f p, Vec3f n, Vec3f ns, Vec2f uv, Vec2f uv1, Vec3f wo, Vec2f duvdx = {},
+         Vec2f duvdy = {}) const;
 };
 
 // An emitting triangle mesh in world space. Normals (per vertex, optional) give the shading
@@ -54,7 +56,10 @@ class AreaLight final : public Light {
   // when the light made it (sidecar lights); emitting instances refer to the scene's shapes.
   AreaLight(const PlacedShape& shape, const AreaEmission& emission,
             std::unique_ptr<Shape> owned = nullptr);
-  // An emitting triangle mesh: a triangle picked by area, then a uniform point in it.
+  // An emitting triangle mesh: a triangle picked by the power it emits (its area times its
+  // mean radiance, estimated once from the emission's textures), then a uniform point in it.
+  // A mesh whose emissive texture is black almost everywhere (glTF's lamps and screens) thus
+  // spends its light samples where it glows.
   AreaLight(EmissiveMesh mesh, const AreaEmission& emission);
 
   std::optional<LightSample> sampleLi(const LightSampleContext& ctx, Vec2f u) const override;
@@ -76,8 +81,11 @@ class AreaLight final : public Light {
   // part only), or uniform when ref is null. `ns` receives the shading normal, `uv1` the
   // second texture coordinate set (the sample's uv where there is none).
   std::optional<ShapeSample> samplePoint(const Vec3f* ref, Vec2f u, Vec3f* ns, Vec2f* uv1) const;
-  // The density of samplePoint(&ref, ·) per unit world area at surface point p, normal n.
-  float pdfPoint(Vec3f ref, Vec3f p, Vec3f n) const;
+  // The density of samplePoint(&ref, ·) per unit world area at surface point p, normal n, on
+  // triangle `prim` of a mesh.
+  float pdfPoint(Vec3f ref, Vec3f p, Vec3f n, uint32_t prim) const;
+  // A mesh triangle's mean radiance (luminance), from lookups spread over it.
+  Rgb meanRadiance(uint32_t t) const;
   // Where the shape judges what a receiver sees from: the receiving point moved off its
   // surface towards the light past its rounding error, so that a point on the light itself
   // (a glowing enclosure lit by the rest of it) counts as inside whichever way it rounded.
@@ -88,7 +96,8 @@ class AreaLight final : public Light {
   std::unique_ptr<Shape> owned_;
   std::optional<PlacedShape> shape_;
   EmissiveMesh mesh_;
-  DiscreteDistribution triangles_;  // by area
+  DiscreteDistribution triangles_;  // by emitted power (area times mean radiance)
+  std::vector<float> triangleAreas_;
   AreaEmission emission_;
   Bounds3f bounds_;
   float area_ = 0;

@@ -77,8 +77,9 @@ struct LightLeSample {
 
 // Where a ray met an area light (for pdfLi).
 struct LightHit {
-  Vec3f p;  // the hit point
-  Vec3f n;  // the light's unit geometric normal there
+  Vec3f p;            // the hit point
+  Vec3f n;            // the light's unit geometric normal there
+  uint32_t prim = 0;  // the primitive hit (a mesh light's triangle)
 };
 
 // What a light sampler needs to judge a light from afar (pbrt-v4's LightBounds): where it is,

@@ -200,7 +200,7 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
           L += beta * Le;
         } else {
           const float lightPdf = scene_.lightSampler->pmf(prev, index) *
-                                 area->pdfLi(prev, -si.wo, LightHit{si.p, si.ng});
+                                 area->pdfLi(prev, -si.wo, LightHit{si.p, si.ng, si.prim});
           L += beta * Le * powerHeuristic(bsdfPdf, lightPdf);
         }
       }

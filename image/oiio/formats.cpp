@@ -228,8 +228,8 @@ class OiioPlugin final : public Plugin {
     return r;
   }
 
-  std::unique_ptr<TextureImages::Backend> newTextureImages() const override {
-    return oiio::newTextureImages();
+  std::unique_ptr<TextureImages::Cache> newTextureCache() const override {
+    return oiio::newTextureCache();
   }
   EncodedImageInfo probeEncodedImage(const std::string& bytes) const override {
     return oiio::probeEncodedImage(bytes);
@@ -237,6 +237,15 @@ class OiioPlugin final : public Plugin {
   std::vector<float> decodeEncodedImage(const std::string& bytes,
                                         EncodedImageInfo* info) const override {
     return oiio::decodeEncodedImage(bytes, info);
+  }
+  DecodedImage decodeEncoded(const std::string& bytes) const override {
+    return oiio::decodeEncoded(bytes);
+  }
+  ImageFileInfo probeImageFile(const std::string& path) const override {
+    return oiio::probeImageFile(path);
+  }
+  DecodedImage decodeImageFile(const std::string& path) const override {
+    return oiio::decodeImageFile(path);
   }
 };
 

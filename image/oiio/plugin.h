@@ -54,11 +54,16 @@ class Plugin {
                                int width, int height, int channels, float failThreshold,
                                float warnThreshold) const = 0;
 
-  // The texture set's backend (materials/image_texture.h).
-  virtual std::unique_ptr<TextureImages::Backend> newTextureImages() const = 0;
+  // The TextureSystem serving the texture files kept on disk (materials/image_texture.h).
+  virtual std::unique_ptr<TextureImages::Cache> newTextureCache() const = 0;
+  // Decoding for the images glint keeps in memory (materials/image_texture.h). Each throws
+  // std::runtime_error: with the reason alone for bytes, "<path>: <reason>" for files.
   virtual EncodedImageInfo probeEncodedImage(const std::string& bytes) const = 0;
   virtual std::vector<float> decodeEncodedImage(const std::string& bytes,
                                                 EncodedImageInfo* info) const = 0;
+  virtual DecodedImage decodeEncoded(const std::string& bytes) const = 0;
+  virtual ImageFileInfo probeImageFile(const std::string& path) const = 0;
+  virtual DecodedImage decodeImageFile(const std::string& path) const = 0;
 };
 
 // The plugin, loaded on first use (thread-safe). Looked for as $GLINT_OIIO_PLUGIN when set,

@@ -1,5 +1,5 @@
-// glint — the OpenImageIO plugin's texture half (textures.cpp): TextureImages' backend on a
-// TextureSystem, and encoded images in memory read through OpenImageIO.
+// glint — the OpenImageIO plugin's texture half (textures.cpp): the TextureSystem serving texture
+// files kept on disk, and the decoders of the images glint keeps in memory.
 #pragma once
 
 #include <memory>
@@ -10,9 +10,12 @@
 
 namespace glint::oiio {
 
-std::unique_ptr<TextureImages::Backend> newTextureImages();
-// As probeEncodedImage and decodeEncodedImage in materials/image_texture.h.
+std::unique_ptr<TextureImages::Cache> newTextureCache();
+// As the Plugin members of the same names (plugin.h).
 EncodedImageInfo probeEncodedImage(const std::string& bytes);
 std::vector<float> decodeEncodedImage(const std::string& bytes, EncodedImageInfo* info);
+DecodedImage decodeEncoded(const std::string& bytes);
+ImageFileInfo probeImageFile(const std::string& path);
+DecodedImage decodeImageFile(const std::string& path);
 
 }  // namespace glint::oiio

@@ -1,8 +1,11 @@
-// Image textures through OpenImageIO's TextureSystem: exact texels with Nearest, averages with
-// Linear, the four wrap modes, sRGB and linear decoding, grey images, MIP-map filtering in
-// linear space, PNG files (written here), bad files, threads, and the UV mapping.
+// Image textures, in memory (MipMap) and in OpenImageIO's TextureSystem: exact texels with
+// Nearest, averages with Linear, the four wrap modes, sRGB and linear decoding, grey images,
+// MIP-map filtering in linear space, anisotropic footprints, PNG files (written here), where
+// each image is kept, both storages agreeing, bad files, threads, and the UV mapping.
 #include "materials/image_texture.h"
 
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
@@ -500,7 +503,7 @@ TEST(TextureImages, LookupsFromTwoThreadsMatchSingleThreaded) {
   EXPECT_EQ(mismatches, 0);
 }
 
-TEST(TextureImages, DamagedPixelsThrowOnLookup) {
+TEST(TextureImages, DamagedPixelsThrowWhenReadInMemoryAndOnLookupInTheCache) {
   // An uncompressed 128x128 EXR cut in half: the header reads, the lower rows do not.
   const std::string path = test::scratchDir("TextureImages.DamagedPixels") + "/cut.exr";
   const int n = 128;
@@ -516,8 +519,19 @@ TEST(TextureImages, DamagedPixelsThrowOnLookup) {
   std::filesystem::resize_file(path, std::filesystem::file_size(path) / 2);
   for (ColorEncoding enc : {ColorEncoding::Linear, ColorEncoding::Srgb}) {
     TextureImages images;
-    auto h = images.addFile(path, enc);
+    // Kept in memory (what a small untiled file gets): decoded when added, so adding fails.
+    for (TextureStorage where : {TextureStorage::Auto, TextureStorage::Memory}) {
+      try {
+        images.addFile(path, enc, where);
+        ADD_FAILURE() << "no exception";
+      } catch (const std::runtime_error& e) {
+        EXPECT_EQ(std::string(e.what()).rfind(path + ": ", 0), 0u) << e.what();
+      }
+    }
+    // In the cache: read tile by tile, so the damage shows when a lookup reaches it.
+    auto h = images.addFile(path, enc, TextureStorage::Cache);
     EXPECT_EQ(images.width(h), n);
+    EXPECT_EQ(images.storage(h), TextureStorage::Cache);
     try {
       images.lookup(h, centre(10, n - 4, n), TextureWrap::Repeat, TextureWrap::Repeat,
                     TextureFilter::Linear);
@@ -526,6 +540,165 @@ TEST(TextureImages, DamagedPixelsThrowOnLookup) {
       EXPECT_EQ(std::string(e.what()).rfind(path + ": ", 0), 0u) << e.what();
     }
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Where images live: memory or OpenImageIO's cache, chosen per image, serving the same texels
+// ---------------------------------------------------------------------------------------------
+
+// A smooth 8-bit RGBA image with some fine detail: gradients, a ring pattern and noise.
+std::vector<unsigned char> smoothImage(int w, int h) {
+  std::vector<unsigned char> px;
+  std::mt19937 rng(11);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const float r = std::hypot(float(x - w / 2), float(y - h / 3));
+      const float ring = 0.5f + 0.5f * std::sin(r * 0.35f);
+      px.insert(px.end(), {static_cast<unsigned char>(255.0f * float(x) / float(w - 1)),
+                           static_cast<unsigned char>(255.0f * ring),
+                           static_cast<unsigned char>(rng() % 256),
+                           static_cast<unsigned char>(128 + 127.0f * float(y) / float(h - 1))});
+    }
+  return px;
+}
+
+TEST(TextureImages, SmallFilesLiveInMemoryAndTiledMipmappedFilesInTheCache) {
+  const std::string dir = test::scratchDir("TextureImages.Storage");
+  const int n = 128;
+  writePng(dir + "/plain.png", n, n, 4, smoothImage(n, n));
+  // A .tx as maketx makes it: tiled, with every MIP level in the file.
+  OIIO::ImageBuf src(dir + "/plain.png");
+  OIIO::ImageSpec config;
+  config.tile_width = config.tile_height = 32;
+  ASSERT_TRUE(OIIO::ImageBufAlgo::make_texture(OIIO::ImageBufAlgo::MakeTxTexture, src,
+                                               dir + "/tiled.tx", config))
+      << OIIO::geterror();
+
+  TextureImages images;
+  auto png = images.addFile(dir + "/plain.png", ColorEncoding::Srgb);
+  auto tx = images.addFile(dir + "/tiled.tx", ColorEncoding::Srgb);
+  EXPECT_EQ(images.storage(png), TextureStorage::Memory);
+  EXPECT_EQ(images.storage(tx), TextureStorage::Cache);
+  // 128² + 64² + ... + 1 texels of 4 bytes: the pyramid, 8-bit as the file is.
+  EXPECT_EQ(images.residentBytes(png), size_t(21845) * 4);
+  EXPECT_EQ(images.residentBytes(tx), 0u);
+  EXPECT_NE(images.describe(png).find("in memory (8-bit MIP pyramid"), std::string::npos)
+      << images.describe(png);
+  EXPECT_NE(images.describe(tx).find("texture cache (8 MIP levels in the file)"),
+            std::string::npos)
+      << images.describe(tx);
+  // Asked for, either storage serves either file.
+  auto pngCached = images.addFile(dir + "/plain.png", ColorEncoding::Linear, TextureStorage::Cache);
+  auto txInMemory = images.addFile(dir + "/tiled.tx", ColorEncoding::Linear, TextureStorage::Memory);
+  EXPECT_EQ(images.storage(pngCached), TextureStorage::Cache);
+  EXPECT_EQ(images.storage(txInMemory), TextureStorage::Memory);
+  for (auto h : {png, tx, pngCached, txInMemory}) EXPECT_EQ(images.width(h), n);
+}
+
+// The in-memory pyramid and OpenImageIO's TextureSystem, on the same file at the same points:
+// point lookups agree to the 8-bit step; filtered ones to a small fraction of the signal, and
+// anisotropic footprints keep detail across their minor axis in both.
+TEST(TextureImages, MemoryAndCacheServeTheSameTexels) {
+  const std::string dir = test::scratchDir("TextureImages.MemoryAndCache");
+  const int w = 256, h = 128;
+  writePng(dir + "/image.png", w, h, 4, smoothImage(w, h));
+  for (ColorEncoding enc : {ColorEncoding::Srgb, ColorEncoding::Linear}) {
+    SCOPED_TRACE(enc == ColorEncoding::Srgb ? "sRGB" : "linear");
+    TextureImages images;
+    auto mem = images.addFile(dir + "/image.png", enc, TextureStorage::Memory);
+    auto cache = images.addFile(dir + "/image.png", enc, TextureStorage::Cache);
+    ASSERT_EQ(images.storage(mem), TextureStorage::Memory);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> st(-0.5f, 1.5f), u(0, 1);
+    for (TextureWrap wrap : {TextureWrap::Repeat, TextureWrap::Clamp, TextureWrap::Mirror,
+                             TextureWrap::Black})
+      for (TextureFilter f : {TextureFilter::Nearest, TextureFilter::Linear}) {
+        SCOPED_TRACE(testing::Message() << "wrap " << int(wrap) << " filter " << int(f));
+        for (int i = 0; i < 500; ++i) {
+          const TexCoord2 c{{st(rng), st(rng)}, {}, {}};
+          const Vec4f a = images.lookup(mem, c, wrap, wrap, f);
+          const Vec4f b = images.lookup(cache, c, wrap, wrap, f);
+          for (int k = 0; k < 4; ++k) ASSERT_NEAR(a[k], b[k], 2e-3f) << c.st.x << "," << c.st.y;
+        }
+      }
+    // Filtered: isotropic footprints of 0.5 to 16 texels, and footprints 4-8 times longer
+    // than wide. Both sides filter differently in detail (OpenImageIO weights its probes along
+    // the major axis and blends levels its own way), so compare the mean absolute difference
+    // with the image's own variation at the same points.
+    for (bool elongated : {false, true}) {
+      SCOPED_TRACE(elongated ? "elongated" : "isotropic");
+      double diff = 0, spread = 0;
+      const int count = 2000;
+      for (int i = 0; i < count; ++i) {
+        const float texels = std::exp2(-1.0f + 5.0f * u(rng));
+        const float angle = 6.2831853f * u(rng), ratio = elongated ? 4.0f + 4.0f * u(rng) : 1.0f;
+        const Vec2f major{std::cos(angle) * texels * ratio / w, std::sin(angle) * texels * ratio / h};
+        const Vec2f minor{-std::sin(angle) * texels / w, std::cos(angle) * texels / h};
+        const TexCoord2 c{{u(rng), u(rng)}, major, minor};
+        const Vec4f a = images.lookup(mem, c, TextureWrap::Repeat, TextureWrap::Repeat,
+                                      TextureFilter::Mipmap);
+        const Vec4f b = images.lookup(cache, c, TextureWrap::Repeat, TextureWrap::Repeat,
+                                      TextureFilter::Mipmap);
+        const Vec4f point = images.lookup(mem, {c.st, {}, {}}, TextureWrap::Repeat,
+                                          TextureWrap::Repeat, TextureFilter::Linear);
+        for (int k = 0; k < 4; ++k) {
+          diff += std::abs(a[k] - b[k]);
+          spread += std::abs(point[k] - 0.5f);
+        }
+      }
+      diff /= 4 * count, spread /= 4 * count;
+      EXPECT_LT(diff, 0.03) << "mean |memory - cache|; the image's mean |x - 0.5| is " << spread;
+    }
+  }
+}
+
+// A footprint long along the stripes of an image keeps them; one long across them averages
+// them away. Isotropic filtering of the major axis would blur both.
+TEST(MipMapFilter, AnisotropicFootprintsBlurOnlyAlongTheirMajorAxis) {
+  const int n = 64;
+  std::vector<float> stripes(size_t(n) * n);
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) stripes[size_t(y * n + x)] = x % 2 ? 1.0f : 0.0f;  // columns
+  const MipMap m = MipMap::fromFloats(n, n, 1, stripes, ColorEncoding::Linear);
+  EXPECT_EQ(m.levelCount(), 7);
+  const float texel = 1.0f / n;
+  // At the centre of an odd column: 1 across half a texel; along it 8 texels long.
+  const Vec2f at{(5 + 0.5f) * texel, 0.5f};
+  const TexCoord2 along{at, {0, 8 * texel}, {0.5f * texel, 0}};
+  const TexCoord2 across{at, {8 * texel, 0}, {0, 0.5f * texel}};
+  EXPECT_NEAR(m.lookup(along, TextureWrap::Repeat, TextureWrap::Repeat, TextureFilter::Mipmap).x,
+              1.0f, 1e-5f);
+  EXPECT_NEAR(m.lookup(across, TextureWrap::Repeat, TextureWrap::Repeat, TextureFilter::Mipmap).x,
+              0.5f, 0.07f);
+  // Beyond kMaxAnisotropy the minor axis widens: a 1/2 x 64 texel footprint reads level 3.
+  const TexCoord2 needle{at, {0, 32 * texel}, {0.5f * texel, 0}};
+  EXPECT_NEAR(m.lookup(needle, TextureWrap::Repeat, TextureWrap::Repeat, TextureFilter::Mipmap).x,
+              0.5f, 1e-5f);
+}
+
+// 8-bit sRGB images keep their pyramid 8-bit and sRGB-encoded, averaged in linear space: a
+// black and white checker's coarse levels are linear 0.5 (sRGB 188), not sRGB 128 (linear 0.22).
+TEST(MipMapFilter, EightBitSrgbLevelsAverageInLinearSpace) {
+  const int n = 16;
+  std::vector<uint8_t> px(size_t(n) * n * 3);
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x)
+      for (int c = 0; c < 3; ++c) px[size_t((y * n + x) * 3 + c)] = (x + y) % 2 ? 255 : 0;
+  const MipMap m = MipMap::fromBytes(n, n, 3, px, ColorEncoding::Srgb);
+  EXPECT_EQ(m.texel(), MipMap::Texel::Byte);
+  EXPECT_EQ(m.bytes(), MipMap::residentBytes(n, n, 3, MipMap::Texel::Byte));
+  EXPECT_EQ(m.bytes(), size_t(16 * 16 + 8 * 8 + 4 * 4 + 2 * 2 + 1) * 3);
+  const TexCoord2 wide{{0.5f, 0.5f}, {4.0f / n, 0}, {0, 4.0f / n}};
+  const Vec4f v = m.lookup(wide, TextureWrap::Repeat, TextureWrap::Repeat, TextureFilter::Mipmap);
+  // The nearest 8-bit sRGB code to linear 0.5 is 188 (0.5029).
+  EXPECT_NEAR(v.x, srgbToLinear(188 / 255.0f), 1e-6f);
+  EXPECT_NEAR(v.x, 0.5f, 0.004f);
+  EXPECT_EQ(v.w, 1.0f);
+  // Level 0 is the bytes themselves, decoded exactly.
+  EXPECT_EQ(m.lookup(centre(1, 0, n), TextureWrap::Repeat, TextureWrap::Repeat,
+                     TextureFilter::Nearest)
+                .x,
+            1.0f);
 }
 
 TEST(ImageTexture, UvScaleAndOffsetRepeatTheImage) {

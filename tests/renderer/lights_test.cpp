@@ -15,6 +15,8 @@
 #include "geometry/shapes/disk.h"
 #include "geometry/shapes/quad.h"
 #include "geometry/shapes/sphere.h"
+#include "materials/basic_materials.h"
+#include "materials/image_texture.h"
 #include "renderer/area_lights.h"
 #include "renderer/environment_light.h"
 #include "renderer/projective_light.h"
@@ -299,6 +301,93 @@ TEST(AreaLights, EmissiveMeshIrradianceEqualsQuad) {
     const float q = irradiance(*quad, ctx, 200'000, 5), m = irradiance(*mesh, ctx, 200'000, 6);
     EXPECT_GT(q, 0);
     EXPECT_NEAR(m, q, 0.015f * q);
+  }
+}
+
+// A mesh whose emissive texture glows on a small patch (a glTF lamp or screen): its light
+// samples land on the patch, not spread over the mesh by area, and next-event estimation still
+// gives the irradiance the texture's radiance does, with pdfLi at each sampled triangle equal to
+// the sample's density.
+TEST(AreaLights, TexturedMeshLightsSampleWhereTheTextureGlows) {
+  // An 8x8 grid of quads over [-1, 1]² at height 2, facing down, uv = [0, 1]² over it; the
+  // texture (64² texels) emits 4 on uv [0.625, 0.875) x [0.125, 0.375): 8 of its 128 triangles.
+  constexpr int kCells = 8, kTexels = 64;
+  constexpr float kL = 4, kHeight = 2;
+  EmissiveMesh grid;
+  for (int j = 0; j <= kCells; ++j)
+    for (int i = 0; i <= kCells; ++i) {
+      const float u = float(i) / kCells, v = float(j) / kCells;
+      grid.positions.push_back({-1 + 2 * u, kHeight, -1 + 2 * v});
+      grid.uvs.push_back({u, v});
+    }
+  for (uint32_t j = 0; j < kCells; ++j)
+    for (uint32_t i = 0; i < kCells; ++i) {
+      const uint32_t v00 = j * (kCells + 1) + i, v10 = v00 + 1, v01 = v00 + kCells + 1,
+                     v11 = v01 + 1;
+      grid.indices.insert(grid.indices.end(), {v00, v10, v11, v00, v11, v01});
+    }
+  auto glows = [](Vec2f uv) {
+    return uv.x >= 0.625f && uv.x < 0.875f && uv.y >= 0.125f && uv.y < 0.375f;
+  };
+  std::vector<float> texels(size_t(kTexels) * kTexels * 3, 0.0f);
+  for (int y = 0; y < kTexels; ++y)
+    for (int x = 0; x < kTexels; ++x)
+      if (glows({(float(x) + 0.5f) / kTexels, (float(y) + 0.5f) / kTexels}))
+        for (int c = 0; c < 3; ++c) texels[size_t((y * kTexels + x) * 3 + c)] = kL;
+  TextureImages images;
+  const auto image =
+      images.addPixels("lamp", kTexels, kTexels, 3, texels, ColorEncoding::Linear);
+  for (TextureFilter filter : {TextureFilter::Linear, TextureFilter::Mipmap}) {
+    SCOPED_TRACE(filter == TextureFilter::Mipmap ? "mipmap" : "linear");
+    const ImageTexture texture(images, image, TextureMapping{}, TextureWrap::Clamp,
+                               TextureWrap::Clamp, filter);
+    const LambertMaterial material(ColorParam{{0, 0, 0}}, ColorParam{{1, 1, 1}, &texture});
+    AreaEmission emission;
+    emission.material = &material;
+    const AreaLight light(grid, emission);
+
+    // Power: pi L times the glowing area (0.5 x 0.5).
+    EXPECT_NEAR(light.phi().x, kPi * kL * 0.25f, 0.01f * kPi * kL * 0.25f);
+
+    LightSampleContext ctx;
+    ctx.p = {0.1f, 0, -0.2f};
+    ctx.n = ctx.ns = {0, 1, 0};
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<float> uni(0.0f, 0.999999f);
+    int samples = 0, dark = 0, checked = 0;
+    for (int k = 0; k < 20'000; ++k) {
+      auto s = light.sampleLi(ctx, {uni(rng), uni(rng)});
+      ++samples;  // a dark point gives no sample at all: count every draw
+      if (!s) {
+        ++dark;
+        continue;
+      }
+      // The triangle under the sample, and its density there through pdfLi.
+      const float gx = (s->pLight.x + 1) / 2 * kCells, gz = (s->pLight.z + 1) / 2 * kCells;
+      const int ci = std::min(int(gx), kCells - 1), cj = std::min(int(gz), kCells - 1);
+      const float dx = gx - float(ci), dz = gz - float(cj);
+      if (std::abs(dx - dz) < 1e-4f) continue;  // on the diagonal: either triangle
+      const uint32_t prim = uint32_t(2 * (cj * kCells + ci) + (dz > dx ? 1 : 0));
+      const float pdf = light.pdfLi(ctx, s->wi, LightHit{s->pLight, s->nLight, prim});
+      ASSERT_NEAR(pdf, s->pdf, 1e-4f * s->pdf) << "triangle " << prim;
+      ++checked;
+    }
+    EXPECT_GT(checked, 15'000);
+    // Drawn by area, 15 in 16 samples would land on black.
+    EXPECT_LT(dark, samples / 50) << dark << " of " << samples << " samples were dark";
+
+    // Irradiance against the glowing square integrated directly (midpoint rule): L cos² / d².
+    double exact = 0;
+    constexpr int kSteps = 400;
+    const float x0 = 0.25f, z0 = -0.75f, side = 0.5f, dA = (side / kSteps) * (side / kSteps);
+    for (int b = 0; b < kSteps; ++b)
+      for (int a = 0; a < kSteps; ++a) {
+        const Vec3f q{x0 + (float(a) + 0.5f) * side / kSteps, kHeight,
+                      z0 + (float(b) + 0.5f) * side / kSteps};
+        const float d2 = lengthSquared(q - ctx.p), cosine = kHeight / std::sqrt(d2);
+        exact += double(kL * cosine * cosine / d2 * dA);
+      }
+    EXPECT_NEAR(irradiance(light, ctx, 200'000, 4), exact, 0.01 * exact);
   }
 }
 

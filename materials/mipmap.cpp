@@ -1,0 +1,347 @@
+// glint — an image in memory as a MIP pyramid (mipmap.h).
+#include "materials/mipmap.h"
+
+#include <algorithm>
+#include <array>
+#include <cassert>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace glint {
+
+namespace {
+
+// The 256 values of an 8-bit channel: sRGB-decoded or plain.
+const std::array<float, 256>& srgbTable() {
+  static const std::array<float, 256> table = [] {
+    std::array<float, 256> t{};
+    for (int v = 0; v < 256; ++v) t[size_t(v)] = srgbToLinear(float(v) / 255.0f);
+    return t;
+  }();
+  return table;
+}
+const std::array<float, 256>& linearTable() {
+  static const std::array<float, 256> table = [] {
+    std::array<float, 256> t{};
+    for (int v = 0; v < 256; ++v) t[size_t(v)] = float(v) / 255.0f;
+    return t;
+  }();
+  return table;
+}
+
+// The byte whose decoded value (through `table`, increasing) is nearest to v.
+uint8_t encodeNearest(const std::array<float, 256>& table, float v) {
+  if (!(v > table[0])) return 0;  // also NaN
+  if (v >= table[255]) return 255;
+  const size_t hi = size_t(std::upper_bound(table.begin(), table.end(), v) - table.begin());
+  return uint8_t(v - table[hi - 1] <= table[hi] - v ? hi - 1 : hi);
+}
+
+// Which channels hold colour (RGB, or the grey channel), as opposed to alpha.
+bool isColourChannel(int channels, int c) { return channels >= 3 ? c < 3 : c == 0; }
+
+// The texel index i of a row or column of n texels under wrap mode w; -1 for Black outside.
+inline int wrapIndex(int i, int n, TextureWrap w) {
+  switch (w) {
+    case TextureWrap::Repeat:
+      i %= n;
+      return i < 0 ? i + n : i;
+    case TextureWrap::Clamp:
+      return std::clamp(i, 0, n - 1);
+    case TextureWrap::Mirror: {
+      if (i < 0) i = -i - 1;
+      const int period = i / n;
+      i -= period * n;
+      return period & 1 ? n - 1 - i : i;
+    }
+    case TextureWrap::Black:
+    default:
+      return i < 0 || i >= n ? -1 : i;
+  }
+}
+
+// A coordinate brought near [0, 1] without changing what the wrap mode makes of it, so that
+// scaling it to texels cannot overflow an int.
+inline float reduce(float s, TextureWrap w) {
+  switch (w) {
+    case TextureWrap::Repeat:
+      return s - std::floor(s);
+    case TextureWrap::Mirror:
+      return s - 2.0f * std::floor(0.5f * s);
+    default:  // Clamp and Black: everything beyond one image width away reads the same
+      return std::clamp(s, -1.0f, 2.0f);
+  }
+}
+
+inline float finiteOrZero(float v) { return std::isfinite(v) ? v : 0.0f; }
+
+// The next MIP level of a w x h image of linear floats (each side halved, rounded down, at
+// least 1): every new texel is the area-weighted mean of the texels it covers. For even sides
+// that is the 2x2 box; for odd ones it still keeps the image's mean (a resampling at the new
+// texel centres, as OpenImageIO's "automip" does, skips texels).
+std::vector<float> downsample(const std::vector<float>& in, int inWidth, int inHeight, int nch,
+                              int* outWidth, int* outHeight) {
+  const int ow = std::max(1, inWidth / 2), oh = std::max(1, inHeight / 2);
+  *outWidth = ow, *outHeight = oh;
+  const size_t n = size_t(nch), inW = size_t(inWidth), outW = size_t(ow);
+  std::vector<float> out(size_t(oh) * outW * n);
+  if (inWidth % 2 == 0 && inHeight % 2 == 0) {
+    for (size_t y = 0; y < size_t(oh); ++y) {
+      const float* row0 = &in[2 * y * inW * n];
+      const float* row1 = row0 + inW * n;
+      float* dst = &out[y * outW * n];
+      for (size_t x = 0; x < outW; ++x)
+        for (size_t c = 0; c < n; ++c) {
+          const size_t i = 2 * x * n + c;
+          dst[x * n + c] = 0.25f * ((row0[i] + row0[i + n]) + (row1[i] + row1[i + n]));
+        }
+    }
+    return out;
+  }
+  // For each coarse texel along one axis of m -> k texels: the first fine texel it covers and
+  // the weights of the fine texels from there on (they sum to 1).
+  struct Taps {
+    size_t first = 0;
+    std::vector<float> w;
+  };
+  auto taps = [](int m, int k) {
+    std::vector<Taps> t(static_cast<size_t>(k));
+    const double ratio = double(m) / double(k);
+    for (int i = 0; i < k; ++i) {
+      const double a = i * ratio, b = (i + 1) * ratio;
+      Taps& tap = t[size_t(i)];
+      tap.first = size_t(a);
+      for (int j = int(a); j < m && j < b; ++j)
+        tap.w.push_back(float((std::min(b, j + 1.0) - std::max(a, double(j))) / ratio));
+    }
+    return t;
+  };
+  const std::vector<Taps> tx = taps(inWidth, ow), ty = taps(inHeight, oh);
+  // Along rows first (inHeight x ow texels), then along columns.
+  std::vector<float> rows(size_t(inHeight) * outW * n, 0.0f);
+  for (size_t y = 0; y < size_t(inHeight); ++y)
+    for (size_t x = 0; x < outW; ++x) {
+      float* dst = &rows[(y * outW + x) * n];
+      for (size_t k = 0; k < tx[x].w.size(); ++k) {
+        const float* src = &in[(y * inW + tx[x].first + k) * n];
+        for (size_t c = 0; c < n; ++c) dst[c] += tx[x].w[k] * src[c];
+      }
+    }
+  for (size_t y = 0; y < size_t(oh); ++y) {
+    float* dst = &out[y * outW * n];
+    for (size_t k = 0; k < ty[y].w.size(); ++k) {
+      const float* src = &rows[(ty[y].first + k) * outW * n];
+      for (size_t i = 0; i < outW * n; ++i) dst[i] += ty[y].w[k] * src[i];
+    }
+  }
+  return out;
+}
+
+void checkSize(int width, int height, int channels, size_t samples) {
+  if (width <= 0 || height <= 0 || channels < 1 || channels > 4 ||
+      samples != size_t(width) * size_t(height) * size_t(channels))
+    throw std::logic_error("MipMap: " + std::to_string(samples) + " samples do not make a " +
+                           std::to_string(width) + "x" + std::to_string(height) +
+                           " image of " + std::to_string(channels) + " channels");
+}
+
+}  // namespace
+
+size_t MipMap::residentBytes(int width, int height, int channels, Texel texel) {
+  size_t texels = 0;
+  for (int w = width, h = height;; w = std::max(1, w / 2), h = std::max(1, h / 2)) {
+    texels += size_t(w) * size_t(h);
+    if (w == 1 && h == 1) break;
+  }
+  return texels * size_t(channels) * (texel == Texel::Byte ? 1 : sizeof(float));
+}
+
+MipMap MipMap::fromBytes(int width, int height, int channels, std::vector<uint8_t> pixels,
+                         ColorEncoding enc) {
+  checkSize(width, height, channels, pixels.size());
+  MipMap m;
+  m.channels_ = channels;
+  m.texel_ = Texel::Byte;
+  for (int c = 0; c < channels; ++c)
+    m.decode_[c] = (enc == ColorEncoding::Srgb && isColourChannel(channels, c) ? srgbTable()
+                                                                                : linearTable())
+                       .data();
+  m.levels_.push_back({width, height, 0});
+  m.bytes_ = std::move(pixels);
+  m.buildLevels<uint8_t>();
+  return m;
+}
+
+MipMap MipMap::fromFloats(int width, int height, int channels, std::vector<float> pixels,
+                          ColorEncoding enc) {
+  checkSize(width, height, channels, pixels.size());
+  MipMap m;
+  m.channels_ = channels;
+  m.texel_ = Texel::Float;
+  if (enc == ColorEncoding::Srgb)
+    for (size_t i = 0; i < pixels.size(); ++i)
+      if (isColourChannel(channels, int(i % size_t(channels))))
+        pixels[i] = srgbToLinear(pixels[i]);
+  m.levels_.push_back({width, height, 0});
+  m.floats_ = std::move(pixels);
+  m.buildLevels<float>();
+  return m;
+}
+
+// Appends the levels below level 0 (already stored): each is made from the previous one in
+// linear float, so 8-bit levels are rounded once each, not once per level above them.
+template <class T>
+void MipMap::buildLevels() {
+  const size_t n = size_t(channels_);
+  int w = levels_[0].width, h = levels_[0].height;
+  std::vector<float> current;
+  if constexpr (std::is_same_v<T, uint8_t>) {
+    current.resize(bytes_.size());
+    for (size_t i = 0; i < bytes_.size(); ++i) current[i] = decode_[i % n][bytes_[i]];
+    bytes_.reserve(residentBytes(w, h, channels_, Texel::Byte));
+  } else {
+    current = floats_;
+    floats_.reserve(residentBytes(w, h, channels_, Texel::Float) / sizeof(float));
+  }
+  while (w > 1 || h > 1) {
+    int nw = 0, nh = 0;
+    std::vector<float> next = downsample(current, w, h, channels_, &nw, &nh);
+    if constexpr (std::is_same_v<T, uint8_t>) {
+      levels_.push_back({nw, nh, bytes_.size()});
+      const std::array<float, 256>& srgb = srgbTable();
+      for (size_t i = 0; i < next.size(); ++i)
+        bytes_.push_back(encodeNearest(decode_[i % n] == srgb.data() ? srgb : linearTable(),
+                                       next[i]));
+    } else {
+      levels_.push_back({nw, nh, floats_.size()});
+      floats_.insert(floats_.end(), next.begin(), next.end());
+    }
+    current = std::move(next);
+    w = nw, h = nh;
+  }
+}
+
+// Adds w × texel (x, y) of `level` (already wrapped; -1 is black) to out.
+template <class T, int N>
+inline void MipMap::fetch(const Level& level, int x, int y, float w, float out[N]) const {
+  if (x < 0 || y < 0) return;
+  const size_t i = level.first + (size_t(y) * size_t(level.width) + size_t(x)) * N;
+  if constexpr (std::is_same_v<T, uint8_t>) {
+    const uint8_t* p = &bytes_[i];
+    for (int c = 0; c < N; ++c) out[c] += w * decode_[c][p[c]];
+  } else {
+    const float* p = &floats_[i];
+    for (int c = 0; c < N; ++c) out[c] += w * p[c];
+  }
+}
+
+// Adds weight × the bilinear lookup of `level` at (s, t) to out.
+template <class T, int N>
+inline void MipMap::bilinear(int level, float s, float t, TextureWrap wrapS, TextureWrap wrapT,
+                             float weight, float out[N]) const {
+  const Level& l = levels_[size_t(level)];
+  const float x = reduce(s, wrapS) * float(l.width) - 0.5f;
+  const float y = reduce(t, wrapT) * float(l.height) - 0.5f;
+  const float fx = std::floor(x), fy = std::floor(y);
+  const float ax = x - fx, ay = y - fy;
+  const int x0 = int(fx), y0 = int(fy);
+  const int xa = wrapIndex(x0, l.width, wrapS), xb = wrapIndex(x0 + 1, l.width, wrapS);
+  const int ya = wrapIndex(y0, l.height, wrapT), yb = wrapIndex(y0 + 1, l.height, wrapT);
+  const float top = weight * (1 - ay), bottom = weight * ay;
+  fetch<T, N>(l, xa, ya, top * (1 - ax), out);
+  fetch<T, N>(l, xb, ya, top * ax, out);
+  fetch<T, N>(l, xa, yb, bottom * (1 - ax), out);
+  fetch<T, N>(l, xb, yb, bottom * ax, out);
+}
+
+// Adds weight × the lookup at level of detail `lod` (log2 of the footprint in texels of level
+// 0), blended between the two levels around it, to out.
+template <class T, int N>
+inline void MipMap::trilinear(float lod, float s, float t, TextureWrap wrapS, TextureWrap wrapT,
+                              float weight, float out[N]) const {
+  const int last = int(levels_.size()) - 1;
+  if (!(lod > 0)) return bilinear<T, N>(0, s, t, wrapS, wrapT, weight, out);  // also NaN
+  if (lod >= float(last)) return bilinear<T, N>(last, s, t, wrapS, wrapT, weight, out);
+  const int l0 = int(lod);
+  const float f = lod - float(l0);
+  bilinear<T, N>(l0, s, t, wrapS, wrapT, weight * (1 - f), out);
+  if (f > 0) bilinear<T, N>(l0 + 1, s, t, wrapS, wrapT, weight * f, out);
+}
+
+template <class T, int N>
+Vec4f MipMap::lookupAs(const TexCoord2& c, TextureWrap wrapS, TextureWrap wrapT,
+                       TextureFilter filter) const {
+  float v[N] = {};
+  const float s = c.st.x, t = c.st.y;
+  switch (filter) {
+    case TextureFilter::Nearest: {
+      const Level& l = levels_[0];
+      const int x = wrapIndex(int(std::floor(reduce(s, wrapS) * float(l.width))), l.width, wrapS);
+      const int y = wrapIndex(int(std::floor(reduce(t, wrapT) * float(l.height))), l.height, wrapT);
+      fetch<T, N>(l, x, y, 1.0f, v);
+      break;
+    }
+    case TextureFilter::Linear:
+      bilinear<T, N>(0, s, t, wrapS, wrapT, 1.0f, v);
+      break;
+    case TextureFilter::Mipmap: {
+      // The footprint's two axes in texels of level 0; the longer is the major axis, and the
+      // minor axis is the parallelogram's height across it (its area over the major length).
+      const float w = float(levels_[0].width), h = float(levels_[0].height);
+      const Vec2f a{finiteOrZero(c.dstdx.x), finiteOrZero(c.dstdx.y)};
+      const Vec2f b{finiteOrZero(c.dstdy.x), finiteOrZero(c.dstdy.y)};
+      const float ax = a.x * w, ay = a.y * h, bx = b.x * w, by = b.y * h;
+      const float la2 = ax * ax + ay * ay, lb2 = bx * bx + by * by;
+      const Vec2f major = la2 >= lb2 ? a : b;
+      const float majorLength = std::sqrt(std::max(la2, lb2));
+      float minorLength = majorLength > 0 ? std::abs(ax * by - ay * bx) / majorLength : 0.0f;
+      minorLength = std::max(minorLength, majorLength * (1.0f / kMaxAnisotropy));
+      if (!(minorLength > 0)) {  // a point sample (also for overflowed footprints)
+        bilinear<T, N>(0, s, t, wrapS, wrapT, 1.0f, v);
+        break;
+      }
+      const float lod = std::log2(minorLength);
+      const int probes =
+          std::clamp(int(std::ceil(majorLength / minorLength - 1e-3f)), 1, kMaxAnisotropy);
+      if (probes == 1) {
+        trilinear<T, N>(lod, s, t, wrapS, wrapT, 1.0f, v);
+        break;
+      }
+      // Probes spread evenly along the major axis, one minor axis apart.
+      const float weight = 1.0f / float(probes);
+      for (int i = 0; i < probes; ++i) {
+        const float o = (float(i) + 0.5f) * weight - 0.5f;
+        trilinear<T, N>(lod, s + o * major.x, t + o * major.y, wrapS, wrapT, weight, v);
+      }
+      break;
+    }
+  }
+  if constexpr (N == 1) return {v[0], v[0], v[0], 1};
+  if constexpr (N == 2) return {v[0], v[0], v[0], v[1]};
+  if constexpr (N == 3) return {v[0], v[1], v[2], 1};
+  if constexpr (N == 4) return {v[0], v[1], v[2], v[3]};
+}
+
+Vec4f MipMap::lookup(const TexCoord2& c, TextureWrap wrapS, TextureWrap wrapT,
+                     TextureFilter filter) const {
+  assert(!levels_.empty());
+  if (!std::isfinite(c.st.x) || !std::isfinite(c.st.y)) return {0, 0, 0, 1};
+  const bool bytes = texel_ == Texel::Byte;
+  switch (channels_) {
+    case 1:
+      return bytes ? lookupAs<uint8_t, 1>(c, wrapS, wrapT, filter)
+                   : lookupAs<float, 1>(c, wrapS, wrapT, filter);
+    case 2:
+      return bytes ? lookupAs<uint8_t, 2>(c, wrapS, wrapT, filter)
+                   : lookupAs<float, 2>(c, wrapS, wrapT, filter);
+    case 3:
+      return bytes ? lookupAs<uint8_t, 3>(c, wrapS, wrapT, filter)
+                   : lookupAs<float, 3>(c, wrapS, wrapT, filter);
+    default:
+      return bytes ? lookupAs<uint8_t, 4>(c, wrapS, wrapT, filter)
+                   : lookupAs<float, 4>(c, wrapS, wrapT, filter);
+  }
+}
+
+}  // namespace glint
