@@ -4,7 +4,11 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <string>
+#include <utility>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
@@ -17,6 +21,7 @@
 #include "image/color.h"
 #include "image/output.h"
 #include "image/tonemap.h"
+#include "materials/image_texture.h"
 #include "renderer/progress.h"
 #include "renderer/render.h"
 #include "renderer/subdivide.h"
@@ -107,6 +112,22 @@ StopRule stopRuleFor(const RenderArgs& args, const SceneDescription& desc) {
   return rule;
 }
 
+// The process's resident memory now and at its peak, in MiB, from /proc/self/status (Linux);
+// 0 where that cannot be read.
+std::pair<double, double> residentMemoryMiB() {
+  std::ifstream status("/proc/self/status");
+  double now = 0, peak = 0;
+  for (std::string line; std::getline(status, line);) {
+    auto kib = [&](const char* key) {
+      return line.rfind(key, 0) == 0 ? std::strtod(line.c_str() + std::strlen(key), nullptr) / 1024
+                                     : -1.0;
+    };
+    if (double v = kib("VmRSS:"); v >= 0) now = v;
+    if (double v = kib("VmHWM:"); v >= 0) peak = v;
+  }
+  return {now, peak};
+}
+
 // One rendered frame, for the statistics.
 struct FrameRecord {
   int frame = 0;
@@ -143,6 +164,10 @@ nlohmann::json frameJson(const FrameRecord& r) {
   j["estimated_error"] = r.result.error;
   j["passes"] = r.result.passes;
   if (r.resumedSpp) j["resumed_from_spp"] = r.resumedSpp;
+  // The whole process's, measured after the frame (decoded images, BVHs, film, libraries).
+  const auto [resident, peak] = residentMemoryMiB();
+  j["resident_mib"] = resident;
+  j["peak_resident_mib"] = peak;
   if (!r.integratorSetup.empty()) {
     nlohmann::json setup = nlohmann::json::object();
     for (const Integrator::SetupStat& s : r.integratorSetup) setup[s.name] = s.value;
@@ -186,6 +211,12 @@ nlohmann::json sceneJson(const RenderArgs& args, const SceneDescription& desc,
   j["instances"] = scene.geometry.instances.size();
   j["lights"] = scene.lights.size();
   j["effects"] = scene.features.names();
+  if (scene.images) {
+    // The images glint holds decoded (MIP pyramids); those in OpenImageIO's cache not counted.
+    size_t bytes = 0;
+    for (TextureImages::Handle h : scene.images->handles()) bytes += scene.images->residentBytes(h);
+    j["texture_mib"] = double(bytes) / (1024.0 * 1024.0);
+  }
   return j;
 }
 

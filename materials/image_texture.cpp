@@ -132,6 +132,24 @@ TextureImages::Handle TextureImages::addPixels(const std::string& name, int widt
   return Handle{set_->add(std::move(image), true)};
 }
 
+TextureImages::Handle TextureImages::addBytes(const std::string& name, int width, int height,
+                                              int channels, std::vector<uint8_t> pixels,
+                                              ColorEncoding enc) {
+  if (width <= 0 || height <= 0 || channels < 1 || channels > 4 ||
+      pixels.size() != size_t(width) * size_t(height) * size_t(channels))
+    throw std::logic_error(name + ": " + std::to_string(pixels.size()) + " bytes do not make a " +
+                           std::to_string(width) + "x" + std::to_string(height) + " image of " +
+                           std::to_string(channels) + " channels");
+  auto image = std::make_unique<Image>();
+  image->name = name;
+  image->width = width, image->height = height, image->channels = channels;
+  image->encoding = enc;
+  image->texel = MipMap::Texel::Byte;
+  image->pyramid = MipMap::fromBytes(width, height, channels, std::move(pixels), enc);
+  image->ready.store(true, std::memory_order_release);
+  return Handle{set_->add(std::move(image), true)};
+}
+
 TextureImages::Handle TextureImages::addEncoded(const std::string& name,
                                                 std::shared_ptr<const std::string> bytes,
                                                 ColorEncoding enc) {

@@ -73,6 +73,10 @@ class TextureImages {
   // makes both from decoded images, so either is a bug.
   Handle addPixels(const std::string& name, int width, int height, int channels,
                    const std::vector<float>& pixels, ColorEncoding enc);
+  // The same for 8-bit samples, kept 8-bit (their colour channels sRGB-encoded when enc ==
+  // Srgb, decoded on lookup), as a glTF PNG or JPEG is once decoded.
+  Handle addBytes(const std::string& name, int width, int height, int channels,
+                  std::vector<uint8_t> pixels, ColorEncoding enc);
   // An encoded image file held in memory (a glTF image: PNG, JPEG, WebP, ...), its size known
   // from the header at once and its pixels decoded later, once: by startDecoding's background
   // tasks (several images decode in parallel while the caller goes on), or else by the first

@@ -5,8 +5,15 @@
 #include <array>
 #include <cassert>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <new>
 #include <stdexcept>
 #include <string>
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 namespace glint {
 
@@ -30,23 +37,52 @@ const std::array<float, 256>& linearTable() {
   return table;
 }
 
-// The byte whose decoded value (through `table`, increasing) is nearest to v.
-uint8_t encodeNearest(const std::array<float, 256>& table, float v) {
-  if (!(v > table[0])) return 0;  // also NaN
-  if (v >= table[255]) return 255;
-  const size_t hi = size_t(std::upper_bound(table.begin(), table.end(), v) - table.begin());
-  return uint8_t(v - table[hi - 1] <= table[hi] - v ? hi - 1 : hi);
+// Encodes linear values back to 8 bits: the byte whose decoded value (through an increasing
+// 256-entry table) is nearest. A 4,096-bucket index gives the first candidate; the codes are
+// at most a few buckets apart even where sRGB packs them densest (near black), so a short walk
+// finishes it.
+class Encoder {
+ public:
+  explicit Encoder(const std::array<float, 256>& table) : table_(table) {
+    for (int b = 0; b < kBuckets; ++b) {
+      const float v = float(b) / kBuckets;
+      const auto above = std::upper_bound(table.begin(), table.end(), v);
+      start_[size_t(b)] = uint8_t(above - table.begin() - 1);
+    }
+  }
+  uint8_t operator()(float v) const {
+    if (!(v > table_[0])) return 0;  // also NaN
+    if (v >= table_[255]) return 255;
+    size_t i = start_[size_t(v * kBuckets)];  // table_[i] <= v
+    while (i < 255 && table_[i + 1] <= v) ++i;
+    return uint8_t(v - table_[i] <= table_[i + 1] - v ? i : i + 1);
+  }
+
+ private:
+  static constexpr int kBuckets = 4096;
+  const std::array<float, 256>& table_;
+  std::array<uint8_t, kBuckets> start_{};
+};
+
+const Encoder& srgbEncoder() {
+  static const Encoder e(srgbTable());
+  return e;
+}
+const Encoder& linearEncoder() {
+  static const Encoder e(linearTable());
+  return e;
 }
 
 // Which channels hold colour (RGB, or the grey channel), as opposed to alpha.
 bool isColourChannel(int channels, int c) { return channels >= 3 ? c < 3 : c == 0; }
 
 // The texel index i of a row or column of n texels under wrap mode w; -1 for Black outside.
+// Indices come from reduced coordinates (reduce below), so Repeat is at most one period off.
 inline int wrapIndex(int i, int n, TextureWrap w) {
   switch (w) {
     case TextureWrap::Repeat:
-      i %= n;
-      return i < 0 ? i + n : i;
+      if (i < 0) return i + n;
+      return i >= n ? i - n : i;
     case TextureWrap::Clamp:
       return std::clamp(i, 0, n - 1);
     case TextureWrap::Mirror: {
@@ -170,6 +206,7 @@ MipMap MipMap::fromBytes(int width, int height, int channels, std::vector<uint8_
   m.levels_.push_back({width, height, 0});
   m.bytes_ = std::move(pixels);
   m.buildLevels<uint8_t>();
+  m.settle();
   return m;
 }
 
@@ -186,6 +223,7 @@ MipMap MipMap::fromFloats(int width, int height, int channels, std::vector<float
   m.levels_.push_back({width, height, 0});
   m.floats_ = std::move(pixels);
   m.buildLevels<float>();
+  m.settle();
   return m;
 }
 
@@ -198,7 +236,8 @@ void MipMap::buildLevels() {
   std::vector<float> current;
   if constexpr (std::is_same_v<T, uint8_t>) {
     current.resize(bytes_.size());
-    for (size_t i = 0; i < bytes_.size(); ++i) current[i] = decode_[i % n][bytes_[i]];
+    for (size_t i = 0; i < bytes_.size(); i += n)
+      for (size_t c = 0; c < n; ++c) current[i + c] = decode_[c][bytes_[i + c]];
     bytes_.reserve(residentBytes(w, h, channels_, Texel::Byte));
   } else {
     current = floats_;
@@ -209,10 +248,11 @@ void MipMap::buildLevels() {
     std::vector<float> next = downsample(current, w, h, channels_, &nw, &nh);
     if constexpr (std::is_same_v<T, uint8_t>) {
       levels_.push_back({nw, nh, bytes_.size()});
-      const std::array<float, 256>& srgb = srgbTable();
-      for (size_t i = 0; i < next.size(); ++i)
-        bytes_.push_back(encodeNearest(decode_[i % n] == srgb.data() ? srgb : linearTable(),
-                                       next[i]));
+      const Encoder* encoders[4];
+      for (size_t c = 0; c < n; ++c)
+        encoders[c] = decode_[c] == srgbTable().data() ? &srgbEncoder() : &linearEncoder();
+      for (size_t i = 0; i < next.size(); i += n)
+        for (size_t c = 0; c < n; ++c) bytes_.push_back((*encoders[c])(next[i + c]));
     } else {
       levels_.push_back({nw, nh, floats_.size()});
       floats_.insert(floats_.end(), next.begin(), next.end());
@@ -222,16 +262,44 @@ void MipMap::buildLevels() {
   }
 }
 
+void MipMap::Free::operator()(void* p) const { std::free(p); }
+
+void MipMap::settle() {
+  const bool bytes = texel_ == Texel::Byte;
+  texelBytes_ = bytes ? bytes_.size() : floats_.size() * sizeof(float);
+  constexpr size_t kHugePage = size_t(2) << 20;
+  void* block = nullptr;
+  if (texelBytes_ >= kHugePage) {
+    const size_t rounded = (texelBytes_ + kHugePage - 1) / kHugePage * kHugePage;
+    block = std::aligned_alloc(kHugePage, rounded);
+#ifdef MADV_HUGEPAGE
+    if (block) madvise(block, rounded, MADV_HUGEPAGE);  // a hint: no harm when refused
+#endif
+  }
+  if (!block) block = std::malloc(std::max<size_t>(texelBytes_, 1));
+  if (!block) throw std::bad_alloc();
+  texels_.reset(block);
+  if (bytes) {
+    std::memcpy(block, bytes_.data(), texelBytes_);
+    byteTexels_ = static_cast<const uint8_t*>(block);
+  } else {
+    std::memcpy(block, floats_.data(), texelBytes_);
+    floatTexels_ = static_cast<const float*>(block);
+  }
+  bytes_ = {};
+  floats_ = {};
+}
+
 // Adds w × texel (x, y) of `level` (already wrapped; -1 is black) to out.
 template <class T, int N>
 inline void MipMap::fetch(const Level& level, int x, int y, float w, float out[N]) const {
   if (x < 0 || y < 0) return;
   const size_t i = level.first + (size_t(y) * size_t(level.width) + size_t(x)) * N;
   if constexpr (std::is_same_v<T, uint8_t>) {
-    const uint8_t* p = &bytes_[i];
+    const uint8_t* p = byteTexels_ + i;
     for (int c = 0; c < N; ++c) out[c] += w * decode_[c][p[c]];
   } else {
-    const float* p = &floats_[i];
+    const float* p = floatTexels_ + i;
     for (int c = 0; c < N; ++c) out[c] += w * p[c];
   }
 }
