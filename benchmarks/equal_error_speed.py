@@ -13,7 +13,8 @@ render time per sample, so
 
 with v the per-sample variance and t the render seconds per sample (glint's `render_seconds`;
 Cycles' render call, which includes its scene sync, and its sampling alone from its progress
-lines). Above 1 glint reaches a given error sooner. It measures noise only (each renderer against
+lines), or the render CPU seconds per sample (glint's process CPU less a one-pixel render's;
+Cycles' CPU during its render call), which holds better on a loaded machine. Above 1 glint reaches a given error sooner. It measures noise only (each renderer against
 itself); FLIP between the two renderers' first images shows they render the same thing.
 This assumes both renderers' variance falls as 1/spp around the chosen spp; helmet_equal_error.py
 measures whole ladders instead, for one case.
@@ -70,13 +71,18 @@ def render_glint(args, case, seed, exr):
                                 "look_at": case["look_at"], "up": [0, 1, 0],
                                 "yfov_degrees": case["fov"], "znear": 0.001, "zfar": 1e6}]}, f)
     stats = exr[:-4] + ".stats.json"
-    cmd = [args.glint, "render", case["path"], "--sidecar", sidecar, "--integrator", "path",
-           "--max-depth", "8", "--spp", str(args.spp), "--seed", str(seed), "--threads",
-           str(args.threads), "--quiet", "--stats", stats, "-o", exr]
+    base = [args.glint, "render", case["path"], "--sidecar", sidecar, "--integrator", "path",
+            "--max-depth", "8", "--threads", str(args.threads), "--quiet"]
+    cmd = base + ["--spp", str(args.spp), "--seed", str(seed), "--stats", stats, "-o", exr]
     wall, cpu = helmet.timed(cmd, exr[:-4] + ".log")
     with open(stats) as f:
         s = json.load(f)
-    return {"wall_seconds": wall, "cpu_seconds": cpu, "render_seconds": s["render_seconds"]}
+    # Render CPU: the process's CPU less that of a one-pixel render of the same scene (loading,
+    # decoding, building), as helmet_equal_error.py estimates it.
+    setup = base + ["--crop", "0,0,1,1", "--spp", "1", "-o", exr[:-4] + "_setup.exr"]
+    _, setup_cpu = helmet.timed(setup, exr[:-4] + "_setup.log")
+    return {"wall_seconds": wall, "cpu_seconds": cpu, "render_seconds": s["render_seconds"],
+            "render_cpu_seconds": cpu - setup_cpu}
 
 
 def render_cycles(args, case, seed, exr):
@@ -97,7 +103,7 @@ def render_cycles(args, case, seed, exr):
     sampling = (helmet._clock(done.group(1)) - helmet._clock(first.group(1))
                 if first and done else None)
     return {"wall_seconds": wall, "cpu_seconds": cpu, "render_seconds": t["render_call_seconds"],
-            "sampling_seconds": sampling}
+            "render_cpu_seconds": t["render_call_cpu_seconds"], "sampling_seconds": sampling}
 
 
 def per_sample_variance(a, b, spp):
@@ -145,16 +151,19 @@ def main():
         for name in runs:
             a, b = (helmet.read_rgb(r["image"]) for r in runs[name])
             row[f"{name}_variance"] = per_sample_variance(a, b, args.spp)
-            for key in ("render_seconds", "sampling_seconds", "cpu_seconds", "wall_seconds"):
+            for key in ("render_seconds", "render_cpu_seconds", "sampling_seconds", "cpu_seconds",
+                        "wall_seconds"):
                 values = [r.get(key) for r in runs[name]]
                 if all(v is not None for v in values):
                     row[f"{name}_{key}"] = values
             row[f"{name}_tails"] = helmet.tails(a)
-        g_t = statistics.mean(row["glint_render_seconds"]) / args.spp
-        for label, key in (("render", "cycles_render_seconds"),
-                           ("sampling", "cycles_sampling_seconds")):
-            if key in row:
-                c_t = statistics.mean(row[key]) / args.spp
+        for label, gkey, ckey in (("render", "glint_render_seconds", "cycles_render_seconds"),
+                                  ("sampling", "glint_render_seconds", "cycles_sampling_seconds"),
+                                  ("render_cpu", "glint_render_cpu_seconds",
+                                   "cycles_render_cpu_seconds")):
+            if gkey in row and ckey in row:
+                g_t = statistics.mean(row[gkey]) / args.spp
+                c_t = statistics.mean(row[ckey]) / args.spp
                 row[f"speed_{label}"] = (row["cycles_variance"] * c_t) / (row["glint_variance"] * g_t)
         row["flip_mean"] = flip(args.glint, runs["glint"][0]["image"], runs["cycles"][0]["image"])
         rows.append(row)
@@ -165,7 +174,8 @@ def main():
     with open(os.path.join(args.out, "equal_error_speed.md"), "w") as f:
         f.write("| case | FLIP mean | glint variance / sample | Cycles variance / sample "
                 "| glint render s | Cycles render s (sampling s) | speed at equal error, "
-                "by render s (by Cycles' sampling s) |\n|---|---|---|---|---|---|---|\n")
+                "by render s (by Cycles' sampling s) | by render CPU s |\n"
+                "|---|---|---|---|---|---|---|---|\n")
         for r in rows:
             gs = "/".join(f"{v:.2f}" for v in r["glint_render_seconds"])
             cs = "/".join(f"{v:.2f}" for v in r["cycles_render_seconds"])
@@ -173,7 +183,8 @@ def main():
                   if "cycles_sampling_seconds" in r else "?")
             f.write(f"| {r['case']} | {r['flip_mean']:.3f} | {r['glint_variance']:.4g} "
                     f"| {r['cycles_variance']:.4g} | {gs} | {cs} ({ss}) "
-                    f"| **{r['speed_render']:.2f}** ({r.get('speed_sampling', math.nan):.2f}) |\n")
+                    f"| **{r['speed_render']:.2f}** ({r.get('speed_sampling', math.nan):.2f}) "
+                    f"| {r.get('speed_render_cpu', math.nan):.2f} |\n")
     print(open(os.path.join(args.out, "equal_error_speed.md")).read())
 
 
