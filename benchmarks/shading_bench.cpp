@@ -346,7 +346,7 @@ inline float shade(const Material& m, bool unlit, const ShadingInput& in) {
   float lightPdf = 0;
   const Rgb f = bsdf.evaluate(in.wiLight, &lightPdf);
   float v = f.x + lightPdf;
-  if (std::optional<BsdfSample> s = bsdf.sample(in.u, in.uLobe)) v += s->f.x + s->pdf + s->wi.x;
+  if (BsdfSample s; bsdf.sample(in.u, in.uLobe, &s)) v += s.f.x + s.pdf + s.wi.x;
   return v;
 }
 

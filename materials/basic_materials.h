@@ -31,9 +31,7 @@ class EyelightMaterial final : public SimpleMaterial {
   uint32_t flags() const override { return kBsdfUnlit; }
 
  protected:
-  Bsdf makeBsdf(const SurfaceInteraction&, const BsdfFrame&, TextureLookups&) const override {
-    return {};
-  }
+  void setLobes(const SurfaceInteraction&, TextureLookups&, Bsdf*) const override {}
 };
 
 // glTF's KHR_materials_unlit: the colour is the radiance the surface sends along every ray
@@ -49,9 +47,7 @@ class UnlitMaterial final : public SimpleMaterial {
   }
 
  protected:
-  Bsdf makeBsdf(const SurfaceInteraction&, const BsdfFrame&, TextureLookups&) const override {
-    return {};
-  }
+  void setLobes(const SurfaceInteraction&, TextureLookups&, Bsdf*) const override {}
 };
 
 // Ideal diffuse reflection: f = albedo / pi.
@@ -61,9 +57,8 @@ class LambertMaterial final : public SimpleMaterial {
   uint32_t flags() const override { return kBsdfDiffuse | kBsdfReflection; }
 
  protected:
-  Bsdf makeBsdf(const SurfaceInteraction& si, const BsdfFrame& frame,
-                TextureLookups& lookups) const override {
-    return Bsdf(frame, DiffuseBxdf{diffuse_.evaluate(si, lookups)});
+  void setLobes(const SurfaceInteraction& si, TextureLookups& lookups, Bsdf* bsdf) const override {
+    bsdf->emplace<DiffuseBxdf>(diffuse_.evaluate(si, lookups));
   }
 };
 
@@ -80,9 +75,8 @@ class PhongMaterial final : public SimpleMaterial {
   uint32_t flags() const override { return kBsdfDiffuse | kBsdfGlossy | kBsdfReflection; }
 
  protected:
-  Bsdf makeBsdf(const SurfaceInteraction& si, const BsdfFrame& frame,
-                TextureLookups& lookups) const override {
-    return Bsdf(frame, PhongBxdf(diffuse_.evaluate(si, lookups), specular_, shininess_, blinn_));
+  void setLobes(const SurfaceInteraction& si, TextureLookups& lookups, Bsdf* bsdf) const override {
+    bsdf->emplace<PhongBxdf>(diffuse_.evaluate(si, lookups), specular_, shininess_, blinn_);
   }
 
  private:

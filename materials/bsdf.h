@@ -16,6 +16,8 @@
 
 #include <algorithm>
 #include <optional>
+#include <type_traits>
+#include <utility>
 #include <variant>
 
 #include "geometry/interaction.h"
@@ -23,16 +25,17 @@
 
 namespace glint {
 
-// The shading frame of a hit: ns (+Z), the geometric normal, and wo in local coordinates.
+// The shading frame of a hit: the normals and wo in world space and, for the BxDFs that work in
+// a local frame (bxdfs.h), the tangent frame about ns with wo in it. That part is built only
+// for them: the lobes about the normal alone (diffuse, mirror, glass) need none.
 struct BsdfFrame {
-  Frame frame;
-  Vec3f ng;
-  Vec3f wo;                 // local
+  Vec3f ns;                 // the shading normal (unit, in ng's hemisphere)
+  Vec3f ng;                 // the geometric normal
+  Vec3f wo;                 // towards the viewer
   bool terminator = false;  // apply the shadow-terminator term (the normal was perturbed)
-
-  BsdfFrame() = default;
-  BsdfFrame(const SurfaceInteraction& si, bool perturbed)
-      : frame(Frame::fromZ(si.ns)), ng(si.ng), wo(frame.toLocal(si.wo)), terminator(perturbed) {}
+  bool hasLocal = false;    // `local` and `woLocal` are set
+  Frame local;              // s, t and ns
+  Vec3f woLocal;            // wo in `local`
 };
 
 // Chiang, Li and Burley (2019), "Taming the Shadow Terminator": a shadowing term for shading
@@ -54,19 +57,101 @@ class Bsdf {
 
   // No scattering at all (unlit materials): f, pdf zero, sample() fails, flags() none.
   Bsdf() = default;
-  Bsdf(const BsdfFrame& frame, Lobes lobes) : frame_(frame), lobes_(std::move(lobes)) {}
+  // The BSDF at si: makeLobes(this) puts the material's lobes in place (emplace), then the
+  // frame of si.ns, si.ng and si.wo is set. Built in place, neither is copied (a copied frame
+  // and variant were a large part of a mirror hit's time). The frame comes last so that a
+  // caller that inlines evaluate() and sample() (the integrators) takes ns, ng and wo from the
+  // values just stored rather than loading them back after the material's virtual call: a
+  // 12-byte vector loaded across two recent stores cannot be forwarded from them, and such
+  // loads stood out in mirror's profile.
+  template <class MakeLobes>
+  Bsdf(const SurfaceInteraction& si, bool perturbed, MakeLobes&& makeLobes) {
+    makeLobes(this);
+    frame_.ns = si.ns;
+    frame_.ng = si.ng;
+    frame_.wo = si.wo;
+    frame_.terminator = perturbed;
+    if (!frame_.hasLocal && inLocalFrame()) buildLocalFrame(si);
+  }
+  // Makes the lobes a BxDF of type B built from args, in place.
+  template <class B, class... Args>
+  B& emplace(Args&&... args) {
+    return lobes_.template emplace<B>(std::forward<Args>(args)...);
+  }
+  // The local part of si's frame, built now: for a material that takes directions into it
+  // before it makes its BxDF (glTF's anisotropy direction and coat normal).
+  const BsdfFrame& buildLocalFrame(const SurfaceInteraction& si) {
+    frame_.local = Frame::fromZ(si.ns);
+    frame_.woLocal = frame_.local.toLocal(si.wo);
+    frame_.hasLocal = true;
+    return frame_;
+  }
 
   // f(wo, wi) without the cosine (zero for delta lobes), and in *pdf the solid-angle density
   // with which sample() (all lobes) returns wi: one evaluation for both (MIS needs both).
-  Rgb evaluate(Vec3f wi, float* pdf) const;
+  // Always inline (as sample()): integrators call it once per light sample, and inlined it
+  // reads the frame from registers (see the constructor).
+  [[gnu::always_inline]] Rgb evaluate(Vec3f wi, float* pdf) const {
+    *pdf = 0;
+    Rgb f = dispatch([&](const auto& b) -> Rgb {
+      using B = std::decay_t<decltype(b)>;
+      if constexpr (std::is_same_v<B, std::monostate>) {
+        return {};
+      } else if constexpr (B::kAboutNormal) {
+        if (!consistentSide(wi, dot(wi, frame_.ns))) return {};
+        return b.evaluate(frame_.ns, frame_.wo, wi, pdf);
+      } else {
+        const Vec3f local = frame_.local.toLocal(wi);
+        if (!consistentSide(wi, local.z)) return {};
+        return b.evaluate(frame_.woLocal, local, pdf);
+      }
+    });
+    if (frame_.terminator && dot(wi, frame_.ng) > 0)
+      f *= terminatorShadowing(frame_.ng, frame_.ns, wi);
+    return f;
+  }
   // f alone.
   Rgb f(Vec3f wi) const {
     float unused;
     return evaluate(wi, &unused);
   }
   // Samples wi given two uniform numbers for the direction and one for the lobe choice,
-  // restricted to `lobes` (see bxdfs.h).
-  std::optional<BsdfSample> sample(Vec2f u, float uLobe, uint32_t lobes = kBsdfAllLobes) const;
+  // restricted to `lobes` (see bxdfs.h), into *s. False when there is no sample (*s is then
+  // unspecified).
+  [[gnu::always_inline]] bool sample(Vec2f u, float uLobe, BsdfSample* s,
+                                     uint32_t lobes = kBsdfAllLobes) const {
+    float cosI = 0;  // wi's cosine to the shading normal
+    const bool sampled = dispatch([&](const auto& b) {
+      using B = std::decay_t<decltype(b)>;
+      if constexpr (std::is_same_v<B, std::monostate>) {
+        return false;
+      } else if constexpr (B::kAboutNormal) {
+        if (!b.sample(frame_.ns, frame_.wo, u, uLobe, lobes, s)) return false;
+        cosI = dot(s->wi, frame_.ns);
+        return true;
+      } else {
+        if (!b.sample(frame_.woLocal, u, uLobe, lobes, s)) return false;
+        cosI = s->wi.z;
+        s->wi = frame_.local.fromLocal(s->wi);
+        return true;
+      }
+    });
+    if (!sampled) return false;
+    const Vec3f ng = frame_.ng;
+    if (s->flags & kBsdfSpecular) {
+      if ((s->flags & kBsdfReflection) && dot(s->wi, ng) <= 0) return foldReflection(cosI, s);
+      return consistentSide(s->wi, cosI);
+    }
+    if (!consistentSide(s->wi, cosI)) return false;
+    if (frame_.terminator && dot(s->wi, ng) > 0) s->f *= terminatorShadowing(ng, frame_.ns, s->wi);
+    return true;
+  }
+  // The same as an optional, for callers outside the integrators' inner loops (tests).
+  std::optional<BsdfSample> sample(Vec2f u, float uLobe, uint32_t lobes = kBsdfAllLobes) const {
+    BsdfSample s;
+    if (!sample(u, uLobe, &s, lobes)) return std::nullopt;
+    return s;
+  }
   // The density alone.
   float pdf(Vec3f wi) const {
     float p;
@@ -76,7 +161,7 @@ class Bsdf {
   // The kinds of lobes at this hit (kBsdfNone when it does not scatter).
   uint32_t flags() const;
   // The shading normal the BSDF is built around.
-  Vec3f ns() const { return frame_.frame.n; }
+  Vec3f ns() const { return frame_.ns; }
 
   // A caller evaluating one BSDF in many directions (instant radiosity's VPL loop) can skip
   // the general evaluation for a Lambert lobe: f(wi) is then R / pi where wi is on the side of
@@ -89,7 +174,7 @@ class Bsdf {
     return d->R * kInvPi;
   }
   Rgb lambertF(Vec3f wi, Rgb rOverPi) const {
-    return lambertF(wi, frame_.frame.n, frame_.ng, frame_.terminator, rOverPi);
+    return lambertF(wi, frame_.ns, frame_.ng, frame_.terminator, rOverPi);
   }
   // The same for a BSDF known by its normals and terminator flag (kept apart by the caller).
   static Rgb lambertF(Vec3f wi, Vec3f ns, Vec3f ng, bool terminator, Rgb rOverPi) {
@@ -114,7 +199,27 @@ class Bsdf {
   StraightCrossing straightCrossing(Vec3f w, bool frontFace) const;
 
  private:
-  // Whether world direction wi (local z `z`) is on the geometric side its lobe needs.
+  // A delta reflection s (cosine cosI to ns) that points below the geometric surface, folded
+  // back above it; false if that fails.
+  bool foldReflection(float cosI, BsdfSample* s) const;
+  // Whether the lobes work in the local frame.
+  bool inLocalFrame() const {
+    return std::holds_alternative<PhongBxdf>(lobes_) || std::holds_alternative<PbrBxdf>(lobes_);
+  }
+  // Calls f with the BxDF the lobes hold (std::monostate for none). Written out rather than
+  // std::visit, which GCC does not inline here: that was a call per evaluation, a quarter of
+  // mirror's profile.
+  template <class F>
+  auto dispatch(F&& f) const -> decltype(f(std::monostate{})) {
+    if (const auto* b = std::get_if<DiffuseBxdf>(&lobes_)) return f(*b);
+    if (const auto* b = std::get_if<MirrorBxdf>(&lobes_)) return f(*b);
+    if (const auto* b = std::get_if<GlassBxdf>(&lobes_)) return f(*b);
+    if (const auto* b = std::get_if<PhongBxdf>(&lobes_)) return f(*b);
+    if (const auto* b = std::get_if<PbrBxdf>(&lobes_)) return f(*b);
+    return f(std::monostate{});
+  }
+  // Whether world direction wi (cosine `z` to the shading normal) is on the geometric side its
+  // lobe needs.
   bool consistentSide(Vec3f wi, float z) const {
     const float g = dot(wi, frame_.ng);
     return z > 0 ? g > 0 : g < 0;

@@ -1,6 +1,6 @@
-// glint — the BxDFs (diffuse, Phong and Blinn-Phong, mirror, glass and glTF's metallic-roughness
-// microfacet model) and the Bsdf that dispatches to them. One file, so that the dispatch inlines
-// each BxDF's f, pdf and sample (they sit in every integrator's inner loop).
+// glint — the BxDFs too large to inline (Phong and Blinn-Phong, glTF's metallic-roughness
+// microfacet model; diffuse, mirror and glass are in the header) and the parts of Bsdf that are
+// not in its inner loop (the dispatch of evaluate and sample is inline, in bsdf.h).
 #include "materials/bxdfs.h"
 
 #include <algorithm>
@@ -32,26 +32,10 @@ Rgb schlick(Rgb f0, float cosTheta) {
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
-// Diffuse
-// ---------------------------------------------------------------------------------------------
-
-Rgb DiffuseBxdf::evaluate(Vec3f, Vec3f wi, float* pdf) const {
-  *pdf = cosineHemispherePdf(wi.z);
-  return wi.z > 0 ? R * kInvPi : Rgb{};
-}
-
-std::optional<BsdfSample> DiffuseBxdf::sample(Vec3f, Vec2f u, float, uint32_t lobes) const {
-  if (!(lobes & kBsdfReflection) || (lobes & kBsdfSpecular)) return std::nullopt;
-  const Vec3f wi = sampleCosineHemisphere(u);
-  if (wi.z <= 0) return std::nullopt;
-  return BsdfSample{R * kInvPi, wi, cosineHemispherePdf(wi.z), kBsdfDiffuse | kBsdfReflection};
-}
-
-// ---------------------------------------------------------------------------------------------
 // Phong and Blinn-Phong
 // ---------------------------------------------------------------------------------------------
 
-PhongBxdf::PhongBxdf(Rgb kd_, Rgb ks_, float shininess_, bool blinn_)
+PhongBxdf::PhongBxdf(Rgb kd_, Rgb ks_, float shininess_, bool blinn_) noexcept
     : kd(kd_), ks(ks_), shininess(shininess_), blinn(blinn_) {
   // Lobes chosen by their largest channel, not their luminance: a sample's weight in any channel
   // is then at most d + s (a red diffuse under a grey highlight chosen by luminance weighed
@@ -92,8 +76,8 @@ Rgb PhongBxdf::evaluate(Vec3f wo, Vec3f wi, float* pdf) const {
   return kd * kInvPi + ks * lobe;
 }
 
-std::optional<BsdfSample> PhongBxdf::sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes) const {
-  if (!(lobes & kBsdfReflection) || (lobes & kBsdfSpecular)) return std::nullopt;
+bool PhongBxdf::sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes, BsdfSample* s) const {
+  if (!(lobes & kBsdfReflection) || (lobes & kBsdfSpecular)) return false;
   Vec3f wi;
   if (uLobe < pSpecular) {
     // A cos^n lobe around the mirror direction (Phong) or the normal (Blinn's half vector):
@@ -106,43 +90,12 @@ std::optional<BsdfSample> PhongBxdf::sample(Vec3f wo, Vec2f u, float uLobe, uint
   } else {
     wi = sampleCosineHemisphere(u);
   }
-  if (wi.z <= 0) return std::nullopt;
+  if (wi.z <= 0) return false;
   float p;
   const Rgb f = evaluate(wo, wi, &p);
-  if (!(p > 0)) return std::nullopt;
-  return BsdfSample{f, wi, p, kBsdfGlossy | kBsdfReflection};
-}
-
-// ---------------------------------------------------------------------------------------------
-// Mirror and glass
-// ---------------------------------------------------------------------------------------------
-
-std::optional<BsdfSample> MirrorBxdf::sample(Vec3f wo, Vec2f, float, uint32_t lobes) const {
-  if (!(lobes & kBsdfReflection)) return std::nullopt;
-  const Vec3f wi = mirrorLocal(wo);
-  const float cosI = std::abs(wi.z);
-  if (cosI == 0) return std::nullopt;
-  return BsdfSample{R / cosI, wi, 1, kBsdfSpecular | kBsdfReflection};
-}
-
-std::optional<BsdfSample> GlassBxdf::sample(Vec3f wo, Vec2f, float uLobe, uint32_t lobes) const {
-  const float R = fresnelDielectric(wo.z, eta), Tr = 1 - R;
-  const float pr = (lobes & kBsdfReflection) ? R : 0;
-  const float pt = (lobes & kBsdfTransmission) ? Tr : 0;
-  if (pr + pt <= 0) return std::nullopt;
-  if (uLobe < pr / (pr + pt)) {
-    const Vec3f wi = mirrorLocal(wo);
-    const float cosI = std::abs(wi.z);
-    if (cosI == 0) return std::nullopt;
-    return BsdfSample{Rgb{R, R, R} / cosI, wi, pr / (pr + pt), kBsdfSpecular | kBsdfReflection};
-  }
-  Vec3f wi;
-  float etaCrossed = 1;
-  if (!refract(wo, {0, 0, 1}, eta, &etaCrossed, &wi)) return std::nullopt;
-  const float cosI = std::abs(wi.z);
-  if (cosI == 0) return std::nullopt;
-  return BsdfSample{T * (Tr / (cosI * etaCrossed * etaCrossed)), wi, pt / (pr + pt),
-                    kBsdfSpecular | kBsdfTransmission, etaCrossed};
+  if (!(p > 0)) return false;
+  *s = {f, wi, p, kBsdfGlossy | kBsdfReflection};
+  return true;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -164,7 +117,7 @@ bool tintedSpecular(const PbrHit& hit) {
 }  // namespace
 
 PbrBxdf::PbrBxdf(Vec3f wo, Rgb base_, float metallic_, float roughness, float transmission_,
-                 float eta_)
+                 float eta_) noexcept
     : PbrBxdf(wo, [&] {
         PbrHit h;
         h.base = base_;
@@ -175,7 +128,7 @@ PbrBxdf::PbrBxdf(Vec3f wo, Rgb base_, float metallic_, float roughness, float tr
         return h;
       }()) {}
 
-PbrBxdf::PbrBxdf(Vec3f wo, const PbrHit& h) : hit(h) {
+PbrBxdf::PbrBxdf(Vec3f wo, const PbrHit& h) noexcept : hit(h) {
   hit.metallic = std::clamp(hit.metallic, 0.0f, 1.0f);
   hit.transmission = std::clamp(hit.transmission, 0.0f, 1.0f);
   hit.specular = std::clamp(hit.specular, 0.0f, 1.0f);
@@ -554,9 +507,9 @@ Rgb PbrBxdf::evaluate(Vec3f wo, Vec3f wi, float* pdf) const {
   return e.f;
 }
 
-std::optional<BsdfSample> PbrBxdf::sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes) const {
+bool PbrBxdf::sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes, BsdfSample* out) const {
   if (anisotropic) wo = toAniso(wo);
-  if (!(wo.z > 0)) return std::nullopt;
+  if (!(wo.z > 0)) return false;
   const LobeProbabilities pr = lobeProbabilities(lobes);
   const float* p = pr.p;
   int lobe = -1;
@@ -567,14 +520,15 @@ std::optional<BsdfSample> PbrBxdf::sample(Vec3f wo, Vec2f u, float uLobe, uint32
     if (uLobe < before + p[i]) break;
     before += p[i];
   }
-  if (lobe < 0) return std::nullopt;
+  if (lobe < 0) return false;
   // What is left of uLobe once the lobe is chosen: a uniform number for the dispersion channel.
   const float uRest = std::clamp((uLobe - before) / p[lobe], 0.0f, 0.99999994f);
   const float dielectric = 1 - hit.metallic;
   const float baseScale = baseScaleWo_;
-  auto finish = [&](BsdfSample s) {
-    if (anisotropic) s.wi = fromAniso(s.wi);
-    return std::optional<BsdfSample>(s);
+  auto finish = [&](const BsdfSample& s) {
+    *out = s;
+    if (anisotropic) out->wi = fromAniso(out->wi);
+    return true;
   };
 
   // Delta lobes. The base's mirror and a smooth coat on the same normal share one direction:
@@ -589,7 +543,7 @@ std::optional<BsdfSample> PbrBxdf::sample(Vec3f wo, Vec2f u, float uLobe, uint32
     } else {
       const Vec3f n = toCoat_[2];
       wi = n * (2 * dot(wo, n)) - wo;
-      if (wi.z <= 0) return std::nullopt;
+      if (wi.z <= 0) return false;
     }
     Rgb F;
     float pdf = 0;
@@ -614,7 +568,7 @@ std::optional<BsdfSample> PbrBxdf::sample(Vec3f wo, Vec2f u, float uLobe, uint32
     const float eta = channel < 0 ? hit.eta : channelEta(channel);
     Vec3f wi;
     float etaCrossed = 1;
-    if (!refract(wo, {0, 0, 1}, eta, &etaCrossed, &wi)) return std::nullopt;
+    if (!refract(wo, {0, 0, 1}, eta, &etaCrossed, &wi)) return false;
     const Rgb T = kOne - (channel < 0 ? fresnelWo_ : dielectricFresnel(wo.z, eta));
     Rgb f = hit.base * T *
             (baseScale * dielectric * hit.transmission / (std::abs(wi.z) * square(etaCrossed)));
@@ -628,7 +582,8 @@ std::optional<BsdfSample> PbrBxdf::sample(Vec3f wo, Vec2f u, float uLobe, uint32
     return finish(BsdfSample{f, wi, pdf, kBsdfSpecular | kBsdfTransmission, etaCrossed});
   }
 
-  BsdfSample s;
+  BsdfSample& s = *out;
+  s.eta = 1;
   Vec3f wi;
   switch (lobe) {
     case kDiff:
@@ -658,9 +613,9 @@ std::optional<BsdfSample> PbrBxdf::sample(Vec3f wo, Vec2f u, float uLobe, uint32
     case kCoat: {
       const TrowbridgeReitzDistribution coat(coatAlpha);
       const Vec3f woC = toCoat(wo);
-      if (!(woC.z > 0)) return std::nullopt;
+      if (!(woC.z > 0)) return false;
       wi = fromCoat(reflect(woC, coat.Sample_wm(woC, u)));
-      if (wi.z <= 0) return std::nullopt;
+      if (wi.z <= 0) return false;
       s.flags = kBsdfGlossy | kBsdfReflection;
       break;
     }
@@ -681,105 +636,65 @@ std::optional<BsdfSample> PbrBxdf::sample(Vec3f wo, Vec2f u, float uLobe, uint32
       }
       if (reflects) {
         wi = reflect(wo, wm);
-        if (wi.z <= 0) return std::nullopt;
+        if (wi.z <= 0) return false;
         s.flags = kBsdfGlossy | kBsdfReflection;
         break;
       }
       s.flags = kBsdfGlossy | kBsdfTransmission;
       if (hit.thinWalled) {
         const Vec3f wr = reflect(wo, wm);
-        if (wr.z <= 0) return std::nullopt;
+        if (wr.z <= 0) return false;
         wi = {wr.x, wr.y, -wr.z};
         break;
       }
       const float eta =
           hit.dispersion > 0 ? channelEta(std::min(int(uChannel * 3), 2)) : hit.eta;
       float etaCrossed = 1;
-      if (!refract(wo, wm, eta, &etaCrossed, &wi) || wi.z >= 0) return std::nullopt;
+      if (!refract(wo, wm, eta, &etaCrossed, &wi) || wi.z >= 0) return false;
       s.eta = etaCrossed;
       break;
     }
     default:
-      return std::nullopt;
+      return false;
   }
   const Eval e = evaluateLocal(wo, wi, pr);
-  if (!(e.pdf > 0)) return std::nullopt;
+  if (!(e.pdf > 0)) return false;
   s.f = e.f;
   s.pdf = e.pdf;
-  s.wi = wi;
-  return finish(s);
+  s.wi = anisotropic ? fromAniso(wi) : wi;
+  return true;
 }
 
 // ---------------------------------------------------------------------------------------------
-// The BSDF: dispatch and the geometric-side rules
+// The BSDF: what is not inline
 // ---------------------------------------------------------------------------------------------
-Rgb Bsdf::evaluate(Vec3f wi, float* pdf) const {
-  *pdf = 0;
-  if (std::holds_alternative<std::monostate>(lobes_)) return {};
-  const Vec3f local = frame_.frame.toLocal(wi);
-  if (!consistentSide(wi, local.z)) return {};
-  Rgb f = std::visit(
-      [&](const auto& b) -> Rgb {
-        if constexpr (std::is_same_v<std::decay_t<decltype(b)>, std::monostate>)
-          return {};
-        else
-          return b.evaluate(frame_.wo, local, pdf);
-      },
-      lobes_);
-  if (frame_.terminator && dot(wi, frame_.ng) > 0)
-    f *= terminatorShadowing(frame_.ng, frame_.frame.n, wi);
-  return f;
-}
 
-std::optional<BsdfSample> Bsdf::sample(Vec2f u, float uLobe, uint32_t lobes) const {
-  std::optional<BsdfSample> s = std::visit(
-      [&](const auto& b) -> std::optional<BsdfSample> {
-        if constexpr (std::is_same_v<std::decay_t<decltype(b)>, std::monostate>)
-          return std::nullopt;
-        else
-          return b.sample(frame_.wo, u, uLobe, lobes);
-      },
-      lobes_);
-  if (!s) return s;
-  const float localZ = s->wi.z;
-  s->wi = frame_.frame.fromLocal(s->wi);
+bool Bsdf::foldReflection(float cosI, BsdfSample* s) const {
+  // A mirror direction about a strongly tilted shading normal (normal maps, coarse smooth
+  // meshes) can point into the surface; fold it back above the geometric plane rather than
+  // lose it. (Integrators tilt such normals back first, reflectionSafeNormal; this catches what
+  // rounding leaves.) f was F / cos at the unfolded direction: rescaled to the folded one's
+  // cosine, so the sample's weight f |cos| / pdf stays F / pdf.
   const Vec3f ng = frame_.ng;
-  if (s->flags & kBsdfSpecular) {
-    if ((s->flags & kBsdfReflection) && dot(s->wi, ng) <= 0) {
-      // A mirror direction about a strongly tilted shading normal (normal maps, coarse smooth
-      // meshes) can point into the surface; fold it back above the geometric plane rather
-      // than lose it. (Integrators tilt such normals back first, reflectionSafeNormal; this
-      // catches what rounding leaves.) f was F / cos at the unfolded direction: rescaled to
-      // the folded one's cosine, so the sample's weight f |cos| / pdf stays F / pdf.
-      const Vec3f folded = normalize(s->wi - ng * (2 * dot(s->wi, ng)));
-      const float cosFolded = std::abs(dot(folded, frame_.frame.n));
-      if (!(cosFolded > 0)) return std::nullopt;
-      s->f *= std::abs(localZ) / cosFolded;
-      s->wi = folded;
-      return s;
-    }
-    if (!consistentSide(s->wi, localZ)) return std::nullopt;
-    return s;
-  }
-  if (!consistentSide(s->wi, localZ)) return std::nullopt;
-  if (frame_.terminator && dot(s->wi, ng) > 0)
-    s->f *= terminatorShadowing(ng, frame_.frame.n, s->wi);
-  return s;
+  const Vec3f folded = normalize(s->wi - ng * (2 * dot(s->wi, ng)));
+  const float cosFolded = std::abs(dot(folded, frame_.ns));
+  if (!(cosFolded > 0)) return false;
+  s->f *= std::abs(cosI) / cosFolded;
+  s->wi = folded;
+  return true;
 }
 
 uint32_t Bsdf::flags() const {
-  return std::visit(
-      [](const auto& b) -> uint32_t {
-        if constexpr (std::is_same_v<std::decay_t<decltype(b)>, std::monostate>)
-          return kBsdfNone;
-        else
-          return b.flags();
-      },
-      lobes_);
+  return dispatch([](const auto& b) -> uint32_t {
+    if constexpr (std::is_same_v<std::decay_t<decltype(b)>, std::monostate>)
+      return kBsdfNone;
+    else
+      return b.flags();
+  });
 }
 
 Bsdf::StraightCrossing Bsdf::straightCrossing(Vec3f w, bool frontFace) const {
-  const float cosTheta = std::abs(dot(w, frame_.frame.n));
+  const float cosTheta = std::abs(dot(w, frame_.ns));
   // The material's index from its bxdf's relative one (inverted on back faces).
   auto outsideReflectance = [&](float eta) {
     return fresnelDielectric(cosTheta, frontFace ? eta : 1 / eta);

@@ -1,24 +1,39 @@
-// glint — the scattering functions (BxDFs) a material's BSDF is made of, in the local shading
-// frame: the shading normal is +Z, every direction is a unit vector pointing away from the
-// surface, and wo is the direction towards the viewer. f excludes the cosine factor.
+// glint — the scattering functions (BxDFs) a material's BSDF is made of. Every direction is a
+// unit vector pointing away from the surface, wo is the direction towards the viewer, and f
+// excludes the cosine factor.
 //
 // A BxDF is a small value holding parameters already read from the material's textures (the
 // material's `bsdf` makes one per hit, materials/material.h); none of its functions reads a
-// texture or allocates. Each offers the same three calls:
-//   evaluate(wo, wi, &pdf)           the BSDF value f (zero for delta lobes), and in pdf the
-//                                    solid-angle density of sample() over all lobes: together,
-//                                    because both need the same terms (cos^n, GGX D and G) and
-//                                    next-event estimation with MIS needs both,
-//   sample(wo, u, uLobe, lobes)      a direction with f and pdf, restricted to `lobes`,
-//   flags()                          which kinds of lobes it has at this hit.
+// texture or allocates. They come in two kinds, by the frame they work in:
+//   - in the local shading frame (the shading normal is +Z): PhongBxdf and PbrBxdf, whose
+//     lobes need the tangent directions (the mirror direction's cone, anisotropy, a coat's own
+//     normal). Each offers
+//       evaluate(wo, wi, &pdf)           the BSDF value f (zero for delta lobes), and in pdf the
+//                                        solid-angle density of sample() over all lobes:
+//                                        together, because both need the same terms (cos^n,
+//                                        GGX D and G) and next-event estimation with MIS needs
+//                                        both,
+//       sample(wo, u, uLobe, lobes, &s)  a direction with f and pdf, restricted to `lobes`,
+//                                        written to s; false when there is none (s is then
+//                                        unspecified),
+//       flags()                          which kinds of lobes it has at this hit;
+//   - about the shading normal alone (kAboutNormal): DiffuseBxdf, MirrorBxdf, GlassBxdf, which
+//     need only cosines to the normal and reflection or refraction about it. Their evaluate and
+//     sample take world directions and the shading normal n first, (n, wo, wi, &pdf) and
+//     (n, wo, u, uLobe, lobes, &s), so that a hit on them builds no tangent frame and
+//     transforms nothing into it (the diffuse lobe builds one when it samples).
+// Samples go out through a pointer rather than a returned std::optional: the optional was built
+// field by field on the stack and then copied with wide loads that could not be forwarded from
+// those stores (about a fifth of mirror's profile, benchmarks/README).
 // Which side of the *geometric* surface a direction lies on is Bsdf's business (bsdf.h): a
-// BxDF only knows the shading frame.
+// BxDF only knows the shading normal.
 #pragma once
 
 #include <cstdint>
-#include <optional>
 
 #include "geometry/math.h"
+#include "geometry/sampling.h"
+#include "materials/scattering.h"
 
 namespace glint {
 
@@ -50,12 +65,27 @@ struct BsdfSample {
 // then those of the restricted choice, so an integrator may follow the reflected and the
 // transmitted lobe separately (Whitted) or pick one (path tracing).
 
-// Ideal diffuse reflection: f = R / pi.
+// Ideal diffuse reflection: f = R / pi. About the normal.
 struct DiffuseBxdf {
+  static constexpr bool kAboutNormal = true;
   Rgb R;
 
-  Rgb evaluate(Vec3f wo, Vec3f wi, float* pdf) const;
-  std::optional<BsdfSample> sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes) const;
+  Rgb evaluate(Vec3f n, Vec3f, Vec3f wi, float* pdf) const {
+    const float cosI = dot(wi, n);
+    *pdf = cosineHemispherePdf(cosI);
+    return cosI > 0 ? R * kInvPi : Rgb{};
+  }
+  bool sample(Vec3f n, Vec3f, Vec2f u, float, uint32_t lobes, BsdfSample* s) const {
+    if (!(lobes & kBsdfReflection) || (lobes & kBsdfSpecular)) return false;
+    const Vec3f local = sampleCosineHemisphere(u);
+    if (local.z <= 0) return false;
+    s->wi = Frame::fromZ(n).fromLocal(local);
+    s->f = R * kInvPi;
+    s->pdf = cosineHemispherePdf(local.z);
+    s->flags = kBsdfDiffuse | kBsdfReflection;
+    s->eta = 1;
+    return true;
+  }
   uint32_t flags() const { return kBsdfDiffuse | kBsdfReflection; }
 };
 
@@ -69,36 +99,76 @@ struct DiffuseBxdf {
 //     factor exceeds 1 near normal incidence).
 // The specular lobe is sampled with probability ks / (kd + ks) (luminances).
 struct PhongBxdf {
+  static constexpr bool kAboutNormal = false;
   Rgb kd, ks;
   float shininess = 1;
   bool blinn = false;
   float pSpecular = 0;  // set by the constructor
 
-  PhongBxdf(Rgb kd, Rgb ks, float shininess, bool blinn);
+  // noexcept here and in PbrBxdf: std::variant's emplace then builds the BxDF in place, where
+  // otherwise it builds a temporary variant and copies it.
+  PhongBxdf(Rgb kd, Rgb ks, float shininess, bool blinn) noexcept;
   Rgb evaluate(Vec3f wo, Vec3f wi, float* pdf) const;
-  std::optional<BsdfSample> sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes) const;
+  bool sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes, BsdfSample* s) const;
   uint32_t flags() const { return kBsdfDiffuse | kBsdfGlossy | kBsdfReflection; }
 };
 
-// Reflects everything into the mirror direction, tinted by R.
+// Reflects everything into the mirror direction, tinted by R. About the normal.
 struct MirrorBxdf {
+  static constexpr bool kAboutNormal = true;
   Rgb R;
 
-  Rgb evaluate(Vec3f, Vec3f, float* pdf) const { return *pdf = 0, Rgb{}; }
-  std::optional<BsdfSample> sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes) const;
+  Rgb evaluate(Vec3f, Vec3f, Vec3f, float* pdf) const { return *pdf = 0, Rgb{}; }
+  bool sample(Vec3f n, Vec3f wo, Vec2f, float, uint32_t lobes, BsdfSample* s) const {
+    if (!(lobes & kBsdfReflection)) return false;
+    const float cosO = dot(wo, n);
+    if (cosO == 0) return false;
+    s->wi = n * (2 * cosO) - wo;
+    s->f = R / std::abs(cosO);
+    s->pdf = 1;
+    s->flags = kBsdfSpecular | kBsdfReflection;
+    s->eta = 1;
+    return true;
+  }
   uint32_t flags() const { return kBsdfSpecular | kBsdfReflection; }
 };
 
 // A smooth dielectric interface (Snell's law, exact Fresnel, total internal reflection). eta is
 // the relative index across the surface for light leaving wo's side: the material's index
 // when the ray arrives on the front face, its inverse from inside. T tints the refracted
-// light; radiance crossing is scaled by 1/eta^2 (compressed into a narrower cone).
+// light; radiance crossing is scaled by 1/eta^2 (compressed into a narrower cone). About the
+// normal.
 struct GlassBxdf {
+  static constexpr bool kAboutNormal = true;
   float eta = 1.5f;
   Rgb T{1, 1, 1};
 
-  Rgb evaluate(Vec3f, Vec3f, float* pdf) const { return *pdf = 0, Rgb{}; }
-  std::optional<BsdfSample> sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes) const;
+  Rgb evaluate(Vec3f, Vec3f, Vec3f, float* pdf) const { return *pdf = 0, Rgb{}; }
+  bool sample(Vec3f n, Vec3f wo, Vec2f, float uLobe, uint32_t lobes, BsdfSample* s) const {
+    const float cosO = dot(wo, n);
+    const float R = fresnelDielectric(cosO, eta), Tr = 1 - R;
+    const float pr = (lobes & kBsdfReflection) ? R : 0;
+    const float pt = (lobes & kBsdfTransmission) ? Tr : 0;
+    if (pr + pt <= 0) return false;
+    if (uLobe < pr / (pr + pt)) {
+      if (cosO == 0) return false;
+      s->wi = n * (2 * cosO) - wo;
+      s->f = Rgb{R, R, R} / std::abs(cosO);
+      s->pdf = pr / (pr + pt);
+      s->flags = kBsdfSpecular | kBsdfReflection;
+      s->eta = 1;
+      return true;
+    }
+    float etaCrossed = 1;
+    if (!refract(wo, n, eta, &etaCrossed, &s->wi)) return false;
+    const float cosI = std::abs(dot(s->wi, n));
+    if (cosI == 0) return false;
+    s->f = T * (Tr / (cosI * etaCrossed * etaCrossed));
+    s->pdf = pt / (pr + pt);
+    s->flags = kBsdfSpecular | kBsdfTransmission;
+    s->eta = etaCrossed;
+    return true;
+  }
   uint32_t flags() const { return kBsdfSpecular | kBsdfReflection | kBsdfTransmission; }
 };
 
@@ -134,13 +204,15 @@ struct PbrHit {
 // reflections and the refraction are delta lobes. The lobe weights (Fresnel at wo, the layers'
 // albedos at wo) are computed once, by the constructor.
 struct PbrBxdf {
+  static constexpr bool kAboutNormal = false;
   // base: base colour; roughness: perceptual, in [0, 1]; metallic, transmission in [0, 1];
   // eta: relative index across the surface seen from wo's side.
-  PbrBxdf(Vec3f wo, Rgb base, float metallic, float roughness, float transmission, float eta);
-  PbrBxdf(Vec3f wo, const PbrHit& hit);
+  PbrBxdf(Vec3f wo, Rgb base, float metallic, float roughness, float transmission,
+          float eta) noexcept;
+  PbrBxdf(Vec3f wo, const PbrHit& hit) noexcept;
   // f and pdf share D, G and the half vector.
   Rgb evaluate(Vec3f wo, Vec3f wi, float* pdf) const;
-  std::optional<BsdfSample> sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes) const;
+  bool sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes, BsdfSample* s) const;
   uint32_t flags() const;
 
   // The lobes sample() chooses among.

@@ -111,7 +111,7 @@ class Material {
   // The BSDF at si, in the frame of si.ns (already perturbed), every parameter read once.
   // Bumped surfaces get the shadow-terminator term (terminatorShadowing) in f and sample.
   Bsdf bsdf(const SurfaceInteraction& si, TextureLookups& lookups) const {
-    return makeBsdf(si, BsdfFrame(si, normalModifier_ != nullptr), lookups);
+    return Bsdf(si, perturbsNormal(), [&](Bsdf* b) { setLobes(si, lookups, b); });
   }
   // The same with lookups of its own (tests, and points that are not otherwise shaded).
   Bsdf bsdf(const SurfaceInteraction& si) const {
@@ -153,10 +153,14 @@ class Material {
   void setAlpha(AlphaMode mode, float factor, float cutoff, const ColorParam& source);
 
  protected:
-  // The material's lobes at si in `frame` (built from si.ns and si.wo).
-  virtual Bsdf makeBsdf(const SurfaceInteraction& si, const BsdfFrame& frame,
-                        TextureLookups& lookups) const = 0;
+  // Puts the material's lobes at si into `bsdf` (Bsdf::emplace); its frame is set afterwards,
+  // from si (a material that needs the local frame first builds it: buildLocalFrame).
+  // Materials that do not scatter leave it empty.
+  virtual void setLobes(const SurfaceInteraction& si, TextureLookups& lookups,
+                        Bsdf* bsdf) const = 0;
 
+  // Whether perturbNormal changes the shading normal (si.nsUnperturbed is then set).
+  bool perturbsNormal() const { return normalModifier_ != nullptr; }
   // Derived constructors record what they read.
   void uses(const ColorParam& c);
   void uses(const FloatParam& f);

@@ -50,8 +50,9 @@ PbrMaterial::PbrMaterial(const PbrParams& params) : p_(params) {
                         coated || !p_.sheenColor.isBlack();
 }
 
-Bsdf PbrMaterial::makeBsdf(const SurfaceInteraction& si, const BsdfFrame& frame,
-                           TextureLookups& lookups) const {
+void PbrMaterial::setLobes(const SurfaceInteraction& si, TextureLookups& lookups,
+                           Bsdf* bsdf) const {
+  const BsdfFrame& frame = bsdf->buildLocalFrame(si);
   PbrHit h;
   h.base = p_.baseColor.evaluate(si, lookups);
   // glTF's metallicRoughnessTexture holds both in one image: TextureLookups reads it once.
@@ -80,10 +81,10 @@ Bsdf PbrMaterial::makeBsdf(const SurfaceInteraction& si, const BsdfFrame& frame,
     }
     const float cr = std::cos(p_.anisotropyRotation), sr = std::sin(p_.anisotropyRotation);
     dir = {cr * dir.x - sr * dir.y, sr * dir.x + cr * dir.y};
-    const Vec3f n = frame.frame.n;
+    const Vec3f n = si.ns;
     Vec3f t, b;
     if (tangentFrame(si, si.frontFace ? n : -n, &t, &b)) {
-      const Vec3f local = frame.frame.toLocal(t * dir.x + b * dir.y);
+      const Vec3f local = frame.local.toLocal(t * dir.x + b * dir.y);
       h.anisotropy = strength;
       h.anisotropyDirection = {local.x, local.y};
     }
@@ -96,9 +97,9 @@ Bsdf PbrMaterial::makeBsdf(const SurfaceInteraction& si, const BsdfFrame& frame,
       // The coat's normal: its own normal map on the surface's normal, or that normal before
       // the base's normal map.
       SurfaceInteraction coat = si;
-      if (frame.terminator) coat.ns = si.nsUnperturbed;
+      if (perturbsNormal()) coat.ns = si.nsUnperturbed;
       if (coatNormalMap_) coatNormalMap_->apply(coat);
-      h.coatNormal = frame.frame.toLocal(coat.ns);
+      h.coatNormal = frame.local.toLocal(coat.ns);
     }
     h.sheenColor = p_.sheenColor.evaluate(si, lookups);
     if (h.sheenColor != Rgb{0, 0, 0}) h.sheenRoughness = p_.sheenRoughness.evaluate(lookups);
@@ -111,7 +112,7 @@ Bsdf PbrMaterial::makeBsdf(const SurfaceInteraction& si, const BsdfFrame& frame,
           p_.iridescenceThicknessMin + (p_.iridescenceThicknessMax - p_.iridescenceThicknessMin) * t;
     }
   }
-  return Bsdf(frame, PbrBxdf(frame.wo, h));
+  bsdf->emplace<PbrBxdf>(frame.woLocal, h);
 }
 
 }  // namespace glint

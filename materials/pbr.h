@@ -109,8 +109,7 @@ class PbrMaterial final : public Material {
   Rgb absorption() const override { return p_.absorption; }
 
  protected:
-  Bsdf makeBsdf(const SurfaceInteraction& si, const BsdfFrame& frame,
-                TextureLookups& lookups) const override;
+  void setLobes(const SurfaceInteraction& si, TextureLookups& lookups, Bsdf* bsdf) const override;
 
  private:
   PbrParams p_;

@@ -23,9 +23,8 @@ class MirrorMaterial final : public Material {
   uint32_t flags() const override { return kBsdfSpecular | kBsdfReflection; }
 
  protected:
-  Bsdf makeBsdf(const SurfaceInteraction& si, const BsdfFrame& frame,
-                TextureLookups& lookups) const override {
-    return Bsdf(frame, MirrorBxdf{reflectance_.evaluate(si, lookups)});
+  void setLobes(const SurfaceInteraction& si, TextureLookups& lookups, Bsdf* bsdf) const override {
+    bsdf->emplace<MirrorBxdf>(reflectance_.evaluate(si, lookups));
   }
 
  private:
@@ -48,11 +47,9 @@ class GlassMaterial final : public Material {
   float ior() const { return ior_; }
 
  protected:
-  Bsdf makeBsdf(const SurfaceInteraction& si, const BsdfFrame& frame,
-                TextureLookups& lookups) const override {
+  void setLobes(const SurfaceInteraction& si, TextureLookups& lookups, Bsdf* bsdf) const override {
     // eta across the interface for light leaving wo's side.
-    return Bsdf(frame,
-                GlassBxdf{si.frontFace ? ior_ : 1 / ior_, transmittance_.evaluate(si, lookups)});
+    bsdf->emplace<GlassBxdf>(si.frontFace ? ior_ : 1 / ior_, transmittance_.evaluate(si, lookups));
   }
 
  private:

@@ -177,15 +177,15 @@ void InstantRadiosityIntegrator::traceLightPaths(int paths, uint64_t seed) {
       }
       if (vertex == lastVertex) break;
 
-      std::optional<BsdfSample> s = bsdf.sample(uBsdf, uLobe);
-      if (!s || !(s->pdf > 0) || !std::isfinite(s->pdf)) break;
+      BsdfSample s;
+      if (!bsdf.sample(uBsdf, uLobe, &s) || !(s.pdf > 0) || !std::isfinite(s.pdf)) break;
       // Flux, not radiance, travels along a light path: the shading-normal correction
       // |wo.ns| |wi.ng| / (|wo.ng| |wi.ns|) (Veach 1997, 5.3) and no 1/eta^2 at refractions.
       const float cosOg = std::abs(dot(si.wo, si.ng));
       if (!(cosOg > 0)) break;
       Rgb weight =
-          s->f * (std::abs(dot(si.wo, si.ns)) * std::abs(dot(s->wi, si.ng)) / (cosOg * s->pdf));
-      if (s->flags & kBsdfTransmission) weight *= s->eta * s->eta;
+          s.f * (std::abs(dot(si.wo, si.ns)) * std::abs(dot(s.wi, si.ng)) / (cosOg * s.pdf));
+      if (s.flags & kBsdfTransmission) weight *= s.eta * s.eta;
       if (!(maxComponent(weight) > 0) || !isFinite(weight)) break;
       throughput *= weight;
 
@@ -197,7 +197,7 @@ void InstantRadiosityIntegrator::traceLightPaths(int paths, uint64_t seed) {
           throughput *= 1 / survive;
         }
       }
-      ray = si.spawnRay(s->wi, ray.time);
+      ray = si.spawnRay(s.wi, ray.time);
     }
   }
 }

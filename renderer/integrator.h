@@ -145,9 +145,11 @@ class Integrator {
       const Vec2f u = sampler.get2D();
       const float uLobe = sampler.get1D();
       const float uSurvive = sampler.get1D();  // drawn always: later dimensions keep their use
-      std::optional<BsdfSample> s = bsdf.sample(u, uLobe, lobe | kBsdfSpecular);
-      if (!s || !(s->flags & kBsdfSpecular) || s->pdf <= 0) continue;
-      Rgb weight = s->weight(si.ns);
+      BsdfSample s;
+      if (!bsdf.sample(u, uLobe, &s, lobe | kBsdfSpecular) || !(s.flags & kBsdfSpecular) ||
+          s.pdf <= 0)
+        continue;
+      Rgb weight = s.weight(si.ns);
       if (maxComponent(weight) <= 0) continue;
       float branchWeight = pathWeight * maxComponent(weight);
       if (branchWeight < minWeight) {
@@ -156,7 +158,7 @@ class Integrator {
         weight = weight / survive;
         branchWeight = minWeight;
       }
-      L += weight * trace(si.spawnRay(s->wi, time), branchWeight);
+      L += weight * trace(si.spawnRay(s.wi, time), branchWeight);
     }
     return L;
   }

@@ -216,15 +216,15 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
            sampleLight<kMedia>(si, bsdf, ray.time, u.uLight, u.uLightPoint, &tracker, counters);
 
     // --- The next direction.
-    std::optional<BsdfSample> s = bsdf.sample(u.uBsdf, u.uLobe);
-    if (!s || !(s->pdf > 0) || !std::isfinite(s->pdf)) break;
-    const Rgb weight = s->weight(si.ns);
+    BsdfSample s;
+    if (!bsdf.sample(u.uBsdf, u.uLobe, &s) || !(s.pdf > 0) || !std::isfinite(s.pdf)) break;
+    const Rgb weight = s.weight(si.ns);
     if (!(maxComponent(weight) > 0) || !isFinite(weight)) break;
     beta *= weight;
-    specularBounce = (s->flags & kBsdfSpecular) != 0;
-    bsdfPdf = s->pdf;
+    specularBounce = (s.flags & kBsdfSpecular) != 0;
+    bsdfPdf = s.pdf;
     prev = LightSampleContext(si, ray.time);
-    if (s->flags & kBsdfTransmission) etaScale *= s->eta * s->eta;
+    if (s.flags & kBsdfTransmission) etaScale *= s.eta * s.eta;
 
     // The last bounce can only add the emission it finds: where nothing can be found (no
     // emitting surface, environment, background or medium), tracing it is wasted.
@@ -233,7 +233,7 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
     // --- Russian roulette: survive with the throughput's largest component, clamped.
     if (!survivesRoulette(depth, rrDepth_, etaScale, u.uRoulette, &beta)) break;
 
-    ray = si.spawnRay(s->wi, ray.time);
+    ray = si.spawnRay(s.wi, ray.time);
     ++counters.secondary;
     hit = scene_.accel->closestHit(ray, &hitStorage) ? &hitStorage : nullptr;
   }

@@ -320,9 +320,9 @@ TEST(PbrSampling, NoSampleWeighsMoreThanTheLobesTogether) {
     const Vec3f wo = normalize(Vec3f{std::sqrt(1 - cz * cz), 0, cz});
     const PbrBxdf bxdf(wo, h);
     for (int i = 0; i < 4000; ++i) {
-      const std::optional<BsdfSample> s = bxdf.sample(wo, {u(rng), u(rng)}, u(rng), kBsdfAllLobes);
-      if (!s || !(s->pdf > 0)) continue;
-      const float w = maxComponent(s->f) * std::abs(s->wi.z) / s->pdf;
+      BsdfSample s;
+      if (!bxdf.sample(wo, {u(rng), u(rng)}, u(rng), kBsdfAllLobes, &s) || !(s.pdf > 0)) continue;
+      const float w = maxComponent(s.f) * std::abs(s.wi.z) / s.pdf;
       worst = std::max(worst, w);
       ASSERT_LE(w, 1.5f) << "material " << m << " roughness " << h.roughness << " metallic "
                          << h.metallic << " cos " << cz;
@@ -355,9 +355,9 @@ TEST(PbrSampling, RoughRefractionWeighsWhatTheInterfacePassesOn) {
     const Vec3f wo = normalize(Vec3f{std::sqrt(1 - cz * cz), 0, cz});
     const PbrBxdf bxdf(wo, h);
     for (int i = 0; i < 4000; ++i) {
-      const std::optional<BsdfSample> s = bxdf.sample(wo, {u(rng), u(rng)}, u(rng), kBsdfAllLobes);
-      if (!s || !(s->pdf > 0)) continue;
-      const float w = maxComponent(s->f) * std::abs(s->wi.z) / s->pdf * s->eta * s->eta;
+      BsdfSample s;
+      if (!bxdf.sample(wo, {u(rng), u(rng)}, u(rng), kBsdfAllLobes, &s) || !(s.pdf > 0)) continue;
+      const float w = maxComponent(s.f) * std::abs(s.wi.z) / s.pdf * s.eta * s.eta;
       // Partly transmitting (t < 1), the interface is chosen by its weight at wo, about
       // t + (1 - t) F0, and a tilted microfacet's weight t + (1 - t) F(wo . m) can be larger
       // by up to 1 / (t + (1 - t) F0): for small t a sample refracted at a strongly
@@ -368,7 +368,7 @@ TEST(PbrSampling, RoughRefractionWeighsWhatTheInterfacePassesOn) {
       const float bound = 1.5f / (t + (1 - t) * f0) * (h.dispersion > 0 ? 3 : 1);
       worst = std::max(worst, w);
       ASSERT_LE(w, bound) << "material " << m << " roughness " << h.roughness << " eta " << h.eta
-                         << " cos " << cz << (s->wi.z < 0 ? " refracted" : " reflected");
+                          << " cos " << cz << (s.wi.z < 0 ? " refracted" : " reflected");
     }
   }
   EXPECT_GT(worst, 0.9f);  // the bound is approached, not a loose one
@@ -383,9 +383,9 @@ TEST(PhongSampling, NoSampleWeighsMoreThanItsTwoColoursTogether) {
   const PhongBxdf phong({0.7f, 0.1f, 0.08f}, {0.28f, 0.28f, 0.28f}, 40, false);
   const Vec3f wo = normalize(Vec3f{0.3f, 0.1f, 0.9f});
   for (int i = 0; i < 20000; ++i) {
-    const std::optional<BsdfSample> s = phong.sample(wo, {u(rng), u(rng)}, u(rng), kBsdfAllLobes);
-    if (!s || !(s->pdf > 0)) continue;
-    EXPECT_LE(s->f.x * std::abs(s->wi.z) / s->pdf, (0.7f + 0.28f) * 42 / 41 * (1 + 1e-3f)) << i;
+    BsdfSample s;
+    if (!phong.sample(wo, {u(rng), u(rng)}, u(rng), kBsdfAllLobes, &s) || !(s.pdf > 0)) continue;
+    EXPECT_LE(s.f.x * std::abs(s.wi.z) / s.pdf, (0.7f + 0.28f) * 42 / 41 * (1 + 1e-3f)) << i;
   }
 }
 

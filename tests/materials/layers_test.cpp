@@ -128,27 +128,29 @@ TEST(Dispersion, EachChannelRefractsWithItsOwnIndex) {
   const Vec3f wo{sinI, 0, 0.8f};
   const PbrBxdf bxdf(wo, hit);
   for (int c = 0; c < 3; ++c) {
-    const auto s = bxdf.sample(wo, {0.5f, 0.5f}, (c + 0.5f) / 3, kBsdfTransmission);
-    ASSERT_TRUE(s) << "channel " << c;
+    BsdfSample s;
+    ASSERT_TRUE(bxdf.sample(wo, {0.5f, 0.5f}, (c + 0.5f) / 3, kBsdfTransmission, &s))
+        << "channel " << c;
     const float n = dispersedIor(1.5f, 1, kChannelWavelengthNm[c]);
-    const float sinT = std::sqrt(s->wi.x * s->wi.x + s->wi.y * s->wi.y);
+    const float sinT = std::sqrt(s.wi.x * s.wi.x + s.wi.y * s.wi.y);
     EXPECT_NEAR(sinT, sinI / n, 1e-5f) << "channel " << c;
-    EXPECT_LT(s->wi.z, 0);
-    EXPECT_NEAR(s->eta, n, 1e-5f);
+    EXPECT_LT(s.wi.z, 0);
+    EXPECT_NEAR(s.eta, n, 1e-5f);
     for (int k = 0; k < 3; ++k) {
       if (k == c)
-        EXPECT_GT(s->f[k], 0);
+        EXPECT_GT(s.f[k], 0);
       else
-        EXPECT_EQ(s->f[k], 0);
+        EXPECT_EQ(s.f[k], 0);
     }
     // Weight: T / (eta^2) per unit pdf, with the 1/3 channel choice in the pdf.
     const float T = 1 - fresnelDielectric(0.8f, n);
-    EXPECT_NEAR(s->f[c] * std::abs(s->wi.z) / s->pdf, 3 * T / (n * n), 1e-4f);
+    EXPECT_NEAR(s.f[c] * std::abs(s.wi.z) / s.pdf, 3 * T / (n * n), 1e-4f);
   }
   // Blue bends most: its refracted direction lies closest to the normal.
-  const auto red = bxdf.sample(wo, {0.5f, 0.5f}, 0.1f, kBsdfTransmission);
-  const auto blue = bxdf.sample(wo, {0.5f, 0.5f}, 0.9f, kBsdfTransmission);
-  EXPECT_GT(std::abs(red->wi.x), std::abs(blue->wi.x));
+  BsdfSample red, blue;
+  ASSERT_TRUE(bxdf.sample(wo, {0.5f, 0.5f}, 0.1f, kBsdfTransmission, &red));
+  ASSERT_TRUE(bxdf.sample(wo, {0.5f, 0.5f}, 0.9f, kBsdfTransmission, &blue));
+  EXPECT_GT(std::abs(red.wi.x), std::abs(blue.wi.x));
 }
 
 // Anisotropy stretches the highlight along its direction: at normal incidence the sampled
@@ -168,9 +170,9 @@ TEST(Anisotropy, HighlightStretchesAlongTheDirection) {
     auto uniform = [&] { return float(rng() >> 40) * 0x1p-24f; };
     double xx = 0, yy = 0;
     for (int i = 0; i < 20'000; ++i) {
-      const auto s = bxdf.sample(wo, {uniform(), uniform()}, uniform(), kBsdfAllLobes);
-      if (!s) continue;
-      xx += s->wi.x * s->wi.x, yy += s->wi.y * s->wi.y;
+      BsdfSample s;
+      if (!bxdf.sample(wo, {uniform(), uniform()}, uniform(), kBsdfAllLobes, &s)) continue;
+      xx += s.wi.x * s.wi.x, yy += s.wi.y * s.wi.y;
     }
     if (dir.x == 1)
       EXPECT_GT(xx, 3 * yy);

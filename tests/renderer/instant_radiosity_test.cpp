@@ -340,7 +340,7 @@ TEST(InstantRadiosity, LambertVplLoopGivesTheGeneralEvaluationsValues) {
     if (dot(out->si.ns, out->si.ng) < 0) out->si.ns = -out->si.ns;
     out->si.wo = direction();
     if (dot(out->si.wo, out->si.ng) < 0) out->si.wo = -out->si.wo;
-    out->bsdf = Bsdf(BsdfFrame(out->si, perturbed), DiffuseBxdf{R});
+    out->bsdf = Bsdf(out->si, perturbed, [&](Bsdf* b) { b->emplace<DiffuseBxdf>(R); });
   };
   size_t lit = 0, dark = 0, atThePoint = 0;
   for (int gatherIndex = 0; gatherIndex < 64; ++gatherIndex) {

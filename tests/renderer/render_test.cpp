@@ -175,9 +175,7 @@ class NanMaterial final : public Material {
   uint32_t flags() const override { return kBsdfDiffuse; }
 
  protected:
-  Bsdf makeBsdf(const SurfaceInteraction&, const BsdfFrame&, TextureLookups&) const override {
-    return {};
-  }
+  void setLobes(const SurfaceInteraction&, TextureLookups&, Bsdf*) const override {}
 };
 
 TEST(Render, NanSamplesAreCountedAndNeverReachTheFilm) {
