@@ -30,7 +30,6 @@ import argparse
 import json
 import math
 import os
-import re
 import statistics
 import subprocess
 import sys
@@ -98,10 +97,7 @@ def render_cycles(args, case, seed, exr):
     with open(log_path, errors="replace") as f:
         text = f.read()
 
-    first = re.search(r"Time:([\d:.]+) \|[^\n]*\| Sample 0/\d+", text)
-    done = re.search(r"Time:([\d:.]+) \|[^\n]*\| Finished", text)
-    sampling = (helmet._clock(done.group(1)) - helmet._clock(first.group(1))
-                if first and done else None)
+    sampling, _ = helmet.cycles_sampling_seconds(text)
     return {"wall_seconds": wall, "cpu_seconds": cpu, "render_seconds": t["render_call_seconds"],
             "render_cpu_seconds": t["render_call_cpu_seconds"], "sampling_seconds": sampling}
 

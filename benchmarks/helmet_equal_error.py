@@ -179,6 +179,16 @@ def _clock(stamp):
     return sum(v * 60 ** i for i, v in enumerate(reversed(parts)))
 
 
+def cycles_sampling_seconds(log_text):
+    """Cycles' sampling seconds and its scene sync seconds, from its progress lines (None when
+    missing). It prints "Time:MM:SS.cc | ... | Sample 0/N" once its scene is synchronised
+    (images loaded, BVH built) and "Finished" at the end: sampling alone is the difference."""
+    first = re.search(r"Time:([\d:.]+) \|[^\n]*\| Sample 0/\d+", log_text)
+    done = re.search(r"Time:([\d:.]+) \|[^\n]*\| Finished", log_text)
+    sampling = _clock(done.group(1)) - _clock(first.group(1)) if first and done else None
+    return sampling, _clock(first.group(1)) if first else None
+
+
 def render_cycles(args, spp, seed, exr):
     timing = exr[:-4] + ".timing.json"
     log_path = exr[:-4] + ".log"
@@ -191,17 +201,13 @@ def render_cycles(args, spp, seed, exr):
         t = json.load(f)
     with open(log_path, errors="replace") as f:
         text = f.read()
-    # Cycles prints "Time:MM:SS.cc | ... | Sample 0/N" once its scene is synchronised (images
-    # loaded, BVH built) and "Finished" at the end: sampling alone is the difference.
-    first = re.search(r"Time:([\d:.]+) \|[^\n]*\| Sample 0/\d+", text)
-    done = re.search(r"Time:([\d:.]+) \|[^\n]*\| Finished", text)
-    sampling = _clock(done.group(1)) - _clock(first.group(1)) if first and done else None
+    sampling, sync = cycles_sampling_seconds(text)
     return {"renderer": "cycles", "spp": spp, "seed": seed, "image": exr, "load_before": load,
             "wall_seconds": wall, "cpu_seconds": cpu,
             "render_seconds": t["render_call_seconds"],
             "render_cpu_seconds": t["render_call_cpu_seconds"],
             "sampling_seconds": sampling,
-            "sync_seconds": _clock(first.group(1)) if first else None,
+            "sync_seconds": sync,
             "settings": t["settings"]}
 
 

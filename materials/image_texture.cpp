@@ -114,40 +114,45 @@ std::string mebibytes(size_t bytes) {
 TextureImages::TextureImages() : set_(std::make_unique<Set>()) {}
 TextureImages::~TextureImages() = default;
 
-TextureImages::Handle TextureImages::addPixels(const std::string& name, int width, int height,
-                                               int channels, const std::vector<float>& pixels,
-                                               ColorEncoding enc) {
+namespace {
+// Pixels handed over decoded: checks their size (a wrong one is the caller's bug) and makes the
+// image, ready for lookups.
+template <class T>
+std::unique_ptr<TextureImages::Image> decodedImage(const std::string& name, int width,
+                                                   int height, int channels,
+                                                   std::vector<T> pixels, ColorEncoding enc) {
   if (width <= 0 || height <= 0 || channels < 1 || channels > 4 ||
       pixels.size() != size_t(width) * size_t(height) * size_t(channels))
-    throw std::logic_error(name + ": " + std::to_string(pixels.size()) + " floats do not make a " +
+    throw std::logic_error(name + ": " + std::to_string(pixels.size()) +
+                           (sizeof(T) == 1 ? " bytes" : " floats") + " do not make a " +
                            std::to_string(width) + "x" + std::to_string(height) + " image of " +
                            std::to_string(channels) + " channels");
-  auto image = std::make_unique<Image>();
+  auto image = std::make_unique<TextureImages::Image>();
   image->name = name;
   image->width = width, image->height = height, image->channels = channels;
   image->encoding = enc;
-  image->bits = 32;
-  image->pyramid = MipMap::fromFloats(width, height, channels, pixels, enc);
+  image->bits = int(sizeof(T)) * 8;
+  image->texel = sizeof(T) == 1 ? MipMap::Texel::Byte : MipMap::Texel::Float;
+  if constexpr (sizeof(T) == 1)
+    image->pyramid = MipMap::fromBytes(width, height, channels, std::move(pixels), enc);
+  else
+    image->pyramid = MipMap::fromFloats(width, height, channels, std::move(pixels), enc);
   image->ready.store(true, std::memory_order_release);
-  return Handle{set_->add(std::move(image), true)};
+  return image;
+}
+}  // namespace
+
+TextureImages::Handle TextureImages::addPixels(const std::string& name, int width, int height,
+                                               int channels, const std::vector<float>& pixels,
+                                               ColorEncoding enc) {
+  return Handle{set_->add(decodedImage(name, width, height, channels, pixels, enc), true)};
 }
 
 TextureImages::Handle TextureImages::addBytes(const std::string& name, int width, int height,
                                               int channels, std::vector<uint8_t> pixels,
                                               ColorEncoding enc) {
-  if (width <= 0 || height <= 0 || channels < 1 || channels > 4 ||
-      pixels.size() != size_t(width) * size_t(height) * size_t(channels))
-    throw std::logic_error(name + ": " + std::to_string(pixels.size()) + " bytes do not make a " +
-                           std::to_string(width) + "x" + std::to_string(height) + " image of " +
-                           std::to_string(channels) + " channels");
-  auto image = std::make_unique<Image>();
-  image->name = name;
-  image->width = width, image->height = height, image->channels = channels;
-  image->encoding = enc;
-  image->texel = MipMap::Texel::Byte;
-  image->pyramid = MipMap::fromBytes(width, height, channels, std::move(pixels), enc);
-  image->ready.store(true, std::memory_order_release);
-  return Handle{set_->add(std::move(image), true)};
+  return Handle{
+      set_->add(decodedImage(name, width, height, channels, std::move(pixels), enc), true)};
 }
 
 TextureImages::Handle TextureImages::addEncoded(const std::string& name,

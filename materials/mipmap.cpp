@@ -323,19 +323,43 @@ inline void MipMap::bilinear(int level, float s, float t, TextureWrap wrapS, Tex
   fetch<T, N>(l, xb, yb, bottom * ax, out);
 }
 
-// Adds weight × the lookup at level of detail `lod` (log2 of the footprint in texels of level
-// 0), blended between the two levels around it, to out.
+// Adds weight × the lookup for a footprint `minor` texels of level 0 across, blended between
+// the two levels around it, to out. As OpenImageIO chooses them (so images stay as they were
+// when it served every texture): the finest level where the footprint spans at most 1-2
+// texels, and the next one up, blended linearly in the footprint's width (at level l0 it spans
+// minor / 2^l0 in [1, 2): weight minor / 2^l0 - 1 on level l0 + 1).
 template <class T, int N>
-inline void MipMap::trilinear(float lod, float s, float t, TextureWrap wrapS, TextureWrap wrapT,
-                              float weight, float out[N]) const {
+inline void MipMap::trilinear(float minor, float s, float t, TextureWrap wrapS,
+                              TextureWrap wrapT, float weight, float out[N]) const {
   const int last = int(levels_.size()) - 1;
-  if (!(lod > 0)) return bilinear<T, N>(0, s, t, wrapS, wrapT, weight, out);  // also NaN
-  if (lod >= float(last)) return bilinear<T, N>(last, s, t, wrapS, wrapT, weight, out);
-  const int l0 = int(lod);
-  const float f = lod - float(l0);
+  if (!(minor > 1)) return bilinear<T, N>(0, s, t, wrapS, wrapT, weight, out);  // also NaN
+  int l0 = 0;
+  const float m = std::frexp(minor, &l0);  // minor = m 2^l0, m in [0.5, 1)
+  l0 -= 1;                                 // minor = 2m 2^l0, 2m in [1, 2)
+  if (l0 >= last) return bilinear<T, N>(last, s, t, wrapS, wrapT, weight, out);
+  const float f = 2 * m - 1;
   bilinear<T, N>(l0, s, t, wrapS, wrapT, weight * (1 - f), out);
   if (f > 0) bilinear<T, N>(l0 + 1, s, t, wrapS, wrapT, weight * f, out);
 }
+
+namespace {
+// Each probe's weight along the major axis, for n probes: exp(-2 x²) at x = (i + 1/2) / n - 1/2,
+// normalised (as OpenImageIO weighs its anisotropic samples: the middle counts most).
+struct ProbeWeights {
+  float w[MipMap::kMaxAnisotropy + 1][MipMap::kMaxAnisotropy] = {};
+  ProbeWeights() {
+    for (int n = 1; n <= MipMap::kMaxAnisotropy; ++n) {
+      float sum = 0;
+      for (int i = 0; i < n; ++i) {
+        const float x = (float(i) + 0.5f) / float(n) - 0.5f;
+        sum += w[n][i] = std::exp(-2 * x * x);
+      }
+      for (int i = 0; i < n; ++i) w[n][i] /= sum;
+    }
+  }
+};
+const ProbeWeights kProbeWeights;
+}  // namespace
 
 template <class T, int N>
 Vec4f MipMap::lookupAs(const TexCoord2& c, TextureWrap wrapS, TextureWrap wrapT,
@@ -369,18 +393,18 @@ Vec4f MipMap::lookupAs(const TexCoord2& c, TextureWrap wrapS, TextureWrap wrapT,
         bilinear<T, N>(0, s, t, wrapS, wrapT, 1.0f, v);
         break;
       }
-      const float lod = std::log2(minorLength);
       const int probes =
           std::clamp(int(std::ceil(majorLength / minorLength - 1e-3f)), 1, kMaxAnisotropy);
       if (probes == 1) {
-        trilinear<T, N>(lod, s, t, wrapS, wrapT, 1.0f, v);
+        trilinear<T, N>(minorLength, s, t, wrapS, wrapT, 1.0f, v);
         break;
       }
       // Probes spread evenly along the major axis, one minor axis apart.
-      const float weight = 1.0f / float(probes);
+      const float step = 1.0f / float(probes);
       for (int i = 0; i < probes; ++i) {
-        const float o = (float(i) + 0.5f) * weight - 0.5f;
-        trilinear<T, N>(lod, s + o * major.x, t + o * major.y, wrapS, wrapT, weight, v);
+        const float o = (float(i) + 0.5f) * step - 0.5f;
+        trilinear<T, N>(minorLength, s + o * major.x, t + o * major.y, wrapS, wrapT,
+                        kProbeWeights.w[probes][i], v);
       }
       break;
     }

@@ -24,7 +24,8 @@ namespace glint {
 
 // Nearest: the closest texel of the full image. Linear: bilinear in the full image. Mipmap:
 // filtered over the footprint: trilinear between the two MIP levels whose texels match the
-// footprint's minor axis, with probes along its major axis when it is elongated.
+// footprint's minor axis, with probes along its major axis when it is elongated (weighted
+// towards the middle), level choice and weights as OpenImageIO's TextureSystem makes them.
 enum class TextureFilter { Nearest, Linear, Mipmap };
 
 // How the stored colour channels are encoded; alpha is always linear.
@@ -78,8 +79,8 @@ class MipMap {
   void bilinear(int level, float s, float t, TextureWrap wrapS, TextureWrap wrapT, float weight,
                 float out[N]) const;
   template <class T, int N>
-  void trilinear(float lod, float s, float t, TextureWrap wrapS, TextureWrap wrapT, float weight,
-                 float out[N]) const;
+  void trilinear(float minor, float s, float t, TextureWrap wrapS, TextureWrap wrapT,
+                 float weight, float out[N]) const;
   template <class T, int N>
   void fetch(const Level& level, int x, int y, float w, float out[N]) const;
   template <class T>
