@@ -73,10 +73,16 @@ class Bsdf {
     frame_.terminator = perturbed;
     if (!frame_.hasLocal && inLocalFrame()) buildLocalFrame(si);
   }
-  // Makes the lobes a BxDF of type B built from args, in place.
+  // Makes the lobes a BxDF of type B built from args, in place. Aggregates (DiffuseBxdf,
+  // MirrorBxdf, GlassBxdf) are built from parentheses only by compilers with C++20's
+  // parenthesised aggregate initialisation (GCC 10, Clang 16; Debian 12's Clang 14 has not):
+  // there they are built with braces and moved in (a few floats).
   template <class B, class... Args>
   B& emplace(Args&&... args) {
-    return lobes_.template emplace<B>(std::forward<Args>(args)...);
+    if constexpr (std::is_constructible_v<B, Args&&...>)
+      return lobes_.template emplace<B>(std::forward<Args>(args)...);
+    else
+      return lobes_.template emplace<B>(B{std::forward<Args>(args)...});
   }
   // The local part of si's frame, built now: for a material that takes directions into it
   // before it makes its BxDF (glTF's anisotropy direction and coat normal).
