@@ -204,9 +204,15 @@ MipMap MipMap::fromBytes(int width, int height, int channels, std::vector<uint8_
                                                                                 : linearTable())
                        .data();
   m.levels_.push_back({width, height, 0});
-  m.bytes_ = std::move(pixels);
-  m.buildLevels<uint8_t>();
-  m.settle();
+  auto* out = static_cast<uint8_t*>(m.allocate(residentBytes(width, height, channels, m.texel_)));
+  std::memcpy(out, pixels.data(), pixels.size());
+  m.byteTexels_ = out;
+  std::vector<float> level0(pixels.size());
+  const size_t n = size_t(channels);
+  for (size_t i = 0; i < pixels.size(); i += n)
+    for (size_t c = 0; c < n; ++c) level0[i + c] = m.decode_[c][pixels[i + c]];
+  pixels = {};
+  m.buildLevels(out, std::move(level0));
   return m;
 }
 
@@ -221,73 +227,59 @@ MipMap MipMap::fromFloats(int width, int height, int channels, std::vector<float
       if (isColourChannel(channels, int(i % size_t(channels))))
         pixels[i] = srgbToLinear(pixels[i]);
   m.levels_.push_back({width, height, 0});
-  m.floats_ = std::move(pixels);
-  m.buildLevels<float>();
-  m.settle();
+  auto* out = static_cast<float*>(m.allocate(residentBytes(width, height, channels, m.texel_)));
+  std::memcpy(out, pixels.data(), pixels.size() * sizeof(float));
+  m.floatTexels_ = out;
+  m.buildLevels(out, std::move(pixels));
   return m;
 }
 
-// Appends the levels below level 0 (already stored): each is made from the previous one in
-// linear float, so 8-bit levels are rounded once each, not once per level above them.
+// Writes the levels below level 0 (already at `out`) after it, each made from the previous one
+// in linear float (`current`, level 0's linear values), so 8-bit levels are rounded once each,
+// not once per level above them.
 template <class T>
-void MipMap::buildLevels() {
+void MipMap::buildLevels(T* out, std::vector<float> current) {
   const size_t n = size_t(channels_);
   int w = levels_[0].width, h = levels_[0].height;
-  std::vector<float> current;
-  if constexpr (std::is_same_v<T, uint8_t>) {
-    current.resize(bytes_.size());
-    for (size_t i = 0; i < bytes_.size(); i += n)
-      for (size_t c = 0; c < n; ++c) current[i + c] = decode_[c][bytes_[i + c]];
-    bytes_.reserve(residentBytes(w, h, channels_, Texel::Byte));
-  } else {
-    current = floats_;
-    floats_.reserve(residentBytes(w, h, channels_, Texel::Float) / sizeof(float));
-  }
+  size_t at = current.size();
+  const Encoder* encoders[4] = {};
+  if constexpr (std::is_same_v<T, uint8_t>)
+    for (size_t c = 0; c < n; ++c)
+      encoders[c] = decode_[c] == srgbTable().data() ? &srgbEncoder() : &linearEncoder();
   while (w > 1 || h > 1) {
     int nw = 0, nh = 0;
     std::vector<float> next = downsample(current, w, h, channels_, &nw, &nh);
+    levels_.push_back({nw, nh, at});
     if constexpr (std::is_same_v<T, uint8_t>) {
-      levels_.push_back({nw, nh, bytes_.size()});
-      const Encoder* encoders[4];
-      for (size_t c = 0; c < n; ++c)
-        encoders[c] = decode_[c] == srgbTable().data() ? &srgbEncoder() : &linearEncoder();
       for (size_t i = 0; i < next.size(); i += n)
-        for (size_t c = 0; c < n; ++c) bytes_.push_back((*encoders[c])(next[i + c]));
+        for (size_t c = 0; c < n; ++c) out[at + i + c] = (*encoders[c])(next[i + c]);
     } else {
-      levels_.push_back({nw, nh, floats_.size()});
-      floats_.insert(floats_.end(), next.begin(), next.end());
+      std::memcpy(out + at, next.data(), next.size() * sizeof(float));
     }
+    at += next.size();
     current = std::move(next);
     w = nw, h = nh;
   }
+  assert(at * sizeof(T) == texelBytes_);
 }
 
 void MipMap::Free::operator()(void* p) const { std::free(p); }
 
-void MipMap::settle() {
-  const bool bytes = texel_ == Texel::Byte;
-  texelBytes_ = bytes ? bytes_.size() : floats_.size() * sizeof(float);
+void* MipMap::allocate(size_t bytes) {
+  texelBytes_ = bytes;
   constexpr size_t kHugePage = size_t(2) << 20;
   void* block = nullptr;
-  if (texelBytes_ >= kHugePage) {
-    const size_t rounded = (texelBytes_ + kHugePage - 1) / kHugePage * kHugePage;
+  if (bytes >= kHugePage) {
+    const size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
     block = std::aligned_alloc(kHugePage, rounded);
 #ifdef MADV_HUGEPAGE
     if (block) madvise(block, rounded, MADV_HUGEPAGE);  // a hint: no harm when refused
 #endif
   }
-  if (!block) block = std::malloc(std::max<size_t>(texelBytes_, 1));
+  if (!block) block = std::malloc(std::max<size_t>(bytes, 1));
   if (!block) throw std::bad_alloc();
   texels_.reset(block);
-  if (bytes) {
-    std::memcpy(block, bytes_.data(), texelBytes_);
-    byteTexels_ = static_cast<const uint8_t*>(block);
-  } else {
-    std::memcpy(block, floats_.data(), texelBytes_);
-    floatTexels_ = static_cast<const float*>(block);
-  }
-  bytes_ = {};
-  floats_ = {};
+  return block;
 }
 
 // Adds w × texel (x, y) of `level` (already wrapped; -1 is black) to out.

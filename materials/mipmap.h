@@ -84,17 +84,13 @@ class MipMap {
   template <class T, int N>
   void fetch(const Level& level, int x, int y, float w, float out[N]) const;
   template <class T>
-  void buildLevels();
-
-  // Moves the levels built in bytes_ or floats_ to their final home, texels_.
-  void settle();
+  void buildLevels(T* out, std::vector<float> level0);
+  // The block holding every level (level 0 first), `bytes` long, on 2 MiB pages where the
+  // system grants them (lookups at random points, as bounce rays make, then miss the TLB far
+  // less often).
+  void* allocate(size_t bytes);
 
   std::vector<Level> levels_;
-  // While building: the samples of every level, level 0 first.
-  std::vector<uint8_t> bytes_;  // Texel::Byte
-  std::vector<float> floats_;   // Texel::Float
-  // Once built: the same samples in one block, on 2 MiB pages where the system grants them
-  // (lookups at random points, as bounce rays make, then miss the TLB far less often).
   struct Free {
     void operator()(void* p) const;
   };
