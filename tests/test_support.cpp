@@ -20,6 +20,8 @@ namespace glint::test {
 
 std::string dataDir() { return GLINT_TEST_DATA; }
 
+std::string sourceDir() { return GLINT_SOURCE_DIR; }
+
 std::string assetsDir() {
   if (const char* env = std::getenv("GLINT_ASSETS"); env && *env) return env;
   return GLINT_DEFAULT_ASSETS;

@@ -43,6 +43,8 @@ std::string litBallJson(int width, int height);
 
 // Folder of the project's own test data (tests/data).
 std::string dataDir();
+// The checkout's root folder (scenes/, tests/images/, ...).
+std::string sourceDir();
 // The shared asset folder: $GLINT_ASSETS, else the CMake setting (../shared/assets).
 std::string assetsDir();
 // A fresh, empty scratch folder for one test (under the build tree), named after it.

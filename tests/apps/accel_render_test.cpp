@@ -26,7 +26,7 @@ class AccelRender : public testing::TestWithParam<Case> {};
 
 TEST_P(AccelRender, MatchesEmbree) {
   const Case& c = GetParam();
-  std::string scene = std::string(GLINT_SOURCE_DIR) + "/" + c.scene;
+  std::string scene = test::sourceDir() + "/" + c.scene;
   // One scratch folder per case: ctest runs cases in parallel, and a scratch folder starts empty.
   std::string name = std::string(c.accel) + "_" + std::filesystem::path(c.scene).stem().string();
   std::string dir = test::scratchDir("accel_render_" + name);

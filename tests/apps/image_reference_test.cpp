@@ -36,7 +36,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string imagesDir() { return std::string(GLINT_SOURCE_DIR) + "/tests/images"; }
+std::string imagesDir() { return test::sourceDir() + "/tests/images"; }
 
 // One entry of tests/images/references.json.
 struct ReferenceCase {

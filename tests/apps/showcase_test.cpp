@@ -42,7 +42,7 @@ void PrintTo(const Showcase& s, std::ostream* os) { *os << s.name; }
 
 class ShowcaseScenes : public ::testing::TestWithParam<Showcase> {};
 
-std::string scenePath(const Showcase& s) { return std::string(GLINT_SOURCE_DIR) + "/" + s.scene; }
+std::string scenePath(const Showcase& s) { return test::sourceDir() + "/" + s.scene; }
 
 TEST_P(ShowcaseScenes, FramesRenderFinite) {
   const Showcase& s = GetParam();

@@ -34,7 +34,7 @@ Pixels readAll(const std::string& path) {
 }
 
 // The lens + motion blur camera: every sampler dimension of a camera path is used.
-std::string scene() { return "'" + std::string(GLINT_SOURCE_DIR) + "/scenes/motion/effects.json'"; }
+std::string scene() { return "'" + test::sourceDir() + "/scenes/motion/effects.json'"; }
 const std::string kSmall = " --width 40 --height 30 --spp 4 --aovs --quiet";
 
 TEST(Tiles, ArgumentsAreCheckedWithTheReason) {

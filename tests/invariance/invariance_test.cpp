@@ -59,7 +59,7 @@ bool sweep() {
   return v && *v && std::string(v) != "0";
 }
 
-std::string sourceDir() { return GLINT_SOURCE_DIR; }
+using test::sourceDir;
 std::string imagesDir() { return sourceDir() + "/tests/images"; }
 
 Json readJson(const std::string& path) {

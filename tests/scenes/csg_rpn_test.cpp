@@ -323,7 +323,7 @@ TEST(CsgRpn, TreesDeeperThanTheLimitAreErrors) {
 }
 
 TEST(CsgRpn, LoadsTheDiceExample) {
-  std::string path = std::string(GLINT_SOURCE_DIR) + "/scenes/csg/dice.csg";
+  std::string path = test::sourceDir() + "/scenes/csg/dice.csg";
   CsgTreeDesc tree = loadCsgRpn(path);
   ASSERT_GE(tree.root, 0);
   const CsgNodeDesc& root = tree.nodes[tree.root];
