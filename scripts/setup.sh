@@ -7,7 +7,7 @@ set -euo pipefail
 PACKAGES=(
   build-essential cmake ninja-build pkg-config
   # a compiler cache: a second build of the same sources (another clone, the sanitizer build
-  # run again) takes a minute instead of a quarter of an hour (scripts/compiler_cache.sh)
+  # run again) takes under two minutes instead of a quarter of an hour (compiler_cache.sh)
   ccache
   libembree-dev libtbb-dev
   libopenimageio-dev openimageio-tools libopenexr-dev python3-imath
