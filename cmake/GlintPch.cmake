@@ -9,8 +9,12 @@ option(GLINT_PCH "Precompile the common third-party headers of the tests and the
 
 # glint_pch(target header...): `target` precompiles the standard headers most of glint's files
 # include, and the given ones.
+#
+# GCC only: ccache cannot reuse Clang's precompiled headers from another clone (a .pch records
+# its headers' times and paths), so under Clang, the sanitizer build's compiler, they would turn
+# every test file into a cache miss.
 function(glint_pch target)
-  if(GLINT_PCH)
+  if(GLINT_PCH AND CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
     target_precompile_headers(${target} PRIVATE <algorithm> <cmath> <filesystem> <fstream>
                               <functional> <memory> <sstream> <string> <vector> ${ARGN})
   endif()
