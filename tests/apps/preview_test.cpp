@@ -90,8 +90,8 @@ class Preview {
   // Waits for the first load's render to finish at `spp`. (Before the first load the state
   // says rendering: false too, at generation 0: waiting on that alone races the load.)
   json waitFinished(int spp) const {
-    return waitFor([spp](const json& s) {
-      return s["generation"].get<int>() >= 1 && s["spp"] == spp && s["rendering"] == false;
+    return waitFor([spp](const json& st) {
+      return st["generation"].get<int>() >= 1 && st["spp"] == spp && st["rendering"] == false;
     });
   }
   // Polls the state until `done` holds (or 30 s pass); returns the last state.
@@ -166,7 +166,7 @@ TEST(PreviewServer, RefinesPassByPassAndServesTheImage) {
   const std::string dir = test::scratchDir("PreviewServer.Refines");
   Preview p(dir, "--spp 32");
   ASSERT_GT(p.port(), 0) << test::slurp(dir + "/err.log");
-  json s = p.waitFor([](const json& s) { return s["spp"] == 32 && s["rendering"] == false; });
+  json s = p.waitFor([](const json& st) { return st["spp"] == 32 && st["rendering"] == false; });
   EXPECT_EQ(s["spp"], 32);
   EXPECT_EQ(s["passes"], 6);  // 1 2 4 8 16 32
   EXPECT_EQ(s["width"], 24);
@@ -200,7 +200,7 @@ TEST(PreviewServer, SaveWritesWhatGlintRenderGivesAtThatSpp) {
   const std::string dir = test::scratchDir("PreviewServer.Save");
   Preview p(dir, "--spp 16");
   ASSERT_GT(p.port(), 0);
-  p.waitFor([](const json& s) { return s["rendering"] == false && s["spp"] == 16; });
+  p.waitFor([](const json& st) { return st["rendering"] == false && st["spp"] == 16; });
   auto r = p.client().Post("/api/save?format=exr", "", "text/plain");
   ASSERT_TRUE(r);
   ASSERT_EQ(r->status, 200) << r->body;
@@ -233,8 +233,8 @@ TEST(PreviewServer, EditsRestartAndABadEditIsShownAndKeepsTheImage) {
   ASSERT_NE(blue, text);
   std::this_thread::sleep_for(1100ms);  // a new modification time even on coarse clocks
   saveAs(p.scene(), blue);
-  s = p.waitFor([&](const json& s) {
-    return s["generation"].get<int>() > generation && s["rendering"] == false;
+  s = p.waitFor([&](const json& st) {
+    return st["generation"].get<int>() > generation && st["rendering"] == false;
   });
   EXPECT_GT(s["generation"].get<int>(), generation);
   EXPECT_EQ(s["spp"], 16);
@@ -244,7 +244,7 @@ TEST(PreviewServer, EditsRestartAndABadEditIsShownAndKeepsTheImage) {
   const std::string good = image();
   std::this_thread::sleep_for(1100ms);
   saveAs(p.scene(), std::regex_replace(blue, std::regex(R"("radius": 0.35)"), R"("radius": -1)"));
-  s = p.waitFor([](const json& s) { return !s["problem"].is_null(); });
+  s = p.waitFor([](const json& st) { return !st["problem"].is_null(); });
   ASSERT_TRUE(s["problem"].is_string());
   EXPECT_EQ(s["problem"], p.scene() + ": /objects/7/radius: must be > 0");
   EXPECT_EQ(image(), good);  // the last good image stays
@@ -252,8 +252,8 @@ TEST(PreviewServer, EditsRestartAndABadEditIsShownAndKeepsTheImage) {
   const int broken = s["generation"];
   std::this_thread::sleep_for(1100ms);
   saveAs(p.scene(), blue);
-  s = p.waitFor([&](const json& s) {
-    return s["problem"].is_null() && s["generation"].get<int>() > broken;
+  s = p.waitFor([&](const json& st) {
+    return st["problem"].is_null() && st["generation"].get<int>() > broken;
   });
   EXPECT_TRUE(s["problem"].is_null());
 }
@@ -270,8 +270,8 @@ TEST(PreviewServer, TheCameraFollowsThePageAndPrintsAsASidecarBlock) {
                            "application/json");
   ASSERT_TRUE(r);
   EXPECT_EQ(r->status, 200) << r->body;
-  s = p.waitFor([&](const json& s) {
-    return s["generation"].get<int>() > generation && s["rendering"] == false;
+  s = p.waitFor([&](const json& st) {
+    return st["generation"].get<int>() > generation && st["rendering"] == false;
   });
   EXPECT_TRUE(s["custom_camera"].get<bool>());
   EXPECT_EQ(s["camera"]["position"], json({0.0, 1.5, 0.9}));
@@ -301,7 +301,7 @@ TEST(PreviewServer, TheCameraFollowsThePageAndPrintsAsASidecarBlock) {
   }
   r = p.client().Delete("/api/camera");
   ASSERT_TRUE(r);
-  s = p.waitFor([](const json& s) { return !s["custom_camera"].get<bool>(); });
+  s = p.waitFor([](const json& st) { return !st["custom_camera"].get<bool>(); });
   EXPECT_FALSE(s["custom_camera"].get<bool>());
 }
 
@@ -310,7 +310,7 @@ TEST(PreviewServer, BadRequestsAndPathsServeNothingFromDisk) {
   std::ofstream(dir + "/secret.txt") << "not for the browser";
   Preview p(dir, "--spp 4");
   ASSERT_GT(p.port(), 0);
-  p.waitFor([](const json& s) { return s["spp"] == 4; });
+  p.waitFor([](const json& st) { return st["spp"] == 4; });
   for (const char* path : {"/box.json", "/secret.txt", "/../secret.txt", "/%2e%2e/secret.txt",
                            "/api/../box.json", "/api/nothing", "/etc/passwd", "/index.html"}) {
     auto r = p.client().Get(path);
@@ -340,7 +340,7 @@ TEST(PreviewServer, ConcurrentClientsAndAClosedTab) {
   const std::string dir = test::scratchDir("PreviewServer.Concurrent");
   Preview p(dir, "--spp 64");
   ASSERT_GT(p.port(), 0);
-  p.waitFor([](const json& s) { return s["spp"].get<int>() >= 1; });
+  p.waitFor([](const json& st) { return st["spp"].get<int>() >= 1; });
   std::atomic<int> good{0}, bad{0};
   std::vector<std::thread> clients;
   for (int c = 0; c < 8; ++c)
@@ -440,7 +440,7 @@ TEST(PreviewServer, RefusesAHostThatIsNotThisServer) {
   const std::string dir = test::scratchDir("PreviewServer.Host");
   Preview p(dir, "--spp 4");
   ASSERT_GT(p.port(), 0);
-  p.waitFor([](const json& s) { return s["spp"] == 4; });
+  p.waitFor([](const json& st) { return st["spp"] == 4; });
   const std::string port = std::to_string(p.port());
   const std::string other = std::to_string(p.port() == 65535 ? 1 : p.port() + 1);
   const std::string token = "X-Glint-Token: " + p.token() + "\r\n";

@@ -93,7 +93,7 @@ TEST_P(ShowcaseScenes, InfoListsTheEffectsTheSceneShows) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, ShowcaseScenes, ::testing::ValuesIn(showcases()),
-                         [](const auto& info) { return std::string(info.param.name); });
+                         [](const auto& p) { return std::string(p.param.name); });
 
 }  // namespace
 }  // namespace glint

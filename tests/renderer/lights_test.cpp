@@ -83,7 +83,7 @@ std::vector<LightCase> lightCases() {
                    std::make_unique<Disk>(0.8f),
                    {0.3f, 1.5f, -0.2f},
                    {0, -1, 0}});
-  auto sphere = [](Vec3f c, float r) { return std::make_unique<Sphere>(c, r); };
+  auto sphere = [](Vec3f centre, float r) { return std::make_unique<Sphere>(centre, r); };
   cases.push_back({"sphere outside",
                    makeShapeLight(sphere({1, 2, 0}, 0.5f), {}, constant({1, 1, 2}, false)),
                    sphere({1, 2, 0}, 0.5f),
