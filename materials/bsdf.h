@@ -166,6 +166,14 @@ class Bsdf {
   }
   // The kinds of lobes at this hit (kBsdfNone when it does not scatter).
   uint32_t flags() const;
+  // The narrowest lobe sample() can choose, as a microfacet roughness alpha: 0 for a delta
+  // lobe, 1 when no lobe is narrower than a diffuse one (Lambert; Phong by its exponent,
+  // Walter et al.'s alpha = sqrt(2 / (n + 2))).
+  float narrowestAlpha() const;
+  // The probability with which sample() picks a diffuse-like lobe (Lambert, Phong's diffuse,
+  // glTF's diffuse layers, sheen, a rough metal's multiple scattering): 1 for Lambert, 0 for a
+  // mirror.
+  float diffuseProbability() const;
   // The shading normal the BSDF is built around.
   Vec3f ns() const { return frame_.ns; }
 

@@ -374,6 +374,14 @@ uint32_t PbrBxdf::flags() const {
   return f;
 }
 
+float PbrBxdf::narrowestAlpha() const {
+  const float* p = p_.p;
+  float a = 1;
+  if (p[kSpec] > 0 || p[kTrans] > 0) a = smooth ? 0.0f : std::min({a, alphaX, alphaY});
+  if (p[kCoat] > 0) a = std::min(a, coatSmooth ? 0.0f : coatAlpha);
+  return a;
+}
+
 // The non-delta lobes at (wo, wi), both in the anisotropy-turned local frame, and the density
 // of sample() for the lobe probabilities `pr` (sample() may restrict them). See pbr.h for the
 // model.
@@ -682,6 +690,34 @@ bool Bsdf::foldReflection(float cosI, BsdfSample* s) const {
   s->f *= std::abs(cosI) / cosFolded;
   s->wi = folded;
   return true;
+}
+
+float PhongBxdf::narrowestAlpha() const {
+  return pSpecular > 0 ? std::min(1.0f, std::sqrt(2 / (shininess + 2))) : 1.0f;
+}
+
+float Bsdf::narrowestAlpha() const {
+  return dispatch([](const auto& b) -> float {
+    using B = std::decay_t<decltype(b)>;
+    if constexpr (std::is_same_v<B, MirrorBxdf> || std::is_same_v<B, GlassBxdf>)
+      return 0;
+    else if constexpr (std::is_same_v<B, PhongBxdf> || std::is_same_v<B, PbrBxdf>)
+      return b.narrowestAlpha();
+    else
+      return 1;
+  });
+}
+
+float Bsdf::diffuseProbability() const {
+  return dispatch([](const auto& b) -> float {
+    using B = std::decay_t<decltype(b)>;
+    if constexpr (std::is_same_v<B, DiffuseBxdf>)
+      return 1;
+    else if constexpr (std::is_same_v<B, PhongBxdf> || std::is_same_v<B, PbrBxdf>)
+      return b.diffuseProbability();
+    else
+      return 0;
+  });
 }
 
 uint32_t Bsdf::flags() const {

@@ -111,6 +111,8 @@ struct PhongBxdf {
   Rgb evaluate(Vec3f wo, Vec3f wi, float* pdf) const;
   bool sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes, BsdfSample* s) const;
   uint32_t flags() const { return kBsdfDiffuse | kBsdfGlossy | kBsdfReflection; }
+  float narrowestAlpha() const;
+  float diffuseProbability() const { return 1 - pSpecular; }
 };
 
 // Reflects everything into the mirror direction, tinted by R. About the normal.
@@ -214,6 +216,10 @@ struct PbrBxdf {
   Rgb evaluate(Vec3f wo, Vec3f wi, float* pdf) const;
   bool sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes, BsdfSample* s) const;
   uint32_t flags() const;
+  float narrowestAlpha() const;  // see Bsdf::narrowestAlpha
+  float diffuseProbability() const {
+    return p_.p[kDiff] + p_.p[kMulti] + p_.p[kDiffTrans] + p_.p[kSheen];
+  }
 
   // The lobes sample() chooses among.
   // kMulti: the rough metal's multiple scattering (Kulla-Conty), sampled by its own density

@@ -117,6 +117,12 @@ class Light {
   }
   // A ray leaving the light: `uPos` picks the origin, `uDir` the direction.
   virtual std::optional<LightLeSample> sampleLe(Vec2f uPos, Vec2f uDir, float time) const = 0;
+  // True when, at a surface, sampling the BSDF can find this light as well as sampling the
+  // light can: radiance that is the same from every direction, so no density beats the
+  // BSDF's own. The path tracer then leaves it to BSDF sampling at the vertices whose BSDF
+  // samples nearly exactly (weight 1 for the BSDF samples that find it), as pbrt-v4's
+  // `allowIncompletePDF` does everywhere; Whitted, without BSDF sampling, still samples it.
+  virtual bool leftToBsdfSampling() const { return false; }
   // Total emitted power, in RGB (infinite and directional lights: through a disk of the scene's
   // radius, so call preprocess first).
   virtual Rgb phi() const = 0;
@@ -188,7 +194,7 @@ class DirectionalLight final : public Light {
 
 // Uniform environment: radiance L from every direction (the furnace test's light). Samples
 // cosine-weighted directions around the receiving surface's normal (uniform over the sphere
-// in media).
+// in media), or is left to the BSDF's sampling (leftToBsdfSampling).
 class UniformEnvironmentLight final : public Light {
  public:
   explicit UniformEnvironmentLight(Rgb radiance);
@@ -198,6 +204,7 @@ class UniformEnvironmentLight final : public Light {
   std::optional<LightLeSample> sampleLe(Vec2f uPos, Vec2f uDir, float time) const override;
   Rgb phi() const override;
   void preprocess(const Bounds3f& sceneBounds) override;
+  bool leftToBsdfSampling() const override { return true; }
 
  private:
   Rgb radiance_;

@@ -47,6 +47,20 @@ Sampler trackingStream(Sampler& sampler) {
   return Sampler(mixBits(bits ^ 0x6a09e667f3bcc909ull), 0);
 }
 
+// Whether a vertex with this BSDF leaves the lights that allow it (Light::leftToBsdfSampling:
+// a uniform sky) to its BSDF sampling, which is then nearly exact: the BSDF has a delta lobe,
+// or its lobes are mostly narrow (at most 30% diffuse-like, none wider than alpha 0.3).
+// There, also drawing a light sample splits only the non-delta or diffuse part between the
+// two strategies, while the narrow branch, chosen by the lobes' albedos, still carries the
+// whole albedo: the estimate swings between branches (a near-mirror plastic under a sky of 1
+// read 1.42 on one branch, 0.93 on the other). Everywhere else (diffuse surfaces, rough lobes)
+// the light sample is a second, MIS-weighted cosine sample and stays: leaving the sky to the
+// BSDF there was 1.6 to 3.7 times noisier (benchmarks/README, issue 50).
+bool leavesLights(const Bsdf& bsdf) {
+  const float alpha = bsdf.narrowestAlpha();
+  return alpha == 0 || (bsdf.diffuseProbability() <= 0.3f && alpha <= 0.3f);
+}
+
 }  // namespace
 
 PathIntegrator::PathIntegrator(const RenderScene& scene, const IntegratorSettings& settings)
@@ -61,6 +75,11 @@ PathIntegrator::PathIntegrator(const RenderScene& scene, const IntegratorSetting
   for (const auto& [light, index] : infinite_) bsdfFindable_[index] = true;
   for (int32_t l : scene.instanceLight)
     if (l >= 0) bsdfFindable_[size_t(l)] = true;
+  bsdfOnlyAtSurfaces_.assign(scene.lights.size(), false);
+  for (size_t i = 0; i < scene.lights.size(); ++i) {
+    bsdfOnlyAtSurfaces_[i] = bsdfFindable_[i] && scene.lights[i]->leftToBsdfSampling();
+    someLeftToBsdf_ = someLeftToBsdf_ || bsdfOnlyAtSurfaces_[i];
+  }
   if (scene.features.has(Feature::Volumes) && scene.media) {
     media_ = scene.media.get();
     mediaScatter_ = settings.volume != "emission";
@@ -89,6 +108,8 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
   bool specularBounce = true;
   float bsdfPdf = 0;
   LightSampleContext prev;
+  // The previous vertex left the lights that allow it to its BSDF sampling (leavesLights).
+  bool prevLeftLights = false;
   // Media: tracking's own random stream (unused, and folded away, without media).
   Sampler tracker = kMedia ? trackingStream(sampler) : Sampler(0, 0);
 
@@ -131,6 +152,7 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
         const Vec3f wi = sampleHenyeyGreenstein(d, event.g, u.uBsdf, &phasePdf);
         if (!(phasePdf > 0) || !std::isfinite(phasePdf)) break;
         specularBounce = false;
+        prevLeftLights = false;
         bsdfPdf = phasePdf;
         prev = ctx;
         if (!survivesRoulette(depth, rrDepth_, etaScale, u.uRoulette, &beta)) break;
@@ -151,8 +173,11 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
         for (const auto& [light, index] : infinite_) {
           const Rgb Le = light->Le(d);
           if (maxComponent(Le) <= 0) continue;
+          // Found by a BSDF sample where it is left to them: weight 1.
           const float lightPdf =
-              scene_.lightSampler->pmf(prev, index) * light->pdfLi(prev, d, LightHit{});
+              prevLeftLights && bsdfOnlyAtSurfaces_[index]
+                  ? 0.0f
+                  : scene_.lightSampler->pmf(prev, index) * light->pdfLi(prev, d, LightHit{});
           L += beta * Le * powerHeuristic(bsdfPdf, lightPdf);
         }
       }
@@ -211,9 +236,10 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
     const Bsdf bsdf = material.bsdf(si, lookups);
 
     // --- Next-event estimation, at surfaces with a non-delta lobe.
+    const bool leftLights = someLeftToBsdf_ && leavesLights(bsdf);
     if (lights_ && (shading.flags & (kBsdfDiffuse | kBsdfGlossy)))
-      L += beta *
-           sampleLight<kMedia>(si, bsdf, ray.time, u.uLight, u.uLightPoint, &tracker, counters);
+      L += beta * sampleLight<kMedia>(si, bsdf, leftLights, ray.time, u.uLight, u.uLightPoint,
+                                      &tracker, counters);
 
     // --- The next direction.
     BsdfSample s;
@@ -224,6 +250,7 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
     specularBounce = (s.flags & kBsdfSpecular) != 0;
     bsdfPdf = s.pdf;
     prev = LightSampleContext(si, ray.time);
+    prevLeftLights = leftLights;
     if (s.flags & kBsdfTransmission) etaScale *= s.eta * s.eta;
 
     // The last bounce can only add the emission it finds: where nothing can be found (no
@@ -245,12 +272,15 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
 // ---------------------------------------------------------------------------------------------
 
 template <bool kMedia>
-Rgb PathIntegrator::sampleLight(const SurfaceInteraction& si, const Bsdf& bsdf, float time,
-                                float uLight, Vec2f uPoint, Sampler* tracker,
+Rgb PathIntegrator::sampleLight(const SurfaceInteraction& si, const Bsdf& bsdf, bool leftLights,
+                                float time, float uLight, Vec2f uPoint, Sampler* tracker,
                                 RayCounters& counters) const {
   const LightSampleContext ctx(si, time);
   const std::optional<SampledLight> picked = scene_.lightSampler->sample(ctx, uLight);
   if (!picked || !(picked->p > 0)) return {};
+  // Left to BSDF sampling: the other lights keep their probabilities, so nothing is lost but
+  // this sample (pbrt-v4 does the same).
+  if (leftLights && bsdfOnlyAtSurfaces_[picked->index]) return {};
   // Light must arrive on the side of the geometric surface the BSDF says it can; f checks the
   // hemispheres (reflection and transmission alike).
   auto scatter = [&](Vec3f wi, float* pdf) -> Rgb {

@@ -90,11 +90,12 @@ class PathIntegrator final : public Integrator {
   Rgb tracePath(const Ray& ray, const Hit* hit, Sampler& sampler, RayCounters& counters,
                 PathAovs& aovs) const;
   // One light sampled for the lit point `si` (next-event estimation), MIS-weighted against
-  // the BSDF; `uLight` picks the light, `uPoint` the point on it. kMedia: shadow rays carry
+  // the BSDF; `uLight` picks the light, `uPoint` the point on it. `leftLights`: the vertex
+  // leaves the lights that allow it to BSDF sampling (nothing drawn from them). kMedia: shadow rays carry
   // the media's transmittance, estimated with `tracker`'s numbers.
   template <bool kMedia>
-  Rgb sampleLight(const SurfaceInteraction& si, const Bsdf& bsdf, float time, float uLight,
-                  Vec2f uPoint, Sampler* tracker, RayCounters& counters) const;
+  Rgb sampleLight(const SurfaceInteraction& si, const Bsdf& bsdf, bool leftLights, float time,
+                  float uLight, Vec2f uPoint, Sampler* tracker, RayCounters& counters) const;
   // One light sampled for the medium point of `ctx` seen along unit direction `d` (towards the
   // point), Henyey–Greenstein `g`, MIS-weighted against phase sampling; shadow rays carry the
   // transmittance (`tracker`'s numbers).
@@ -117,6 +118,12 @@ class PathIntegrator final : public Integrator {
   // some instance's emission maps to)? Next-event estimation weights only those by MIS; the
   // others are its only way in and keep weight 1.
   std::vector<bool> bsdfFindable_;
+  // Per light in scene.lights: left to BSDF sampling at the surfaces whose BSDF samples it
+  // well (Light::leftToBsdfSampling, leavesLights in path.cpp): next-event estimation there
+  // draws nothing from it, and a BSDF sample from there that finds it has weight 1. Media
+  // points still sample it.
+  std::vector<bool> bsdfOnlyAtSurfaces_;
+  bool someLeftToBsdf_ = false;  // any of them (else no vertex asks its BSDF)
 };
 
 }  // namespace glint

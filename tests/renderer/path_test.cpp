@@ -132,6 +132,47 @@ TEST(PathTracer, FurnaceSphereReflectsItsAlbedo) {
   }
 }
 
+// A near-mirror plastic (a delta lobe over a diffuse base) and a polished metal under a
+// uniform sky: their BSDF sampling is nearly exact there, so the path tracer leaves the sky to
+// it (Light::leftToBsdfSampling). Sampling the sky as well made one branch carry the diffuse
+// part twice: samples of 1.42 under a sky of 1 for the plastic. One bounce, so a sample is
+// what the vertex brings; the mean must still be Whitted's, which samples the sky at every
+// point and traces the mirror reflection.
+TEST(PathTracer, LeavesAUniformSkyToANearlyExactBsdf) {
+  auto scene = [](const std::string& material, const std::string& integrator, int spp) {
+    return R"({"render": {"width": 32, "height": 32, "spp": )" + std::to_string(spp) +
+           R"(, "camera": "c", "seed": 3, "integrator": {"type": ")" + integrator +
+           R"(", "max_depth": 1}},
+      "environment": {"color": [1, 1, 1]},
+      "cameras": [{"name": "c", "position": [0, 0, 3.2], "look_at": [0, 0, 0], "yfov_degrees": 45}],
+      "materials": [)" + material + R"(],
+      "objects": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "m"}]})";
+  };
+  const std::string plastic =
+      R"({"name": "m", "type": "pbr", "base_color": [0.9, 0.7, 0.6], "metallic": 0, "roughness": 0})";
+  const std::string metal =
+      R"({"name": "m", "type": "pbr", "base_color": [0.9, 0.8, 0.7], "metallic": 1, "roughness": 0.2})";
+  for (const std::string& material : {plastic, metal}) {
+    // One sample per pixel: the brightest is one sample. The plastic's diffuse samples weigh
+    // up to (1 - F(wi)) / (1 - F_avg) = 0.96 / 0.908 of the lobes' weights (at most 1): 1.06;
+    // the metal's F G2 / G1 <= 1.
+    const test::Rendered one = test::renderJson(scene(material, "path", 1));
+    EXPECT_LE(one.stats.brightestSample, 1.1f) << material;
+    EXPECT_GE(one.stats.brightestSample, 0.99f) << material;  // the sky is seen
+    // No shadow rays: the sky is the only light, and every vertex left it to the BSDF.
+    EXPECT_EQ(one.stats.rays.shadow, 0u) << material;
+  }
+  // Unbiased: the sphere's mean agrees with Whitted's, within 4 standard errors of both.
+  const test::Rendered path = test::renderJson(scene(plastic, "path", 64));
+  const test::Rendered whitted = test::renderJson(scene(plastic, "whitted", 64));
+  auto onSphere = [&](size_t i) { return path.film.alpha[i] == 1; };
+  const Estimate a = average(path.film, onSphere), b = average(whitted.film, onSphere);
+  ASSERT_GT(a.n, 300u);
+  EXPECT_NEAR(a.mean, b.mean, 4 * std::hypot(a.sigma, b.sigma)) << "path " << a.mean
+                                                                  << ", Whitted " << b.mean;
+  EXPECT_GT(whitted.stats.rays.shadow, 0u);  // Whitted still samples the sky
+}
+
 // ---------------------------------------------------------------------------------------------
 // Closed enclosure
 // ---------------------------------------------------------------------------------------------
