@@ -32,7 +32,7 @@
 
 #include "apps/cli_common.h"
 #include "apps/commands.h"
-#include "benchmarks/bare_embree.h"
+#include "geometry/accel/bare_embree.h"
 #include "geometry/accel/embree_accel.h"
 #include "geometry/accel/kdtree.h"
 #include "geometry/interaction.h"

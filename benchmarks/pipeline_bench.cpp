@@ -24,8 +24,8 @@
 #include <string>
 #include <thread>
 
-#include "bare_embree.h"
 #include "bench_support.h"
+#include "geometry/accel/bare_embree.h"
 #include "geometry/accel/embree_accel.h"
 #include "renderer/filter.h"
 #include "renderer/render.h"

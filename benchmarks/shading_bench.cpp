@@ -21,6 +21,7 @@
 #include <random>
 #include <vector>
 
+#include "image/oiio/plugin.h"
 #include "materials/basic_materials.h"
 #include "materials/bump.h"
 #include "materials/image_texture.h"
@@ -214,7 +215,7 @@ class CountingTexture final : public Texture {
 
 // A material with the textures it reads (which must outlive it).
 struct ShaderSetup {
-  TextureImages images;
+  TextureImages images{&oiio::imageDecoder};
   std::vector<std::unique_ptr<Texture>> textures;
   std::unique_ptr<Material> material;
   int64_t* lookups = nullptr;  // non-null: wrap every texture in a CountingTexture

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "image/oiio/plugin.h"
 #include "materials/image_texture.h"
 
 namespace glint {
@@ -54,7 +55,7 @@ std::vector<TexCoord2> coords(bool coherent) {
 }
 
 void run(benchmark::State& state, TextureStorage storage, TextureFilter filter, bool coherent) {
-  TextureImages images;
+  TextureImages images(&oiio::imageDecoder);
   TextureImages::Handle h;
   try {
     h = images.addFile(imagePath(), ColorEncoding::Srgb, storage);

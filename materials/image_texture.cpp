@@ -12,7 +12,6 @@
 #include <unordered_map>
 #include <unordered_set>
 
-#include "image/oiio/plugin.h"
 
 namespace glint {
 
@@ -52,6 +51,7 @@ struct TextureImages::Image {
 };
 
 struct TextureImages::Set {
+  ImageDecoderSource decoder = nullptr;  // set once, by the constructor
   mutable std::mutex mutex;  // guards the members below (adding images)
   std::vector<std::unique_ptr<Image>> images;
   std::unordered_set<std::string> names;  // of addPixels and addEncoded
@@ -89,12 +89,12 @@ MipMap pyramidOf(DecodedImage&& d, ColorEncoding enc) {
 
 // Decodes an encoded image's pixels, once; false (with the reason in image.error) when they
 // cannot be.
-bool ensureDecoded(TextureImages::Image& image) {
+bool ensureDecoded(TextureImages::Image& image, ImageDecoderSource decoder) {
   if (image.ready.load(std::memory_order_acquire)) return true;
   if (image.encoded)
     std::call_once(image.once, [&] {
       try {
-        image.pyramid = pyramidOf(oiio::plugin().decodeEncoded(*image.encoded), image.encoding);
+        image.pyramid = pyramidOf(decoder().decodeEncoded(*image.encoded), image.encoding);
         image.ready.store(true, std::memory_order_release);
       } catch (const std::exception& e) {
         image.error = e.what();
@@ -111,7 +111,16 @@ std::string mebibytes(size_t bytes) {
 
 }  // namespace
 
-TextureImages::TextureImages() : set_(std::make_unique<Set>()) {}
+TextureImages::TextureImages(ImageDecoderSource decoder) : set_(std::make_unique<Set>()) {
+  set_->decoder = decoder;
+}
+
+const ImageDecoder& TextureImages::decoder() const {
+  if (!set_->decoder)
+    throw std::logic_error("TextureImages: an encoded image or a file added to a set made "
+                           "without a decoder");
+  return set_->decoder();
+}
 TextureImages::~TextureImages() = default;
 
 namespace {
@@ -158,7 +167,7 @@ TextureImages::Handle TextureImages::addBytes(const std::string& name, int width
 TextureImages::Handle TextureImages::addEncoded(const std::string& name,
                                                 std::shared_ptr<const std::string> bytes,
                                                 ColorEncoding enc) {
-  const EncodedImageInfo info = oiio::plugin().probeEncodedImage(*bytes);  // throws
+  const EncodedImageInfo info = decoder().probeEncodedImage(*bytes);  // throws
   auto image = std::make_unique<Image>();
   image->name = name;
   image->width = info.width, image->height = info.height, image->channels = info.channels;
@@ -177,7 +186,7 @@ TextureImages::Handle TextureImages::addEncoded(const std::string& name,
 void TextureImages::startDecoding() {
   std::lock_guard lock(set_->mutex);
   for (Image* image : set_->pending) {
-    set_->decoding.run([image] { ensureDecoded(*image); });
+    set_->decoding.run([image, d = set_->decoder] { ensureDecoded(*image, d); });
     set_->encoded.push_back(image);
   }
   set_->pending.clear();
@@ -189,13 +198,13 @@ std::vector<std::pair<std::string, std::string>> TextureImages::waitForDecodes()
   std::vector<std::pair<std::string, std::string>> failed;
   std::lock_guard lock(set_->mutex);
   for (Image* image : set_->encoded)
-    if (!ensureDecoded(*image)) failed.emplace_back(image->name, image->error);
+    if (!ensureDecoded(*image, set_->decoder)) failed.emplace_back(image->name, image->error);
   return failed;
 }
 
 TextureImages::Handle TextureImages::addFile(const std::string& path, ColorEncoding enc,
                                              TextureStorage storage) {
-  const ImageFileInfo info = oiio::plugin().probeImageFile(path);  // throws "<path>: ..."
+  const ImageFileInfo info = decoder().probeImageFile(path);  // throws "<path>: ..."
   auto image = std::make_unique<Image>();
   image->name = path;
   image->width = info.width, image->height = info.height;
@@ -213,11 +222,11 @@ TextureImages::Handle TextureImages::addFile(const std::string& path, ColorEncod
   }
   image->storage = storage;
   if (storage == TextureStorage::Memory) {
-    image->pyramid = pyramidOf(oiio::plugin().decodeImageFile(path), enc);  // throws
+    image->pyramid = pyramidOf(decoder().decodeImageFile(path), enc);  // throws
     image->ready.store(true, std::memory_order_release);
   } else {
     std::unique_lock lock(set_->mutex);
-    if (!set_->cache) set_->cache = oiio::plugin().newTextureCache();
+    if (!set_->cache) set_->cache = decoder().newTextureCache();
     Cache* cache = set_->cache.get();
     lock.unlock();
     image->file = cache->add(path, enc);  // throws "<path>: ..."
@@ -293,16 +302,9 @@ Vec4f TextureImages::lookup(Handle h, const TexCoord2& c, TextureWrap wrapS, Tex
   if (image.ready.load(std::memory_order_acquire))
     return image.pyramid.lookup(c, wrapS, wrapT, filter);
   if (image.file) return set_->cache->lookup(image.file, c, wrapS, wrapT, filter);
-  if (!ensureDecoded(image)) throw std::runtime_error(image.name + ": " + image.error);
+  if (!ensureDecoded(image, set_->decoder))
+    throw std::runtime_error(image.name + ": " + image.error);
   return image.pyramid.lookup(c, wrapS, wrapT, filter);
-}
-
-EncodedImageInfo probeEncodedImage(const std::string& bytes) {
-  return oiio::plugin().probeEncodedImage(bytes);
-}
-
-std::vector<float> decodeEncodedImage(const std::string& bytes, EncodedImageInfo* info) {
-  return oiio::plugin().decodeEncodedImage(bytes, info);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -49,6 +49,11 @@ struct ImageFileInfo {
   int mipLevels = 1;       // MIP levels stored in the file
 };
 
+class ImageDecoder;
+// Where a set finds its decoder, asked on first need (glint's is OpenImageIO's plugin, loaded
+// then: a scene without image textures never loads it).
+using ImageDecoderSource = const ImageDecoder& (*)();
+
 // A set of images. Lookups are thread-safe and deterministic; add images before looking them
 // up (adding is thread-safe too, and never disturbs lookups of images added earlier).
 class TextureImages {
@@ -62,7 +67,10 @@ class TextureImages {
   // Decoded files over this size (level 0) stay in the TextureSystem's cache.
   static constexpr size_t kMemoryLimitBytes = size_t(1) << 30;
 
-  TextureImages();
+  // `decoder` decodes the encoded images and files added (the scene builder gives OpenImageIO's
+  // plugin, image/oiio/plugin.h: materials know no codec). Sets of decoded pixels alone need
+  // none; adding an encoded image or a file to such a set throws std::logic_error.
+  explicit TextureImages(ImageDecoderSource decoder = nullptr);
   ~TextureImages();
   TextureImages(const TextureImages&) = delete;
   TextureImages& operator=(const TextureImages&) = delete;
@@ -138,16 +146,29 @@ class TextureImages {
   };
 
  private:
+  const ImageDecoder& decoder() const;  // throws std::logic_error without one
   struct Set;
   std::unique_ptr<Set> set_;
 };
 
-// Reads the header alone. Throws std::runtime_error(reason) when it is not such an image or
-// has more than 4 channels.
-EncodedImageInfo probeEncodedImage(const std::string& bytes);
-// Decodes the whole image: samples in [0, 1] as stored (no colour decoding), rows top to
-// bottom. Throws std::runtime_error(reason).
-std::vector<float> decodeEncodedImage(const std::string& bytes, EncodedImageInfo* info = nullptr);
+// What decodes a TextureImages' images: OpenImageIO's plugin in glint (image/oiio/plugin.h),
+// tests may give their own. Each throws std::runtime_error: with the reason alone for bytes,
+// "<path>: <reason>" for files.
+class ImageDecoder {
+ public:
+  virtual ~ImageDecoder() = default;
+  // The TextureSystem serving the texture files kept on disk.
+  virtual std::unique_ptr<TextureImages::Cache> newTextureCache() const = 0;
+  // An encoded image in memory: its header alone (not such an image, or more than 4
+  // channels, throws), all of it as floats in [0, 1] as stored, or as decode() keeps it.
+  virtual EncodedImageInfo probeEncodedImage(const std::string& bytes) const = 0;
+  virtual std::vector<float> decodeEncodedImage(const std::string& bytes,
+                                                EncodedImageInfo* info) const = 0;
+  virtual DecodedImage decodeEncoded(const std::string& bytes) const = 0;
+  // An image file: its header, or all of it.
+  virtual ImageFileInfo probeImageFile(const std::string& path) const = 0;
+  virtual DecodedImage decodeImageFile(const std::string& path) const = 0;
+};
 
 // A Texture reading one image of a TextureImages (which must outlive it) through a mapping.
 class ImageTexture final : public Texture {

@@ -9,6 +9,7 @@
 
 #include "geometry/csg.h"
 #include "geometry/terrain.h"
+#include "image/oiio/plugin.h"
 #include "materials/basic_materials.h"
 #include "materials/bump.h"
 #include "materials/image_texture.h"
@@ -245,7 +246,7 @@ class TextureCache {
 
   TextureImages& images() {
     if (!scene_->images)
-      scene_->images = reuse_ ? std::move(reuse_) : std::make_shared<TextureImages>();
+      scene_->images = reuse_ ? std::move(reuse_) : std::make_shared<TextureImages>(&oiio::imageDecoder);
     return *scene_->images;
   }
 

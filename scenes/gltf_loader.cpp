@@ -23,6 +23,7 @@
 #include <tuple>
 #include <type_traits>
 
+#include "image/oiio/plugin.h"
 #include "materials/image_texture.h"
 #include "scenes/gltf_document.h"
 #include "scenes/json_util.h"
@@ -533,7 +534,7 @@ ImageDesc convertImage(const gltf::Image& im, const tinygltf::Image& file, size_
   d.name = im.uri.empty() || isDataUri(im.uri) ? "image " + std::to_string(index) : im.uri;
   d.encoded = std::make_shared<const std::string>(file.image.begin(), file.image.end());
   try {
-    const EncodedImageInfo info = probeEncodedImage(*d.encoded);
+    const EncodedImageInfo info = oiio::plugin().probeEncodedImage(*d.encoded);
     d.width = info.width, d.height = info.height, d.channels = info.channels, d.bits = info.bits;
   } catch (const FailureError&) {
     throw;  // not the file's fault (the OpenImageIO plugin is missing): exit code 1

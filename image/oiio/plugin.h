@@ -34,9 +34,10 @@ struct CompareStats {
   std::string error;  // set when the comparison itself failed
 };
 
-class Plugin {
+// It is also the decoder of the texture images materials keep (materials' ImageDecoder: the
+// scene builder hands it to TextureImages, materials never name the plugin).
+class Plugin : public ImageDecoder {
  public:
-  virtual ~Plugin() = default;
 
   // Reads an image file in any format OpenImageIO reads into `image` (format, windows, channel
   // names and types, glint's attributes; the pixels too when `pixels`). On failure returns
@@ -53,23 +54,14 @@ class Plugin {
   virtual CompareStats compare(const std::vector<float>& a, const std::vector<float>& b,
                                int width, int height, int channels, float failThreshold,
                                float warnThreshold) const = 0;
-
-  // The TextureSystem serving the texture files kept on disk (materials/image_texture.h).
-  virtual std::unique_ptr<TextureImages::Cache> newTextureCache() const = 0;
-  // Decoding for the images glint keeps in memory (materials/image_texture.h). Each throws
-  // std::runtime_error: with the reason alone for bytes, "<path>: <reason>" for files.
-  virtual EncodedImageInfo probeEncodedImage(const std::string& bytes) const = 0;
-  virtual std::vector<float> decodeEncodedImage(const std::string& bytes,
-                                                EncodedImageInfo* info) const = 0;
-  virtual DecodedImage decodeEncoded(const std::string& bytes) const = 0;
-  virtual ImageFileInfo probeImageFile(const std::string& path) const = 0;
-  virtual DecodedImage decodeImageFile(const std::string& path) const = 0;
 };
 
 // The plugin, loaded on first use (thread-safe). Looked for as $GLINT_OIIO_PLUGIN when set,
 // else beside the running executable, in ../lib/glint/ from it, and in the build tree it was
 // built in. Throws FailureError (exit code 1) naming the places tried when it cannot be loaded.
 const Plugin& plugin();
+// The same, as the source of a TextureImages' decoder.
+inline const ImageDecoder& imageDecoder() { return plugin(); }
 
 // The entry point the module exports: a function returning its one Plugin.
 inline constexpr const char* kEntryPoint = "glint_oiio_plugin";

@@ -15,6 +15,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "image/oiio/plugin.h"
 #include "test_support.h"
 
 namespace glint {
@@ -85,7 +86,7 @@ const TexCoord2 kWholeImage{{0.5f, 0.5f}, {1, 0}, {0, 1}};  // a footprint cover
 // ---------------------------------------------------------------------------------------------
 
 TEST(TextureImages, NearestReturnsExactTexelsAtCentresTopRowFirst) {
-  TextureImages images;
+  TextureImages images(&oiio::imageDecoder);
   auto h = images.addPixels("grid", 4, 4, 4, pixels4x4(), ColorEncoding::Linear);
   ASSERT_TRUE(h.valid());
   EXPECT_EQ(images.width(h), 4);
@@ -107,7 +108,7 @@ TEST(TextureImages, NearestReturnsExactTexelsAtCentresTopRowFirst) {
 }
 
 TEST(TextureImages, LinearAveragesMidwayBetweenTexelCentres) {
-  TextureImages images;
+  TextureImages images(&oiio::imageDecoder);
   auto h = images.addPixels("grid", 4, 4, 4, pixels4x4(), ColorEncoding::Linear);
   auto avg = [](Vec4f a, Vec4f b) {
     return Vec4f{(a.x + b.x) / 2, (a.y + b.y) / 2, (a.z + b.z) / 2, (a.w + b.w) / 2};
@@ -130,7 +131,7 @@ TEST(TextureImages, LinearAveragesMidwayBetweenTexelCentres) {
 }
 
 TEST(TextureImages, WrapModesOutsideTheUnitSquare) {
-  TextureImages images;
+  TextureImages images(&oiio::imageDecoder);
   auto h = images.addPixels("grid", 4, 4, 4, pixels4x4(), ColorEncoding::Linear);
   const float t = 0.375f;  // row 1
   auto at = [&](float s, TextureWrap w) {
@@ -162,7 +163,7 @@ TEST(TextureImages, WrapModesOutsideTheUnitSquare) {
 }
 
 TEST(TextureImages, DecodesSrgbColourButNotAlpha) {
-  TextureImages images;
+  TextureImages images(&oiio::imageDecoder);
   std::vector<float> px{0.5f, 0.5f, 0.5f, 0.5f};
   auto s = images.addPixels("srgb", 1, 1, 4, px, ColorEncoding::Srgb);
   auto l = images.addPixels("linear", 1, 1, 4, px, ColorEncoding::Linear);
@@ -178,7 +179,7 @@ TEST(TextureImages, DecodesSrgbColourButNotAlpha) {
 }
 
 TEST(TextureImages, GreyImagesFillRgbAndAlpha) {
-  TextureImages images;
+  TextureImages images(&oiio::imageDecoder);
   auto g1 = images.addPixels("grey", 2, 1, 1, {0.25f, 0.75f}, ColorEncoding::Linear);
   auto g2 =
       images.addPixels("grey+alpha", 2, 1, 2, {0.25f, 0.5f, 0.75f, 0.1f}, ColorEncoding::Srgb);
@@ -196,7 +197,7 @@ TEST(TextureImages, GreyImagesFillRgbAndAlpha) {
 }
 
 TEST(TextureImages, MipmapFiltersOverTheFootprintInLinearSpace) {
-  TextureImages images;
+  TextureImages images(&oiio::imageDecoder);
   const int n = 64;
   auto bw = images.addPixels("bw", n, n, 1, checker(n, 0, 1), ColorEncoding::Linear);
   // sRGB 0 and 0.5: the mean of the linear values (0.107) differs from the decoded mean of the
@@ -237,7 +238,7 @@ TEST(TextureImages, MipmapFiltersOverTheFootprintInLinearSpace) {
 }
 
 TEST(TextureImages, MipmapKeepsTheMeanOfOddSizedImages) {
-  TextureImages images;
+  TextureImages images(&oiio::imageDecoder);
   for (auto [w, h] : {std::pair{3, 5}, {100, 60}, {7, 2}}) {
     SCOPED_TRACE(testing::Message() << w << "x" << h);
     std::vector<float> px(size_t(w) * size_t(h));
@@ -258,7 +259,7 @@ TEST(TextureImages, MipmapKeepsTheMeanOfOddSizedImages) {
 }
 
 TEST(TextureImages, RejectsBadPixelBuffersAndRepeatedNames) {
-  TextureImages images;
+  TextureImages images(&oiio::imageDecoder);
   EXPECT_THROW(images.addPixels("short", 2, 2, 3, std::vector<float>(11), ColorEncoding::Linear),
                std::logic_error);
   EXPECT_THROW(images.addPixels("five", 1, 1, 5, std::vector<float>(5), ColorEncoding::Linear),
@@ -301,7 +302,7 @@ TEST(TextureImages, ReadsPngFilesAsSrgbOrLinear) {
     }
   writePng(path, n, n, 4, px);
 
-  TextureImages images;
+  TextureImages images(&oiio::imageDecoder);
   auto s = images.addFile(path, ColorEncoding::Srgb);
   auto l = images.addFile(path, ColorEncoding::Linear);
   EXPECT_EQ(images.width(s), n);
@@ -338,17 +339,17 @@ TEST(TextureImages, EncodedImagesDecodeInTheBackgroundLikeDecodedPixels) {
   writePng(dir + "/noise.png", n, n, 4, px);
   auto bytes = std::make_shared<const std::string>(fileBytes(dir + "/noise.png"));
 
-  const EncodedImageInfo info = probeEncodedImage(*bytes);
+  const EncodedImageInfo info = oiio::plugin().probeEncodedImage(*bytes);
   EXPECT_EQ(info.width, n);
   EXPECT_EQ(info.height, n);
   EXPECT_EQ(info.channels, 4);
   EXPECT_EQ(info.bits, 8);
-  const std::vector<float> decoded = decodeEncodedImage(*bytes);
+  const std::vector<float> decoded = oiio::plugin().decodeEncodedImage(*bytes, nullptr);
   ASSERT_EQ(decoded.size(), px.size());
   for (size_t i = 0; i < px.size(); ++i) ASSERT_NEAR(decoded[i], px[i] / 255.0f, 1e-6f) << i;
 
   for (ColorEncoding enc : {ColorEncoding::Srgb, ColorEncoding::Linear}) {
-    TextureImages images;
+    TextureImages images(&oiio::imageDecoder);
     auto e = images.addEncoded("encoded", bytes, enc);
     auto d = images.addPixels("decoded", n, n, 4, decoded, enc);
     EXPECT_EQ(images.width(e), n);  // known from the header, before any decoding
@@ -381,8 +382,8 @@ TEST(TextureImages, EncodedImagesThatDoNotDecodeAreReportedByName) {
   std::string whole = fileBytes(dir + "/noise.png");
   // The header survives, most of the pixel data does not.
   auto cut = std::make_shared<const std::string>(whole.substr(0, whole.size() / 3));
-  TextureImages images;
-  EXPECT_THROW(probeEncodedImage("not an image"), std::runtime_error);
+  TextureImages images(&oiio::imageDecoder);
+  EXPECT_THROW(oiio::plugin().probeEncodedImage("not an image"), std::runtime_error);
   auto h = images.addEncoded("cut", cut, ColorEncoding::Srgb);
   EXPECT_EQ(images.width(h), 32);
   const auto failed = images.waitForDecodes();
@@ -392,7 +393,7 @@ TEST(TextureImages, EncodedImagesThatDoNotDecodeAreReportedByName) {
 }
 
 TEST(TextureImages, MissingFileThrowsWithThePath) {
-  TextureImages images;
+  TextureImages images(&oiio::imageDecoder);
   const std::string path = test::scratchDir("TextureImages.MissingFile") + "/nothere.png";
   for (ColorEncoding enc : {ColorEncoding::Linear, ColorEncoding::Srgb}) {
     try {
@@ -412,7 +413,7 @@ TEST(TextureImages, CorruptFileThrows) {
     std::mt19937 rng(1);
     for (int i = 0; i < 4096; ++i) out.put(char(rng() & 0xff));
   }
-  TextureImages images;
+  TextureImages images(&oiio::imageDecoder);
   for (ColorEncoding enc : {ColorEncoding::Linear, ColorEncoding::Srgb}) {
     try {
       images.addFile(path, enc);
@@ -428,7 +429,7 @@ TEST(TextureImages, ReadsTheKhronosCesiumLogo) {
   ASSERT_TRUE(std::filesystem::exists(path))
       << path << " is missing: set GLINT_ASSETS to the shared asset folder "
       << "(benchmarks/get_assets.sh explains how to get it)";
-  TextureImages images;
+  TextureImages images(&oiio::imageDecoder);
   auto h = images.addFile(path, ColorEncoding::Srgb);
   EXPECT_EQ(images.width(h), 256);
   EXPECT_EQ(images.height(h), 256);
@@ -480,14 +481,14 @@ TEST(TextureImages, LookupsFromTwoThreadsMatchSingleThreaded) {
   };
   std::vector<Vec4f> single, again, a, b;
   {
-    TextureImages images;
+    TextureImages images(&oiio::imageDecoder);
     Handles h = add(images);
     run(images, h, single);
     run(images, h, again);  // now from a warm cache
   }
   {
     // A fresh set: both threads fill the cache (tiles, MIP levels) at the same time.
-    TextureImages images;
+    TextureImages images(&oiio::imageDecoder);
     Handles h = add(images);
     std::thread t1([&] { run(images, h, a); });
     std::thread t2([&] { run(images, h, b); });
@@ -518,7 +519,7 @@ TEST(TextureImages, DamagedPixelsThrowWhenReadInMemoryAndOnLookupInTheCache) {
   }
   std::filesystem::resize_file(path, std::filesystem::file_size(path) / 2);
   for (ColorEncoding enc : {ColorEncoding::Linear, ColorEncoding::Srgb}) {
-    TextureImages images;
+    TextureImages images(&oiio::imageDecoder);
     // Kept in memory (what a small untiled file gets): decoded when added, so adding fails.
     for (TextureStorage where : {TextureStorage::Auto, TextureStorage::Memory}) {
       try {
@@ -574,7 +575,7 @@ TEST(TextureImages, SmallFilesLiveInMemoryAndTiledMipmappedFilesInTheCache) {
                                                dir + "/tiled.tx", config))
       << OIIO::geterror();
 
-  TextureImages images;
+  TextureImages images(&oiio::imageDecoder);
   auto png = images.addFile(dir + "/plain.png", ColorEncoding::Srgb);
   auto tx = images.addFile(dir + "/tiled.tx", ColorEncoding::Srgb);
   EXPECT_EQ(images.storage(png), TextureStorage::Memory);
@@ -604,7 +605,7 @@ TEST(TextureImages, MemoryAndCacheServeTheSameTexels) {
   writePng(dir + "/image.png", w, h, 4, smoothImage(w, h));
   for (ColorEncoding enc : {ColorEncoding::Srgb, ColorEncoding::Linear}) {
     SCOPED_TRACE(enc == ColorEncoding::Srgb ? "sRGB" : "linear");
-    TextureImages images;
+    TextureImages images(&oiio::imageDecoder);
     auto mem = images.addFile(dir + "/image.png", enc, TextureStorage::Memory);
     auto cache = images.addFile(dir + "/image.png", enc, TextureStorage::Cache);
     ASSERT_EQ(images.storage(mem), TextureStorage::Memory);
@@ -702,7 +703,7 @@ TEST(MipMapFilter, EightBitSrgbLevelsAverageInLinearSpace) {
 }
 
 TEST(ImageTexture, UvScaleAndOffsetRepeatTheImage) {
-  TextureImages images;
+  TextureImages images(&oiio::imageDecoder);
   auto h = images.addPixels("grid", 4, 4, 4, pixels4x4(), ColorEncoding::Linear);
   TextureMapping m;
   m.scale = {2, 2, 1};

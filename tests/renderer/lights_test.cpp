@@ -15,6 +15,7 @@
 #include "geometry/shapes/disk.h"
 #include "geometry/shapes/quad.h"
 #include "geometry/shapes/sphere.h"
+#include "image/oiio/plugin.h"
 #include "materials/basic_materials.h"
 #include "materials/image_texture.h"
 #include "renderer/area_lights.h"
@@ -334,7 +335,7 @@ TEST(AreaLights, TexturedMeshLightsSampleWhereTheTextureGlows) {
     for (int x = 0; x < kTexels; ++x)
       if (glows({(float(x) + 0.5f) / kTexels, (float(y) + 0.5f) / kTexels}))
         for (int c = 0; c < 3; ++c) texels[size_t((y * kTexels + x) * 3 + c)] = kL;
-  TextureImages images;
+  TextureImages images(&oiio::imageDecoder);
   const auto image =
       images.addPixels("lamp", kTexels, kTexels, 3, texels, ColorEncoding::Linear);
   for (TextureFilter filter : {TextureFilter::Linear, TextureFilter::Mipmap}) {

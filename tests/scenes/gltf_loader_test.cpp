@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "image/oiio/plugin.h"
 #include "materials/image_texture.h"
 #include "renderer/integrator.h"
 #include "scene_error_support.h"
@@ -123,8 +124,8 @@ void expectSameDescription(const SceneDescription& a, const SceneDescription& b)
     EXPECT_EQ(a.images[i].height, b.images[i].height);
     EXPECT_EQ(a.images[i].channels, b.images[i].channels);
     ASSERT_TRUE(a.images[i].encoded && b.images[i].encoded);
-    EXPECT_TRUE(decodeEncodedImage(*a.images[i].encoded) ==
-                decodeEncodedImage(*b.images[i].encoded))
+    EXPECT_TRUE(oiio::plugin().decodeEncodedImage(*a.images[i].encoded, nullptr) ==
+                oiio::plugin().decodeEncodedImage(*b.images[i].encoded, nullptr))
         << "image " << i;
   }
   EXPECT_EQ(a.cameras.size(), b.cameras.size());
@@ -219,7 +220,7 @@ TEST(GltfLoader, LoadsBoxTexturedInAllVariants) {
   EXPECT_EQ(s.images[0].height, 256);
   EXPECT_EQ(s.images[0].channels, 4);
   EXPECT_EQ(s.images[0].name, "CesiumLogoFlat.png");
-  for (float v : decodeEncodedImage(*s.images[0].encoded)) ASSERT_TRUE(v >= 0 && v <= 1);
+  for (float v : oiio::plugin().decodeEncodedImage(*s.images[0].encoded, nullptr)) ASSERT_TRUE(v >= 0 && v <= 1);
   expectBounds(s, {-0.5f, -0.5f, -0.5f}, {0.5f, 0.5f, 0.5f});
   EXPECT_EQ(load(sample("BoxTextured", "glTF-Embedded")).images[0].name, "image 0");
 }
@@ -463,7 +464,7 @@ TEST(GltfLoader, ReadsMaterialsTexturesSamplersAndImages) {
   EXPECT_EQ(rgb8.height, 2);
   EXPECT_EQ(rgb8.channels, 3);
   EXPECT_EQ(rgb8.bits, 8);
-  EXPECT_EQ(decodeEncodedImage(*rgb8.encoded),
+  EXPECT_EQ(oiio::plugin().decodeEncodedImage(*rgb8.encoded, nullptr),
             (std::vector<float>{1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 1}));
   EXPECT_EQ(rgb8.name, "image 0");
   const ImageDesc& gray16 = s.images[1];  // 2x1 grey, 16 bits, from a bufferView
@@ -471,7 +472,7 @@ TEST(GltfLoader, ReadsMaterialsTexturesSamplersAndImages) {
   EXPECT_EQ(gray16.height, 1);
   EXPECT_EQ(gray16.channels, 1);
   EXPECT_EQ(gray16.bits, 16);
-  EXPECT_EQ(decodeEncodedImage(*gray16.encoded), (std::vector<float>{0, 1}));
+  EXPECT_EQ(oiio::plugin().decodeEncodedImage(*gray16.encoded, nullptr), (std::vector<float>{0, 1}));
 }
 
 TEST(GltfLoader, ReadsPbrExtensionsAlphaNormalMapsAndTangents) {
@@ -1091,7 +1092,7 @@ TEST(GltfLoader, WebpTexturesAreDecodedAndWinOverTheFallback) {
   const ImageDesc& image = s.images[size_t(s.textures[0].image)];
   EXPECT_EQ(image.width, 4);
   EXPECT_EQ(image.channels, 3);
-  const std::vector<float> px = decodeEncodedImage(*image.encoded);
+  const std::vector<float> px = oiio::plugin().decodeEncodedImage(*image.encoded, nullptr);
   EXPECT_NEAR(px[0], 200 / 255.0f, 3 / 255.0f);
   EXPECT_NEAR(px[1], 100 / 255.0f, 3 / 255.0f);
   EXPECT_NEAR(px[2], 50 / 255.0f, 3 / 255.0f);

@@ -1,6 +1,7 @@
-// glint — the benchmarks' reference for ray throughput: Embree alone, no glint code per ray.
+// glint — the reference for ray throughput: Embree alone, no glint code per ray.
 // Header-only so that `glint bench-accel` (apps/) and pipeline_bench share the very same loop
-// without the product's accelerator class carrying it.
+// without the product's accelerator class carrying it. Here, in the accelerators' folder,
+// because `glint bench-accel` is product code, and product code includes no benchmark.
 #pragma once
 
 #include <embree3/rtcore.h>
