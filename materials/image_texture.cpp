@@ -1,6 +1,7 @@
 // glint — image textures: TextureImages keeps most images in memory as MIP pyramids (mipmap.h)
-// and looks them up itself; the OpenImageIO plugin (image/oiio/textures.cpp, loaded on first
-// use) decodes them, and serves the files kept on disk through its TextureSystem.
+// and looks them up itself; the set's ImageDecoder (in glint the OpenImageIO plugin,
+// image/oiio/, loaded on first use) decodes them, and serves the files kept on disk through its
+// TextureSystem.
 #include "materials/image_texture.h"
 
 #include <tbb/task_group.h>

@@ -9,6 +9,8 @@
 //   EXR with MIP levels), which the cache pages in tile by tile within a memory budget, and
 //   files too large to hold decoded (kMemoryLimitBytes).
 // OpenImageIO decodes the images in memory too (the plugin's decoders), but never looks them up.
+// Materials never name the plugin: a set is given its decoder (ImageDecoder, below) by the one
+// who makes it, the scene builder (the rooms' order, docs/layout.md).
 #pragma once
 
 #include <cstdint>
