@@ -55,7 +55,7 @@ Sampler trackingStream(Sampler& sampler) {
 // whole albedo: the estimate swings between branches (a near-mirror plastic under a sky of 1
 // read 1.42 on one branch, 0.93 on the other). Everywhere else (diffuse surfaces, rough lobes)
 // the light sample is a second, MIS-weighted cosine sample and stays: leaving the sky to the
-// BSDF there was 1.6 to 3.7 times noisier (benchmarks/README, issue 50).
+// BSDF there was 1.3 to 3.7 times noisier (benchmarks/README, issue 50).
 bool leavesLights(const Bsdf& bsdf) {
   const float alpha = bsdf.narrowestAlpha();
   return alpha == 0 || (bsdf.diffuseProbability() <= 0.3f && alpha <= 0.3f);
