@@ -149,28 +149,25 @@ void InstantRadiosityIntegrator::traceLightPaths(int paths, uint64_t seed) {
         throughput *= media()->transmittance(ray, hit.t, mediaSampler);
         if (!(maxComponent(throughput) > 0)) break;
       }
-      const uint32_t materialIndex = scene_.materialIndex(hit);
-      const Material& material = *scene_.materials[materialIndex];
-      const MaterialShading& shading = shading_[materialIndex];
-      MovingFrame movingFrame;
-      SurfaceInteraction si = shadingPoint(ray, hit, RayCone{}, materialIndex, &movingFrame);
-      TextureLookups lookups(si);
-      throughput *= insideTransmittance(material, shading, si, hit.t * length(ray.d));
+      ShadedHit h(scene_, shading_, ray, hit, RayCone{});
+      const SurfaceInteraction& si = h.si;
+      const MaterialShading& shading = h.shading;
+      throughput *= h.inside();
       if (!(maxComponent(throughput) > 0)) break;
 
       // Partly transparent: light passes straight through with probability 1 - opacity.
-      if (shading.transparent && uPass >= material.opacity(si, lookups)) {
+      if (shading.transparent && uPass >= h.opacity()) {
         ray = si.spawnRay(ray.d, ray.time);
         continue;
       }
       if (shading.unlit) break;
-      const Bsdf bsdf = material.bsdf(si, lookups);
+      const Bsdf bsdf = h.bsdf();
 
       // A VPL wherever a non-delta lobe can reflect the light on; it keeps its BSDF.
       if (shading.flags & (kBsdfDiffuse | kBsdfGlossy)) {
         Vpl& v = vpls_.emplace_back();
         v.si = si;
-        v.si.objectFromWorld = nullptr;  // may point to movingFrame, which ends here
+        v.si.objectFromWorld = nullptr;  // may point into `h`, which ends here
         v.bsdf = bsdf;
         v.flux = power0 * throughput;
         v.vertex = vertex;

@@ -1,18 +1,15 @@
 // glint — integrators: radiance along a camera ray.
 #pragma once
 
-#include <cmath>
 #include <cstdint>
 #include <memory>
-#include <new>
-#include <optional>
 #include <string>
-#include <type_traits>
 #include <vector>
 
 #include "renderer/ray_counters.h"
 #include "renderer/sampler.h"
 #include "renderer/scene.h"
+#include "renderer/shading.h"
 #include "renderer/settings.h"
 
 namespace glint {
@@ -25,68 +22,14 @@ struct PathAovs {
   float depth = 0;
   bool hit = false;
 
-  // Records the first hit (material `m` at `si`, its textures read through `lookups`,
-  // `distance` along the camera ray): `hit` always, the attributes only when wanted.
-  void record(const Material& m, const SurfaceInteraction& si, TextureLookups& lookups,
-              float distance) {
+  // Records the first hit: `hit` always, the attributes only when wanted.
+  void record(ShadedHit& h) {
     hit = true;
     if (!wanted) return;
-    albedo = m.albedo(si, lookups);
-    normal = si.ns;
-    depth = distance;
+    albedo = h.albedo();
+    normal = h.si.ns;
+    depth = h.distance;
   }
-};
-
-// What shading a material's hits needs, decided once per material (not per hit).
-struct MaterialShading {
-  SurfaceNeeds needs;
-  bool objectSpace = false;  // object-space textures or snow: set objectFromWorld
-  bool footprint = false;    // filtered textures or bump steps: set the pixel footprint
-  bool unlit = false;
-  bool transparent = false;  // may let light pass straight through (opacity < 1)
-  bool emits = false;        // Material::emitted can be non-zero
-  // Its inside absorbs (Material::absorption): a ray reaching its back face has crossed the
-  // inside and is attenuated by the distance (closed surfaces; see insideTransmittance).
-  bool absorbs = false;
-  uint32_t flags = 0;
-};
-
-// The fraction of light that crosses `distance` inside `material` to reach the back face at
-// si: exp(-absorption * distance) there, 1 at front faces or for clear materials. Integrators
-// apply it to every segment that ends on a back face, which needs no record of which objects a
-// path is inside; the price is that nested or open volumes are not modelled.
-inline Rgb insideTransmittance(const Material& material, const MaterialShading& shading,
-                               const SurfaceInteraction& si, float distance) {
-  if (!shading.absorbs || si.frontFace) return {1, 1, 1};
-  const Rgb sigma = material.absorption();
-  return {std::exp(-sigma.x * distance), std::exp(-sigma.y * distance),
-          std::exp(-sigma.z * distance)};
-}
-
-// Sets si.dpdx/dpdy and si.duvdx/duvdy for a ray of unit direction `d` whose pixel cone is
-// `width` wide at the hit: two perpendicular cone radii projected onto the surface's tangent
-// plane along d, then expressed in uv by least squares on dp/du and dp/dv (pbrt-v4's
-// SurfaceInteraction::ComputeDifferentials).
-void setPixelFootprint(SurfaceInteraction& si, Vec3f d, float width);
-
-// Room for a moving object's frame at one ray's time, which a SurfaceInteraction may point to
-// (si.objectFromWorld); constructed only when a hit needs it. A std::optional<Transform> in its
-// place was zero-filled (128 bytes, `rep stos`) on every hit: a fifth of Whitted's own time per
-// hit in features_bench's profile.
-class MovingFrame {
- public:
-  MovingFrame() {}
-  MovingFrame(const MovingFrame&) = delete;
-  MovingFrame& operator=(const MovingFrame&) = delete;
-  const Transform* set(const Transform& t) {
-    static_assert(std::is_trivially_destructible_v<Transform>);
-    return new (&frame_) Transform(t);
-  }
-
- private:
-  union {
-    Transform frame_;
-  };
 };
 
 class Integrator {
@@ -114,14 +57,6 @@ class Integrator {
   virtual std::vector<SetupStat> setupStats() const { return {}; }
 
  protected:
-  // The surface details of `hit` for shading with material `materialIndex`: only the
-  // attributes that material needs, its object frame and pixel footprint when it reads them,
-  // and its shading normal perturbed (bump, normal map, snow). A moving object's frame at the
-  // ray's time goes into `movingFrame`, which the caller keeps alive while it uses the result
-  // (SurfaceInteraction points to it; holding it inline would enlarge every hit's record).
-  SurfaceInteraction shadingPoint(const Ray& ray, const Hit& hit, const RayCone& cone,
-                                  uint32_t materialIndex, MovingFrame* movingFrame) const;
-
   // Whitted-style delta bounces at `si`: for each specular lobe (reflection, transmission) in
   // `flags` (the material's, so that every hit on it draws the same dimensions), one sample of
   // the BSDF's delta part, its weight times trace(ray, branchWeight) for the spawned ray.
@@ -164,7 +99,9 @@ class Integrator {
   }
 
   const RenderScene& scene_;
-  std::vector<MaterialShading> shading_;  // per material
+  // What each material's hits need, per material: hits are shaded as
+  // ShadedHit h(scene_, shading_, ray, hit, cone).
+  std::vector<MaterialShading> shading_;
 };
 
 // The integrators there are.

@@ -123,11 +123,8 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
       if (depth == 0 && hit) {
         aovs.hit = true;
         if (aovs.wanted) {  // shaded here only for the AOVs: the medium may hide it
-          const uint32_t m = scene_.materialIndex(*hit);
-          MovingFrame movingFrame;
-          const SurfaceInteraction si = shadingPoint(ray, *hit, cone, m, &movingFrame);
-          TextureLookups lookups(si);
-          aovs.record(*scene_.materials[m], si, lookups, hit->t * length(ray.d));
+          ShadedHit h(scene_, shading_, ray, *hit, cone);
+          aovs.record(h);
         }
       }
       // --- The media along the segment: emission, then pass or scatter.
@@ -184,17 +181,13 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
       break;
     }
 
-    const uint32_t materialIndex = scene_.materialIndex(*hit);
-    const Material& material = *scene_.materials[materialIndex];
-    const MaterialShading& shading = shading_[materialIndex];
-    MovingFrame movingFrame;  // a moving object's frame: lives as long as `si`
-    SurfaceInteraction si = shadingPoint(ray, *hit, cone, materialIndex, &movingFrame);
-    TextureLookups lookups(si);  // each texture read once at this vertex
-    const float distance = hit->t * length(ray.d);
-    if (!kMedia && depth == 0) aovs.record(material, si, lookups, distance);
-    beta *= insideTransmittance(material, shading, si, distance);  // KHR_materials_volume
+    ShadedHit h(scene_, shading_, ray, *hit, cone);
+    const SurfaceInteraction& si = h.si;
+    const MaterialShading& shading = h.shading;
+    if (!kMedia && depth == 0) aovs.record(h);
+    beta *= h.inside();  // KHR_materials_volume
     if (!(maxComponent(beta) > 0)) break;
-    cone = RayCone{cone.widthAt(distance), cone.spread};
+    cone = RayCone{cone.widthAt(h.distance), cone.spread};
 
     // The vertex's sampler dimensions, all drawn whatever happens below (kVertexDimensions).
     const VertexSamples u(sampler);
@@ -202,7 +195,7 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
     // --- Partly transparent: pass straight through with probability 1 - opacity (beta
     // unchanged: the probability and the weight cancel). The previous vertex stays the MIS
     // reference, since the direction does not change.
-    if (shading.transparent && u.uPass >= material.opacity(si, lookups)) {
+    if (shading.transparent && u.uPass >= h.opacity()) {
       if (depth >= maxDepth_) break;
       ray = si.spawnRay(ray.d, ray.time);
       ++counters.secondary;
@@ -211,13 +204,13 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
     }
 
     if (shading.unlit) {
-      L += beta * material.unlitRadiance(si, lookups);
+      L += beta * h.unlitRadiance();
       break;
     }
 
     // --- Emission found by the camera or a BSDF sample.
     if (shading.emits) {
-      const Rgb Le = material.emitted(si, lookups);
+      const Rgb Le = h.emitted();
       if (maxComponent(Le) > 0) {
         uint32_t index = 0;
         const Light* area = scene_.areaLight(*hit, &index);
@@ -233,7 +226,7 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
     if (depth >= maxDepth_) break;
 
     // The material's parameters, read once for next-event estimation and the next direction.
-    const Bsdf bsdf = material.bsdf(si, lookups);
+    const Bsdf bsdf = h.bsdf();
 
     // --- Next-event estimation, at surfaces with a non-delta lobe.
     const bool leftLights = someLeftToBsdf_ && leavesLights(bsdf);

@@ -22,7 +22,7 @@
 // Shared with Whitted: unlit (eyelight) materials return colour x |cos| and end the path;
 // partly transparent surfaces (opacity < 1) let the path pass straight through with
 // probability 1 - opacity (a pass counts as a bounce, as in Whitted); AOVs are the first
-// hit's; shading goes through Integrator::shadingPoint.
+// hit's; a hit is shaded through ShadedHit (renderer/shading.h).
 //
 // Every vertex draws the same kVertexDimensions sampler dimensions in the same order
 // (pass-through, light choice, light point, BSDF direction, BSDF lobe, roulette), whichever

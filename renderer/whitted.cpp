@@ -38,12 +38,9 @@ Rgb WhittedIntegrator::LiFromHit(const Ray& ray, const Hit* hit, Sampler& sample
 
 Rgb WhittedIntegrator::shadeUnlit(const Ray& ray, const Hit& hit, uint32_t materialIndex,
                                   PathAovs& aovs) const {
-  const Material& material = *scene_.materials[materialIndex];
-  MovingFrame movingFrame;
-  const SurfaceInteraction si = shadingPoint(ray, hit, cameraCone_, materialIndex, &movingFrame);
-  TextureLookups lookups(si);
-  aovs.record(material, si, lookups, hit.t * length(ray.d));
-  return material.unlitRadiance(si, lookups);
+  ShadedHit h(scene_, shading_, materialIndex, ray, hit, cameraCone_);
+  aovs.record(h);
+  return h.unlitRadiance();
 }
 
 Rgb WhittedIntegrator::trace(const Ray& ray, const RayCone& cone, int depth, float weight,
@@ -71,40 +68,38 @@ template <bool kPlain>
 Rgb WhittedIntegrator::shadeAt(const Ray& ray, const Hit& hit, uint32_t materialIndex,
                                const RayCone& cone, int depth, float weight, Sampler& sampler,
                                RayCounters& counters, PathAovs* aovs) const {
-  const Material& material = *scene_.materials[materialIndex];
-  const MaterialShading& shading = shading_[materialIndex];
-  MovingFrame movingFrame;  // a moving object's frame: lives as long as `si`
-  SurfaceInteraction si = shadingPoint(ray, hit, cone, materialIndex, &movingFrame);
-  TextureLookups lookups(si);
-  if (aovs) aovs->record(material, si, lookups, hit.t * length(ray.d));
+  ShadedHit h(scene_, shading_, materialIndex, ray, hit, cone);
+  const SurfaceInteraction& si = h.si;
+  const MaterialShading& shading = h.shading;
+  if (aovs) aovs->record(h);
   if constexpr (kPlain) {
-    const Bsdf bsdf = material.bsdf(si, lookups);
+    const Bsdf bsdf = h.bsdf();
     return plainShadows_ ? directLight<true>(si, bsdf, ray.time, sampler, counters)
                          : directLight<false>(si, bsdf, ray.time, sampler, counters);
   }
   // Light reaching a back face of an absorbing volume crossed its inside.
-  const Rgb inside = insideTransmittance(material, shading, si, hit.t * length(ray.d));
+  const Rgb inside = h.inside();
   if (!(maxComponent(inside) > 0)) return {};
   // The cone at the hit, carried on by every secondary ray from here (only they need it).
-  auto next = [&] { return RayCone{cone.widthAt(hit.t * length(ray.d)), cone.spread}; };
+  const RayCone next{cone.widthAt(h.distance), cone.spread};
 
   // Partly transparent surfaces: the rest of the light comes straight through.
-  const float opacity = shading.transparent ? material.opacity(si, lookups) : 1.0f;
+  const float opacity = shading.transparent ? h.opacity() : 1.0f;
   Rgb behind;
   if (opacity < 1) {
     if (depth < maxDepth_)
-      behind = trace(si.spawnRay(ray.d, ray.time), next(), depth + 1, weight * (1 - opacity),
+      behind = trace(si.spawnRay(ray.d, ray.time), next, depth + 1, weight * (1 - opacity),
                      sampler, counters);
     if (opacity <= 0) return behind * inside;
   }
 
   Rgb L;
   if (shading.unlit) {
-    L = material.unlitRadiance(si, lookups);
+    L = h.unlitRadiance();
     return (opacity < 1 ? L * opacity + behind * (1 - opacity) : L) * inside;
   }
-  const Bsdf bsdf = material.bsdf(si, lookups);
-  if (shading.emits) L = material.emitted(si, lookups);
+  const Bsdf bsdf = h.bsdf();
+  if (shading.emits) L = h.emitted();
   L += directLight<false>(si, bsdf, ray.time, sampler, counters);
   if (indirect_ && (shading.flags & (kBsdfDiffuse | kBsdfGlossy)))
     L += indirectLight(si, bsdf, ray.time, sampler, counters);
@@ -112,7 +107,7 @@ Rgb WhittedIntegrator::shadeAt(const Ray& ray, const Hit& hit, uint32_t material
   if ((shading.flags & kBsdfSpecular) && depth < maxDepth_)
     L += specularBounces(bsdf, si, shading.flags, ray.time, sampler, weight, minWeight_,
                          [&](const Ray& r, float branchWeight) {
-                           return trace(r, next(), depth + 1, branchWeight, sampler, counters);
+                           return trace(r, next, depth + 1, branchWeight, sampler, counters);
                          });
   return (opacity < 1 ? L * opacity + behind * (1 - opacity) : L) * inside;
 }
@@ -180,21 +175,19 @@ Rgb WhittedIntegrator::throughGlass(const Ray& shadow, RayCounters& counters) co
     Hit hit;
     if (!scene_.accel->closestHit(ray, &hit)) return T;
     const uint32_t materialIndex = scene_.materialIndex(hit);
-    const Material& material = *scene_.materials[materialIndex];
-    const MaterialShading& shading = shading_[materialIndex];
-    if (!(shading.flags & kBsdfTransmission) || !material.traits().refraction) return {};
-    MovingFrame movingFrame;
-    SurfaceInteraction si = shadingPoint(ray, hit, RayCone{}, materialIndex, &movingFrame);
-    TextureLookups lookups(si);
-    const Bsdf::StraightCrossing c = material.bsdf(si, lookups).straightCrossing(ray.d, si.frontFace);
+    if (!(shading_[materialIndex].flags & kBsdfTransmission) ||
+        !scene_.materials[materialIndex]->traits().refraction)
+      return {};
+    ShadedHit h(scene_, shading_, materialIndex, ray, hit, RayCone{});
+    const SurfaceInteraction& si = h.si;
+    const Bsdf::StraightCrossing c = h.bsdf().straightCrossing(ray.d, si.frontFace);
     if (si.frontFace) {
       T *= c.tint * (1 - c.R);
       entryR = c.R;
     } else {
       // Leaving: the light reflected back and forth between entry and exit adds up to
       // 1 / (1 - R1 R2); the inside absorbs along the way (KHR_materials_volume).
-      T *= c.tint * ((1 - c.R) / std::max(1 - entryR * c.R, 1e-6f)) *
-           insideTransmittance(material, shading, si, hit.t);
+      T *= c.tint * ((1 - c.R) / std::max(1 - entryR * c.R, 1e-6f)) * h.inside();
       entryR = 0;
     }
     if (!(maxComponent(T) > 0)) return {};
