@@ -6,7 +6,7 @@
 #include <filesystem>
 
 #include "image/io.h"
-#include "image/output.h"
+#include "image/input.h"
 
 namespace fs = std::filesystem;
 

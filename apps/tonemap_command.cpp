@@ -25,6 +25,7 @@
 #include "apps/commands.h"
 #include "apps/frames.h"
 #include "image/color.h"
+#include "image/input.h"
 #include "image/output.h"
 #include "image/tonemap.h"
 #include "renderer/progress.h"

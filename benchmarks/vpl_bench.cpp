@@ -1,5 +1,5 @@
 // glint benchmark — instant radiosity: VPL count against time and error. The Cornell-style box
-// of tests/images/scenes/cornell_ir.json (quad light, Lambert walls, a block and a ball) at
+// of tests/reference_images/scenes/cornell_ir.json (quad light, Lambert walls, a block and a ball) at
 // 32x32, 16 spp, max depth 6, rendered with 16, 64, 256 and 1024 light paths, unclamped, with
 // the G bound 100 the reference scene uses, and with a tight bound of 10 (the box is 2 wide:
 // 10 is below 1 / (0.2 x size)^2, so its bias shows). Each run's time includes tracing the light
@@ -31,10 +31,10 @@ namespace {
 
 constexpr int kSize = 32, kSpp = 16, kReferenceSpp = 4096;
 
-// The box of tests/images/scenes/cornell_ir.json, rendered smaller and with the light paths
+// The box of tests/reference_images/scenes/cornell_ir.json, rendered smaller and with the light paths
 // and clamp each run asks for.
 std::string boxJson() {
-  const std::string path = std::string(GLINT_SOURCE_DIR) + "/tests/images/scenes/cornell_ir.json";
+  const std::string path = std::string(GLINT_SOURCE_DIR) + "/tests/reference_images/scenes/cornell_ir.json";
   std::ifstream in(path);
   if (!in) {
     std::fprintf(stderr, "vpl_bench: cannot read %s\n", path.c_str());

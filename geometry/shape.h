@@ -148,23 +148,6 @@ class Shape {
   // Surface details of a hit this shape reported for `ray` (`details`: which optional ones).
   virtual ShapeSurface surface(const Ray& ray, const ShapeHit& hit,
                                SurfaceDetails details) const = 0;
-  // True for closed convex solids that can be CSG leaves (sphere, box, capped cylinder and
-  // cone, the plane as the half-space below it).
-  virtual bool isSolid() const { return false; }
-  // For solids: the span of the ray's line inside the solid; false when the line misses it.
-  // With a tolerance, each crossing's tieWidth says how far it may move with the surface.
-  virtual bool span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) const {
-    (void)ray, (void)tolerance, (void)out;
-    return false;
-  }
-  // Which material slot a hit part uses: 0 for primitives, the leaf index for CSG trees.
-  virtual uint32_t materialSlot(uint32_t part) const {
-    (void)part;
-    return 0;
-  }
-  // Number of material slots (CSG: one per leaf).
-  virtual uint32_t materialSlotCount() const { return 1; }
-
   // Surface area; 0 when the shape cannot be sampled (and so cannot be an area light).
   virtual float area() const { return 0; }
   // A point uniform by area for u in [0, 1)^2; nullopt when area() == 0.
@@ -186,6 +169,29 @@ class Shape {
   }
   // The unit normal of a flat shape (quad, disk), zero for others: bounds a light's emission.
   virtual Vec3f flatNormal() const { return {}; }
+
+  // --- Constructive solid geometry. A leaf of a CSG tree must be a solid and answer span();
+  // a tree (CsgShape) has a material slot per leaf. Every other shape keeps the defaults. They
+  // stay virtuals of Shape rather than a Solid subclass: whether a cylinder or cone is a solid
+  // is decided at run time (capped or not), and the placed-shape wrapper forwards them
+  // (docs/design.md).
+
+  // True for closed convex solids that can be CSG leaves (sphere, box, capped cylinder and
+  // cone, the plane as the half-space below it).
+  virtual bool isSolid() const { return false; }
+  // For solids: the span of the ray's line inside the solid; false when the line misses it.
+  // With a tolerance, each crossing's tieWidth says how far it may move with the surface.
+  virtual bool span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) const {
+    (void)ray, (void)tolerance, (void)out;
+    return false;
+  }
+  // Which material slot a hit part uses: 0 for primitives, the leaf index for CSG trees.
+  virtual uint32_t materialSlot(uint32_t part) const {
+    (void)part;
+    return 0;
+  }
+  // Number of material slots (CSG: one per leaf).
+  virtual uint32_t materialSlotCount() const { return 1; }
 };
 
 // True when `b` has an infinite component (an unbounded shape).

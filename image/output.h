@@ -1,6 +1,6 @@
-// glint — a Film to and from disk: scene-linear EXR, or display-referred PNG/JPEG/TIFF through
-// exposure, tone mapping and an OpenColorIO display/view transform. All through image/io.h's
-// one reader and one atomic writer.
+// glint — a Film to disk: scene-linear EXR, or display-referred PNG/JPEG/TIFF through exposure,
+// tone mapping and an OpenColorIO display/view transform, all through image/io.h's one atomic
+// writer. Reading films back (EXR, a render to resume, environment maps) is image/input.h.
 #pragma once
 
 #include <string>
@@ -30,21 +30,5 @@ void writeDisplayImage(const std::string& path, const Film& film, const ToneMapS
 // writeImage. Throws OutputError.
 void writeRawImage(const std::string& path, int width, int height, int channels,
                    const std::vector<float>& pixels);
-
-// Reads a scene-linear EXR (the R, G, B channels, and A when present, else alpha 1) into a film
-// without AOVs; fills *meta from glint's attributes when given. Throws ImageReadError naming
-// the file when it is missing, unreadable or has no R, G, B channels.
-Film readExr(const std::string& path, ImageMetadata* meta = nullptr);
-
-// Reads what `glint render --resume` continues from: an EXR glint wrote in float, with its
-// variance channels (and "samples" when adaptive sampling set each pixel's count; else every
-// pixel has glint:spp), AOVs when present, its data window and metadata. When the file cannot
-// be continued, returns an empty film (width 0) and says why in *whyNot. Throws ImageReadError
-// (DecodeError) when the file cannot be read at all.
-Film readRenderState(const std::string& path, ImageMetadata* meta, std::string* whyNot);
-
-// The same for any scene-linear image glint reads as light: OpenEXR or Radiance .hdr
-// (environment maps). Throws ImageReadError naming the file for any other format.
-Film readSceneLinear(const std::string& path);
 
 }  // namespace glint

@@ -1,6 +1,6 @@
 // glint — SceneFeatures: the effects a scene calls for.
 //
-// Computed once from the built scene; it is the only switch for optional work (which surface
+// Computed once from the built scene (detectFeatures, below); it is the only switch for optional work (which surface
 // attributes are interpolated, whether shadow rays are traced, later: lens sampling, motion
 // time steps, media). `glint info` prints it and `--stats` records it. A scene without an
 // effect pays nothing for it. Later issues add flags; keep names short and user-facing.
@@ -53,5 +53,22 @@ class SceneFeatures {
 
 // The user-facing name of a feature ("motion blur").
 const char* featureName(Feature f);
+
+struct RenderScene;
+struct IntegratorSettings;
+
+// What the builder made that the built scene does not show by itself.
+struct BuildNotes {
+  bool defaultLight = false;  // the scene brought no light; the builder added the studio
+  bool terrain = false;    // a fractal terrain was meshed
+};
+
+// The scene's effects, decided in this one place once everything is built (geometry,
+// materials, camera, lights, media): what the materials read and do, what lights there are,
+// lens and motion from the camera and the instances, media, and what the integrator
+// `integrator` resolves to follows (indirect light, VPLs). Every optional code path asks the
+// result, never the parts.
+SceneFeatures detectFeatures(const RenderScene& scene, const IntegratorSettings& integrator,
+                             const BuildNotes& notes);
 
 }  // namespace glint

@@ -97,17 +97,4 @@ struct RenderScene {
   }
 };
 
-// What the builder made that the built scene does not show by itself.
-struct BuildNotes {
-  bool defaultLight = false;  // the scene brought no light; the builder added the studio
-  bool terrain = false;    // a fractal terrain was meshed
-};
-
-// The scene's effects, decided in this one place once everything is built (geometry,
-// materials, camera, lights, media): what the materials read and do, what lights there are,
-// lens and motion from the camera and the instances, media, and what the integrator
-// `integrator` resolves to follows (indirect light, VPLs). Every optional code path asks the
-// result, never the parts.
-SceneFeatures detectFeatures(const RenderScene& scene, const IntegratorSettings& integrator,
-                             const BuildNotes& notes);
 }  // namespace glint

@@ -345,8 +345,10 @@ void addLayers(const MaterialDesc& m, TextureCache& textures, PbrParams* p) {
           std::min(-std::log(std::max(l.attenuationColor[c], 1e-30f)), 69.0f) / l.attenuationDistance;
 }
 
-std::unique_ptr<Material> makeBsdf(const MaterialDesc& m, const ColorParam& base,
-                                   const ColorParam& emission, TextureCache& textures) {
+// The material of m's type (how it scatters and emits), before the modifiers every type shares
+// (alpha, normal or bump map, snow), which makeMaterial adds.
+std::unique_ptr<Material> makeTypedMaterial(const MaterialDesc& m, const ColorParam& base,
+                                            const ColorParam& emission, TextureCache& textures) {
   switch (m.type) {
     case MaterialType::Eyelight:
       return std::make_unique<EyelightMaterial>(base);
@@ -406,7 +408,7 @@ std::unique_ptr<Material> makeMaterial(const MaterialDesc& m, bool vertexColors,
                                        TextureCache& textures) {
   ColorParam base{m.baseColor, textures.get(m.baseColorTexture, true), vertexColors};
   ColorParam emission{m.emissive, textures.get(m.emissiveTexture, true), false};
-  std::unique_ptr<Material> material = makeBsdf(m, base, emission, textures);
+  std::unique_ptr<Material> material = makeTypedMaterial(m, base, emission, textures);
   if (m.alphaMode != AlphaModeDesc::Opaque)
     material->setAlpha(toAlphaMode(m.alphaMode), m.opacity, m.alphaCutoff, base);
   if (m.normalTexture >= 0)

@@ -6,7 +6,7 @@
 #include "geometry/shapes/disk.h"
 #include "geometry/shapes/quad.h"
 #include "geometry/shapes/sphere.h"
-#include "image/output.h"
+#include "image/input.h"
 #include "renderer/area_lights.h"
 #include "renderer/environment_light.h"
 #include "renderer/projective_light.h"

@@ -18,6 +18,8 @@ PACKAGES=(
   # from Node.js (installed below when the machine has no node)
   libcpp-httplib-dev chromium
   libgtest-dev libbenchmark-dev
+  # scripts/check_format.sh (.clang-format); scripts/code_size.py finds functions with ctags
+  clang-format universal-ctags
   python3 python3-matplotlib
   # scripts/sanitize.sh: Clang with its ASan/UBSan/libFuzzer runtimes and llvm-symbolizer
   clang libclang-rt-14-dev llvm

@@ -9,9 +9,10 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/scripts/setup.sh"
-# The house's include order (rooms include only rooms below them, no header cycles): seconds,
-# so before the build.
+# The house's include order (rooms include only rooms below them, no header cycles) and its
+# format (clang-format, .clang-format): seconds, so before the build.
 python3 "$root/scripts/check_includes.py"
+"$root/scripts/check_format.sh"
 build_dir="$root/build-tests"
 # RelWithDebInfo with line tables only (-g1): a failure's backtrace still names files and
 # lines, and the build takes two thirds of the time full debug information does (a test file

@@ -29,7 +29,7 @@ Rendered renderJson(const std::string& text);
 // scene, casts shadows and replaces the default light.
 void useUniformEnvironment(RenderScene* scene, Rgb L);
 
-// A glint JSON scene (tests/images/scenes/cornell_path.json in code): a closed box
+// A glint JSON scene (tests/reference_images/scenes/cornell_path.json in code): a closed box
 // [-1, 1] x [0, 2] x [-1, 1] of Lambert walls (red left, green right, white elsewhere) holding a
 // white block and a white ball, lit by a quad light under the ceiling (or a point light), seen
 // from just inside the front wall, at `size`² pixels. `integrator` is the render block's
@@ -43,7 +43,7 @@ std::string litBallJson(int width, int height);
 
 // Folder of the project's own test data (tests/data).
 std::string dataDir();
-// The checkout's root folder (scenes/, tests/images/, ...).
+// The checkout's root folder (scenes/, tests/reference_images/, ...).
 std::string sourceDir();
 // The shared asset folder: $GLINT_ASSETS, else the CMake setting (../shared/assets).
 std::string assetsDir();

@@ -6,7 +6,7 @@
 bricks_height.png: a 128x128 8-bit grey height map of running-bond bricks (4 courses of 2 bricks,
 every other course shifted by half a brick), bricks high (about 0.8..1, slightly rough) with
 bevelled edges, mortar joints low (0). It tiles seamlessly. Read it as linear data ("colorspace": "linear"); the
-reference scene tests/images/scenes/bump_wall.json bump-maps a wall with it.
+reference scene tests/reference_images/scenes/bump_wall.json bump-maps a wall with it.
 
 Pure Python (zlib + struct): no third-party modules, and the output is byte-identical on every
 machine, so re-running the script does not change the committed file.

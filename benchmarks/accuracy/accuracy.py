@@ -179,9 +179,9 @@ EFFECTS = [
     },
     {
         "name": "instant_radiosity",
-        "title": "Cornell box (tests/images/scenes/cornell_ir.json): instant radiosity's VPL "
+        "title": "Cornell box (tests/reference_images/scenes/cornell_ir.json): instant radiosity's VPL "
                  "count and clamp against the path tracer",
-        "scene": "tests/images/scenes/cornell_ir.json",
+        "scene": "tests/reference_images/scenes/cornell_ir.json",
         "width": 64, "height": 64,
         "references": {"path": {"integrator": {"type": "path", "max_depth": 6}, "spp": 4096}},
         "methods": [

@@ -19,7 +19,7 @@ struct Case {
   const char* scene;  // relative to the source tree
 };
 
-// How ctest lists a case ("kdtree on tests/images/scenes/csg.json"), not as raw bytes.
+// How ctest lists a case ("kdtree on tests/reference_images/scenes/csg.json"), not as raw bytes.
 void PrintTo(const Case& c, std::ostream* os) { *os << c.accel << " on " << c.scene; }
 
 class AccelRender : public testing::TestWithParam<Case> {};
@@ -46,8 +46,8 @@ std::vector<Case> cases() {
   std::vector<Case> out;
   for (const char* accel : {"kdtree", "kdtree-median"})
     for (const char* scene :
-         {"scenes/demo/demo.gltf", "tests/images/scenes/csg.json",
-          "tests/images/scenes/primitives.json", "tests/data/scenes/two_instances.gltf"})
+         {"scenes/demo/demo.gltf", "tests/reference_images/scenes/csg.json",
+          "tests/reference_images/scenes/primitives.json", "tests/data/scenes/two_instances.gltf"})
       out.push_back({accel, scene});
   return out;
 }

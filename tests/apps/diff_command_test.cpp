@@ -121,7 +121,7 @@ TEST(DiffCommand, JsonReportsTheMetrics) {
 // Statistical mode end to end: a glint reference with variance, renders at lower spp.
 TEST(DiffCommand, StatisticalModeJudgesRendersAgainstAReferenceWithVariance) {
   std::string dir = test::scratchDir("DiffCommand.StatisticalMode");
-  std::string scene = test::sourceDir() + "/tests/images/scenes/cornell_path.json";
+  std::string scene = test::sourceDir() + "/tests/reference_images/scenes/cornell_path.json";
   std::string size = " --width 24 --height 24 --quiet";
   test::CommandResult r =
       test::runGlint("render " + q(scene) + size + " --spp 1024 --aovs -o " + q(dir + "/ref.exr"));

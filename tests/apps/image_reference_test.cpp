@@ -1,7 +1,7 @@
-// Reference images: one small scene per effect family (tests/images/references.json), rendered
+// Reference images: one small scene per effect family (tests/reference_images/references.json), rendered
 // by `glint render` at a few spp and compared by `glint diff --statistical` with a reference
 // rendered at 64x the spp that stores each pixel's mean and the variance of that mean
-// (tests/images/references/NAME.exr). The comparison is a per-pixel z-test with a Šidák
+// (tests/reference_images/references/NAME.exr). The comparison is a per-pixel z-test with a Šidák
 // correction, a global bias test and a hard cap on any pixel's error (image/statistical.h):
 // it tolerates noise and the last-bit differences between CPUs (Embree picks SSE/AVX2/AVX-512
 // kernels at run time) and nothing more; tests below check that it does fail a visibly
@@ -14,7 +14,7 @@
 // NAME.heatmap.png (each pixel's |z|: black, blue, yellow at the failure threshold, red,
 // white) in its scratch folder and prints their paths.
 //
-// Regenerate the references with tests/images/update_references.py after an intended change;
+// Regenerate the references with tests/reference_images/update_references.py after an intended change;
 // the tests never write them. Khronos glTF samples come from the shared asset folder; a
 // missing asset fails its test (never skips).
 #include <gtest/gtest.h>
@@ -36,9 +36,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string imagesDir() { return test::sourceDir() + "/tests/images"; }
+std::string imagesDir() { return test::sourceDir() + "/tests/reference_images"; }
 
-// One entry of tests/images/references.json.
+// One entry of tests/reference_images/references.json.
 struct ReferenceCase {
   std::string name, scene, asset, sidecar, camera;
   int width = 0, height = 0, spp = 0;
@@ -115,7 +115,7 @@ TEST_P(ImageReference, MatchesTheReferenceStatistically) {
            "benchmarks/get_assets.sh)";
   }
   std::string reference = imagesDir() + "/references/" + c.name + ".exr";
-  ASSERT_TRUE(fs::exists(reference)) << reference << " (tests/images/update_references.py)";
+  ASSERT_TRUE(fs::exists(reference)) << reference << " (tests/reference_images/update_references.py)";
   std::string dir = test::scratchDir("reference_" + c.name);
   std::string image = dir + "/" + c.name + ".exr";
   test::CommandResult r = test::runGlint("render " + renderArgs(c) + " --threads 2 -o '" + image +

@@ -9,7 +9,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "image/output.h"
+#include "image/input.h"
 #include "test_support.h"
 
 namespace glint {

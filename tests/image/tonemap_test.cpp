@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "image/color.h"
+#include "image/input.h"
 #include "image/output.h"
 #include "test_support.h"
 

@@ -1,6 +1,6 @@
 // The invariance net (issue 49, item 4): translation, scale, rotation and mirroring.
 //
-// Every reference scene of tests/images/references.json and a small version of each showcase
+// Every reference scene of tests/reference_images/references.json and a small version of each showcase
 // scene is rendered as it is and again with the whole scene moved by a similarity map, with
 // the same seed, spp and size; the two images must agree (compareFilms in invariance.h: no
 // pixel outside the range the other image has within `radius` pixels, by more than a
@@ -60,7 +60,7 @@ bool sweep() {
 }
 
 using test::sourceDir;
-std::string imagesDir() { return sourceDir() + "/tests/images"; }
+std::string imagesDir() { return sourceDir() + "/tests/reference_images"; }
 
 Json readJson(const std::string& path) {
   std::ifstream in(path);
