@@ -3,6 +3,7 @@
 // never writes or replaces an output image.
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -136,6 +137,26 @@ TEST(CliBadInput, CsgFileWithStackUnderflow) {
   std::ofstream(dir + "/scene.glint.json")
       << R"({"objects": [{"type": "csg", "file": "tree.csg"}]})";
   expectRejected("csg_underflow", shellQuote(dir + "/scene.gltf"), {"tree.csg:2", "underflow"});
+}
+
+// A .vol grid whose header asks for 4096^3 values over a file of a few bytes: exit code 2
+// naming the sidecar's key and the .vol file (it was "cannot build the scene: std::bad_alloc",
+// exit code 1).
+TEST(CliBadInput, VolFileWithAHeaderLargerThanTheFile) {
+  std::string dir = test::scratchDir("bad_vol_file");
+  fs::copy_file(test::dataDir() + "/scenes/lambert_plane.gltf", dir + "/scene.gltf");
+  {
+    std::ofstream vol(dir + "/smoke.vol", std::ios::binary);
+    vol.write("VOL\3", 4);
+    const int32_t header[5] = {1, 4096, 4096, 4096, 1};
+    const float box[6] = {0, 0, 0, 1, 1, 1};
+    vol.write(reinterpret_cast<const char*>(header), sizeof header);
+    vol.write(reinterpret_cast<const char*>(box), sizeof box);
+  }
+  std::ofstream(dir + "/scene.glint.json")
+      << R"({"media": [{"sigma_s": 1, "density": {"type": "grid", "file": "smoke.vol"}}]})";
+  expectRejected("vol_header", shellQuote(dir + "/scene.gltf"),
+                 {"scene.glint.json: /media/0/density/file: ", "smoke.vol: truncated data"});
 }
 
 TEST(CliBadInput, UnknownMaterialType) {
