@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <stdexcept>
 
 #include "geometry/accel/accelerator.h"
 #include "image/output.h"
@@ -210,6 +211,8 @@ void namingFile(const std::string& file, const std::string& doing,
     throw;  // names its file and JSON pointer already
   } catch (const InputError& e) {
     throw InputError(file + ": " + e.what());
+  } catch (const std::logic_error&) {
+    throw;  // a bug: main says "internal error"
   } catch (const std::exception& e) {
     throw FailureError(file + ": " + (doing.empty() ? "" : doing + ": ") + e.what());
   }

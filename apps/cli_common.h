@@ -51,8 +51,9 @@ CLI::Validator numberIn(const Range& range, bool whole = false);
 
 // Runs `work`, which loads, builds or renders `file`, so that its errors name the file: a bad
 // input that does not name it already (a renderer setting, a tile count above the image height)
-// becomes the InputError "FILE: message"; anything else that is not a SceneError becomes the
-// failure "FILE: DOING: message" (or "FILE: message" without `doing`). The renderer cannot say
+// becomes the InputError "FILE: message"; a std::logic_error (a bug) passes as it is; anything
+// else that is not a SceneError becomes the failure "FILE: DOING: message" (or "FILE: message"
+// without `doing`: a failed write, out of memory, an Embree failure). The renderer cannot say
 // which file its settings came from; this is where the commands add it, and main.cpp alone turns
 // the error into an exit code.
 void namingFile(const std::string& file, const std::string& doing,

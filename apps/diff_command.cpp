@@ -332,7 +332,7 @@ bool runDiff(const DiffOptions& o) {
 
 }  // namespace
 
-void addDiffCommand(CLI::App& app, bool* differ) {
+void addDiffCommand(CLI::App& app, Outcome* outcome) {
   auto options = std::make_shared<DiffOptions>();
   const CLI::Validator nonNegative = numberIn({.ge = 0}), percent = numberIn({.ge = 0, .le = 100});
   CLI::App* cmd = app.add_subcommand(
@@ -391,7 +391,7 @@ void addDiffCommand(CLI::App& app, bool* differ) {
       ->check(numberIn({.ge = 0, .le = 1}));
   cmd->add_option("--flip-map", options->flipMap,
                   "FLIP: write the error map (magma colours) to this PNG");
-  cmd->callback([options, differ] { *differ = runDiff(*options); });
+  cmd->callback([options, outcome] { outcome->imagesDiffer = runDiff(*options); });
 }
 
 }  // namespace glint::app

@@ -2,7 +2,9 @@
 // assemble`.
 //
 // Exit codes: 0 success, 1 a render or write that failed or images that differ, 2 bad input or
-// usage. They are decided here and nowhere else.
+// usage, 128 + signal a render stopped by Ctrl-C or SIGTERM (its outputs written). They are
+// decided here and nowhere else, but for a second Ctrl-C: it quits at once from the signal
+// handler (apps/interrupt.cpp), where nothing may unwind to main, with the same 128 + signal.
 #include <cctype>
 #include <cstdio>
 #include <exception>
@@ -85,10 +87,10 @@ int main(int argc, char** argv) {
   CLI::App app{"glint: a ray tracer for glTF 2.0 scenes with a sidecar JSON, on Intel Embree"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "glint 0.1.0");
-  bool imagesDiffer = false;
-  glint::app::addRenderCommand(app);
+  glint::app::Outcome outcome;
+  glint::app::addRenderCommand(app, &outcome);
   glint::app::addInfoCommand(app);
-  glint::app::addDiffCommand(app, &imagesDiffer);
+  glint::app::addDiffCommand(app, &outcome);
   glint::app::addBenchAccelCommand(app);
   glint::app::addTonemapCommand(app);
   glint::app::addAssembleCommand(app);
@@ -114,5 +116,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "glint: internal error: %s\n", e.what());
     return 1;
   }
-  return imagesDiffer ? 1 : 0;
+  // Interrupted: the outputs are written (or there was nothing to write), and the status says
+  // the render did not finish, as the shell's would for the signal.
+  if (outcome.interruptedBy) return 128 + outcome.interruptedBy;
+  return outcome.imagesDiffer ? 1 : 0;
 }

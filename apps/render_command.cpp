@@ -534,9 +534,10 @@ void runSequence(const RenderArgs& args, const std::vector<std::string>& pattern
 }
 
 // Throws InputError for options that cannot work together, SceneError for the scene, and a
-// FailureError (OutputError among them) for a render or write that failed: main.cpp decides
-// the exit code.
-void runRender(RenderArgs args) {
+// FailureError (OutputError among them) for a render or write that failed. Returns the signal
+// that interrupted the render once its outputs are written, else 0. main.cpp decides the exit
+// code of each.
+int runRender(RenderArgs args) {
   std::vector<std::string> outputs = args.outputs;
   if (outputs.empty())
     outputs.push_back(std::filesystem::path(args.scene).stem().string() +
@@ -572,17 +573,14 @@ void runRender(RenderArgs args) {
     runSequence(args, outputs);
   else
     runSingle(args, outputs);
-  // Interrupted: the outputs are written (or there was nothing to write), and the exit status
-  // says the render did not finish, as the shell's would for the signal.
-  if (interrupt.interrupted()) {
-    std::fflush(nullptr);
-    std::exit(128 + interrupt.signal());
-  }
+  // Interrupted: the outputs are written (or there was nothing to write); main's exit status
+  // says the render did not finish.
+  return interrupt.interrupted() ? interrupt.signal() : 0;
 }
 
 }  // namespace
 
-void addRenderCommand(CLI::App& app) {
+void addRenderCommand(CLI::App& app, Outcome* outcome) {
   auto args = std::make_shared<RenderArgs>();
   CLI::App* cmd =
       app.add_subcommand("render", "render a scene to EXR (scene-linear) or PNG/JPEG/TIFF");
@@ -624,7 +622,7 @@ void addRenderCommand(CLI::App& app) {
   cmd->add_flag("--aovs", args->overrides.aovs,
                 "EXR output also carries albedo, normal and depth (every EXR carries the "
                 "variance of each pixel's mean)");
-  cmd->callback([args] { runRender(*args); });
+  cmd->callback([args, outcome] { outcome->interruptedBy = runRender(*args); });
 }
 
 }  // namespace glint::app

@@ -13,6 +13,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "geometry/error.h"
 
 namespace glint {
 
@@ -81,6 +82,22 @@ struct TextureImages::Set {
 };
 
 namespace {
+
+// Runs f, a call of the decoder or its cache about the image `name` (a file's path, or an
+// encoded image's name), and gives their std::runtime_error (the OpenImageIO plugin throws no
+// glint types, image/oiio/plugin.h) as what it is: the image cannot be read, bad input that
+// names it. glint's own errors (a missing plugin is a FailureError) and std::logic_error (a bug)
+// pass as they are.
+template <class F>
+auto readingImage(const std::string& name, F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const Error&) {
+    throw;
+  } catch (const std::runtime_error& e) {
+    throw InputError(name + ": " + e.what());
+  }
+}
 
 MipMap pyramidOf(DecodedImage&& d, ColorEncoding enc) {
   return d.bytes.empty()
@@ -168,7 +185,8 @@ TextureImages::Handle TextureImages::addBytes(const std::string& name, int width
 TextureImages::Handle TextureImages::addEncoded(const std::string& name,
                                                 std::shared_ptr<const std::string> bytes,
                                                 ColorEncoding enc) {
-  const EncodedImageInfo info = decoder().probeEncodedImage(*bytes);  // throws
+  const EncodedImageInfo info =
+      readingImage(name, [&] { return decoder().probeEncodedImage(*bytes); });
   auto image = std::make_unique<Image>();
   image->name = name;
   image->width = info.width, image->height = info.height, image->channels = info.channels;
@@ -205,7 +223,7 @@ std::vector<std::pair<std::string, std::string>> TextureImages::waitForDecodes()
 
 TextureImages::Handle TextureImages::addFile(const std::string& path, ColorEncoding enc,
                                              TextureStorage storage) {
-  const ImageFileInfo info = decoder().probeImageFile(path);  // throws "<path>: ..."
+  const ImageFileInfo info = readingImage(path, [&] { return decoder().probeImageFile(path); });
   auto image = std::make_unique<Image>();
   image->name = path;
   image->width = info.width, image->height = info.height;
@@ -223,14 +241,15 @@ TextureImages::Handle TextureImages::addFile(const std::string& path, ColorEncod
   }
   image->storage = storage;
   if (storage == TextureStorage::Memory) {
-    image->pyramid = pyramidOf(decoder().decodeImageFile(path), enc);  // throws
+    image->pyramid =
+        pyramidOf(readingImage(path, [&] { return decoder().decodeImageFile(path); }), enc);
     image->ready.store(true, std::memory_order_release);
   } else {
     std::unique_lock lock(set_->mutex);
     if (!set_->cache) set_->cache = decoder().newTextureCache();
     Cache* cache = set_->cache.get();
     lock.unlock();
-    image->file = cache->add(path, enc);  // throws "<path>: ..."
+    image->file = readingImage(path, [&] { return cache->add(path, enc); });
     image->channels = info.channels;
   }
   Image* added = set_->add(std::move(image), false);
@@ -302,9 +321,10 @@ Vec4f TextureImages::lookup(Handle h, const TexCoord2& c, TextureWrap wrapS, Tex
   Image& image = *const_cast<Image*>(h.image);  // decoding on first need fills it in, once
   if (image.ready.load(std::memory_order_acquire))
     return image.pyramid.lookup(c, wrapS, wrapT, filter);
-  if (image.file) return set_->cache->lookup(image.file, c, wrapS, wrapT, filter);
-  if (!ensureDecoded(image, set_->decoder))
-    throw std::runtime_error(image.name + ": " + image.error);
+  if (image.file)
+    return readingImage(image.name,
+                        [&] { return set_->cache->lookup(image.file, c, wrapS, wrapT, filter); });
+  if (!ensureDecoded(image, set_->decoder)) throw InputError(image.name + ": " + image.error);
   return image.pyramid.lookup(c, wrapS, wrapT, filter);
 }
 

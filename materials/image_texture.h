@@ -91,7 +91,8 @@ class TextureImages {
   // from the header at once and its pixels decoded later, once: by startDecoding's background
   // tasks (several images decode in parallel while the caller goes on), or else by the first
   // lookup that needs them. Kept in memory: 8-bit images as bytes, others as floats. Throws
-  // std::runtime_error when the header cannot be read, and std::logic_error for a repeated name.
+  // InputError("<name>: <reason>") when the header cannot be read, and std::logic_error for a
+  // repeated name.
   Handle addEncoded(const std::string& name, std::shared_ptr<const std::string> bytes,
                     ColorEncoding enc);
   // Starts decoding every encoded image added so far, on TBB tasks; returns at once.
@@ -101,7 +102,7 @@ class TextureImages {
   std::vector<std::pair<std::string, std::string>> waitForDecodes();
   // An image file (PNG, JPEG, EXR, TIFF, ...), stored as `storage` says (Auto: see
   // TextureStorage). In memory it is decoded here, at once. Throws
-  // std::runtime_error("<path>: <reason>") when it cannot be opened or decoded.
+  // InputError("<path>: <reason>") when it cannot be opened or decoded.
   Handle addFile(const std::string& path, ColorEncoding enc,
                  TextureStorage storage = TextureStorage::Auto);
 
@@ -129,9 +130,9 @@ class TextureImages {
 
   // Filtered linear RGBA at c.st (t = 0 is the top row; outside [0,1] the wrap modes apply),
   // over the footprint c.dstdx, c.dstdy (Mipmap only). Grey images give (g, g, g, a); a
-  // missing alpha is 1. Colour is not premultiplied by alpha. Throws std::runtime_error if
-  // the image's pixels cannot be read (a file damaged after addFile, an encoded image that
-  // does not decode).
+  // missing alpha is 1. Colour is not premultiplied by alpha. Throws InputError("<name>:
+  // <reason>") if the image's pixels cannot be read (a file damaged after addFile, an encoded
+  // image that does not decode).
   Vec4f lookup(Handle h, const TexCoord2& c, TextureWrap wrapS, TextureWrap wrapT,
                TextureFilter filter) const;
 
@@ -141,7 +142,8 @@ class TextureImages {
    public:
     struct File;  // one file of the cache
     virtual ~Cache() = default;
-    // Opens `path`, read through `enc`; throws std::runtime_error("<path>: <reason>").
+    // Opens `path`, read through `enc`. Both throw std::runtime_error with the reason, which
+    // TextureImages gives as an InputError naming the file.
     virtual const File* add(const std::string& path, ColorEncoding enc) = 0;
     virtual Vec4f lookup(const File* f, const TexCoord2& c, TextureWrap wrapS, TextureWrap wrapT,
                          TextureFilter filter) const = 0;
@@ -154,8 +156,8 @@ class TextureImages {
 };
 
 // What decodes a TextureImages' images: OpenImageIO's plugin in glint (image/oiio/plugin.h),
-// tests may give their own. Each throws std::runtime_error: with the reason alone for bytes,
-// "<path>: <reason>" for files.
+// tests may give their own. Each throws std::runtime_error with the reason alone (the plugin
+// throws no glint types); TextureImages gives it as an InputError naming the image or file.
 class ImageDecoder {
  public:
   virtual ~ImageDecoder() = default;

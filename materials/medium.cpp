@@ -1,10 +1,8 @@
-// glint — density fields and the .vol grid format.
+// glint — density fields.
 #include "materials/medium.h"
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
-#include <fstream>
 #include <stdexcept>
 
 namespace glint {
@@ -77,72 +75,6 @@ float ExponentialDensity::maxDensity(const Bounds3f& region) const {
     best = std::max(best, density(corner));
   }
   return best;
-}
-
-// ---------------------------------------------------------------------------------------------
-// .vol files
-// ---------------------------------------------------------------------------------------------
-
-namespace {
-
-template <class T>
-bool readRaw(std::ifstream& in, T* out) {
-  return bool(in.read(reinterpret_cast<char*>(out), sizeof(T)));
-}
-
-}  // namespace
-
-VolumeGrid readVolFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot open " + path);
-  char magic[3];
-  uint8_t version = 0;
-  if (!in.read(magic, 3) || std::memcmp(magic, "VOL", 3) != 0)
-    throw std::runtime_error(path + ": not a .vol grid (no 'VOL' header)");
-  if (!readRaw(in, &version) || version != 3)
-    throw std::runtime_error(path + ": unsupported .vol version " + std::to_string(version) +
-                             " (expected 3)");
-  int32_t encoding = 0, res[3] = {0, 0, 0}, channels = 0;
-  if (!readRaw(in, &encoding) || encoding != 1)
-    throw std::runtime_error(path + ": unsupported encoding " + std::to_string(encoding) +
-                             " (expected 1, float32)");
-  for (int32_t& r : res)
-    if (!readRaw(in, &r) || r < 1 || r > 4096)
-      throw std::runtime_error(path + ": bad resolution (each axis must be in 1..4096)");
-  if (!readRaw(in, &channels) || channels != 1)
-    throw std::runtime_error(path + ": " + std::to_string(channels) +
-                             " channels (a density grid has 1)");
-  float box[6];
-  for (float& b : box)
-    if (!readRaw(in, &b)) throw std::runtime_error(path + ": truncated header");
-  VolumeGrid grid;
-  grid.nx = res[0], grid.ny = res[1], grid.nz = res[2];
-  grid.bounds = {{box[0], box[1], box[2]}, {box[3], box[4], box[5]}};
-  grid.values.resize(size_t(res[0]) * size_t(res[1]) * size_t(res[2]));
-  if (!in.read(reinterpret_cast<char*>(grid.values.data()),
-               std::streamsize(grid.values.size() * sizeof(float))))
-    throw std::runtime_error(path + ": truncated data (expected " +
-                             std::to_string(grid.values.size()) + " values)");
-  for (float v : grid.values)
-    if (!std::isfinite(v) || v < 0)
-      throw std::runtime_error(path + ": densities must be finite and >= 0");
-  return grid;
-}
-
-void writeVolFile(const std::string& path, const VolumeGrid& grid) {
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw std::runtime_error("cannot write " + path);
-  const uint8_t version = 3;
-  const int32_t header[5] = {1, grid.nx, grid.ny, grid.nz, 1};
-  const float box[6] = {grid.bounds.lower.x, grid.bounds.lower.y, grid.bounds.lower.z,
-                        grid.bounds.upper.x, grid.bounds.upper.y, grid.bounds.upper.z};
-  out.write("VOL", 3);
-  out.write(reinterpret_cast<const char*>(&version), 1);
-  out.write(reinterpret_cast<const char*>(header), sizeof(header));
-  out.write(reinterpret_cast<const char*>(box), sizeof(box));
-  out.write(reinterpret_cast<const char*>(grid.values.data()),
-            std::streamsize(grid.values.size() * sizeof(float)));
-  if (!out) throw std::runtime_error("cannot write " + path);
 }
 
 }  // namespace glint

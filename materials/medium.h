@@ -53,9 +53,11 @@ class ConstantDensity final : public DensityField {
 // A grid of nx x ny x nz values (x fastest) whose nodes span the box `bounds`: node (0,0,0) at
 // bounds.lower, node (nx-1, ny-1, nz-1) at bounds.upper (Mitsuba's gridvolume convention);
 // trilinear in between, clamped to the boundary nodes outside. Values < 0 are read as 0.
+// (Grids come from the sidecar's values or from .vol files, read by scenes/vol_file.h.)
 class GridDensity final : public DensityField {
  public:
-  // Throws std::logic_error when values.size() is not nx * ny * nz (the loader checks it).
+  // Throws std::logic_error when values.size() is not nx * ny * nz: the sidecar's reader
+  // checks the count (scenes/sidecar_media.cpp), so a mismatch here is a bug.
   GridDensity(int nx, int ny, int nz, std::vector<float> values, const Bounds3f& bounds);
   float density(Vec3f p) const override;
   float maxDensity(const Bounds3f&) const override { return max_; }
@@ -99,24 +101,6 @@ class ExponentialDensity final : public DensityField {
   Vec3f up_;  // unit
   float falloff_, h0_;
 };
-
-// ---------------------------------------------------------------------------------------------
-// Grid files
-// ---------------------------------------------------------------------------------------------
-
-struct VolumeGrid {
-  int nx = 0, ny = 0, nz = 0;
-  std::vector<float> values;  // x fastest, then y, then z
-  Bounds3f bounds;            // the box the file gives (informational: regions place grids)
-};
-
-// Reads Mitsuba's documented binary grid format: "VOL", version byte 3, int32 encoding (1 =
-// float32), int32 xres, yres, zres, int32 channels (must be 1), 6 float32 bounding box
-// (xmin, ymin, zmin, xmax, ymax, zmax), then xres*yres*zres float32 values, x fastest; all
-// little-endian. Throws std::runtime_error with the reason on anything else.
-VolumeGrid readVolFile(const std::string& path);
-// Writes a grid in that format (tests, generated grids). Throws std::runtime_error.
-void writeVolFile(const std::string& path, const VolumeGrid& grid);
 
 // ---------------------------------------------------------------------------------------------
 // Medium

@@ -277,9 +277,9 @@ class TextureCache {
       imageWhere_[name] = img.where;
       return pixels_[key] = images().addEncoded(
                  name, img.encoded, srgb ? ColorEncoding::Srgb : ColorEncoding::Linear);
-    } catch (const FailureError&) {
-      throw;  // not the scene's fault (the OpenImageIO plugin is missing): exit code 1
-    } catch (const std::exception& e) {
+    } catch (const InputError& e) {
+      // The image cannot be read ("<file>: <reason>", TextureImages): at the texture. A
+      // FailureError (the OpenImageIO plugin is missing) and a bug pass as they are.
       throw SceneError(td.where, e.what());
     }
   }

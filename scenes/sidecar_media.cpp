@@ -2,11 +2,10 @@
 #include "scenes/sidecar_media.h"
 
 #include <filesystem>
-#include <stdexcept>
 
-#include "materials/medium.h"
 #include "scenes/paths.h"
 #include "scenes/sidecar_objects.h"
+#include "scenes/vol_file.h"
 
 namespace glint {
 
@@ -53,7 +52,9 @@ void readGrid(JsonReader& d, const std::string& file, MediumDesc* m) {
     VolumeGrid grid;
     try {
       grid = readVolFile(path.string());
-    } catch (const std::runtime_error& e) {
+    } catch (const SceneError& e) {
+      // "scene.json: /media/0/density/file: /abs/smoke.vol: truncated header": where the
+      // sidecar names the file, then the file and what is wrong in it.
       throw SceneError(d.where("file"), e.what());
     }
     m->gridRes[0] = grid.nx, m->gridRes[1] = grid.ny, m->gridRes[2] = grid.nz;

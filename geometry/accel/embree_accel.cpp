@@ -6,15 +6,19 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "geometry/error.h"
+
 namespace glint {
 
 void embreeErrorCallback(void* user, RTCError code, const char* message) {
   // Runs inside Embree: record, never throw.
   auto* self = static_cast<EmbreeAccelerator*>(user);
   std::lock_guard<std::mutex> lock(self->errorMutex_);
-  if (self->firstError_.empty())
+  if (self->firstError_.empty()) {
     self->firstError_ =
         "Embree error " + std::to_string(int(code)) + ": " + (message ? message : "(no message)");
+    self->firstErrorCode_ = code;
+  }
 }
 
 namespace {
@@ -57,7 +61,10 @@ void setMotionTransform(RTCGeometry geom, const AnimatedTransform& motion) {
 EmbreeAccelerator::EmbreeAccelerator(const GeometryScene& geometry, bool highQuality)
     : highQuality_(highQuality) {
   device_ = rtcNewDevice(nullptr);
-  if (!device_) throw std::runtime_error("cannot create an Embree device");
+  // Not the scene's fault: the CPU or the memory (exit code 1).
+  if (!device_)
+    throw FailureError("cannot create an Embree device (Embree error " +
+                       std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
   rtcSetDeviceErrorFunction(device_, embreeErrorCallback, this);
 
   // How often each mesh is placed decides direct attachment versus instancing.
@@ -160,7 +167,8 @@ RTCGeometry EmbreeAccelerator::makeTriangleGeometry(const TriangleMesh& mesh) {
   if (!allocated || !idx) {
     rtcReleaseGeometry(geom);
     checkError("allocating Embree buffers");
-    throw std::runtime_error("cannot allocate Embree buffers");
+    throw FailureError("cannot allocate Embree buffers for a mesh of " +
+                       std::to_string(mesh.triangleCount()) + " triangles");
   }
   std::memcpy(idx, mesh.indices.data(), mesh.indices.size() * sizeof(uint32_t));
   if (mesh.singleSided) {
@@ -173,7 +181,13 @@ RTCGeometry EmbreeAccelerator::makeTriangleGeometry(const TriangleMesh& mesh) {
 
 void EmbreeAccelerator::checkError(const char* what) {
   std::lock_guard<std::mutex> lock(errorMutex_);
-  if (!firstError_.empty()) throw std::runtime_error(std::string(what) + ": " + firstError_);
+  if (firstError_.empty()) return;
+  const std::string message = std::string(what) + ": " + firstError_;
+  // An argument or call Embree rejects is glint's mistake (main: "internal error"); the rest
+  // (out of memory, an unsupported CPU, a cancelled build) is work that could not be done.
+  if (firstErrorCode_ == RTC_ERROR_INVALID_ARGUMENT || firstErrorCode_ == RTC_ERROR_INVALID_OPERATION)
+    throw std::logic_error(message);
+  throw FailureError(message);
 }
 
 bool EmbreeAccelerator::closestHit(const Ray& ray, Hit* hit) const {

@@ -97,7 +97,8 @@ class EmbreeAccelerator final : public Accelerator {
   UnboundedShapes unbounded_;
 
   std::mutex errorMutex_;
-  std::string firstError_;
+  std::string firstError_;  // Embree's first error, "Embree error CODE: message"
+  RTCError firstErrorCode_ = RTC_ERROR_NONE;
   friend void embreeErrorCallback(void*, RTCError, const char*);
 };
 

@@ -12,6 +12,8 @@
 #include <memory>
 #include <stdexcept>
 
+#include "geometry/error.h"
+
 namespace glint {
 
 // ---------------------------------------------------------------------------------------------
@@ -75,7 +77,9 @@ void KdPrimitives::gather(const GeometryScene& scene, const UnboundedShapes& unb
     bounds.push_back(b);
   }
   if (bounds.size() > KdNode::kMaxPayload)
-    throw std::runtime_error("kd-tree: too many primitives for 30-bit indices");
+    throw FailureError("kd-tree: " + std::to_string(bounds.size()) +
+                       " primitives, more than its 30-bit indices hold (--accel embree holds "
+                       "more)");
 }
 
 void KdPrimitives::gatherDeforming(const TriangleMesh& mesh) {
@@ -102,7 +106,9 @@ void KdPrimitives::gatherDeforming(const TriangleMesh& mesh) {
     bounds.push_back(b);
   }
   if (bounds.size() > KdNode::kMaxPayload)
-    throw std::runtime_error("kd-tree: too many primitives for 30-bit indices");
+    throw FailureError("kd-tree: " + std::to_string(bounds.size()) +
+                       " primitives, more than its 30-bit indices hold (--accel embree holds "
+                       "more)");
 }
 
 std::array<Vec3f, 3> KdPrimitives::triangleAt(uint32_t id, float time) const {
@@ -200,7 +206,8 @@ int KdTree::maxDepthFor(uint32_t primCount) {
 
 void KdTree::addLeaf(const uint32_t* prims, uint32_t count, const Bounds3f& box, int depth) {
   if (count > KdNode::kMaxPayload || nodes.size() >= KdNode::kMaxNodes)
-    throw std::runtime_error("kd-tree: too many nodes or leaf primitives");
+    throw FailureError("kd-tree: more nodes or leaf primitives than its indices hold "
+                       "(--accel embree holds more)");
   if (count == 1) {
     nodes.push_back(KdNode::leaf(1, prims[0]));
   } else {
@@ -215,7 +222,9 @@ void KdTree::addLeaf(const uint32_t* prims, uint32_t count, const Bounds3f& box,
 }
 
 uint32_t KdTree::addInterior(const Bounds3f& box, int depth) {
-  if (nodes.size() >= KdNode::kMaxNodes) throw std::runtime_error("kd-tree: too many nodes");
+  if (nodes.size() >= KdNode::kMaxNodes)
+    throw FailureError("kd-tree: more nodes than its 28-bit indices hold (--accel embree holds "
+                       "more)");
   nodes.emplace_back();
   stats.maxDepth = std::max(stats.maxDepth, uint32_t(depth));
   areaCost_ += double(cost.traversal) * halfArea(box);
@@ -229,7 +238,8 @@ void KdTree::setInterior(uint32_t node, int axis, float split) {
 void KdTree::append(const KdTree& sub) {
   const uint32_t nodeBase = uint32_t(nodes.size()), leafBase = uint32_t(leafPrims.size());
   if (size_t(nodeBase) + sub.nodes.size() >= KdNode::kMaxNodes)
-    throw std::runtime_error("kd-tree: too many nodes");
+    throw FailureError("kd-tree: more nodes than its 28-bit indices hold (--accel embree holds "
+                       "more)");
   for (KdNode n : sub.nodes) {
     if (!n.isLeaf())
       n = KdNode::interior(n.axis(), n.split(), n.aboveChild() + nodeBase);
@@ -292,7 +302,8 @@ void KdTree::packLeaves(const KdPrimitives& prims) {
     node = KdNode::leaf(count, first);
   }
   if (leafRecords.size() > KdNode::kMaxPayload)
-    throw std::runtime_error("kd-tree: too many leaf primitives");
+    throw FailureError("kd-tree: more leaf primitives than its 30-bit indices hold (--accel "
+                       "embree holds more)");
   leafPrims = {};
   stats.bytes = nodes.size() * sizeof(KdNode) + leafRecords.size() * sizeof(KdLeafPrim);
 }

@@ -11,7 +11,8 @@
 // Both sides are built together from this tree by the same compiler, so the interface is plain
 // C++ (strings, vectors, glint's own structs); only the entry point is extern "C". Errors come
 // back as text or as std::runtime_error / std::logic_error (whose type information lives in
-// libstdc++, shared by both sides); glint's own exception types are thrown on glint's side.
+// libstdc++, shared by both sides); glint's own exception types are thrown on glint's side
+// (the texture half's reasons become InputErrors naming the file in materials' TextureImages).
 #pragma once
 
 #include <cstdint>

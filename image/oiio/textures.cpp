@@ -277,18 +277,19 @@ DecodedImage decodeEncoded(const std::string& bytes) {
 }
 
 namespace {
-// Opens an image file; throws "<path>: <reason>".
+// Opens an image file. Like every error of the plugin's texture half, the reason alone: the
+// caller names the file (TextureImages, as an InputError).
 std::unique_ptr<OIIO::ImageInput> openFile(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
-    throw std::runtime_error(path + ": no such file");
+    throw std::runtime_error("no such file");
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);
   auto in = OIIO::ImageInput::open(path, &config);
-  if (!in) throw std::runtime_error(path + ": " + oneLine(OIIO::geterror()));
+  if (!in) throw std::runtime_error(oneLine(OIIO::geterror()));
   const OIIO::ImageSpec& spec = in->spec();
   if (spec.width < 1 || spec.height < 1 || spec.nchannels < 1)
-    throw std::runtime_error(path + ": an image of no pixels");
+    throw std::runtime_error("an image of no pixels");
   return in;
 }
 }  // namespace
@@ -312,7 +313,7 @@ DecodedImage decodeImageFile(const std::string& path) {
   std::string error;
   // The first 4 channels (RGBA, grey and alpha); glint reads no more.
   if (!readPixels(*in, std::min(in->spec().nchannels, 4), &out, &error))
-    throw std::runtime_error(path + ": " + oneLine(error));
+    throw std::runtime_error(oneLine(error));
   return out;
 }
 
@@ -365,13 +366,13 @@ class OiioTextureCache final : public TextureImages::Cache {
 const File* OiioTextureCache::add(const std::string& path, ColorEncoding enc) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
-    throw std::runtime_error(path + ": no such file");
+    throw std::runtime_error("no such file");
   std::string key = path;
   if (enc == ColorEncoding::Srgb) {
     // The cache does not pass on why one of glint's ImageInputs failed to open, so open the
     // file once here (header only) for a helpful message.
     if (auto probe = OIIO::ImageInput::open(path); !probe)
-      throw std::runtime_error(path + ": " + oneLine(OIIO::geterror()));
+      throw std::runtime_error(oneLine(OIIO::geterror()));
     key = prefix + "srgb:" + path;
     {
       std::lock_guard lock(mutex);
@@ -380,12 +381,12 @@ const File* OiioTextureCache::add(const std::string& path, ColorEncoding enc) {
     Registry::add(key, path);
     // The same file may be added twice: the cache then shares it.
     if (!ts->imagecache()->add_file(OIIO::ustring(key), &createSrgbFileInput))
-      throw std::runtime_error(path + ": " + takeError(*ts));
+      throw std::runtime_error(takeError(*ts));
   }
   auto* handle = ts->get_texture_handle(OIIO::ustring(key));
   OIIO::ImageSpec spec;
   if (!handle || !ts->good(handle) || !ts->get_imagespec(handle, nullptr, 0, spec))
-    throw std::runtime_error(path + ": " + takeError(*ts));
+    throw std::runtime_error(takeError(*ts));
   auto file = std::make_unique<File>();
   file->owner = this;
   file->name = path;
@@ -427,7 +428,7 @@ Vec4f OiioTextureCache::lookup(const File* f, const TexCoord2& c, TextureWrap wr
   const int n = std::min(image.channels, 4);
   float r[4] = {0, 0, 0, 0};
   if (!ts->texture(image.handle, nullptr, opt, c.st.x, c.st.y, dsdx, dtdx, dsdy, dtdy, n, r))
-    throw std::runtime_error(image.name + ": " + takeError(*ts));
+    throw std::runtime_error(takeError(*ts));
   switch (n) {
     case 1:
       return {r[0], r[0], r[0], 1};

@@ -1,8 +1,11 @@
 // Bad input through the `glint` command line: every malformed file or option exits with code 2,
 // prints one line naming the file (and JSON pointer where there is one), does not crash, and
 // never writes or replaces an output image.
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -138,6 +141,26 @@ TEST(CliBadInput, CsgFileWithStackUnderflow) {
   expectRejected("csg_underflow", shellQuote(dir + "/scene.gltf"), {"tree.csg:2", "underflow"});
 }
 
+// A .vol grid whose header asks for 4096^3 values over a file of a few bytes: exit code 2
+// naming the sidecar's key and the .vol file (it was "cannot build the scene: std::bad_alloc",
+// exit code 1).
+TEST(CliBadInput, VolFileWithAHeaderLargerThanTheFile) {
+  std::string dir = test::scratchDir("bad_vol_file");
+  fs::copy_file(test::dataDir() + "/scenes/lambert_plane.gltf", dir + "/scene.gltf");
+  {
+    std::ofstream vol(dir + "/smoke.vol", std::ios::binary);
+    vol.write("VOL\3", 4);
+    const int32_t header[5] = {1, 4096, 4096, 4096, 1};
+    const float box[6] = {0, 0, 0, 1, 1, 1};
+    vol.write(reinterpret_cast<const char*>(header), sizeof header);
+    vol.write(reinterpret_cast<const char*>(box), sizeof box);
+  }
+  std::ofstream(dir + "/scene.glint.json")
+      << R"({"media": [{"sigma_s": 1, "density": {"type": "grid", "file": "smoke.vol"}}]})";
+  expectRejected("vol_header", shellQuote(dir + "/scene.gltf"),
+                 {"scene.glint.json: /media/0/density/file: ", "smoke.vol: truncated data"});
+}
+
 TEST(CliBadInput, UnknownMaterialType) {
   expectBadSidecar("unknown_material_type", R"({"materials": [{"name": "m", "type": "velvet"}]})",
                    {"/materials/0/type", "velvet"});
@@ -159,6 +182,35 @@ TEST(CliBadInput, MissingTextureFile) {
   expectBadSidecar("missing_texture",
                    R"({"textures": [{"name": "t", "type": "image", "file": "gone.png"}]})",
                    {"/textures/0/file", "gone.png"});
+}
+
+// A tiled, MIP-mapped EXR (which the texture cache reads tile by tile, image/oiio/textures.cpp)
+// cut in half: its header reads, so the scene loads, and the damage shows only when the render
+// looks the texture up. Exit code 2 naming the file (it was a std::runtime_error, which the
+// render command gave as "render failed", exit code 1).
+TEST(CliBadInput, TextureFileDamagedPastItsHeader) {
+  std::string dir = test::scratchDir("bad_texture_tiles");
+  fs::copy_file(test::dataDir() + "/scenes/lambert_plane.gltf", dir + "/scene.gltf");
+  const std::string texture = dir + "/cut.exr";
+  {
+    // As maketx makes it: tiled, with every MIP level in the file (uncompressed: the cut loses
+    // the tiles, not the offsets).
+    OIIO::ImageBuf src(OIIO::ImageSpec(256, 256, 3, OIIO::TypeFloat));
+    const float grey[3] = {0.5f, 0.5f, 0.5f};
+    ASSERT_TRUE(OIIO::ImageBufAlgo::fill(src, grey));
+    OIIO::ImageSpec config;
+    config.tile_width = config.tile_height = 32;
+    config.attribute("compression", "none");
+    ASSERT_TRUE(OIIO::ImageBufAlgo::make_texture(OIIO::ImageBufAlgo::MakeTxTexture, src, texture,
+                                                 config))
+        << OIIO::geterror();
+  }
+  fs::resize_file(texture, fs::file_size(texture) / 2);
+  std::ofstream(dir + "/scene.glint.json") << R"({
+    "textures": [{"name": "t", "type": "image", "file": "cut.exr",
+                  "mapping": {"space": "world", "plane": "xz"}}],
+    "materials": [{"name": "Plane", "base_color": "t"}]})";
+  expectRejected("texture_tiles", shellQuote(dir + "/scene.gltf") + " --spp 1", {texture + ": "});
 }
 
 TEST(CliBadInput, SidecarWrongType) {

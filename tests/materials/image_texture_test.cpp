@@ -15,6 +15,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "geometry/error.h"
 #include "image/oiio/plugin.h"
 #include "test_support.h"
 
@@ -390,6 +391,14 @@ TEST(TextureImages, EncodedImagesThatDoNotDecodeAreReportedByName) {
   ASSERT_EQ(failed.size(), 1u);
   EXPECT_EQ(failed[0].first, "cut");
   EXPECT_FALSE(failed[0].second.empty());
+  // A lookup of it is bad input naming the image (exit code 2), not an internal error.
+  try {
+    images.lookup(h, centre(1, 1, 32), TextureWrap::Repeat, TextureWrap::Repeat,
+                  TextureFilter::Linear);
+    ADD_FAILURE() << "no exception";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "cut: " + failed[0].second);
+  }
 }
 
 TEST(TextureImages, MissingFileThrowsWithThePath) {
@@ -399,9 +408,8 @@ TEST(TextureImages, MissingFileThrowsWithThePath) {
     try {
       images.addFile(path, enc);
       ADD_FAILURE() << "no exception";
-    } catch (const std::runtime_error& e) {
-      EXPECT_EQ(std::string(e.what()).rfind(path + ": ", 0), 0u) << e.what();
-      EXPECT_GT(std::string(e.what()).size(), path.size() + 2) << "no reason given";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()), path + ": no such file");
     }
   }
 }
@@ -418,8 +426,9 @@ TEST(TextureImages, CorruptFileThrows) {
     try {
       images.addFile(path, enc);
       ADD_FAILURE() << "no exception";
-    } catch (const std::runtime_error& e) {
+    } catch (const InputError& e) {
       EXPECT_EQ(std::string(e.what()).rfind(path + ": ", 0), 0u) << e.what();
+      EXPECT_GT(std::string(e.what()).size(), path.size() + 2) << "no reason given";
     }
   }
 }
@@ -525,7 +534,7 @@ TEST(TextureImages, DamagedPixelsThrowWhenReadInMemoryAndOnLookupInTheCache) {
       try {
         images.addFile(path, enc, where);
         ADD_FAILURE() << "no exception";
-      } catch (const std::runtime_error& e) {
+      } catch (const InputError& e) {
         EXPECT_EQ(std::string(e.what()).rfind(path + ": ", 0), 0u) << e.what();
       }
     }
@@ -537,8 +546,10 @@ TEST(TextureImages, DamagedPixelsThrowWhenReadInMemoryAndOnLookupInTheCache) {
       images.lookup(h, centre(10, n - 4, n), TextureWrap::Repeat, TextureWrap::Repeat,
                     TextureFilter::Linear);
       ADD_FAILURE() << "no exception";
-    } catch (const std::runtime_error& e) {
+    } catch (const InputError& e) {
       EXPECT_EQ(std::string(e.what()).rfind(path + ": ", 0), 0u) << e.what();
+      // The path once: the plugin gives the reason, TextureImages the name.
+      EXPECT_EQ(std::string(e.what()).find(path + ": ", 1), std::string::npos) << e.what();
     }
   }
 }
