@@ -170,8 +170,10 @@ void SceneOverrides::apply(SceneDescription* desc) const {
       if (!std::filesystem::is_regular_file(*env, ec))
         throw SceneError(e.where, "no such file '" + *env + "'");
       if (!isEnvironmentImagePath(*env))
-        throw SceneError(e.where, "expected 'studio' or a scene-linear image, OpenEXR (.exr) or "
-                                  "Radiance (.hdr), got '" + *env + "'");
+        throw SceneError(e.where,
+                         "expected 'studio' or a scene-linear image, OpenEXR (.exr) or "
+                         "Radiance (.hdr), got '" +
+                             *env + "'");
       e.image = *env;
     }
     desc->environment = e;

@@ -24,7 +24,7 @@ struct SceneOverrides {
   std::optional<float> antialias;  // AdaptiveSettings::contrast
   std::optional<int> subdivide;    // AdaptiveSettings::subdivide
   std::optional<float> jitter;     // AdaptiveSettings::jitter
-  bool aovs = false;              // EXR output also carries albedo, normal, depth and variance
+  bool aovs = false;               // EXR output also carries albedo, normal, depth and variance
   std::optional<std::string> env;  // "studio" or an .exr/.hdr file: replaces the environment
   std::optional<float> envStrength, envRotation;  // the environment's intensity, degrees
   bool noDefaultLight = false;
@@ -32,7 +32,8 @@ struct SceneOverrides {
   std::optional<std::string> shutter;  // "S" (open for S seconds from the frame) or "OPEN,CLOSE"
 
   // Registers --width --height --spp --seed --threads --accel --camera --integrator
-  // --max-depth --light-sampler --adaptive --adaptive-min-spp --antialias --env --env-strength --env-rotation
+  // --max-depth --light-sampler --adaptive --adaptive-min-spp --antialias --env --env-strength
+  // --env-rotation
   // --no-default-light --variant --shutter on `cmd`
   // (--aovs is render's own).
   void addOptions(CLI::App* cmd);

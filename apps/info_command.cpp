@@ -84,7 +84,8 @@ std::string nodeSummary(const SceneDescription& desc) {
     if (std::find(it->second.begin(), it->second.end(), name) == it->second.end())
       it->second.push_back(name);
   }
-  return std::to_string(nodes.size()) + " with a mesh (names for a sidecar material's "
+  return std::to_string(nodes.size()) +
+         " with a mesh (names for a sidecar material's "
          "\"nodes\"): " +
          listNames(
              nodes,
@@ -160,10 +161,10 @@ void runInfo(const InfoArgs& args) {
   std::printf("scene:      %s\n", desc.file.c_str());
   std::printf("meshes:     %zu (%zu triangles stored, %zu placed in the world)%s%s\n",
               desc.meshes.size(), triangles, scene.geometry.instancedTriangleCount(),
-              desc.meshes.empty() ? "" : ": ",
-              listNames(desc.meshes, [](const MeshDesc& m) {
-                return m.name.empty() ? std::string("(unnamed)") : m.name;
-              }).c_str());
+              desc.meshes.empty() ? "" : ": ", listNames(desc.meshes, [](const MeshDesc& m) {
+                                                 return m.name.empty() ? std::string("(unnamed)")
+                                                                       : m.name;
+                                               }).c_str());
   std::printf("instances:  %zu\n", desc.instances.size());
   if (!desc.instances.empty()) std::printf("nodes:      %s\n", nodeSummary(desc).c_str());
   if (!desc.objects.empty())
@@ -190,8 +191,9 @@ void runInfo(const InfoArgs& args) {
   if (!desc.variants.empty()) {
     std::string names;
     for (const std::string& v : desc.variants) names += (names.empty() ? "" : ", ") + v;
-    std::printf("variants:   %zu: %s%s\n", desc.variants.size(), names.c_str(),
-                desc.render.variant.empty() ? "" : ("; showing '" + desc.render.variant + "'").c_str());
+    std::printf(
+        "variants:   %zu: %s%s\n", desc.variants.size(), names.c_str(),
+        desc.render.variant.empty() ? "" : ("; showing '" + desc.render.variant + "'").c_str());
   }
   std::printf("cameras:    %zu%s%s; rendering with '%s'\n", desc.cameras.size(),
               desc.cameras.empty() ? "" : ": ",
@@ -241,8 +243,8 @@ void runInfo(const InfoArgs& args) {
     if (m.deforms()) ++deforming, deformSteps = std::max(deformSteps, m.positionSteps.size());
   std::string motion;
   if (moving > 0)
-    motion = std::to_string(moving) + " moving placement" + (moving == 1 ? "" : "s") +
-             " (up to " + std::to_string(movingKeys) + " keys)";
+    motion = std::to_string(moving) + " moving placement" + (moving == 1 ? "" : "s") + " (up to " +
+             std::to_string(movingKeys) + " keys)";
   if (deforming > 0)
     motion += (motion.empty() ? "" : ", ") + std::to_string(deforming) + " deforming mesh" +
               (deforming == 1 ? "" : "es") + " (up to " + std::to_string(deformSteps) +

@@ -231,7 +231,8 @@ std::string encodePng(const Film& film, const std::string& aov, const ToneMapSet
     }
     if (aov == "variance")
       v = Rgb{std::sqrt(film.variance[i].x), std::sqrt(film.variance[i].y),
-              std::sqrt(film.variance[i].z)} * scale;
+              std::sqrt(film.variance[i].z)} *
+          scale;
     if (aov == "alpha") v = Rgb{film.alpha[i], film.alpha[i], film.alpha[i]};
     for (int c = 0; c < 3; ++c) px[3 * i + size_t(c)] = std::clamp(v[c], 0.0f, 1.0f);
   }
@@ -340,8 +341,8 @@ class AccessGuard {
 // ---- The command ----
 
 ImageMetadata metadataOf(const PreviewArgs& args, const PreviewSnapshot& s) {
-  ImageMetadata meta{args.scene, int(s.spp), s.settings.seed, s.seconds, s.settings.accel,
-                     s.integrator};
+  ImageMetadata meta{args.scene, int(s.spp),       s.settings.seed,
+                     s.seconds,  s.settings.accel, s.integrator};
   meta.time = s.settings.time;
   meta.stop = "spp";  // a pass boundary: the image glint render gives at this spp
   meta.error = s.error;
@@ -428,8 +429,10 @@ void runPreview(const PreviewArgs& args) {
                const std::string aov = req.has_param("aov") ? req.get_param_value("aov") : "beauty";
                if (aov != "beauty" && aov != "albedo" && aov != "normal" && aov != "depth" &&
                    aov != "variance" && aov != "alpha")
-                 throw BadRequest("aov: need beauty, albedo, normal, depth, variance or alpha, "
-                                  "got '" + aov + "'");
+                 throw BadRequest(
+                     "aov: need beauty, albedo, normal, depth, variance or alpha, "
+                     "got '" +
+                     aov + "'");
                const PreviewSnapshot s = session.snapshot();
                const ToneMapSettings t = displaySettings(req, s.settings.tonemap);
                if (!s.film) {
@@ -456,27 +459,25 @@ void runPreview(const PreviewArgs& args) {
                std::fflush(stdout);
                res.set_content(block, "application/json");
              }));
-  server.Post("/api/save", serve([&](const httplib::Request& req, httplib::Response& res) {
-                const std::string format =
-                    req.has_param("format") ? req.get_param_value("format") : "exr";
-                if (format != "exr" && format != "png")
-                  throw BadRequest("format: need exr or png, got '" + format + "'");
-                const PreviewSnapshot s = session.snapshot();
-                if (!s.film) {
-                  res.status = 503;
-                  res.set_content("no pass has completed yet\n", "text/plain");
-                  return;
-                }
-                const std::string path =
-                    (fs::path(args.outputDir) / (stem + "_preview." + format)).string();
-                RenderSettings settings = s.settings;
-                settings.tonemap = displaySettings(req, s.settings.tonemap);
-                writeImage(path, *s.film, settings, metadataOf(args, s));
-                if (!args.quiet)
-                  std::fprintf(stderr, "glint: saved %s (%u spp)\n", path.c_str(), s.spp);
-                res.set_content(nlohmann::json{{"path", path}, {"spp", s.spp}}.dump(),
-                                "application/json");
-              }));
+  server.Post(
+      "/api/save", serve([&](const httplib::Request& req, httplib::Response& res) {
+        const std::string format = req.has_param("format") ? req.get_param_value("format") : "exr";
+        if (format != "exr" && format != "png")
+          throw BadRequest("format: need exr or png, got '" + format + "'");
+        const PreviewSnapshot s = session.snapshot();
+        if (!s.film) {
+          res.status = 503;
+          res.set_content("no pass has completed yet\n", "text/plain");
+          return;
+        }
+        const std::string path =
+            (fs::path(args.outputDir) / (stem + "_preview." + format)).string();
+        RenderSettings settings = s.settings;
+        settings.tonemap = displaySettings(req, s.settings.tonemap);
+        writeImage(path, *s.film, settings, metadataOf(args, s));
+        if (!args.quiet) std::fprintf(stderr, "glint: saved %s (%u spp)\n", path.c_str(), s.spp);
+        res.set_content(nlohmann::json{{"path", path}, {"spp", s.spp}}.dump(), "application/json");
+      }));
   // Everything else: nothing on disk is served.
   server.set_error_handler([](const httplib::Request&, httplib::Response& res) {
     if (res.body.empty())
@@ -515,7 +516,8 @@ void addPreviewCommand(CLI::App& app) {
                   "sidecar JSON (default: NAME.glint.json beside the glTF or mesh)");
   cmd->add_option("--port", args->port, "port on 127.0.0.1 (0: any free port, printed)")
       ->capture_default_str();
-  cmd->add_option("--output-dir", args->outputDir, "where the page's Save writes SCENE_preview.exr/png")
+  cmd->add_option("--output-dir", args->outputDir,
+                  "where the page's Save writes SCENE_preview.exr/png")
       ->capture_default_str();
   cmd->add_flag("-q,--quiet", args->quiet, "print only the address");
   args->overrides.addOptions(cmd);

@@ -231,7 +231,8 @@ void PreviewSession::renderLoop() {
             if (!t.file.empty()) named.push_back(t.file);
           std::vector<fs::path> gltfFolders{fs::path(options_.scene).parent_path()};
           for (const std::string& f : recorder.files())
-            if (fs::path(f).extension() == ".gltf") gltfFolders.push_back(fs::path(f).parent_path());
+            if (fs::path(f).extension() == ".gltf")
+              gltfFolders.push_back(fs::path(f).parent_path());
           for (const ImageDesc& image : fresh->desc.images)
             for (const fs::path& folder : gltfFolders) {
               std::error_code ec;

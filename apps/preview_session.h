@@ -39,19 +39,19 @@ struct PreviewOptions {
 
 // What the page sees at one moment. `film` is shared and never changed after publication.
 struct PreviewSnapshot {
-  uint64_t version = 0;     // grows with every change worth showing
-  uint64_t generation = 0;  // grows with every restart
-  std::string sceneName;    // file name of the scene
+  uint64_t version = 0;              // grows with every change worth showing
+  uint64_t generation = 0;           // grows with every restart
+  std::string sceneName;             // file name of the scene
   std::shared_ptr<const Film> film;  // null before the first pass
-  RenderSettings settings;  // of the image in `film` (tone mapping, spp cap, seed)
-  std::string integrator;   // resolved name, as glint render's metadata gives it
+  RenderSettings settings;           // of the image in `film` (tone mapping, spp cap, seed)
+  std::string integrator;            // resolved name, as glint render's metadata gives it
   uint32_t spp = 0;
   int passes = 0;
   double error = 0;    // estimatedRelativeError
   double seconds = 0;  // rendering time of this generation
   bool rendering = false;
   std::optional<std::string> problem;  // the last load's error, one line
-  CameraView camera;        // the view rendered (the scene's camera when not custom)
+  CameraView camera;                   // the view rendered (the scene's camera when not custom)
   bool customCamera = false;
   std::array<double, 3> boundsMin{}, boundsMax{};
   int width = 0, height = 0;
@@ -82,14 +82,14 @@ class PreviewSession {
   mutable std::mutex mutex_;
   mutable std::condition_variable changed_;
   PreviewSnapshot snapshot_;
-  std::optional<CameraView> camera_;   // under mutex_
-  std::vector<std::string> watched_;   // under mutex_: files of the last load
+  std::optional<CameraView> camera_;  // under mutex_
+  std::vector<std::string> watched_;  // under mutex_: files of the last load
   // under mutex_: their modification times and sizes when the load began
   std::map<std::string, std::pair<std::filesystem::file_time_type, uintmax_t>> watchedSignature_;
-  bool restart_ = true;                // under mutex_: reload the files
-  bool recamera_ = false;              // under mutex_: the camera changed
-  bool stopping_ = false;              // under mutex_
-  std::atomic<bool> cancel_{false};    // drops the pass in flight
+  bool restart_ = true;              // under mutex_: reload the files
+  bool recamera_ = false;            // under mutex_: the camera changed
+  bool stopping_ = false;            // under mutex_
+  std::atomic<bool> cancel_{false};  // drops the pass in flight
   std::thread renderThread_, watchThread_;
 };
 

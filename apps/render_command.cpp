@@ -1,16 +1,17 @@
 // glint — `glint render`: load, build, render, write images and statistics.
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
-#include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include "apps/cli_common.h"
 #include "apps/commands.h"
@@ -42,8 +43,8 @@ struct RenderArgs {
   std::optional<double> time;  // a single frame's scene time, seconds
   bool resume = false;
   bool listMissing = false;
-  std::optional<std::string> crop;  // "X0,Y0,X1,Y1"
-  std::optional<std::string> tile;  // "I/N"
+  std::optional<std::string> crop;       // "X0,Y0,X1,Y1"
+  std::optional<std::string> tile;       // "I/N"
   std::optional<std::string> timeLimit;  // "30s", "2m", "1h30m", "90"
   double timeLimitSeconds = 0;           // parsed by runRender
   std::optional<double> noiseTarget;     // estimated relative error
@@ -77,10 +78,17 @@ double parseDuration(const std::string& text) {
     double unit = 1;
     if (i < text.size()) {
       switch (text[i]) {
-        case 's': unit = 1; break;
-        case 'm': unit = 60; break;
-        case 'h': unit = 3600; break;
-        default: throw bad();
+        case 's':
+          unit = 1;
+          break;
+        case 'm':
+          unit = 60;
+          break;
+        case 'h':
+          unit = 3600;
+          break;
+        default:
+          throw bad();
       }
       ++i;
     } else if (any) {
@@ -182,7 +190,8 @@ nlohmann::json sceneJson(const RenderArgs& args, const SceneDescription& desc,
   nlohmann::json j;
   j["scene"] = args.scene;
   j["accel"] = desc.render.accel;
-  j["integrator"] = integratorName(resolveIntegrator(scene, desc.render.integrator));  // "auto" resolved
+  j["integrator"] =
+      integratorName(resolveIntegrator(scene, desc.render.integrator));  // "auto" resolved
   j["integrator_requested"] = desc.render.integrator.type;
   j["camera"] = scene.cameraName;
   j["width"] = scene.camera.width();
@@ -260,9 +269,8 @@ PixelWindow requestedWindow(const RenderArgs& args, int width, int height) {
 
 // Renders one built scene (continuing `partial` when given) and writes `outputs`. Returns false
 // when Ctrl-C stopped it before its first pass: nothing was written.
-bool renderAndWrite(const RenderArgs& args, const SceneDescription& desc,
-                    const RenderScene& scene, const std::vector<std::string>& outputs,
-                    bool tileProgress, FrameRecord* record,
+bool renderAndWrite(const RenderArgs& args, const SceneDescription& desc, const RenderScene& scene,
+                    const std::vector<std::string>& outputs, bool tileProgress, FrameRecord* record,
                     const std::optional<PartialRender>& partial = std::nullopt) {
   Film film;
   const std::string integrator = integratorName(resolveIntegrator(scene, desc.render.integrator));
@@ -545,7 +553,8 @@ int runRender(RenderArgs args) {
   if (args.time && args.frames)
     throw InputError("--time and --frames exclude each other (frame f is at time f / fps)");
   if (args.listMissing && !args.frames)
-    throw InputError("--list-missing applies to a sequence (--frames A-B; one frame: --frames F-F)");
+    throw InputError(
+        "--list-missing applies to a sequence (--frames A-B; one frame: --frames F-F)");
   if (args.timeLimit) args.timeLimitSeconds = parseDuration(*args.timeLimit);
   if (args.noiseTarget && !(*args.noiseTarget > 0 && *args.noiseTarget < 1))
     throw InputError("--noise-target: must be > 0 and < 1 (a relative error: 0.01 is 1%)");
@@ -561,10 +570,11 @@ int runRender(RenderArgs args) {
                          ": --crop and --tile write partial EXRs (the data window of the frame); "
                          "join them with `glint assemble`, then tone-map");
   }
-  if (args.overrides.aovs &&
-      std::none_of(outputs.begin(), outputs.end(), [](const std::string& o) { return isExrPath(o); }))
-    throw InputError("--aovs: the AOVs (albedo, normal, depth) go only into EXR output; add "
-                     "-o NAME.exr");
+  if (args.overrides.aovs && std::none_of(outputs.begin(), outputs.end(),
+                                          [](const std::string& o) { return isExrPath(o); }))
+    throw InputError(
+        "--aovs: the AOVs (albedo, normal, depth) go only into EXR output; add "
+        "-o NAME.exr");
   checkOutputs(outputs);
   // Ctrl-C (or Slurm's SIGTERM) stops the render and writes what it has; a second one quits.
   InterruptGuard interrupt;
@@ -584,7 +594,8 @@ void addRenderCommand(CLI::App& app, Outcome* outcome) {
   auto args = std::make_shared<RenderArgs>();
   CLI::App* cmd =
       app.add_subcommand("render", "render a scene to EXR (scene-linear) or PNG/JPEG/TIFF");
-  cmd->add_option("scene", args->scene, "a .gltf/.glb scene, a .ply/.obj mesh or a glint .json scene")
+  cmd->add_option("scene", args->scene,
+                  "a .gltf/.glb scene, a .ply/.obj mesh or a glint .json scene")
       ->required();
   cmd->add_option("-o,--output", args->outputs,
                   "output image(s): .exr, .png, .jpg, .tif (repeat to write several; default "

@@ -5,8 +5,8 @@
 
 #include <filesystem>
 
-#include "image/io.h"
 #include "image/input.h"
+#include "image/io.h"
 
 namespace fs = std::filesystem;
 
@@ -23,12 +23,13 @@ std::string identityMismatch(const Image& header, const ExpectedImage& expected)
   if (header.x != expected.x0 || header.y != expected.y0 || header.width != expected.width ||
       header.height != expected.height)
     return fmt::format("holds pixels {},{}..{},{}, not {},{}..{},{}", header.x, header.y,
-                       header.x + header.width, header.y + header.height, expected.x0,
-                       expected.y0, expected.x0 + expected.width, expected.y0 + expected.height);
+                       header.x + header.width, header.y + header.height, expected.x0, expected.y0,
+                       expected.x0 + expected.width, expected.y0 + expected.height);
   const ImageMetadata& meta = header.meta;
   const std::string scene = fs::path(meta.scene).filename();
   const std::string expectedScene = fs::path(expected.scene).filename();
-  if (scene != expectedScene) return fmt::format("a render of '{}', not '{}'", scene, expectedScene);
+  if (scene != expectedScene)
+    return fmt::format("a render of '{}', not '{}'", scene, expectedScene);
   if (!header.hasSeed) return fmt::format("rendered with seed (none), not {}", expected.seed);
   if (meta.seed != expected.seed)
     return fmt::format("rendered with seed {}, not {}", meta.seed, expected.seed);
@@ -97,8 +98,7 @@ std::string whyIncomplete(const std::string& path, const ExpectedImage& expected
 }
 
 std::optional<PartialRender> continuableRender(const std::string& path,
-                                               const ExpectedImage& expected,
-                                               std::string* whyNot) {
+                                               const ExpectedImage& expected, std::string* whyNot) {
   const auto no = [&](std::string why) -> std::optional<PartialRender> {
     if (whyNot) *whyNot = std::move(why);
     return std::nullopt;

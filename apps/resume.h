@@ -15,7 +15,7 @@ struct ExpectedImage {
   int fullWidth = 0, fullHeight = 0;          // the whole frame
   int x0 = 0, y0 = 0, width = 0, height = 0;  // the pixels this render wrote (crop or tile)
   std::string scene;  // compared by file name: the path may be spelled differently
-  int spp = 0;       // without a budget: the spp a complete output has; with one: the cap
+  int spp = 0;        // without a budget: the spp a complete output has; with one: the cap
   uint64_t seed = 0;
   double time = 0;
   // A budgeted render (--time-limit, --noise-target) is complete when it stopped on its own

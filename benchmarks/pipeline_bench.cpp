@@ -260,7 +260,7 @@ int main(int argc, char** argv) {
     const double bare = value("BM_BareEmbreeIntersect1", "Mrays/s");
     const double glint = value("BM_GlintEyelightRender", "Mrays/s");
     const double packet = value("BM_BareEmbreeIntersect16", "Mrays/s");  // 0 when filtered out
-    if (bare <= 0 || glint <= 0) continue;  // filtered out
+    if (bare <= 0 || glint <= 0) continue;                               // filtered out
     measured = true;
     const double ratio = glint / bare;
     // The same comparison by CPU time (all threads): it holds when other work shares the

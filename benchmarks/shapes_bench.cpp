@@ -16,6 +16,7 @@
 // Usage: shapes_bench [--out results.json] [google benchmark flags]. Run from the repository
 // root (the scene path is relative to it) with a Release build.
 #include <benchmark/benchmark.h>
+#include <embree3/rtcore.h>
 
 #include <cmath>
 #include <cstring>
@@ -25,8 +26,6 @@
 #include <random>
 #include <string>
 #include <vector>
-
-#include <embree3/rtcore.h>
 
 #include "bench_support.h"
 #include "geometry/accel/accelerator.h"
@@ -216,15 +215,11 @@ struct LaneTypes<4> {
 // 32-byte vector passed to an out-of-line function would change the ABI does not apply.
 #pragma GCC diagnostic ignored "-Wpsabi"
 template <int N, int Width>
-[[gnu::always_inline]] inline bool sphereLanesBody(const float* __restrict ox,
-                                                   const float* __restrict oy,
-                                                   const float* __restrict oz,
-                                                   const float* __restrict dx,
-                                                   const float* __restrict dy,
-                                                   const float* __restrict dz,
-                                                   const float* __restrict tnear,
-                                                   const float* __restrict tfar, Vec3f c,
-                                                   float radius, float* __restrict t) {
+[[gnu::always_inline]] inline bool sphereLanesBody(
+    const float* __restrict ox, const float* __restrict oy, const float* __restrict oz,
+    const float* __restrict dx, const float* __restrict dy, const float* __restrict dz,
+    const float* __restrict tnear, const float* __restrict tfar, Vec3f c, float radius,
+    float* __restrict t) {
   using prim::gammaD;
   using prim::kEpsD;
   alignas(64) int maybe[N];
@@ -342,8 +337,7 @@ template <int N, int Width>
 struct LanePointers {
   const float *ox, *oy, *oz, *dx, *dy, *dz, *tnear, *tfar;
   explicit LanePointers(const LaneRays& r)
-      : ox(r.ox), oy(r.oy), oz(r.oz), dx(r.dx), dy(r.dy), dz(r.dz), tnear(r.tnear),
-        tfar(r.tfar) {}
+      : ox(r.ox), oy(r.oy), oz(r.oz), dx(r.dx), dy(r.dy), dz(r.dz), tnear(r.tnear), tfar(r.tfar) {}
   // RTCRayN: org_x, org_y, org_z, tnear, dir_x, dir_y, dir_z, time, tfar, ... N floats each.
   LanePointers(const RTCRayN* rays, unsigned N) {
     const auto* f = reinterpret_cast<const float*>(rays);
@@ -357,15 +351,15 @@ template <int Width>
   if (N == 16)
     return sphereLanesBody<16, Width>(r.ox, r.oy, r.oz, r.dx, r.dy, r.dz, r.tnear, r.tfar, c,
                                       radius, t);
-  return sphereLanesBody<8, Width>(r.ox, r.oy, r.oz, r.dx, r.dy, r.dz, r.tnear, r.tfar, c,
-                                   radius, t);
+  return sphereLanesBody<8, Width>(r.ox, r.oy, r.oz, r.dx, r.dy, r.dz, r.tnear, r.tfar, c, radius,
+                                   t);
 }
 // N = 8 or 16.
 bool sphereLanesSse2(const LanePointers& r, unsigned N, Vec3f c, float radius, float* t) {
   return sphereLanesN<2>(r, N, c, radius, t);
 }
 [[gnu::target("avx2")]] bool sphereLanesAvx2(const LanePointers& r, unsigned N, Vec3f c,
-                                              float radius, float* t) {
+                                             float radius, float* t) {
   return sphereLanesN<4>(r, N, c, radius, t);
 }
 bool haveAvx2() { return __builtin_cpu_supports("avx2"); }
@@ -411,7 +405,8 @@ void BM_SphereKernel(benchmark::State& state) {
   uint64_t mismatches = 0, hits = 0;
   for (const LaneRays& p : packets) {
     alignas(64) float t[kLanes];
-    if (kind == 0 || !(kind == 1 ? sphereLanesSse2 : sphereLanesAvx2)(LanePointers(p), kLanes, {0, 0, 0}, 1.0f, t))
+    if (kind == 0 || !(kind == 1 ? sphereLanesSse2 : sphereLanesAvx2)(LanePointers(p), kLanes,
+                                                                      {0, 0, 0}, 1.0f, t))
       std::fill(t, t + kLanes, kInfinity);
     for (int i = 0; i < kLanes; ++i) {
       const float ref = sphereScalar(sphere, laneRay(p, i));
@@ -425,7 +420,8 @@ void BM_SphereKernel(benchmark::State& state) {
       alignas(64) float t[kLanes];
       if (kind == 0) {
         for (int i = 0; i < kLanes; ++i) t[i] = sphereScalar(sphere, laneRay(p, i));
-      } else if (!(kind == 1 ? sphereLanesSse2 : sphereLanesAvx2)(LanePointers(p), kLanes, {0, 0, 0}, 1.0f, t)) {
+      } else if (!(kind == 1 ? sphereLanesSse2 : sphereLanesAvx2)(LanePointers(p), kLanes,
+                                                                  {0, 0, 0}, 1.0f, t)) {
         continue;
       }
       for (int i = 0; i < kLanes; ++i) sum += t[i] < kInfinity ? t[i] : 0.0f;
@@ -465,9 +461,8 @@ void sphereUserIntersect(const RTCIntersectFunctionNArguments* args) {
   alignas(64) float t[kLanes];
   if (user->lanes && (N == 8 || N == 16)) {
     // Embree's packets are already structure of arrays: the kernel reads them in place.
-    if (!(user->avx2 ? sphereLanesAvx2 : sphereLanesSse2)(LanePointers(rays, N), N,
-                                                          user->sphere.center(),
-                                                          user->sphere.radius(), t))
+    if (!(user->avx2 ? sphereLanesAvx2 : sphereLanesSse2)(
+            LanePointers(rays, N), N, user->sphere.center(), user->sphere.radius(), t))
       return;
   } else {
     for (unsigned i = 0; i < N; ++i)

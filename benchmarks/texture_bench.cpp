@@ -26,8 +26,7 @@ std::string assetsDir() {
 }
 
 const std::string& imagePath() {
-  static const std::string path =
-      assetsDir() + "/gltf/DamagedHelmet/glTF/Default_albedo.jpg";
+  static const std::string path = assetsDir() + "/gltf/DamagedHelmet/glTF/Default_albedo.jpg";
   return path;
 }
 
@@ -77,10 +76,10 @@ void run(benchmark::State& state, TextureStorage storage, TextureFilter filter, 
   state.SetLabel(textureStorageName(images.storage(h)));
 }
 
-#define GLINT_TEXTURE_CASES(storage, name)                                                  \
-  BENCHMARK_CAPTURE(run, name##_nearest_random, storage, TextureFilter::Nearest, false);    \
-  BENCHMARK_CAPTURE(run, name##_linear_random, storage, TextureFilter::Linear, false);      \
-  BENCHMARK_CAPTURE(run, name##_mipmap_random, storage, TextureFilter::Mipmap, false);      \
+#define GLINT_TEXTURE_CASES(storage, name)                                               \
+  BENCHMARK_CAPTURE(run, name##_nearest_random, storage, TextureFilter::Nearest, false); \
+  BENCHMARK_CAPTURE(run, name##_linear_random, storage, TextureFilter::Linear, false);   \
+  BENCHMARK_CAPTURE(run, name##_mipmap_random, storage, TextureFilter::Mipmap, false);   \
   BENCHMARK_CAPTURE(run, name##_mipmap_coherent, storage, TextureFilter::Mipmap, true);
 
 GLINT_TEXTURE_CASES(TextureStorage::Memory, memory)

@@ -1,6 +1,6 @@
 // glint benchmark — instant radiosity: VPL count against time and error. The Cornell-style box
-// of tests/reference_images/scenes/cornell_ir.json (quad light, Lambert walls, a block and a ball) at
-// 32x32, 16 spp, max depth 6, rendered with 16, 64, 256 and 1024 light paths, unclamped, with
+// of tests/reference_images/scenes/cornell_ir.json (quad light, Lambert walls, a block and a ball)
+// at 32x32, 16 spp, max depth 6, rendered with 16, 64, 256 and 1024 light paths, unclamped, with
 // the G bound 100 the reference scene uses, and with a tight bound of 10 (the box is 2 wide:
 // 10 is below 1 / (0.2 x size)^2, so its bias shows). Each run's time includes tracing the light
 // paths. Error: RMSE of the green channel and the relative bias of the image mean, against the
@@ -31,10 +31,11 @@ namespace {
 
 constexpr int kSize = 32, kSpp = 16, kReferenceSpp = 4096;
 
-// The box of tests/reference_images/scenes/cornell_ir.json, rendered smaller and with the light paths
-// and clamp each run asks for.
+// The box of tests/reference_images/scenes/cornell_ir.json, rendered smaller and with the light
+// paths and clamp each run asks for.
 std::string boxJson() {
-  const std::string path = std::string(GLINT_SOURCE_DIR) + "/tests/reference_images/scenes/cornell_ir.json";
+  const std::string path =
+      std::string(GLINT_SOURCE_DIR) + "/tests/reference_images/scenes/cornell_ir.json";
   std::ifstream in(path);
   if (!in) {
     std::fprintf(stderr, "vpl_bench: cannot read %s\n", path.c_str());
@@ -164,18 +165,18 @@ int main(int argc, char** argv) {
               "VPLs", "seconds", "RMSE", "mean bias");
   for (const glint::Row& r : glint::rows())
     std::printf("%-18s %6d %8d %8d %8zu %10.3f %10.4f %+9.2f%%\n",
-                r.paths ? "instant-radiosity" : "path", r.spp, r.paths, r.clamp, r.vpls,
-                r.seconds, r.error.rmse, 100 * r.error.bias);
+                r.paths ? "instant-radiosity" : "path", r.spp, r.paths, r.clamp, r.vpls, r.seconds,
+                r.error.rmse, 100 * r.error.bias);
   if (!out.empty()) {
     std::ofstream f(out);
     f << "[\n";
     for (size_t i = 0; i < glint::rows().size(); ++i) {
       const glint::Row& r = glint::rows()[i];
       f << "  {\"integrator\": \"" << (r.paths ? "instant-radiosity" : "path")
-        << "\", \"spp\": " << r.spp << ", \"paths\": " << r.paths << ", \"clamp\": " << r.clamp << ", \"vpls\": " << r.vpls
-        << ", \"seconds\": " << r.seconds << ", \"rmse\": " << r.error.rmse
-        << ", \"bias\": " << r.error.bias << "}" << (i + 1 < glint::rows().size() ? "," : "")
-        << "\n";
+        << "\", \"spp\": " << r.spp << ", \"paths\": " << r.paths << ", \"clamp\": " << r.clamp
+        << ", \"vpls\": " << r.vpls << ", \"seconds\": " << r.seconds
+        << ", \"rmse\": " << r.error.rmse << ", \"bias\": " << r.error.bias << "}"
+        << (i + 1 < glint::rows().size() ? "," : "") << "\n";
     }
     f << "]\n";
   }

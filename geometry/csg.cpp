@@ -231,8 +231,7 @@ size_t CsgShape::evaluate(uint32_t node, const Ray& ray, Scratch& scratch) const
   const Node& n = nodes_[node];
   // A subtree whose box the query's window misses contributes no spans (for a difference's
   // first child or an intersection's child that empties the whole node).
-  if (segmentMissesBox(ray, scratch.invD, nodeBounds_[node], scratch.tLo, scratch.tHi))
-    return 0;
+  if (segmentMissesBox(ray, scratch.invD, nodeBounds_[node], scratch.tLo, scratch.tHi)) return 0;
   if (n.leaf != kNone) {
     Span s;
     const Leaf& leaf = leaves_[n.leaf];
@@ -361,14 +360,12 @@ bool CsgShape::intersect(const Ray& ray, ShapeHit* hit) const {
   return false;
 }
 
-ShapeSurface CsgShape::surface(const Ray& ray, const ShapeHit& hit,
-                               SurfaceDetails details) const {
+ShapeSurface CsgShape::surface(const Ray& ray, const ShapeHit& hit, SurfaceDetails details) const {
   const Leaf& leaf = leaves_[hit.part >> 3];
   // The same moved ray intersect() found the hit on: the leaf works out the point from an
   // origin near it.
   const Reorigined r = reoriginate(ray);
-  ShapeSurface s =
-      leaf.placed.surface(r.ray, ShapeHit{hit.t - r.shift, hit.part & 7}, details);
+  ShapeSurface s = leaf.placed.surface(r.ray, ShapeHit{hit.t - r.shift, hit.part & 7}, details);
   if (leaf.flipNormal) s.n = -s.n;
   return s;
 }

@@ -75,8 +75,7 @@ class CsgShape final : public Shape {
   std::unique_ptr<Shape> clone() const override;  // a deep copy: each leaf cloned
   Bounds3f bounds() const override { return bounds_; }
   bool intersect(const Ray& ray, ShapeHit* hit) const override;
-  ShapeSurface surface(const Ray& ray, const ShapeHit& hit,
-                       SurfaceDetails details) const override;
+  ShapeSurface surface(const Ray& ray, const ShapeHit& hit, SurfaceDetails details) const override;
   uint32_t materialSlot(uint32_t part) const override { return part >> 3; }
   uint32_t materialSlotCount() const override { return uint32_t(leaves_.size()); }
 

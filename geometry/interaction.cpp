@@ -144,7 +144,8 @@ Vec3f instanceRayTransformError(const Transform& xf, Vec3f p) {
       // The blend of the steps is rounded (by Embree too, perhaps fused): a few roundings of
       // the two steps' magnitudes per vertex.
       auto blendError = [&](uint32_t v) {
-        return gamma(3) * (abs(mesh.positionSteps[step.k][v]) + abs(mesh.positionSteps[step.k + 1][v]));
+        return gamma(3) *
+               (abs(mesh.positionSteps[step.k][v]) + abs(mesh.positionSteps[step.k + 1][v]));
       };
       errObj += std::abs(b0) * blendError(i0) + std::abs(b1) * blendError(i1) +
                 std::abs(b2) * blendError(i2);

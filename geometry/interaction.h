@@ -21,16 +21,16 @@ struct SurfaceNeeds {
 };
 
 struct SurfaceInteraction {
-  Vec3f p;                  // world-space hit point,
-  Vec3f pError;             // with a conservative bound on its absolute rounding error (both zero
-                            // unless SurfaceNeeds::position)
-  Vec3f ng;                 // unit geometric normal (world), on the side the ray came from
-  Vec3f ns;                 // unit shading normal (world), in ng's hemisphere
-  Vec3f nsUnperturbed;      // ns before a bump or normal map changed it (set only then)
-  Vec3f wo;                 // unit direction back along the ray
-  Vec2f uv;                 // TEXCOORD_0 (or barycentrics when the mesh has none); a shape's own
-                            // uv (only with SurfaceNeeds::uvs; zero otherwise)
-  Vec2f uv1;                // TEXCOORD_1 (uv when the mesh has no second set)
+  Vec3f p;              // world-space hit point,
+  Vec3f pError;         // with a conservative bound on its absolute rounding error (both zero
+                        // unless SurfaceNeeds::position)
+  Vec3f ng;             // unit geometric normal (world), on the side the ray came from
+  Vec3f ns;             // unit shading normal (world), in ng's hemisphere
+  Vec3f nsUnperturbed;  // ns before a bump or normal map changed it (set only then)
+  Vec3f wo;             // unit direction back along the ray
+  Vec2f uv;             // TEXCOORD_0 (or barycentrics when the mesh has none); a shape's own
+                        // uv (only with SurfaceNeeds::uvs; zero otherwise)
+  Vec2f uv1;            // TEXCOORD_1 (uv when the mesh has no second set)
   // How uv1 changes with uv across the triangle (columns d uv1 / du, d uv1 / dv): carries uv's
   // pixel footprint over to uv1 (identity without a second set).
   Vec2f duv1du{1, 0}, duv1dv{0, 1};

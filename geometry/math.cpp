@@ -136,8 +136,8 @@ Vec3f Transform::point(Vec3f p, Vec3f* error) const {
   }
   Vec3f r;
   for (int i = 0; i < 3; ++i) {
-    const double sum = double(m[i][0]) * p.x + double(m[i][1]) * p.y + double(m[i][2]) * p.z +
-                       double(m[i][3]);
+    const double sum =
+        double(m[i][0]) * p.x + double(m[i][1]) * p.y + double(m[i][2]) * p.z + double(m[i][3]);
     const float linear =
         std::abs(m[i][0] * p.x) + std::abs(m[i][1] * p.y) + std::abs(m[i][2] * p.z);
     r[i] = float(sum);
@@ -202,8 +202,8 @@ MeantTransform MeantTransform::written(const Mat4& m) {
 
 MeantTransform MeantTransform::rotation(float degrees, Vec3f axis) {
   // Rodrigues' formula in double: R = c I + s [k]x + (1 - c) k k^T.
-  const double len = std::sqrt(double(axis.x) * axis.x + double(axis.y) * axis.y +
-                               double(axis.z) * axis.z);
+  const double len =
+      std::sqrt(double(axis.x) * axis.x + double(axis.y) * axis.y + double(axis.z) * axis.z);
   const double k[3] = {axis.x / len, axis.y / len, axis.z / len};
   const double a = double(degrees) * 3.14159265358979323846 / 180;
   const double c = std::cos(a), sn = std::sin(a);
@@ -242,8 +242,8 @@ TransformError MeantTransform::errorOf(const Mat4& m) const {
       // magnitude covers it generously.
       double magnitude = std::abs(exact_[i][3]);
       for (int k = 0; k < 3; ++k) magnitude += std::abs(exact_[i][k]);
-      const double bound = std::abs(double(m.m[i][j]) - exact_[i][j]) + written_[i][j] +
-                           0x1p-40 * magnitude;
+      const double bound =
+          std::abs(double(m.m[i][j]) - exact_[i][j]) + written_[i][j] + 0x1p-40 * magnitude;
       r.e[i][j] = float(bound);
       if (double(r.e[i][j]) < bound) r.e[i][j] = nextFloatUp(r.e[i][j]);
     }

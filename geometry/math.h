@@ -83,9 +83,7 @@ inline float luminance(Rgb c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f *
 
 struct Vec4f {
   float x = 0, y = 0, z = 0, w = 0;
-  constexpr float operator[](int i) const {
-    return i == 0 ? x : (i == 1 ? y : (i == 2 ? z : w));
-  }
+  constexpr float operator[](int i) const { return i == 0 ? x : (i == 1 ? y : (i == 2 ? z : w)); }
 };
 
 // An orthonormal basis around a unit normal (Duff et al. 2017, "Building an Orthonormal

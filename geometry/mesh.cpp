@@ -11,12 +11,12 @@ void placeVertices(const Transform& world, std::vector<Vec3f>* positions,
                    std::vector<uint32_t>* indices) {
   for (Vec3f& p : *positions) p = world.point(p);
   if (world.swapsHandedness())
-    for (size_t t = 0; t + 2 < indices->size(); t += 3) std::swap((*indices)[t + 1], (*indices)[t + 2]);
+    for (size_t t = 0; t + 2 < indices->size(); t += 3)
+      std::swap((*indices)[t + 1], (*indices)[t + 2]);
 }
 
 std::vector<Vec4f> vertexTangents(const std::vector<Vec3f>& positions,
-                                  const std::vector<Vec3f>& normals,
-                                  const std::vector<Vec2f>& uvs,
+                                  const std::vector<Vec3f>& normals, const std::vector<Vec2f>& uvs,
                                   const std::vector<uint32_t>& indices) {
   const size_t n = positions.size();
   // Per vertex, the weighted sums of the right-handed and the mirrored triangles' tangents.

@@ -91,8 +91,7 @@ inline float uvHandedness(Vec3f n, Vec3f dpdu, Vec3f dpdv) {
 // does, where one frame per triangle would crease the shading at every edge. A vertex no
 // triangle gives a direction (degenerate uvs) gets any tangent perpendicular to its normal.
 std::vector<Vec4f> vertexTangents(const std::vector<Vec3f>& positions,
-                                  const std::vector<Vec3f>& normals,
-                                  const std::vector<Vec2f>& uvs,
+                                  const std::vector<Vec3f>& normals, const std::vector<Vec2f>& uvs,
                                   const std::vector<uint32_t>& indices);
 
 // One placement of a mesh or of an analytic shape (exactly one of the two indices is set).

@@ -227,7 +227,8 @@ float AnimatedTransform::interpolationMismatch(float time) const {
   constexpr float kAmplified = 16 * kMachineEpsilon;
   const size_t segments = keys_.size() - 1;
   const size_t i = std::min(size_t(std::clamp(time, 0.0f, 1.0f) * float(segments)), segments - 1);
-  const float c = std::min(std::abs(dot(decomposed_[i].rotation, decomposed_[i + 1].rotation)), 1.0f);
+  const float c =
+      std::min(std::abs(dot(decomposed_[i].rotation, decomposed_[i + 1].rotation)), 1.0f);
   // Above Embree's lerp threshold nothing is amplified (slerp() here uses the same branch).
   if (c > 0.9995f) return kBase;
   return kBase + kAmplified / std::sqrt(1 - c * c);

@@ -56,9 +56,10 @@ class AnimatedTransform {
   // instances that never move carry no heap allocation for their motion.
   AnimatedTransform() = default;
   explicit AnimatedTransform(const Transform& xf) : first_(xf) {}
-  // Keys at times i / (n - 1) of the shutter, 1 <= n <= kMaxMotionKeys. Consecutive rotations are put in the same
-  // hemisphere so slerp takes the short way between them; callers sample densely enough that
-  // no step turns by more than 180 degrees. All keys equal collapses to one (no motion).
+  // Keys at times i / (n - 1) of the shutter, 1 <= n <= kMaxMotionKeys. Consecutive rotations are
+  // put in the same hemisphere so slerp takes the short way between them; callers sample densely
+  // enough that no step turns by more than 180 degrees. All keys equal collapses to one (no
+  // motion).
   explicit AnimatedTransform(std::vector<Transform> keys);
 
   bool isAnimated() const { return !keys_.empty(); }

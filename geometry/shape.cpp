@@ -244,8 +244,8 @@ bool PlacedShape::span(const Ray& ray, const SurfaceTolerance& tolerance, Span* 
   float shift, shiftError;
   Vec3f originError;
   Ray r = toObject(ray, &shift, &shiftError, &originError);
-  // shiftError covers the origin's error along the ray; across it, the error moves a crossing by the
-  // error along the surface's normal over |d . n|, like a surface tolerance: where crossings
+  // shiftError covers the origin's error along the ray; across it, the error moves a crossing by
+  // the error along the surface's normal over |d . n|, like a surface tolerance: where crossings
   // tie (tolerance given), the origin's error joins the tolerance, and so does the direction's
   // rounding (half an ulp of each component, times |t|: at most half an ulp of |p - o|).
   SurfaceTolerance tol = tolerance;

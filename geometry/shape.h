@@ -97,8 +97,8 @@ inline bool crossingsTie(const Crossing& a, const Crossing& b) {
 // edge the ray passes.
 inline bool sameSurface(const Crossing& a, const Crossing& b) {
   const float d = a.n.x * b.n.x + a.n.y * b.n.y + a.n.z * b.n.z;
-  const bool unknown = (a.n.x == 0 && a.n.y == 0 && a.n.z == 0) ||
-                       (b.n.x == 0 && b.n.y == 0 && b.n.z == 0);
+  const bool unknown =
+      (a.n.x == 0 && a.n.y == 0 && a.n.z == 0) || (b.n.x == 0 && b.n.y == 0 && b.n.z == 0);
   return unknown || std::abs(d) >= 0.9999f;
 }
 
@@ -213,8 +213,7 @@ inline Vec3f reciprocalDirection(Vec3f d) {
 // error (pbrt-v4's gamma(3) idea), so a line that grazes the box is never culled. Unbounded
 // boxes are never culled.
 // invD is reciprocalDirection(ray.d) (CSG computes it once per query, not once per node).
-inline bool segmentMissesBox(const Ray& ray, Vec3f invD, const Bounds3f& b, float tLo,
-                             float tHi) {
+inline bool segmentMissesBox(const Ray& ray, Vec3f invD, const Bounds3f& b, float tLo, float tHi) {
   if (isUnbounded(b) || b.empty()) return b.empty();
   float tNear = -kInfinity, tFar = kInfinity;
   for (int i = 0; i < 3; ++i) {
@@ -295,11 +294,11 @@ class PlacedShape {
   Transform placement_;
   bool identity_;
   bool translationOnly_ = false;  // the 3x3 part is the identity (and the shift is not zero)
-  double inverse_[3][3];    // of placement_'s 3x3 part, in double (see the constructor)
-  double inverseRelError_;  // relative error bound of each inverse_ entry
-  double absDet_;           // |det| of placement_'s 3x3 part
-  Bounds3f objectBounds_;   // the shape's, in object space
-  float farReach_ = kInfinity;  // kFarReach times the box's largest side (inf: unbounded, empty)
+  double inverse_[3][3];          // of placement_'s 3x3 part, in double (see the constructor)
+  double inverseRelError_;        // relative error bound of each inverse_ entry
+  double absDet_;                 // |det| of placement_'s 3x3 part
+  Bounds3f objectBounds_;         // the shape's, in object space
+  float farReach_ = kInfinity;    // kFarReach times the box's largest side (inf: unbounded, empty)
 };
 
 }  // namespace glint

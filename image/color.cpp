@@ -44,8 +44,7 @@ OCIO::ConstConfigRcPtr loadCached(const std::string& path) {
 // image/install_layout.h), else the source tree's, whose path the build compiled in.
 std::string defaultConfigPath() {
   static const std::string path = [] {
-    const std::filesystem::path installed =
-        installedFile(executableFolder(), kInstalledOcioConfig);
+    const std::filesystem::path installed = installedFile(executableFolder(), kInstalledOcioConfig);
     return installed.empty() ? std::string(GLINT_DEFAULT_OCIO_CONFIG) : installed.string();
   }();
   return path;
@@ -69,8 +68,8 @@ LoadedConfig currentConfig() {
   try {
     return {loadCached(defaultConfigPath()), defaultConfigPath()};
   } catch (const OCIO::Exception& e) {
-    std::string message = fmt::format("cannot load the OpenColorIO config '{}': {}",
-                                      defaultConfigPath(), e.what());
+    std::string message =
+        fmt::format("cannot load the OpenColorIO config '{}': {}", defaultConfigPath(), e.what());
     if (!envError.empty()) message += fmt::format(" (nor $OCIO '{}': {})", env, envError);
     throw ColorError(message);
   }

@@ -84,9 +84,9 @@ DiffResult diffImages(const std::string& pathA, const std::string& pathB, const 
     throw ImageReadError(fmt::format("{}: no channels in common with {}", pathA, pathB));
   r.channels = map.names;
   r.pixels = uint64_t(fileA.pixelCount());
-  const oiio::CompareStats cr = oiio::plugin().compare(
-      select(fileA, map.a), select(fileB, map.b), fileA.width, fileA.height,
-      int(map.names.size()), float(t.fail), float(t.warn));
+  const oiio::CompareStats cr =
+      oiio::plugin().compare(select(fileA, map.a), select(fileB, map.b), fileA.width, fileA.height,
+                             int(map.names.size()), float(t.fail), float(t.warn));
   if (!cr.error.empty()) throw ImageReadError(fmt::format("{} vs {}: {}", pathA, pathB, cr.error));
   r.meanAbsError = cr.meanError;
   r.rmse = cr.rmsError;

@@ -57,8 +57,8 @@ struct ChannelOrder {
     layer = dot == std::string::npos ? "" : name.substr(0, dot + 1);
     suffix = dot == std::string::npos ? name : name.substr(dot + 1);
     static constexpr std::array<const char*, 20> kSpecial = {
-        "R",  "Red", "G",  "Green", "B",  "Blue", "Y",  "real", "imag",  "A",
-        "Alpha", "AR", "RA", "AG",  "GA", "AB",   "BA", "Z",    "Depth", "Zback"};
+        "R",     "Red", "G",  "Green", "B",  "Blue", "Y",  "real", "imag",  "A",
+        "Alpha", "AR",  "RA", "AG",    "GA", "AB",   "BA", "Z",    "Depth", "Zback"};
     for (size_t i = 0; i < kSpecial.size(); ++i)
       if (equalsIgnoringCase(suffix, kSpecial[i])) {
         special = int(i);
@@ -76,7 +76,8 @@ struct ChannelOrder {
 std::string attributeText(const Imf::Attribute& a) {
   if (auto* s = dynamic_cast<const Imf::StringAttribute*>(&a)) return "\"" + s->value() + "\"";
   if (auto* i = dynamic_cast<const Imf::IntAttribute*>(&a)) return std::to_string(i->value());
-  if (auto* d = dynamic_cast<const Imf::DoubleAttribute*>(&a)) return fmt::format("{:g}", d->value());
+  if (auto* d = dynamic_cast<const Imf::DoubleAttribute*>(&a))
+    return fmt::format("{:g}", d->value());
   return std::string("<") + a.typeName() + ">";
 }
 
@@ -152,9 +153,10 @@ Image readExrImage(const std::string& path, bool pixels) {
     for (auto it = h.channels().begin(); it != h.channels().end(); ++it) {
       const Imf::Channel& c = it.channel();
       if (c.xSampling != 1 || c.ySampling != 1)
-        throw DecodeError(path, fmt::format("channel \"{}\" is subsampled ({}x{}); glint reads "
-                                            "only full-resolution channels",
-                                            it.name(), c.xSampling, c.ySampling),
+        throw DecodeError(path,
+                          fmt::format("channel \"{}\" is subsampled ({}x{}); glint reads "
+                                      "only full-resolution channels",
+                                      it.name(), c.xSampling, c.ySampling),
                           false);
       anyHalf |= c.type == Imf::HALF;
       anyFloat |= c.type != Imf::UINT;
@@ -179,8 +181,8 @@ Image readExrImage(const std::string& path, bool pixels) {
     // window's corner.
     Imf::FrameBuffer fb;
     for (int c = 0; c < image.channels; ++c)
-      fb.insert(image.names[size_t(c)], Imf::Slice::Make(Imf::FLOAT, &image.pixels[size_t(c)],
-                                                         data, xStride, yStride));
+      fb.insert(image.names[size_t(c)],
+                Imf::Slice::Make(Imf::FLOAT, &image.pixels[size_t(c)], data, xStride, yStride));
     file.setFrameBuffer(fb);
     file.readPixels(data.min.y, data.max.y);
     return image;
@@ -234,8 +236,7 @@ void writeExrImage(const std::string& file, const std::string& target, const Ima
   size_t halfIndex = 0;
   for (int c = 0; c < nch; ++c) {
     if (isHalf(c))
-      fb.insert(names[size_t(c)],
-                Imf::Slice::Make(Imf::HALF, &halves[halfIndex++], data, hx, hy));
+      fb.insert(names[size_t(c)], Imf::Slice::Make(Imf::HALF, &halves[halfIndex++], data, hx, hy));
     else
       fb.insert(names[size_t(c)],
                 Imf::Slice::Make(Imf::FLOAT, &image.pixels[size_t(c)], data, fx, fy));

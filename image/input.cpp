@@ -75,7 +75,8 @@ Film readRenderState(const std::string& path, ImageMetadata* meta, std::string* 
     film.variance[i] = Rgb{p[vr], p[vg], p[vb]};
     if (k >= 0) {
       if (!(p[k] >= 0 && p[k] <= float(spp) && p[k] == std::floor(p[k])))
-        return no(fmt::format("pixel {} has {} samples, not a count up to the {} spp", i, p[k], spp));
+        return no(
+            fmt::format("pixel {} has {} samples, not a count up to the {} spp", i, p[k], spp));
       film.samples[i] = uint32_t(p[k]);
     } else {
       film.samples[i] = spp;

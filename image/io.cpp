@@ -167,9 +167,8 @@ void writeImageFile(const std::string& path, Image image) {
       for (size_t i = 0; i < image.pixels.size(); ++i)
         if (int(i % size_t(nch)) != z) image.pixels[i] = float(Imath::half(image.pixels[i]));
     const std::string checksum = pixelChecksum(image.pixels, image.names);
-    writeAtomically(path, [&](const std::string& file) {
-      writeExrImage(file, path, image, checksum);
-    });
+    writeAtomically(path,
+                    [&](const std::string& file) { writeExrImage(file, path, image, checksum); });
     return;
   }
   writeAtomically(path, [&](const std::string& file) {

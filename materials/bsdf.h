@@ -243,5 +243,4 @@ class Bsdf {
   Lobes lobes_;
 };
 
-
 }  // namespace glint

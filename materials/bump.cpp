@@ -33,8 +33,7 @@ Vec3f reflectionSafeNormal(Vec3f ns, Vec3f ng, Vec3f wo) {
   const float wx = dot(wo, x);
   const float A = std::sqrt(wx * wx + z * z);
   if (!(A > 0)) return ng;
-  const float theta =
-      0.5f * (std::atan2(wx, z) + std::acos(std::clamp(q / A, -1.0f, 1.0f)));
+  const float theta = 0.5f * (std::atan2(wx, z) + std::acos(std::clamp(q / A, -1.0f, 1.0f)));
   if (!(theta > 0)) return ng;
   return normalize(ng * std::cos(theta) + x * std::sin(theta));
 }

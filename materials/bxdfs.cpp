@@ -111,9 +111,7 @@ const Rgb kOne{1, 1, 1};
 // The normal-incidence reflectance of an interface of relative index eta.
 float f0FromEta(float eta) { return square((eta - 1) / (eta + 1)); }
 // KHR_materials_specular changes the dielectric's reflectance (a colour or strength not 1).
-bool tintedSpecular(const PbrHit& hit) {
-  return hit.specularColor != kOne || hit.specular != 1;
-}
+bool tintedSpecular(const PbrHit& hit) { return hit.specularColor != kOne || hit.specular != 1; }
 }  // namespace
 
 PbrBxdf::PbrBxdf(Vec3f wo, Rgb base_, float metallic_, float roughness, float transmission_,
@@ -152,8 +150,8 @@ PbrBxdf::PbrBxdf(Vec3f wo, const PbrHit& h) noexcept : hit(h) {
   }
   smooth = TrowbridgeReitzDistribution(alphaX, alphaY).effectivelySmooth();
   tableRoughness_ = std::sqrt(std::sqrt(alphaX * alphaY));
-  coatAlpha = TrowbridgeReitzDistribution::roughnessToAlpha(
-      std::clamp(hit.clearcoatRoughness, 0.0f, 1.0f));
+  coatAlpha =
+      TrowbridgeReitzDistribution::roughnessToAlpha(std::clamp(hit.clearcoatRoughness, 0.0f, 1.0f));
   coatSmooth = TrowbridgeReitzDistribution(coatAlpha).effectivelySmooth();
   // The coat's frame (its normal may differ from the base's shading normal).
   Vec3f cn = anisotropic ? toAniso(hit.coatNormal) : hit.coatNormal;
@@ -198,8 +196,7 @@ PbrBxdf::PbrBxdf(Vec3f wo, const PbrHit& h) noexcept : hit(h) {
       const Rgb base = clamp01(hit.base);
       const Rgb fAvg = base + (kOne - base) * (1.0f / 21);
       Rgb fMs;
-      for (int c = 0; c < 3; ++c)
-        fMs[c] = square(fAvg[c]) * eAvg / (1 - fAvg[c] * (1 - eAvg));
+      for (int c = 0; c < 3; ++c) fMs[c] = square(fAvg[c]) * eAvg / (1 - fAvg[c] * (1 - eAvg));
       metalMultipleWo_ = fMs * ((1 - eWo) / (kPi * (1 - eAvg)));
       multipleAlbedo = fMs * (1 - eWo);
     }
@@ -242,9 +239,7 @@ Vec3f PbrBxdf::fromCoat(Vec3f v) const {
   return toCoat_[0] * v.x + toCoat_[1] * v.y + toCoat_[2] * v.z;
 }
 
-Rgb PbrBxdf::dielectricFresnel(float c) const {
-  return dielectricFresnel(c, hit.eta);
-}
+Rgb PbrBxdf::dielectricFresnel(float c) const { return dielectricFresnel(c, hit.eta); }
 
 Rgb PbrBxdf::dielectricFresnel(float c, float eta) const {
   const float F = fresnelDielectric(c, eta);
@@ -315,10 +310,10 @@ Rgb PbrBxdf::dielectricAverageAlbedo() const {
     for (int i = 0; i < 8; ++i) sum += dielectricAlbedo(kNodes[i]) * (2 * kWeights[i] * kNodes[i]);
     return clamp01(sum);
   }
-  const Rgb r = smooth ? specularAlbedo(hit, dielectricFresnelAverage(hit.eta), 1)
-                       : specularAlbedo(hit, ggxDielectricAverageAlbedo(tableRoughness_, hit.eta),
-                                        tintedSpecular(hit) ? ggxAverageAlbedo(tableRoughness_)
-                                                            : 0.0f);
+  const Rgb r =
+      smooth ? specularAlbedo(hit, dielectricFresnelAverage(hit.eta), 1)
+             : specularAlbedo(hit, ggxDielectricAverageAlbedo(tableRoughness_, hit.eta),
+                              tintedSpecular(hit) ? ggxAverageAlbedo(tableRoughness_) : 0.0f);
   return clamp01(r * hit.specular);
 }
 
@@ -655,8 +650,7 @@ bool PbrBxdf::sample(Vec3f wo, Vec2f u, float uLobe, uint32_t lobes, BsdfSample*
         wi = {wr.x, wr.y, -wr.z};
         break;
       }
-      const float eta =
-          hit.dispersion > 0 ? channelEta(std::min(int(uChannel * 3), 2)) : hit.eta;
+      const float eta = hit.dispersion > 0 ? channelEta(std::min(int(uChannel * 3), 2)) : hit.eta;
       float etaCrossed = 1;
       if (!refract(wo, wm, eta, &etaCrossed, &wi) || wi.z >= 0) return false;
       s.eta = etaCrossed;

@@ -180,10 +180,10 @@ struct GlassBxdf {
 struct PbrHit {
   Rgb base{1, 1, 1};
   float metallic = 0, roughness = 1;
-  float transmission = 0;  // KHR_materials_transmission
-  float eta = 1.5f;        // relative index across the surface seen from wo's side
-  bool thinWalled = false;  // transmission passes a thin sheet (no refraction, no volume)
-  float specular = 1;       // KHR_materials_specular: strength
+  float transmission = 0;      // KHR_materials_transmission
+  float eta = 1.5f;            // relative index across the surface seen from wo's side
+  bool thinWalled = false;     // transmission passes a thin sheet (no refraction, no volume)
+  float specular = 1;          // KHR_materials_specular: strength
   Rgb specularColor{1, 1, 1};  //   and colour of the dielectric's F0
   float clearcoat = 0, clearcoatRoughness = 0;  // KHR_materials_clearcoat
   Vec3f coatNormal{0, 0, 1};
@@ -192,9 +192,9 @@ struct PbrHit {
   float diffuseTransmission = 0;  // KHR_materials_diffuse_transmission
   Rgb diffuseTransmissionColor{1, 1, 1};
   float iridescence = 0, iridescenceIor = 1.3f, iridescenceThickness = 0;  // nm
-  float anisotropy = 0;               // KHR_materials_anisotropy: strength in [0, 1]
-  Vec2f anisotropyDirection{1, 0};    //   and the direction of the stretched roughness
-  float dispersion = 0;               // KHR_materials_dispersion (20 / Abbe number)
+  float anisotropy = 0;             // KHR_materials_anisotropy: strength in [0, 1]
+  Vec2f anisotropyDirection{1, 0};  //   and the direction of the stretched roughness
+  float dispersion = 0;             // KHR_materials_dispersion (20 / Abbe number)
 };
 
 // glTF's metallic-roughness model with its material extensions (see pbr.h for the model and
@@ -264,7 +264,7 @@ struct PbrBxdf {
   float reflectShare(Vec3f wo, Vec3f wm, float eta, const LobeProbabilities& pr) const;
   LobeProbabilities lobeProbabilities(uint32_t lobes) const;
   Rgb dielectricFresnel(float c, float eta) const;
-  Rgb metalFresnel(float c) const;  // Schlick from the base colour, or the film on the metal
+  Rgb metalFresnel(float c) const;      // Schlick from the base colour, or the film on the metal
   float channelEta(int channel) const;  // the dispersed relative index of one colour channel
   // The local frame turned so that x is the anisotropy direction, and back.
   Vec3f toAniso(Vec3f v) const;
@@ -275,7 +275,7 @@ struct PbrBxdf {
   // wo's weights per lobe (their directional albedos, roughly) and what they sample by.
   float w_[kLobeCount] = {};
   LobeProbabilities p_;
-  Rgb fresnelWo_;           // the dielectric's reflectance at wo.n
+  Rgb fresnelWo_;            // the dielectric's reflectance at wo.n
   float coatFresnelWo_ = 0;  // the coat's reflectance at wo (its own normal)
   // What the layers above leave the base at wo: (1 - coat F(wo)) (1 - max(sheenColor) E(wo)).
   float baseScaleWo_ = 1;
@@ -286,7 +286,7 @@ struct PbrBxdf {
   // The rough metal's multiple-scattering lobe (Kulla-Conty), the part of wo:
   // F_ms (1 - E(wo)) / (pi (1 - E_avg)); its value at wi is that times 1 - E(wi).
   Rgb metalMultipleWo_;
-  Vec3f toCoat_[3];          // rows: the coat frame's axes in the local frame
+  Vec3f toCoat_[3];  // rows: the coat frame's axes in the local frame
 };
 
 }  // namespace glint

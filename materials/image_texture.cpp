@@ -54,7 +54,7 @@ struct TextureImages::Image {
 
 struct TextureImages::Set {
   ImageDecoderSource decoder = nullptr;  // set once, by the constructor
-  mutable std::mutex mutex;  // guards the members below (adding images)
+  mutable std::mutex mutex;              // guards the members below (adding images)
   std::vector<std::unique_ptr<Image>> images;
   std::unordered_set<std::string> names;  // of addPixels and addEncoded
   // What findEncoded and findFile look up: encodedKey(name) with its bytes, fileKey(path,
@@ -135,8 +135,9 @@ TextureImages::TextureImages(ImageDecoderSource decoder) : set_(std::make_unique
 
 const ImageDecoder& TextureImages::decoder() const {
   if (!set_->decoder)
-    throw std::logic_error("TextureImages: an encoded image or a file added to a set made "
-                           "without a decoder");
+    throw std::logic_error(
+        "TextureImages: an encoded image or a file added to a set made "
+        "without a decoder");
   return set_->decoder();
 }
 TextureImages::~TextureImages() = default;
@@ -145,9 +146,9 @@ namespace {
 // Pixels handed over decoded: checks their size (a wrong one is the caller's bug) and makes the
 // image, ready for lookups.
 template <class T>
-std::unique_ptr<TextureImages::Image> decodedImage(const std::string& name, int width,
-                                                   int height, int channels,
-                                                   std::vector<T> pixels, ColorEncoding enc) {
+std::unique_ptr<TextureImages::Image> decodedImage(const std::string& name, int width, int height,
+                                                   int channels, std::vector<T> pixels,
+                                                   ColorEncoding enc) {
   if (width <= 0 || height <= 0 || channels < 1 || channels > 4 ||
       pixels.size() != size_t(width) * size_t(height) * size_t(channels))
     throw std::logic_error(name + ": " + std::to_string(pixels.size()) +
@@ -309,8 +310,9 @@ std::string TextureImages::describe(Handle h) const {
                   (image.encoding == ColorEncoding::Srgb ? "sRGB" : "linear") + ", ";
   if (image.storage == TextureStorage::Cache)
     return s + "OpenImageIO's texture cache (" +
-           (image.fileMipLevels > 1 ? std::to_string(image.fileMipLevels) + " MIP levels in the file"
-                                    : std::string("MIP levels made on demand")) +
+           (image.fileMipLevels > 1
+                ? std::to_string(image.fileMipLevels) + " MIP levels in the file"
+                : std::string("MIP levels made on demand")) +
            ")";
   return s + "in memory (" + (image.texel == MipMap::Texel::Byte ? "8-bit" : "float") +
          " MIP pyramid, " + mebibytes(residentBytes(h)) + ")";

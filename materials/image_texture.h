@@ -46,9 +46,9 @@ struct EncodedImageInfo {
 // An image file's header: what choosing its storage needs.
 struct ImageFileInfo {
   int width = 0, height = 0, channels = 0;
-  int bits = 8;            // per channel as stored (8, 16, 32)
-  bool tiled = false;      // stored in tiles
-  int mipLevels = 1;       // MIP levels stored in the file
+  int bits = 8;        // per channel as stored (8, 16, 32)
+  bool tiled = false;  // stored in tiles
+  int mipLevels = 1;   // MIP levels stored in the file
 };
 
 class ImageDecoder;
@@ -113,14 +113,14 @@ class TextureImages {
   Handle findEncoded(const std::string& name, const std::string* bytes) const;
   Handle findFile(const std::string& path, ColorEncoding enc) const;
 
-  size_t size() const;  // how many images the set holds
+  size_t size() const;                           // how many images the set holds
   bool contains(const std::string& name) const;  // an image added under `name`
   std::vector<Handle> handles() const;           // every image, in the order added
 
   const std::string& name(Handle h) const;
   int width(Handle h) const;
   int height(Handle h) const;
-  int channels(Handle h) const;  // as stored (1..4 are used; more are ignored)
+  int channels(Handle h) const;            // as stored (1..4 are used; more are ignored)
   TextureStorage storage(Handle h) const;  // Memory or Cache
   // The bytes an image in memory holds once decoded (its MIP pyramid; known before decoding),
   // 0 for one in the cache (whose budget bounds what it holds of all its files).

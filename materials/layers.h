@@ -22,8 +22,9 @@ float sheenD(float cosH, float alpha);
 float sheenBrdf(float cosO, float cosI, float cosH, float alpha);
 // The directional albedo E(cos(wo)) of sheenBrdf: the fraction of light a white sheen reflects
 // (integrated numerically once per process into a 32 x 32 table over sqrt(cos(wo)), dense
-// near the horizon where it changes fastest, and sheenRoughness; bilinear in between). The base below a sheen layer gets
-// 1 - max(sheenColor) E of the light (KHR_materials_sheen's albedo scaling).
+// near the horizon where it changes fastest, and sheenRoughness; bilinear in between). The base
+// below a sheen layer gets 1 - max(sheenColor) E of the light (KHR_materials_sheen's albedo
+// scaling).
 float sheenAlbedo(float cosO, float sheenRoughness);
 
 // ---- Thin-film interference (Airy summation) ----------------------------------------------

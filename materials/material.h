@@ -92,7 +92,7 @@ struct MaterialTraits {
   // A rough metal: it reflects its surroundings through a glossy lobe, which Whitted (highlights
   // from point lights only) cannot render; `--integrator auto` then picks the path tracer.
   bool glossyMetal = false;
-  TextureNeeds needs;         // surface attributes its textures read
+  TextureNeeds needs;  // surface attributes its textures read
 };
 
 // How alpha becomes opacity (glTF alphaMode): ignored, a cut-out at `cutoff`, or a blend.

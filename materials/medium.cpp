@@ -11,8 +11,7 @@ namespace glint {
 // Density fields
 // ---------------------------------------------------------------------------------------------
 
-GridDensity::GridDensity(int nx, int ny, int nz, std::vector<float> values,
-                         const Bounds3f& bounds)
+GridDensity::GridDensity(int nx, int ny, int nz, std::vector<float> values, const Bounds3f& bounds)
     : nx_(nx), ny_(ny), nz_(nz), values_(std::move(values)), bounds_(bounds) {
   if (nx < 1 || ny < 1 || nz < 1 || values_.size() != size_t(nx) * size_t(ny) * size_t(nz))
     throw std::logic_error("GridDensity: the value count does not match the resolution");
@@ -43,8 +42,7 @@ float GridDensity::density(Vec3f p) const {
   return lerp1(f[2], lerp1(f[1], x00, x10), lerp1(f[1], x01, x11));
 }
 
-NoiseDensity::NoiseDensity(float scale, int octaves, float threshold, uint64_t seed,
-                           Vec3f offset)
+NoiseDensity::NoiseDensity(float scale, int octaves, float threshold, uint64_t seed, Vec3f offset)
     : noise_(seed),
       scale_(scale),
       offset_(offset),
@@ -53,8 +51,8 @@ NoiseDensity::NoiseDensity(float scale, int octaves, float threshold, uint64_t s
       amplitudeSum_(octaveAmplitudeSum(octaves, 0.5f)) {}
 
 float NoiseDensity::density(Vec3f p) const {
-  const float n = std::clamp(0.5f + 0.5f * noise_.fbm((p - offset_) * scale_, octaves_) / amplitudeSum_,
-                             0.0f, 1.0f);
+  const float n = std::clamp(
+      0.5f + 0.5f * noise_.fbm((p - offset_) * scale_, octaves_) / amplitudeSum_, 0.0f, 1.0f);
   return std::max(0.0f, n - threshold_) / (1 - threshold_);
 }
 

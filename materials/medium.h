@@ -75,8 +75,7 @@ class GridDensity final : public DensityField {
 // A keyframed offset moves the pattern through its region (smoke rising, clouds drifting).
 class NoiseDensity final : public DensityField {
  public:
-  NoiseDensity(float scale, int octaves, float threshold, uint64_t seed,
-               Vec3f offset = {0, 0, 0});
+  NoiseDensity(float scale, int octaves, float threshold, uint64_t seed, Vec3f offset = {0, 0, 0});
   float density(Vec3f p) const override;
   float maxDensity(const Bounds3f&) const override { return 1; }
 

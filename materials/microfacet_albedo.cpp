@@ -42,8 +42,8 @@ AxisPosition axis(float t, int n) {
 }
 
 struct AlbedoTables {
-  const float* e = kTable;  // [f0][roughness][mu]
-  std::vector<float> avg;  // [f0][roughness]
+  const float* e = kTable;        // [f0][roughness][mu]
+  std::vector<float> avg;         // [f0][roughness]
   std::vector<float> fresnelAvg;  // [f0], finer
 
   float at(int f, int r, int m) const { return e[(f * kRough + r) * kMu + m]; }

@@ -178,8 +178,8 @@ void checkSize(int width, int height, int channels, size_t samples) {
   if (width <= 0 || height <= 0 || channels < 1 || channels > 4 ||
       samples != size_t(width) * size_t(height) * size_t(channels))
     throw std::logic_error("MipMap: " + std::to_string(samples) + " samples do not make a " +
-                           std::to_string(width) + "x" + std::to_string(height) +
-                           " image of " + std::to_string(channels) + " channels");
+                           std::to_string(width) + "x" + std::to_string(height) + " image of " +
+                           std::to_string(channels) + " channels");
 }
 
 }  // namespace
@@ -200,9 +200,9 @@ MipMap MipMap::fromBytes(int width, int height, int channels, std::vector<uint8_
   m.channels_ = channels;
   m.texel_ = Texel::Byte;
   for (int c = 0; c < channels; ++c)
-    m.decode_[c] = (enc == ColorEncoding::Srgb && isColourChannel(channels, c) ? srgbTable()
-                                                                                : linearTable())
-                       .data();
+    m.decode_[c] =
+        (enc == ColorEncoding::Srgb && isColourChannel(channels, c) ? srgbTable() : linearTable())
+            .data();
   m.levels_.push_back({width, height, 0});
   auto* out = static_cast<uint8_t*>(m.allocate(residentBytes(width, height, channels, m.texel_)));
   std::memcpy(out, pixels.data(), pixels.size());
@@ -224,8 +224,7 @@ MipMap MipMap::fromFloats(int width, int height, int channels, std::vector<float
   m.texel_ = Texel::Float;
   if (enc == ColorEncoding::Srgb)
     for (size_t i = 0; i < pixels.size(); ++i)
-      if (isColourChannel(channels, int(i % size_t(channels))))
-        pixels[i] = srgbToLinear(pixels[i]);
+      if (isColourChannel(channels, int(i % size_t(channels)))) pixels[i] = srgbToLinear(pixels[i]);
   m.levels_.push_back({width, height, 0});
   auto* out = static_cast<float*>(m.allocate(residentBytes(width, height, channels, m.texel_)));
   std::memcpy(out, pixels.data(), pixels.size() * sizeof(float));
@@ -321,8 +320,8 @@ inline void MipMap::bilinear(int level, float s, float t, TextureWrap wrapS, Tex
 // texels, and the next one up, blended linearly in the footprint's width (at level l0 it spans
 // minor / 2^l0 in [1, 2): weight minor / 2^l0 - 1 on level l0 + 1).
 template <class T, int N>
-inline void MipMap::trilinear(float minor, float s, float t, TextureWrap wrapS,
-                              TextureWrap wrapT, float weight, float out[N]) const {
+inline void MipMap::trilinear(float minor, float s, float t, TextureWrap wrapS, TextureWrap wrapT,
+                              float weight, float out[N]) const {
   const int last = int(levels_.size()) - 1;
   if (!(minor > 1)) return bilinear<T, N>(0, s, t, wrapS, wrapT, weight, out);  // also NaN
   int l0 = 0;

@@ -79,8 +79,8 @@ class MipMap {
   void bilinear(int level, float s, float t, TextureWrap wrapS, TextureWrap wrapT, float weight,
                 float out[N]) const;
   template <class T, int N>
-  void trilinear(float minor, float s, float t, TextureWrap wrapS, TextureWrap wrapT,
-                 float weight, float out[N]) const;
+  void trilinear(float minor, float s, float t, TextureWrap wrapS, TextureWrap wrapT, float weight,
+                 float out[N]) const;
   template <class T, int N>
   void fetch(const Level& level, int x, int y, float w, float out[N]) const;
   template <class T>

@@ -46,8 +46,9 @@ PbrMaterial::PbrMaterial(const PbrParams& params) : p_(params) {
     if (p_.clearcoatRoughness.texture || !coatSmooth) flags_ |= kBsdfGlossy;
   }
   if (!p_.sheenColor.isBlack()) flags_ |= kBsdfGlossy;
-  traits_.glossyMetal = ((flags_ & kBsdfGlossy) && (p_.metallic.texture || p_.metallic.factor > 0)) ||
-                        coated || !p_.sheenColor.isBlack();
+  traits_.glossyMetal =
+      ((flags_ & kBsdfGlossy) && (p_.metallic.texture || p_.metallic.factor > 0)) || coated ||
+      !p_.sheenColor.isBlack();
 }
 
 void PbrMaterial::setLobes(const SurfaceInteraction& si, TextureLookups& lookups,
@@ -108,8 +109,8 @@ void PbrMaterial::setLobes(const SurfaceInteraction& si, TextureLookups& lookups
       h.iridescenceIor = p_.iridescenceIor;
       float t = 1;
       if (p_.iridescenceThickness) t = lookups(p_.iridescenceThickness).y;
-      h.iridescenceThickness =
-          p_.iridescenceThicknessMin + (p_.iridescenceThicknessMax - p_.iridescenceThicknessMin) * t;
+      h.iridescenceThickness = p_.iridescenceThicknessMin +
+                               (p_.iridescenceThicknessMax - p_.iridescenceThicknessMin) * t;
     }
   }
   bsdf->emplace<PbrBxdf>(frame.woLocal, h);

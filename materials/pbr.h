@@ -11,7 +11,8 @@
 //   S(wo, wi)    = (1 - E_spec(wo)) (1 - E_spec(wi)) / (1 - E_spec,avg)   (albedo scaling)
 //   btdf part    = transmission * (1 - F(wo.m)) * baseColor * btdf
 //   sheen_layer(b) = sheenColor * D_charlie V / (4 cos cos) + (1 - max(sheenColor) E_sheen(wo)) * b
-//   coat_layer(b)  = clearcoat * F_coat(wo.h) * spec_coat  + (1 - clearcoat * F_coat(wo.n_coat)) * b
+//   coat_layer(b)  = clearcoat * F_coat(wo.h) * spec_coat  + (1 - clearcoat * F_coat(wo.n_coat)) *
+//   b
 // where spec is the GGX reflection lobe (anisotropic with KHR_materials_anisotropy: roughness
 // along the direction mix(alpha, 1, strength^2)), btdf the GGX refraction lobe (Walter et al.
 // 2007, weighted by 1 - F(wo.m) per microfacet), dt the diffuse transmission
@@ -26,7 +27,8 @@
 // map, or the surface's normal before the base's normal map). E_spec is the directional albedo
 // of the dielectric's Fresnel-weighted spec lobe (F(wo.n) when smooth), E_spec,avg its cosine-
 // weighted average, and ms Kulla and Conty's multiple-scattering lobe
-//   ms = (1 - E(wo)) (1 - E(wi)) / (pi (1 - E_avg)),  F_ms = F_avg^2 E_avg / (1 - F_avg (1 - E_avg))
+//   ms = (1 - E(wo)) (1 - E(wi)) / (pi (1 - E_avg)),  F_ms = F_avg^2 E_avg / (1 - F_avg (1 -
+//   E_avg))
 // with E the GGX albedo for F = 1 and F_avg = F0 + (1 - F0) / 21 (Schlick's, from the base
 // colour); the albedos are tabulated (microfacet_albedo.h).
 //
@@ -80,10 +82,10 @@ struct PbrParams {
   FloatParam specular{1};  // KHR_materials_specular (texture A) and colour (sRGB texture)
   ColorParam specularColor;
   FloatParam clearcoat{0}, clearcoatRoughness{0};  // KHR_materials_clearcoat (R, G channels)
-  const Texture* clearcoatNormal = nullptr;  // tangent-space normal map of the coat
+  const Texture* clearcoatNormal = nullptr;        // tangent-space normal map of the coat
   float clearcoatNormalScale = 1;
-  ColorParam sheenColor{{0, 0, 0}};  // KHR_materials_sheen (sRGB texture)
-  FloatParam sheenRoughness{0};      //   (texture A)
+  ColorParam sheenColor{{0, 0, 0}};   // KHR_materials_sheen (sRGB texture)
+  FloatParam sheenRoughness{0};       //   (texture A)
   FloatParam diffuseTransmission{0};  // KHR_materials_diffuse_transmission (texture A)
   ColorParam diffuseTransmissionColor;
   FloatParam iridescence{0};  // KHR_materials_iridescence (texture R)

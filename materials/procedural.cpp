@@ -6,7 +6,6 @@
 
 namespace glint {
 
-
 NoiseTexture::NoiseTexture(TextureMapping mapping, const NoiseParams& params)
     : mapping_(mapping),
       params_(params),

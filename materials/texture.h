@@ -18,11 +18,11 @@ namespace glint {
 
 // Everything a texture may look up at one shading point.
 struct TexturePoint {
-  Vec3f p;             // world-space position
-  Vec2f uv;            // the primitive's UVs
-  Vec2f duvdx, duvdy;  // change of uv across one pixel (zero: point sample)
+  Vec3f p;                    // world-space position
+  Vec2f uv;                   // the primitive's UVs
+  Vec2f duvdx, duvdy;         // change of uv across one pixel (zero: point sample)
   Vec2f uv1, duv1dx, duv1dy;  // the second UV set (glTF TEXCOORD_1) and its footprint
-  Vec3f dpdx, dpdy;    // change of p across one pixel (zero: point sample)
+  Vec3f dpdx, dpdy;           // change of p across one pixel (zero: point sample)
   // The object's own frame, for object-space mapping (null: the world frame).
   const Transform* objectFromWorld = nullptr;
   uint32_t instance = 0, prim = 0;  // which object and primitive (random colours)

@@ -1,13 +1,13 @@
 // glint — the area light over a placed shape or a triangle mesh.
 #include "renderer/area_lights.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 
 #include "geometry/sampling.h"
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 namespace glint {
 
@@ -103,8 +103,7 @@ Rgb AreaLight::meanRadiance(uint32_t t) const {
   if (!(lengthSquared(c) > 0)) return {};
   const Vec3f n = normalize(c);
   auto uvAt = [&](const std::vector<Vec2f>& uvs, const float b[3]) {
-    return uvs.empty() ? Vec2f{b[1], b[2]}
-                       : b[0] * uvs[i[0]] + b[1] * uvs[i[1]] + b[2] * uvs[i[2]];
+    return uvs.empty() ? Vec2f{b[1], b[2]} : b[0] * uvs[i[0]] + b[1] * uvs[i[1]] + b[2] * uvs[i[2]];
   };
   const float corners[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   const Vec2f uv0 = uvAt(mesh_.uvs, corners[0]);
@@ -112,16 +111,17 @@ Rgb AreaLight::meanRadiance(uint32_t t) const {
   // this covers the lookup's own part without reaching far into the neighbours'.
   const Vec2f duvdx = 0.25f * (uvAt(mesh_.uvs, corners[1]) - uv0);
   const Vec2f duvdy = 0.25f * (uvAt(mesh_.uvs, corners[2]) - uv0);
-  constexpr float kCentroids[4][3] = {
-      {2 / 3.0f, 1 / 6.0f, 1 / 6.0f}, {1 / 6.0f, 2 / 3.0f, 1 / 6.0f},
-      {1 / 6.0f, 1 / 6.0f, 2 / 3.0f}, {1 / 3.0f, 1 / 3.0f, 1 / 3.0f}};
+  constexpr float kCentroids[4][3] = {{2 / 3.0f, 1 / 6.0f, 1 / 6.0f},
+                                      {1 / 6.0f, 2 / 3.0f, 1 / 6.0f},
+                                      {1 / 6.0f, 1 / 6.0f, 2 / 3.0f},
+                                      {1 / 3.0f, 1 / 3.0f, 1 / 3.0f}};
   Rgb sum;
   for (const auto& b : kCentroids) {
     const Vec3f at = b[0] * p[0] + b[1] * p[1] + b[2] * p[2];
     Vec3f ns = n;
     if (!mesh_.normals.empty()) {
-      const Vec3f v = b[0] * mesh_.normals[i[0]] + b[1] * mesh_.normals[i[1]] +
-                      b[2] * mesh_.normals[i[2]];
+      const Vec3f v =
+          b[0] * mesh_.normals[i[0]] + b[1] * mesh_.normals[i[1]] + b[2] * mesh_.normals[i[2]];
       if (lengthSquared(v) > 0) ns = normalize(v);
     }
     const Vec2f uv = uvAt(mesh_.uvs, b);
@@ -187,8 +187,8 @@ std::optional<ShapeSample> AreaLight::samplePoint(const Vec3f* ref, Vec2f u, Vec
   }
   s.uv = mesh_.uvs.empty() ? Vec2f{b1, b2}
                            : b0 * mesh_.uvs[i0] + b1 * mesh_.uvs[i1] + b2 * mesh_.uvs[i2];
-  *uv1 = mesh_.uvs1.empty() ? s.uv
-                            : b0 * mesh_.uvs1[i0] + b1 * mesh_.uvs1[i1] + b2 * mesh_.uvs1[i2];
+  *uv1 =
+      mesh_.uvs1.empty() ? s.uv : b0 * mesh_.uvs1[i0] + b1 * mesh_.uvs1[i1] + b2 * mesh_.uvs1[i2];
   s.pdf = pmf / triangleAreas_[t];
   return s;
 }
@@ -234,8 +234,8 @@ std::optional<LightSample> AreaLight::sampleLi(const LightSampleContext& ctx, Ve
 
 float AreaLight::pdfLi(const LightSampleContext& ctx, Vec3f wi, const LightHit& hit) const {
   const float cosLight = std::abs(dot(hit.n, wi));
-  const float pdf =
-      pdfPoint(referencePoint(ctx), hit.p, hit.n, hit.prim) * lengthSquared(hit.p - ctx.p) / cosLight;
+  const float pdf = pdfPoint(referencePoint(ctx), hit.p, hit.n, hit.prim) *
+                    lengthSquared(hit.p - ctx.p) / cosLight;
   return std::isfinite(pdf) ? pdf : 0.0f;
 }
 

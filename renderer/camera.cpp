@@ -75,9 +75,9 @@ void pinholeRayBatch(const PinholeBatch& c, const float* filmX, const float* fil
 // 8 (AVX2) or 4 (SSE) rays at a time; the expressions are pinholeRayAt's, so the rays are too.
 // A free function: Clang does not multiversion member functions (target_clones).
 __attribute__((target_clones("avx2", "default"))) void pinholeRayBatch(const PinholeBatch& c,
-                                                                     const float* filmX,
-                                                                     const float* filmY, int n,
-                                                                     Ray* out) {
+                                                                       const float* filmX,
+                                                                       const float* filmY, int n,
+                                                                       Ray* out) {
   const auto& m = *c.worldFromCamera;
   constexpr int kMax = Camera::kMaxRayBatch;
   float dx[kMax], dy[kMax], dz[kMax], len[kMax];
@@ -110,8 +110,14 @@ void Camera::pinholeRays(const float* filmX, const float* filmY, int n, Ray* out
     for (int i = 0; i < n; ++i) out[i] = pinholeRay({filmX[i], filmY[i]}, 0.0f);
     return;
   }
-  const PinholeBatch batch{&worldFromCamera0_.matrix().m, origin_, filmToScreenX_, filmToScreenY_,
-                           halfWidth_, halfHeight_, znear_, zfar_};
+  const PinholeBatch batch{&worldFromCamera0_.matrix().m,
+                           origin_,
+                           filmToScreenX_,
+                           filmToScreenY_,
+                           halfWidth_,
+                           halfHeight_,
+                           znear_,
+                           zfar_};
   pinholeRayBatch(batch, filmX, filmY, n, out);
 }
 

@@ -29,8 +29,7 @@ PiecewiseConstant1D::PiecewiseConstant1D(const std::vector<float>& f) : func_(f)
   for (size_t i = 0; i < n; ++i) cdf_[i + 1] = cdf_[i] + double(func_[i]) / double(n);
   integral_ = float(cdf_[n]);
   uniform_ = !(cdf_[n] > 0);
-  for (size_t i = 1; i <= n; ++i)
-    cdf_[i] = uniform_ ? double(i) / double(n) : cdf_[i] / cdf_[n];
+  for (size_t i = 1; i <= n; ++i) cdf_[i] = uniform_ ? double(i) / double(n) : cdf_[i] / cdf_[n];
 }
 
 float PiecewiseConstant1D::sample(float u, float* pdf, size_t* cell) const {
@@ -55,8 +54,8 @@ float PiecewiseConstant1D::pdf(float x) const {
 Distribution2D::Distribution2D(const std::vector<float>& f, int nu, int nv) {
   std::vector<float> rowIntegrals(static_cast<size_t>(nv));
   for (int v = 0; v < nv; ++v) {
-    rows_.emplace_back(std::vector<float>(f.begin() + ptrdiff_t(v) * nu,
-                                          f.begin() + ptrdiff_t(v + 1) * nu));
+    rows_.emplace_back(
+        std::vector<float>(f.begin() + ptrdiff_t(v) * nu, f.begin() + ptrdiff_t(v + 1) * nu));
     rowIntegrals[size_t(v)] = rows_.back().integral();
   }
   marginal_ = PiecewiseConstant1D(rowIntegrals);
@@ -144,7 +143,8 @@ Rgb ImageEnvironmentLight::pixel(Vec2f uv) const {
   const float x0f = std::floor(fx), y0f = std::floor(fy);
   const float tx = fx - x0f, ty = fy - y0f;
   const int x0 = (int(x0f) + width_) % width_, x1 = (x0 + 1) % width_;
-  const int y0 = std::clamp(int(y0f), 0, height_ - 1), y1 = std::clamp(int(y0f) + 1, 0, height_ - 1);
+  const int y0 = std::clamp(int(y0f), 0, height_ - 1),
+            y1 = std::clamp(int(y0f) + 1, 0, height_ - 1);
   auto at = [&](int x, int y) { return pixels_[size_t(y) * size_t(width_) + size_t(x)]; };
   const Rgb top = at(x0, y0) * (1 - tx) + at(x1, y0) * tx;
   const Rgb bottom = at(x0, y1) * (1 - tx) + at(x1, y1) * tx;
@@ -201,7 +201,8 @@ Rgb ImageEnvironmentLight::phi() const {
   for (int y = 0; y < height_; ++y) {
     const float dOmega = (2 * kPi / float(width_)) * (kPi / float(height_)) *
                          std::sin(kPi * (float(y) + 0.5f) / float(height_));
-    for (int x = 0; x < width_; ++x) sum += pixels_[size_t(y) * size_t(width_) + size_t(x)] * dOmega;
+    for (int x = 0; x < width_; ++x)
+      sum += pixels_[size_t(y) * size_t(width_) + size_t(x)] * dOmega;
   }
   return sum * (scale_ * kPi * sceneRadius_ * sceneRadius_);
 }

@@ -1,9 +1,9 @@
 // glint — SceneFeatures: the effects a scene calls for.
 //
-// Computed once from the built scene (detectFeatures, below); it is the only switch for optional work (which surface
-// attributes are interpolated, whether shadow rays are traced, later: lens sampling, motion
-// time steps, media). `glint info` prints it and `--stats` records it. A scene without an
-// effect pays nothing for it. Later issues add flags; keep names short and user-facing.
+// Computed once from the built scene (detectFeatures, below); it is the only switch for optional
+// work (which surface attributes are interpolated, whether shadow rays are traced, later: lens
+// sampling, motion time steps, media). `glint info` prints it and `--stats` records it. A scene
+// without an effect pays nothing for it. Later issues add flags; keep names short and user-facing.
 #pragma once
 
 #include <cstdint>
@@ -60,7 +60,7 @@ struct IntegratorSettings;
 // What the builder made that the built scene does not show by itself.
 struct BuildNotes {
   bool defaultLight = false;  // the scene brought no light; the builder added the studio
-  bool terrain = false;    // a fractal terrain was meshed
+  bool terrain = false;       // a fractal terrain was meshed
 };
 
 // The scene's effects, decided in this one place once everything is built (geometry,

@@ -19,16 +19,16 @@ struct Film {
   // origin 0 and its own size. EXR output writes it as the data window.
   int originX = 0, originY = 0;
   int fullWidth = 0, fullHeight = 0;
-  std::vector<Rgb> color;      // mean scene-linear radiance
-  std::vector<Rgb> variance;   // variance of the mean (sample variance / n), per channel
-  std::vector<float> alpha;    // fraction of samples whose camera ray hit geometry
+  std::vector<Rgb> color;     // mean scene-linear radiance
+  std::vector<Rgb> variance;  // variance of the mean (sample variance / n), per channel
+  std::vector<float> alpha;   // fraction of samples whose camera ray hit geometry
   // Samples each pixel took: the render's spp, or fewer where adaptive sampling stopped a
   // pixel early. What the mean and variance above are over, so a render can be continued.
   std::vector<uint32_t> samples;
   bool hasAovs = false;
-  std::vector<Rgb> albedo;     // AOVs (filled when hasAovs): mean first-hit albedo,
-  std::vector<Vec3f> normal;   // mean world shading normal,
-  std::vector<float> depth;    // mean camera-ray distance (0 where nothing was hit)
+  std::vector<Rgb> albedo;    // AOVs (filled when hasAovs): mean first-hit albedo,
+  std::vector<Vec3f> normal;  // mean world shading normal,
+  std::vector<float> depth;   // mean camera-ray distance (0 where nothing was hit)
 
   Film() = default;
   Film(int w, int h, bool aovs);

@@ -313,14 +313,18 @@ template <bool kTerminator, bool kClamp>
 }  // namespace
 
 __attribute__((target_clones("avx2", "default"))) void lambertVplContributions(
-    const VplArrays& a, const LambertGatherPoint& q, float* __restrict outR,
-    float* __restrict outG, float* __restrict outB) {
+    const VplArrays& a, const LambertGatherPoint& q, float* __restrict outR, float* __restrict outG,
+    float* __restrict outB) {
   // terminatorShadowing is 1 where the normals' cosine is not positive.
   const bool terminator = q.cosNsNg > 0, clamp = q.clamp > 0;
-  if (terminator && clamp) lambertVplLoop<true, true>(a, q, outR, outG, outB);
-  else if (terminator) lambertVplLoop<true, false>(a, q, outR, outG, outB);
-  else if (clamp) lambertVplLoop<false, true>(a, q, outR, outG, outB);
-  else lambertVplLoop<false, false>(a, q, outR, outG, outB);
+  if (terminator && clamp)
+    lambertVplLoop<true, true>(a, q, outR, outG, outB);
+  else if (terminator)
+    lambertVplLoop<true, false>(a, q, outR, outG, outB);
+  else if (clamp)
+    lambertVplLoop<false, true>(a, q, outR, outG, outB);
+  else
+    lambertVplLoop<false, false>(a, q, outR, outG, outB);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -366,13 +370,12 @@ Rgb InstantRadiosityIntegrator::indirectLight(const SurfaceInteraction& si, cons
       const Rgb f = lambertHere ? bsdf.lambertF(wi, *lambertHere) : bsdf.f(wi);
       if (!(maxComponent(f) > 0)) continue;
       const Rgb fVpl = a.lambert[k] ? Bsdf::lambertF(-wi, {a.bx[k], a.by[k], a.bz[k]},
-                                                     {a.gx[k], a.gy[k], a.gz[k]},
-                                                     a.cosNsNg[k] > 0,
+                                                     {a.gx[k], a.gy[k], a.gz[k]}, a.cosNsNg[k] > 0,
                                                      {a.rr[k], a.rg[k], a.rb[k]})
                                     : vpls_[k].bsdf.f(-wi);
       if (!(maxComponent(fVpl) > 0)) continue;
-      float G = std::abs(dot(si.ns, wi)) * std::abs(dot(Vec3f{a.nx[k], a.ny[k], a.nz[k]}, wi)) /
-                dist2;
+      float G =
+          std::abs(dot(si.ns, wi)) * std::abs(dot(Vec3f{a.nx[k], a.ny[k], a.nz[k]}, wi)) / dist2;
       if (clamp_ > 0) G = std::min(G, clamp_);
       consider(f * fVpl * Vec3f{a.fr[k], a.fg[k], a.fb[k]} * G, k);
     }

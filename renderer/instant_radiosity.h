@@ -153,8 +153,8 @@ class InstantRadiosityIntegrator final : public WhittedIntegrator {
                     RayCounters& counters) const override;
 
   int rrDepth_;
-  int paths_;    // light paths traced
-  float clamp_;  // bound on G; 0 = none
+  int paths_;          // light paths traced
+  float clamp_;        // bound on G; 0 = none
   float shadowShare_;  // IntegratorSettings::vplShadowShare
   std::vector<Vpl> vpls_;
   // What the gather loop reads of each VPL, one array per quantity (VplArrays): built from

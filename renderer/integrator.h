@@ -9,8 +9,8 @@
 #include "renderer/ray_counters.h"
 #include "renderer/sampler.h"
 #include "renderer/scene.h"
-#include "renderer/shading.h"
 #include "renderer/settings.h"
+#include "renderer/shading.h"
 
 namespace glint {
 

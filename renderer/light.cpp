@@ -21,8 +21,7 @@ float smoothStep(float a, float b, float x) {
 }
 // A delta-position light's sample towards `position`.
 std::optional<LightSample> towardsPoint(const LightSampleContext& ctx, Vec3f position,
-                                        Rgb intensity, float range, float* cosToLight,
-                                        Vec3f axis) {
+                                        Rgb intensity, float range, float* cosToLight, Vec3f axis) {
   Vec3f toLight = position - ctx.p;
   float r2 = lengthSquared(toLight);
   if (!(r2 > 0)) return std::nullopt;
@@ -105,11 +104,14 @@ SpotLight::SpotLight(Vec3f position, Vec3f direction, Rgb intensity, float inner
   castsShadows_ = castsShadows;
 }
 
-float SpotLight::falloff(float cosTheta) const { return smoothStep(cosOuter_, cosInner_, cosTheta); }
+float SpotLight::falloff(float cosTheta) const {
+  return smoothStep(cosOuter_, cosInner_, cosTheta);
+}
 
 std::optional<LightSample> SpotLight::sampleLi(const LightSampleContext& ctx, Vec2f) const {
   float cosTheta = 0;
-  std::optional<LightSample> s = towardsPoint(ctx, position_, intensity_, range_, &cosTheta, direction_);
+  std::optional<LightSample> s =
+      towardsPoint(ctx, position_, intensity_, range_, &cosTheta, direction_);
   if (!s) return s;
   const float cone = falloff(cosTheta);
   if (cone == 0) return std::nullopt;
@@ -201,7 +203,8 @@ std::optional<LightSample> UniformEnvironmentLight::sampleLi(const LightSampleCo
   return s;
 }
 
-float UniformEnvironmentLight::pdfLi(const LightSampleContext& ctx, Vec3f wi, const LightHit&) const {
+float UniformEnvironmentLight::pdfLi(const LightSampleContext& ctx, Vec3f wi,
+                                     const LightHit&) const {
   if (!ctx.onSurface()) return kUniformSpherePdf;
   return cosineHemispherePdf(dot(ctx.ns, wi));
 }

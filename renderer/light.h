@@ -46,13 +46,13 @@ struct LightSampleContext {
 };
 
 struct LightSample {
-  Rgb L;          // radiance arriving at the receiving point along -wi (delta lights: the
-                  // intensity over r^2, or the irradiance of a directional light)
-  Vec3f wi;       // unit direction from the receiving point towards the light
-  Vec3f pLight;   // the point on the light (finite lights), where the shadow ray ends
-  Vec3f nLight;   // the light's unit surface normal there (area lights), else zero
-  Vec3f pLightError;  // rounding-error bound of pLight (area lights), else zero
-  float pdf = 1;      // solid-angle density of wi (delta lights: 1)
+  Rgb L;                  // radiance arriving at the receiving point along -wi (delta lights: the
+                          // intensity over r^2, or the irradiance of a directional light)
+  Vec3f wi;               // unit direction from the receiving point towards the light
+  Vec3f pLight;           // the point on the light (finite lights), where the shadow ray ends
+  Vec3f nLight;           // the light's unit surface normal there (area lights), else zero
+  Vec3f pLightError;      // rounding-error bound of pLight (area lights), else zero
+  float pdf = 1;          // solid-angle density of wi (delta lights: 1)
   bool infinite = false;  // the light is at infinity: shadow rays have no end point
   bool delta = true;      // point or direction: no BSDF sample can find it
 };
@@ -62,12 +62,12 @@ struct LightSample {
 // (point lights: pdfPos = 1; directional and infinite lights: pdfPos is over a disk of the
 // scene's radius facing the direction).
 struct LightLeSample {
-  Ray ray;            // origin on the light, unit direction
-  Vec3f n;            // the surface normal at the origin (area lights), else zero
-  Rgb L;              // radiance (area, infinite), intensity (point, spot), or radiance of the
-                      // directional light's beam
-  float pdfPos = 1;   // area density of the origin
-  float pdfDir = 1;   // solid-angle density of the direction
+  Ray ray;           // origin on the light, unit direction
+  Vec3f n;           // the surface normal at the origin (area lights), else zero
+  Rgb L;             // radiance (area, infinite), intensity (point, spot), or radiance of the
+                     // directional light's beam
+  float pdfPos = 1;  // area density of the origin
+  float pdfDir = 1;  // solid-angle density of the direction
   // The power the ray carries (see above).
   Rgb beta() const {
     const float c = (n.x != 0 || n.y != 0 || n.z != 0) ? std::abs(dot(n, ray.d)) : 1.0f;
@@ -86,10 +86,10 @@ struct LightHit {
 // how much it emits, and the cone of directions it emits into.
 struct LightBounds {
   Bounds3f bounds;
-  float phi = 0;        // total power (luminance)
-  Vec3f w{0, 0, 1};     // principal emission direction (unit)
-  float cosThetaO = -1; // cosine of the spread of surface normals around w (-1: all directions)
-  float cosThetaE = 0;  // cosine of the emission angle beyond the normals (0: a hemisphere)
+  float phi = 0;         // total power (luminance)
+  Vec3f w{0, 0, 1};      // principal emission direction (unit)
+  float cosThetaO = -1;  // cosine of the spread of surface normals around w (-1: all directions)
+  float cosThetaE = 0;   // cosine of the emission angle beyond the normals (0: a hemisphere)
   bool twoSided = false;
 };
 
@@ -98,7 +98,9 @@ class Light {
   explicit Light(LightKind kind) : kind_(kind) {}
   virtual ~Light() = default;
   LightKind kind() const { return kind_; }
-  bool isDelta() const { return kind_ == LightKind::DeltaPosition || kind_ == LightKind::DeltaDirection; }
+  bool isDelta() const {
+    return kind_ == LightKind::DeltaPosition || kind_ == LightKind::DeltaDirection;
+  }
   bool castsShadows() const { return castsShadows_; }
 
   // Light arriving at the receiving point; nullopt when none can (outside a cone, beyond the

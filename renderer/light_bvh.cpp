@@ -101,8 +101,8 @@ BvhLightSampler::BvhLightSampler(const std::vector<std::unique_ptr<Light>>& ligh
   if (!items.empty()) build(items, 0, items.size(), 0, 0);
 }
 
-uint32_t BvhLightSampler::build(std::vector<std::pair<uint32_t, LightBounds>>& items,
-                                size_t begin, size_t end, uint64_t trail, int depth) {
+uint32_t BvhLightSampler::build(std::vector<std::pair<uint32_t, LightBounds>>& items, size_t begin,
+                                size_t end, uint64_t trail, int depth) {
   const uint32_t index = uint32_t(nodes_.size());
   nodes_.emplace_back();
   // Median splits keep the depth at log2(lights), so trails fit in 64 bits.
@@ -118,7 +118,8 @@ uint32_t BvhLightSampler::build(std::vector<std::pair<uint32_t, LightBounds>>& i
   Bounds3f centroids;
   for (size_t i = begin; i < end; ++i) centroids.extend(items[i].second.bounds.center());
   const Vec3f extent = centroids.diagonal();
-  const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+  const int axis =
+      extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
   const size_t mid = (begin + end) / 2;
   std::nth_element(items.begin() + ptrdiff_t(begin), items.begin() + ptrdiff_t(mid),
                    items.begin() + ptrdiff_t(end), [axis](const auto& a, const auto& b) {
@@ -131,7 +132,8 @@ uint32_t BvhLightSampler::build(std::vector<std::pair<uint32_t, LightBounds>>& i
   return index;
 }
 
-float BvhLightSampler::firstChildProbability(const Node& node, const LightSampleContext& ctx) const {
+float BvhLightSampler::firstChildProbability(const Node& node,
+                                             const LightSampleContext& ctx) const {
   const uint32_t c0 = uint32_t(&node - nodes_.data()) + 1;
   const float i0 = lightBoundsImportance(nodes_[c0].bounds, ctx);
   const float i1 = lightBoundsImportance(nodes_[node.child1].bounds, ctx);
@@ -145,7 +147,8 @@ std::optional<SampledLight> BvhLightSampler::sample(const LightSampleContext& ct
   if (groups == 0) return std::nullopt;
   const float pInfinite = float(infinite_.size()) / float(groups);
   if (u < pInfinite) {
-    const size_t i = std::min(size_t(u / pInfinite * float(infinite_.size())), infinite_.size() - 1);
+    const size_t i =
+        std::min(size_t(u / pInfinite * float(infinite_.size())), infinite_.size() - 1);
     return SampledLight{infinite_[i], 1.0f / float(groups)};
   }
   u = std::min((u - pInfinite) / (1 - pInfinite), 0x1.fffffep-1f);

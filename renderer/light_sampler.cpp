@@ -17,8 +17,8 @@ DiscreteDistribution::DiscreteDistribution(const std::vector<float>& weights) {
   cdf_.resize(n + 1);
   cdf_[0] = 0;
   for (size_t i = 0; i < n; ++i) {
-    const double w = total > 0 ? ((std::isfinite(weights[i]) && weights[i] > 0) ? weights[i] : 0.0)
-                               : 1.0;
+    const double w =
+        total > 0 ? ((std::isfinite(weights[i]) && weights[i] > 0) ? weights[i] : 0.0) : 1.0;
     const double p = w / (total > 0 ? total : double(n));
     pmf_[i] = float(p);
     cdf_[i + 1] = cdf_[i] + p;

@@ -91,8 +91,8 @@ class PathIntegrator final : public Integrator {
                 PathAovs& aovs) const;
   // One light sampled for the lit point `si` (next-event estimation), MIS-weighted against
   // the BSDF; `uLight` picks the light, `uPoint` the point on it. `leftLights`: the vertex
-  // leaves the lights that allow it to BSDF sampling (nothing drawn from them). kMedia: shadow rays carry
-  // the media's transmittance, estimated with `tracker`'s numbers.
+  // leaves the lights that allow it to BSDF sampling (nothing drawn from them). kMedia: shadow rays
+  // carry the media's transmittance, estimated with `tracker`'s numbers.
   template <bool kMedia>
   Rgb sampleLight(const SurfaceInteraction& si, const Bsdf& bsdf, bool leftLights, float time,
                   float uLight, Vec2f uPoint, Sampler* tracker, RayCounters& counters) const;

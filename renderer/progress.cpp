@@ -82,8 +82,7 @@ void ProgressBar::draw(uint64_t done, bool final) {
   constexpr int kWidth = 30;
   const uint64_t total = total_.load();
   double fraction = double(std::min(done, total)) / double(total);
-  double elapsed =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   int filled = int(fraction * kWidth);
   std::string bar(size_t(filled), '=');
   if (filled < kWidth) bar += '>' + std::string(size_t(kWidth - filled - 1), ' ');

@@ -25,7 +25,8 @@ ProjectiveLight::ProjectiveLight(const Transform& worldFromLight, Rgb intensity,
   Rgb sum;
   for (int j = 0; j < kGrid; ++j)
     for (int i = 0; i < kGrid; ++i) {
-      const Vec3f local{(float(i) + 0.5f) * cell - tanHalf_, (float(j) + 0.5f) * cell - tanHalf_, -1};
+      const Vec3f local{(float(i) + 0.5f) * cell - tanHalf_, (float(j) + 0.5f) * cell - tanHalf_,
+                        -1};
       const float cosTheta = 1 / length(local);
       sum += this->intensity(normalize(worldFromLight_.vector(local))) *
              (cell * cell * cosTheta * cosTheta * cosTheta);

@@ -14,8 +14,8 @@ namespace glint {
 class ProjectiveLight final : public Light {
  public:
   // `texture` may be null (no slide); it must outlive the light.
-  ProjectiveLight(const Transform& worldFromLight, Rgb intensity, float fov,
-                  const Texture* texture, float attenuation, bool castsShadows);
+  ProjectiveLight(const Transform& worldFromLight, Rgb intensity, float fov, const Texture* texture,
+                  float attenuation, bool castsShadows);
   std::optional<LightSample> sampleLi(const LightSampleContext& ctx, Vec2f u) const override;
   std::optional<LightLeSample> sampleLe(Vec2f uPos, Vec2f uDir, float time) const override;
   Rgb phi() const override { return phi_; }

@@ -1,12 +1,11 @@
 // glint — tiled, multithreaded rendering.
 #include "renderer/render.h"
 
+#include <fmt/format.h>
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
-
-#include <fmt/format.h>
 
 #include <algorithm>
 #include <array>
@@ -121,10 +120,14 @@ uint32_t nextPassEnd(uint32_t done) {
 
 std::string_view stopReasonName(StopReason reason) {
   switch (reason) {
-    case StopReason::Spp: return "spp";
-    case StopReason::TimeLimit: return "time-limit";
-    case StopReason::NoiseTarget: return "noise-target";
-    case StopReason::Interrupted: return "interrupted";
+    case StopReason::Spp:
+      return "spp";
+    case StopReason::TimeLimit:
+      return "time-limit";
+    case StopReason::NoiseTarget:
+      return "noise-target";
+    case StopReason::Interrupted:
+      return "interrupted";
   }
   return "spp";
 }
@@ -213,8 +216,7 @@ struct ProgressiveRender::State {
   mutable std::optional<double> error;
   RenderStats stats;
 
-  State(const RenderScene& s, const Integrator& i, const RenderSettings& st,
-        const RenderOptions& o)
+  State(const RenderScene& s, const Integrator& i, const RenderSettings& st, const RenderOptions& o)
       : scene(s), integrator(i), settings(st), options(o), filter(st.filter) {}
 
   void renderTile(int tileIndex, uint32_t passEnd, const std::atomic<bool>* cancel,
@@ -238,8 +240,8 @@ struct ProgressiveRender::State {
   void allocateSums();
   // Film pixel i from a pixel's sums: k samples, `hitCount` of them on geometry, and the AOV
   // sums.
-  void writeFilmPixel(size_t i, const PixelMoments& m, uint32_t k, uint32_t hitCount,
-                      Rgb albedoSum, Rgb normalSum, double depthSum);
+  void writeFilmPixel(size_t i, const PixelMoments& m, uint32_t k, uint32_t hitCount, Rgb albedoSum,
+                      Rgb normalSum, double depthSum);
   // Film pixel i from region pixel r's sums.
   void setFilmPixel(size_t i, size_t r) {
     writeFilmPixel(i, moments[r], taken[r], hits[r], aovs ? albedo[r] : Rgb{},
@@ -282,8 +284,7 @@ ProgressiveRender::ProgressiveRender(const RenderScene& scene, const Integrator&
     st.region = {std::max(0, window.x0 - a), std::max(0, window.y0 - a),
                  std::min(width, window.x1 + a), std::min(height, window.y1 + a)};
   }
-  if (st.contrast > 0)
-    st.active.assign(size_t(st.region.width()) * size_t(st.region.height()), 1);
+  if (st.contrast > 0) st.active.assign(size_t(st.region.width()) * size_t(st.region.height()), 1);
   const int tile = options.tileSize;
   st.tilesX = (st.region.width() + tile - 1) / tile;
   st.tilesY = (st.region.height() + tile - 1) / tile;
@@ -303,10 +304,10 @@ void ProgressiveRender::resumeFrom(const Film& partial, uint32_t spp) {
   const size_t n = size_t(st.region.width()) * size_t(st.region.height());
   if (partial.width != st.film.width || partial.height != st.film.height ||
       partial.originX != st.film.originX || partial.originY != st.film.originY)
-    throw InputError(fmt::format(
-        "cannot continue a {}x{} image at {},{}: this render is {}x{} at {},{}", partial.width,
-        partial.height, partial.originX, partial.originY, st.film.width, st.film.height,
-        st.film.originX, st.film.originY));
+    throw InputError(
+        fmt::format("cannot continue a {}x{} image at {},{}: this render is {}x{} at {},{}",
+                    partial.width, partial.height, partial.originX, partial.originY, st.film.width,
+                    st.film.height, st.film.originX, st.film.originY));
   if (partial.samples.size() != n || partial.variance.size() != n || partial.alpha.size() != n)
     throw InputError("cannot continue an image without per-pixel samples and variance");
   if (st.aovs && !partial.hasAovs)
@@ -366,7 +367,8 @@ void ProgressiveRender::State::renderTile(int tileIndex, uint32_t passEnd,
       // hold the region.
       const size_t index = regionIndex(x, y);
       if (!active.empty() && !active[index]) continue;
-      const uint64_t pixelKey = pixelSampleKey(settings.seed, size_t(y) * size_t(width) + size_t(x));
+      const uint64_t pixelKey =
+          pixelSampleKey(settings.seed, size_t(y) * size_t(width) + size_t(x));
       // The film position, and the lens point where there is one, are 2D dimension pairs
       // whose seeds depend on the pixel only.
       const DimensionSeeds filmSeeds(pixelKey, kFilmDimension);
@@ -405,8 +407,7 @@ void ProgressiveRender::State::renderTile(int tileIndex, uint32_t passEnd,
         if (plain) {
           float filmX[kCameraBatch], filmY[kCameraBatch];
           for (uint32_t i = 0; i < n; ++i) {
-            const Vec2f offset =
-                centreLook ? Vec2f{} : filter.sampleOffsetFraction({fx[i], fy[i]});
+            const Vec2f offset = centreLook ? Vec2f{} : filter.sampleOffsetFraction({fx[i], fy[i]});
             filmX[i] = float(x) + 0.5f + offset.x, filmY[i] = float(y) + 0.5f + offset.y;
           }
           scene.camera.pinholeRays(filmX, filmY, int(n), rays);
@@ -414,8 +415,7 @@ void ProgressiveRender::State::renderTile(int tileIndex, uint32_t passEnd,
           uint32_t lx[kCameraBatch], ly[kCameraBatch];
           if (lens) sample2DFractionBatch(first, n, lensSeeds, lx, ly);
           for (uint32_t i = 0; i < n; ++i) {
-            const Vec2f offset =
-                centreLook ? Vec2f{} : filter.sampleOffsetFraction({fx[i], fy[i]});
+            const Vec2f offset = centreLook ? Vec2f{} : filter.sampleOffsetFraction({fx[i], fy[i]});
             CameraSample cs;
             cs.pFilm = {float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y};
             if (lens) cs.pLens = Fraction2{lx[i], ly[i]}.toFloat();
@@ -660,18 +660,20 @@ Film renderSubdividedUntil(const RenderScene& scene, const Integrator& integrato
                            const StopRule& rule, RenderStats* stats, ProgressiveResult* result,
                            bool resuming) {
   if (resuming)
-    throw InputError("cannot continue an image rendered with anti-aliasing by subdivision: it "
-                     "is rendered in one pass");
+    throw InputError(
+        "cannot continue an image rendered with anti-aliasing by subdivision: it "
+        "is rendered in one pass");
   if (rule.timeLimit > 0 || rule.noiseTarget > 0)
-    throw InputError("anti-aliasing by subdivision renders in one pass: it takes no time limit "
-                     "or noise target");
+    throw InputError(
+        "anti-aliasing by subdivision renders in one pass: it takes no time limit "
+        "or noise target");
   const uint64_t pixels = options.crop ? uint64_t(options.crop->width()) * options.crop->height()
                                        : uint64_t(scene.camera.width()) * scene.camera.height();
   ProgressBar bar("rendering", 2 * std::max<uint64_t>(pixels, 1), options.progress);
   Film film;
   RenderStats st;
-  const bool done = renderSubdivided(scene, integrator, settings, options, &film, &st,
-                                     rule.cancel, [&](uint64_t n) { bar.advance(n); });
+  const bool done = renderSubdivided(scene, integrator, settings, options, &film, &st, rule.cancel,
+                                     [&](uint64_t n) { bar.advance(n); });
   if (done) bar.finish();
   if (result) {
     // The most looks a pixel can hold: what "spp" means here.
@@ -698,7 +700,8 @@ Film renderUntil(const RenderScene& scene, const Integrator& integrator,
   const uint32_t startSpp = pr.spp();
   const double pixels = double(pr.film().width) * double(pr.film().height);
   const bool budget = rule.timeLimit > 0 || rule.noiseTarget > 0;
-  const uint64_t sppTotal = uint64_t(double(rule.maxSpp > startSpp ? rule.maxSpp - startSpp : 0) * pixels);
+  const uint64_t sppTotal =
+      uint64_t(double(rule.maxSpp > startSpp ? rule.maxSpp - startSpp : 0) * pixels);
   ProgressBar bar("rendering", std::max<uint64_t>(sppTotal, 1), options.progress);
   const auto onTile = [&](uint64_t samples) { bar.advance(samples); };
   const auto began = std::chrono::steady_clock::now();
@@ -744,7 +747,8 @@ Film renderUntil(const RenderScene& scene, const Integrator& integrator,
     if (budget) {
       const double done = double(pr.spp() - startSpp) * pixels;
       double total = double(sppTotal);
-      if (rule.timeLimit > 0) total = std::min(total, done * rule.timeLimit / std::max(elapsed(), 1e-3));
+      if (rule.timeLimit > 0)
+        total = std::min(total, done * rule.timeLimit / std::max(elapsed(), 1e-3));
       if (rule.noiseTarget > 0 && pr.estimatedError() > 0) {
         const double ratio = pr.estimatedError() / rule.noiseTarget;
         total = std::min(total, done * std::max(1.0, ratio * ratio));

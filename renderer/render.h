@@ -169,11 +169,11 @@ class ProgressiveRender {
   // checkpoints need the sums), or after a resume or a pass, it is renderTo(spp).
   void renderOnce(uint32_t spp, const std::function<void(uint64_t)>& onTile = {});
 
-  uint32_t spp() const;        // samples per pixel of the completed passes
-  int passes() const;          // passes completed by this object (not counting a resume)
-  const Film& film() const;    // the image after the completed passes
-  Film takeFilm();             // moves it out; the render cannot go on
-  double estimatedError() const;  // estimatedRelativeError(film())
+  uint32_t spp() const;              // samples per pixel of the completed passes
+  int passes() const;                // passes completed by this object (not counting a resume)
+  const Film& film() const;          // the image after the completed passes
+  Film takeFilm();                   // moves it out; the render cannot go on
+  double estimatedError() const;     // estimatedRelativeError(film())
   const RenderStats& stats() const;  // summed over the completed passes
 
  private:
@@ -184,8 +184,8 @@ class ProgressiveRender {
 // What renderUntil did.
 struct ProgressiveResult {
   StopReason reason = StopReason::Spp;
-  uint32_t spp = 0;   // reached
-  double error = 0;   // estimatedRelativeError at the end
+  uint32_t spp = 0;  // reached
+  double error = 0;  // estimatedRelativeError at the end
   int passes = 0;
 };
 

@@ -2,11 +2,10 @@
 // subdivide.cpp): the pixels it covers and the threads it runs on.
 #pragma once
 
+#include <fmt/format.h>
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 #include <tbb/task_arena.h>
-
-#include <fmt/format.h>
 
 #include <memory>
 #include <thread>
@@ -20,8 +19,7 @@ namespace glint {
 // InputError for a crop that is empty or reaches outside the image.
 inline PixelWindow renderWindow(const RenderOptions& options, int width, int height) {
   const PixelWindow w = options.crop.value_or(PixelWindow{0, 0, width, height});
-  if (w.x0 < 0 || w.y0 < 0 || w.x1 > width || w.y1 > height || w.width() <= 0 ||
-      w.height() <= 0)
+  if (w.x0 < 0 || w.y0 < 0 || w.x1 > width || w.y1 > height || w.width() <= 0 || w.height() <= 0)
     throw InputError(fmt::format("crop window {},{},{},{} is empty or outside the {}x{} image",
                                  w.x0, w.y0, w.x1, w.y1, width, height));
   return w;

@@ -23,30 +23,30 @@ struct FilterSettings {
 
 // Display transform for PNG/JPEG/TIFF output (EXR stays scene-linear).
 struct ToneMapSettings {
-  float exposure = 0;             // stops: scene-linear values are multiplied by 2^exposure
-  std::string op = "none";        // "none" (clip in the display transform) | "ward"
+  float exposure = 0;       // stops: scene-linear values are multiplied by 2^exposure
+  std::string op = "none";  // "none" (clip in the display transform) | "ward"
   // Ward (1994) contrast-based scale factor. Scene-linear 1.0 is taken as
   // `sceneLuminance` cd/m^2; the display's maximum is `displayMax` cd/m^2.
   float wardDisplayMax = 100.0f;
   float wardSceneLuminance = 100.0f;
-  std::string display;            // colour-managed display (image/color.h); empty = default
-  std::string view;               // view of that display; empty = the display's default
+  std::string display;  // colour-managed display (image/color.h); empty = default
+  std::string view;     // view of that display; empty = the display's default
 };
 
 // Light transport: the render block's "integrator" (a name, or an object with "type" and the
 // keys below) and `--integrator`.
 struct IntegratorSettings {
-  std::string type = "auto";  // "whitted" | "path" | "instant-radiosity" | "auto"
-  int maxDepth = 8;              // bounces: Whitted's mirror/glass recursion, path length
-  int rrDepth = 3;               // path: Russian roulette from this many bounces on
+  std::string type = "auto";           // "whitted" | "path" | "instant-radiosity" | "auto"
+  int maxDepth = 8;                    // bounces: Whitted's mirror/glass recursion, path length
+  int rrDepth = 3;                     // path: Russian roulette from this many bounces on
   std::string lightSampler = "power";  // next-event estimation: "uniform" | "power" | "bvh"
   // Participating media. Whitted: emission only, or single scattering ("multiple" acts as
   // "single"); path: "emission" scatters nothing, the others scatter any number of times
   // (tracking); instant radiosity renders them as Whitted does, its VPL light attenuated by
   // them but not scattered.
-  std::string volume = "single";           // "emission" (absorb and emit) | "single" | "multiple"
-  std::string volumeEstimator = "march";   // "march" (fixed steps) | "track" (ratio/delta tracking)
-  float volumeStep = 0;                    // march step, world units; 0 = from each medium's size
+  std::string volume = "single";          // "emission" (absorb and emit) | "single" | "multiple"
+  std::string volumeEstimator = "march";  // "march" (fixed steps) | "track" (ratio/delta tracking)
+  float volumeStep = 0;                   // march step, world units; 0 = from each medium's size
   // Whitted: shadow rays cross glass and glTF transmission, attenuated by the surfaces'
   // Fresnel transmittance and tint, straight and unrefracted (POV-Ray's filtered shadows: an
   // approximation, no caustics); false: glass casts a black shadow. The path tracer ignores
@@ -57,8 +57,8 @@ struct IntegratorSettings {
   // Integrator::specularBounces). POV-Ray's adc_bailout default; 0 follows every branch.
   float minWeight = 1.0f / 255;
   // Instant radiosity (Keller 1997).
-  int vplPaths = 64;        // light paths traced from the lights (Halton-seeded)
-  float vplClamp = 0;       // bound on the geometry term cos cos / d^2 of a VPL; 0 = no clamp
+  int vplPaths = 64;   // light paths traced from the lights (Halton-seeded)
+  float vplClamp = 0;  // bound on the geometry term cos cos / d^2 of a VPL; 0 = no clamp
   // VPLs sending a point at least this share of its unshadowed VPL light get a shadow ray
   // each; the others share shadow rays by unbiased sampling (InstantRadiosityIntegrator).
   // 0: every VPL gets a shadow ray.
@@ -119,11 +119,11 @@ struct RenderSettings {
   int spp = 16;                      // samples per pixel (the most, with adaptive sampling)
   AdaptiveSettings adaptive;
   uint64_t seed = 0;
-  int threads = 0;                   // 0 = all hardware threads
+  int threads = 0;  // 0 = all hardware threads
   std::string accel = "embree";
-  std::string camera;                // camera name; empty = the first camera
-  double time = 0;                   // seconds: the scene time of a single frame
-  double fps = 24;                   // frames per second of a sequence (frame f at f / fps)
+  std::string camera;  // camera name; empty = the first camera
+  double time = 0;     // seconds: the scene time of a single frame
+  double fps = 24;     // frames per second of a sequence (frame f at f / fps)
   // The shutter, [open, close] in seconds from the frame time (--shutter, sidecar
   // render.shutter): replaces the rendering camera's own, and gives the automatic camera one.
   // Unset: the camera's (none for the automatic camera: nothing blurs).
@@ -131,7 +131,7 @@ struct RenderSettings {
   IntegratorSettings integrator;
   FilterSettings filter;
   ToneMapSettings tonemap;
-  Rgb background{0, 0, 0};           // radiance of rays that leave the scene
+  Rgb background{0, 0, 0};  // radiance of rays that leave the scene
   // A scene with no light (no punctual, area or environment light, and a black background;
   // emitting surfaces do not count) is lit by the studio environment. False: it stays dark
   // but for its emitters (--no-default-light, sidecar "default_light": false).
@@ -139,8 +139,8 @@ struct RenderSettings {
   // The glTF material variant to show (KHR_materials_variants; --variant, sidecar "variant"),
   // or empty for each primitive's default material.
   std::string variant;
-  bool exrHalf = false;              // write EXR as half instead of float
-  bool aovs = false;                 // add albedo, normal and depth channels to EXR output
+  bool exrHalf = false;  // write EXR as half instead of float
+  bool aovs = false;     // add albedo, normal and depth channels to EXR output
 };
 
 }  // namespace glint

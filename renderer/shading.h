@@ -73,8 +73,8 @@ class ShadedHit {
  public:
   // `shadings` is materialShadings(scene); `cone` is the ray's pixel cone (RayCone{} where
   // nothing reads a footprint).
-  ShadedHit(const RenderScene& scene, const std::vector<MaterialShading>& shadings,
-            const Ray& ray, const Hit& hit, const RayCone& cone)
+  ShadedHit(const RenderScene& scene, const std::vector<MaterialShading>& shadings, const Ray& ray,
+            const Hit& hit, const RayCone& cone)
       : ShadedHit(scene, shadings, scene.materialIndex(hit), ray, hit, cone) {}
   // The same for a hit whose material index the caller already has.
   ShadedHit(const RenderScene& scene, const std::vector<MaterialShading>& shadings,

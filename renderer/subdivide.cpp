@@ -1,12 +1,11 @@
 // glint — anti-aliasing by recursive subdivision (see subdivide.h).
 #include "renderer/subdivide.h"
 
+#include <fmt/format.h>
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
-
-#include <fmt/format.h>
 
 #include <algorithm>
 #include <array>
@@ -112,14 +111,16 @@ struct Worker {
 
 class Subdivider {
  public:
-  Subdivider(const RenderScene& scene, const Integrator& integrator,
-             const RenderSettings& settings)
-      : scene_(scene), integrator_(integrator), seed_(settings.seed),
+  Subdivider(const RenderScene& scene, const Integrator& integrator, const RenderSettings& settings)
+      : scene_(scene),
+        integrator_(integrator),
+        seed_(settings.seed),
         side_(1u << settings.adaptive.subdivide),
         keyScale_(1u << (kMaxSubdivision - settings.adaptive.subdivide)),
         contrast_(settings.adaptive.contrast),
         jitter_(settings.adaptive.jitter),
-        aovs_(settings.aovs), lens_(scene.camera.hasLens()),
+        aovs_(settings.aovs),
+        lens_(scene.camera.hasLens()),
         motion_(scene.features.has(Feature::MotionBlur)),
         plain_(!lens_ && !motion_ && scene.camera.isStaticPinhole()),
         keyRow_(uint64_t(scene.camera.width()) * (1u << kMaxSubdivision) + 1) {}
@@ -188,8 +189,7 @@ class Subdivider {
   // A lattice point's key: its place in the whole image on the finest lattice, so a point has
   // the same key (and look) at every depth that has it.
   uint64_t key(uint32_t gx, uint32_t gy) const {
-    return pixelSampleKey(seed_,
-                          uint64_t(gy) * keyScale_ * keyRow_ + uint64_t(gx) * keyScale_);
+    return pixelSampleKey(seed_, uint64_t(gy) * keyScale_ * keyRow_ + uint64_t(gx) * keyScale_);
   }
 
  private:
@@ -268,8 +268,8 @@ bool renderSubdivided(const RenderScene& scene, const Integrator& integrator,
   const int width = scene.camera.width(), height = scene.camera.height();
   const int depth = settings.adaptive.subdivide;
   if (depth < 1 || depth > kMaxSubdivision)
-    throw InputError(fmt::format("anti-aliasing by subdivision: {} levels, must be 1 to {}",
-                                 depth, kMaxSubdivision));
+    throw InputError(fmt::format("anti-aliasing by subdivision: {} levels, must be 1 to {}", depth,
+                                 kMaxSubdivision));
   if (settings.adaptive.threshold > 0)
     throw InputError(
         "anti-aliasing by subdivision cannot be combined with adaptive sampling by noise "

@@ -47,9 +47,9 @@ struct VolumeSegment {
 // A free-flight sample (delta tracking): a real scattering event at ray.at(t), or none.
 struct MediumEvent {
   bool scattered = false;
-  float t = 0;             // ray parameter of the event
-  Rgb weight{1, 1, 1};     // multiplies the path throughput (zero: absorbed)
-  float g = 0;             // phase asymmetry of the medium that scattered
+  float t = 0;          // ray parameter of the event
+  Rgb weight{1, 1, 1};  // multiplies the path throughput (zero: absorbed)
+  float g = 0;          // phase asymmetry of the medium that scattered
 };
 
 class MediaScene {
@@ -107,12 +107,12 @@ class MediaScene {
  private:
   struct Region {
     std::unique_ptr<Medium> medium;
-    std::unique_ptr<Shape> shape;      // null: `box` in world space
+    std::unique_ptr<Shape> shape;  // null: `box` in world space
     std::optional<PlacedShape> placed;
     Transform objectFromWorld;
-    Bounds3f box;                      // world-space bounds
-    float majorant = 0;                // max over channels of sigma_t, times the max density
-    float step = 0;                    // marching step (world units)
+    Bounds3f box;        // world-space bounds
+    float majorant = 0;  // max over channels of sigma_t, times the max density
+    float step = 0;      // marching step (world units)
   };
   struct Coefficients {
     Rgb sigmaT, sigmaS, emission;

@@ -88,8 +88,8 @@ Rgb WhittedIntegrator::shadeAt(const Ray& ray, const Hit& hit, uint32_t material
   Rgb behind;
   if (opacity < 1) {
     if (depth < maxDepth_)
-      behind = trace(si.spawnRay(ray.d, ray.time), next, depth + 1, weight * (1 - opacity),
-                     sampler, counters);
+      behind = trace(si.spawnRay(ray.d, ray.time), next, depth + 1, weight * (1 - opacity), sampler,
+                     counters);
     if (opacity <= 0) return behind * inside;
   }
 
@@ -119,8 +119,8 @@ Rgb WhittedIntegrator::throughMedia(const Ray& ray, const Hit* hit, const RayCon
       media_->integrate(scene_, ray, hit ? hit->t : kInfinity, sampler, counters);
   // Behind an opaque medium the surface cannot be seen: no need to shade it (AOVs aside).
   if (maxComponent(seg.T) <= 0 && !aovs) return seg.L;
-  return seg.T * shade(ray, hit, cone, depth, weight * maxComponent(seg.T), sampler, counters,
-                       aovs) +
+  return seg.T *
+             shade(ray, hit, cone, depth, weight * maxComponent(seg.T), sampler, counters, aovs) +
          seg.L;
 }
 

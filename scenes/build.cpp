@@ -57,8 +57,7 @@ uint32_t addCsgNode(const CsgTreeDesc& tree, int node, const Transform& treeFrom
   }
   std::vector<uint32_t> children;
   for (int c : n.children)
-    children.push_back(
-        addCsgNode(tree, c, treeFromNode, treeFromNodeMeant, csg, leafMaterials));
+    children.push_back(addCsgNode(tree, c, treeFromNode, treeFromNodeMeant, csg, leafMaterials));
   return csg->addOperation(csgOperation(n.op), std::move(children));
 }
 
@@ -246,7 +245,8 @@ class TextureCache {
 
   TextureImages& images() {
     if (!scene_->images)
-      scene_->images = reuse_ ? std::move(reuse_) : std::make_shared<TextureImages>(&oiio::imageDecoder);
+      scene_->images =
+          reuse_ ? std::move(reuse_) : std::make_shared<TextureImages>(&oiio::imageDecoder);
     return *scene_->images;
   }
 
@@ -275,8 +275,8 @@ class TextureCache {
       const std::string base = name;
       for (int k = 2; images().contains(name); ++k) name = base + " [" + std::to_string(k) + "]";
       imageWhere_[name] = img.where;
-      return pixels_[key] = images().addEncoded(
-                 name, img.encoded, srgb ? ColorEncoding::Srgb : ColorEncoding::Linear);
+      return pixels_[key] = images().addEncoded(name, img.encoded,
+                                                srgb ? ColorEncoding::Srgb : ColorEncoding::Linear);
     } catch (const InputError& e) {
       // The image cannot be read ("<file>: <reason>", TextureImages): at the texture. A
       // FailureError (the OpenImageIO plugin is missing) and a bug pass as they are.
@@ -297,7 +297,7 @@ class TextureCache {
   std::map<std::pair<int, bool>, TextureImages::Handle> pixels_;
   std::map<std::pair<std::string, bool>, TextureImages::Handle> files_;
   std::map<std::string, SourceLocation> imageWhere_;  // registered name -> the glTF image
-  std::shared_ptr<TextureImages> reuse_;  // an earlier frame's set, taken on first use
+  std::shared_ptr<TextureImages> reuse_;              // an earlier frame's set, taken on first use
 };
 
 AlphaMode toAlphaMode(AlphaModeDesc m) {
@@ -341,8 +341,8 @@ void addLayers(const MaterialDesc& m, TextureCache& textures, PbrParams* p) {
   // black channel absorbs everything: a large finite sigma keeps the arithmetic finite).
   if (!m.thinWalled && std::isfinite(l.attenuationDistance))
     for (int c = 0; c < 3; ++c)
-      p->absorption[c] =
-          std::min(-std::log(std::max(l.attenuationColor[c], 1e-30f)), 69.0f) / l.attenuationDistance;
+      p->absorption[c] = std::min(-std::log(std::max(l.attenuationColor[c], 1e-30f)), 69.0f) /
+                         l.attenuationDistance;
 }
 
 // The material of m's type (how it scatters and emits), before the modifiers every type shares
@@ -636,7 +636,8 @@ void poseOverShutter(const SceneDescription& desc, const InstanceDesc& inst,
   const double span = shutter.close - shutter.open;
   std::vector<std::vector<Vec3f>> positions(3), normals(3);
   for (int i = 0; i < 3; ++i)
-    posedVertices(desc, inst, shutter.open + span * i / 2, &positions[size_t(i)], &normals[size_t(i)]);
+    posedVertices(desc, inst, shutter.open + span * i / 2, &positions[size_t(i)],
+                  &normals[size_t(i)]);
   Bounds3f middle;
   for (Vec3f p : positions[1]) middle.extend(p);
   const float tolerance = kMotionTolerance * length(middle.upper - middle.lower);
@@ -648,7 +649,8 @@ void poseOverShutter(const SceneDescription& desc, const InstanceDesc& inst,
       posedVertices(desc, inst, shutter.open + span * (double(i) + 0.5) / double(segments),
                     &midP[i], &midN[i]);
       for (size_t v = 0; v < midP[i].size(); ++v)
-        error = std::max(error, length(midP[i][v] - 0.5f * (positions[i][v] + positions[i + 1][v])));
+        error =
+            std::max(error, length(midP[i][v] - 0.5f * (positions[i][v] + positions[i + 1][v])));
     }
     if (!(error > tolerance)) break;  // a NaN pose stops refining too
     std::vector<std::vector<Vec3f>> finerP, finerN;
@@ -696,8 +698,8 @@ void buildMeshes(const SceneDescription& desc, const ShutterTimes& shutter, Rend
     // placed far from the origin for its size: baked there, its vertices would snap to the
     // float grid of the world coordinates (0.06 at 1e6), and a dragon 8 units long lost its
     // shape; in object space the placement's rounding is the instance transform's alone.
-    const bool bake = (posed || uses[key] == 1) && !motion.isAnimated() &&
-                      keepsDetailBaked(md.positions, world);
+    const bool bake =
+        (posed || uses[key] == 1) && !motion.isAnimated() && keepsDetailBaked(md.positions, world);
     scene->objectFromWorld.push_back(world.inverse());
     if (auto it = meshIndex.find(key); !posed && !bake && it != meshIndex.end()) {
       Instance placed{it->second, world};
@@ -705,7 +707,8 @@ void buildMeshes(const SceneDescription& desc, const ShutterTimes& shutter, Rend
       scene->geometry.instances.push_back(placed);
       continue;
     }
-    const int material = inst.material >= 0 ? inst.material : variantMaterial(md, desc.render.variant);
+    const int material =
+        inst.material >= 0 ? inst.material : variantMaterial(md, desc.render.variant);
     TriangleMesh mesh;
     mesh.positions = md.positions;
     mesh.normals = md.normals;
@@ -838,9 +841,10 @@ Bounds3f framingBounds(const SceneDescription& desc, const Bounds3f& now) {
     if (inst.mesh < 0 || !deforms(desc, inst) || !deformationAnimated(desc, inst)) continue;
     for (int i = 0; i <= 32; ++i) {
       const double t = t0 + (t1 - t0) * i / 32;
-      const Transform world = inst.transformNode >= 0
-                                  ? worldFromNode(desc.nodes, inst.transformNode, t) * inst.nodeFromObject
-                                  : inst.worldFromObject;
+      const Transform world =
+          inst.transformNode >= 0
+              ? worldFromNode(desc.nodes, inst.transformNode, t) * inst.nodeFromObject
+              : inst.worldFromObject;
       for (Vec3f p : posedPositions(desc, inst, t)) b.extend(world.point(p));
     }
   }
@@ -855,13 +859,15 @@ Bounds3f framingBounds(const SceneDescription& desc, const Bounds3f& now) {
     for (Vec3f p : desc.meshes[i].positions) meshBounds[i].extend(p);
   auto sweep = [&](int node, const Transform& nodeFromItem, const Bounds3f& local) {
     if (node < 0 || local.empty() || isUnbounded(local) || !isAnimated(desc.nodes, node)) return;
-    for (double t : times) b.extend((worldFromNode(desc.nodes, node, t) * nodeFromItem).bounds(local));
+    for (double t : times)
+      b.extend((worldFromNode(desc.nodes, node, t) * nodeFromItem).bounds(local));
   };
   for (const InstanceDesc& inst : desc.instances)
     if (inst.mesh >= 0 && size_t(inst.mesh) < meshBounds.size())
       sweep(inst.transformNode, inst.nodeFromObject, meshBounds[size_t(inst.mesh)]);
   for (const ObjectDesc& o : desc.objects)
-    if (o.kind == ObjectKind::Shape && o.shape) sweep(o.transformNode, o.nodeFromObject, o.shape->bounds());
+    if (o.kind == ObjectKind::Shape && o.shape)
+      sweep(o.transformNode, o.nodeFromObject, o.shape->bounds());
   return b;
 }
 
@@ -873,8 +879,8 @@ void buildCamera(const SceneDescription& desc, const CameraDesc* selected,
   resolveImageSize(desc, selected, &width, &height);
   CameraDesc framing;
   if (!selected) {
-    framing = framingCamera(framingBounds(desc, scene->geometry.bounds()),
-                            float(width) / float(height));
+    framing =
+        framingCamera(framingBounds(desc, scene->geometry.bounds()), float(width) / float(height));
     selected = &framing;
   }
   scene->cameraName = selected->name;

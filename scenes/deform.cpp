@@ -83,7 +83,8 @@ void pose(const SceneDescription& scene, const InstanceDesc& inst, double time,
     for (size_t t = 0; t < mesh.targets.size(); ++t) {
       if (w[t] == 0) continue;
       const MorphTargetDesc& target = mesh.targets[t];
-      for (size_t i = 0; i < target.positions.size(); ++i) (*positions)[i] += w[t] * target.positions[i];
+      for (size_t i = 0; i < target.positions.size(); ++i)
+        (*positions)[i] += w[t] * target.positions[i];
       if (normals)
         for (size_t i = 0; i < target.normals.size() && i < normals->size(); ++i)
           (*normals)[i] += w[t] * target.normals[i];

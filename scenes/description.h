@@ -23,7 +23,7 @@ namespace glint {
 // Decoded image pixels, as stored in the file (not yet linearized): `channels` floats per
 // pixel in [0, 1], rows top to bottom.
 struct ImageDesc {
-  std::string name;  // the URI, or "image N" for embedded images
+  std::string name;                         // the URI, or "image N" for embedded images
   int width = 0, height = 0, channels = 0;  // from the file's header
   int bits = 8;                             // per channel as stored: 8, or 16
   // The encoded file (PNG, JPEG, WebP, ...), shared by every copy of the description: it is
@@ -123,7 +123,7 @@ struct MaterialLayersDesc {
   int iridescenceTexture = -1;
   float iridescenceIor = 1.3f;
   float iridescenceThicknessMin = 100, iridescenceThicknessMax = 400;  // nm
-  int iridescenceThicknessTexture = -1;                                 // G
+  int iridescenceThicknessTexture = -1;                                // G
   float anisotropy = 0, anisotropyRotation = 0;  // KHR_materials_anisotropy (radians)
   int anisotropyTexture = -1;                    // RG direction, B strength
   float dispersion = 0;                          // KHR_materials_dispersion: 20 / Abbe number
@@ -150,9 +150,9 @@ struct MaterialDesc {
   // transmission without KHR_materials_volume; the sidecar's pbr materials refract).
   bool thinWalled = false;
   MaterialLayersDesc layers;  // pbr: glTF's material extensions
-  Rgb specular{0, 0, 0};  // Phong specular colour
-  float shininess = 0;    // Phong exponent
-  int bumpTexture = -1;   // height map (scalar: luminance)
+  Rgb specular{0, 0, 0};      // Phong specular colour
+  float shininess = 0;        // Phong exponent
+  int bumpTexture = -1;       // height map (scalar: luminance)
   float bumpStrength = 1;
   float snowAmount = 0;  // > 0: random normal jitter ("snow")
   float snowGrain = 0.01f;

@@ -216,11 +216,11 @@ BufferView::Meshopt readMeshopt(const Object& o, const BufferView& v, const Docu
     if (m.mode == "TRIANGLES" && m.count % 3)
       throw SceneError(o.at("count"), "must be a multiple of 3 for TRIANGLES");
   } else {
-    throw SceneError(o.at("mode"), "must be ATTRIBUTES, TRIANGLES or INDICES (got '" + m.mode + "')");
+    throw SceneError(o.at("mode"),
+                     "must be ATTRIBUTES, TRIANGLES or INDICES (got '" + m.mode + "')");
   }
   if (m.filter != "NONE") {
-    if (m.mode != "ATTRIBUTES")
-      throw SceneError(o.at("filter"), "a filter needs mode ATTRIBUTES");
+    if (m.mode != "ATTRIBUTES") throw SceneError(o.at("filter"), "a filter needs mode ATTRIBUTES");
     const bool ok = m.filter == "OCTAHEDRAL"    ? s == 4 || s == 8
                     : m.filter == "QUATERNION"  ? s == 8
                     : m.filter == "EXPONENTIAL" ? s % 4 == 0
@@ -233,8 +233,8 @@ BufferView::Meshopt readMeshopt(const Object& o, const BufferView& v, const Docu
   }
   constexpr size_t kLimit = size_t(1) << 40;
   if (m.count > kLimit / std::max<size_t>(s, 1) || m.count * s > v.byteLength)
-    throw SceneError(o.at("count"), std::to_string(m.count) + " elements of " +
-                                        plural(s, "byte") + " do not fit the view's byteLength " +
+    throw SceneError(o.at("count"), std::to_string(m.count) + " elements of " + plural(s, "byte") +
+                                        " do not fit the view's byteLength " +
                                         std::to_string(v.byteLength));
   return m;
 }
@@ -416,7 +416,8 @@ void readTextures(const Object& root, Document* doc) {
       Object ext = o.object("extensions");
       // EXT_texture_webp: the WebP image (OpenImageIO decodes it) wins over the fallback.
       if (ext.has("EXT_texture_webp"))
-        t.source = ext.object("EXT_texture_webp").index("source", doc->images.size(), "image", true);
+        t.source =
+            ext.object("EXT_texture_webp").index("source", doc->images.size(), "image", true);
       if (t.source < 0 && ext.has("KHR_texture_basisu"))
         throw SceneError(ext.at("KHR_texture_basisu"),
                          "KTX2/Basis Universal textures cannot be decoded (Debian has no Basis "
@@ -537,7 +538,8 @@ void readMaterialLayers(const Object& ext, const Document& doc, Material* m) {
     l.iridescence = nonNegative(o, "iridescenceFactor", 0, 1);
     t.iridescence = textureRef(o, "iridescenceTexture", doc);
     const double ior = o.number("iridescenceIor", 1.3);
-    if (!(ior >= 1) || !std::isfinite(ior)) throw SceneError(o.at("iridescenceIor"), "must be >= 1");
+    if (!(ior >= 1) || !std::isfinite(ior))
+      throw SceneError(o.at("iridescenceIor"), "must be >= 1");
     l.iridescenceIor = float(ior);
     l.iridescenceThicknessMin = nonNegative(o, "iridescenceThicknessMinimum", 100, 1e6);
     l.iridescenceThicknessMax = nonNegative(o, "iridescenceThicknessMaximum", 400, 1e6);
@@ -617,11 +619,11 @@ void readMaterials(const Object& root, Document* doc) {
     }
     const Material::LayerTextures& lt = m.layerTextures;
     for (const TextureRef* r : std::initializer_list<const TextureRef*>{
-             &m.baseColorTexture, &m.emissiveTexture, &m.metallicRoughnessTexture,
-             &m.normalTexture, &m.transmissionTexture, &lt.specular, &lt.specularColor, &lt.clearcoat,
-          &lt.clearcoatRoughness, &lt.clearcoatNormal, &lt.sheenColor, &lt.sheenRoughness,
-          &lt.diffuseTransmission, &lt.diffuseTransmissionColor, &lt.iridescence,
-          &lt.iridescenceThickness, &lt.anisotropy})
+             &m.baseColorTexture, &m.emissiveTexture, &m.metallicRoughnessTexture, &m.normalTexture,
+             &m.transmissionTexture, &lt.specular, &lt.specularColor, &lt.clearcoat,
+             &lt.clearcoatRoughness, &lt.clearcoatNormal, &lt.sheenColor, &lt.sheenRoughness,
+             &lt.diffuseTransmission, &lt.diffuseTransmissionColor, &lt.iridescence,
+             &lt.iridescenceThickness, &lt.anisotropy})
       if (r->index >= 0 && r->texCoord > 1)
         doc->warnings.push_back(r->where.child("texCoord").str() + ": texCoord " +
                                 std::to_string(r->texCoord) +
@@ -701,7 +703,8 @@ void readMeshes(const Object& root, Document* doc) {
       // glTF: every primitive of a mesh has the same number of morph targets.
       if (!mesh.primitives.empty() && p.targets.size() != mesh.primitives[0].targets.size())
         throw SceneError(po.has("targets") ? po.at("targets") : po.where(),
-                         "has " + plural(p.targets.size(), "morph target") + " but primitive 0 has " +
+                         "has " + plural(p.targets.size(), "morph target") +
+                             " but primitive 0 has " +
                              std::to_string(mesh.primitives[0].targets.size()) +
                              " (every primitive of a mesh must have the same number)");
       p.indices = po.index("indices", accessors, "accessor");
@@ -716,8 +719,7 @@ void readMeshes(const Object& root, Document* doc) {
             mo.require("variants");
             std::vector<int> variants;
             for (auto& [value, loc] : mo.array("variants"))
-              variants.push_back(
-                  Object::indexValue(*value, loc, doc->variants.size(), "variant"));
+              variants.push_back(Object::indexValue(*value, loc, doc->variants.size(), "variant"));
             if (variants.empty()) throw SceneError(mo.at("variants"), "must not be empty");
             p.variantMappings.emplace_back(material, std::move(variants));
           }
@@ -898,15 +900,16 @@ void readInstancing(const Object& o, const Document& doc, Node* node) {
     if (index < 0) continue;
     const Accessor& a = doc.accessors[size_t(index)];
     const bool rotation = std::string(name) == "ROTATION";
-    const bool ok = rotation ? a.type == "VEC4" && (a.componentType == kFloat ||
-                                                   (a.normalized && (a.componentType == kByte ||
-                                                                     a.componentType == kShort)))
-                             : a.type == "VEC3" && a.componentType == kFloat;
+    const bool ok =
+        rotation ? a.type == "VEC4" &&
+                       (a.componentType == kFloat ||
+                        (a.normalized && (a.componentType == kByte || a.componentType == kShort)))
+                 : a.type == "VEC3" && a.componentType == kFloat;
     if (!ok)
       throw SceneError(attributes.at(name),
                        "accessor " + std::to_string(index) + " is " + a.type + " of " +
-                           (a.normalized ? "normalized " : "") + componentTypeName(a.componentType) +
-                           "; " + name + " must be " +
+                           (a.normalized ? "normalized " : "") +
+                           componentTypeName(a.componentType) + "; " + name + " must be " +
                            (rotation ? "VEC4 of FLOAT or normalized BYTE/SHORT" : "VEC3 of FLOAT"));
     if (!first && a.count != node->instanceCount)
       throw SceneError(attributes.at(name), "accessor " + std::to_string(index) + " has " +
@@ -937,7 +940,8 @@ void readNodes(const Object& root, Document* doc) {
       if (ext.has("KHR_lights_punctual"))
         node.light =
             ext.object("KHR_lights_punctual").index("light", doc->lights.size(), "light", true);
-      if (ext.has("EXT_mesh_gpu_instancing")) readInstancing(ext.object("EXT_mesh_gpu_instancing"), *doc, &node);
+      if (ext.has("EXT_mesh_gpu_instancing"))
+        readInstancing(ext.object("EXT_mesh_gpu_instancing"), *doc, &node);
     }
     for (auto& [value, loc] : o.array("children"))
       node.children.push_back(Object::indexValue(*value, loc, n, "node"));
@@ -948,7 +952,8 @@ void readNodes(const Object& root, Document* doc) {
       if (node.mesh < 0) throw SceneError(o.at("skin"), "a skin needs a mesh on the same node");
     }
     if (o.has("weights")) {
-      if (node.mesh < 0) throw SceneError(o.at("weights"), "morph weights need a mesh on the same node");
+      if (node.mesh < 0)
+        throw SceneError(o.at("weights"), "morph weights need a mesh on the same node");
       const Mesh& mesh = doc->meshes[size_t(node.mesh)];
       node.weights = morphWeights(o, "weights", mesh.targetCount,
                                   "mesh " + std::to_string(node.mesh) + " has");
@@ -976,8 +981,7 @@ void readNodes(const Object& root, Document* doc) {
   // long chain costs linear time; the loader recurses once per level, hence the depth limit.
   auto childEntry = [&](size_t node) {  // the pointer of `node` in its parent's children
     const Node& parentNode = doc->nodes[size_t(parent[node])];
-    size_t k = size_t(std::find(parentNode.children.begin(), parentNode.children.end(),
-                                int(node)) -
+    size_t k = size_t(std::find(parentNode.children.begin(), parentNode.children.end(), int(node)) -
                       parentNode.children.begin());
     return parentNode.where.child("children").child(k);
   };
@@ -994,10 +998,9 @@ void readNodes(const Object& root, Document* doc) {
         size_t first = size_t(p);
         for (int q = parent[size_t(p)]; q != p; q = parent[size_t(q)])
           first = std::min(first, size_t(q));
-        throw SceneError(childEntry(first), "node " + std::to_string(first) +
-                                                " is an ancestor of node " +
-                                                std::to_string(parent[first]) +
-                                                " (cycle in the node graph)");
+        throw SceneError(childEntry(first),
+                         "node " + std::to_string(first) + " is an ancestor of node " +
+                             std::to_string(parent[first]) + " (cycle in the node graph)");
       }
       walked[size_t(p)] = true;
       walk.push_back(size_t(p));
@@ -1094,14 +1097,12 @@ void checkOutput(const Document& doc, const Animation& anim, const AnimationChan
     if (targets == 0) return;  // nothing to drive: the loader warns and ignores it
     perKey *= targets;
     if (out.count != perKey * in.count)
-      throw SceneError(loc, "accessor " + std::to_string(sampler.output) + " has " +
-                                plural(out.count, "element") + "; " + user + " with " +
-                                plural(in.count, "key") + " and " +
-                                plural(targets, "morph target") +
-                                (sampler.interpolation == Interpolation::CubicSpline
-                                     ? " (CUBICSPLINE)"
-                                     : "") +
-                                " needs " + std::to_string(perKey * in.count));
+      throw SceneError(
+          loc, "accessor " + std::to_string(sampler.output) + " has " +
+                   plural(out.count, "element") + "; " + user + " with " + plural(in.count, "key") +
+                   " and " + plural(targets, "morph target") +
+                   (sampler.interpolation == Interpolation::CubicSpline ? " (CUBICSPLINE)" : "") +
+                   " needs " + std::to_string(perKey * in.count));
     return;
   }
   if (out.count != perKey * in.count)
@@ -1215,12 +1216,15 @@ void readAnimations(const Object& root, Document* doc) {
 // Extensions glint implements; any other extension in extensionsRequired is an error, and one
 // in extensionsUsed a warning.
 const char* const kSupportedExtensions[] = {
-    "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_transmission",
-    "KHR_materials_ior", "KHR_texture_transform", "KHR_materials_unlit", "KHR_mesh_quantization",
-    "EXT_mesh_gpu_instancing", "EXT_texture_webp", "KHR_materials_variants",
-    "KHR_materials_specular", "KHR_materials_clearcoat", "KHR_materials_sheen",
-    "KHR_materials_volume", "KHR_materials_iridescence", "KHR_materials_anisotropy",
-    "KHR_materials_dispersion", "KHR_materials_diffuse_transmission",
+    "KHR_lights_punctual",        "KHR_materials_emissive_strength",
+    "KHR_materials_transmission", "KHR_materials_ior",
+    "KHR_texture_transform",      "KHR_materials_unlit",
+    "KHR_mesh_quantization",      "EXT_mesh_gpu_instancing",
+    "EXT_texture_webp",           "KHR_materials_variants",
+    "KHR_materials_specular",     "KHR_materials_clearcoat",
+    "KHR_materials_sheen",        "KHR_materials_volume",
+    "KHR_materials_iridescence",  "KHR_materials_anisotropy",
+    "KHR_materials_dispersion",   "KHR_materials_diffuse_transmission",
     "KHR_draco_mesh_compression", "EXT_meshopt_compression"};
 
 bool isSupportedExtension(const std::string& name) {
@@ -1233,8 +1237,9 @@ std::string whatIsIgnored(const std::string& name) {
   static const std::pair<const char*, const char*> kKnown[] = {
       {"KHR_materials_pbrSpecularGlossiness", "the metallic-roughness parameters, if any"},
       {"KHR_xmp_json_ld", "metadata only"},
-      {"KHR_texture_basisu", "textures use their fallback 'source' image (Debian has no Basis "
-                             "Universal decoder)"},
+      {"KHR_texture_basisu",
+       "textures use their fallback 'source' image (Debian has no Basis "
+       "Universal decoder)"},
       {"KHR_animation_pointer", "animated material and camera properties stay at rest"},
   };
   for (const auto& [known, ignored] : kKnown)
@@ -1264,8 +1269,8 @@ void checkExtensions(const Object& root, std::vector<std::string>* warnings,
     std::string name = value->get<std::string>();
     used->push_back(name);
     if (!isSupportedExtension(name))
-      warnings->push_back(loc.str() + ": extension '" + name + "' is not supported; ignored: " +
-                          whatIsIgnored(name));
+      warnings->push_back(loc.str() + ": extension '" + name +
+                          "' is not supported; ignored: " + whatIsIgnored(name));
   }
 }
 

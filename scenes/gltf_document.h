@@ -36,7 +36,7 @@ struct BufferView {
   struct Meshopt {
     int buffer = -1;
     size_t byteOffset = 0, byteLength = 0, byteStride = 0, count = 0;
-    std::string mode;            // ATTRIBUTES | TRIANGLES | INDICES
+    std::string mode;             // ATTRIBUTES | TRIANGLES | INDICES
     std::string filter = "NONE";  // NONE | OCTAHEDRAL | QUATERNION | EXPONENTIAL
     SourceLocation where;
   };
@@ -116,8 +116,8 @@ struct Material {
   // their textures.
   MaterialLayersDesc layers;
   struct LayerTextures {
-    TextureRef specular, specularColor, clearcoat, clearcoatRoughness, clearcoatNormal,
-        sheenColor, sheenRoughness, diffuseTransmission, diffuseTransmissionColor, iridescence,
+    TextureRef specular, specularColor, clearcoat, clearcoatRoughness, clearcoatNormal, sheenColor,
+        sheenRoughness, diffuseTransmission, diffuseTransmissionColor, iridescence,
         iridescenceThickness, anisotropy;
   } layerTextures;
   SourceLocation where;
@@ -183,7 +183,7 @@ struct Node {
 // A skin: the joint nodes and the inverse bind matrices that take the mesh into each joint's
 // space at rest.
 struct Skin {
-  std::vector<int> joints;  // node indices
+  std::vector<int> joints;             // node indices
   std::vector<Transform> inverseBind;  // one per joint (identity when the file gives none)
   int inverseBindMatrices = -1;        // accessor, read by the loader (-1: identities)
   SourceLocation where;

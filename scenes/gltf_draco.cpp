@@ -86,8 +86,8 @@ std::map<int, std::vector<double>> decodeDracoPrimitive(const uint8_t* bytes, si
     const Accessor& a = doc.accessors[size_t(accessor)];
     if (a.count != points)
       throw SceneError(where, "the Draco mesh has " + std::to_string(points) +
-                                  " points but accessor " + std::to_string(accessor) + " (" +
-                                  name + ") has count " + std::to_string(a.count));
+                                  " points but accessor " + std::to_string(accessor) + " (" + name +
+                                  ") has count " + std::to_string(a.count));
     const int components = att->num_components();
     if (components != a.components)
       throw SceneError(where, "the Draco attribute has " + std::to_string(components) +

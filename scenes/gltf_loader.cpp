@@ -8,9 +8,6 @@
 // the default scene is instanced.
 #include "scenes/gltf_loader.h"
 
-#include "scenes/gltf_draco.h"
-#include "scenes/gltf_meshopt.h"
-
 #include <tiny_gltf.h>
 
 #include <cmath>
@@ -26,6 +23,8 @@
 #include "image/oiio/plugin.h"
 #include "materials/image_texture.h"
 #include "scenes/gltf_document.h"
+#include "scenes/gltf_draco.h"
+#include "scenes/gltf_meshopt.h"
 #include "scenes/json_util.h"
 
 namespace glint {
@@ -501,8 +500,8 @@ class AccessorReader {
                                         std::to_string(m.buffer) + " (" +
                                         std::to_string(source.size()) + " bytes)");
         it = decodedViews_
-                 .emplace(view, gltf::decodeMeshoptView(v, source.data() + m.byteOffset,
-                                                        m.byteLength))
+                 .emplace(view,
+                          gltf::decodeMeshoptView(v, source.data() + m.byteOffset, m.byteLength))
                  .first;
       }
       if (offset + bytes > it->second.size())
@@ -598,8 +597,8 @@ class Loader {
         const int base = textureBase_ + r.index;
         const int uvSet = r.texCoord == 1 ? 1 : 0;
         if (!r.transformed && uvSet == 0) return base;
-        const auto key = std::make_tuple(base, uvSet, r.offset.x, r.offset.y, r.scale.x,
-                                         r.scale.y, r.rotation);
+        const auto key =
+            std::make_tuple(base, uvSet, r.offset.x, r.offset.y, r.scale.x, r.scale.y, r.rotation);
         if (auto it = transformedTextures_.find(key); it != transformedTextures_.end())
           return it->second;
         TextureDesc t = scene_->textures[size_t(base)];
@@ -608,8 +607,8 @@ class Loader {
         t.mapping.offset = {r.offset.x, r.offset.y, 0};
         t.mapping.uvRotation = r.rotation;
         t.mapping.uvSet = uvSet;
-        t.where = r.transformed ? r.where.child("extensions").child("KHR_texture_transform")
-                                : r.where;
+        t.where =
+            r.transformed ? r.where.child("extensions").child("KHR_texture_transform") : r.where;
         scene_->textures.push_back(t);
         return transformedTextures_[key] = int(scene_->textures.size() - 1);
       };
@@ -750,9 +749,8 @@ class Loader {
     const size_t perKey = cubic ? 3 : 1;
     for (size_t i = 0; i < v.size(); ++i)
       if (!std::isfinite(v[i]))
-        throw SceneError(s.where.child("output"), "element " + std::to_string(i) +
-                                                      " of accessor " + std::to_string(s.output) +
-                                                      " is not finite");
+        throw SceneError(s.where.child("output"), "element " + std::to_string(i) + " of accessor " +
+                                                      std::to_string(s.output) + " is not finite");
     for (size_t t = 0; t < targets; ++t) {
       tracks[t].interpolation = s.interpolation;
       tracks[t].times = times;
@@ -968,8 +966,8 @@ class Loader {
         throw SceneError(attrs.child("TRANSLATION"),
                          "instance " + std::to_string(i) + " has a non-finite translation");
       if (!isFinite(scale) || scale.x == 0 || scale.y == 0 || scale.z == 0)
-        throw SceneError(attrs.child("SCALE"), "instance " + std::to_string(i) +
-                                                   " has a zero or non-finite scale");
+        throw SceneError(attrs.child("SCALE"),
+                         "instance " + std::to_string(i) + " has a zero or non-finite scale");
       out.push_back(Transform::translate(translation) * toTransform(rotation) *
                     Transform::scale(scale));
     }
@@ -1119,9 +1117,10 @@ class Loader {
     const Accessor& wa = attribute(p.weights0, p, "WEIGHTS_0", {"VEC4"}, Kind::Color);
     for (auto [index, what] : {std::pair{p.joints0, "JOINTS_0"}, {p.weights0, "WEIGHTS_0"}})
       if (doc_.accessors[size_t(index)].count != n)
-        throw SceneError(attrs.child(what), "accessor " + std::to_string(index) + " has " +
-                                                std::to_string(doc_.accessors[size_t(index)].count) +
-                                                " elements but POSITION has " + std::to_string(n));
+        throw SceneError(attrs.child(what),
+                         "accessor " + std::to_string(index) + " has " +
+                             std::to_string(doc_.accessors[size_t(index)].count) +
+                             " elements but POSITION has " + std::to_string(n));
     std::vector<double> j = reader_.read(p.joints0), w = reader_.read(p.weights0);
     mesh->joints.resize(n);
     mesh->jointWeights.resize(n);
@@ -1252,8 +1251,8 @@ class Loader {
       auto displacements = [&](int index, const char* what, std::vector<Vec3f>* out) {
         if (index < 0) return;
         SourceLocation at = target.where.child(what);
-        const Accessor& a = attribute(index, at, std::string("a morph target's ") + what,
-                                      {"VEC3"}, Kind::Position);
+        const Accessor& a =
+            attribute(index, at, std::string("a morph target's ") + what, {"VEC3"}, Kind::Position);
         if (a.count != n)
           throw SceneError(at, "accessor " + std::to_string(index) + " has " +
                                    std::to_string(a.count) + " elements but POSITION has " +
@@ -1336,15 +1335,15 @@ class Loader {
   // scale, rotation) -> index.
   std::map<std::tuple<int, int, float, float, float, float, float>, int> transformedTextures_;
   std::map<int, std::vector<int>> converted_;
-  std::map<int, NodeTracks> tracks_;  // by glTF node index
+  std::map<int, NodeTracks> tracks_;                       // by glTF node index
   std::map<int, std::vector<Track<float>>> weightTracks_;  // by glTF node index
   bool quantized_ = false;  // KHR_mesh_quantization is used: integer attributes allowed
   // Per glTF node, from the walk: its animated placement (-1: static) and its world at time 0.
   std::vector<int> nodeDesc_;
   std::vector<std::optional<Transform>> nodeWorld_;
-  std::vector<int> parent_;  // made on first use by restWorld
+  std::vector<int> parent_;                           // made on first use by restWorld
   std::vector<std::pair<size_t, int>> pendingSkins_;  // (instance, glTF skin)
-  std::vector<int> subtreeAnimated_;  // -1 = not yet known
+  std::vector<int> subtreeAnimated_;                  // -1 = not yet known
   Transform rootTransform_;
   int rootNode_ = -1;
 };
@@ -1356,8 +1355,8 @@ void loadGltf(const std::string& path, SceneDescription* scene, const Transform&
   loadGltfFromMemory(readTextFile(path), path, scene, rootTransform);
 }
 
-void loadGltfFromMemory(const std::string& bytes, const std::string& path,
-                        SceneDescription* scene, const Transform& rootTransform) {
+void loadGltfFromMemory(const std::string& bytes, const std::string& path, SceneDescription* scene,
+                        const Transform& rootTransform) {
   std::string ext = fs::path(path).extension().string();
   for (char& c : ext) c = char(std::tolower(uint8_t(c)));
   bool binary = ext == ".glb" || hasGlbMagic(bytes);

@@ -26,7 +26,7 @@ void loadGltf(const std::string& path, SceneDescription* scene,
 // Same for the contents of a .gltf or .glb file already in memory: `path` names it in messages,
 // its folder is where relative URIs resolve, and a ".glb" extension (or the GLB magic at the
 // start of `bytes`) selects the binary container.
-void loadGltfFromMemory(const std::string& bytes, const std::string& path,
-                        SceneDescription* scene, const Transform& rootTransform = Transform());
+void loadGltfFromMemory(const std::string& bytes, const std::string& path, SceneDescription* scene,
+                        const Transform& rootTransform = Transform());
 
 }  // namespace glint

@@ -9,8 +9,7 @@
 
 namespace glint::gltf {
 
-std::vector<uint8_t> decodeMeshoptView(const BufferView& view, const uint8_t* bytes,
-                                       size_t size) {
+std::vector<uint8_t> decodeMeshoptView(const BufferView& view, const uint8_t* bytes, size_t size) {
   const BufferView::Meshopt& m = *view.meshopt;
   // The view may be longer than the elements (padding); the rest stays zero.
   std::vector<uint8_t> out(std::max(view.byteLength, m.count * m.byteStride), 0);

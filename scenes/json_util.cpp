@@ -89,8 +89,9 @@ nlohmann::json parse(std::string_view text, const std::string& file, bool sceneF
     // no position, but its message names the number.
     std::string what = e.what();
     size_t bracket = what.find("] ");
-    throw SceneError({file, ""}, "JSON number out of range: " +
-                                     (bracket == std::string::npos ? what : what.substr(bracket + 2)));
+    throw SceneError({file, ""},
+                     "JSON number out of range: " +
+                         (bracket == std::string::npos ? what : what.substr(bracket + 2)));
   }
 }
 
@@ -115,15 +116,23 @@ std::string readTextFile(const std::string& path) {
 
 std::string jsonTypeName(const nlohmann::json& value) {
   switch (value.type()) {
-    case nlohmann::json::value_t::null: return "null";
-    case nlohmann::json::value_t::object: return "object";
-    case nlohmann::json::value_t::array: return "array";
-    case nlohmann::json::value_t::string: return "string";
-    case nlohmann::json::value_t::boolean: return "boolean";
+    case nlohmann::json::value_t::null:
+      return "null";
+    case nlohmann::json::value_t::object:
+      return "object";
+    case nlohmann::json::value_t::array:
+      return "array";
+    case nlohmann::json::value_t::string:
+      return "string";
+    case nlohmann::json::value_t::boolean:
+      return "boolean";
     case nlohmann::json::value_t::number_integer:
-    case nlohmann::json::value_t::number_unsigned: return "integer";
-    case nlohmann::json::value_t::number_float: return "number";
-    default: return "value";
+    case nlohmann::json::value_t::number_unsigned:
+      return "integer";
+    case nlohmann::json::value_t::number_float:
+      return "number";
+    default:
+      return "value";
   }
 }
 

@@ -69,8 +69,9 @@ void readSidecarLight(JsonReader& r, const SceneDescription& scene, LightDesc* l
       // Relative to the edges' lengths: parallel or zero edges span no area.
       const float scale = length(light->edgeU) * length(light->edgeV);
       if (!(length(cross(light->edgeU, light->edgeV)) > 1e-6f * scale))
-        throw SceneError(r.where("edge_v"), "must not be zero or parallel to edge_u (the quad "
-                                            "would have no area)");
+        throw SceneError(r.where("edge_v"),
+                         "must not be zero or parallel to edge_u (the quad "
+                         "would have no area)");
       // The corner and edges are in the transform's space when there is one.
       light->worldFromLight = r.get<Transform>("transform", Transform());
       break;
@@ -96,8 +97,7 @@ void readSidecarLight(JsonReader& r, const SceneDescription& scene, LightDesc* l
       light->fov = radians(r.get<float>("fov_degrees", 45, {.gt = 0, .lt = 180}));
       light->attenuation = r.get<float>("attenuation", light->attenuation, kUnit);
       if (r.has("texture"))
-        light->texture =
-            textureNamed(scene, r.get<std::string>("texture"), r.where("texture"));
+        light->texture = textureNamed(scene, r.get<std::string>("texture"), r.where("texture"));
       const Vec3f position = r.get<Vec3f>("position");
       const char* key = "direction";
       const Vec3f dir = aimFrom(r, position, &key);

@@ -160,14 +160,10 @@ int textureByName(const SceneDescription& scene, const std::string& name,
 // ---------------------------------------------------------------------------------------------
 
 const std::vector<std::pair<std::string, MaterialType>> kMaterialTypes = {
-    {"pbr", MaterialType::Pbr},
-    {"eyelight", MaterialType::Eyelight},
-    {"unlit", MaterialType::Unlit},
-    {"lambert", MaterialType::Lambert},
-    {"phong", MaterialType::Phong},
-    {"blinn_phong", MaterialType::BlinnPhong},
-    {"mirror", MaterialType::Mirror},
-    {"glass", MaterialType::Glass},
+    {"pbr", MaterialType::Pbr},       {"eyelight", MaterialType::Eyelight},
+    {"unlit", MaterialType::Unlit},   {"lambert", MaterialType::Lambert},
+    {"phong", MaterialType::Phong},   {"blinn_phong", MaterialType::BlinnPhong},
+    {"mirror", MaterialType::Mirror}, {"glass", MaterialType::Glass},
     {"random", MaterialType::Random},
 };
 

@@ -33,8 +33,8 @@ VolumeGrid readVolFile(const std::string& path) {
   if (!in.read(magic, 3) || std::memcmp(magic, "VOL", 3) != 0)
     throw SceneError(where, "not a .vol grid (no 'VOL' header)");
   if (!readRaw(in, &version) || version != 3)
-    throw SceneError(where, "header: unsupported .vol version " + std::to_string(version) +
-                                " (expected 3)");
+    throw SceneError(
+        where, "header: unsupported .vol version " + std::to_string(version) + " (expected 3)");
   int32_t encoding = 0, res[3] = {0, 0, 0}, channels = 0;
   if (!readRaw(in, &encoding) || encoding != 1)
     throw SceneError(where, "header: unsupported encoding " + std::to_string(encoding) +
@@ -43,8 +43,8 @@ VolumeGrid readVolFile(const std::string& path) {
     if (!readRaw(in, &r) || r < 1 || r > 4096)
       throw SceneError(where, "header: bad resolution (each axis must be in 1..4096)");
   if (!readRaw(in, &channels) || channels != 1)
-    throw SceneError(where, "header: " + std::to_string(channels) +
-                                " channels (a density grid has 1)");
+    throw SceneError(where,
+                     "header: " + std::to_string(channels) + " channels (a density grid has 1)");
   float box[6];
   for (float& b : box)
     if (!readRaw(in, &b)) throw SceneError(where, "truncated header");
@@ -54,12 +54,11 @@ VolumeGrid readVolFile(const std::string& path) {
   std::error_code ec;
   const uint64_t size = std::filesystem::file_size(path, ec);
   if (ec || size < kHeaderBytes + count * sizeof(float))
-    throw SceneError(where, "truncated data (the header's " + std::to_string(res[0]) + "x" +
-                                std::to_string(res[1]) + "x" + std::to_string(res[2]) +
-                                " grid needs " + std::to_string(count * sizeof(float)) +
-                                " bytes of values, the file has " +
-                                std::to_string(ec || size < kHeaderBytes ? 0 : size - kHeaderBytes) +
-                                ")");
+    throw SceneError(where,
+                     "truncated data (the header's " + std::to_string(res[0]) + "x" +
+                         std::to_string(res[1]) + "x" + std::to_string(res[2]) + " grid needs " +
+                         std::to_string(count * sizeof(float)) + " bytes of values, the file has " +
+                         std::to_string(ec || size < kHeaderBytes ? 0 : size - kHeaderBytes) + ")");
   VolumeGrid grid;
   grid.nx = res[0], grid.ny = res[1], grid.nz = res[2];
   grid.bounds = {{box[0], box[1], box[2]}, {box[3], box[4], box[5]}};
@@ -69,15 +68,13 @@ VolumeGrid readVolFile(const std::string& path) {
     throw SceneError(where, "truncated data (expected " + std::to_string(count) + " values)");
   for (size_t i = 0; i < grid.values.size(); ++i)
     if (!std::isfinite(grid.values[i]) || grid.values[i] < 0)
-      throw SceneError(where, "value " + std::to_string(i) +
-                                  ": densities must be finite and >= 0");
+      throw SceneError(where, "value " + std::to_string(i) + ": densities must be finite and >= 0");
   return grid;
 }
 
 void writeVolFile(const std::string& path, const VolumeGrid& grid) {
   std::ofstream out(path, std::ios::binary);
-  if (!out)
-    throw OutputError("cannot write '" + path + "': " + std::strerror(errno));
+  if (!out) throw OutputError("cannot write '" + path + "': " + std::strerror(errno));
   const uint8_t version = 3;
   const int32_t header[5] = {1, grid.nx, grid.ny, grid.nz, 1};
   const float box[6] = {grid.bounds.lower.x, grid.bounds.lower.y, grid.bounds.lower.z,

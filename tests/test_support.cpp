@@ -154,7 +154,8 @@ std::string cornellBoxJson(int size, int spp, uint64_t seed, const std::string& 
 
 std::string litBallJson(int width, int height) {
   return R"({
-  "render": {"width": )" + std::to_string(width) + R"(, "height": )" + std::to_string(height) +
+  "render": {"width": )" +
+         std::to_string(width) + R"(, "height": )" + std::to_string(height) +
          R"(, "camera": "c", "integrator": {"type": "path"},
              "background": [0.2, 0.3, 0.4]},
   "cameras": [{"name": "c", "position": [0, 0, 4], "look_at": [0, 0, 0], "yfov_degrees": 30}],

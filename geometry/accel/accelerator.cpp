@@ -1,19 +1,19 @@
 // glint — the accelerator factory: backends chosen by name.
 #include "geometry/accel/accelerator.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "geometry/accel/embree_accel.h"
 #include "geometry/accel/kdtree.h"
 #include "geometry/error.h"
-
-#include <algorithm>
-#include <cmath>
 
 namespace glint {
 
 std::optional<FarHitStretch> farHitStretch(const Ray& ray, float t) {
   if (!(t < kInfinity)) return std::nullopt;
-  const double dLength = std::sqrt(double(ray.d.x) * ray.d.x + double(ray.d.y) * ray.d.y +
-                                   double(ray.d.z) * ray.d.z);
+  const double dLength =
+      std::sqrt(double(ray.d.x) * ray.d.x + double(ray.d.y) * ray.d.y + double(ray.d.z) * ray.d.z);
   const double length = double(t) * dLength;
   double origin = 0, hitScale = 0;
   for (int i = 0; i < 3; ++i) {

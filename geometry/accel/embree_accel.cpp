@@ -155,9 +155,8 @@ RTCGeometry EmbreeAccelerator::makeTriangleGeometry(const TriangleMesh& mesh) {
   bool allocated = true;
   for (size_t k = 0; k < steps; ++k) {
     const std::vector<Vec3f>& p = mesh.deforms() ? mesh.positionSteps[k] : mesh.positions;
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX,
-                                                          unsigned(k), RTC_FORMAT_FLOAT3,
-                                                          sizeof(Vec3f), p.size()));
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geom, RTC_BUFFER_TYPE_VERTEX, unsigned(k), RTC_FORMAT_FLOAT3, sizeof(Vec3f), p.size()));
     if (v) std::memcpy(v, p.data(), p.size() * sizeof(Vec3f));
     allocated = allocated && v;
   }
@@ -185,7 +184,8 @@ void EmbreeAccelerator::checkError(const char* what) {
   const std::string message = std::string(what) + ": " + firstError_;
   // An argument or call Embree rejects is glint's mistake (main: "internal error"); the rest
   // (out of memory, an unsupported CPU, a cancelled build) is work that could not be done.
-  if (firstErrorCode_ == RTC_ERROR_INVALID_ARGUMENT || firstErrorCode_ == RTC_ERROR_INVALID_OPERATION)
+  if (firstErrorCode_ == RTC_ERROR_INVALID_ARGUMENT ||
+      firstErrorCode_ == RTC_ERROR_INVALID_OPERATION)
     throw std::logic_error(message);
   throw FailureError(message);
 }

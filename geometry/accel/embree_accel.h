@@ -79,7 +79,7 @@ class EmbreeAccelerator final : public Accelerator {
   };
 
  private:
-  bool traceClosest(const Ray& ray, Hit* hit) const;  // Embree only, no unbounded shapes
+  bool traceClosest(const Ray& ray, Hit* hit) const;         // Embree only, no unbounded shapes
   bool closestHitUnrefined(const Ray& ray, Hit* hit) const;  // without refineFarHit
   RTCGeometry makeTriangleGeometry(const TriangleMesh& mesh);
   RTCGeometry makeShapeGeometry(const PlacedShape* shape);

@@ -50,9 +50,9 @@ void KdPrimitives::gather(const GeometryScene& scene, const UnboundedShapes& unb
     const std::vector<Vec3f>& p = identity ? mesh.positions : world;
     // The front of a placed triangle is its object-space winding's normal carried by the
     // placement; a mirroring placement turns the world-space winding over.
-    const int8_t cull = !mesh.singleSided                       ? 0
+    const int8_t cull = !mesh.singleSided                                     ? 0
                         : identity || !inst.worldFromObject.swapsHandedness() ? 1
-                                                                : -1;
+                                                                              : -1;
     for (uint32_t t = 0; t < mesh.triangleCount(); ++t) {
       std::array<Vec3f, 3> tri{p[mesh.indices[3 * t]], p[mesh.indices[3 * t + 1]],
                                p[mesh.indices[3 * t + 2]]};
@@ -99,7 +99,8 @@ void KdPrimitives::gatherDeforming(const TriangleMesh& mesh) {
     // A triangle with no area at one step may have some at another: only the middle pose
     // (`triangles`, used for nothing but this list's length) is kept as it is.
     triangles.push_back({mesh.positions[i0], mesh.positions[i1], mesh.positions[i2]});
-    for (const std::vector<Vec3f>& p : mesh.positionSteps) triangleSteps.push_back({p[i0], p[i1], p[i2]});
+    for (const std::vector<Vec3f>& p : mesh.positionSteps)
+      triangleSteps.push_back({p[i0], p[i1], p[i2]});
     triCull.push_back(mesh.singleSided ? 1 : 0);
     triInstance.push_back(0);
     triPrim.push_back(t);
@@ -206,8 +207,9 @@ int KdTree::maxDepthFor(uint32_t primCount) {
 
 void KdTree::addLeaf(const uint32_t* prims, uint32_t count, const Bounds3f& box, int depth) {
   if (count > KdNode::kMaxPayload || nodes.size() >= KdNode::kMaxNodes)
-    throw FailureError("kd-tree: more nodes or leaf primitives than its indices hold "
-                       "(--accel embree holds more)");
+    throw FailureError(
+        "kd-tree: more nodes or leaf primitives than its indices hold "
+        "(--accel embree holds more)");
   if (count == 1) {
     nodes.push_back(KdNode::leaf(1, prims[0]));
   } else {
@@ -223,8 +225,9 @@ void KdTree::addLeaf(const uint32_t* prims, uint32_t count, const Bounds3f& box,
 
 uint32_t KdTree::addInterior(const Bounds3f& box, int depth) {
   if (nodes.size() >= KdNode::kMaxNodes)
-    throw FailureError("kd-tree: more nodes than its 28-bit indices hold (--accel embree holds "
-                       "more)");
+    throw FailureError(
+        "kd-tree: more nodes than its 28-bit indices hold (--accel embree holds "
+        "more)");
   nodes.emplace_back();
   stats.maxDepth = std::max(stats.maxDepth, uint32_t(depth));
   areaCost_ += double(cost.traversal) * halfArea(box);
@@ -238,8 +241,9 @@ void KdTree::setInterior(uint32_t node, int axis, float split) {
 void KdTree::append(const KdTree& sub) {
   const uint32_t nodeBase = uint32_t(nodes.size()), leafBase = uint32_t(leafPrims.size());
   if (size_t(nodeBase) + sub.nodes.size() >= KdNode::kMaxNodes)
-    throw FailureError("kd-tree: more nodes than its 28-bit indices hold (--accel embree holds "
-                       "more)");
+    throw FailureError(
+        "kd-tree: more nodes than its 28-bit indices hold (--accel embree holds "
+        "more)");
   for (KdNode n : sub.nodes) {
     if (!n.isLeaf())
       n = KdNode::interior(n.axis(), n.split(), n.aboveChild() + nodeBase);
@@ -302,8 +306,9 @@ void KdTree::packLeaves(const KdPrimitives& prims) {
     node = KdNode::leaf(count, first);
   }
   if (leafRecords.size() > KdNode::kMaxPayload)
-    throw FailureError("kd-tree: more leaf primitives than its 30-bit indices hold (--accel "
-                       "embree holds more)");
+    throw FailureError(
+        "kd-tree: more leaf primitives than its 30-bit indices hold (--accel "
+        "embree holds more)");
   leafPrims = {};
   stats.bytes = nodes.size() * sizeof(KdNode) + leafRecords.size() * sizeof(KdLeafPrim);
 }
@@ -774,7 +779,8 @@ KdTreeAccelerator::KdTreeAccelerator(const GeometryScene& scene, KdSplitMethod m
       // Its triangles change with time: a tree over their bounds swept over the shutter,
       // whose leaves blend each triangle's time steps at the ray's time.
       tree = int(meshTrees_.size());
-      meshTrees_.push_back(std::unique_ptr<KdTreeAccelerator>(new KdTreeAccelerator(mesh, method, cost)));
+      meshTrees_.push_back(
+          std::unique_ptr<KdTreeAccelerator>(new KdTreeAccelerator(mesh, method, cost)));
     } else if (tree < 0) {
       // A tree over the mesh alone, in object space: what is traced is the ray taken to
       // object space at its time. Only positions, indices and sidedness are needed.

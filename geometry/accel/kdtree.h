@@ -112,7 +112,7 @@ struct KdPrimitives {
   // of `triangles`' world-space winding) passes through (a single-sided mesh's back face);
   // -1 for the opposite (the mesh's placement mirrors, which turns the winding over).
   std::vector<int8_t> triCull;
-  std::vector<PlacedShape> shapes;              // bounded shape instances
+  std::vector<PlacedShape> shapes;  // bounded shape instances
   std::vector<uint32_t> shapeInstance;
   std::vector<Bounds3f> bounds;  // per primitive id (triangles first)
   // A deforming mesh's own tree (gatherDeforming): every triangle at `timeSteps` shutter

@@ -22,8 +22,7 @@ class Box final : public Shape {
   bool intersect(const Ray& ray, ShapeHit* hit) const override;
   // Parts 0..5 = -X, +X, -Y, +Y, -Z, +Z. uv in [0,1]^2 per face: X faces (z, y), Y faces
   // (x, z), Z faces (x, y), each measured from `lower`.
-  ShapeSurface surface(const Ray& ray, const ShapeHit& hit,
-                       SurfaceDetails details) const override;
+  ShapeSurface surface(const Ray& ray, const ShapeHit& hit, SurfaceDetails details) const override;
   bool isSolid() const override { return true; }
   bool span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) const override;
   float area() const override;

@@ -48,7 +48,9 @@ bool Cylinder::span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out
   auto width = [&](Crossing* c) {
     setRevolvedTieWidth(
         c, ray, tolerance,
-        [](Vec3f p, float rho) { return rho > 0 ? Vec3f{p.x / rho, 0, p.z / rho} : Vec3f{1, 0, 0}; },
+        [](Vec3f p, float rho) {
+          return rho > 0 ? Vec3f{p.x / rho, 0, p.z / rho} : Vec3f{1, 0, 0};
+        },
         radius_, speed);
   };
   const Span parts[2] = {side, ys};
@@ -67,8 +69,7 @@ bool Cylinder::intersect(const Ray& ray, ShapeHit* hit) const {
   return sideSpan(ray, &side, &t[0], &t[1]) && firstOnOpenSide(ray, side, t, height_, hit);
 }
 
-ShapeSurface Cylinder::surface(const Ray& ray, const ShapeHit& hit,
-                               SurfaceDetails details) const {
+ShapeSurface Cylinder::surface(const Ray& ray, const ShapeHit& hit, SurfaceDetails details) const {
   V3 pd = rayPoint(ray, hit.t);
   double r = radius_, h = height_;
   ShapeSurface s;

@@ -25,8 +25,7 @@ class Cylinder final : public Shape {
   bool intersect(const Ray& ray, ShapeHit* hit) const override;
   // Parts: 0 side (n away from the axis; u = angle / 2pi from +X towards +Z, v = y / height),
   // 1 cap at y = 0 (n = -Y), 2 cap at y = height (n = +Y); caps: uv = (x/2r + 1/2, z/2r + 1/2).
-  ShapeSurface surface(const Ray& ray, const ShapeHit& hit,
-                       SurfaceDetails details) const override;
+  ShapeSurface surface(const Ray& ray, const ShapeHit& hit, SurfaceDetails details) const override;
   bool isSolid() const override { return capped_; }
   float radius() const { return radius_; }
   float height() const { return height_; }

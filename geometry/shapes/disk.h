@@ -19,8 +19,7 @@ class Disk final : public Shape {
   Bounds3f bounds() const override { return {{-radius_, 0, -radius_}, {radius_, 0, radius_}}; }
   bool intersect(const Ray& ray, ShapeHit* hit) const override;
   // n = +Y (both sides are hittable); uv = (x/2r + 1/2, z/2r + 1/2). Part 0.
-  ShapeSurface surface(const Ray& ray, const ShapeHit& hit,
-                       SurfaceDetails details) const override;
+  ShapeSurface surface(const Ray& ray, const ShapeHit& hit, SurfaceDetails details) const override;
   float area() const override { return kPi * radius_ * radius_; }
   // Uniform by the concentric map (stratified u stay stratified).
   std::optional<ShapeSample> sample(Vec2f u) const override;

@@ -106,8 +106,8 @@ ShapeSurface Plane::surface(const Ray& ray, const ShapeHit& hit, SurfaceDetails 
   ShapeSurface s;
   s.p = on;
   for (int i = 0; i < 3; ++i)  // 1 + gamma(4): this line's own roundings
-    s.pError[i] = nextFloatUp((std::abs(normal_[i]) * along + gamma(1) * std::abs(on[i])) *
-                              (1 + gamma(4)));
+    s.pError[i] =
+        nextFloatUp((std::abs(normal_[i]) * along + gamma(1) * std::abs(on[i])) * (1 + gamma(4)));
   s.n = normal_;
   if (details.uv) {
     const Vec3f onPlane = on - point_;

@@ -21,8 +21,7 @@ class Plane final : public Shape {
   bool intersect(const Ray& ray, ShapeHit* hit) const override;
   // n = the unit normal; uv = coordinates in the fixed tangent frame Frame::fromZ(n) around
   // `point`, divided by uvScale (world-space tiling). Part 0.
-  ShapeSurface surface(const Ray& ray, const ShapeHit& hit,
-                       SurfaceDetails details) const override;
+  ShapeSurface surface(const Ray& ray, const ShapeHit& hit, SurfaceDetails details) const override;
   bool isSolid() const override { return true; }
   // (-inf, t] or [t, +inf) for a crossing line; a parallel line is all inside or missing.
   bool span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) const override;

@@ -218,8 +218,7 @@ inline bool ballRoots(const double* f, const double* ef, const double* d, int n,
 // gives half of one, at a fraction of the cost (a box is three slabs and is the commonest CSG
 // leaf). A t beyond float range carries no error bound and is never accepted as a hit, as in
 // toCrossing.
-inline bool slab(float o, float d, float lo, float hi, uint32_t partLo, uint32_t partHi,
-                 Span* s) {
+inline bool slab(float o, float d, float lo, float hi, uint32_t partLo, uint32_t partHi, Span* s) {
   if (d == 0) {
     if (o < lo || o > hi) return false;
     s->enter = {-kInfinity, 0, partLo};
@@ -373,7 +372,8 @@ bool leafSpan(const Span* parts, int n, float extent, Width width, Span* out) {
     *enterIndex = *exitIndex = -1;
     for (int i = 0; i < n; ++i) {
       if (i == skip) continue;
-      if (*enterIndex < 0 || parts[i].enter.t > s.enter.t) s.enter = parts[i].enter, *enterIndex = i;
+      if (*enterIndex < 0 || parts[i].enter.t > s.enter.t)
+        s.enter = parts[i].enter, *enterIndex = i;
       if (*exitIndex < 0 || parts[i].exit.t < s.exit.t) s.exit = parts[i].exit, *exitIndex = i;
     }
     return s;

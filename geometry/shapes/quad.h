@@ -20,8 +20,7 @@ class Quad final : public Shape {
   bool intersect(const Ray& ray, ShapeHit* hit) const override;
   // n = normalize(cross(edgeU, edgeV)) (both sides hittable); uv = (a, b); dpdu = edgeU,
   // dpdv = edgeV. Part 0.
-  ShapeSurface surface(const Ray& ray, const ShapeHit& hit,
-                       SurfaceDetails details) const override;
+  ShapeSurface surface(const Ray& ray, const ShapeHit& hit, SurfaceDetails details) const override;
   float area() const override;
   // Uniform: (a, b) = u, so uv = u.
   std::optional<ShapeSample> sample(Vec2f u) const override;

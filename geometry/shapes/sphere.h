@@ -19,8 +19,7 @@ class Sphere final : public Shape {
   Bounds3f bounds() const override;
   bool intersect(const Ray& ray, ShapeHit* hit) const override;
   // uv: u = phi / 2pi around +Y (phi from +X towards +Z), v = theta / pi from +Y. Part 0.
-  ShapeSurface surface(const Ray& ray, const ShapeHit& hit,
-                       SurfaceDetails details) const override;
+  ShapeSurface surface(const Ray& ray, const ShapeHit& hit, SurfaceDetails details) const override;
   bool isSolid() const override { return true; }
   bool span(const Ray& ray, const SurfaceTolerance& tolerance, Span* out) const override;
   float area() const override { return 4 * kPi * radius_ * radius_; }

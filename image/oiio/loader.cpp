@@ -60,7 +60,8 @@ const Plugin* load() {
   }
   throw FailureError("cannot load glint's OpenImageIO plugin (" + std::string(kModuleName) +
                      "), needed for image formats other than OpenEXR and for image textures; "
-                     "tried:" + tried);
+                     "tried:" +
+                     tried);
 }
 
 }  // namespace

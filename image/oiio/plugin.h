@@ -39,7 +39,6 @@ struct CompareStats {
 // scene builder hands it to TextureImages, materials never name the plugin).
 class Plugin : public ImageDecoder {
  public:
-
   // Reads an image file in any format OpenImageIO reads into `image` (format, windows, channel
   // names and types, glint's attributes; the pixels too when `pixels`). On failure returns
   // false with the decoder's message in *why and whether the header had been read.
@@ -52,8 +51,8 @@ class Plugin : public ImageDecoder {
                           const Image& image, std::string* why) const = 0;
 
   // `a` and `b`: width × height pixels of `channels` floats each.
-  virtual CompareStats compare(const std::vector<float>& a, const std::vector<float>& b,
-                               int width, int height, int channels, float failThreshold,
+  virtual CompareStats compare(const std::vector<float>& a, const std::vector<float>& b, int width,
+                               int height, int channels, float failThreshold,
                                float warnThreshold) const = 0;
 };
 

@@ -19,7 +19,6 @@
 // Alpha is never decoded, and never associated ("unassociatedalpha"): glTF and PNG store
 // straight alpha.
 #include "image/oiio/textures.h"
-#include "materials/image_texture.h"
 
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imagecache.h>
@@ -38,6 +37,7 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include "materials/image_texture.h"
 
 namespace glint::oiio {
 
@@ -245,9 +245,8 @@ EncodedImageInfo probeEncodedImage(const std::string& bytes) {
   if (!in) throw std::runtime_error(error);
   const OIIO::ImageSpec& spec = in->spec();
   if (spec.width < 1 || spec.height < 1 || spec.nchannels < 1 || spec.nchannels > 4)
-    throw std::runtime_error("a " + std::to_string(spec.width) + "x" +
-                             std::to_string(spec.height) + " image of " +
-                             std::to_string(spec.nchannels) +
+    throw std::runtime_error("a " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                             " image of " + std::to_string(spec.nchannels) +
                              " channels; glint reads 1 to 4 channels");
   return {spec.width, spec.height, spec.nchannels, spec.format.basesize() == 1 ? 8 : 16};
 }
@@ -281,8 +280,7 @@ namespace {
 // caller names the file (TextureImages, as an InputError).
 std::unique_ptr<OIIO::ImageInput> openFile(const std::string& path) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec))
-    throw std::runtime_error("no such file");
+  if (!std::filesystem::is_regular_file(path, ec)) throw std::runtime_error("no such file");
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);
   auto in = OIIO::ImageInput::open(path, &config);
@@ -342,8 +340,8 @@ class OiioTextureCache final : public TextureImages::Cache {
   OiioTextureCache() {
     prefix = "glint" + std::to_string(nextCacheSerial++) + ":";
     ts = OIIO::TextureSystem::create(/*shared=*/false);
-    ts->attribute("automip", 1);    // MIP levels for untiled, un-MIP-mapped images
-    ts->attribute("autotile", 64);  // page untiled images in 64x64 tiles
+    ts->attribute("automip", 1);             // MIP levels for untiled, un-MIP-mapped images
+    ts->attribute("autotile", 64);           // page untiled images in 64x64 tiles
     ts->attribute("max_memory_MB", 256.0f);  // OIIO's default budget for the tiles it holds
     ts->attribute("unassociatedalpha", 1);   // straight alpha, as stored
   }
@@ -365,8 +363,7 @@ class OiioTextureCache final : public TextureImages::Cache {
 
 const File* OiioTextureCache::add(const std::string& path, ColorEncoding enc) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec))
-    throw std::runtime_error("no such file");
+  if (!std::filesystem::is_regular_file(path, ec)) throw std::runtime_error("no such file");
   std::string key = path;
   if (enc == ColorEncoding::Srgb) {
     // The cache does not pass on why one of glint's ImageInputs failed to open, so open the

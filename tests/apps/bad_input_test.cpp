@@ -201,8 +201,8 @@ TEST(CliBadInput, TextureFileDamagedPastItsHeader) {
     OIIO::ImageSpec config;
     config.tile_width = config.tile_height = 32;
     config.attribute("compression", "none");
-    ASSERT_TRUE(OIIO::ImageBufAlgo::make_texture(OIIO::ImageBufAlgo::MakeTxTexture, src, texture,
-                                                 config))
+    ASSERT_TRUE(
+        OIIO::ImageBufAlgo::make_texture(OIIO::ImageBufAlgo::MakeTxTexture, src, texture, config))
         << OIIO::geterror();
   }
   fs::resize_file(texture, fs::file_size(texture) / 2);

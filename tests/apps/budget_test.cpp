@@ -93,15 +93,14 @@ TEST(CliBudget, ANoiseTargetRenderIsReproducibleFromTheSppItReports) {
 TEST(CliBudget, ATimeLimitStopsAtAPassAndSppCapsIt) {
   const std::string dir = test::scratchDir("CliBudget.TimeLimit");
   const std::string scene = writeScene(dir);
-  auto r = test::runGlint("render " + scene + " --time-limit 0.000001s --quiet -o " + dir +
-                          "/t.exr");
+  auto r =
+      test::runGlint("render " + scene + " --time-limit 0.000001s --quiet -o " + dir + "/t.exr");
   ASSERT_EQ(r.exitCode, 0) << r.err;
   Exr t = readExrFile(dir + "/t.exr");
   EXPECT_EQ(t.stop, "time-limit");
   EXPECT_EQ(t.meta.spp, 1);
 
-  r = test::runGlint("render " + scene + " --time-limit 1h --spp 24 --quiet -o " + dir +
-                     "/c.exr");
+  r = test::runGlint("render " + scene + " --time-limit 1h --spp 24 --quiet -o " + dir + "/c.exr");
   ASSERT_EQ(r.exitCode, 0) << r.err;
   t = readExrFile(dir + "/c.exr");
   EXPECT_EQ(t.stop, "spp");
@@ -117,9 +116,9 @@ TEST(CliBudget, AnInterruptedRenderIsWrittenAndResumeContinuesIt) {
     SCOPED_TRACE(sig == SIGINT ? "SIGINT" : "SIGTERM");
     const std::string out = dir + "/i.exr", png = dir + "/i.png";
     fs::remove(out);
-    const int pid = test::startGlint(
-        "render " + scene + " --spp 2000000 --threads 2 -o " + out + " -o " + png, dir + "/log",
-        dir + "/log");
+    const int pid =
+        test::startGlint("render " + scene + " --spp 2000000 --threads 2 -o " + out + " -o " + png,
+                         dir + "/log", dir + "/log");
     ASSERT_GT(pid, 0);  // kill(-1, ...) would signal every process we may
     std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // some passes
     ::kill(pid, sig);
@@ -178,8 +177,8 @@ TEST(CliBudget, ResumeStartsOverWhenTheOutputIsAnotherRender) {
   const std::string scene = writeScene(dir);
   const std::string out = dir + "/o.exr";
   ASSERT_EQ(test::runGlint("render " + scene + " --spp 4 --seed 1 --quiet -o " + out).exitCode, 0);
-  auto r = test::runGlint("render " + scene + " --spp 8 --seed 2 --resume -o " + out +
-                          " --stats " + dir + "/s.json");
+  auto r = test::runGlint("render " + scene + " --spp 8 --seed 2 --resume -o " + out + " --stats " +
+                          dir + "/s.json");
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_NE(r.err.find("redoing: " + out + ": rendered with seed 1, not 2"), std::string::npos)
       << r.err;

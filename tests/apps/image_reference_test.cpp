@@ -1,6 +1,6 @@
-// Reference images: one small scene per effect family (tests/reference_images/references.json), rendered
-// by `glint render` at a few spp and compared by `glint diff --statistical` with a reference
-// rendered at 64x the spp that stores each pixel's mean and the variance of that mean
+// Reference images: one small scene per effect family (tests/reference_images/references.json),
+// rendered by `glint render` at a few spp and compared by `glint diff --statistical` with a
+// reference rendered at 64x the spp that stores each pixel's mean and the variance of that mean
 // (tests/reference_images/references/NAME.exr). The comparison is a per-pixel z-test with a Šidák
 // correction, a global bias test and a hard cap on any pixel's error (image/statistical.h):
 // it tolerates noise and the last-bit differences between CPUs (Embree picks SSE/AVX2/AVX-512
@@ -14,8 +14,8 @@
 // NAME.heatmap.png (each pixel's |z|: black, blue, yellow at the failure threshold, red,
 // white) in its scratch folder and prints their paths.
 //
-// Regenerate the references with tests/reference_images/update_references.py after an intended change;
-// the tests never write them. Khronos glTF samples come from the shared asset folder; a
+// Regenerate the references with tests/reference_images/update_references.py after an intended
+// change; the tests never write them. Khronos glTF samples come from the shared asset folder; a
 // missing asset fails its test (never skips).
 #include <gtest/gtest.h>
 
@@ -115,7 +115,8 @@ TEST_P(ImageReference, MatchesTheReferenceStatistically) {
            "benchmarks/get_assets.sh)";
   }
   std::string reference = imagesDir() + "/references/" + c.name + ".exr";
-  ASSERT_TRUE(fs::exists(reference)) << reference << " (tests/reference_images/update_references.py)";
+  ASSERT_TRUE(fs::exists(reference))
+      << reference << " (tests/reference_images/update_references.py)";
   std::string dir = test::scratchDir("reference_" + c.name);
   std::string image = dir + "/" + c.name + ".exr";
   test::CommandResult r = test::runGlint("render " + renderArgs(c) + " --threads 2 -o '" + image +

@@ -40,9 +40,9 @@ class Preview {
   Preview(const std::string& dir, const std::string& extra = "") : dir_(dir) {
     scene_ = dir + "/box.json";
     std::ofstream(scene_) << test::cornellBoxJson(24, 4, 5, R"({"type": "path"})");
-    pid_ = test::startGlint("preview " + scene_ + " --port 0 --output-dir " + dir + "/saved " +
-                                extra,
-                            dir + "/out.log", dir + "/err.log");
+    pid_ =
+        test::startGlint("preview " + scene_ + " --port 0 --output-dir " + dir + "/saved " + extra,
+                         dir + "/out.log", dir + "/err.log");
     // The first line on stdout is the address, with the run's token (checked by
     // TheAddressCarriesANewTokenEachRun; taken as it is here).
     const std::regex address(R"(glint: preview at http://127\.0\.0\.1:(\d+)/(\?token=(\S*))?\n)");
@@ -318,9 +318,9 @@ TEST(PreviewServer, BadRequestsAndPathsServeNothingFromDisk) {
     EXPECT_EQ(r->status, 404) << path;
     EXPECT_EQ(r->body.find("not for the browser"), std::string::npos) << path;
   }
-  for (const char* query : {"/api/image?aov=depthx", "/api/image?exposure=lots",
-                            "/api/image?exposure=1e9", "/api/image?tonemap=reinhard",
-                            "/api/image?view=NoSuchView", "/api/state?after=-1"}) {
+  for (const char* query :
+       {"/api/image?aov=depthx", "/api/image?exposure=lots", "/api/image?exposure=1e9",
+        "/api/image?tonemap=reinhard", "/api/image?view=NoSuchView", "/api/state?after=-1"}) {
     auto r = p.client().Get(query);
     ASSERT_TRUE(r) << query;
     EXPECT_EQ(r->status, 400) << query;
@@ -348,8 +348,8 @@ TEST(PreviewServer, ConcurrentClientsAndAClosedTab) {
       httplib::Client client = p.client();
       for (int i = 0; i < 10; ++i) {
         auto r = (i + c) % 2 ? client.Get("/api/image?aov=normal") : client.Get("/api/state");
-        const bool ok = r && r->status == 200 &&
-                        ((i + c) % 2 ? isPng(r->body) : json::accept(r->body));
+        const bool ok =
+            r && r->status == 200 && ((i + c) % 2 ? isPng(r->body) : json::accept(r->body));
         (ok ? good : bad)++;
       }
     });

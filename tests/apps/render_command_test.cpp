@@ -1,8 +1,7 @@
 // `glint render` and `glint info` end to end: determinism across thread counts, statistics,
 // command-line precedence, quiet output, and what `info` reports.
-#include <gtest/gtest.h>
-
 #include <OpenImageIO/imagebuf.h>
+#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -31,9 +30,9 @@ std::vector<float> readPixels(const std::string& path, OIIO::ImageSpec* spec = n
 TEST(CliRender, ExrIsIdenticalForOneAndTwoThreads) {
   std::string dir = test::scratchDir("cli_determinism");
   for (int threads : {1, 2}) {
-    test::CommandResult r = test::runGlint("render " + lambertPlane() + " --quiet --spp 8 --threads " +
-                                           std::to_string(threads) + " -o " + dir + "/t" +
-                                           std::to_string(threads) + ".exr");
+    test::CommandResult r = test::runGlint("render " + lambertPlane() +
+                                           " --quiet --spp 8 --threads " + std::to_string(threads) +
+                                           " -o " + dir + "/t" + std::to_string(threads) + ".exr");
     ASSERT_EQ(r.exitCode, 0) << r.err;
   }
   std::vector<float> a = readPixels(dir + "/t1.exr"), b = readPixels(dir + "/t2.exr");
@@ -49,9 +48,9 @@ TEST(CliRender, StatsJsonHasEveryField) {
   ASSERT_EQ(r.exitCode, 0) << r.err;
   std::ifstream in(dir + "/stats.json");
   nlohmann::json j = nlohmann::json::parse(in);
-  for (const char* key : {"accel", "width", "height", "spp", "threads", "triangles", "primitives",
-                          "build_seconds", "render_seconds", "rays", "mrays_per_second",
-                          "effects", "nonfinite_samples"})
+  for (const char* key :
+       {"accel", "width", "height", "spp", "threads", "triangles", "primitives", "build_seconds",
+        "render_seconds", "rays", "mrays_per_second", "effects", "nonfinite_samples"})
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_EQ(j["accel"], "embree");
   EXPECT_EQ(j["spp"], 4);
@@ -69,9 +68,9 @@ TEST(CliRender, StatsJsonHasEveryField) {
 // and instant radiosity reports the VPLs it built before rendering.
 TEST(CliRender, StatsJsonNamesTheResolvedIntegratorAndItsSetup) {
   std::string dir = test::scratchDir("cli_stats_integrator");
-  test::CommandResult r = test::runGlint("render " + lambertPlane() +
-                                         " --quiet --spp 1 --integrator auto -o " + dir +
-                                         "/auto.exr --stats " + dir + "/auto.json");
+  test::CommandResult r =
+      test::runGlint("render " + lambertPlane() + " --quiet --spp 1 --integrator auto -o " + dir +
+                     "/auto.exr --stats " + dir + "/auto.json");
   ASSERT_EQ(r.exitCode, 0) << r.err;
   nlohmann::json j = nlohmann::json::parse(std::ifstream(dir + "/auto.json"));
   EXPECT_EQ(j["integrator"], "whitted");  // one point light: nothing with an extent
@@ -106,9 +105,9 @@ TEST(CliInfo, NamesTheIntegratorAutoPicks) {
 
 TEST(CliRender, CommandLineOverridesTheSidecar) {
   std::string dir = test::scratchDir("cli_override");
-  test::CommandResult r = test::runGlint("render " + lambertPlane() +
-                                         " --quiet --spp 3 --width 20 --height 10 --seed 9 -o " +
-                                         dir + "/img.exr");
+  test::CommandResult r =
+      test::runGlint("render " + lambertPlane() +
+                     " --quiet --spp 3 --width 20 --height 10 --seed 9 -o " + dir + "/img.exr");
   ASSERT_EQ(r.exitCode, 0) << r.err;
   OIIO::ImageSpec spec;
   readPixels(dir + "/img.exr", &spec);
@@ -160,7 +159,8 @@ TEST(CliRender, ACropSaysItsSizeAndManyThreadsWarnNothing) {
   std::string dir = test::scratchDir("cli_crop_size");
   test::CommandResult r = test::runGlint("render " + lambertPlane() +
                                          " --width 40 --height 30 --spp 1 --threads 64 "
-                                         "--crop 4,2,20,12 -o " + dir + "/c.exr");
+                                         "--crop 4,2,20,12 -o " +
+                                         dir + "/c.exr");
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_NE(r.err.find("(16x10 pixels 4,2..20,12 of the 40x30 frame, 1 spp"), std::string::npos)
       << r.err;
@@ -220,12 +220,13 @@ TEST(CliInfo, FramesListEachEffectWithTheFramesItAppearsIn) {
   test::CommandResult r = test::runGlint("info '" + scene + "' --frames 0-48:6");
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_NE(r.out.find("effects over frames 0-48 (every 6, 9 frames at 24 fps):"),
-            std::string::npos) << r.out;
+            std::string::npos)
+      << r.out;
   // At 0.5 s the aperture is still 0; frame 18 (0.75 s) is the first checked with a lens.
-  EXPECT_NE(r.out.find("  depth of field         frames 18-48 (6 of 9 checked)"),
-            std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("  analytic               frames 0-48 (9 of 9 checked)"),
-            std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  depth of field         frames 18-48 (6 of 9 checked)"), std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("  analytic               frames 0-48 (9 of 9 checked)"), std::string::npos)
+      << r.out;
   test::CommandResult bad = test::runGlint("info '" + scene + "' --frames 9-2");
   EXPECT_EQ(bad.exitCode, 2);
   EXPECT_NE(bad.err.find("--frames"), std::string::npos) << bad.err;
@@ -261,9 +262,9 @@ TEST(CliRender, EnvironmentOptions) {
   for (size_t i = 0; i < a.color.size(); ++i) sa += a.color[i].y, sb += b.color[i].y;
   EXPECT_NEAR(sb / sa, 2.0, 1e-3);  // same samples, every light term doubled
   // Bad values: exit 2, naming the option.
-  for (const std::string& bad : {std::string(" --env nowhere.exr"), std::string(" --env '") +
-                                     scene + "'",
-                                 std::string(" --no-default-light --env-strength 2")}) {
+  for (const std::string& bad :
+       {std::string(" --env nowhere.exr"), std::string(" --env '") + scene + "'",
+        std::string(" --no-default-light --env-strength 2")}) {
     test::CommandResult r =
         test::runGlint("render '" + scene + "' -o '" + dir + "/c.exr'" + common + bad);
     EXPECT_EQ(r.exitCode, 2) << bad;
@@ -279,8 +280,9 @@ TEST(CliRender, VariantOption) {
   ASSERT_EQ(info.exitCode, 0) << info.err;
   EXPECT_NE(info.out.find("variants:   3: blue, green, lime; showing 'green'"), std::string::npos)
       << info.out;
-  test::CommandResult r = test::runGlint("render '" + scene + "' -o '" + dir +
-                                         "/v.exr' --width 4 --height 4 --spp 1 --quiet --variant blue");
+  test::CommandResult r =
+      test::runGlint("render '" + scene + "' -o '" + dir +
+                     "/v.exr' --width 4 --height 4 --spp 1 --quiet --variant blue");
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const Film f = readExr(dir + "/v.exr");
   EXPECT_NEAR(f.color[5].z, 0.8f, 1e-5f);

@@ -19,19 +19,25 @@ namespace {
 
 struct Showcase {
   const char* name;
-  const char* scene;       // relative to the source tree
-  const char* frames;      // a handful spread over the animation, rendered
-  const char* infoFrames;  // the whole animation, every second
+  const char* scene;                 // relative to the source tree
+  const char* frames;                // a handful spread over the animation, rendered
+  const char* infoFrames;            // the whole animation, every second
   std::vector<std::string> effects;  // exactly what `info --frames` must list
 };
 
 std::vector<Showcase> showcases() {
   return {
-      {"snowy", "scenes/snowy/snowy.json", "0-671:134", "0-671:24",
-       {"shadows", "emission", "analytic", "csg", "terrain", "transparency", "refraction",
-        "bump", "procedural", "depth of field", "motion blur", "volumes", "area lights",
-        "indirect light", "virtual point lights"}},
-      {"venus_garden", "scenes/venus_garden/venus_garden.json", "0-360:120", "0-360:24",
+      {"snowy",
+       "scenes/snowy/snowy.json",
+       "0-671:134",
+       "0-671:24",
+       {"shadows", "emission", "analytic", "csg", "terrain", "transparency", "refraction", "bump",
+        "procedural", "depth of field", "motion blur", "volumes", "area lights", "indirect light",
+        "virtual point lights"}},
+      {"venus_garden",
+       "scenes/venus_garden/venus_garden.json",
+       "0-360:120",
+       "0-360:24",
        {"shadows", "instancing", "analytic", "bump", "procedural", "depth of field", "volumes",
         "projective light"}},
   };

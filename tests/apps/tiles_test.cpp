@@ -41,8 +41,8 @@ TEST(Tiles, ArgumentsAreCheckedWithTheReason) {
   EXPECT_EQ(parseCropWindow("1,2,30,40"), (PixelWindow{1, 2, 30, 40}));
   EXPECT_EQ(parseTileSpec("2/5").index, 2);
   EXPECT_EQ(parseTileSpec("2/5").count, 5);
-  for (const char* bad : {"", "1,2,3", "1,2,3,4,5", "3,0,3,4", "0,5,4,2", "-1,0,2,2", "a,b,c,d",
-                          "1,2,3,4x"})
+  for (const char* bad :
+       {"", "1,2,3", "1,2,3,4,5", "3,0,3,4", "0,5,4,2", "-1,0,2,2", "a,b,c,d", "1,2,3,4x"})
     EXPECT_THROW(parseCropWindow(bad), InputError) << bad;
   for (const char* bad : {"", "1", "3/3", "-1/2", "0/0", "1/2/3", "x/2"})
     EXPECT_THROW(parseTileSpec(bad), InputError) << bad;
@@ -66,8 +66,8 @@ TEST(Tiles, AssembledTilesEqualTheWholeFrameBitForBit) {
             0);
   for (int i = 0; i < 3; ++i) {
     const test::CommandResult r =
-        test::runGlint("render " + scene() + kSmall + " --threads 1 --tile " +
-                       std::to_string(i) + "/3 -o " + dir + "/tile_" + std::to_string(i) + ".exr");
+        test::runGlint("render " + scene() + kSmall + " --threads 1 --tile " + std::to_string(i) +
+                       "/3 -o " + dir + "/tile_" + std::to_string(i) + ".exr");
     ASSERT_EQ(r.exitCode, 0) << r.err;
   }
   const Pixels piece = readAll(dir + "/tile_1.exr");
@@ -102,8 +102,7 @@ TEST(Tiles, AssembledTilesEqualTheWholeFrameBitForBit) {
 
 TEST(Tiles, ACropIsThatPartOfTheWholeFrame) {
   const std::string dir = test::scratchDir("tiles_crop");
-  ASSERT_EQ(test::runGlint("render " + scene() + kSmall + " -o " + dir + "/whole.exr").exitCode,
-            0);
+  ASSERT_EQ(test::runGlint("render " + scene() + kSmall + " -o " + dir + "/whole.exr").exitCode, 0);
   const test::CommandResult r =
       test::runGlint("render " + scene() + kSmall + " --crop 7,3,29,21 -o " + dir + "/crop.exr");
   ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -130,8 +129,8 @@ TEST(Tiles, BadPiecesAndArgumentsAreInputErrors) {
                   .exitCode,
               0);
   ASSERT_EQ(test::runGlint("render " + scene() +
-                           " --width 40 --height 30 --spp 8 --aovs --quiet --tile 1/2 -o " +
-                           dir + "/other.exr")
+                           " --width 40 --height 30 --spp 8 --aovs --quiet --tile 1/2 -o " + dir +
+                           "/other.exr")
                 .exitCode,
             0);
   struct Case {
@@ -141,8 +140,7 @@ TEST(Tiles, BadPiecesAndArgumentsAreInputErrors) {
            {"assemble " + dir + "/t0.exr -o " + dir + "/a.exr", "in no piece"},
            {"assemble " + dir + "/t0.exr " + dir + "/t0.exr -o " + dir + "/a.exr",
             "also in an earlier piece"},
-           {"assemble " + dir + "/t0.exr " + dir + "/other.exr -o " + dir + "/a.exr",
-            "glint:spp"},
+           {"assemble " + dir + "/t0.exr " + dir + "/other.exr -o " + dir + "/a.exr", "glint:spp"},
            {"assemble " + dir + "/missing.exr -o " + dir + "/a.exr", "missing.exr"},
            {"render " + scene() + kSmall + " --tile 0/2 -o " + dir + "/t.png", "partial EXRs"},
            {"render " + scene() + kSmall + " --crop 0,0,41,5 -o " + dir + "/t.exr",

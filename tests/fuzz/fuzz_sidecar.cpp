@@ -33,9 +33,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     nlohmann::json doc = glint::parseJson(text, kFile);
     bool isScene = doc.is_object() && doc.contains("gltf");
     glint::SceneDescription scene = isScene ? glint::SceneDescription() : base;
-    glint::applySceneJson(doc, kFile,
-                          isScene ? glint::SceneJsonKind::Scene : glint::SceneJsonKind::Sidecar,
-                          &scene);
+    glint::applySceneJson(
+        doc, kFile, isScene ? glint::SceneJsonKind::Scene : glint::SceneJsonKind::Sidecar, &scene);
   });
   return 0;
 }

@@ -19,9 +19,7 @@ Span span(float t0, float t1, uint32_t p0 = 0, uint32_t p1 = 0, float err = 0) {
 }
 
 // A span whose crossings carry tie widths w0 and w1 (their surfaces' tolerances along the ray).
-Span wide(float t0, float w0, float t1, float w1) {
-  return Span{{t0, 0, 0, w0}, {t1, 0, 0, w1}};
-}
+Span wide(float t0, float w0, float t1, float w1) { return Span{{t0, 0, 0, w0}, {t1, 0, 0, w1}}; }
 
 std::vector<Span> combine(CsgOperation op, std::vector<Span> a, std::vector<Span> b) {
   std::vector<Span> out;
@@ -102,7 +100,8 @@ TEST(CsgSpans, CrossingsWithinTheirErrorBoundsAreOneEvent) {
 
 TEST(CsgSpans, TieWidthsJoinCrossingsOfSurfacesThatMayCoincide) {
   // A's exit is 2e-6 beyond B's: apart by rounding, within their surfaces' tolerances.
-  auto d = combine(CsgOperation::Difference, {wide(0, 0, 2.000002f, 1.5e-6f)}, {wide(1, 0, 2, 1.5e-6f)});
+  auto d =
+      combine(CsgOperation::Difference, {wide(0, 0, 2.000002f, 1.5e-6f)}, {wide(1, 0, 2, 1.5e-6f)});
   ASSERT_EQ(d.size(), 1u);
   EXPECT_EQ(d[0].exit.t, 1);
   // Without the widths, the sliver between the two is real.
@@ -441,8 +440,8 @@ TEST(Csg, SpawnedRaysNeverReHitUnderTransforms) {
 TEST(Csg, AThinShellKeepsItsWallsFromAnyDistance) {
   const float e = 4e-5f;
   CsgShape csg;
-  const uint32_t outer = csg.addLeaf(std::make_unique<Box>(Vec3f{-1, 0.5f, -1}, Vec3f{1, 2.5f, 1}),
-                                     Transform());
+  const uint32_t outer =
+      csg.addLeaf(std::make_unique<Box>(Vec3f{-1, 0.5f, -1}, Vec3f{1, 2.5f, 1}), Transform());
   const uint32_t inner = csg.addLeaf(
       std::make_unique<Box>(Vec3f{-1 + e, 0.5f + e, -1 + e}, Vec3f{1 - e, 2.5f - e, 1 - e}),
       Transform());

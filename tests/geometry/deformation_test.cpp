@@ -35,9 +35,7 @@ TriangleMesh deformingSquare(float h) {
   m.positions = m.positionSteps[1];
   return m;
 }
-Vec3f squareCentre(float t) {
-  return t <= 0.5f ? Vec3f{4 * t, 0, 0} : Vec3f{2, 8 * (t - 0.5f), 0};
-}
+Vec3f squareCentre(float t) { return t <= 0.5f ? Vec3f{4 * t, 0, 0} : Vec3f{2, 8 * (t - 0.5f), 0}; }
 
 TEST(DeformationBlur, StepAtMapsTimeAsEmbreeDoes) {
   TriangleMesh m = deformingSquare(1);
@@ -71,8 +69,8 @@ TEST(DeformationBlur, DeformingMeshIsHitWhereItIsAtTheRayTime) {
       EXPECT_NEAR(distance(si.p, c + Vec3f{0.2f, 0.1f, 0}), 0, 1e-5f) << "time " << time;
       EXPECT_NEAR(si.ng.z, 1, 1e-6f);
       // Where the square is at another time, this ray's time sees nothing.
-      Ray miss{squareCentre(time < 0.5f ? 1.0f : 0.0f) + Vec3f{0, 0, 3}, {0, 0, -1}, 0,
-               kInfinity, time};
+      Ray miss{
+          squareCentre(time < 0.5f ? 1.0f : 0.0f) + Vec3f{0, 0, 3}, {0, 0, -1}, 0, kInfinity, time};
       EXPECT_FALSE(accel->closestHit(miss, &hit)) << "time " << time;
       EXPECT_FALSE(accel->anyHit(miss)) << "time " << time;
       EXPECT_TRUE(accel->anyHit(ray));
@@ -107,7 +105,8 @@ TEST(DeformationBlur, ComposesWithAMovingPlacement) {
   scene.meshes.push_back(deformingSquare(0.5f));
   Instance inst;
   inst.mesh = 0;
-  inst.motion = AnimatedTransform({Transform::translate({0, 0, 0}), Transform::translate({0, 0, -2})});
+  inst.motion =
+      AnimatedTransform({Transform::translate({0, 0, 0}), Transform::translate({0, 0, -2})});
   inst.worldFromObject = inst.motion.key(0);
   scene.instances.push_back(inst);
   for (const std::string& name : backends()) {
@@ -217,8 +216,8 @@ TEST(DeformationBlur, KdTreesAgreeWithEmbree) {
     int hits = 0, deformingHits = 0, mismatches = 0;
     for (int i = 0; i < 4000; ++i) {
       const Vec3f o = Vec3f{u(rng), u(rng), u(rng)} * 8;
-      Ray ray{o, normalize(Vec3f{u(rng), u(rng), u(rng)} * 2 + Vec3f{0, 0, 1.5f * u01(rng)} - o),
-              0, kInfinity, u01(rng)};
+      Ray ray{o, normalize(Vec3f{u(rng), u(rng), u(rng)} * 2 + Vec3f{0, 0, 1.5f * u01(rng)} - o), 0,
+              kInfinity, u01(rng)};
       Hit a, b;
       const bool fa = embree->closestHit(ray, &a), fb = kd->closestHit(ray, &b);
       if (fa != fb || embree->anyHit(ray) != kd->anyHit(ray)) {

@@ -172,7 +172,9 @@ TEST(SpawnedRays, NeverReHitTheirTriangleAtAnyScale) {
         axis.z += 3;
         // Every other triangle is also stretched unevenly, by 1/4 to 4 per axis.
         Vec3f stretch{1, 1, 1};
-        if (k % 2) stretch = Vec3f{std::exp2(4 * u01(rng) - 2), std::exp2(4 * u01(rng) - 2), std::exp2(4 * u01(rng) - 2)};
+        if (k % 2)
+          stretch = Vec3f{std::exp2(4 * u01(rng) - 2), std::exp2(4 * u01(rng) - 2),
+                          std::exp2(4 * u01(rng) - 2)};
         Transform place = Transform::translate(offset) * Transform::rotate(angle, axis) *
                           Transform::scale(stretch);
         scene.instances.push_back({0, place});
@@ -219,7 +221,8 @@ TEST(SpawnedRays, LeaveCoplanarOverlappingTwinsBehind) {
     for (int scaleExp = -3; scaleExp <= 3; ++scaleExp) {
       const float scale = std::pow(10.0f, float(scaleExp));
       TriangleMesh face;
-      face.positions = {{scale, scale, 0}, {-scale, scale, 0}, {-scale, -scale, 0}, {scale, -scale, 0}};
+      face.positions = {
+          {scale, scale, 0}, {-scale, scale, 0}, {-scale, -scale, 0}, {scale, -scale, 0}};
       face.indices = {0, 1, 2, 1, 2, 3, 2, 3, 0};
       GeometryScene scene;
       scene.meshes.push_back(face);

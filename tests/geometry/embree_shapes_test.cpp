@@ -147,7 +147,8 @@ TEST(EmbreeShapes, PixelPacketsFarFromTheOriginFindWhatSingleRaysFind) {
   std::uniform_real_distribution<float> u(-1, 1);
   for (float offset : {0.0f, 10.0f, 1e3f, 1e4f, 1e6f}) {
     for (bool instanced : {false, true}) {
-      SCOPED_TRACE(::testing::Message() << "offset " << offset << (instanced ? " instanced" : " baked"));
+      SCOPED_TRACE(::testing::Message()
+                   << "offset " << offset << (instanced ? " instanced" : " baked"));
       // Five cards one behind the other (a top-level tree with inner nodes: one alone never
       // lost a packet), as TextureCoordinateTest's five meshes.
       GeometryScene scene;
@@ -281,7 +282,8 @@ TEST(EmbreeShapes, SurfaceDetailsNotAskedForAreZeroAndChangeNothingElse) {
   const uint32_t ball = csg->addLeaf(std::make_unique<Sphere>(Vec3f{0, 0, 1}, 0.6f),
                                      Transform::rotate(30, {1, 1, 0}));
   csg->finish(csg->addOperation(CsgOperation::Difference, {box, ball}));
-  addShape(&scene, std::move(csg), Transform::translate({0, 1, 0}) * Transform::rotate(20, {0, 1, 1}));
+  addShape(&scene, std::move(csg),
+           Transform::translate({0, 1, 0}) * Transform::rotate(20, {0, 1, 1}));
   auto accel = makeAccelerator("embree", scene);
   SurfaceNeeds full, uvOnly, lean;
   full.tangents = uvOnly.uvs = true;

@@ -1,9 +1,9 @@
 // Tests for geometry/math.h: transforms, inverses, normals, error bounds.
+#include "geometry/math.h"
+
 #include <gtest/gtest.h>
 
 #include <random>
-
-#include "geometry/math.h"
 
 namespace glint {
 namespace {
@@ -132,8 +132,8 @@ TEST(Transform, PointErrorBoundCoversDoublePrecisionResult) {
     Vec3f q = t.point(p, &err);
     const auto& m = t.matrix().m;
     for (int r = 0; r < 3; ++r) {
-      double exact = double(m[r][0]) * p.x + double(m[r][1]) * p.y + double(m[r][2]) * p.z +
-                     double(m[r][3]);
+      double exact =
+          double(m[r][0]) * p.x + double(m[r][1]) * p.y + double(m[r][2]) * p.z + double(m[r][3]);
       EXPECT_LE(std::abs(exact - double(q[r])), double(err[r])) << "row " << r;
     }
   }
@@ -155,8 +155,8 @@ TEST(Transform, PointErrorFarFromTheOriginIsOneFloatStep) {
       const Vec3f q = t.point(p, &err);
       const auto& m = t.matrix().m;
       for (int r = 0; r < 3; ++r) {
-        const double exact = double(m[r][0]) * p.x + double(m[r][1]) * p.y +
-                             double(m[r][2]) * p.z + double(m[r][3]);
+        const double exact =
+            double(m[r][0]) * p.x + double(m[r][1]) * p.y + double(m[r][2]) * p.z + double(m[r][3]);
         EXPECT_LE(std::abs(exact - double(q[r])), double(err[r]));
         const float a = std::abs(q[r]), step = std::nextafter(a, 2 * a) - a;  // at the result
         EXPECT_LE(err[r], step) << "offset " << offset << " row " << r;

@@ -19,7 +19,8 @@ struct Quad {
   std::vector<Vec2f> uvs;
   std::vector<uint32_t> indices{0, 1, 2, 0, 2, 3};
   explicit Quad(bool mirrored) {
-    for (Vec3f p : positions) uvs.push_back({mirrored ? (1 - p.x) / 2 : (p.x + 1) / 2, (1 - p.y) / 2});
+    for (Vec3f p : positions)
+      uvs.push_back({mirrored ? (1 - p.x) / 2 : (p.x + 1) / 2, (1 - p.y) / 2});
   }
 };
 

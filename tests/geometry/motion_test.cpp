@@ -204,8 +204,8 @@ TEST(AnimatedTransform, AgreesWithEmbreesInterpolation) {
       for (int c = 0; c < 4; ++c)
         for (int r = 0; r < 3; ++r) {
           const float size = c == 3 ? entry + std::abs(a[r][3]) : entry;
-          worst = std::max(worst, std::abs(m[c * 3 + r] - a[r][c]) / size /
-                                      motion.interpolationMismatch(time));
+          worst = std::max(
+              worst, std::abs(m[c * 3 + r] - a[r][c]) / size / motion.interpolationMismatch(time));
         }
     }
     rtcReleaseGeometry(geom);
@@ -642,8 +642,8 @@ TEST(AnimatedTransform, InterpolatedInverseInvertsTheMatrix) {
     Mat4 product = xf.matrix() * xf.inverseMatrix();
     for (int r = 0; r < 4; ++r)
       for (int c = 0; c < 4; ++c)
-        EXPECT_NEAR(product.m[r][c], r == c ? 1.0f : 0.0f, 2e-5f) << "t " << t << " [" << r
-                                                                   << "][" << c << "]";
+        EXPECT_NEAR(product.m[r][c], r == c ? 1.0f : 0.0f, 2e-5f)
+            << "t " << t << " [" << r << "][" << c << "]";
   }
 }
 

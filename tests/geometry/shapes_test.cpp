@@ -450,8 +450,7 @@ TEST(PlacedShape, RaysLeavingATranslatedSolidFromItsSurfaceFindNothing) {
     return part / 2 == 0 ? V3(c, a, b) : (part / 2 == 1 ? V3(a, c, b) : V3(a, b, c));
   };
   cases[1].parts = {0, 1, 2, 3, 4, 5};
-  const V3 n = unit({0.3, 1, -0.2}), t1 = unit(prim::cross(n, {1, 0, 0})),
-           t2 = prim::cross(n, t1);
+  const V3 n = unit({0.3, 1, -0.2}), t1 = unit(prim::cross(n, {1, 0, 0})), t2 = prim::cross(n, t1);
   cases[2].name = "plane";
   cases[2].shape = std::make_shared<Plane>(Vec3f{0, 0, 0}, n.toFloat(), 1.0f);
   const V3 nf(normalize(n.toFloat()));
@@ -485,8 +484,7 @@ TEST(PlacedShape, RaysLeavingATranslatedSolidFromItsSurfaceFindNothing) {
             o[a] = ss.n[a] > 0 ? nextFloatUp(o[a]) : (ss.n[a] < 0 ? nextFloatDown(o[a]) : o[a]);
         if (k.F(object(o)) < 0) continue;
         const Vec3f x = o - shift;
-        if (V3(x).x != object(o).x || V3(x).y != object(o).y || V3(x).z != object(o).z)
-          ++inexact;
+        if (V3(x).x != object(o).x || V3(x).y != object(o).y || V3(x).z != object(o).z) ++inexact;
         ++checked;
         for (int j = 0; j < 4; ++j) {
           const Ray ray{o, directionAround(rng, ss.n, 0.8).toFloat()};

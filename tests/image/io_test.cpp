@@ -57,8 +57,8 @@ TEST(ImageIo, ExrReadsAsOpenImageIOPresentsIt) {
   const Image image = readImage(path);
   EXPECT_EQ(image.format, "openexr");
   EXPECT_EQ(image.names, spec.channelnames);
-  EXPECT_EQ(image.names, (std::vector<std::string>{"R", "G", "B", "A", "Z", "extra", "albedo.R",
-                                                   "albedo.G"}));
+  EXPECT_EQ(image.names,
+            (std::vector<std::string>{"R", "G", "B", "A", "Z", "extra", "albedo.R", "albedo.G"}));
   EXPECT_EQ(image.width, 5);
   EXPECT_EQ(image.height, 3);
   EXPECT_EQ(image.x, 2);
@@ -203,13 +203,13 @@ TEST(ImageIo, OnlyOtherFormatsNeedTheOpenImageIOPlugin) {
   std::ofstream(scene) << test::litBallJson(16, 12);
   test::ScopedEnv noPlugin("GLINT_OIIO_PLUGIN", (dir + "/missing/libglint_oiio.so").c_str());
 
-  test::CommandResult exr = test::runGlint("render '" + scene + "' -q --spp 2 -o '" + dir +
-                                           "/ball.exr'");
+  test::CommandResult exr =
+      test::runGlint("render '" + scene + "' -q --spp 2 -o '" + dir + "/ball.exr'");
   EXPECT_EQ(exr.exitCode, 0) << exr.err;
   EXPECT_TRUE(std::filesystem::exists(dir + "/ball.exr"));
 
-  test::CommandResult png = test::runGlint("render '" + scene + "' -q --spp 2 -o '" + dir +
-                                           "/ball.png'");
+  test::CommandResult png =
+      test::runGlint("render '" + scene + "' -q --spp 2 -o '" + dir + "/ball.png'");
   EXPECT_EQ(png.exitCode, 1) << png.err;
   EXPECT_NE(png.err.find("OpenImageIO plugin"), std::string::npos) << png.err;
   EXPECT_NE(png.err.find("missing/libglint_oiio.so"), std::string::npos) << png.err;
@@ -217,9 +217,9 @@ TEST(ImageIo, OnlyOtherFormatsNeedTheOpenImageIOPlugin) {
   EXPECT_EQ(test::listFolder(dir), (std::vector<std::string>{"ball.exr", "ball.json"}));
 
   // An image texture needs it too; its absence is not the scene's fault (exit code 1, not 2).
-  test::CommandResult textured = test::runGlint(
-      "render '" + test::dataDir() + "/scenes/textured_quad.gltf' -q --spp 1 -o '" + dir +
-      "/quad.exr'");
+  test::CommandResult textured =
+      test::runGlint("render '" + test::dataDir() + "/scenes/textured_quad.gltf' -q --spp 1 -o '" +
+                     dir + "/quad.exr'");
   EXPECT_EQ(textured.exitCode, 1) << textured.err;
   EXPECT_NE(textured.err.find("OpenImageIO plugin"), std::string::npos) << textured.err;
   EXPECT_FALSE(std::filesystem::exists(dir + "/quad.exr"));

@@ -3,15 +3,16 @@
 //
 // Four features 4e-5 thick: a closed CSG shell (a box minus the same box 4e-5 smaller on every
 // side) with a light inside, a plain box slab with a lit box hidden behind it, the same slab as
-// a triangle mesh (a glTF file), and a tinted glass pane in front of a white unlit plane. Each stands face-on on the camera's axis, its
-// front face in the plane z = 0 of its own frame, and the camera looks down -z from `distance`
-// with tan(yfov / 2) = kHalfFrame / distance. From anywhere on the axis a camera sees only that
-// front face (and, through the pane, the plane behind it, which is the same everywhere), and a
-// face-on view of a plane is the same similarity of it at every distance: the images must agree
-// pixel for pixel (the net's comparison: 0.03 squeezed plus 3 sigma, edges within 1 pixel, the
-// mean within 0.5%). A lost wall or a leak shows the lit inside, the lit box behind the slab, or
-// the white plane untinted. Each setup is seen as written (rays nearly along the coordinate
-// axes) and turned as a whole about a random axis (no ray along an axis).
+// a triangle mesh (a glTF file), and a tinted glass pane in front of a white unlit plane. Each
+// stands face-on on the camera's axis, its front face in the plane z = 0 of its own frame, and the
+// camera looks down -z from `distance` with tan(yfov / 2) = kHalfFrame / distance. From anywhere on
+// the axis a camera sees only that front face (and, through the pane, the plane behind it, which is
+// the same everywhere), and a face-on view of a plane is the same similarity of it at every
+// distance: the images must agree pixel for pixel (the net's comparison: 0.03 squeezed plus 3
+// sigma, edges within 1 pixel, the mean within 0.5%). A lost wall or a leak shows the lit inside,
+// the lit box behind the slab, or the white plane untinted. Each setup is seen as written (rays
+// nearly along the coordinate axes) and turned as a whole about a random axis (no ray along an
+// axis).
 //
 // Item 2 of the issue was this failure: the shell's near wall lost from 300 units (the inside
 // showed with radiance 5), fixed by CsgShape::reoriginate (0e753a4). From 1e4 units the plain
@@ -23,8 +24,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdio>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -70,11 +71,13 @@ Json shellScene(bool frontWall = true) {
   const std::string w = kWall;
   const std::string innerFront = frontWall ? "-" + w : "0.01";
   Json tree = Json::parse(R"({"op": "difference", "children": []})");
-  tree["children"].push_back(Json::parse(R"({"type": "box", "min": [-0.25, -0.25, -0.5], "max": [0.25, 0.25, 0]})"));
+  tree["children"].push_back(
+      Json::parse(R"({"type": "box", "min": [-0.25, -0.25, -0.5], "max": [0.25, 0.25, 0]})"));
   tree["children"].push_back(Json::parse(
       R"({"type": "box", "min": [-0.24996, -0.24996, -0.49996], "max": [0.24996, 0.24996, )" +
       innerFront + "]}"));
-  s["objects"].push_back({{"name", "shell"}, {"type", "csg"}, {"material", "white"}, {"tree", tree}});
+  s["objects"].push_back(
+      {{"name", "shell"}, {"type", "csg"}, {"material", "white"}, {"tree", tree}});
   s["lights"].push_back(Json::parse(
       R"({"name": "inside", "type": "point", "position": [0, 0, -0.25], "intensity": 2})"));
   return s;
@@ -113,7 +116,8 @@ std::string meshSlabFile() {
                                 2, 6, 7, 2, 7, 3, 0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6};
   {
     std::ofstream bin(dir + "/slab.bin", std::ios::binary);
-    bin.write(reinterpret_cast<const char*>(positions.data()), std::streamsize(positions.size() * 4));
+    bin.write(reinterpret_cast<const char*>(positions.data()),
+              std::streamsize(positions.size() * 4));
     bin.write(reinterpret_cast<const char*>(indices), sizeof indices);
   }
   std::ofstream(dir + "/slab.gltf") << R"({
@@ -143,7 +147,9 @@ Json meshSlabScene() {
 // the distance). `pane` false: the control's missing pane.
 Json paneScene(bool pane = true) {
   Json s = baseScene();
-  if (pane) s["objects"].push_back(box("[-0.25, -0.25, -" + std::string(kWall) + "]", "[0.25, 0.25, 0]", "tinted"));
+  if (pane)
+    s["objects"].push_back(
+        box("[-0.25, -0.25, -" + std::string(kWall) + "]", "[0.25, 0.25, 0]", "tinted"));
   s["objects"].push_back(Json::parse(
       R"({"type": "plane", "point": [0, 0, -0.3], "normal": [0, 0, 1], "material": "backdrop"})"));
   return s;
@@ -159,7 +165,8 @@ Json fromDistance(Json scene, double distance, bool turned = true) {
   if (!turned) return scene;
   const std::string file = test::scratchDir("invariance_camera_distance_rewrite") + "/scene.json";
   std::vector<std::string> notes;
-  return invariance::transformScene(scene, invariance::randomRotation(5), invariance::Placement::Root,
+  return invariance::transformScene(scene, invariance::randomRotation(5),
+                                    invariance::Placement::Root,
                                     invariance::sceneFacts(scene, file), &notes);
 }
 
@@ -206,19 +213,19 @@ TEST_P(InvarianceCameraDistance, AThinFeatureLooksTheSameFromNearAndFar) {
         invariance::writeFilm(dir + "/" + tag, farFilm);
         invariance::writeMask(dir + "/" + tag + ".bad.png", nearFilm, cmp.badMask);
         std::ofstream(dir + "/" + tag + ".json") << farScene.dump(1);
-        ADD_FAILURE() << c.name << " (" << how << ") from " << distance << " units: "
-                      << cmp.summary() << "\n  first bad pixels:" << cmp.where
+        ADD_FAILURE() << c.name << " (" << how << ") from " << distance
+                      << " units: " << cmp.summary() << "\n  first bad pixels:" << cmp.where
                       << "\n  images: " << dir;
       }
     }
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(ThinFeatures, InvarianceCameraDistance,
-                         testing::Values(DistanceCase{"csg_shell", shell}, DistanceCase{"box_slab", slab},
-                                         DistanceCase{"mesh_slab", meshSlab},
-                                         DistanceCase{"glass_pane", pane}),
-                         [](const testing::TestParamInfo<DistanceCase>& p) { return std::string(p.param.name); });
+INSTANTIATE_TEST_SUITE_P(
+    ThinFeatures, InvarianceCameraDistance,
+    testing::Values(DistanceCase{"csg_shell", shell}, DistanceCase{"box_slab", slab},
+                    DistanceCase{"mesh_slab", meshSlab}, DistanceCase{"glass_pane", pane}),
+    [](const testing::TestParamInfo<DistanceCase>& p) { return std::string(p.param.name); });
 
 // The comparison sees what the check is for: the near view of each feature against a far view
 // of the feature broken (the shell without its front wall, the slab with a real gap of 0.03 in
@@ -233,9 +240,9 @@ TEST(InvarianceCameraDistanceControls, ALostWallARealGapAndAMissingPaneFail) {
                               {"slab with a 0.03 gap", slabScene(), slabScene(0.03)},
                               {"pane removed", paneScene(true), paneScene(false)}};
   for (const Control& c : controls) {
-    const invariance::Comparison cmp =
-        invariance::compareFilms(invariance::renderScene(fromDistance(c.intact, 1), file),
-                                 invariance::renderScene(fromDistance(c.broken, 300), file), tolerance());
+    const invariance::Comparison cmp = invariance::compareFilms(
+        invariance::renderScene(fromDistance(c.intact, 1), file),
+        invariance::renderScene(fromDistance(c.broken, 300), file), tolerance());
     std::printf("[ control ] %s, from 300: %s\n", c.name, cmp.summary().c_str());
     EXPECT_FALSE(cmp.pixelsPass()) << c.name;
     EXPECT_GT(cmp.bad, 20) << c.name;

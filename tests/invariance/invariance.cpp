@@ -18,7 +18,8 @@ namespace glint::invariance {
 V3 normalized(V3 v) { return v * (1 / std::sqrt(dot(v, v))); }
 
 V3 toV3(const Json& j) {
-  if (!j.is_array() || j.size() != 3) throw std::runtime_error("expected a 3-vector, got " + j.dump());
+  if (!j.is_array() || j.size() != 3)
+    throw std::runtime_error("expected a 3-vector, got " + j.dump());
   return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()};
 }
 
@@ -126,8 +127,8 @@ struct Context {
   Placement mode;
   const SceneFacts& facts;
   std::vector<std::string>* notes;
-  const Json& scene;                      // the original, for looking up materials and textures
-  std::set<std::string> shapeEdited;      // objects moved by their shape keys (Edit mode)
+  const Json& scene;                  // the original, for looking up materials and textures
+  std::set<std::string> shapeEdited;  // objects moved by their shape keys (Edit mode)
   void note(const std::string& line) {
     if (std::find(notes->begin(), notes->end(), line) == notes->end()) notes->push_back(line);
   }
@@ -252,8 +253,8 @@ bool materialReadsObjectSpace(const Json& scene, const std::string& name) {
   if (m->contains("snow")) return true;
   for (const auto& [key, value] : m->items()) {
     std::string texture;
-    if (value.is_string() && key != "name" && key != "type" && key != "alpha_mode" && key != "mode" &&
-        key != "shading")
+    if (value.is_string() && key != "name" && key != "type" && key != "alpha_mode" &&
+        key != "mode" && key != "shading")
       texture = value.get<std::string>();
     if ((key == "bump" || key == "normal_map") && value.contains("texture"))
       texture = value["texture"].get<std::string>();
@@ -327,8 +328,9 @@ bool moveObject(Json& obj, Context& c) {
     // Its shape keys are object-space coordinates: moving them would move the object through
     // its own texture (or snow) pattern, which is not the same scene. It moves by a transform.
     editTranslate(obj, x.t);
-    c.note("edit: objects whose material is keyed to object space (procedural textures, snow) "
-           "move by a transform, not by their shape keys");
+    c.note(
+        "edit: objects whose material is keyed to object space (procedural textures, snow) "
+        "move by a transform, not by their shape keys");
     return false;
   }
   editShapeKeys(obj, x.t);
@@ -377,7 +379,8 @@ void moveCamera(Json& cam, Context& c) {
   movePoint(cam, "look_at", x);
   turnDirection(cam, "up", x);
   if (x.s != 1) {
-    for (const char* key : {"aperture", "focus_distance", "znear", "xmag", "ymag"}) multiply(cam, key, x.s);
+    for (const char* key : {"aperture", "focus_distance", "znear", "xmag", "ymag"})
+      multiply(cam, key, x.s);
     if (cam.contains("zfar")) multiply(cam, "zfar", x.s);
     c.note("scale: camera aperture, focus distance, znear/zfar, xmag/ymag times s");
   }
@@ -416,16 +419,19 @@ void moveLight(Json& l, Context& c) {
   }
   if (x.s != 1 && (type == "point" || type == "spot" || type == "projective")) {
     multiply(l, "intensity", x.s * x.s);
-    c.note("scale: point, spot and projective intensities times s^2 (candela; area lights emit "
-           "radiance and directional lights irradiance, which do not change)");
+    c.note(
+        "scale: point, spot and projective intensities times s^2 (candela; area lights emit "
+        "radiance and directional lights irradiance, which do not change)");
   }
   multiply(l, "range", x.s);
   if (type == "projective" && c.x.handedness() < 0) {
     // The slide's frame is right-handed (X = up x -direction): mirrored, the slide would be
     // the mirror image of itself. With attenuation 0 the projector is a plain square frustum
     // light, which a mirror maps to itself; the caller switches the slide off in both scenes.
-    if (l.value("attenuation", Json(1.0)) != Json(0) && l.value("attenuation", Json(1.0)) != Json(0.0))
-      throw std::runtime_error("a projective light's slide cannot be mirrored (attenuation must be 0)");
+    if (l.value("attenuation", Json(1.0)) != Json(0) &&
+        l.value("attenuation", Json(1.0)) != Json(0.0))
+      throw std::runtime_error(
+          "a projective light's slide cannot be mirrored (attenuation must be 0)");
   }
 }
 
@@ -444,9 +450,11 @@ void moveTexture(Json& tex, Context& c) {
     if (!m.contains("offset")) m["offset"] = Json::array({0, 0, 0});
     mapKeyed(m["offset"], [&](Json& v) {
       const V3 o = toV3(v);
-      v = toJson({o.x - x.t.x * scale.x / x.s, o.y - x.t.y * scale.y / x.s, o.z - x.t.z * scale.z / x.s});
+      v = toJson(
+          {o.x - x.t.x * scale.x / x.s, o.y - x.t.y * scale.y / x.s, o.z - x.t.z * scale.z / x.s});
     });
-    c.note("translate: world-space texture mappings get the offset that keeps the pattern in place");
+    c.note(
+        "translate: world-space texture mappings get the offset that keeps the pattern in place");
   }
   if (x.s != 1) {
     if (!m.contains("scale")) m["scale"] = 1.0;
@@ -479,8 +487,7 @@ void shiftNoise(Json& medium, V3 d, Context& c) {
 void moveMedium(Json& m, Context& c) {
   const Similarity& x = c.x;
   for (const char* key : {"sigma_a", "sigma_s", "emission"}) multiply(m, key, 1 / x.s);
-  if (x.s != 1)
-    c.note("scale: media coefficients (per unit length) divided by s");
+  if (x.s != 1) c.note("scale: media coefficients (per unit length) divided by s");
   Json* density = m.contains("density") ? &m["density"] : nullptr;
   const std::string dtype = density ? density->value("type", "constant") : "constant";
   if (m.contains("region")) {
@@ -529,9 +536,9 @@ Json transformScene(const Json& scene, const Similarity& x, Placement mode, cons
   Context c{x, mode, facts, notes, scene, {}};
   Json out = scene;
   for (const auto& [key, value] : out.items()) {
-    static const std::set<std::string> known = {"render",    "gltf",      "cameras", "lights",
-                                                "environment", "textures", "materials", "objects",
-                                                "media"};
+    static const std::set<std::string> known = {"render",    "gltf",        "cameras",
+                                                "lights",    "environment", "textures",
+                                                "materials", "objects",     "media"};
     if (!known.count(key)) throw std::runtime_error("unknown top-level key '" + key + "'");
   }
   if (out.contains("gltf")) {
@@ -589,7 +596,8 @@ Json transformScene(const Json& scene, const Similarity& x, Placement mode, cons
   }
   if (out.contains("objects"))
     for (Json& o : out["objects"])
-      if (moveObject(o, c) && o.contains("name")) c.shapeEdited.insert(o["name"].get<std::string>());
+      if (moveObject(o, c) && o.contains("name"))
+        c.shapeEdited.insert(o["name"].get<std::string>());
   if (out.contains("media"))
     for (Json& m : out["media"]) moveMedium(m, c);
   if (out.contains("render") && out["render"].contains("integrator") &&
@@ -673,9 +681,9 @@ std::string Comparison::summary() const {
                 "%d bad %s of %d x %d (worst at (%d, %d): %.4g vs %.4g, %.3f outside the "
                 "allowed range); largest difference anywhere %.4g at (%d, %d) (%.4g vs %.4g); "
                 "mean luminance %.5g vs %.5g (%+.3f%%)%s",
-                bad, block > 1 ? "blocks" : "pixels", width, height, worstX, worstY, worstA, worstB, worstExcess, maxDiff, maxDiffX,
-                maxDiffY, maxDiffA, maxDiffB, meanA, meanB, 100 * (meanB - meanA) / meanA,
-                nonFinite ? "; NON-FINITE PIXELS" : "");
+                bad, block > 1 ? "blocks" : "pixels", width, height, worstX, worstY, worstA, worstB,
+                worstExcess, maxDiff, maxDiffX, maxDiffY, maxDiffA, maxDiffB, meanA, meanB,
+                100 * (meanB - meanA) / meanA, nonFinite ? "; NON-FINITE PIXELS" : "");
   return text;
 }
 
@@ -729,7 +737,8 @@ Comparison compareFilms(const Film& fullA, const Film& fullB, const Tolerance& t
   r.meanA = sumA / n;
   r.meanB = sumB / n;
   r.relMean = r.meanA > 0 ? std::abs(r.meanB - r.meanA) / r.meanA : std::abs(r.meanB);
-  if (tol.meanSigmas > 0 && r.meanA > 0) r.meanNoise = tol.meanSigmas * std::sqrt(varSum) / n / r.meanA;
+  if (tol.meanSigmas > 0 && r.meanA > 0)
+    r.meanNoise = tol.meanSigmas * std::sqrt(varSum) / n / r.meanA;
   const double key = 2 * std::max(r.meanA, 1e-6);
   auto squeeze = [&](double x) {
     const double y = std::max(0.0, x) / key;
@@ -835,8 +844,8 @@ Comparison compareFilms(const Film& fullA, const Film& fullB, const Tolerance& t
       int worstK = 0;
       for (int k = 0; k < 3; ++k) {
         const size_t i = 3 * p + size_t(k);
-        const double e = std::max({loA[i] - vb[i], vb[i] - hiA[i], loB[i] - va[i], va[i] - hiB[i]}) -
-                         noise[i];
+        const double e =
+            std::max({loA[i] - vb[i], vb[i] - hiA[i], loB[i] - va[i], va[i] - hiB[i]}) - noise[i];
         if (e > excess) excess = e, worstK = k;
       }
       r.largestExcess = std::max(r.largestExcess, excess);

@@ -110,9 +110,9 @@ Film renderScene(const Json& scene, const std::string& file, SceneFeatures* feat
 
 // The tolerances one comparison uses (see compareFilms).
 struct Tolerance {
-  double pixel = 0.02;   // per channel, in the squeezed domain below
-  int radius = 1;        // pixels (or blocks) an edge may move
-  double mean = 0.005;   // relative difference of the mean luminance
+  double pixel = 0.02;  // per channel, in the squeezed domain below
+  int radius = 1;       // pixels (or blocks) an edge may move
+  double mean = 0.005;  // relative difference of the mean luminance
   // Independent noise: when the two renders cannot draw the same random numbers for the same
   // light paths (a rotation turns the local frames samples are drawn in), their pixels differ
   // by noise. Then both films are averaged over `block` x `block` pixels first, and each
@@ -127,15 +127,15 @@ struct Tolerance {
 };
 
 struct Comparison {
-  int width = 0, height = 0;   // of the full films
-  int block = 1;               // the tolerance's block size
-  int bad = 0;                 // pixels (blocks) that fail the window test
+  int width = 0, height = 0;  // of the full films
+  int block = 1;              // the tolerance's block size
+  int bad = 0;                // pixels (blocks) that fail the window test
   int worstX = -1, worstY = -1;
-  double worstExcess = 0;      // how far the worst one is outside the allowed range
-  double largestExcess = 0;    // the largest excess of any pixel (block) before the tolerance:
-                               // how close the passing ones came
+  double worstExcess = 0;         // how far the worst one is outside the allowed range
+  double largestExcess = 0;       // the largest excess of any pixel (block) before the tolerance:
+                                  // how close the passing ones came
   double worstA = 0, worstB = 0;  // its radiance (largest channel difference) in a and b
-  double maxDiff = 0;          // largest |a - b| of any channel anywhere, in radiance
+  double maxDiff = 0;             // largest |a - b| of any channel anywhere, in radiance
   int maxDiffX = -1, maxDiffY = -1;
   double maxDiffA = 0, maxDiffB = 0;
   double meanA = 0, meanB = 0;  // mean luminance

@@ -1,8 +1,8 @@
 // The invariance net (issue 49, item 4): translation, scale, rotation and mirroring.
 //
-// Every reference scene of tests/reference_images/references.json and a small version of each showcase
-// scene is rendered as it is and again with the whole scene moved by a similarity map, with
-// the same seed, spp and size; the two images must agree (compareFilms in invariance.h: no
+// Every reference scene of tests/reference_images/references.json and a small version of each
+// showcase scene is rendered as it is and again with the whole scene moved by a similarity map,
+// with the same seed, spp and size; the two images must agree (compareFilms in invariance.h: no
 // pixel outside the range the other image has within `radius` pixels, by more than a
 // tolerance, and the mean luminance within a bound). The maps:
 //   translate-edit/1eK  every position-like key moved by (10^K, 10^K, -10^K), K = 3..6
@@ -29,6 +29,8 @@
 // Venus Garden. Images of a failing case stay in
 // test_output/invariance_SCENE/ (original, transformed, mask of the bad pixels in red, and both
 // JSON scenes).
+#include "invariance.h"
+
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -41,7 +43,6 @@
 #include <set>
 #include <string>
 
-#include "invariance.h"
 #include "test_support.h"
 
 namespace glint {
@@ -146,7 +147,8 @@ std::vector<SceneCase> allScenes() {
   // its front whichever way it is turned.
   const std::string scenes = sourceDir() + "/scenes";
   {
-    SceneCase c{"snowy", readJson(scenes + "/snowy/snowy.json"), scenes + "/snowy/snowy.json", {}, {}};
+    SceneCase c{
+        "snowy", readJson(scenes + "/snowy/snowy.json"), scenes + "/snowy/snowy.json", {}, {}};
     makeSmall(c.scene, 96, 72, 2);
     // Instant radiosity's 48 light paths leave ~55 VPLs, each bright enough that one landing
     // in a crease makes a splotch of radiance 3 or more, and the seed (or any change of
@@ -156,8 +158,11 @@ std::vector<SceneCase> allScenes() {
     cases.push_back(c);
   }
   {
-    SceneCase c{"venus_garden", readJson(scenes + "/venus_garden/venus_garden.json"),
-                scenes + "/venus_garden/venus_garden.json", {}, {}};
+    SceneCase c{"venus_garden",
+                readJson(scenes + "/venus_garden/venus_garden.json"),
+                scenes + "/venus_garden/venus_garden.json",
+                {},
+                {}};
     makeSmall(c.scene, 96, 72, 2);
     // Its two 200,000-triangle dragons make each render ~2 s: the quick net takes a few maps.
     c.quick = {"translate-edit/1e4", "translate-root/1e5", "scale/1e-4", "scale/1e4"};
@@ -170,8 +175,11 @@ std::vector<SceneCase> allScenes() {
     cases.push_back(c);
   }
   {
-    SceneCase c{"csg_scene", readJson(scenes + "/csg/csg_scene.json"),
-                scenes + "/csg/csg_scene.json", {}, {}};
+    SceneCase c{"csg_scene",
+                readJson(scenes + "/csg/csg_scene.json"),
+                scenes + "/csg/csg_scene.json",
+                {},
+                {}};
     makeSmall(c.scene, 128, 96, 4);
     cases.push_back(c);
   }
@@ -278,7 +286,8 @@ std::vector<Family> families() {
   for (const Placement mode : {Placement::Edit, Placement::Root})
     for (double k : offsets) {
       Family fam;
-      fam.name = std::string(mode == Placement::Edit ? "translate-edit/" : "translate-root/") + power10(k);
+      fam.name =
+          std::string(mode == Placement::Edit ? "translate-edit/" : "translate-root/") + power10(k);
       fam.map = invariance::translation({k, k, -k});
       fam.mode = mode;
       fam.offset = k;
@@ -327,7 +336,7 @@ struct Exclusion {
   const char* family;  // a family name, or a prefix ending in '/' ("rotate/" = every rotation,
                        // "translate-" = both translation modes)
   const char* reason;
-  double from = 0;     // translations: only offsets of at least this
+  double from = 0;  // translations: only offsets of at least this
 };
 
 // Scenes left out of a map by design. Every entry is printed when it applies.
@@ -368,7 +377,8 @@ const std::set<std::string> kKnownOpen = {
     // (pixel (17, 61): 0.211 against 0.092), in the soft shadow on the floor between the blue
     // box, which stands on the floor plane, and the dice; 5-10 pixels of CSG acne before
     // 041a0f7. Still there after f87d730 (far rays); not traced further.
-    "csg_scene/translate-edit/1e6", "csg_scene/translate-root/1e6",
+    "csg_scene/translate-edit/1e6",
+    "csg_scene/translate-root/1e6",
 };
 
 // The same for the sweep only (GLINT_INVARIANCE_SWEEP=1): what its larger images, other
@@ -380,19 +390,30 @@ const std::set<std::string> kKnownOpenInSweep = {
     // (2-3 black or firefly pixels, material_extensions' mean +2.2%). The quick net's 1e5 and
     // 1e6 cases of these scenes pass since; the sweep has not been run again (an hour): these
     // print 'passes now' when it is.
-    "texture_coordinate_test/translate-edit/1e4", "texture_coordinate_test/translate-root/1e4",
-    "texture_coordinate_test/translate-edit/3e4", "texture_coordinate_test/translate-root/3e4",
-    "texture_coordinate_test/translate-edit/3e5", "texture_coordinate_test/translate-root/3e5",
-    "demo/translate-edit/3e5", "demo/translate-root/3e5",
-    "first_image/translate-edit/3e5", "first_image/translate-root/3e5",
-    "material_extensions/translate-edit/3e5", "material_extensions/translate-root/3e5",
+    "texture_coordinate_test/translate-edit/1e4",
+    "texture_coordinate_test/translate-root/1e4",
+    "texture_coordinate_test/translate-edit/3e4",
+    "texture_coordinate_test/translate-root/3e4",
+    "texture_coordinate_test/translate-edit/3e5",
+    "texture_coordinate_test/translate-root/3e5",
+    "demo/translate-edit/3e5",
+    "demo/translate-root/3e5",
+    "first_image/translate-edit/3e5",
+    "first_image/translate-root/3e5",
+    "material_extensions/translate-edit/3e5",
+    "material_extensions/translate-root/3e5",
     // CSG acne far out, as above: csg.json at 1e6 (1 black pixel), csg_scene from 3e5.
-    "csg/translate-root/1e6", "csg_scene/translate-edit/3e5", "csg_scene/translate-root/3e5",
+    "csg/translate-root/1e6",
+    "csg_scene/translate-edit/3e5",
+    "csg_scene/translate-root/3e5",
     // NormalTangentTest's normal-mapped rings shade differently from 1e5 on (4 pixels at
     // 192 x 144; 195 at 384 x 288).
-    "normal_tangent_test/translate-edit/1e5", "normal_tangent_test/translate-root/1e5",
-    "normal_tangent_test/translate-edit/3e5", "normal_tangent_test/translate-root/3e5",
-    "normal_tangent_test/translate-edit/1e6", "normal_tangent_test/translate-root/1e6",
+    "normal_tangent_test/translate-edit/1e5",
+    "normal_tangent_test/translate-root/1e5",
+    "normal_tangent_test/translate-edit/3e5",
+    "normal_tangent_test/translate-root/3e5",
+    "normal_tangent_test/translate-edit/1e6",
+    "normal_tangent_test/translate-root/1e6",
     // Snowy's instant radiosity: some draws light the balls up (+534%), also at the origin
     // (seed 2023 of the unchanged scene: mean 1.26 where the others have 0.31). Not a weight
     // gone wrong: every VPL of a path carries the same flux (2,370 at the scene's 48 paths;
@@ -400,8 +421,15 @@ const std::set<std::string> kKnownOpenInSweep = {
     // and one that lands beside a ball lights it with G clamped at 2 only (vpl_clamp). Any
     // change of coordinates redraws the VPLs. Open: light paths aimed at what the camera
     // sees, or a clamp that scales with the VPLs' flux.
-    "snowy/rotate/1", "snowy/rotate/2", "snowy/rotate/3", "snowy/rotate/4", "snowy/rotate/5",
-    "snowy/rotate/6", "snowy/rotate/7", "snowy/rotate/8", "snowy/translate-edit/3e5",
+    "snowy/rotate/1",
+    "snowy/rotate/2",
+    "snowy/rotate/3",
+    "snowy/rotate/4",
+    "snowy/rotate/5",
+    "snowy/rotate/6",
+    "snowy/rotate/7",
+    "snowy/rotate/8",
+    "snowy/translate-edit/3e5",
     "snowy/translate-root/3e5",
     // Open, marginal: at 1e6 the coin's shadow moves 3-4 pixels at 192 x 108 and a contact
     // line appears under the card (1 pixel, 0.011 over the tolerance).
@@ -454,13 +482,16 @@ Json adaptForTurning(Json scene, bool mirror, std::vector<std::string>* notes) {
       if (scene.contains("objects"))
         for (const Json& o : scene["objects"]) {
           if (!materials.count(o.value("material", ""))) continue;
-          const bool placed = (o.contains("transform") && !o["transform"].empty()) || o.contains("animation");
+          const bool placed =
+              (o.contains("transform") && !o["transform"].empty()) || o.contains("animation");
           const std::string type = o.value("type", "");
           identityPlaced = identityPlaced && !placed && type != "csg" && type != "terrain";
         }
       if (identityPlaced) {
         t["mapping"]["space"] = "object";
-        notes->push_back("texture '" + name + "': world-space mapping made object-space (its objects are placed by the identity)");
+        notes->push_back(
+            "texture '" + name +
+            "': world-space mapping made object-space (its objects are placed by the identity)");
       }
     }
   if (scene.contains("media"))
@@ -481,7 +512,8 @@ Json adaptForTurning(Json scene, bool mirror, std::vector<std::string>* notes) {
     for (Json& l : scene["lights"])
       if (l.value("type", "") == "projective") {
         l["attenuation"] = 0;
-        notes->push_back("projective light '" + l.value("name", "") + "': slide off (attenuation 0) for the mirror");
+        notes->push_back("projective light '" + l.value("name", "") +
+                         "': slide off (attenuation 0) for the mirror");
       }
   return scene;
 }
@@ -501,7 +533,8 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-void writeCase(const std::string& dir, const std::string& tag, const Json& scene, const Film& film) {
+void writeCase(const std::string& dir, const std::string& tag, const Json& scene,
+               const Film& film) {
   std::ofstream(dir + "/" + tag + ".json") << scene.dump(1);
   invariance::writeFilm(dir + "/" + tag, film);
 }
@@ -524,14 +557,16 @@ TEST_P(InvarianceNet, TheSceneMovedScaledTurnedAndMirroredRendersTheSameImage) {
     FAIL() << c.name << " does not render: " << e.what() << " (shared assets from "
            << test::assetsDir() << "; set GLINT_ASSETS, see benchmarks/get_assets.sh)";
   }
-  const bool turnsItsSamples = features.has(Feature::Indirect) || features.has(Feature::AreaLights) ||
+  const bool turnsItsSamples = features.has(Feature::Indirect) ||
+                               features.has(Feature::AreaLights) ||
                                features.has(Feature::Environment);
   const double originalSeconds = secondsSince(t0);
   invariance::SceneFacts facts = invariance::sceneFacts(c.scene, c.file);
   facts.gltfVolumes = c.gltfVolumes;
   {
     std::vector<std::string> notes;
-    const Json same = invariance::transformScene(c.scene, invariance::identity(), Placement::Root, facts, &notes);
+    const Json same =
+        invariance::transformScene(c.scene, invariance::identity(), Placement::Root, facts, &notes);
     const Film again = invariance::renderScene(same, c.file);
     size_t differ = 0;
     for (size_t i = 0; i < original.color.size(); ++i)
@@ -565,8 +600,9 @@ TEST_P(InvarianceNet, TheSceneMovedScaledTurnedAndMirroredRendersTheSameImage) {
   for (const Family& fam : families()) {
     const std::string key = c.name + "/" + fam.name;
     if (!sweep() && !c.quick.empty() && !c.quick.count(fam.name)) {
-      std::printf("[ invariance ]   %-20s not in the quick net (GLINT_INVARIANCE_SWEEP=1 runs it)\n",
-                  fam.name.c_str());
+      std::printf(
+          "[ invariance ]   %-20s not in the quick net (GLINT_INVARIANCE_SWEEP=1 runs it)\n",
+          fam.name.c_str());
       continue;
     }
     if (const Exclusion* e = exclusionFor(c.name, fam)) {
@@ -585,12 +621,15 @@ TEST_P(InvarianceNet, TheSceneMovedScaledTurnedAndMirroredRendersTheSameImage) {
         turnable[mirror] = adaptForTurning(c.scene, mirror, &adaptNotes);
         const std::vector<std::string> blockers = invariance::rotationBlockers(turnable[mirror]);
         for (const std::string& b : blockers)
-          ADD_FAILURE() << c.name << " cannot be turned: " << b
-                        << "; adapt it in adaptForTurning or list it in kExclusions with the reason";
+          ADD_FAILURE()
+              << c.name << " cannot be turned: " << b
+              << "; adapt it in adaptForTurning or list it in kExclusions with the reason";
         if (!blockers.empty()) return;
-        for (const std::string& n : adaptNotes) std::printf("[ invariance ]   adapted: %s\n", n.c_str());
-        turnableFilm[mirror] = turnable[mirror] == c.scene ? original
-                                                           : invariance::renderScene(turnable[mirror], c.file);
+        for (const std::string& n : adaptNotes)
+          std::printf("[ invariance ]   adapted: %s\n", n.c_str());
+        turnableFilm[mirror] = turnable[mirror] == c.scene
+                                   ? original
+                                   : invariance::renderScene(turnable[mirror], c.file);
       }
       base = turnable[mirror];
       reference = &turnableFilm[mirror];
@@ -637,11 +676,17 @@ TEST_P(InvarianceNet, TheSceneMovedScaledTurnedAndMirroredRendersTheSameImage) {
               secondsSince(t0)};
     const bool pass = o.cmp.passes(o.tolerance);
     const bool open = kKnownOpen.count(key) > 0 || (sweep() && kKnownOpenInSweep.count(key) > 0);
-    std::printf("[ invariance ]   %-20s %s %5.2f s  bad %4d  excess %.3f  maxdiff %.3g (%.3g vs %.3g)  mean %+.3f%%  largest %.3f%s\n",
-                fam.name.c_str(), pass ? "ok  " : open ? "OPEN" : "FAIL", o.seconds, o.cmp.bad,
-                o.cmp.worstExcess, o.cmp.maxDiff, o.cmp.maxDiffA, o.cmp.maxDiffB,
-                100 * (o.cmp.meanB - o.cmp.meanA) / o.cmp.meanA, o.cmp.largestExcess,
-                tolerance.block > 1 ? (vpls ? " (blocks, VPL noise)" : " (blocks, independent noise)") : "");
+    std::printf(
+        "[ invariance ]   %-20s %s %5.2f s  bad %4d  excess %.3f  maxdiff %.3g (%.3g vs %.3g)  "
+        "mean %+.3f%%  largest %.3f%s\n",
+        fam.name.c_str(),
+        pass   ? "ok  "
+        : open ? "OPEN"
+               : "FAIL",
+        o.seconds, o.cmp.bad, o.cmp.worstExcess, o.cmp.maxDiff, o.cmp.maxDiffA, o.cmp.maxDiffB,
+        100 * (o.cmp.meanB - o.cmp.meanA) / o.cmp.meanA, o.cmp.largestExcess,
+        tolerance.block > 1 ? (vpls ? " (blocks, VPL noise)" : " (blocks, independent noise)")
+                            : "");
     if (!pass) {
       std::string tag = fam.name;
       for (char& ch : tag)
@@ -661,7 +706,8 @@ TEST_P(InvarianceNet, TheSceneMovedScaledTurnedAndMirroredRendersTheSameImage) {
                       << "}.{png,exr,json}, " << tag << ".bad.png";
       }
     } else if (open) {
-      std::printf("[ invariance ]   KNOWN-OPEN %s passes now: %s\n", key.c_str(), o.cmp.summary().c_str());
+      std::printf("[ invariance ]   KNOWN-OPEN %s passes now: %s\n", key.c_str(),
+                  o.cmp.summary().c_str());
     }
     outcomes.push_back(o);
   }
@@ -714,7 +760,8 @@ TEST(InvarianceControls, LostShadowsFail) {
   const SceneCase& c = sceneNamed("primitives");
   Json lost = c.scene;
   objectNamed(lost, "lights", "key")["cast_shadows"] = false;
-  const invariance::Comparison cmp = control("shadows lost", c.scene, lost, c.file, toleranceFor(1e6));
+  const invariance::Comparison cmp =
+      control("shadows lost", c.scene, lost, c.file, toleranceFor(1e6));
   EXPECT_FALSE(cmp.pixelsPass());
   EXPECT_GT(cmp.bad, 10);
 }
@@ -724,7 +771,8 @@ TEST(InvarianceControls, ARemovedOccluderFails) {
   const SceneCase& c = sceneNamed("primitives");
   Json removed = c.scene;
   removeNamed(removed, "objects", "coin");
-  const invariance::Comparison cmp = control("coin removed", c.scene, removed, c.file, toleranceFor(1e6));
+  const invariance::Comparison cmp =
+      control("coin removed", c.scene, removed, c.file, toleranceFor(1e6));
   EXPECT_FALSE(cmp.pixelsPass());
 }
 
@@ -763,10 +811,12 @@ TEST(InvarianceControls, ACoincidentDarkSurfaceFails) {
   floor["objects"].push_back(Json::parse(
       R"({"name": "ground", "type": "quad", "corner": [-8, 0, -6], "edge_u": [16, 0, 0], "edge_v": [0, 0, 14], "material": "floor"})"));
   Json acne = floor;
-  acne["materials"].push_back(Json::parse(R"({"name": "dark", "type": "lambert", "diffuse": [0.05, 0.05, 0.05]})"));
+  acne["materials"].push_back(
+      Json::parse(R"({"name": "dark", "type": "lambert", "diffuse": [0.05, 0.05, 0.05]})"));
   acne["objects"].push_back(Json::parse(
       R"({"type": "quad", "corner": [8, 0, 8], "edge_u": [0, 0, -14], "edge_v": [-16, 0, 0], "material": "dark"})"));
-  const invariance::Comparison cmp = control("coincident dark floor", floor, acne, c.file, toleranceFor(1e6));
+  const invariance::Comparison cmp =
+      control("coincident dark floor", floor, acne, c.file, toleranceFor(1e6));
   EXPECT_FALSE(cmp.pixelsPass());
   EXPECT_GT(cmp.bad, 10);
 }
@@ -780,8 +830,8 @@ TEST(InvarianceControls, ASlightlyDimmerLightFailsTheMean) {
     Json dim = c.scene;
     Json& key = objectNamed(dim, "lights", "key");
     key["intensity"] = key["intensity"].get<double>() * factor;
-    const invariance::Comparison cmp =
-        control("key light x " + std::to_string(factor), c.scene, dim, c.file, toleranceFor(offset));
+    const invariance::Comparison cmp = control("key light x " + std::to_string(factor), c.scene,
+                                               dim, c.file, toleranceFor(offset));
     EXPECT_TRUE(cmp.pixelsPass()) << "this control is for the mean check alone";
     EXPECT_FALSE(cmp.meanPasses(toleranceFor(offset))) << factor;
   }
@@ -796,8 +846,8 @@ TEST(InvarianceControls, ALightMovedASmallAmountFails) {
     Json moved = c.scene;
     Json& key = objectNamed(moved, "lights", "key");
     key["position"] = invariance::toJson(invariance::toV3(key["position"]) * factor);
-    const invariance::Comparison cmp =
-        control("key light moved x " + std::to_string(factor), c.scene, moved, c.file, toleranceFor(offset));
+    const invariance::Comparison cmp = control("key light moved x " + std::to_string(factor),
+                                               c.scene, moved, c.file, toleranceFor(offset));
     EXPECT_FALSE(cmp.passes(toleranceFor(offset))) << factor;
   }
 }
@@ -811,9 +861,11 @@ TEST(InvarianceControls, IndependentNoiseStillSeesARemovedOccluder) {
   Json reseeded = c.scene;
   reseeded["render"]["seed"] = 99;  // and another seed: noise independent of the original's
   removed["render"]["seed"] = 99;
-  const invariance::Comparison same = control("another seed", c.scene, reseeded, c.file, independentNoise());
+  const invariance::Comparison same =
+      control("another seed", c.scene, reseeded, c.file, independentNoise());
   EXPECT_TRUE(same.passes(independentNoise())) << "two seeds of one scene are the same scene";
-  const invariance::Comparison cmp = control("block removed, another seed", c.scene, removed, c.file, independentNoise());
+  const invariance::Comparison cmp =
+      control("block removed, another seed", c.scene, removed, c.file, independentNoise());
   EXPECT_FALSE(cmp.pixelsPass());
 }
 
@@ -854,7 +906,8 @@ TEST(InvarianceRewriting, MovesEveryPlacementKey) {
   invariance::SceneFacts facts;
   std::vector<std::string> notes;
   // Edit: position keys (keyframed ones key by key), the matrix's translation, the track.
-  Json e = invariance::transformScene(scene, invariance::translation({10, 20, 30}), Placement::Edit, facts, &notes);
+  Json e = invariance::transformScene(scene, invariance::translation({10, 20, 30}), Placement::Edit,
+                                      facts, &notes);
   EXPECT_EQ(e["cameras"][0]["position"]["keys"][1][1], Json::parse("[11, 21, 35]"));
   EXPECT_EQ(e["cameras"][0]["look_at"], Json::parse("[10, 20, 30]"));
   EXPECT_EQ(e["lights"][0]["position"], Json::parse("[11, 22, 33]"));
@@ -867,12 +920,14 @@ TEST(InvarianceRewriting, MovesEveryPlacementKey) {
   EXPECT_EQ(e["media"][0]["density"]["offset"], Json::parse("[10, 20, 30]"));  // noise follows
   EXPECT_EQ(e["textures"][0]["mapping"]["offset"], Json::parse("[-20, -40, -60]"));
   // Root: the op appended to each object; cameras and lights as in Edit.
-  Json r = invariance::transformScene(scene, invariance::translation({10, 20, 30}), Placement::Root, facts, &notes);
+  Json r = invariance::transformScene(scene, invariance::translation({10, 20, 30}), Placement::Root,
+                                      facts, &notes);
   EXPECT_EQ(r["objects"][0]["center"], Json::parse("[1, 0, 0]"));
   EXPECT_EQ(r["objects"][0]["transform"], Json::parse(R"([{"translate": [10, 20, 30]}])"));
   EXPECT_EQ(r["media"][0]["region"]["transform"], Json::parse(R"([{"translate": [10, 20, 30]}])"));
   // Scale: lengths and intensities.
-  Json s = invariance::transformScene(scene, invariance::scaling(2), Placement::Root, facts, &notes);
+  Json s =
+      invariance::transformScene(scene, invariance::scaling(2), Placement::Root, facts, &notes);
   EXPECT_EQ(s["lights"][0]["intensity"], 40.0);
   EXPECT_EQ(s["lights"][1]["edge_u"], Json::parse("[2, 0, 0]"));
   EXPECT_EQ(s["cameras"][0]["aperture"], 0.2);
@@ -887,13 +942,15 @@ TEST(InvarianceRewriting, MovesEveryPlacementKey) {
   Json untextured = scene;  // a world-space texture cannot be mirrored (below)
   untextured.erase("textures");
   untextured["materials"] = Json::parse(R"([{"name": "m", "type": "lambert"}])");
-  Json m = invariance::transformScene(untextured, invariance::reflection({1, 0, 0}), Placement::Root, facts, &notes);
+  Json m = invariance::transformScene(untextured, invariance::reflection({1, 0, 0}),
+                                      Placement::Root, facts, &notes);
   EXPECT_EQ(m["lights"][1]["edge_u"], Json::parse("[0, 0, 1]"));
   EXPECT_EQ(m["lights"][1]["edge_v"], Json::parse("[-1, 0, 0]"));
   EXPECT_FALSE(m["cameras"][0].contains("position"));
   EXPECT_EQ(m["cameras"][0]["transform"][0]["matrix"][0], Json::parse("[-1, 0, 0, 0]"));
   // What cannot be written fails loudly: a world-space texture cannot turn.
-  EXPECT_THROW(invariance::transformScene(scene, invariance::rotation({0, 0, 1}, 30), Placement::Root, facts, &notes),
+  EXPECT_THROW(invariance::transformScene(scene, invariance::rotation({0, 0, 1}, 30),
+                                          Placement::Root, facts, &notes),
                std::runtime_error);
   EXPECT_THROW(invariance::transformScene(Json::parse(R"({"unknown": 1})"), invariance::identity(),
                                           Placement::Root, facts, &notes),

@@ -202,40 +202,69 @@ TEST(PbrChi2, RoughGlassSampleFollowsPdf) {
 // the default bins resolve them): every lobe sample() adds must follow the pdf it reports.
 std::vector<PbrCase> layeredCases() {
   return {
-      {0, 0.5f, 0, 1.5f, {0.8f, 0.3f, 0.2f},
+      {0,
+       0.5f,
+       0,
+       1.5f,
+       {0.8f, 0.3f, 0.2f},
        [](PbrParams& p) {
          p.clearcoat = {1};
          p.clearcoatRoughness = {0.4f};
        },
        "clearcoat 1 (roughness 0.4), "},
-      {0, 0.6f, 0, 1.5f, {0.2f, 0.3f, 0.8f},
+      {0,
+       0.6f,
+       0,
+       1.5f,
+       {0.2f, 0.3f, 0.8f},
        [](PbrParams& p) {
          p.sheenColor = {{0.9f, 0.7f, 0.5f}};
          p.sheenRoughness = {0.5f};
        },
        "sheen (0.9 0.7 0.5, roughness 0.5), "},
-      {1, 0.4f, 0, 1.5f, {0.9f, 0.7f, 0.4f},
+      {1,
+       0.4f,
+       0,
+       1.5f,
+       {0.9f, 0.7f, 0.4f},
        [](PbrParams& p) {
          p.anisotropy = 0.8f;
          p.anisotropyRotation = 0.5f;
        },
        "anisotropy 0.8 (rotation 0.5), "},
-      {0, 0.5f, 0, 1.5f, {0.6f, 0.8f, 0.3f},
+      {0,
+       0.5f,
+       0,
+       1.5f,
+       {0.6f, 0.8f, 0.3f},
        [](PbrParams& p) {
          p.diffuseTransmission = {0.6f};
          p.diffuseTransmissionColor = {{1, 0.5f, 0.2f}};
        },
        "diffuse transmission 0.6, "},
-      {0, 0.4f, 1, 1.5f, {0.9f, 0.9f, 1}, [](PbrParams& p) { p.thinWalled = true; },
+      {0,
+       0.4f,
+       1,
+       1.5f,
+       {0.9f, 0.9f, 1},
+       [](PbrParams& p) { p.thinWalled = true; },
        "thin-walled, "},
       {0, 0.4f, 1, 1.5f, {1, 1, 1}, [](PbrParams& p) { p.dispersion = 1; }, "dispersion 1, "},
-      {0.3f, 0.5f, 0, 1.5f, {0.5f, 0.5f, 0.5f},
+      {0.3f,
+       0.5f,
+       0,
+       1.5f,
+       {0.5f, 0.5f, 0.5f},
        [](PbrParams& p) {
          p.iridescence = {1};
          p.iridescenceThicknessMax = 350;
        },
        "iridescence (350 nm), "},
-      {0, 0.4f, 0.5f, 1.5f, {0.9f, 0.9f, 0.9f},
+      {0,
+       0.4f,
+       0.5f,
+       1.5f,
+       {0.9f, 0.9f, 0.9f},
        [](PbrParams& p) {
          p.specular = {0.5f};
          p.specularColor = {{1, 0.5f, 0.2f}};

@@ -520,8 +520,7 @@ TEST(Furnace, DiffuseTransmissionSplitsTheDiffuseLight) {
       const SurfaceInteraction si = makeSurface(kTilted, viewWithCos(c), front);
       EXPECT_NEAR(albedoBySampling(m, si, kSamples / 4, ++seed, kBsdfReflection).mean, 0.7, 1e-5)
           << describeView(si);
-      EXPECT_NEAR(albedoBySampling(m, si, kSamples / 4, ++seed, kBsdfTransmission).mean, 0.3,
-                  1e-5)
+      EXPECT_NEAR(albedoBySampling(m, si, kSamples / 4, ++seed, kBsdfTransmission).mean, 0.3, 1e-5)
           << describeView(si);
       EXPECT_NEAR(albedoBySampling(m, si, kSamples / 4, ++seed).mean, 1, 1e-5) << describeView(si);
     }
@@ -583,7 +582,9 @@ TEST(Furnace, LayeredMaterialsNeverGainEnergy) {
        }},
       {"anisotropic metal", 1, 0.3f, 0, [](PbrParams& p) { p.anisotropy = 0.9f; }},
       {"white specular colour", 0, 0.3f, 0,
-       [](PbrParams& p) { p.specularColor = ColorParam{{2, 2, 2}}; }},
+       [](PbrParams& p) {
+         p.specularColor = ColorParam{{2, 2, 2}};
+       }},
       {"rough thin sheet", 0, 0.4f, 1, [](PbrParams& p) { p.thinWalled = true; }},
       {"dispersive smooth glass", 0, 0, 1, [](PbrParams& p) { p.dispersion = 1; }},
       {"diffuse transmission under a coat", 0, 0.6f, 0,

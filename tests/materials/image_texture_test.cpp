@@ -566,10 +566,10 @@ std::vector<unsigned char> smoothImage(int w, int h) {
     for (int x = 0; x < w; ++x) {
       const float r = std::hypot(float(x - w / 2), float(y - h / 3));
       const float ring = 0.5f + 0.5f * std::sin(r * 0.35f);
-      px.insert(px.end(), {static_cast<unsigned char>(255.0f * float(x) / float(w - 1)),
-                           static_cast<unsigned char>(255.0f * ring),
-                           static_cast<unsigned char>(rng() % 256),
-                           static_cast<unsigned char>(128 + 127.0f * float(y) / float(h - 1))});
+      px.insert(px.end(),
+                {static_cast<unsigned char>(255.0f * float(x) / float(w - 1)),
+                 static_cast<unsigned char>(255.0f * ring), static_cast<unsigned char>(rng() % 256),
+                 static_cast<unsigned char>(128 + 127.0f * float(y) / float(h - 1))});
     }
   return px;
 }
@@ -596,12 +596,12 @@ TEST(TextureImages, SmallFilesLiveInMemoryAndTiledMipmappedFilesInTheCache) {
   EXPECT_EQ(images.residentBytes(tx), 0u);
   EXPECT_NE(images.describe(png).find("in memory (8-bit MIP pyramid"), std::string::npos)
       << images.describe(png);
-  EXPECT_NE(images.describe(tx).find("texture cache (8 MIP levels in the file)"),
-            std::string::npos)
+  EXPECT_NE(images.describe(tx).find("texture cache (8 MIP levels in the file)"), std::string::npos)
       << images.describe(tx);
   // Asked for, either storage serves either file.
   auto pngCached = images.addFile(dir + "/plain.png", ColorEncoding::Linear, TextureStorage::Cache);
-  auto txInMemory = images.addFile(dir + "/tiled.tx", ColorEncoding::Linear, TextureStorage::Memory);
+  auto txInMemory =
+      images.addFile(dir + "/tiled.tx", ColorEncoding::Linear, TextureStorage::Memory);
   EXPECT_EQ(images.storage(pngCached), TextureStorage::Cache);
   EXPECT_EQ(images.storage(txInMemory), TextureStorage::Memory);
   for (auto h : {png, tx, pngCached, txInMemory}) EXPECT_EQ(images.width(h), n);
@@ -622,8 +622,8 @@ TEST(TextureImages, MemoryAndCacheServeTheSameTexels) {
     ASSERT_EQ(images.storage(mem), TextureStorage::Memory);
     std::mt19937 rng(5);
     std::uniform_real_distribution<float> st(-0.5f, 1.5f), u(0, 1);
-    for (TextureWrap wrap : {TextureWrap::Repeat, TextureWrap::Clamp, TextureWrap::Mirror,
-                             TextureWrap::Black})
+    for (TextureWrap wrap :
+         {TextureWrap::Repeat, TextureWrap::Clamp, TextureWrap::Mirror, TextureWrap::Black})
       for (TextureFilter f : {TextureFilter::Nearest, TextureFilter::Linear}) {
         SCOPED_TRACE(testing::Message() << "wrap " << int(wrap) << " filter " << int(f));
         for (int i = 0; i < 500; ++i) {
@@ -644,11 +644,12 @@ TEST(TextureImages, MemoryAndCacheServeTheSameTexels) {
       for (int i = 0; i < count; ++i) {
         const float texels = std::exp2(-1.0f + 5.0f * u(rng));
         const float angle = 6.2831853f * u(rng), ratio = elongated ? 4.0f + 4.0f * u(rng) : 1.0f;
-        const Vec2f major{std::cos(angle) * texels * ratio / w, std::sin(angle) * texels * ratio / h};
+        const Vec2f major{std::cos(angle) * texels * ratio / w,
+                          std::sin(angle) * texels * ratio / h};
         const Vec2f minor{-std::sin(angle) * texels / w, std::cos(angle) * texels / h};
         const TexCoord2 c{{u(rng), u(rng)}, major, minor};
-        const Vec4f a = images.lookup(mem, c, TextureWrap::Repeat, TextureWrap::Repeat,
-                                      TextureFilter::Mipmap);
+        const Vec4f a =
+            images.lookup(mem, c, TextureWrap::Repeat, TextureWrap::Repeat, TextureFilter::Mipmap);
         const Vec4f b = images.lookup(cache, c, TextureWrap::Repeat, TextureWrap::Repeat,
                                       TextureFilter::Mipmap);
         const Vec4f point = images.lookup(mem, {c.st, {}, {}}, TextureWrap::Repeat,
@@ -707,10 +708,9 @@ TEST(MipMapFilter, EightBitSrgbLevelsAverageInLinearSpace) {
   EXPECT_NEAR(v.x, 0.5f, 0.004f);
   EXPECT_EQ(v.w, 1.0f);
   // Level 0 is the bytes themselves, decoded exactly.
-  EXPECT_EQ(m.lookup(centre(1, 0, n), TextureWrap::Repeat, TextureWrap::Repeat,
-                     TextureFilter::Nearest)
-                .x,
-            1.0f);
+  EXPECT_EQ(
+      m.lookup(centre(1, 0, n), TextureWrap::Repeat, TextureWrap::Repeat, TextureFilter::Nearest).x,
+      1.0f);
 }
 
 TEST(ImageTexture, UvScaleAndOffsetRepeatTheImage) {

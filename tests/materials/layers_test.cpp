@@ -2,13 +2,14 @@
 // (bare interface, quarter- and half-wave layers), the Charlie sheen's normalisation and its
 // albedo table, the dispersion formula's Abbe number, and dispersive refraction obeying Snell's
 // law per channel.
+#include "materials/layers.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
 #include "materials/bxdfs.h"
-#include "materials/layers.h"
 #include "materials/scattering.h"
 
 namespace glint {

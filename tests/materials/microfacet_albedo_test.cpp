@@ -3,12 +3,13 @@
 // the NDF's own distribution D(h) cos(theta_h), in double precision on a fine stratified grid.
 // Also: their limits (a smooth interface is its Fresnel reflectance, F = 1 at roughness 0 is
 // a mirror, index 1 reflects nothing) and the averages' definition.
+#include "materials/microfacet_albedo.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "materials/microfacet.h"
-#include "materials/microfacet_albedo.h"
 #include "materials/scattering.h"
 
 namespace glint {

@@ -1,11 +1,12 @@
 // Henyey–Greenstein: normalisation, sampling against the density by chi-square, and the
 // limits g -> 0 and |g| -> 1.
+#include "materials/phase.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "chi2.h"
-#include "materials/phase.h"
 
 namespace glint {
 namespace {

@@ -377,8 +377,8 @@ TEST(Mirror, AFoldedReflectionStillWeighsItsReflectance) {
     // its mirror image about ns dips under the geometric plane.
     const float tilt = (60 + 28 * u(rng)) * kPi / 180, phi = 0.3f * (u(rng) - 0.5f);
     SurfaceInteraction si = makeSurface(ng, {0, 0, 1}, true);
-    si.ns = normalize(Vec3f{std::sin(tilt) * std::cos(phi), std::sin(tilt) * std::sin(phi),
-                            std::cos(tilt)});
+    si.ns = normalize(
+        Vec3f{std::sin(tilt) * std::cos(phi), std::sin(tilt) * std::sin(phi), std::cos(tilt)});
     const float view = (2 + 60 * u(rng)) * kPi / 180;  // above the geometric plane
     si.wo = normalize(Vec3f{std::cos(view), 0.2f * (u(rng) - 0.5f), std::sin(view)});
     if (dot(si.wo, si.ns) <= 0) continue;

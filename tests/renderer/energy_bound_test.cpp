@@ -22,11 +22,13 @@ std::string skyScene(const std::string& material, const std::string& camera, int
                "integrator": {"type": "path", "max_depth": )" +
          std::to_string(depth) + R"(}},
     "environment": {"color": [1, 1, 1]},
-    "cameras": [)" + camera + R"(],
+    "cameras": [)" +
+         camera + R"(],
     "textures": [{"name": "bumps", "type": "noise", "seed": 3, "mapping": {"space": "object", "scale": [9, 9, 9]}},
                  {"name": "tilts", "type": "marble", "seed": 4, "colors": [[0.2, 0.3, 1], [0.85, 0.7, 1]],
                   "mapping": {"space": "object", "scale": [6, 6, 6]}}],
-    "materials": [)" + material + R"(],
+    "materials": [)" +
+         material + R"(],
     "objects": [{"type": "sphere", "center": [-0.7, 0.6, 0], "radius": 0.6, "material": "m"},
                 {"type": "box", "min": [0.2, 0, -0.5], "max": [1.2, 1, 0.5], "material": "m",
                  "transform": [{"rotate": {"axis": [0, 1, 0], "degrees": 35}}]}]})";
@@ -81,8 +83,8 @@ TEST(EnergyBound, NoSampleUnderAWhiteSkyIsBrighterThanTheBsdfAllows) {
         for (int depth : {1, 8}) {
           const test::Rendered r = test::renderJson(skyScene(material, camera, depth));
           const float bound = depth == 1 ? kOneBounce : kEightBounces;
-          EXPECT_LE(r.stats.brightestSample, bound)
-              << material << "\n" << camera << "\ndepth " << depth;
+          EXPECT_LE(r.stats.brightestSample, bound) << material << "\n"
+                                                    << camera << "\ndepth " << depth;
           EXPECT_EQ(r.stats.nonfiniteSamples, 0u) << material;
           // The sky itself is seen: the check is not vacuous.
           EXPECT_GE(r.stats.brightestSample, 0.99f) << material;

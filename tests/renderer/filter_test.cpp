@@ -1,8 +1,9 @@
 // Tests for importance-sampled pixel filters: support and moments.
+#include "renderer/filter.h"
+
 #include <gtest/gtest.h>
 
 #include "geometry/error.h"
-#include "renderer/filter.h"
 
 namespace glint {
 namespace {

@@ -6,10 +6,9 @@
 
 #include <gtest/gtest.h>
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <string>
 #include <vector>
@@ -30,8 +29,7 @@ namespace {
 std::string irSettings(int paths, float clamp, int maxDepth = 6, float shadowShare = 1.0f / 16) {
   return R"({"type": "instant-radiosity", "vpl_paths": )" + std::to_string(paths) +
          R"(, "vpl_clamp": )" + std::to_string(clamp) + R"(, "max_depth": )" +
-         std::to_string(maxDepth) + R"(, "vpl_shadow_share": )" + std::to_string(shadowShare) +
-         "}";
+         std::to_string(maxDepth) + R"(, "vpl_shadow_share": )" + std::to_string(shadowShare) + "}";
 }
 
 std::string pathSettings(int maxDepth = 6) {
@@ -142,8 +140,7 @@ TEST(InstantRadiosity, AbsorbingFogConvergesToThePathTracer) {
     j["media"] = nlohmann::json::array({{{"name", "haze"}, {"sigma_a", 0.35}}});
     return j.dump();
   };
-  const Rendered reference =
-      renderWith(foggy(test::cornellBoxJson(size, 2048, 1, pathSettings())));
+  const Rendered reference = renderWith(foggy(test::cornellBoxJson(size, 2048, 1, pathSettings())));
   const Rendered clear = renderWith(test::cornellBoxJson(size, 256, 1, pathSettings()));
   std::vector<Film> ir;
   for (int s = 0; s < seeds; ++s) {

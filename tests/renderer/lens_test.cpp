@@ -30,8 +30,9 @@ void addRect(SceneDescription* d, float x0, float x1, float y0, float y1, float 
 
 // A camera at the origin looking down -Z (tan(yfov/2) = 1/2: the film is as high as it is far
 // away) at a vertical edge on x = 0, `depth` away: black on the left, white on the right. Both
-// halves only emit (black Lambert under the default studio light), so a sample's value does not depend on
-// the ray's direction, and lens and pinhole rays that hit the same side give the same value.
+// halves only emit (black Lambert under the default studio light), so a sample's value does not
+// depend on the ray's direction, and lens and pinhole rays that hit the same side give the same
+// value.
 SceneDescription edgeScene(float depth, int width, int height, int spp) {
   SceneDescription d;
   d.file = "edge (in code)";

@@ -20,7 +20,9 @@ Film renderKnifeEdge(const std::string& light, bool blocker = true) {
     "objects": [{"type": "plane", "material": "white"})" +
                            std::string(blocker ? R"(,
                 {"type": "quad", "corner": [-10, 2, 10], "edge_u": [9, 0, 0], "edge_v": [0, 0, -20],
-                 "material": "white"})" : "") + "]}";
+                 "material": "white"})"
+                                               : "") +
+                           "]}";
   test::Rendered r = test::renderJson(text);
   EXPECT_EQ(r.stats.nonfiniteSamples, 0u);
   return r.film;

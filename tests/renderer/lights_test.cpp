@@ -336,8 +336,7 @@ TEST(AreaLights, TexturedMeshLightsSampleWhereTheTextureGlows) {
       if (glows({(float(x) + 0.5f) / kTexels, (float(y) + 0.5f) / kTexels}))
         for (int c = 0; c < 3; ++c) texels[size_t((y * kTexels + x) * 3 + c)] = kL;
   TextureImages images(&oiio::imageDecoder);
-  const auto image =
-      images.addPixels("lamp", kTexels, kTexels, 3, texels, ColorEncoding::Linear);
+  const auto image = images.addPixels("lamp", kTexels, kTexels, 3, texels, ColorEncoding::Linear);
   for (TextureFilter filter : {TextureFilter::Linear, TextureFilter::Mipmap}) {
     SCOPED_TRACE(filter == TextureFilter::Mipmap ? "mipmap" : "linear");
     const ImageTexture texture(images, image, TextureMapping{}, TextureWrap::Clamp,

@@ -197,8 +197,8 @@ struct SeedStatistics {
   double pixelVariance = 0;         // mean over pixels and seeds of the film's variance
 };
 
-SeedStatistics renderSeeds(const ManyLights& lights, const std::string& sampler, int seeds,
-                           int spp, AreaLights area = AreaLights::Objects) {
+SeedStatistics renderSeeds(const ManyLights& lights, const std::string& sampler, int seeds, int spp,
+                           AreaLights area = AreaLights::Objects) {
   std::vector<std::vector<double>> perSeed(size_t(seeds), std::vector<double>(kRegions, 0));
   SeedStatistics out;
   std::vector<int> count(kRegions, 0);

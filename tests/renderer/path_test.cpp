@@ -145,7 +145,8 @@ TEST(PathTracer, LeavesAUniformSkyToANearlyExactBsdf) {
            R"(", "max_depth": 1}},
       "environment": {"color": [1, 1, 1]},
       "cameras": [{"name": "c", "position": [0, 0, 3.2], "look_at": [0, 0, 0], "yfov_degrees": 45}],
-      "materials": [)" + material + R"(],
+      "materials": [)" +
+           material + R"(],
       "objects": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "m"}]})";
   };
   const std::string plastic =
@@ -168,8 +169,8 @@ TEST(PathTracer, LeavesAUniformSkyToANearlyExactBsdf) {
   auto onSphere = [&](size_t i) { return path.film.alpha[i] == 1; };
   const Estimate a = average(path.film, onSphere), b = average(whitted.film, onSphere);
   ASSERT_GT(a.n, 300u);
-  EXPECT_NEAR(a.mean, b.mean, 4 * std::hypot(a.sigma, b.sigma)) << "path " << a.mean
-                                                                  << ", Whitted " << b.mean;
+  EXPECT_NEAR(a.mean, b.mean, 4 * std::hypot(a.sigma, b.sigma))
+      << "path " << a.mean << ", Whitted " << b.mean;
   EXPECT_GT(whitted.stats.rays.shadow, 0u);  // Whitted still samples the sky
 }
 

@@ -6,8 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
-#include <fstream>
 #include <cmath>
+#include <fstream>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -180,10 +180,9 @@ TEST(ProgressiveRender, ANoiseTargetStopsWhereTheEstimateMeetsIt) {
   rule.noiseTarget = 0.02;
   std::vector<std::pair<uint32_t, double>> passes;
   ProgressiveResult result;
-  Film film = renderUntil(s->scene, *s->integrator, s->settings, {.threads = 2}, rule, nullptr,
-                          &result, nullptr, 0, [&](const ProgressiveRender& pr) {
-                            passes.emplace_back(pr.spp(), pr.estimatedError());
-                          });
+  Film film = renderUntil(
+      s->scene, *s->integrator, s->settings, {.threads = 2}, rule, nullptr, &result, nullptr, 0,
+      [&](const ProgressiveRender& pr) { passes.emplace_back(pr.spp(), pr.estimatedError()); });
   EXPECT_EQ(result.reason, StopReason::NoiseTarget);
   ASSERT_GE(passes.size(), 2u);
   EXPECT_LE(result.error, 0.02);
@@ -212,8 +211,8 @@ TEST(ProgressiveRender, ATimeLimitAlwaysCompletesTheFirstPass) {
   rule.maxSpp = 1u << 30;
   rule.timeLimit = 1e-9;
   ProgressiveResult result;
-  Film film = renderUntil(s->scene, *s->integrator, s->settings, {.threads = 2}, rule, nullptr,
-                          &result);
+  Film film =
+      renderUntil(s->scene, *s->integrator, s->settings, {.threads = 2}, rule, nullptr, &result);
   EXPECT_EQ(result.reason, StopReason::TimeLimit);
   EXPECT_EQ(result.spp, 1u);
   expectSameImage(film, renderAt(*s, 1));

@@ -43,11 +43,12 @@ TEST(ShadowRays, APointLightJustAboveAThinSlabLeavesTheUmbraBlack) {
       };
       return R"({
         "render": {"width": 16, "height": 16, "spp": 1, "camera": "c"},
-        "cameras": [{"name": "c", "type": "orthographic", "xmag": )" + num(0.5 * s) +
-             R"(, "ymag": )" + num(0.5 * s) + R"(, "position": [0, )" + num(0.5 * s) +
+        "cameras": [{"name": "c", "type": "orthographic", "xmag": )" +
+             num(0.5 * s) + R"(, "ymag": )" + num(0.5 * s) + R"(, "position": [0, )" +
+             num(0.5 * s) +
              R"(, 0], "look_at": [0, 0, 0], "up": [0, 0, -1]}],
-        "lights": [{"type": "point", "position": [0, )" + num(s * (1 + 5e-5)) +
-             R"(, 0], "intensity": )" + num(s * s) + R"(}],
+        "lights": [{"type": "point", "position": [0, )" +
+             num(s * (1 + 5e-5)) + R"(, 0], "intensity": )" + num(s * s) + R"(}],
         "materials": [{"name": "white", "type": "lambert", "diffuse": [0.8, 0.8, 0.8]}],
         "objects": [{"type": "plane", "material": "white"})" +
              (slab ? R"(, {"type": "box", "min": [)" + num(-s) + ", " + num(s) + ", " + num(-s) +
@@ -76,10 +77,11 @@ TEST(ShadowRays, ALampUnderACeilingLightsNothingAboveIt) {
     for (float height : {10.0f, 100.0f, 1e4f}) {
       SCOPED_TRACE(height);
       GeometryScene scene;
-      addShape(&scene, std::make_unique<Box>(Vec3f{-1e5f, 1e-3f, -1e5f}, Vec3f{1e5f, 0.201f, 1e5f}));
+      addShape(&scene,
+               std::make_unique<Box>(Vec3f{-1e5f, 1e-3f, -1e5f}, Vec3f{1e5f, 0.201f, 1e5f}));
       // The higher ceiling, a slab whose underside is at `height`.
-      addShape(&scene, std::make_unique<Box>(Vec3f{-1e5f, height, -1e5f},
-                                             Vec3f{1e5f, height + 1, 1e5f}));
+      addShape(&scene,
+               std::make_unique<Box>(Vec3f{-1e5f, height, -1e5f}, Vec3f{1e5f, height + 1, 1e5f}));
       auto accel = makeAccelerator(name, scene);
       const Vec3f lamp{0, 0, 0};
       std::mt19937 rng(3);
@@ -163,7 +165,8 @@ TEST(ShadowRays, AreaLightsDoNotShadowThemselvesAndBlockersNearThemStillCount) {
     const Light& light = *scene.lights[0];
     // The light is geometry: a ray aimed at it from below reports it.
     Hit hit;
-    ASSERT_TRUE(scene.accel->closestHit(Ray{{0.1f, blocker ? -1e-4f : -5.0f, 0.2f}, {0, 1, 0}}, &hit));
+    ASSERT_TRUE(
+        scene.accel->closestHit(Ray{{0.1f, blocker ? -1e-4f : -5.0f, 0.2f}, {0, 1, 0}}, &hit));
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> u01(0, 1), u(-1, 1);
     int samples = 0, shadowed = 0;
@@ -212,7 +215,8 @@ TEST(ShadowRays, WhittedShadowsThroughAGlassPaneKeepTheFresnelTransmittance) {
       "objects": [{"type": "plane", "material": "white"})" +
            (pane.empty() ? std::string()
                          : R"(, {"type": "box", "min": [-5, 1, -5], "max": [5, 1.2, 5],
-                                 "material": ")" + pane + R"("})") +
+                                 "material": ")" +
+                               pane + R"("})") +
            "]}";
   };
   auto mean = [](const Film& f) {

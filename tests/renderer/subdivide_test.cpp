@@ -2,6 +2,8 @@
 // trapezoid rule over the lattice squares its contrast cut, its corner looks are shared, the
 // image does not depend on threads, tiles or crops, and its cuts buy accuracy where a whole-
 // pixel sample would not.
+#include "renderer/subdivide.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,7 +12,6 @@
 #include <string>
 
 #include "renderer/render.h"
-#include "renderer/subdivide.h"
 #include "scene_error_support.h"
 #include "scenes/build.h"
 #include "scenes/sidecar.h"
@@ -25,11 +26,13 @@ namespace {
 // packet of rays and a single ray may report either of the two walls that meet there.)
 std::string sceneJson(int width, int height, const std::string& lens = "") {
   return R"({
-    "render": {"width": )" + std::to_string(width) + R"(, "height": )" + std::to_string(height) +
+    "render": {"width": )" +
+         std::to_string(width) + R"(, "height": )" + std::to_string(height) +
          R"(, "seed": 3, "camera": "c", "integrator": {"type": "whitted"},
                "background": [0.3, 0.35, 0.4]},
     "cameras": [{"name": "c", "position": [0.13, 1.07, 3.1], "look_at": [0.05, 0.45, 0],
-                 "yfov_degrees": 40)" + lens + R"(}],
+                 "yfov_degrees": 40)" +
+         lens + R"(}],
     "lights": [{"type": "point", "position": [1.3, 3.1, 2.2], "intensity": 12}],
     "materials": [{"name": "floor", "type": "lambert", "diffuse": [0.6, 0.6, 0.55]},
                   {"name": "red", "type": "lambert", "diffuse": [0.7, 0.12, 0.1]},
@@ -157,7 +160,8 @@ TEST(Subdivision, TheImageDoesNotDependOnThreadsTilesOrCrops) {
 double rmse(const Film& a, const Film& b) {
   double sum = 0;
   for (size_t i = 0; i < a.color.size(); ++i)
-    for (int c = 0; c < 3; ++c) sum += double(a.color[i][c] - b.color[i][c]) * (a.color[i][c] - b.color[i][c]);
+    for (int c = 0; c < 3; ++c)
+      sum += double(a.color[i][c] - b.color[i][c]) * (a.color[i][c] - b.color[i][c]);
   return std::sqrt(sum / (3.0 * double(a.color.size())));
 }
 
@@ -251,8 +255,8 @@ TEST(Subdivision, WhatItCannotDoIsRefused) {
   EXPECT_THROW(render(stage.scene, *stage.integrator, settings, {}, nullptr), InputError);
 
   SceneDescription desc;
-  applySceneJsonText(R"({"render": {"adaptive": {"contrast": 0.1, "subdivide": 3}}})",
-                     "scene.json", SceneJsonKind::Scene, &desc);
+  applySceneJsonText(R"({"render": {"adaptive": {"contrast": 0.1, "subdivide": 3}}})", "scene.json",
+                     SceneJsonKind::Scene, &desc);
   EXPECT_EQ(desc.render.adaptive.subdivide, 3);
   EXPECT_SCENE_ERROR(test::errorFrom([] {
                        SceneDescription d;
@@ -281,7 +285,8 @@ TEST(Subdivision, TheCommandLineRendersAndRefusesBudgets) {
   EXPECT_NE(stats.find("\"subdivide\": 2"), std::string::npos) << stats;
   // --resume: the same settings are complete; another depth is rendered again (one pass, so
   // never continued).
-  const std::string again = "render " + scene + " --antialias 0.05 -o " + dir + "/stage.exr --resume";
+  const std::string again =
+      "render " + scene + " --antialias 0.05 -o " + dir + "/stage.exr --resume";
   const auto complete = test::runGlint(again + " --subdivide 2");
   ASSERT_EQ(complete.exitCode, 0) << complete.err;
   EXPECT_NE(complete.err.find("nothing to do"), std::string::npos) << complete.err;
@@ -289,9 +294,9 @@ TEST(Subdivision, TheCommandLineRendersAndRefusesBudgets) {
   ASSERT_EQ(redone.exitCode, 0) << redone.err;
   EXPECT_NE(redone.err.find("redoing"), std::string::npos) << redone.err;
   EXPECT_NE(redone.err.find("subdivision 3"), std::string::npos) << redone.err;
-  const auto refused = test::runGlint("render " + scene +
-                                      " --antialias 0.05 --subdivide 2 --time-limit 2 -o " + dir +
-                                      "/budget.exr --quiet");
+  const auto refused =
+      test::runGlint("render " + scene + " --antialias 0.05 --subdivide 2 --time-limit 2 -o " +
+                     dir + "/budget.exr --quiet");
   EXPECT_EQ(refused.exitCode, 2);
   EXPECT_NE(refused.err.find("one pass"), std::string::npos) << refused.err;
 }

@@ -1,9 +1,10 @@
 // Tests for building the render scene: instancing versus baking, image size, default camera,
 // and which features a scene calls for.
+#include "scenes/build.h"
+
 #include <gtest/gtest.h>
 
 #include "geometry/interaction.h"
-#include "scenes/build.h"
 #include "scenes/sidecar.h"
 
 namespace glint {
@@ -81,9 +82,9 @@ TEST(Build, DefaultCameraSeesEveryCornerOfTheBounds) {
   float tanY = std::tan(0.5f * 40.0f * kPi / 180.0f), tanX = tanY * 160.0f / 90.0f;
   float widest = 0;
   for (int i = 0; i < 8; ++i) {
-    Vec3f c = cameraFromWorld.point({(i & 1) ? b.upper.x : b.lower.x,
-                                     (i & 2) ? b.upper.y : b.lower.y,
-                                     (i & 4) ? b.upper.z : b.lower.z});
+    Vec3f c =
+        cameraFromWorld.point({(i & 1) ? b.upper.x : b.lower.x, (i & 2) ? b.upper.y : b.lower.y,
+                               (i & 4) ? b.upper.z : b.lower.z});
     ASSERT_LT(c.z, 0) << "corner behind the camera";
     float x = std::abs(c.x / -c.z) / tanX, y = std::abs(c.y / -c.z) / tanY;
     EXPECT_LE(x, 1.0f);

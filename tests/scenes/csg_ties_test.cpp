@@ -67,7 +67,8 @@ Difference compareFilms(const Film& a, const Film& b, float tolerance = 0.02f) {
       if (edge) continue;
       if (++r.awayFromEdges <= 4) {
         char text[96];
-        std::snprintf(text, sizeof text, " (%d, %d) %.3f vs %.3f", x, y, double(ca.y), double(cb.y));
+        std::snprintf(text, sizeof text, " (%d, %d) %.3f vs %.3f", x, y, double(ca.y),
+                      double(cb.y));
         r.where += text;
       }
     }
@@ -82,13 +83,15 @@ void writeFile(const std::string& path, const std::string& text) {
 
 // A scene around `objects` (JSON array items, comma-separated): a floor below y = -1.3, one
 // point light, Whitted at 1 spp (the same camera rays for both renders of a comparison).
-std::string sceneJson(const std::string& objects, const std::string& camera, const std::string& light,
-                      int size = 128) {
+std::string sceneJson(const std::string& objects, const std::string& camera,
+                      const std::string& light, int size = 128) {
   return R"({"render": {"width": )" + std::to_string(size) + R"(, "height": )" +
          std::to_string(size) + R"(, "spp": 1, "seed": 7, "camera": "c",
                "integrator": {"type": "whitted"}, "background": [0.3, 0.35, 0.4]},
-  "cameras": [)" + camera + R"(],
-  "lights": [)" + light + R"(],
+  "cameras": [)" +
+         camera + R"(],
+  "lights": [)" +
+         light + R"(],
   "materials": [{"name": "grey", "type": "lambert", "diffuse": [0.6, 0.6, 0.6]}],
   "objects": [{"type": "plane", "point": [0, -1.3, 0], "material": "grey"}, )" +
          objects + "]}";
@@ -148,7 +151,8 @@ const char* const kOutsideCameras[] = {
     R"({"name": "c", "position": [-1.5, 2.5, -2.0], "look_at": [0.25, 0.2, 0.5], "yfov_degrees": 45})",
     R"({"name": "c", "position": [3.0, 0.05, 0.5], "look_at": [0.25, 0.5, 0.5], "yfov_degrees": 40})"};
 // Low enough to throw the solid's shadow across the floor.
-const char* const kOutsideLight = R"({"type": "point", "position": [2.5, 3, 1.5], "intensity": 25})";
+const char* const kOutsideLight =
+    R"({"type": "point", "position": [2.5, 3, 1.5], "intensity": 25})";
 
 class CsgOutsideCases : public testing::TestWithParam<OutsideCase> {};
 
@@ -157,10 +161,12 @@ TEST_P(CsgOutsideCases, RenderLikeThePlainBox) {
   const std::string dir = test::scratchDir(std::string("csg_ties_") + c.name);
   writeFile(dir + "/solid.csg", c.csg);
   for (const char* camera : kOutsideCameras) {
-    writeFile(dir + "/csg.json", sceneJson(R"({"type": "csg", "file": "solid.csg", "material": "grey"})",
-                                           camera, kOutsideLight));
+    writeFile(dir + "/csg.json",
+              sceneJson(R"({"type": "csg", "file": "solid.csg", "material": "grey"})", camera,
+                        kOutsideLight));
     writeFile(dir + "/plain.json", sceneJson(c.reference, camera, kOutsideLight));
-    const Difference d = compareFilms(renderFile(dir + "/csg.json"), renderFile(dir + "/plain.json"));
+    const Difference d =
+        compareFilms(renderFile(dir + "/csg.json"), renderFile(dir + "/plain.json"));
     EXPECT_EQ(d.awayFromEdges, 0) << "camera " << camera << ":" << d.where;
     EXPECT_LE(d.pixels, 2) << "camera " << camera;
   }
@@ -173,19 +179,21 @@ TEST_P(CsgOutsideCases, ARealSkinStillShows) {
   const OutsideCase& c = GetParam();
   const std::string dir = test::scratchDir(std::string("csg_skin_") + c.name);
   writeFile(dir + "/solid.csg", c.skinCsg);
-  const char* boxes[][2] = {{"[0, 0, 0]", "[0.5, 1, 1]"},            // the half A keeps
-                            {"[0.5, 0, 0]", "[1, 0.0001, 1]"},       // bottom skin
-                            {"[0.5, 0.9999, 0]", "[1, 1, 1]"},       // top
-                            {"[0.5, 0, 0]", "[1, 1, 0.0001]"},       // back
-                            {"[0.5, 0, 0.9999]", "[1, 1, 1]"},       // front
-                            {"[0.9999, 0, 0]", "[1, 1, 1]"}};        // right
+  const char* boxes[][2] = {{"[0, 0, 0]", "[0.5, 1, 1]"},       // the half A keeps
+                            {"[0.5, 0, 0]", "[1, 0.0001, 1]"},  // bottom skin
+                            {"[0.5, 0.9999, 0]", "[1, 1, 1]"},  // top
+                            {"[0.5, 0, 0]", "[1, 1, 0.0001]"},  // back
+                            {"[0.5, 0, 0.9999]", "[1, 1, 1]"},  // front
+                            {"[0.9999, 0, 0]", "[1, 1, 1]"}};   // right
   std::string plates;
   for (const auto& b : boxes)
     plates += std::string(plates.empty() ? "" : ", ") + R"({"type": "box", "min": )" + b[0] +
-              R"(, "max": )" + b[1] + R"(, "material": "grey", "transform": )" + c.skinTransform + "}";
+              R"(, "max": )" + b[1] + R"(, "material": "grey", "transform": )" + c.skinTransform +
+              "}";
   for (const char* camera : kOutsideCameras) {
-    writeFile(dir + "/csg.json", sceneJson(R"({"type": "csg", "file": "solid.csg", "material": "grey"})",
-                                           camera, kOutsideLight));
+    writeFile(dir + "/csg.json",
+              sceneJson(R"({"type": "csg", "file": "solid.csg", "material": "grey"})", camera,
+                        kOutsideLight));
     writeFile(dir + "/plates.json", sceneJson(plates, camera, kOutsideLight));
     writeFile(dir + "/half.json", sceneJson(c.reference, camera, kOutsideLight));
     const Film csg = renderFile(dir + "/csg.json");
@@ -253,14 +261,16 @@ V3 operator+(V3 a, V3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
 V3 operator-(V3 a, V3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
 V3 operator*(V3 a, double s) { return {a.x * s, a.y * s, a.z * s}; }
 double dot(V3 a, V3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-V3 cross(V3 a, V3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+V3 cross(V3 a, V3 b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
 V3 userVector(V3 v) { return {userNumber(v.x), userNumber(v.y), userNumber(v.z)}; }
 V3 computedVector(V3 v) { return {computedNumber(v.x), computedNumber(v.y), computedNumber(v.z)}; }
 
 // One transform operation, as written in a file (already rounded to what the file says).
 struct Op {
   enum Kind { Translate, Rotate, Scale } kind = Translate;
-  V3 v;              // translation, scale factors, or rotation axis
+  V3 v;  // translation, scale factors, or rotation axis
   double degrees = 0;
 
   Op inverse() const {
@@ -378,10 +388,10 @@ std::string toRpn(const Node& n) {
 // cylinder or cone standing on `base` (axis +Y).
 struct Solid {
   enum Kind { Box, Sphere, Cylinder, Cone } kind = Box;
-  V3 lo, hi;            // box
-  V3 centre;            // sphere centre; cylinder/cone base centre
+  V3 lo, hi;  // box
+  V3 centre;  // sphere centre; cylinder/cone base centre
   double radius = 0, height = 0;
-  int thinAxis = -1;    // a thin plate (a box): the axis it is thin along, never split
+  int thinAxis = -1;  // a thin plate (a box): the axis it is thin along, never split
 
   bool flatBottom() const { return kind != Sphere; }
 };
@@ -471,15 +481,17 @@ class TreeWriter {
   Op randomOp() {
     switch (rng_.below(3)) {
       case 0:
-        return {Op::Translate, userVector({rng_.uniform() * 4 - 2, rng_.uniform() * 4 - 2,
-                                           rng_.uniform() * 4 - 2}),
-                0};
+        return {
+            Op::Translate,
+            userVector({rng_.uniform() * 4 - 2, rng_.uniform() * 4 - 2, rng_.uniform() * 4 - 2}),
+            0};
       case 1: {
         V3 axis;
         if (rng_.chance(0.5)) {
           axis[rng_.below(3)] = 1;
         } else {
-          axis = userVector({rng_.uniform() * 2 - 1, rng_.uniform() * 2 - 1, rng_.uniform() * 2 - 1});
+          axis =
+              userVector({rng_.uniform() * 2 - 1, rng_.uniform() * 2 - 1, rng_.uniform() * 2 - 1});
           if (dot(axis, axis) < 0.01) axis = {0, 1, 0};
         }
         const double degrees[] = {90, -90, 180, 30, 45, 60, 120};
@@ -542,7 +554,7 @@ class TreeWriter {
     n.a = b.lo;
     if (face & 1) n.a = b.hi;
     V3 normal;
-    normal[axis] = (face & 1) ? 1 : -1;  // outward
+    normal[axis] = (face & 1) ? 1 : -1;      // outward
     n.b = outside ? V3{} - normal : normal;  // the solid is behind the normal
     writePlane(&n);
     return n;
@@ -568,8 +580,8 @@ class TreeWriter {
         case 3: {  // (A u E) - E', E sharing a face of A from outside (the outside cases)
           if (faces.empty()) break;
           const Solid e = neighbour(s, faces[size_t(rng_.below(int(faces.size())))], 0.375);
-          return op("difference", {op("union", {express(s, depth), express(e, depth)}),
-                                   express(e, depth)});
+          return op("difference",
+                    {op("union", {express(s, depth), express(e, depth)}), express(e, depth)});
         }
         case 4: {  // A - E, E touching a face of A from outside
           if (faces.empty()) break;
@@ -592,7 +604,8 @@ class TreeWriter {
         case 6: {  // A minus the half-space beyond a face, or A n the half-space behind it
           if (faces.empty()) break;
           const int face = faces[size_t(rng_.below(int(faces.size())))];
-          if (rng_.chance(0.5)) return op("difference", {express(s, depth), halfSpace(s, face, true)});
+          if (rng_.chance(0.5))
+            return op("difference", {express(s, depth), halfSpace(s, face, true)});
           return op("intersection", {express(s, depth), halfSpace(s, face, false)});
         }
         default:
@@ -647,7 +660,9 @@ class TreeWriter {
     return g;
   }
   Op randomTranslation() {
-    return {Op::Translate, userVector({rng_.uniform() * 2 - 1, rng_.uniform() * 2 - 1, rng_.uniform() * 2 - 1}), 0};
+    return {Op::Translate,
+            userVector({rng_.uniform() * 2 - 1, rng_.uniform() * 2 - 1, rng_.uniform() * 2 - 1}),
+            0};
   }
 
   // The leaf's parameters replaced by their preimage under an operation G put first in its
@@ -669,14 +684,16 @@ class TreeWriter {
         }
         default: {
           const double factors[] = {2, 0.5, 3, 1.0 / 3, 0.1, 10};
-          g = {Op::Scale, userVector({rng_.pick(factors), rng_.pick(factors), rng_.pick(factors)}), 0};
+          g = {Op::Scale, userVector({rng_.pick(factors), rng_.pick(factors), rng_.pick(factors)}),
+               0};
         }
       }
       V3 a = g.applyInverse(n->a), b = g.applyInverse(n->b);
       for (int i = 0; i < 3; ++i) {
         if (a[i] > b[i]) std::swap(a[i], b[i]);
         // A quarter turn back lands within 1e-16 of the lattice, as a user would write it.
-        if (g.kind == Op::Rotate) a[i] = std::round(a[i] * 1e9) / 1e9, b[i] = std::round(b[i] * 1e9) / 1e9;
+        if (g.kind == Op::Rotate)
+          a[i] = std::round(a[i] * 1e9) / 1e9, b[i] = std::round(b[i] * 1e9) / 1e9;
       }
       n->a = computedVector(a), n->b = computedVector(b);
     } else if (n->type == "sphere") {
@@ -750,7 +767,7 @@ std::vector<Solid> randomSolids(Rng& rng, bool thin = false) {
 struct GeneratedScene {
   std::vector<Solid> solids;
   Node tree;
-  std::vector<Op> turn;  // the root's last operation, shared with the plain objects
+  std::vector<Op> turn;      // the root's last operation, shared with the plain objects
   std::string plainObjects;  // JSON array items
   std::string camera, light;
   std::string grazing;  // the grazing view, for messages ("axis 1, 4 degrees"; empty: none)
@@ -805,7 +822,8 @@ GeneratedScene generate(uint64_t seed, bool thinAndGrazing = false) {
     eye = V3{0, -0.2, 0} + dir * distance;
     g.grazing = "axis " + std::to_string(k) + ", " + num(degrees) + " degrees";
   } else {
-    const double elevation = (rng.chance(0.2) ? 2 : 10 + rng.uniform() * 60) * std::numbers::pi / 180;
+    const double elevation =
+        (rng.chance(0.2) ? 2 : 10 + rng.uniform() * 60) * std::numbers::pi / 180;
     eye = {distance * std::cos(elevation) * std::cos(azimuth), distance * std::sin(elevation),
            distance * std::cos(elevation) * std::sin(azimuth)};
   }
@@ -844,7 +862,8 @@ SeedResult runSeed(const GeneratedScene& g, uint64_t seed, const std::string& di
   int wrong = 0;
   V3 example;
   for (int i = 0; i < 100000; ++i) {
-    const V3 p{points.uniform() * 3.4 - 1.7, points.uniform() * 2.6 - 1.6, points.uniform() * 2.4 - 1.2};
+    const V3 p{points.uniform() * 3.4 - 1.7, points.uniform() * 2.6 - 1.6,
+               points.uniform() * 2.4 - 1.2};
     bool inSolids = false;
     for (const Solid& s : g.solids) inSolids = inSolids || contains(s, p);
     if (contains(unturned, p) != inSolids) ++wrong, example = p;
@@ -861,8 +880,9 @@ SeedResult runSeed(const GeneratedScene& g, uint64_t seed, const std::string& di
   writeFile(dir + "/json.json",
             sceneJson(R"({"type": "csg", "material": "grey", "tree": )" + toJson(g.tree) + "}",
                       g.camera, g.light));
-  writeFile(dir + "/rpn.json",
-            sceneJson(R"({"type": "csg", "material": "grey", "file": "tree.csg"})", g.camera, g.light));
+  writeFile(
+      dir + "/rpn.json",
+      sceneJson(R"({"type": "csg", "material": "grey", "file": "tree.csg"})", g.camera, g.light));
   const Film plain = renderFile(dir + "/plain.json");
   r.csg = renderFile(dir + "/json.json");
   r.forms[0] = compareFilms(r.csg, plain);
@@ -888,9 +908,9 @@ TEST(CsgGenerator, RandomTreesWithSharedFacesRenderLikeThePlainSolids) {
     ASSERT_TRUE(r.valid);
     for (int f = 0; f < 2; ++f) {
       const Difference& d = r.forms[f];
-      EXPECT_EQ(d.awayFromEdges, 0) << "seed " << seed << " (" << (f ? "rpn" : "json") << ")"
-                                    << d.where << ", tree:\n"
-                                    << toRpn(g.tree);
+      EXPECT_EQ(d.awayFromEdges, 0)
+          << "seed " << seed << " (" << (f ? "rpn" : "json") << ")" << d.where << ", tree:\n"
+          << toRpn(g.tree);
       edgePixels += d.pixels - d.awayFromEdges;
     }
   }
@@ -936,7 +956,8 @@ TEST(CsgGenerator, ThinWallsAndGrazingViewsRenderLikeThePlainSolids) {
         plate = true;
         continue;
       }
-      others += std::string(others.empty() ? "" : ", ") + plainJson(s, g.turn) + R"(, "material": "grey"})";
+      others += std::string(others.empty() ? "" : ", ") + plainJson(s, g.turn) +
+                R"(, "material": "grey"})";
     }
     if (!plate) continue;
     ++plates;
@@ -947,10 +968,11 @@ TEST(CsgGenerator, ThinWallsAndGrazingViewsRenderLikeThePlainSolids) {
   }
   RecordProperty("edge_pixels", edgePixels);
   RecordProperty("leaves", leaves);
-  std::printf("[ csg generator ] thin walls, grazing views: %d seeds, %d leaves, %d differing edge "
-              "pixels in %d renders; %d plates, %d of them differ by more than 20 pixels from "
-              "the solids without them\n",
-              kSeeds, leaves, edgePixels, 2 * kSeeds, plates, platesSeen);
+  std::printf(
+      "[ csg generator ] thin walls, grazing views: %d seeds, %d leaves, %d differing edge "
+      "pixels in %d renders; %d plates, %d of them differ by more than 20 pixels from "
+      "the solids without them\n",
+      kSeeds, leaves, edgePixels, 2 * kSeeds, plates, platesSeen);
   EXPECT_LE(edgePixels, 2 * kSeeds / 10);
   EXPECT_GT(plates, 0);
   EXPECT_GE(2 * platesSeen, plates) << "the plates should show in most views";
@@ -976,10 +998,14 @@ TEST(CsgGenerator, ARealThinSkinStillRendersAsASkin) {
         R"({"name": "c", "position": [1.2, 1.5, -4], "look_at": [0, -0.3, -0.5], "yfov_degrees": 40})";
     const std::string light = R"({"type": "point", "position": [1, 3, -3], "intensity": 40})";
     writeFile(dir + "/tree.csg", toRpn(tree));
-    writeFile(dir + "/csg.json",
-              sceneJson(R"({"type": "csg", "material": "grey", "file": "tree.csg"})", camera, light));
-    writeFile(dir + "/plain.json", sceneJson(plainJson(plate) + R"(, "material": "grey"})", camera, light));
-    writeFile(dir + "/empty.json", sceneJson(R"({"type": "sphere", "radius": 0.01, "center": [0, 5, 9]})", camera, light));
+    writeFile(
+        dir + "/csg.json",
+        sceneJson(R"({"type": "csg", "material": "grey", "file": "tree.csg"})", camera, light));
+    writeFile(dir + "/plain.json",
+              sceneJson(plainJson(plate) + R"(, "material": "grey"})", camera, light));
+    writeFile(
+        dir + "/empty.json",
+        sceneJson(R"({"type": "sphere", "radius": 0.01, "center": [0, 5, 9]})", camera, light));
     const Film csg = renderFile(dir + "/csg.json");
     const Difference d = compareFilms(csg, renderFile(dir + "/plain.json"));
     EXPECT_EQ(d.awayFromEdges, 0) << "seed " << seed << ":\n" << toRpn(tree);
@@ -987,7 +1013,6 @@ TEST(CsgGenerator, ARealThinSkinStillRendersAsASkin) {
     EXPECT_GT(compareFilms(csg, renderFile(dir + "/empty.json")).pixels, 2000) << "seed " << seed;
   }
 }
-
 
 // ---------------------------------------------------------------------------------------------
 // Issue 49, item 3: shared faces seen at grazing angles
@@ -1009,10 +1034,12 @@ const GrazingTree kGrazingTrees[] = {
     {"DifferenceSameFrame", "box min 0 0 0 max 1 1 1\nbox min 0.5 0 0 max 1 1 1\ndifference",
      "[0, 0, 0]", "[0.5, 1, 1]"},
     {"DifferenceScaledByAThird",
-     "box min 0 0 0 max 3 3 3 scale 0.3333333 0.3333333 0.3333333\nbox min 0.5 0 0 max 1 1 1\ndifference",
+     "box min 0 0 0 max 3 3 3 scale 0.3333333 0.3333333 0.3333333\nbox min 0.5 0 0 max 1 1 "
+     "1\ndifference",
      "[0, 0, 0]", "[0.5, 1, 1]"},
     {"DifferenceTurnedAndMovedBack",
-     "box min 0 0 0 max 1 1 1 rotate 90 0 1 0 translate 0 0 1\nbox min 0.5 0 0 max 1 1 1\ndifference",
+     "box min 0 0 0 max 1 1 1 rotate 90 0 1 0 translate 0 0 1\nbox min 0.5 0 0 max 1 1 "
+     "1\ndifference",
      "[0, 0, 0]", "[0.5, 1, 1]"},
     {"DifferenceScaledCut",
      "box min 0 0 0 max 1 1 1\nbox min 0 0 0 max 1 1 1 scale 0.5 1 1 translate 0.5 0 0\ndifference",
@@ -1020,12 +1047,14 @@ const GrazingTree kGrazingTrees[] = {
     {"UnionSameFrame", "box min 0 0 0 max 0.5 1 1\nbox min 0.5 0 0 max 1 1 1\nunion", "[0, 0, 0]",
      "[1, 1, 1]"},
     {"UnionScaledByAThird",
-     "box min 0 0 0 max 1.5 3 3 scale 0.3333333 0.3333333 0.3333333\nbox min 0.5 0 0 max 1 1 1\nunion",
+     "box min 0 0 0 max 1.5 3 3 scale 0.3333333 0.3333333 0.3333333\nbox min 0.5 0 0 max 1 1 "
+     "1\nunion",
      "[0, 0, 0]", "[1, 1, 1]"},
     {"IntersectionSameFrame", "box min 0 0 0 max 1 1 1\nbox min -0.5 0 0 max 0.5 1 1\nintersection",
      "[0, 0, 0]", "[0.5, 1, 1]"},
     {"IntersectionScaledByAThird",
-     "box min 0 0 0 max 3 3 3 scale 0.3333333 0.3333333 0.3333333\nbox min -0.5 0 0 max 0.5 1 1\nintersection",
+     "box min 0 0 0 max 3 3 3 scale 0.3333333 0.3333333 0.3333333\nbox min -0.5 0 0 max 0.5 1 "
+     "1\nintersection",
      "[0, 0, 0]", "[0.5, 1, 1]"},
 };
 
@@ -1065,7 +1094,8 @@ std::vector<GrazingView> grazingViews(bool all) {
           for (double fov : {8.0, 40.0})
             for (double sign : {1.0, -1.0}) directions.push_back({k * pi / 8, fov, sign});
       } else if (axis == 0) {
-        directions = {{0.1, 8, 1}, {0.1 + pi / 2, 40, -1}, {0.1 + pi, 8, -1}, {0.1 + 1.5 * pi, 40, 1}};
+        directions = {
+            {0.1, 8, 1}, {0.1 + pi / 2, 40, -1}, {0.1 + pi, 8, -1}, {0.1 + 1.5 * pi, 40, 1}};
       } else {
         directions = {{0, 8, 1}, {pi, 8, 1}, {0.8, 40, 1}, {0.8 + pi, 40, -1}};
       }
@@ -1089,7 +1119,8 @@ std::vector<GrazingView> grazingViews(bool all) {
           v.fov = d.fov;
           v.inSeamPlane = axis != 0 && (d.phi == 0 || d.phi == pi);
           v.name = std::string("face ") + "xyz"[axis] + " = " + std::to_string(side) + ", " +
-                   num(d.side * degrees) + " degrees, azimuth " + num(d.phi) + ", fov " + num(d.fov);
+                   num(d.side * degrees) + " degrees, azimuth " + num(d.phi) + ", fov " +
+                   num(d.fov);
           views.push_back(v);
         }
     }
@@ -1103,7 +1134,8 @@ int differingOutsideColumn(const Film& a, const Film& b, int skip) {
     for (int x = 0; x < a.width; ++x) {
       if (x == skip) continue;
       const Rgb ca = a.color[a.index(x, y)], cb = b.color[b.index(x, y)];
-      n += std::abs(ca.x - cb.x) > 0.02f || std::abs(ca.y - cb.y) > 0.02f || std::abs(ca.z - cb.z) > 0.02f;
+      n += std::abs(ca.x - cb.x) > 0.02f || std::abs(ca.y - cb.y) > 0.02f ||
+           std::abs(ca.z - cb.z) > 0.02f;
     }
   return n;
 }
@@ -1111,14 +1143,18 @@ int differingOutsideColumn(const Film& a, const Film& b, int skip) {
 // A scene for the grazing views: 97 x 97 pixels (the middle column looks along the plane
 // x = 0.5), one sample at each pixel's centre (a box filter 1e-4 pixels wide: the camera rays
 // are the ones a pixel-centre render traces, so a speckle does not hide in a pixel's average).
-std::string grazingSceneJson(const std::string& object, const GrazingView& v, const std::vector<Op>& turn) {
+std::string grazingSceneJson(const std::string& object, const GrazingView& v,
+                             const std::vector<Op>& turn) {
   V3 eye = v.eye, target = v.target, up = v.up;
   for (const Op& o : turn) eye = o.apply(eye), target = o.apply(target), up = o.apply(up);
-  const std::string camera = R"({"name": "c", "position": )" + vec(eye) + R"(, "look_at": )" + vec(target) +
-                             R"(, "up": )" + vec(up) + R"(, "yfov_degrees": )" + num(v.fov) + "}";
-  std::string scene = sceneJson(object, camera, R"({"type": "point", "position": [2.5, 3, 1.5], "intensity": 25})", 97);
+  const std::string camera = R"({"name": "c", "position": )" + vec(eye) + R"(, "look_at": )" +
+                             vec(target) + R"(, "up": )" + vec(up) + R"(, "yfov_degrees": )" +
+                             num(v.fov) + "}";
+  std::string scene = sceneJson(
+      object, camera, R"({"type": "point", "position": [2.5, 3, 1.5], "intensity": 25})", 97);
   const std::string filter = R"("spp": 1,)";
-  scene.replace(scene.find(filter), filter.size(), R"("spp": 1, "filter": {"type": "box", "radius": 0.0001},)");
+  scene.replace(scene.find(filter), filter.size(),
+                R"("spp": 1, "filter": {"type": "box", "radius": 0.0001},)");
   return scene;
 }
 
@@ -1136,15 +1172,17 @@ class CsgGrazingViews : public testing::TestWithParam<std::tuple<GrazingTree, bo
 // union where a ray entered the outer face at the seam (or ran along the seam, between halves
 // 5e-8 apart as written). A pixel-centre hunt over 6,144 grazing views at 256 x 256 found 13
 // speckles, on the unions and on DifferenceTurnedAndMovedBackTurned: slivers of A's corner
-// floating in the air where B, flush against that corner, was missed by rounding. Each render's images and
-// scenes of a failing view stay in test_output/csg_grazing_TREE/.
+// floating in the air where B, flush against that corner, was missed by rounding. Each render's
+// images and scenes of a failing view stay in test_output/csg_grazing_TREE/.
 TEST_P(CsgGrazingViews, RenderLikeThePlainBox) {
   const auto& [tree, turned] = GetParam();
   const std::vector<Op> turn = turned ? kGrazingTurn : std::vector<Op>{};
-  const std::string dir = test::scratchDir(std::string("csg_grazing_") + tree.name + (turned ? "_turned" : ""));
+  const std::string dir =
+      test::scratchDir(std::string("csg_grazing_") + tree.name + (turned ? "_turned" : ""));
   writeFile(dir + "/tree.csg", std::string(tree.csg) + opsRpn(turn) + "\n");
-  const std::string plain = std::string(R"({"type": "box", "min": )") + tree.lo + R"(, "max": )" + tree.hi +
-                            R"(, "material": "grey", "transform": )" + opsJson(turn) + "}";
+  const std::string plain = std::string(R"({"type": "box", "min": )") + tree.lo + R"(, "max": )" +
+                            tree.hi + R"(, "material": "grey", "transform": )" + opsJson(turn) +
+                            "}";
   const char* csgObject = R"({"type": "csg", "file": "tree.csg", "material": "grey"})";
   const char* all = std::getenv("GLINT_CSG_GRAZING_VIEWS");
   int speckles = 0, edges = 0, alongSeam = 0, views = 0;
@@ -1165,20 +1203,23 @@ TEST_P(CsgGrazingViews, RenderLikeThePlainBox) {
       writeFile(stem + "_plain.json", grazingSceneJson(plain, v, turn));
       writeImage(stem + "_csg.png", csg, RenderSettings{}, ImageMetadata{});
       writeImage(stem + "_plain.png", box, RenderSettings{}, ImageMetadata{});
-      ADD_FAILURE() << tree.name << (turned ? " turned" : "") << ", " << v.name << ": " << d.awayFromEdges
-                    << " speckles:" << d.where << "\n  scenes and images: " << stem << "_{csg,plain}.{json,png}";
+      ADD_FAILURE() << tree.name << (turned ? " turned" : "") << ", " << v.name << ": "
+                    << d.awayFromEdges << " speckles:" << d.where
+                    << "\n  scenes and images: " << stem << "_{csg,plain}.{json,png}";
     }
   }
-  std::printf("[ csg grazing ] %s%s: %d views, %d speckles, %d differing edge pixels (%d more on "
-              "the plane x = 0.5 seen edge-on)\n",
-              tree.name, turned ? " turned" : "", views, speckles, edges, alongSeam);
+  std::printf(
+      "[ csg grazing ] %s%s: %d views, %d speckles, %d differing edge pixels (%d more on "
+      "the plane x = 0.5 seen edge-on)\n",
+      tree.name, turned ? " turned" : "", views, speckles, edges, alongSeam);
   EXPECT_LE(edges, views) << "at most one differing edge pixel a view on average";
 }
 
 INSTANTIATE_TEST_SUITE_P(Issue49, CsgGrazingViews,
                          testing::Combine(testing::ValuesIn(kGrazingTrees), testing::Bool()),
                          [](const testing::TestParamInfo<std::tuple<GrazingTree, bool>>& p) {
-                           return std::string(std::get<0>(p.param).name) + (std::get<1>(p.param) ? "Turned" : "");
+                           return std::string(std::get<0>(p.param).name) +
+                                  (std::get<1>(p.param) ? "Turned" : "");
                          });
 
 }  // namespace

@@ -6,8 +6,8 @@
 #include <draco/compression/decode.h>
 #include <draco/compression/encode.h>
 #include <draco/mesh/triangle_soup_mesh_builder.h>
-#include <meshoptimizer.h>
 #include <gtest/gtest.h>
+#include <meshoptimizer.h>
 
 #include <array>
 #include <cmath>
@@ -220,7 +220,8 @@ TEST(GltfLoader, LoadsBoxTexturedInAllVariants) {
   EXPECT_EQ(s.images[0].height, 256);
   EXPECT_EQ(s.images[0].channels, 4);
   EXPECT_EQ(s.images[0].name, "CesiumLogoFlat.png");
-  for (float v : oiio::plugin().decodeEncodedImage(*s.images[0].encoded, nullptr)) ASSERT_TRUE(v >= 0 && v <= 1);
+  for (float v : oiio::plugin().decodeEncodedImage(*s.images[0].encoded, nullptr))
+    ASSERT_TRUE(v >= 0 && v <= 1);
   expectBounds(s, {-0.5f, -0.5f, -0.5f}, {0.5f, 0.5f, 0.5f});
   EXPECT_EQ(load(sample("BoxTextured", "glTF-Embedded")).images[0].name, "image 0");
 }
@@ -472,7 +473,8 @@ TEST(GltfLoader, ReadsMaterialsTexturesSamplersAndImages) {
   EXPECT_EQ(gray16.height, 1);
   EXPECT_EQ(gray16.channels, 1);
   EXPECT_EQ(gray16.bits, 16);
-  EXPECT_EQ(oiio::plugin().decodeEncodedImage(*gray16.encoded, nullptr), (std::vector<float>{0, 1}));
+  EXPECT_EQ(oiio::plugin().decodeEncodedImage(*gray16.encoded, nullptr),
+            (std::vector<float>{0, 1}));
 }
 
 TEST(GltfLoader, ReadsPbrExtensionsAlphaNormalMapsAndTangents) {
@@ -737,7 +739,8 @@ TEST(GltfLoader, TextureTransformsBecomeTextureMappings) {
   // Bad values name the pointer.
   j["materials"][0]["emissiveTexture"]["extensions"]["KHR_texture_transform"]["scale"] = {1};
   std::ofstream(dir + "/bad.gltf") << j.dump();
-  expectError(dir + "/bad.gltf", "/materials/0/emissiveTexture/extensions/KHR_texture_transform/scale",
+  expectError(dir + "/bad.gltf",
+              "/materials/0/emissiveTexture/extensions/KHR_texture_transform/scale",
               "expected an array of 2 numbers");
 }
 
@@ -749,8 +752,7 @@ TEST(GltfBadInput, TextureTransformWithANonNumberIsRejected) {
 }
 
 TEST(GltfBadInput, SkinsAndMorphTargetsThatDisagreeAreRejected) {
-  expectError(badFile("skin_joint_out_of_range.gltf"),
-              "/meshes/1/primitives/0/attributes/JOINTS_0",
+  expectError(badFile("skin_joint_out_of_range.gltf"), "/meshes/1/primitives/0/attributes/JOINTS_0",
               "vertex 1 names joint 1 but skin 0 (/nodes/3/skin) has 1 joints");
   expectError(badFile("skin_index_out_of_range.gltf"), "/nodes/3/skin",
               "skin 2 does not exist (1 skin in the file)");
@@ -779,7 +781,8 @@ TEST(GltfLoader, QuantizedAttributesAndGpuInstancesAreRead) {
   expectNear(s.instances[1].worldFromObject.point(m.positions[1]), {1, 0, -1}, 1e-5f);
   // 90 degrees about z (normalized SHORT): +x goes to +y.
   expectNear(s.instances[2].worldFromObject.point(m.positions[1]), {2 / 65535.0f, 1, -1}, 1e-4f);
-  expectNear(s.instances[3].worldFromObject.point(m.positions[1]), {4 / 65535.0f + 2, 0, -1}, 1e-4f);
+  expectNear(s.instances[3].worldFromObject.point(m.positions[1]), {4 / 65535.0f + 2, 0, -1},
+             1e-4f);
   // They share the mesh: built, it is stored once and instanced.
   RenderScene scene = buildRenderScene(s);
   EXPECT_EQ(scene.geometry.instances.size(), 4u);
@@ -887,8 +890,8 @@ TEST(GltfBadInput, NodeHierarchyDeeperThanTheLimitIsRejected) {
 
 TEST(GltfBadInput, LongNodeCycleIsRejected) {
   SceneDescription scene;
-  SceneError e = test::errorFrom(
-      [&] { loadGltfFromMemory(nodeChain(5000, true), "cycle.gltf", &scene); });
+  SceneError e =
+      test::errorFrom([&] { loadGltfFromMemory(nodeChain(5000, true), "cycle.gltf", &scene); });
   EXPECT_SCENE_ERROR(e, "cycle.gltf", "/nodes/4999/children/0",
                      "node 0 is an ancestor of node 4999 (cycle in the node graph)");
 }
@@ -971,8 +974,9 @@ std::string pngHeader(uint32_t width, uint32_t height, uint32_t nextChunkLength)
 // and a 2 x 2 image with a chunk claiming 512 MB.
 TEST(GltfLoader, RefusesImagesThatClaimMoreThanTheyHold) {
   SceneDescription scene;
-  SceneError huge = test::errorFrom(
-      [&] { loadGltfFromMemory(gltfWithEmbeddedPng(pngHeader(60000, 60000, 0)), "a.gltf", &scene); });
+  SceneError huge = test::errorFrom([&] {
+    loadGltfFromMemory(gltfWithEmbeddedPng(pngHeader(60000, 60000, 0)), "a.gltf", &scene);
+  });
   EXPECT_NE(huge.message().find("60000 x 60000"), std::string::npos) << huge.what();
   SceneError chunk = test::errorFrom([&] {
     loadGltfFromMemory(gltfWithEmbeddedPng(pngHeader(2, 2, 536870930)), "b.gltf", &scene);
@@ -989,18 +993,23 @@ std::string squareGltf(const std::string& materialJson, Vec3f scale) {
   bytes += std::string(reinterpret_cast<const char*>(indices), sizeof(indices));
   nlohmann::json j = {
       {"asset", {{"version", "2.0"}}},
-      {"buffers", {{{"byteLength", bytes.size()},
-                    {"uri", "data:application/octet-stream;base64," + base64(bytes)}}}},
+      {"buffers",
+       {{{"byteLength", bytes.size()},
+         {"uri", "data:application/octet-stream;base64," + base64(bytes)}}}},
       {"bufferViews",
        {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", sizeof(positions)}},
         {{"buffer", 0}, {"byteOffset", sizeof(positions)}, {"byteLength", sizeof(indices)}}}},
       {"accessors",
-       {{{"bufferView", 0}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"},
-         {"min", {-1, -1, 0}}, {"max", {1, 1, 0}}},
+       {{{"bufferView", 0},
+         {"componentType", 5126},
+         {"count", 4},
+         {"type", "VEC3"},
+         {"min", {-1, -1, 0}},
+         {"max", {1, 1, 0}}},
         {{"bufferView", 1}, {"componentType", 5123}, {"count", 6}, {"type", "SCALAR"}}}},
       {"materials", {nlohmann::json::parse(materialJson)}},
-      {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1},
-                                    {"material", 0}}}}}}},
+      {"meshes",
+       {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}, {"material", 0}}}}}}},
       {"nodes", {{{"mesh", 0}, {"scale", {scale.x, scale.y, scale.z}}}}},
       {"scenes", {{{"nodes", {0}}}}},
       {"scene", 0}};
@@ -1024,8 +1033,11 @@ TEST(GltfLoader, SingleSidedMaterialsHideBackFacesOnceBuilt) {
       {"mirrored across", R"({})", {1, 1, -1}, false, -1},
       {"mirrored within", R"({})", {-1, 1, 1}, false, 1},
       // Light must leave a transmissive surface through its back.
-      {"transmissive", R"({"extensions": {"KHR_materials_transmission": {"transmissionFactor": 1}}})",
-       {1, 1, 1}, true, 1},
+      {"transmissive",
+       R"({"extensions": {"KHR_materials_transmission": {"transmissionFactor": 1}}})",
+       {1, 1, 1},
+       true,
+       1},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.what);
@@ -1103,7 +1115,8 @@ TEST(GltfBadInput, ImageDataThatDoesNotDecodeIsASceneErrorAtTheImage) {
   // decodes, and names the image.
   const std::string dir = test::scratchDir("GltfBadInput.ImageData");
   const std::string png = imageFileBytes(dir + "/n.png", 16, 16, {}, true);
-  nlohmann::json j = nlohmann::json::parse(squareGltf(R"({"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}})", {1, 1, 1}));
+  nlohmann::json j = nlohmann::json::parse(
+      squareGltf(R"({"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}})", {1, 1, 1}));
   // Garbage inside the last IDAT chunk (lengths intact): the header reads, the pixels do not.
   std::string broken = png;
   for (size_t i = broken.size() - 32; i < broken.size() - 20; ++i) broken[i] = '\xff';
@@ -1163,17 +1176,22 @@ std::string dracoCubeGltf(int pointsDelta = 0, int indicesDelta = 0) {
   in.Init(bytes.data(), bytes.size());
   draco::Decoder decoder;
   const size_t points = std::move(decoder.DecodeMeshFromBuffer(&in)).value()->num_points();
-  const uint32_t posId = mesh->attribute(pos)->unique_id(), nrmId = mesh->attribute(nrm)->unique_id();
+  const uint32_t posId = mesh->attribute(pos)->unique_id(),
+                 nrmId = mesh->attribute(nrm)->unique_id();
   nlohmann::json j = {
       {"asset", {{"version", "2.0"}}},
       {"extensionsUsed", {"KHR_draco_mesh_compression"}},
       {"extensionsRequired", {"KHR_draco_mesh_compression"}},
-      {"buffers", {{{"byteLength", bytes.size()},
-                    {"uri", "data:application/octet-stream;base64," + base64(bytes)}}}},
+      {"buffers",
+       {{{"byteLength", bytes.size()},
+         {"uri", "data:application/octet-stream;base64," + base64(bytes)}}}},
       {"bufferViews", {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", bytes.size()}}}},
       {"accessors",
-       {{{"componentType", 5126}, {"count", int(points) + pointsDelta}, {"type", "VEC3"},
-         {"min", {-1, -1, -1}}, {"max", {1, 1, 1}}},
+       {{{"componentType", 5126},
+         {"count", int(points) + pointsDelta},
+         {"type", "VEC3"},
+         {"min", {-1, -1, -1}},
+         {"max", {1, 1, 1}}},
         {{"componentType", 5126}, {"count", int(points)}, {"type", "VEC3"}},
         {{"componentType", 5123}, {"count", 36 + indicesDelta}, {"type", "SCALAR"}}}},
       {"meshes",
@@ -1182,7 +1200,8 @@ std::string dracoCubeGltf(int pointsDelta = 0, int indicesDelta = 0) {
             {"indices", 2},
             {"extensions",
              {{"KHR_draco_mesh_compression",
-               {{"bufferView", 0}, {"attributes", {{"POSITION", posId}, {"NORMAL", nrmId}}}}}}}}}}}}},
+               {{"bufferView", 0},
+                {"attributes", {{"POSITION", posId}, {"NORMAL", nrmId}}}}}}}}}}}}},
       {"nodes", {{{"mesh", 0}}}},
       {"scenes", {{{"nodes", {0}}}}},
       {"scene", 0}};
@@ -1271,11 +1290,16 @@ std::string meshoptCubeGltf(size_t shortPositions = 0) {
   add(out, meshopt_encodeIndexBuffer(out.data(), out.size(), kCubeIndices, 36));
   auto view = [&](size_t i, size_t offset, size_t length, int stride, size_t count,
                   const char* mode, const char* filter, size_t cut) {
-    nlohmann::json ext = {{"buffer", 0},           {"byteOffset", ranges[i][0]},
-                          {"byteLength", ranges[i][1] - cut}, {"byteStride", stride},
-                          {"count", count},        {"mode", mode}};
+    nlohmann::json ext = {{"buffer", 0},
+                          {"byteOffset", ranges[i][0]},
+                          {"byteLength", ranges[i][1] - cut},
+                          {"byteStride", stride},
+                          {"count", count},
+                          {"mode", mode}};
     if (filter) ext["filter"] = filter;
-    nlohmann::json v = {{"buffer", 1}, {"byteOffset", offset}, {"byteLength", length},
+    nlohmann::json v = {{"buffer", 1},
+                        {"byteOffset", offset},
+                        {"byteLength", length},
                         {"extensions", {{"EXT_meshopt_compression", ext}}}};
     if (std::string(mode) == "ATTRIBUTES") v["byteStride"] = stride;
     return v;
@@ -1294,9 +1318,16 @@ std::string meshoptCubeGltf(size_t shortPositions = 0) {
         view(1, 96, 32, 4, 8, "ATTRIBUTES", "OCTAHEDRAL", 0),
         view(2, 128, 72, 2, 36, "TRIANGLES", nullptr, 0)}},
       {"accessors",
-       {{{"bufferView", 0}, {"componentType", 5126}, {"count", 8}, {"type", "VEC3"},
-         {"min", {-1, -1, -1}}, {"max", {1, 1, 1}}},
-        {{"bufferView", 1}, {"componentType", 5120}, {"normalized", true}, {"count", 8},
+       {{{"bufferView", 0},
+         {"componentType", 5126},
+         {"count", 8},
+         {"type", "VEC3"},
+         {"min", {-1, -1, -1}},
+         {"max", {1, 1, 1}}},
+        {{"bufferView", 1},
+         {"componentType", 5120},
+         {"normalized", true},
+         {"count", 8},
          {"type", "VEC3"}},
         {{"bufferView", 2}, {"componentType", 5123}, {"count", 36}, {"type", "SCALAR"}}}},
       {"meshes",

@@ -194,8 +194,8 @@ TEST(SidecarRender, ShutterIsReadAndChecked) {
   EXPECT_NEAR((*s.render.shutter)[0], -0.01, 1e-7);
   EXPECT_NEAR((*s.render.shutter)[1], 0.02, 1e-7);
   EXPECT_FALSE(applyAt("{}", 0.0).render.shutter.has_value());
-  EXPECT_SCENE_ERROR(errorAt(R"({"render": {"shutter": [0.5, 0.1]}})"), kFile,
-                     "/render/shutter", "open <= close");
+  EXPECT_SCENE_ERROR(errorAt(R"({"render": {"shutter": [0.5, 0.1]}})"), kFile, "/render/shutter",
+                     "open <= close");
 }
 
 // ---------------------------------------------------------------------------------------------

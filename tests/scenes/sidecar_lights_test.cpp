@@ -1,8 +1,7 @@
 // The sidecar's area, projective and environment lights: reading, bad input, and the render
 // scene built from them (emitting surfaces included).
-#include <gtest/gtest.h>
-
 #include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
@@ -239,10 +238,11 @@ TEST(SidecarLights, EnvironmentPresetsAndFormats) {
                      dir + "/scene.json", SceneJsonKind::Scene, &h);
   EXPECT_NEAR(buildRenderScene(h).escaped({0, 1, 0}).y, 0.5f, 1e-2f);
   // Errors name the key.
-  for (const auto& [json, pointer, message] : std::vector<std::tuple<std::string, std::string, std::string>>{
+  for (const auto& [json, pointer, message] :
+       std::vector<std::tuple<std::string, std::string, std::string>>{
            {R"({"environment": {"preset": "sunset"}})", "/environment/preset", "unknown preset"},
-           {R"({"environment": {"preset": "studio", "color": [1, 1, 1]}})",
-            "/environment/preset", "not both"},
+           {R"({"environment": {"preset": "studio", "color": [1, 1, 1]}})", "/environment/preset",
+            "not both"},
            {R"({"environment": {"image": "scene.json"}})", "/environment/image", "scene-linear"}}) {
     SceneDescription bad;
     std::ofstream(dir + "/scene.json") << "{}";

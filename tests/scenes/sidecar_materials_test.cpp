@@ -129,9 +129,9 @@ TEST(SidecarMaterials, ErrorsInAnOverrideNameTheOverride) {
   SceneDescription gltf = gltfLike();
   gltf.materials[0].where = {"statue.glb", "/materials/0"};
   const SceneDescription d = apply(R"({"materials": [{"name": "Paint", "type": "phong",
-    "diffuse": [0.9, 0.9, 0.9], "specular": [0.3, 0.3, 0.3]}]})", gltf);
-  EXPECT_SCENE_ERROR(errorFrom([&] { buildRenderScene(d); }), kFile, "/materials/0",
-                     "exceeds 1");
+    "diffuse": [0.9, 0.9, 0.9], "specular": [0.3, 0.3, 0.3]}]})",
+                                   gltf);
+  EXPECT_SCENE_ERROR(errorFrom([&] { buildRenderScene(d); }), kFile, "/materials/0", "exceeds 1");
 }
 
 TEST(SidecarMaterials, FeaturesFollowTheMaterials) {
@@ -229,7 +229,8 @@ TEST(SidecarMaterials, PbrTakesTheExtensionLayers) {
           R"({"materials": [{"name": "x", "type": "pbr", "volume": {"attenuation_distance": 0}}]})"),
       kFile, "/materials/0/volume/attenuation_distance", "must be > 0");
   EXPECT_SCENE_ERROR(
-      applyError(R"({"materials": [{"name": "x", "type": "pbr", "sheen": {"colour": [1, 1, 1]}}]})"),
+      applyError(
+          R"({"materials": [{"name": "x", "type": "pbr", "sheen": {"colour": [1, 1, 1]}}]})"),
       kFile, "/materials/0/sheen/colour", "color");
   EXPECT_SCENE_ERROR(
       applyError(R"({"materials": [{"name": "x", "type": "pbr", "dispersion": -1}]})"), kFile,

@@ -278,8 +278,9 @@ TEST(Sidecar, AKeyGivenTwiceIsAnErrorAtItsObject) {
        "material": "grey", "transform": [{"rotate": {"axis": [1, 0, 0], "degrees": 30}}]}]})"),
                      kFile, "/objects/1", "key 'transform' given twice");
   // Inside nested arrays and objects, and at the root.
-  EXPECT_SCENE_ERROR(applyError(R"({"render": {"spp": 4}, "lights": [[], {"a": {"b": 1, "b": 2}}]})"),
-                     kFile, "/lights/1/a", "key 'b' given twice");
+  EXPECT_SCENE_ERROR(
+      applyError(R"({"render": {"spp": 4}, "lights": [[], {"a": {"b": 1, "b": 2}}]})"), kFile,
+      "/lights/1/a", "key 'b' given twice");
   EXPECT_SCENE_ERROR(applyError(R"({"render": {"spp": 4}, "render": {}})"), kFile, "",
                      "key 'render' given twice");
   // The same key in two objects is fine (this one then fails on what it says, not twice).
