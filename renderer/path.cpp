@@ -67,7 +67,6 @@ PathIntegrator::PathIntegrator(const RenderScene& scene, const IntegratorSetting
     : Integrator(scene), maxDepth_(settings.maxDepth), rrDepth_(settings.rrDepth) {
   shadows_ = scene.features.has(Feature::Shadows);
   lights_ = !scene.lights.empty() && scene.lightSampler;
-  cameraCone_ = scene.camera.pixelCone();
   for (const Light* l : scene.infiniteLights)
     for (size_t i = 0; i < scene.lights.size(); ++i)
       if (scene.lights[i].get() == l) infinite_.push_back({l, uint32_t(i)});
@@ -116,7 +115,9 @@ Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sample
   Ray ray = cameraRay;
   Hit hitStorage;
   const Hit* hit = cameraHit;
-  RayCone cone = cameraCone_;
+  // Read at every path, not kept from construction: the preview changes the scene's camera
+  // under a built integrator.
+  RayCone cone = scene_.camera.pixelCone();
   for (int depth = 0;; ++depth) {
     if constexpr (kMedia) {
       // AOVs are the camera ray's first surface, seen through the media or not.

@@ -110,7 +110,6 @@ class PathIntegrator final : public Integrator {
   // Can a BSDF-sampled ray find light at all (an emitting surface, an environment, a
   // non-black background, media)? If not, the last bounce is not traced.
   bool emissionFindable_ = true;
-  RayCone cameraCone_;
   // The environment lights with their indices in scene.lights (the light sampler's pmf
   // needs the index).
   std::vector<std::pair<const Light*, uint32_t>> infinite_;

@@ -13,7 +13,6 @@ WhittedIntegrator::WhittedIntegrator(const RenderScene& scene, int maxDepth, boo
   shadows_ = scene.features.has(Feature::Shadows);
   glassShadows_ = glassShadows && shadows_ && scene.features.has(Feature::Refraction);
   media_ = scene.features.has(Feature::Volumes) ? scene.media.get() : nullptr;
-  cameraCone_ = scene.camera.pixelCone();
   plainShadows_ = !media_ && !glassShadows_;
   plain_.resize(shading_.size());
   for (size_t m = 0; m < shading_.size(); ++m) {
@@ -25,20 +24,23 @@ WhittedIntegrator::WhittedIntegrator(const RenderScene& scene, int maxDepth, boo
 
 Rgb WhittedIntegrator::LiFromHit(const Ray& ray, const Hit* hit, Sampler& sampler,
                                  RayCounters& counters, PathAovs& aovs) const {
-  if (media_) return throughMedia(ray, hit, cameraCone_, 0, 1, sampler, counters, &aovs);
+  // The camera's cone, read at every ray, not kept from construction: the preview changes the
+  // scene's camera under a built integrator.
+  const RayCone cameraCone = scene_.camera.pixelCone();
+  if (media_) return throughMedia(ray, hit, cameraCone, 0, 1, sampler, counters, &aovs);
   if (!hit) return scene_.escapedAlong(ray.d);
   const uint32_t materialIndex = scene_.materialIndex(*hit);
   const MaterialShading& shading = shading_[materialIndex];
   if (plain_[materialIndex])
-    return shadeAt<true>(ray, *hit, materialIndex, cameraCone_, 0, 1, sampler, counters, &aovs);
+    return shadeAt<true>(ray, *hit, materialIndex, cameraCone, 0, 1, sampler, counters, &aovs);
   if (shading.unlit && !shading.transparent && !shading.absorbs)
-    return shadeUnlit(ray, *hit, materialIndex, aovs);
-  return shadeAt<false>(ray, *hit, materialIndex, cameraCone_, 0, 1, sampler, counters, &aovs);
+    return shadeUnlit(ray, *hit, materialIndex, cameraCone, aovs);
+  return shadeAt<false>(ray, *hit, materialIndex, cameraCone, 0, 1, sampler, counters, &aovs);
 }
 
 Rgb WhittedIntegrator::shadeUnlit(const Ray& ray, const Hit& hit, uint32_t materialIndex,
-                                  PathAovs& aovs) const {
-  ShadedHit h(scene_, shading_, materialIndex, ray, hit, cameraCone_);
+                                  const RayCone& cone, PathAovs& aovs) const {
+  ShadedHit h(scene_, shading_, materialIndex, ray, hit, cone);
   aovs.record(h);
   return h.unlitRadiance();
 }

@@ -66,7 +66,8 @@ class WhittedIntegrator : public Integrator {
   // What shade() returns for a camera ray's hit on an opaque unlit (eyelight) surface that
   // absorbs nothing: its colour, and the AOVs. Kept apart so that the cheapest scene there is
   // (pipeline_bench) pays none of shade()'s set-up for the other cases.
-  Rgb shadeUnlit(const Ray& ray, const Hit& hit, uint32_t materialIndex, PathAovs& aovs) const;
+  Rgb shadeUnlit(const Ray& ray, const Hit& hit, uint32_t materialIndex, const RayCone& cone,
+                 PathAovs& aovs) const;
   // Traces a secondary ray and shades what it finds.
   Rgb trace(const Ray& ray, const RayCone& cone, int depth, float weight, Sampler& sampler,
             RayCounters& counters) const;
@@ -93,7 +94,6 @@ class WhittedIntegrator : public Integrator {
   // pay for, not even a test (benchmarks/features_bench).
   std::vector<uint8_t> plain_;
   bool plainShadows_;  // shadow rays cross no glass (glassShadows_) and no media
-  RayCone cameraCone_;
 };
 
 }  // namespace glint

@@ -102,6 +102,9 @@ ScopedEnv::~ScopedEnv() {
 void useUniformEnvironment(RenderScene* scene, Rgb L) {
   scene->lights.clear();
   scene->infiniteLights.clear();
+  // Emitting surfaces were lights at indices that no longer exist: none is a light now, and
+  // rays that hit one still find its emission.
+  scene->instanceLight.clear();
   scene->lights.push_back(std::make_unique<UniformEnvironmentLight>(L));
   scene->lights.back()->preprocess(scene->geometry.bounds());
   scene->infiniteLights.push_back(scene->lights.back().get());

@@ -83,6 +83,7 @@ LightDesc pointLight(Vec3f p, float intensity) {
 void dropLights(RenderScene* scene) {
   scene->lights.clear();
   scene->infiniteLights.clear();
+  scene->instanceLight.clear();  // its indices named the lights dropped
   scene->lightSampler = makeLightSampler("power", scene->lights);
   scene->features.set(Feature::DefaultLight, false);
   scene->features.set(Feature::Environment, false);

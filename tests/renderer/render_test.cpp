@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include "scenes/build.h"
+#include "scenes/load.h"
+#include "test_support.h"
 
 namespace glint {
 namespace {
@@ -191,6 +193,37 @@ TEST(Render, NanSamplesAreCountedAndNeverReachTheFilm) {
     ASSERT_TRUE(isFinite(film.variance[i])) << "pixel " << i;
   }
   EXPECT_EQ(stats.rays.camera, uint64_t(16 * 16 * 16));
+}
+
+// The preview changes a built scene's camera and keeps its integrator (apps/preview_session):
+// an integrator must follow the camera it renders through, not the one it was built with.
+// Bump steps follow the pixel footprint, so a wider field of view shades the bumped wall
+// differently; the kept integrator must render exactly what a fresh one does.
+TEST(Render, AnIntegratorFollowsTheCameraChangedAfterItWasBuilt) {
+  for (const char* type : {"path", "whitted"}) {
+    SCOPED_TRACE(type);
+    SceneDescription d =
+        loadScene(test::sourceDir() + "/tests/reference_images/scenes/bump_wall.json");
+    d.render.integrator.type = type;
+    d.render.width = 48, d.render.height = 36, d.render.spp = 2;
+    RenderScene scene = buildRenderScene(d);
+    const std::unique_ptr<Integrator> kept = makeIntegrator(scene, d.render);
+    RenderStats stats;
+    const Film before = render(scene, *kept, d.render, {.threads = 2}, &stats);
+    scene.camera = Camera::perspective(scene.camera.worldFromCamera(), 1.4f, scene.camera.width(),
+                                       scene.camera.height(), 0.0f, kInfinity);
+    const std::unique_ptr<Integrator> fresh = makeIntegrator(scene, d.render);
+    const Film a = render(scene, *kept, d.render, {.threads = 2}, &stats);
+    const Film b = render(scene, *fresh, d.render, {.threads = 2}, &stats);
+    ASSERT_EQ(a.color.size(), b.color.size());
+    size_t differ = 0;
+    for (size_t i = 0; i < a.color.size(); ++i) differ += !(a.color[i] == b.color[i]);
+    EXPECT_EQ(differ, 0u) << "of " << a.color.size() << " pixels";
+    // The new camera does change the picture (the comparison above is not vacuous).
+    size_t changed = 0;
+    for (size_t i = 0; i < a.color.size(); ++i) changed += !(a.color[i] == before.color[i]);
+    EXPECT_GT(changed, a.color.size() / 4);
+  }
 }
 
 }  // namespace
