@@ -4,7 +4,6 @@ find_package(embree 3 REQUIRED)
 find_package(TBB REQUIRED)
 find_package(OpenEXR REQUIRED)
 find_package(OpenImageIO REQUIRED)
-find_package(TinyGLTF REQUIRED)
 # PLY and OBJ import (scenes/mesh_import.cpp); Debian ships assimpConfig.cmake.
 find_package(assimp REQUIRED)
 find_package(draco REQUIRED)  # KHR_draco_mesh_compression (libdraco-dev)

@@ -12,7 +12,7 @@ PACKAGES=(
   libembree-dev libtbb-dev
   libopenimageio-dev openimageio-tools libopenexr-dev python3-imath
   libopencolorio-dev opencolorio-tools
-  libtinygltf-dev nlohmann-json3-dev libassimp-dev libdraco-dev libmeshoptimizer-dev
+  nlohmann-json3-dev libassimp-dev libdraco-dev libmeshoptimizer-dev
   libcli11-dev libfmt-dev
   # glint preview: the HTTP server (header-only); its browser test drives Debian's Chromium
   # from Node.js (installed below when the machine has no node)

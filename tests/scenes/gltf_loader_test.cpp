@@ -21,6 +21,7 @@
 #include "renderer/integrator.h"
 #include "scene_error_support.h"
 #include "scenes/build.h"
+#include "scenes/gltf_container.h"
 #include "scenes/load.h"
 #include "test_support.h"
 
@@ -1092,7 +1093,6 @@ TEST(GltfLoader, WebpTexturesAreDecodedAndWinOverTheFallback) {
   imageFileBytes(dir + "/c.webp", 4, 4, {200, 100, 50});
   const std::string png = imageFileBytes(dir + "/c.png", 4, 4, {0, 255, 0});
   nlohmann::json j = nlohmann::json::parse(gltfWithEmbeddedPng(png));
-  // tinygltf 2.7 decodes data URIs of PNG and JPEG only: the WebP is a file beside the glTF.
   j["images"].push_back({{"uri", "c.webp"}});
   j["textures"] = {{{"source", 0}, {"extensions", {{"EXT_texture_webp", {{"source", 1}}}}}}};
   j["extensionsUsed"] = {"EXT_texture_webp"};
@@ -1108,6 +1108,71 @@ TEST(GltfLoader, WebpTexturesAreDecodedAndWinOverTheFallback) {
   EXPECT_NEAR(px[0], 200 / 255.0f, 3 / 255.0f);
   EXPECT_NEAR(px[1], 100 / 255.0f, 3 / 255.0f);
   EXPECT_NEAR(px[2], 50 / 255.0f, 3 / 255.0f);
+}
+
+TEST(GltfLoader, ImagesInDataUrisOfAnyFormatOpenImageIOReads) {
+  // A WebP as a data URI: glint reads data URIs itself and OpenImageIO decodes whatever they
+  // hold (tinygltf 2.7, which glint used before, took PNG and JPEG only).
+  const std::string dir = test::scratchDir("GltfLoader.WebpDataUri");
+  const std::string webp = imageFileBytes(dir + "/c.webp", 4, 4, {200, 100, 50});
+  nlohmann::json j = nlohmann::json::parse(gltfWithEmbeddedPng(webp));
+  j["images"][0]["uri"] = "data:image/webp;base64," + base64(webp);
+  SceneDescription s;
+  loadGltfFromMemory(j.dump(), dir + "/webp.gltf", &s);
+  ASSERT_EQ(s.images.size(), 1u);
+  EXPECT_EQ(s.images[0].width, 4);
+  EXPECT_EQ(*s.images[0].encoded, webp);
+}
+
+TEST(GltfContainer, DecodesBase64DataUris) {
+  std::string bytes;
+  ASSERT_TRUE(gltf::decodeDataUri("data:application/octet-stream;base64,AAEC/w==", &bytes));
+  EXPECT_EQ(bytes, std::string("\x00\x01\x02\xff", 4));
+  // Padding may be left out; any media type is read (the bytes say what they are).
+  ASSERT_TRUE(gltf::decodeDataUri("data:application/gltf-buffer;base64,AAEC/w", &bytes));
+  EXPECT_EQ(bytes, std::string("\x00\x01\x02\xff", 4));
+  ASSERT_TRUE(gltf::decodeDataUri("data:;base64,TWFu", &bytes));
+  EXPECT_EQ(bytes, "Man");
+  ASSERT_TRUE(gltf::decodeDataUri("data:image/png;base64,", &bytes));
+  EXPECT_EQ(bytes, "");
+  // Every base64 digit, in order: 48 bytes that encode 0..63 as 6-bit groups.
+  std::string digits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  ASSERT_TRUE(gltf::decodeDataUri("data:;base64," + digits, &bytes));
+  ASSERT_EQ(bytes.size(), 48u);
+  EXPECT_EQ(base64(bytes), digits);
+  // Not base64, or not base64 glint reads: refused, never read as something else.
+  for (const char* bad :
+       {"data:text/plain,hello", "data:;base64,TW=u", "data:;base64,TW-u",
+        "data:;base64,TQ===", "data:;base64,TWF u", "data:;base64", "file:x.bin", "data:;base64,T"})
+    EXPECT_FALSE(gltf::decodeDataUri(bad, &bytes)) << bad;
+}
+
+TEST(GltfBadInput, BufferDataUriThatIsNotBase64IsRejectedAtItsUri) {
+  nlohmann::json j = nlohmann::json::parse(squareGltf("{}", {1, 1, 1}));
+  j["buffers"][0]["uri"] = "data:application/octet-stream;base64,AA!A";
+  SceneDescription scene;
+  SceneError e = test::errorFrom([&] { loadGltfFromMemory(j.dump(), "uri.gltf", &scene); });
+  EXPECT_EQ(e.where().pointer, "/buffers/0/uri");
+  EXPECT_NE(e.message().find("cannot decode the data URI"), std::string::npos) << e.what();
+  j["buffers"][0]["uri"] = "data:application/octet-stream;base64,AAAA";
+  e = test::errorFrom([&] { loadGltfFromMemory(j.dump(), "uri.gltf", &scene); });
+  EXPECT_EQ(e.where().pointer, "/buffers/0/byteLength");
+  EXPECT_NE(e.message().find("the data URI holds 3 bytes"), std::string::npos) << e.what();
+}
+
+TEST(GltfBadInput, AFailedLoadTakesBackItsVariantsToo) {
+  // The variant names are added before the images are read; an image that OpenImageIO cannot
+  // read then fails the load, which must leave nothing of the file behind.
+  nlohmann::json j = nlohmann::json::parse(squareGltf("{}", {1, 1, 1}));
+  j["extensions"]["KHR_materials_variants"]["variants"] = {{{"name", "red"}}};
+  j["images"] = {{{"uri", "data:image/png;base64," + base64("not an image")}}};
+  SceneDescription scene;
+  EXPECT_THROW(loadGltfFromMemory(j.dump(), "variants.gltf", &scene), SceneError);
+  EXPECT_TRUE(scene.variants.empty());
+  EXPECT_TRUE(scene.images.empty());
+  j.erase("images");
+  loadGltfFromMemory(j.dump(), "variants.gltf", &scene);
+  EXPECT_EQ(scene.variants, std::vector<std::string>{"red"});
 }
 
 TEST(GltfBadInput, ImageDataThatDoesNotDecodeIsASceneErrorAtTheImage) {
