@@ -173,9 +173,9 @@ Rgb PathIntegrator::volumetricPath(const Ray& cameraRay, const Hit* cameraHit, S
 // ---------------------------------------------------------------------------------------------
 
 template <class ShadowMedia>
-[[gnu::always_inline]] inline bool PathIntegrator::surfaceVertex(
-    Path& path, ShadedHit& h, const Hit& hit, int depth, Sampler& sampler,
-    ShadowMedia&& shadowMedia, RayCounters& counters, Ray* ray) const {
+bool PathIntegrator::surfaceVertex(Path& path, ShadedHit& h, const Hit& hit, int depth,
+                                   Sampler& sampler, ShadowMedia&& shadowMedia,
+                                   RayCounters& counters, Ray* ray) const {
   const SurfaceInteraction& si = h.si;
   const MaterialShading& shading = h.shading;
   path.beta *= h.inside();  // KHR_materials_volume

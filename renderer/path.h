@@ -100,9 +100,12 @@ class PathIntegrator final : public Integrator {
   // direction. Draws the vertex's kVertexDimensions from `sampler`. Returns false where the
   // path ends; else `*ray` is the next segment's ray, not yet traced. `shadowMedia(shadowRay)`
   // is the transmittance of the media along a shadow ray (noMedia without media).
+  // Inlined into both paths, as the one loop it was part of.
   template <class ShadowMedia>
-  bool surfaceVertex(Path& path, ShadedHit& h, const Hit& hit, int depth, Sampler& sampler,
-                     ShadowMedia&& shadowMedia, RayCounters& counters, Ray* ray) const;
+  [[gnu::always_inline]] inline bool surfaceVertex(Path& path, ShadedHit& h, const Hit& hit,
+                                                   int depth, Sampler& sampler,
+                                                   ShadowMedia&& shadowMedia, RayCounters& counters,
+                                                   Ray* ray) const;
   // One medium vertex: `event` scattered `*ray` in a medium. Light sampled there, then a
   // phase-sampled direction; as surfaceVertex otherwise. `tracker`: the media's own numbers.
   bool mediumVertex(Path& path, const MediumEvent& event, int depth, Sampler& sampler,

@@ -45,24 +45,28 @@ Rgb WhittedIntegrator::trace(const Ray& ray, const RayCone& cone, int depth, flo
 Rgb WhittedIntegrator::radiance(const Ray& ray, const Hit* hit, const RayCone& cone, int depth,
                                 float weight, Sampler& sampler, RayCounters& counters,
                                 PathAovs* aovs) const {
-  // The surface, or the background, as seen with weight `w`.
-  auto surface = [&](float w) -> Rgb {
-    if (!hit) return scene_.escapedAlong(ray.d);
-    const uint32_t m = scene_.materialIndex(*hit);
-    const HitKind kind = kinds_[m];
-    if (kind == HitKind::Plain)
-      return shade<HitKind::Plain>(ray, *hit, m, cone, depth, w, sampler, counters, aovs);
-    if (kind == HitKind::Unlit)
-      return shade<HitKind::Unlit>(ray, *hit, m, cone, depth, w, sampler, counters, aovs);
-    return shade<HitKind::General>(ray, *hit, m, cone, depth, w, sampler, counters, aovs);
-  };
-  if (!media_) return surface(weight);
+  if (!media_) return surface(ray, hit, cone, depth, weight, sampler, counters, aovs);
   // The media in front: what they add (seg.L) and let through (seg.T).
   const VolumeSegment seg =
       media_->integrate(scene_, ray, hit ? hit->t : kInfinity, sampler, counters);
   // Behind an opaque medium the surface cannot be seen: no need to shade it (AOVs aside).
   if (maxComponent(seg.T) <= 0 && !aovs) return seg.L;
-  return seg.T * surface(weight * maxComponent(seg.T)) + seg.L;
+  return seg.T *
+             surface(ray, hit, cone, depth, weight * maxComponent(seg.T), sampler, counters, aovs) +
+         seg.L;
+}
+
+Rgb WhittedIntegrator::surface(const Ray& ray, const Hit* hit, const RayCone& cone, int depth,
+                               float weight, Sampler& sampler, RayCounters& counters,
+                               PathAovs* aovs) const {
+  if (!hit) return scene_.escapedAlong(ray.d);
+  const uint32_t m = scene_.materialIndex(*hit);
+  const HitKind kind = kinds_[m];
+  if (kind == HitKind::Plain)
+    return shade<HitKind::Plain>(ray, *hit, m, cone, depth, weight, sampler, counters, aovs);
+  if (kind == HitKind::Unlit)
+    return shade<HitKind::Unlit>(ray, *hit, m, cone, depth, weight, sampler, counters, aovs);
+  return shade<HitKind::General>(ray, *hit, m, cone, depth, weight, sampler, counters, aovs);
 }
 
 template <WhittedIntegrator::HitKind kKind>

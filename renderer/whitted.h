@@ -78,6 +78,11 @@ class WhittedIntegrator final : public Integrator {
   [[gnu::always_inline]] inline Rgb radiance(const Ray& ray, const Hit* hit, const RayCone& cone,
                                              int depth, float weight, Sampler& sampler,
                                              RayCounters& counters, PathAovs* aovs) const;
+  // radiance() behind the media: the background, or the surface shaded as its material's
+  // kind of hit asks (kinds_).
+  [[gnu::always_inline]] inline Rgb surface(const Ray& ray, const Hit* hit, const RayCone& cone,
+                                            int depth, float weight, Sampler& sampler,
+                                            RayCounters& counters, PathAovs* aovs) const;
   // Traces a secondary ray and returns its radiance().
   Rgb trace(const Ray& ray, const RayCone& cone, int depth, float weight, Sampler& sampler,
             RayCounters& counters) const;
