@@ -45,8 +45,14 @@ Rgb WhittedIntegrator::trace(const Ray& ray, const RayCone& cone, int depth, flo
 Rgb WhittedIntegrator::radiance(const Ray& ray, const Hit* hit, const RayCone& cone, int depth,
                                 float weight, Sampler& sampler, RayCounters& counters,
                                 PathAovs* aovs) const {
-  if (!media_) return surface(ray, hit, cone, depth, weight, sampler, counters, aovs);
-  // The media in front: what they add (seg.L) and let through (seg.T).
+  if (media_) return throughMedia(ray, hit, cone, depth, weight, sampler, counters, aovs);
+  return surface(ray, hit, cone, depth, weight, sampler, counters, aovs);
+}
+
+Rgb WhittedIntegrator::throughMedia(const Ray& ray, const Hit* hit, const RayCone& cone, int depth,
+                                    float weight, Sampler& sampler, RayCounters& counters,
+                                    PathAovs* aovs) const {
+  // What the media add (seg.L) and let through (seg.T).
   const VolumeSegment seg =
       media_->integrate(scene_, ray, hit ? hit->t : kInfinity, sampler, counters);
   // Behind an opaque medium the surface cannot be seen: no need to shade it (AOVs aside).

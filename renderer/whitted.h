@@ -78,6 +78,10 @@ class WhittedIntegrator final : public Integrator {
   [[gnu::always_inline]] inline Rgb radiance(const Ray& ray, const Hit* hit, const RayCone& cone,
                                              int depth, float weight, Sampler& sampler,
                                              RayCounters& counters, PathAovs* aovs) const;
+  // radiance() in a scene with media: the media in front, then surface(). Out of line, so that
+  // a scene without media pays for them no more than a test.
+  Rgb throughMedia(const Ray& ray, const Hit* hit, const RayCone& cone, int depth, float weight,
+                   Sampler& sampler, RayCounters& counters, PathAovs* aovs) const;
   // radiance() behind the media: the background, or the surface shaded as its material's
   // kind of hit asks (kinds_).
   [[gnu::always_inline]] inline Rgb surface(const Ray& ray, const Hit* hit, const RayCone& cone,
