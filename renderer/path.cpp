@@ -209,9 +209,8 @@ bool PathIntegrator::surfaceVertex(Path& path, ShadedHit& h, const Hit& hit, int
       if (path.specularBounce || !area) {
         path.L += path.beta * Le;
       } else {
-        const float lightPdf = scene_.lightSampler->pmf(path.prev, index) *
-                               area->pdfLi(path.prev, -si.wo, LightHit{si.p, si.ng, si.prim});
-        path.L += path.beta * Le * powerHeuristic(path.bsdfPdf, lightPdf);
+        const float pdf = lightPdf(path.prev, index, *area, -si.wo, {si.p, si.ng, si.prim});
+        path.L += path.beta * Le * powerHeuristic(path.bsdfPdf, pdf);
       }
     }
   }
@@ -284,11 +283,10 @@ void PathIntegrator::addEscaped(Path& path, Vec3f direction) const {
     const Rgb Le = light->Le(d);
     if (maxComponent(Le) <= 0) continue;
     // Found by a BSDF sample where it is left to them: weight 1.
-    const float lightPdf =
-        path.prevLeftLights && bsdfOnlyAtSurfaces_[index]
-            ? 0.0f
-            : scene_.lightSampler->pmf(path.prev, index) * light->pdfLi(path.prev, d, LightHit{});
-    path.L += path.beta * Le * powerHeuristic(path.bsdfPdf, lightPdf);
+    const float pdf = path.prevLeftLights && bsdfOnlyAtSurfaces_[index]
+                          ? 0.0f
+                          : lightPdf(path.prev, index, *light, d, LightHit{});
+    path.L += path.beta * Le * powerHeuristic(path.bsdfPdf, pdf);
   }
 }
 
