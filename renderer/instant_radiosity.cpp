@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "geometry/error.h"
+#include "renderer/roulette.h"
 
 namespace glint {
 
@@ -78,12 +79,15 @@ float scrambledRadicalInverse(uint32_t base, uint64_t index, uint64_t scramble) 
 InstantRadiosityIntegrator::InstantRadiosityIntegrator(const RenderScene& scene,
                                                        const IntegratorSettings& settings,
                                                        uint64_t seed)
-    : WhittedIntegrator(scene, settings.maxDepth, settings.glassShadows, settings.minWeight,
-                        /*indirect=*/true),
+    : Integrator(scene),
+      maxDepth_(settings.maxDepth),
       rrDepth_(settings.rrDepth),
       paths_(settings.vplPaths),
       clamp_(settings.vplClamp),
-      shadowShare_(settings.vplShadowShare) {
+      shadowShare_(settings.vplShadowShare),
+      shadows_(scene.features.has(Feature::Shadows)),
+      media_(scene.features.has(Feature::Volumes) ? scene.media.get() : nullptr),
+      whitted_(scene, settings.maxDepth, settings.glassShadows, settings.minWeight, this) {
   if (settings.vplPaths <= 0) throw InputError("instant radiosity: vpl_paths must be > 0");
   traceLightPaths(settings.vplPaths, seed);
   allLambert_ = true;
@@ -143,10 +147,10 @@ void InstantRadiosityIntegrator::traceLightPaths(int paths, uint64_t seed) {
 
       ++lightPathRays_;
       if (!scene_.accel->closestHit(ray, &hit)) break;
-      if (media()) {
+      if (media_) {
         // The flux that arrives: the segment's transmittance (estimated, unbiased for
         // tracking) weights the rest of the path.
-        throughput *= media()->transmittance(ray, hit.t, mediaSampler);
+        throughput *= media_->transmittance(ray, hit.t, mediaSampler);
         if (!(maxComponent(throughput) > 0)) break;
       }
       ShadedHit h(scene_, shading_, ray, hit, RayCone{});
@@ -186,14 +190,8 @@ void InstantRadiosityIntegrator::traceLightPaths(int paths, uint64_t seed) {
       if (!(maxComponent(weight) > 0) || !isFinite(weight)) break;
       throughput *= weight;
 
-      // Russian roulette on the throughput, as the path tracer does.
-      if (vertex >= rrDepth_) {
-        const float survive = std::clamp(maxComponent(throughput), 0.05f, 1.0f);
-        if (survive < 1) {
-          if (uRoulette >= survive) break;
-          throughput *= 1 / survive;
-        }
-      }
+      // Russian roulette on the throughput, as the path tracer's (flux: no 1/eta^2 to undo).
+      if (!survivesRoulette(vertex, rrDepth_, 1, uRoulette, &throughput)) break;
       ray = si.spawnRay(s.wi, ray.time);
     }
   }
@@ -243,7 +241,7 @@ inline float terminatorSmooth(float cosNs, float cosNg, float cosNsNg) {
 }
 
 // Every VPL's unshadowed contribution to a Lambert gather point when every VPL is Lambert too:
-// the scalar loop of indirectLight with Bsdf::lambertF written out, the same operations in the
+// the scalar loop of gather with Bsdf::lambertF written out, the same operations in the
 // same order (so the same values), a VPL that contributes nothing given 0. Branch-free, one
 // array per quantity, so that it runs 4 or 8 VPLs per instruction (the gather point's own
 // choices are template arguments: the vectoriser takes no scalar condition in the loop).
@@ -328,12 +326,11 @@ __attribute__((target_clones("avx2", "default"))) void lambertVplContributions(
 }
 
 // ---------------------------------------------------------------------------------------------
-// Gather: Whitted's recursion, lit by the lights and the VPLs
+// Gather: the VPLs' light at a point of Whitted's recursion
 // ---------------------------------------------------------------------------------------------
 
-Rgb InstantRadiosityIntegrator::indirectLight(const SurfaceInteraction& si, const Bsdf& bsdf,
-                                              float time, Sampler& sampler,
-                                              RayCounters& counters) const {
+Rgb InstantRadiosityIntegrator::gather(const SurfaceInteraction& si, const Bsdf& bsdf, float time,
+                                       Sampler& sampler, RayCounters& counters) const {
   // Every VPL's unshadowed contribution first (see "Shadow rays by importance" in the header).
   struct Candidate {
     Rgb c;
@@ -392,8 +389,8 @@ Rgb InstantRadiosityIntegrator::indirectLight(const SurfaceInteraction& si, cons
     const Ray shadow =
         spawnRayToSurface(si.p, si.pError, si.ng, v.si.p, v.si.pError, v.si.ng, time);
     if (scene_.accel->anyHit(shadow)) return {};
-    if (!media()) return cand.c;
-    const Rgb Tr = media()->transmittance(shadow, shadow.tMax, sampler);
+    if (!media_) return cand.c;
+    const Rgb Tr = media_->transmittance(shadow, shadow.tMax, sampler);
     return maxComponent(Tr) > 0 ? cand.c * Tr : Rgb{};
   };
   Rgb L;

@@ -22,8 +22,10 @@
 // lands as VPLs behind it. A VPL at light-path vertex k lights paths of k + 1 bounces, so VPLs
 // are kept up to vertex maxDepth - 1 (maxDepth 1: direct light only).
 //
-// Gather (per camera sample): as Whitted — emission seen directly, mirror and glass recursion
-// up to maxDepth, pass-through of transparent surfaces, eyelight — plus at every lit surface:
+// Gather (per camera sample): Whitted's integrator, which this one holds (renderer/whitted.h:
+// emission seen directly, mirror and glass recursion up to maxDepth, pass-through of
+// transparent surfaces, eyelight), lit by the VPLs too, which it asks for at every diffuse or
+// glossy point as its IndirectLight (gather, below):
 //   direct light: one sample of every light with a shadow ray (Whitted's directLight, so
 //     area lights and the environment are included);
 //   indirect light: sum over VPLs of f(x, wi) f_vpl(wo_vpl, -wi) G flux with a shadow ray
@@ -91,7 +93,7 @@ struct Vpl {
 
 // The VPLs as the gather loop reads them, one array per quantity, so that where the gather
 // point and every VPL are Lambert surfaces the loop runs several VPLs per instruction
-// (InstantRadiosityIntegrator::indirectLight).
+// (InstantRadiosityIntegrator::gather).
 struct VplArrays {
   std::vector<float> px, py, pz;   // si.p
   std::vector<float> errorLength;  // length(si.pError)
@@ -130,13 +132,18 @@ void lambertVplContributions(const VplArrays& vpls, const LambertGatherPoint& q,
                              float* outG, float* outB);
 
 // Whitted's integrator (renderer/whitted.h: direct light, emission, mirror and glass
-// recursion) with the light of every VPL added at diffuse and glossy points.
-class InstantRadiosityIntegrator final : public WhittedIntegrator {
+// recursion) with the light of every VPL added at diffuse and glossy points: the VPLs are the
+// IndirectLight of the Whitted integrator it holds.
+class InstantRadiosityIntegrator final : public Integrator, private IndirectLight {
  public:
   // Traces the light paths (settings.vplPaths, seeded by `seed`). Throws InputError when
   // vplPaths <= 0.
   InstantRadiosityIntegrator(const RenderScene& scene, const IntegratorSettings& settings,
                              uint64_t seed = 0);
+  Rgb LiFromHit(const Ray& ray, const Hit* hit, Sampler& sampler, RayCounters& counters,
+                PathAovs& aovs) const override {
+    return whitted_.LiFromHit(ray, hit, sampler, counters, aovs);
+  }
 
   // The VPLs the light paths left.
   const std::vector<Vpl>& vpls() const { return vpls_; }
@@ -148,20 +155,26 @@ class InstantRadiosityIntegrator final : public WhittedIntegrator {
  private:
   // Traces the light paths and keeps their VPLs.
   void traceLightPaths(int paths, uint64_t seed);
-  // The light every VPL sends to `si`, with shadow rays.
-  Rgb indirectLight(const SurfaceInteraction& si, const Bsdf& bsdf, float time, Sampler& sampler,
-                    RayCounters& counters) const override;
+  // The light every VPL sends to `si`, with shadow rays (Whitted asks at diffuse and glossy
+  // points). Draws one sampler dimension.
+  Rgb gather(const SurfaceInteraction& si, const Bsdf& bsdf, float time, Sampler& sampler,
+             RayCounters& counters) const override;
 
-  int rrDepth_;
-  int paths_;          // light paths traced
-  float clamp_;        // bound on G; 0 = none
-  float shadowShare_;  // IntegratorSettings::vplShadowShare
+  int maxDepth_, rrDepth_;
+  int paths_;                // light paths traced
+  float clamp_;              // bound on G; 0 = none
+  float shadowShare_;        // IntegratorSettings::vplShadowShare
+  bool shadows_;             // some light casts shadows (Feature::Shadows): VPLs do too
+  const MediaScene* media_;  // the scene's media when it has them (Feature::Volumes), else null
   std::vector<Vpl> vpls_;
   // What the gather loop reads of each VPL, one array per quantity (VplArrays): built from
   // vpls_ once the light paths are traced.
   VplArrays points_;
   bool allLambert_ = false;  // every VPL's BSDF is Lambert (Bsdf::lambertR)
   uint64_t lightPathRays_ = 0;
+  // The camera paths: Whitted's recursion, lit by gather() as well. It only keeps a pointer to
+  // this object, whose VPLs the constructor's body traces before any render.
+  WhittedIntegrator whitted_;
 };
 
 // The scrambled radical inverse of `index` in `base` (a prime), its digits shifted by a hash of

@@ -57,47 +57,6 @@ class Integrator {
   virtual std::vector<SetupStat> setupStats() const { return {}; }
 
  protected:
-  // Whitted-style delta bounces at `si`: for each specular lobe (reflection, transmission) in
-  // `flags` (the material's, so that every hit on it draws the same dimensions), one sample of
-  // the BSDF's delta part, its weight times trace(ray, branchWeight) for the spawned ray.
-  // Glossy and diffuse light is the caller's to gather from the lights. Draws four sampler
-  // dimensions per lobe.
-  //
-  // Faint branches (POV-Ray's adc_bailout, made unbiased): `pathWeight` is what the camera
-  // sees of this point (the largest channel of the product of the weights on the way). A
-  // branch whose weight from the camera, w, falls below `minWeight` is followed with
-  // probability w / minWeight and then weighted by its inverse (Russian roulette): the
-  // expectation is unchanged, and the tree of reflected and refracted rays that glass spawns
-  // (two per hit, to the depth limit) loses the branches too faint to see. 0 follows every
-  // branch.
-  template <class TraceFn>
-  static Rgb specularBounces(const Bsdf& bsdf, const SurfaceInteraction& si, uint32_t flags,
-                             float time, Sampler& sampler, float pathWeight, float minWeight,
-                             TraceFn&& trace) {
-    Rgb L;
-    for (uint32_t lobe : {kBsdfReflection, kBsdfTransmission}) {
-      if (!(flags & lobe)) continue;
-      const Vec2f u = sampler.get2D();
-      const float uLobe = sampler.get1D();
-      const float uSurvive = sampler.get1D();  // drawn always: later dimensions keep their use
-      BsdfSample s;
-      if (!bsdf.sample(u, uLobe, &s, lobe | kBsdfSpecular) || !(s.flags & kBsdfSpecular) ||
-          s.pdf <= 0)
-        continue;
-      Rgb weight = s.weight(si.ns);
-      if (maxComponent(weight) <= 0) continue;
-      float branchWeight = pathWeight * maxComponent(weight);
-      if (branchWeight < minWeight) {
-        const float survive = branchWeight / minWeight;
-        if (!(uSurvive < survive)) continue;
-        weight = weight / survive;
-        branchWeight = minWeight;
-      }
-      L += weight * trace(si.spawnRay(s.wi, time), branchWeight);
-    }
-    return L;
-  }
-
   const RenderScene& scene_;
   // What each material's hits need, per material: hits are shaded as
   // ShadedHit h(scene_, shading_, ray, hit, cone).

@@ -1,12 +1,12 @@
 // glint — the path tracer.
 #include "renderer/path.h"
 
-#include <algorithm>
 #include <cmath>
 #include <optional>
 
 #include "materials/phase.h"
 #include "renderer/direct_light.h"
+#include "renderer/roulette.h"
 #include "renderer/volume.h"
 
 namespace glint {
@@ -27,17 +27,6 @@ struct VertexSamples {
         uLobe(sampler.get1D()),
         uRoulette(sampler.get1D()) {}
 };
-
-// Russian roulette after vertex `depth`: survive with the throughput's largest component
-// (radiance's 1/eta^2 undone by `etaScale`), clamped; false when the path ends.
-bool survivesRoulette(int depth, int rrDepth, float etaScale, float u, Rgb* beta) {
-  if (depth + 1 < rrDepth) return true;
-  const float survive = std::clamp(maxComponent(*beta * etaScale), 0.05f, 1.0f);
-  if (survive >= 1) return true;
-  if (u >= survive) return false;
-  *beta *= 1 / survive;
-  return true;
-}
 
 // The private random stream of a path's media tracking (see path.h): one 2D sample of the
 // path's sampler, hashed into the key of a Sampler read at sample 0.
@@ -87,187 +76,227 @@ PathIntegrator::PathIntegrator(const RenderScene& scene, const IntegratorSetting
   for (const MaterialShading& s : shading_) emissionFindable_ = emissionFindable_ || s.emits;
 }
 
-Rgb PathIntegrator::LiFromHit(const Ray& ray, const Hit* hit, Sampler& sampler,
-                              RayCounters& counters, PathAovs& aovs) const {
-  if (media_) return tracePath<true>(ray, hit, sampler, counters, aovs);
-  return tracePath<false>(ray, hit, sampler, counters, aovs);
-}
-
-// ---------------------------------------------------------------------------------------------
-// The path
-// ---------------------------------------------------------------------------------------------
-
-template <bool kMedia>
-Rgb PathIntegrator::tracePath(const Ray& cameraRay, const Hit* cameraHit, Sampler& sampler,
-                              RayCounters& counters, PathAovs& aovs) const {
-  Rgb L, beta{1, 1, 1};
+// What a path carries from vertex to vertex.
+struct PathIntegrator::Path {
+  explicit Path(RayCone cameraCone) : cone(cameraCone) {}
+  Rgb L;               // the radiance gathered so far
+  Rgb beta{1, 1, 1};   // the throughput
   float etaScale = 1;  // the 1/eta^2 refractions put into beta, undone for roulette
-  // The previous scattering vertex, for MIS on emission the BSDF sample finds: whether it was
-  // a delta bounce (or the camera), its BSDF pdf, and its light-sampling context.
+  // The pixel cone along the current segment (texture footprints, bump steps).
+  RayCone cone;
+  // The previous scattering vertex, for MIS on emission the next one finds: whether it was a
+  // delta bounce (or the camera), its BSDF (or phase) pdf, its light-sampling context, and
+  // whether it left the lights that allow it to its BSDF sampling (leavesLights).
   bool specularBounce = true;
   float bsdfPdf = 0;
   LightSampleContext prev;
-  // The previous vertex left the lights that allow it to its BSDF sampling (leavesLights).
   bool prevLeftLights = false;
-  // Media: tracking's own random stream (unused, and folded away, without media).
-  Sampler tracker = kMedia ? trackingStream(sampler) : Sampler(0, 0);
+};
 
+Rgb PathIntegrator::LiFromHit(const Ray& ray, const Hit* hit, Sampler& sampler,
+                              RayCounters& counters, PathAovs& aovs) const {
+  if (media_) return volumetricPath(ray, hit, sampler, counters, aovs);
+  return surfacePath(ray, hit, sampler, counters, aovs);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The paths
+// ---------------------------------------------------------------------------------------------
+
+Rgb PathIntegrator::surfacePath(const Ray& cameraRay, const Hit* cameraHit, Sampler& sampler,
+                                RayCounters& counters, PathAovs& aovs) const {
+  // The camera's cone, read at every path, not kept from construction: the preview changes the
+  // scene's camera under a built integrator.
+  Path path(scene_.camera.pixelCone());
   Ray ray = cameraRay;
-  Hit hitStorage;
+  Hit found;
   const Hit* hit = cameraHit;
-  // Read at every path, not kept from construction: the preview changes the scene's camera
-  // under a built integrator.
-  RayCone cone = scene_.camera.pixelCone();
   for (int depth = 0;; ++depth) {
-    if constexpr (kMedia) {
-      // AOVs are the camera ray's first surface, seen through the media or not.
-      if (depth == 0 && hit) {
-        aovs.hit = true;
-        if (aovs.wanted) {  // shaded here only for the AOVs: the medium may hide it
-          ShadedHit h(scene_, shading_, ray, *hit, cone);
-          aovs.record(h);
-        }
-      }
-      // --- The media along the segment: emission, then pass or scatter.
-      Rgb Le;
-      const MediumEvent event =
-          media_->sampleScatteringAndEmission(ray, hit ? hit->t : kInfinity, tracker, &Le);
-      L += beta * Le;
-      beta *= event.weight;
-      if (!(maxComponent(beta) > 0)) break;  // absorbed
-      if (event.scattered) {
-        const VertexSamples u(sampler);
-        if (!mediaScatter_ || depth >= maxDepth_) break;
-        const float len = length(ray.d);
-        const Vec3f d = ray.d / len;
-        const LightSampleContext ctx = LightSampleContext::inMedium(ray.at(event.t), ray.time);
-        cone = RayCone{cone.widthAt(event.t * len), cone.spread};
-        if (lights_)
-          L += beta *
-               sampleLightInMedium(ctx, d, event.g, u.uLight, u.uLightPoint, tracker, counters);
-        // The phase function sampled exactly: weight phase / pdf = 1.
-        float phasePdf = 0;
-        const Vec3f wi = sampleHenyeyGreenstein(d, event.g, u.uBsdf, &phasePdf);
-        if (!(phasePdf > 0) || !std::isfinite(phasePdf)) break;
-        specularBounce = false;
-        prevLeftLights = false;
-        bsdfPdf = phasePdf;
-        prev = ctx;
-        if (!survivesRoulette(depth, rrDepth_, etaScale, u.uRoulette, &beta)) break;
-        // A point in a medium lies on no surface: no offset needed.
-        ray = Ray{ctx.p, wi, 0, kInfinity, ray.time};
-        ++counters.secondary;
-        hit = scene_.accel->closestHit(ray, &hitStorage) ? &hitStorage : nullptr;
-        continue;
-      }
-    }
-
-    // --- Escaped: the environment (MIS-weighted after non-delta bounces) or the background.
     if (!hit) {
-      const Vec3f d = normalize(ray.d);
-      if (specularBounce || infinite_.empty()) {
-        L += beta * scene_.escaped(d);
-      } else {
-        for (const auto& [light, index] : infinite_) {
-          const Rgb Le = light->Le(d);
-          if (maxComponent(Le) <= 0) continue;
-          // Found by a BSDF sample where it is left to them: weight 1.
-          const float lightPdf =
-              prevLeftLights && bsdfOnlyAtSurfaces_[index]
-                  ? 0.0f
-                  : scene_.lightSampler->pmf(prev, index) * light->pdfLi(prev, d, LightHit{});
-          L += beta * Le * powerHeuristic(bsdfPdf, lightPdf);
-        }
-      }
+      addEscaped(path, ray.d);
       break;
     }
-
-    ShadedHit h(scene_, shading_, ray, *hit, cone);
-    const SurfaceInteraction& si = h.si;
-    const MaterialShading& shading = h.shading;
-    if (!kMedia && depth == 0) aovs.record(h);
-    beta *= h.inside();  // KHR_materials_volume
-    if (!(maxComponent(beta) > 0)) break;
-    cone = RayCone{cone.widthAt(h.distance), cone.spread};
-
-    // The vertex's sampler dimensions, all drawn whatever happens below (kVertexDimensions).
-    const VertexSamples u(sampler);
-
-    // --- Partly transparent: pass straight through with probability 1 - opacity (beta
-    // unchanged: the probability and the weight cancel). The previous vertex stays the MIS
-    // reference, since the direction does not change.
-    if (shading.transparent && u.uPass >= h.opacity()) {
-      if (depth >= maxDepth_) break;
-      ray = si.spawnRay(ray.d, ray.time);
-      ++counters.secondary;
-      hit = scene_.accel->closestHit(ray, &hitStorage) ? &hitStorage : nullptr;
-      continue;
-    }
-
-    if (shading.unlit) {
-      L += beta * h.unlitRadiance();
-      break;
-    }
-
-    // --- Emission found by the camera or a BSDF sample.
-    if (shading.emits) {
-      const Rgb Le = h.emitted();
-      if (maxComponent(Le) > 0) {
-        uint32_t index = 0;
-        const Light* area = scene_.areaLight(*hit, &index);
-        if (specularBounce || !area) {
-          L += beta * Le;
-        } else {
-          const float lightPdf = scene_.lightSampler->pmf(prev, index) *
-                                 area->pdfLi(prev, -si.wo, LightHit{si.p, si.ng, si.prim});
-          L += beta * Le * powerHeuristic(bsdfPdf, lightPdf);
-        }
-      }
-    }
-    if (depth >= maxDepth_) break;
-
-    // The material's parameters, read once for next-event estimation and the next direction.
-    const Bsdf bsdf = h.bsdf();
-
-    // --- Next-event estimation, at surfaces with a non-delta lobe.
-    const bool leftLights = someLeftToBsdf_ && leavesLights(bsdf);
-    if (lights_ && (shading.flags & (kBsdfDiffuse | kBsdfGlossy)))
-      L += beta * sampleLight<kMedia>(si, bsdf, leftLights, ray.time, u.uLight, u.uLightPoint,
-                                      &tracker, counters);
-
-    // --- The next direction.
-    BsdfSample s;
-    if (!bsdf.sample(u.uBsdf, u.uLobe, &s) || !(s.pdf > 0) || !std::isfinite(s.pdf)) break;
-    const Rgb weight = s.weight(si.ns);
-    if (!(maxComponent(weight) > 0) || !isFinite(weight)) break;
-    beta *= weight;
-    specularBounce = (s.flags & kBsdfSpecular) != 0;
-    bsdfPdf = s.pdf;
-    prev = LightSampleContext(si, ray.time);
-    prevLeftLights = leftLights;
-    if (s.flags & kBsdfTransmission) etaScale *= s.eta * s.eta;
-
-    // The last bounce can only add the emission it finds: where nothing can be found (no
-    // emitting surface, environment, background or medium), tracing it is wasted.
-    if (depth + 1 >= maxDepth_ && !emissionFindable_) break;
-
-    // --- Russian roulette: survive with the throughput's largest component, clamped.
-    if (!survivesRoulette(depth, rrDepth_, etaScale, u.uRoulette, &beta)) break;
-
-    ray = si.spawnRay(s.wi, ray.time);
+    ShadedHit h(scene_, shading_, ray, *hit, path.cone);
+    if (depth == 0) aovs.record(h);
+    if (!surfaceVertex(path, h, *hit, depth, sampler, noMedia, counters, &ray)) break;
     ++counters.secondary;
-    hit = scene_.accel->closestHit(ray, &hitStorage) ? &hitStorage : nullptr;
+    hit = scene_.accel->closestHit(ray, &found) ? &found : nullptr;
   }
-  return L;
+  return path.L;
+}
+
+Rgb PathIntegrator::volumetricPath(const Ray& cameraRay, const Hit* cameraHit, Sampler& sampler,
+                                   RayCounters& counters, PathAovs& aovs) const {
+  Path path(scene_.camera.pixelCone());
+  // Tracking's own random stream (path.h), drawn before the vertices' dimensions.
+  Sampler tracker = trackingStream(sampler);
+  auto shadowMedia = [&](const Ray& shadow) {
+    return media_->trackedTransmittance(shadow, shadow.tMax, tracker);
+  };
+  // The AOVs are the camera ray's first surface, seen through the media or not: shaded here
+  // only for them, since the medium may scatter the path before it.
+  if (cameraHit) {
+    aovs.hit = true;
+    if (aovs.wanted) {
+      ShadedHit h(scene_, shading_, cameraRay, *cameraHit, path.cone);
+      aovs.record(h);
+    }
+  }
+  Ray ray = cameraRay;
+  Hit found;
+  const Hit* hit = cameraHit;
+  for (int depth = 0;; ++depth) {
+    // --- The media along the segment: their emission, then pass or scatter.
+    Rgb Le;
+    const MediumEvent event =
+        media_->sampleScatteringAndEmission(ray, hit ? hit->t : kInfinity, tracker, &Le);
+    path.L += path.beta * Le;
+    path.beta *= event.weight;
+    if (!(maxComponent(path.beta) > 0)) break;  // absorbed
+    if (event.scattered) {
+      if (!mediumVertex(path, event, depth, sampler, tracker, counters, &ray)) break;
+    } else if (!hit) {
+      addEscaped(path, ray.d);
+      break;
+    } else {
+      ShadedHit h(scene_, shading_, ray, *hit, path.cone);
+      if (!surfaceVertex(path, h, *hit, depth, sampler, shadowMedia, counters, &ray)) break;
+    }
+    ++counters.secondary;
+    hit = scene_.accel->closestHit(ray, &found) ? &found : nullptr;
+  }
+  return path.L;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The vertices
+// ---------------------------------------------------------------------------------------------
+
+template <class ShadowMedia>
+bool PathIntegrator::surfaceVertex(Path& path, ShadedHit& h, const Hit& hit, int depth,
+                                   Sampler& sampler, ShadowMedia&& shadowMedia,
+                                   RayCounters& counters, Ray* ray) const {
+  const SurfaceInteraction& si = h.si;
+  const MaterialShading& shading = h.shading;
+  path.beta *= h.inside();  // KHR_materials_volume
+  if (!(maxComponent(path.beta) > 0)) return false;
+  path.cone = RayCone{path.cone.widthAt(h.distance), path.cone.spread};
+
+  // The vertex's sampler dimensions, all drawn whatever happens below (kVertexDimensions).
+  const VertexSamples u(sampler);
+
+  // --- Partly transparent: pass straight through with probability 1 - opacity (beta
+  // unchanged: the probability and the weight cancel). The previous vertex stays the MIS
+  // reference, since the direction does not change.
+  if (shading.transparent && u.uPass >= h.opacity()) {
+    if (depth >= maxDepth_) return false;
+    *ray = si.spawnRay(ray->d, ray->time);
+    return true;
+  }
+
+  // --- Unlit (eyelight): its colour, and the path ends.
+  if (shading.unlit) {
+    path.L += path.beta * h.unlitRadiance();
+    return false;
+  }
+
+  // --- Emission found by the camera or a BSDF sample.
+  if (shading.emits) {
+    const Rgb Le = h.emitted();
+    if (maxComponent(Le) > 0) {
+      uint32_t index = 0;
+      const Light* area = scene_.areaLight(hit, &index);
+      if (path.specularBounce || !area) {
+        path.L += path.beta * Le;
+      } else {
+        const float pdf = lightPdf(path.prev, index, *area, -si.wo, {si.p, si.ng, si.prim});
+        path.L += path.beta * Le * powerHeuristic(path.bsdfPdf, pdf);
+      }
+    }
+  }
+  if (depth >= maxDepth_) return false;
+
+  // The material's parameters, read once for next-event estimation and the next direction.
+  const Bsdf bsdf = h.bsdf();
+
+  // --- Next-event estimation, at surfaces with a non-delta lobe.
+  const bool leftLights = someLeftToBsdf_ && leavesLights(bsdf);
+  if (lights_ && (shading.flags & (kBsdfDiffuse | kBsdfGlossy)))
+    path.L += path.beta * sampleLight(si, bsdf, leftLights, ray->time, u.uLight, u.uLightPoint,
+                                      shadowMedia, counters);
+
+  // --- The next direction.
+  BsdfSample s;
+  if (!bsdf.sample(u.uBsdf, u.uLobe, &s) || !(s.pdf > 0) || !std::isfinite(s.pdf)) return false;
+  const Rgb weight = s.weight(si.ns);
+  if (!(maxComponent(weight) > 0) || !isFinite(weight)) return false;
+  path.beta *= weight;
+  path.specularBounce = (s.flags & kBsdfSpecular) != 0;
+  path.bsdfPdf = s.pdf;
+  path.prev = LightSampleContext(si, ray->time);
+  path.prevLeftLights = leftLights;
+  if (s.flags & kBsdfTransmission) path.etaScale *= s.eta * s.eta;
+
+  // The last bounce can only add the emission it finds: where nothing can be found (no
+  // emitting surface, environment, background or medium), tracing it is wasted.
+  if (depth + 1 >= maxDepth_ && !emissionFindable_) return false;
+  if (!survivesRoulette(depth + 1, rrDepth_, path.etaScale, u.uRoulette, &path.beta)) return false;
+  *ray = si.spawnRay(s.wi, ray->time);
+  return true;
+}
+
+bool PathIntegrator::mediumVertex(Path& path, const MediumEvent& event, int depth, Sampler& sampler,
+                                  Sampler& tracker, RayCounters& counters, Ray* ray) const {
+  const VertexSamples u(sampler);
+  if (!mediaScatter_ || depth >= maxDepth_) return false;
+  const float len = length(ray->d);
+  const Vec3f d = ray->d / len;
+  const LightSampleContext ctx = LightSampleContext::inMedium(ray->at(event.t), ray->time);
+  path.cone = RayCone{path.cone.widthAt(event.t * len), path.cone.spread};
+
+  // --- Next-event estimation from the medium point.
+  if (lights_)
+    path.L += path.beta *
+              sampleLightInMedium(ctx, d, event.g, u.uLight, u.uLightPoint, tracker, counters);
+
+  // --- The next direction: the phase function sampled exactly (weight phase / pdf = 1).
+  float phasePdf = 0;
+  const Vec3f wi = sampleHenyeyGreenstein(d, event.g, u.uBsdf, &phasePdf);
+  if (!(phasePdf > 0) || !std::isfinite(phasePdf)) return false;
+  path.specularBounce = false;
+  path.prevLeftLights = false;
+  path.bsdfPdf = phasePdf;
+  path.prev = ctx;
+  if (!survivesRoulette(depth + 1, rrDepth_, path.etaScale, u.uRoulette, &path.beta)) return false;
+  // A point in a medium lies on no surface: no offset needed.
+  *ray = Ray{ctx.p, wi, 0, kInfinity, ray->time};
+  return true;
+}
+
+void PathIntegrator::addEscaped(Path& path, Vec3f direction) const {
+  const Vec3f d = normalize(direction);
+  if (path.specularBounce || infinite_.empty()) {
+    path.L += path.beta * scene_.escaped(d);
+    return;
+  }
+  for (const auto& [light, index] : infinite_) {
+    const Rgb Le = light->Le(d);
+    if (maxComponent(Le) <= 0) continue;
+    // Found by a BSDF sample where it is left to them: weight 1.
+    const float pdf = path.prevLeftLights && bsdfOnlyAtSurfaces_[index]
+                          ? 0.0f
+                          : lightPdf(path.prev, index, *light, d, LightHit{});
+    path.L += path.beta * Le * powerHeuristic(path.bsdfPdf, pdf);
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
 // Next-event estimation
 // ---------------------------------------------------------------------------------------------
 
-template <bool kMedia>
+template <class ShadowMedia>
 Rgb PathIntegrator::sampleLight(const SurfaceInteraction& si, const Bsdf& bsdf, bool leftLights,
-                                float time, float uLight, Vec2f uPoint, Sampler* tracker,
+                                float time, float uLight, Vec2f uPoint, ShadowMedia&& shadowMedia,
                                 RayCounters& counters) const {
   const LightSampleContext ctx(si, time);
   const std::optional<SampledLight> picked = scene_.lightSampler->sample(ctx, uLight);
@@ -283,18 +312,8 @@ Rgb PathIntegrator::sampleLight(const SurfaceInteraction& si, const Bsdf& bsdf, 
   };
   const DirectLightOptions options{
       .pmf = picked->p, .shadows = shadows_, .mis = bsdfFindable_[picked->index]};
-  const Light& light = *scene_.lights[picked->index];
-  if constexpr (kMedia) {
-    return sampleDirectLight(
-        scene_, ctx, light, uPoint, options, scatter,
-        [&](const Ray& shadow) {
-          return media_->trackedTransmittance(shadow, shadow.tMax, *tracker);
-        },
-        counters);
-  } else {
-    (void)tracker;
-    return sampleDirectLight(scene_, ctx, light, uPoint, options, scatter, noMedia, counters);
-  }
+  return sampleDirectLight(scene_, ctx, *scene_.lights[picked->index], uPoint, options, scatter,
+                           shadowMedia, counters);
 }
 
 Rgb PathIntegrator::sampleLightInMedium(const LightSampleContext& ctx, Vec3f d, float g,

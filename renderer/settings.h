@@ -54,7 +54,7 @@ struct IntegratorSettings {
   bool glassShadows = true;
   // Whitted (and instant radiosity's specular bounces): mirror and glass branches whose weight
   // as the camera sees it falls below this are followed by Russian roulette (unbiased; see
-  // Integrator::specularBounces). POV-Ray's adc_bailout default; 0 follows every branch.
+  // WhittedIntegrator::specularBounces). POV-Ray's adc_bailout default; 0 follows every branch.
   float minWeight = 1.0f / 255;
   // Instant radiosity (Keller 1997).
   int vplPaths = 64;   // light paths traced from the lights (Halton-seeded)

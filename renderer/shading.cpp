@@ -60,7 +60,7 @@ std::vector<MaterialShading> materialShadings(const RenderScene& scene) {
 }
 
 ShadedHit::ShadedHit(const RenderScene& scene, const std::vector<MaterialShading>& shadings,
-                     uint32_t materialIndex, const Ray& ray, const Hit& hit, const RayCone& cone)
+                     uint32_t materialIndex, const Ray& ray, const Hit& hit, RayCone cone)
     : material(*scene.materials[materialIndex]),
       shading(shadings[materialIndex]),
       si(computeSurfaceInteraction(scene.geometry, ray, hit, shading.needs,

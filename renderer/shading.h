@@ -72,13 +72,14 @@ class MovingFrame {
 class ShadedHit {
  public:
   // `shadings` is materialShadings(scene); `cone` is the ray's pixel cone (RayCone{} where
-  // nothing reads a footprint).
+  // nothing reads a footprint), by value: two floats, and a caller's own cone (the path
+  // tracer's, in its Path) stays out of memory.
   ShadedHit(const RenderScene& scene, const std::vector<MaterialShading>& shadings, const Ray& ray,
-            const Hit& hit, const RayCone& cone)
+            const Hit& hit, RayCone cone)
       : ShadedHit(scene, shadings, scene.materialIndex(hit), ray, hit, cone) {}
   // The same for a hit whose material index the caller already has.
   ShadedHit(const RenderScene& scene, const std::vector<MaterialShading>& shadings,
-            uint32_t materialIndex, const Ray& ray, const Hit& hit, const RayCone& cone);
+            uint32_t materialIndex, const Ray& ray, const Hit& hit, RayCone cone);
   ShadedHit(const ShadedHit&) = delete;
   ShadedHit& operator=(const ShadedHit&) = delete;
 

@@ -8,17 +8,22 @@
 namespace glint {
 
 WhittedIntegrator::WhittedIntegrator(const RenderScene& scene, int maxDepth, bool glassShadows,
-                                     float minWeight, bool indirect)
-    : Integrator(scene), indirect_(indirect), maxDepth_(maxDepth), minWeight_(minWeight) {
+                                     float minWeight, const IndirectLight* indirect)
+    : Integrator(scene), maxDepth_(maxDepth), minWeight_(minWeight), indirect_(indirect) {
   shadows_ = scene.features.has(Feature::Shadows);
   glassShadows_ = glassShadows && shadows_ && scene.features.has(Feature::Refraction);
   media_ = scene.features.has(Feature::Volumes) ? scene.media.get() : nullptr;
   plainShadows_ = !media_ && !glassShadows_;
-  plain_.resize(shading_.size());
+  kinds_.resize(shading_.size());
   for (size_t m = 0; m < shading_.size(); ++m) {
     const MaterialShading& s = shading_[m];
-    plain_[m] = !indirect_ && !s.unlit && !s.transparent && !s.emits && !s.absorbs &&
-                !(s.flags & kBsdfSpecular);
+    if (!indirect_ && !s.unlit && !s.transparent && !s.emits && !s.absorbs &&
+        !(s.flags & kBsdfSpecular))
+      kinds_[m] = HitKind::Plain;
+    else if (s.unlit && !s.transparent && !s.absorbs)
+      kinds_[m] = HitKind::Unlit;
+    else
+      kinds_[m] = HitKind::General;
   }
 }
 
@@ -26,104 +31,133 @@ Rgb WhittedIntegrator::LiFromHit(const Ray& ray, const Hit* hit, Sampler& sample
                                  RayCounters& counters, PathAovs& aovs) const {
   // The camera's cone, read at every ray, not kept from construction: the preview changes the
   // scene's camera under a built integrator.
-  const RayCone cameraCone = scene_.camera.pixelCone();
-  if (media_) return throughMedia(ray, hit, cameraCone, 0, 1, sampler, counters, &aovs);
-  if (!hit) return scene_.escapedAlong(ray.d);
-  const uint32_t materialIndex = scene_.materialIndex(*hit);
-  const MaterialShading& shading = shading_[materialIndex];
-  if (plain_[materialIndex])
-    return shadeAt<true>(ray, *hit, materialIndex, cameraCone, 0, 1, sampler, counters, &aovs);
-  if (shading.unlit && !shading.transparent && !shading.absorbs)
-    return shadeUnlit(ray, *hit, materialIndex, cameraCone, aovs);
-  return shadeAt<false>(ray, *hit, materialIndex, cameraCone, 0, 1, sampler, counters, &aovs);
-}
-
-Rgb WhittedIntegrator::shadeUnlit(const Ray& ray, const Hit& hit, uint32_t materialIndex,
-                                  const RayCone& cone, PathAovs& aovs) const {
-  ShadedHit h(scene_, shading_, materialIndex, ray, hit, cone);
-  aovs.record(h);
-  return h.unlitRadiance();
+  return radiance(ray, hit, scene_.camera.pixelCone(), 0, 1, sampler, counters, &aovs);
 }
 
 Rgb WhittedIntegrator::trace(const Ray& ray, const RayCone& cone, int depth, float weight,
                              Sampler& sampler, RayCounters& counters) const {
   ++counters.secondary;
   Hit hit;
-  bool found = scene_.accel->closestHit(ray, &hit);
-  if (media_)
-    return throughMedia(ray, found ? &hit : nullptr, cone, depth, weight, sampler, counters,
-                        nullptr);
-  return shade(ray, found ? &hit : nullptr, cone, depth, weight, sampler, counters, nullptr);
+  const bool found = scene_.accel->closestHit(ray, &hit);
+  return radiance(ray, found ? &hit : nullptr, cone, depth, weight, sampler, counters, nullptr);
 }
 
-Rgb WhittedIntegrator::shade(const Ray& ray, const Hit* found, const RayCone& cone, int depth,
-                             float weight, Sampler& sampler, RayCounters& counters,
-                             PathAovs* aovs) const {
-  if (!found) return scene_.escapedAlong(ray.d);
-  const uint32_t materialIndex = scene_.materialIndex(*found);
-  if (plain_[materialIndex])
-    return shadeAt<true>(ray, *found, materialIndex, cone, depth, weight, sampler, counters, aovs);
-  return shadeAt<false>(ray, *found, materialIndex, cone, depth, weight, sampler, counters, aovs);
-}
-
-template <bool kPlain>
-Rgb WhittedIntegrator::shadeAt(const Ray& ray, const Hit& hit, uint32_t materialIndex,
-                               const RayCone& cone, int depth, float weight, Sampler& sampler,
-                               RayCounters& counters, PathAovs* aovs) const {
-  ShadedHit h(scene_, shading_, materialIndex, ray, hit, cone);
-  const SurfaceInteraction& si = h.si;
-  const MaterialShading& shading = h.shading;
-  if (aovs) aovs->record(h);
-  if constexpr (kPlain) {
-    const Bsdf bsdf = h.bsdf();
-    return plainShadows_ ? directLight<true>(si, bsdf, ray.time, sampler, counters)
-                         : directLight<false>(si, bsdf, ray.time, sampler, counters);
-  }
-  // Light reaching a back face of an absorbing volume crossed its inside.
-  const Rgb inside = h.inside();
-  if (!(maxComponent(inside) > 0)) return {};
-  // The cone at the hit, carried on by every secondary ray from here (only they need it).
-  const RayCone next{cone.widthAt(h.distance), cone.spread};
-
-  // Partly transparent surfaces: the rest of the light comes straight through.
-  const float opacity = shading.transparent ? h.opacity() : 1.0f;
-  Rgb behind;
-  if (opacity < 1) {
-    if (depth < maxDepth_)
-      behind = trace(si.spawnRay(ray.d, ray.time), next, depth + 1, weight * (1 - opacity), sampler,
-                     counters);
-    if (opacity <= 0) return behind * inside;
-  }
-
-  Rgb L;
-  if (shading.unlit) {
-    L = h.unlitRadiance();
-    return (opacity < 1 ? L * opacity + behind * (1 - opacity) : L) * inside;
-  }
-  const Bsdf bsdf = h.bsdf();
-  if (shading.emits) L = h.emitted();
-  L += directLight<false>(si, bsdf, ray.time, sampler, counters);
-  if (indirect_ && (shading.flags & (kBsdfDiffuse | kBsdfGlossy)))
-    L += indirectLight(si, bsdf, ray.time, sampler, counters);
-  // Mirror and glass: follow the reflected and the refracted ray, each with its own weight.
-  if ((shading.flags & kBsdfSpecular) && depth < maxDepth_)
-    L += specularBounces(bsdf, si, shading.flags, ray.time, sampler, weight, minWeight_,
-                         [&](const Ray& r, float branchWeight) {
-                           return trace(r, next, depth + 1, branchWeight, sampler, counters);
-                         });
-  return (opacity < 1 ? L * opacity + behind * (1 - opacity) : L) * inside;
+Rgb WhittedIntegrator::radiance(const Ray& ray, const Hit* hit, const RayCone& cone, int depth,
+                                float weight, Sampler& sampler, RayCounters& counters,
+                                PathAovs* aovs) const {
+  if (media_) return throughMedia(ray, hit, cone, depth, weight, sampler, counters, aovs);
+  return surface(ray, hit, cone, depth, weight, sampler, counters, aovs);
 }
 
 Rgb WhittedIntegrator::throughMedia(const Ray& ray, const Hit* hit, const RayCone& cone, int depth,
                                     float weight, Sampler& sampler, RayCounters& counters,
                                     PathAovs* aovs) const {
+  // What the media add (seg.L) and let through (seg.T).
   const VolumeSegment seg =
       media_->integrate(scene_, ray, hit ? hit->t : kInfinity, sampler, counters);
   // Behind an opaque medium the surface cannot be seen: no need to shade it (AOVs aside).
   if (maxComponent(seg.T) <= 0 && !aovs) return seg.L;
   return seg.T *
-             shade(ray, hit, cone, depth, weight * maxComponent(seg.T), sampler, counters, aovs) +
+             surface(ray, hit, cone, depth, weight * maxComponent(seg.T), sampler, counters, aovs) +
          seg.L;
+}
+
+Rgb WhittedIntegrator::surface(const Ray& ray, const Hit* hit, const RayCone& cone, int depth,
+                               float weight, Sampler& sampler, RayCounters& counters,
+                               PathAovs* aovs) const {
+  if (!hit) return scene_.escapedAlong(ray.d);
+  const uint32_t m = scene_.materialIndex(*hit);
+  const HitKind kind = kinds_[m];
+  if (kind == HitKind::Plain)
+    return shade<HitKind::Plain>(ray, *hit, m, cone, depth, weight, sampler, counters, aovs);
+  if (kind == HitKind::Unlit)
+    return shade<HitKind::Unlit>(ray, *hit, m, cone, depth, weight, sampler, counters, aovs);
+  return shade<HitKind::General>(ray, *hit, m, cone, depth, weight, sampler, counters, aovs);
+}
+
+template <WhittedIntegrator::HitKind kKind>
+Rgb WhittedIntegrator::shade(const Ray& ray, const Hit& hit, uint32_t materialIndex,
+                             const RayCone& cone, int depth, float weight, Sampler& sampler,
+                             RayCounters& counters, PathAovs* aovs) const {
+  ShadedHit h(scene_, shading_, materialIndex, ray, hit, cone);
+  const SurfaceInteraction& si = h.si;
+  const MaterialShading& shading = h.shading;
+  if (aovs) aovs->record(h);
+  if constexpr (kKind == HitKind::Unlit) {
+    return h.unlitRadiance();
+  } else if constexpr (kKind == HitKind::Plain) {
+    const Bsdf bsdf = h.bsdf();
+    return plainShadows_ ? directLight<true>(si, bsdf, ray.time, sampler, counters)
+                         : directLight<false>(si, bsdf, ray.time, sampler, counters);
+  } else {
+    // Light reaching a back face of an absorbing volume crossed its inside.
+    const Rgb inside = h.inside();
+    if (!(maxComponent(inside) > 0)) return {};
+    // The cone at the hit, carried on by every secondary ray from here (only they need it).
+    const RayCone next{cone.widthAt(h.distance), cone.spread};
+
+    // Partly transparent surfaces: the rest of the light comes straight through.
+    const float opacity = shading.transparent ? h.opacity() : 1.0f;
+    Rgb behind;
+    if (opacity < 1) {
+      if (depth < maxDepth_)
+        behind = trace(si.spawnRay(ray.d, ray.time), next, depth + 1, weight * (1 - opacity),
+                       sampler, counters);
+      if (opacity <= 0) return behind * inside;
+    }
+
+    Rgb L;
+    if (shading.unlit) {
+      L = h.unlitRadiance();
+    } else {
+      const Bsdf bsdf = h.bsdf();
+      if (shading.emits) L = h.emitted();
+      L += directLight<false>(si, bsdf, ray.time, sampler, counters);
+      if (indirect_ && (shading.flags & (kBsdfDiffuse | kBsdfGlossy)))
+        L += indirect_->gather(si, bsdf, ray.time, sampler, counters);
+      // Mirror and glass: follow the reflected and the refracted ray, each with its own weight.
+      if ((shading.flags & kBsdfSpecular) && depth < maxDepth_)
+        L += specularBounces(bsdf, si, shading.flags, ray.time, next, depth + 1, weight, sampler,
+                             counters);
+    }
+    return (opacity < 1 ? L * opacity + behind * (1 - opacity) : L) * inside;
+  }
+}
+
+// Faint branches (POV-Ray's adc_bailout, made unbiased): a branch whose weight from the
+// camera, w (the largest channel of the product of the weights on the way), falls below
+// `minWeight_` is followed with probability w / minWeight_ and then weighted by its inverse:
+// the expectation is unchanged, and the tree of reflected and refracted rays that glass spawns
+// (two per hit, to the depth limit) loses the branches too faint to see. 0 follows every
+// branch. A rule of its own rather than roulette.h's: it cuts a branch by what the camera
+// sees of it, not by a path's throughput, and it keeps its own arithmetic (the weight divided
+// by the survival probability), which the images depend on to the last bit.
+Rgb WhittedIntegrator::specularBounces(const Bsdf& bsdf, const SurfaceInteraction& si,
+                                       uint32_t flags, float time, const RayCone& cone, int depth,
+                                       float pathWeight, Sampler& sampler,
+                                       RayCounters& counters) const {
+  Rgb L;
+  for (uint32_t lobe : {kBsdfReflection, kBsdfTransmission}) {
+    if (!(flags & lobe)) continue;
+    const Vec2f u = sampler.get2D();
+    const float uLobe = sampler.get1D();
+    const float uSurvive = sampler.get1D();  // drawn always: later dimensions keep their use
+    BsdfSample s;
+    if (!bsdf.sample(u, uLobe, &s, lobe | kBsdfSpecular) || !(s.flags & kBsdfSpecular) ||
+        s.pdf <= 0)
+      continue;
+    Rgb weight = s.weight(si.ns);
+    if (maxComponent(weight) <= 0) continue;
+    float branchWeight = pathWeight * maxComponent(weight);
+    if (branchWeight < minWeight_) {
+      const float survive = branchWeight / minWeight_;
+      if (!(uSurvive < survive)) continue;
+      weight = weight / survive;
+      branchWeight = minWeight_;
+    }
+    L += weight * trace(si.spawnRay(s.wi, time), cone, depth, branchWeight, sampler, counters);
+  }
+  return L;
 }
 
 template <bool kPlainShadows>

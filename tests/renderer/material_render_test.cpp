@@ -153,10 +153,12 @@ TEST(MaterialRender, ScenesWithoutSpecularMaterialsTraceNoSecondaryRays) {
 
 // Whitted shades a plain material (lit, opaque, not emitting or absorbing, no specular lobe)
 // through its own instantiation, compiled without the other branches, when there is no
-// indirect light (WhittedIntegrator::plain_); its shadow rays take the plain any-hit path when
-// they cross no glass or media (plainShadows_). The same scene four ways must give one image:
-// - `mask`: the plain materials get alpha_mode "mask" at full alpha, which changes nothing but
-//   makes them transparent-capable, so their hits take the general path;
+// indirect light (WhittedIntegrator's HitKind::Plain), and an opaque unlit one through another
+// (HitKind::Unlit), for camera and mirrored rays alike; its shadow rays take the plain any-hit
+// path when they cross no glass or media (plainShadows_). The same scene four ways must give
+// one image:
+// - `mask`: the plain and unlit materials get alpha_mode "mask" at full alpha, which changes
+//   nothing but makes them transparent-capable, so their hits take the general path;
 // - `glass`: a glass ball below the floor, where nothing can see it, turns on shadows through
 //   glass for every material.
 // The plain materials here are textured, bumped and glossy; the mirror and the emitter take the
@@ -182,6 +184,8 @@ TEST(MaterialRender, WhittedShadesPlainMaterialsAsTheGeneralPathDoes) {
                     {"name": "ball", "type": "phong", "diffuse": [0.3, 0.5, 0.3],
                      "specular": [0.4, 0.4, 0.4], "shininess": 20)" +
            m + R"(},
+                    {"name": "eye", "type": "eyelight", "color": [0.9, 0.5, 0.2])" +
+           m + R"(},
                     {"name": "m", "type": "mirror", "color": [0.9, 0.9, 0.9]},
                     {"name": "glow", "type": "lambert", "diffuse": [0.2, 0.2, 0.2],
                      "emissive": [2, 1, 0.5]},
@@ -190,7 +194,8 @@ TEST(MaterialRender, WhittedShadesPlainMaterialsAsTheGeneralPathDoes) {
                   {"type": "box", "min": [-4, 0, -3], "max": [4, 3, -2.5], "material": "wall"},
                   {"type": "sphere", "center": [-1.2, 0.8, 0], "radius": 0.8, "material": "ball"},
                   {"type": "sphere", "center": [1.2, 0.8, 0], "radius": 0.8, "material": "m"},
-                  {"type": "sphere", "center": [0, 0.3, 1.2], "radius": 0.3, "material": "glow"})" +
+                  {"type": "sphere", "center": [0, 0.3, 1.2], "radius": 0.3, "material": "glow"},
+                  {"type": "box", "min": [0.3, 0, 1.4], "max": [0.9, 0.6, 2], "material": "eye"})" +
            (glass ? R"(, {"type": "sphere", "center": [0, -5, 0], "radius": 1, "material": "g"})"
                   : "") +
            "]}";
