@@ -371,6 +371,49 @@ Film renderSubdividedUntil(const RenderScene& scene, const Integrator& integrato
   return film;
 }
 
+// renderUntil's progress bar, measured in samples: its end the samples up to maxSpp, or
+// sooner where a budget will stop the render first; its note the spp reached (and the error,
+// under a budget). A render without a budget that will take over a minute says so once, after
+// its first pass.
+class PassProgress {
+ public:
+  PassProgress(const StopRule& rule, uint32_t startSpp, double pixels, bool enabled)
+      : maxSpp_(rule.maxSpp),
+        startSpp_(startSpp),
+        pixels_(pixels),
+        total_(uint64_t(double(maxSpp_ > startSpp ? maxSpp_ - startSpp : 0) * pixels)),
+        enabled_(enabled),
+        bar_("rendering", std::max<uint64_t>(total_, 1), enabled) {}
+  void advance(uint64_t samples) { bar_.advance(samples); }
+  void finish() { bar_.finish(); }
+  void passDone(const ProgressiveRender& pr, const BudgetStop& budget, double elapsed) {
+    if (budget.limited()) {
+      const double done = double(pr.spp() - startSpp_) * pixels_;
+      bar_.setTotal(
+          uint64_t(budget.expectedSamples(done, double(total_), elapsed, pr.estimatedError())));
+      bar_.setNote(fmt::format("{} spp, error {:.2g}%", pr.spp(), 100 * pr.estimatedError()));
+      return;
+    }
+    bar_.setNote(fmt::format("{} spp", pr.spp()));
+    if (!enabled_ || warned_) return;
+    warned_ = true;
+    const double perSpp = budget.secondsPerSpp();
+    const double remaining = perSpp * double(maxSpp_ - pr.spp());
+    if (remaining > 60)
+      bar_.message(fmt::format(
+          "glint: {} spp will take about {} more ({} per sample per pixel); Ctrl-C stops "
+          "and writes what is done",
+          maxSpp_, readableDuration(remaining), readableDuration(perSpp)));
+  }
+
+ private:
+  uint32_t maxSpp_, startSpp_;
+  double pixels_;
+  uint64_t total_;
+  bool enabled_, warned_ = false;
+  ProgressBar bar_;
+};
+
 }  // namespace
 
 Film renderUntil(const RenderScene& scene, const Integrator& integrator,
@@ -383,16 +426,12 @@ Film renderUntil(const RenderScene& scene, const Integrator& integrator,
   ProgressiveRender pr(scene, integrator, settings, options);
   if (resume) pr.resumeFrom(*resume, resumeSpp);
   BudgetStop budget(rule);
-  const uint32_t startSpp = pr.spp();
-  const double pixels = double(pr.film().width) * double(pr.film().height);
-  const uint64_t sppTotal =
-      uint64_t(double(rule.maxSpp > startSpp ? rule.maxSpp - startSpp : 0) * pixels);
-  ProgressBar bar("rendering", std::max<uint64_t>(sppTotal, 1), options.progress);
-  const auto onTile = [&](uint64_t samples) { bar.advance(samples); };
+  PassProgress progress(rule, pr.spp(), double(pr.film().width) * double(pr.film().height),
+                        options.progress);
+  const auto onTile = [&](uint64_t samples) { progress.advance(samples); };
   const auto began = std::chrono::steady_clock::now();
   const auto error = [&] { return pr.estimatedError(); };
   StopReason reason = StopReason::Spp;
-  bool warned = false;
   while (true) {
     const uint32_t next = budget.nextPass(pr.spp());
     if (const std::optional<StopReason> stop =
@@ -408,28 +447,9 @@ Film renderUntil(const RenderScene& scene, const Integrator& integrator,
     }
     budget.passDone(pr.spp() - before, secondsSince(passStart));
     if (onPass) onPass(pr);
-    // The bar's end: the spp, or sooner where a budget will stop the render first.
-    if (budget.limited()) {
-      const double done = double(pr.spp() - startSpp) * pixels;
-      bar.setTotal(uint64_t(budget.expectedSamples(done, double(sppTotal), secondsSince(began),
-                                                   pr.estimatedError())));
-      bar.setNote(fmt::format("{} spp, error {:.2g}%", pr.spp(), 100 * pr.estimatedError()));
-    } else {
-      bar.setNote(fmt::format("{} spp", pr.spp()));
-    }
-    // A render that will take long says so once, after its first pass.
-    if (options.progress && !warned && !budget.limited()) {
-      warned = true;
-      const double perSpp = budget.secondsPerSpp();
-      const double remaining = perSpp * double(rule.maxSpp - pr.spp());
-      if (remaining > 60)
-        bar.message(fmt::format(
-            "glint: {} spp will take about {} more ({} per sample per pixel); Ctrl-C stops "
-            "and writes what is done",
-            rule.maxSpp, readableDuration(remaining), readableDuration(perSpp)));
-    }
+    progress.passDone(pr, budget, secondsSince(began));
   }
-  if (reason != StopReason::Interrupted) bar.finish();
+  if (reason != StopReason::Interrupted) progress.finish();
   if (result) {
     result->reason = reason;
     result->spp = pr.spp();
