@@ -49,8 +49,7 @@ struct PixelMoments {
 };
 
 // Everything a pixel's samples add up to: radiance moments, how many samples and how many of
-// them hit geometry, and the AOV sums (float, as a single pass adds them; zero when the
-// integrator was not asked for AOVs, so adding them costs no test).
+// them hit geometry, and the AOV sums (float, as a single pass adds them).
 struct PixelSums {
   PixelMoments moments;
   uint32_t taken = 0;  // samples in the sums
@@ -58,11 +57,16 @@ struct PixelSums {
   Rgb albedo, normal;
   double depth = 0;
 
-  void add(Rgb L, const PathAovs& aovs) {
+  // A sample of radiance L whose camera ray hit geometry or not.
+  void add(Rgb L, bool hit) {
     moments.add(L);
     ++taken;
+    hits += hit ? 1 : 0;
+  }
+  // The same with the first hit's AOVs.
+  void add(Rgb L, const PathAovs& aovs) {
+    add(L, aovs.hit);
     if (aovs.hit) {
-      hits += 1;
       albedo += aovs.albedo;
       normal += aovs.normal;
       depth += aovs.depth;

@@ -33,17 +33,29 @@ PixelKeys SampleEvaluator::keys(int x, int y) const {
   return k;
 }
 
+namespace {
+
+// The shutter times of samples first .. first + n - 1 of a pixel: a 1D Owen-scrambled Sobol
+// dimension, stratified over the pixel's samples. Flattened so that Sampler::get1D is inlined
+// and its dimension's hash, the same for every sample, is computed once.
+[[gnu::flatten]] void shutterTimes(uint64_t pixelKey, uint32_t first, uint32_t n, float* time) {
+  for (uint32_t i = 0; i < n; ++i) time[i] = Sampler(pixelKey, first + i, kTimeDimension).get1D();
+}
+
+}  // namespace
+
 template <bool kLens, bool kMotion>
 void SampleEvaluator::sampledRays(const PixelKeys& pixel, uint32_t first, uint32_t n,
                                   const float* filmX, const float* filmY, Ray* rays) const {
   uint32_t lx[kCameraBatch], ly[kCameraBatch];
   if constexpr (kLens) sample2DFractionBatch(first, n, pixel.lens, lx, ly);
+  float time[kCameraBatch];
+  if constexpr (kMotion) shutterTimes(pixel.key, first, n, time);
   for (uint32_t i = 0; i < n; ++i) {
     CameraSample cs;
     cs.pFilm = {filmX[i], filmY[i]};
     if constexpr (kLens) cs.pLens = Fraction2{lx[i], ly[i]}.toFloat();
-    // A 1D Owen-scrambled Sobol dimension: stratified over the pixel's samples.
-    if constexpr (kMotion) cs.time = Sampler(pixel.key, first + i, kTimeDimension).get1D();
+    if constexpr (kMotion) cs.time = time[i];
     rays[i] = scene_.camera.generateRay(cs);
   }
 }
@@ -83,16 +95,29 @@ void SampleEvaluator::evaluate(const PixelKeys& pixel, uint32_t n, bool centre, 
   }
   scene_.accel->closestHits(batch.rays, batch.found, int(n));
   tally.rays.camera += n;
+  if (aovs_)
+    shade<true>(pixel, n, batch, sums, tally);
+  else
+    shade<false>(pixel, n, batch, sums, tally);
+}
+
+template <bool kAovs>
+void SampleEvaluator::shade(const PixelKeys& pixel, uint32_t n, const Batch& batch, PixelSums& sums,
+                            SampleTally& tally) const {
   // The sums in a local while the integrator runs: it is called through a pointer, and the
   // compiler would otherwise store them back around every call.
   PixelSums s = sums;
+  const uint32_t first = s.taken;
   for (uint32_t i = 0; i < n; ++i) {
     Sampler sampler(pixel.key, first + i, kIntegratorDimension);
     PathAovs aovs;
-    aovs.wanted = aovs_;
-    s.add(cameraRadiance(integrator_, batch.rays[i], batch.found[i], sampler, tally.rays, aovs,
-                         &tally.checks),
-          aovs);
+    aovs.wanted = kAovs;
+    const Rgb L = cameraRadiance(integrator_, batch.rays[i], batch.found[i], sampler, tally.rays,
+                                 aovs, &tally.checks);
+    if constexpr (kAovs)
+      s.add(L, aovs);
+    else
+      s.add(L, aovs.hit);
   }
   sums = s;
 }

@@ -67,6 +67,10 @@ class SampleEvaluator {
     Motion,        // at a shutter time
     LensAndMotion  // both
   };
+  // The batch's hits shaded and added to the sums, with or without AOVs.
+  template <bool kAovs>
+  void shade(const PixelKeys& pixel, uint32_t n, const Batch& batch, PixelSums& sums,
+             SampleTally& tally) const;
   template <bool kLens, bool kMotion>
   void sampledRays(const PixelKeys& pixel, uint32_t first, uint32_t n, const float* filmX,
                    const float* filmY, Ray* rays) const;
