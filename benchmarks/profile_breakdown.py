@@ -36,7 +36,8 @@ RULES = [
     ("lights", r"Light|light|powerHeuristic|Distribution|sampleLi|pdfLi"),
     ("film", r"Film|film|addSample|Filter|splat"),
     ("path loop", r"PathIntegrator|tracePath|VertexSamples|Sampler|sampler|Sobol|sobol|"
-                  r"renderTile|ProgressiveRender|Integrator"),
+                  r"renderTile|ProgressiveRender|Integrator|SampleEvaluator|shutterTimes|"
+                  r"PixelSums|ContrastStop|AdaptiveStop"),
 ]
 
 

@@ -7,12 +7,12 @@
 #include <functional>
 #include <memory>
 #include <optional>
-#include <string_view>
 
 #include "renderer/film.h"
 #include "renderer/integrator.h"
 #include "renderer/scene.h"
 #include "renderer/settings.h"
+#include "renderer/stopping.h"
 
 namespace glint {
 
@@ -105,34 +105,8 @@ Film render(const RenderScene& scene, const Integrator& integrator, const Render
 // accelerator in batches that never cross a multiple of 16, so the image after a pass is a
 // pure function of the scene, seed and spp reached: whatever the thread count, pass timing, or
 // whether the render ran in one go, stopped on a budget, or was continued (to float rounding,
-// there: the continued sums are rebuilt from the stored mean and variance).
-
-// The spp the pass after `done` completed spp ends at (before any cap).
-uint32_t nextPassEnd(uint32_t done);
-
-// Why a progressive render stopped.
-enum class StopReason { Spp, TimeLimit, NoiseTarget, Interrupted };
-std::string_view stopReasonName(StopReason reason);  // "spp", "time-limit", ...
-
-// The relative error a noise target is measured in (AdaptiveSettings' metric over the whole
-// image): sqrt of the mean over pixels and channels of Var[mean] / (mean² + 0.01), from each
-// pixel's own sample variance. 0 for an image with fewer than 2 samples per pixel.
-double estimatedRelativeError(const Film& film);
-
-// When a render stops: at the end of the first pass that reaches maxSpp, would run past the
-// time limit (judged from the previous pass's rate; the first pass always runs), or brings the
-// estimated error to the noise target (checked from 16 spp on: fewer samples underestimate
-// rare bright paths). `cancel` (Ctrl-C) stops at once and drops the pass in flight.
-struct StopRule {
-  uint32_t maxSpp = 16;
-  // The passes: the schedule from 1 spp (nextPassEnd; quick first images and time estimates,
-  // what budgets use), or false: every 16 from the start, the widest camera-ray packets, for a
-  // render that only needs to be interruptible. The images at a given spp are the same.
-  bool warmup = true;
-  double timeLimit = 0;    // seconds of rendering; 0 = none
-  double noiseTarget = 0;  // estimatedRelativeError; 0 = none
-  const std::atomic<bool>* cancel = nullptr;
-};
+// there: the continued sums are rebuilt from the stored mean and variance). When pixels and
+// renders stop (adaptive sampling, contrast, StopRule's budgets) is stopping.h's.
 
 // The per-pixel sums of a render in progress and the film of its last completed pass.
 class ProgressiveRender {

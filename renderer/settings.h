@@ -87,8 +87,8 @@ inline constexpr int kMaxSubdivision = 6;
 // variance rule is met too, from 2 samples and minSpp on); a pixel still going after 16 takes
 // the rest (or stops by `threshold` alone). The decisions are made between passes over the
 // whole window, so they do not depend on the thread count; a crop or tile renders a margin of
-// kContrastApron pixels around its window (what its border pixels' decisions can depend on), so
-// its pixels are those of the whole frame's render.
+// ContrastStop::margin() pixels around its window (what its border pixels' decisions can depend
+// on), so its pixels are those of the whole frame's render (renderer/stopping.h).
 // A pixel's first look goes through its centre, as POV-Ray's does: the midpoint rule, exact for
 // a linear gradient across the pixel (a highlight's slope), where one sample at a random place
 // in the pixel errs by the slope times its offset. A pixel that is not stopped there drops that

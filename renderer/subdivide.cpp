@@ -31,7 +31,7 @@ struct Look {
 
 // A pixel's estimate as it is summed: each uncut square adds its corners, a quarter of its
 // area each.
-struct PixelSums {
+struct AreaSums {
   double sum[3] = {0, 0, 0}, sumSq[3] = {0, 0, 0};
   double hitArea = 0, depth = 0;
   Rgb albedo;
@@ -175,7 +175,7 @@ class Subdivider {
 
   // Pixel (x, y) from its corner looks: its estimate into `sums`, its distinct looks counted in
   // w.looksInPixel.
-  void pixel(int x, int y, const std::array<Look, 4>& corners, Worker& w, PixelSums* sums) const {
+  void pixel(int x, int y, const std::array<Look, 4>& corners, Worker& w, AreaSums* sums) const {
     if (++w.pixelStamp == 0) {
       std::fill(w.counted.begin(), w.counted.end(), 0u);
       w.pixelStamp = 1;
@@ -209,7 +209,7 @@ class Subdivider {
   // bottom-left, bottom-right} and `area` (a share of its pixel); (px, py) is the pixel's
   // top-left lattice point.
   void refine(uint32_t px, uint32_t py, uint32_t gx, uint32_t gy, uint32_t size,
-              const std::array<Look, 4>& c, double area, Worker& w, PixelSums* sums) const {
+              const std::array<Look, 4>& c, double area, Worker& w, AreaSums* sums) const {
     if (size == 1 || !differ(c)) {
       for (const Look& look : c) sums->add(look, area * 0.25);
       return;
@@ -329,7 +329,7 @@ bool renderSubdivided(const RenderScene& scene, const Integrator& integrator,
             const size_t c = size_t(y - y0) * cornerRow + size_t(x - window.x0);
             const std::array<Look, 4> quad = {corners[c], corners[c + 1], corners[c + cornerRow],
                                               corners[c + cornerRow + 1]};
-            PixelSums s;
+            AreaSums s;
             sub.pixel(x, y, quad, w, &s);
             const size_t i = out.index(x - window.x0, y - window.y0);
             Rgb mean, spread;
