@@ -87,12 +87,13 @@ void checkOutput(const Document& doc, const Animation& anim, const AnimationChan
 
 void readAnimations(JsonReader& root, Document* doc) {
   size_t index = 0;
-  for (JsonReader* o : root.objects("animations")) {
+  for (const JsonItem& item : root.optionalArray("animations")) {
+    JsonReader o(item);
     Animation anim;
-    anim.where = o->where();
-    anim.name = o->get<std::string>("name", "animation " + std::to_string(index++));
-    o->require("samplers");
-    for (JsonReader* so : o->objects("samplers")) {
+    anim.where = o.where();
+    anim.name = o.get<std::string>("name", "animation " + std::to_string(index++));
+    o.require("samplers");
+    for (JsonReader* so : o.objects("samplers")) {
       AnimationSampler s;
       s.where = so->where();
       s.input = so->index("input", doc->accessors.size(), "accessor");
@@ -118,9 +119,9 @@ void readAnimations(JsonReader& root, Document* doc) {
         throw SceneError(so->where("input"), "CUBICSPLINE needs at least 2 keys");
       anim.samplers.push_back(s);
     }
-    if (anim.samplers.empty()) throw SceneError(o->where("samplers"), "must not be empty");
-    o->require("channels");
-    for (JsonReader* co : o->objects("channels")) {
+    if (anim.samplers.empty()) throw SceneError(o.where("samplers"), "must not be empty");
+    o.require("channels");
+    for (JsonReader* co : o.objects("channels")) {
       AnimationChannel c;
       c.where = co->where();
       c.sampler = co->index("sampler", anim.samplers.size(), "sampler");
@@ -150,7 +151,7 @@ void readAnimations(JsonReader& root, Document* doc) {
       checkOutput(*doc, anim, c);
       anim.channels.push_back(c);
     }
-    if (anim.channels.empty()) throw SceneError(o->where("channels"), "must not be empty");
+    if (anim.channels.empty()) throw SceneError(o.where("channels"), "must not be empty");
     doc->animations.push_back(anim);
   }
 }

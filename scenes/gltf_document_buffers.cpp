@@ -129,13 +129,14 @@ Sparse readSparse(JsonReader& so, const Accessor& a, const Document& doc) {
 }  // namespace
 
 void readBuffers(JsonReader& root, Document* doc) {
-  for (JsonReader* o : root.objects("buffers")) {
+  for (const JsonItem& item : root.optionalArray("buffers")) {
+    JsonReader o(item);
     Buffer b;
-    b.where = o->where();
-    b.byteLength = o->getSize("byteLength");
-    b.uri = o->get<std::string>("uri", "");
-    if (o->has("uri") && b.uri.empty()) throw SceneError(o->where("uri"), "empty URI");
-    if (JsonReader* ext = o->optionalObject("extensions"))
+    b.where = o.where();
+    b.byteLength = o.getSize("byteLength");
+    b.uri = o.get<std::string>("uri", "");
+    if (o.has("uri") && b.uri.empty()) throw SceneError(o.where("uri"), "empty URI");
+    if (JsonReader* ext = o.optionalObject("extensions"))
       if (JsonReader* meshopt = ext->optionalObject("EXT_meshopt_compression"))
         b.fallback = meshopt->get<bool>("fallback", false);
     doc->buffers.push_back(b);
@@ -143,23 +144,24 @@ void readBuffers(JsonReader& root, Document* doc) {
 }
 
 void readBufferViews(JsonReader& root, Document* doc) {
-  for (JsonReader* o : root.objects("bufferViews")) {
+  for (const JsonItem& item : root.optionalArray("bufferViews")) {
+    JsonReader o(item);
     BufferView v;
-    v.where = o->where();
-    v.buffer = o->index("buffer", doc->buffers.size(), "buffer");
-    v.byteOffset = o->getSize("byteOffset", 0);
-    v.byteLength = o->getSize("byteLength");
-    v.byteStride = o->getSize("byteStride", 0);
-    if (o->has("byteStride") && (v.byteStride < 4 || v.byteStride > 252 || v.byteStride % 4))
-      throw SceneError(o->where("byteStride"), "must be a multiple of 4 between 4 and 252 (got " +
-                                                   std::to_string(v.byteStride) + ")");
+    v.where = o.where();
+    v.buffer = o.index("buffer", doc->buffers.size(), "buffer");
+    v.byteOffset = o.getSize("byteOffset", 0);
+    v.byteLength = o.getSize("byteLength");
+    v.byteStride = o.getSize("byteStride", 0);
+    if (o.has("byteStride") && (v.byteStride < 4 || v.byteStride > 252 || v.byteStride % 4))
+      throw SceneError(o.where("byteStride"), "must be a multiple of 4 between 4 and 252 (got " +
+                                                  std::to_string(v.byteStride) + ")");
     size_t bufferLength = doc->buffers[size_t(v.buffer)].byteLength;
     if (v.byteOffset > bufferLength || v.byteLength > bufferLength - v.byteOffset)
       throw SceneError(v.where, "bytes " + std::to_string(v.byteOffset) + ".." +
                                     std::to_string(v.byteOffset + v.byteLength) +
                                     " lie outside buffer " + std::to_string(v.buffer) + " (" +
                                     plural(bufferLength, "byte") + ")");
-    if (JsonReader* ext = o->optionalObject("extensions"))
+    if (JsonReader* ext = o.optionalObject("extensions"))
       if (JsonReader* meshopt = ext->optionalObject("EXT_meshopt_compression"))
         v.meshopt = readMeshopt(*meshopt, v, *doc);
     doc->bufferViews.push_back(v);
@@ -168,34 +170,34 @@ void readBufferViews(JsonReader& root, Document* doc) {
 
 void readAccessors(JsonReader& root, Document* doc) {
   size_t index = 0;
-  for (JsonReader* o : root.objects("accessors")) {
+  for (const JsonItem& item : root.optionalArray("accessors")) {
+    JsonReader o(item);
     Accessor a;
-    a.where = o->where();
-    a.bufferView = o->index("bufferView", doc->bufferViews.size(), "bufferView", -1);
-    a.byteOffset = o->getSize("byteOffset", 0);
-    a.componentType = componentTypeOf(*o);
+    a.where = o.where();
+    a.bufferView = o.index("bufferView", doc->bufferViews.size(), "bufferView", -1);
+    a.byteOffset = o.getSize("byteOffset", 0);
+    a.componentType = componentTypeOf(o);
     if (!isComponentType(a.componentType))
-      throw SceneError(o->where("componentType"),
+      throw SceneError(o.where("componentType"),
                        "unknown componentType " + std::to_string(a.componentType));
-    a.normalized = o->get<bool>("normalized", false);
-    a.count = o->getSize("count");
-    if (a.count == 0) throw SceneError(o->where("count"), "must be at least 1");
+    a.normalized = o.get<bool>("normalized", false);
+    a.count = o.getSize("count");
+    if (a.count == 0) throw SceneError(o.where("count"), "must be at least 1");
     // Without a bufferView the count is not backed by data; cap it so that a typo cannot ask
     // for gigabytes of zeros.
     constexpr size_t kMaxVirtualCount = size_t(1) << 24;
     if (a.bufferView < 0 && a.count > kMaxVirtualCount)
-      throw SceneError(o->where("count"), "count " + std::to_string(a.count) +
-                                              " without a bufferView exceeds glint's limit of " +
-                                              std::to_string(kMaxVirtualCount));
-    a.type = o->get<std::string>("type");
+      throw SceneError(o.where("count"), "count " + std::to_string(a.count) +
+                                             " without a bufferView exceeds glint's limit of " +
+                                             std::to_string(kMaxVirtualCount));
+    a.type = o.get<std::string>("type");
     a.components = componentsOf(a.type);
     if (a.components == 0)
-      throw SceneError(o->where("type"), "unknown accessor type '" + a.type + "'");
-    if (o->has("bufferView") && o->has("byteOffset") &&
-        a.byteOffset % componentSize(a.componentType))
-      throw SceneError(o->where("byteOffset"), "must be a multiple of the component size (" +
-                                                   std::to_string(componentSize(a.componentType)) +
-                                                   ")");
+      throw SceneError(o.where("type"), "unknown accessor type '" + a.type + "'");
+    if (o.has("bufferView") && o.has("byteOffset") && a.byteOffset % componentSize(a.componentType))
+      throw SceneError(o.where("byteOffset"), "must be a multiple of the component size (" +
+                                                  std::to_string(componentSize(a.componentType)) +
+                                                  ")");
     if (a.bufferView >= 0) {
       const BufferView& v = doc->bufferViews[size_t(a.bufferView)];
       size_t elem = elementSize(a);
@@ -208,7 +210,7 @@ void readAccessors(JsonReader& root, Document* doc) {
                  "accessor " + std::to_string(index) + " (" + std::to_string(a.count) + " " +
                      a.type + " elements of " + componentTypeName(a.componentType) + ")");
     }
-    if (JsonReader* sparse = o->optionalObject("sparse")) a.sparse = readSparse(*sparse, a, *doc);
+    if (JsonReader* sparse = o.optionalObject("sparse")) a.sparse = readSparse(*sparse, a, *doc);
     doc->accessors.push_back(a);
     ++index;
   }

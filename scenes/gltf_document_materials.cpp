@@ -122,41 +122,44 @@ void readMaterialLayers(JsonReader& ext, const Document& doc, Material* m) {
 }  // namespace
 
 void readImages(JsonReader& root, Document* doc) {
-  for (JsonReader* o : root.objects("images")) {
+  for (const JsonItem& item : root.optionalArray("images")) {
+    JsonReader o(item);
     Image im;
-    im.where = o->where();
-    im.uri = o->get<std::string>("uri", "");
-    im.bufferView = o->index("bufferView", doc->bufferViews.size(), "bufferView", -1);
-    if (o->has("uri") && im.uri.empty()) throw SceneError(o->where("uri"), "empty URI");
+    im.where = o.where();
+    im.uri = o.get<std::string>("uri", "");
+    im.bufferView = o.index("bufferView", doc->bufferViews.size(), "bufferView", -1);
+    if (o.has("uri") && im.uri.empty()) throw SceneError(o.where("uri"), "empty URI");
     if (im.uri.empty() == (im.bufferView < 0))
       throw SceneError(im.where, "needs exactly one of 'uri' and 'bufferView'");
     // Type check only: the bytes say what they are.
-    if (im.bufferView >= 0) o->get<std::string>("mimeType", "");
+    if (im.bufferView >= 0) o.get<std::string>("mimeType", "");
     doc->images.push_back(im);
   }
 }
 
 void readSamplers(JsonReader& root, Document* doc) {
-  for (JsonReader* o : root.objects("samplers")) {
+  for (const JsonItem& item : root.optionalArray("samplers")) {
+    JsonReader o(item);
     Sampler s;
-    size_t mag = o->getSize("magFilter", 9729);
+    size_t mag = o.getSize("magFilter", 9729);
     if (mag != 9728 && mag != 9729)
-      throw SceneError(o->where("magFilter"), "unknown magFilter " + std::to_string(mag));
+      throw SceneError(o.where("magFilter"), "unknown magFilter " + std::to_string(mag));
     s.magFilter = int(mag);
-    o->getSize("minFilter", 0);  // type check only
-    s.wrapS = wrapMode(*o, "wrapS");
-    s.wrapT = wrapMode(*o, "wrapT");
+    o.getSize("minFilter", 0);  // type check only
+    s.wrapS = wrapMode(o, "wrapS");
+    s.wrapT = wrapMode(o, "wrapT");
     doc->samplers.push_back(s);
   }
 }
 
 void readTextures(JsonReader& root, Document* doc) {
-  for (JsonReader* o : root.objects("textures")) {
+  for (const JsonItem& item : root.optionalArray("textures")) {
+    JsonReader o(item);
     Texture t;
-    t.where = o->where();
-    t.sampler = o->index("sampler", doc->samplers.size(), "sampler", -1);
-    t.source = o->index("source", doc->images.size(), "image", -1);
-    if (JsonReader* ext = o->optionalObject("extensions")) {
+    t.where = o.where();
+    t.sampler = o.index("sampler", doc->samplers.size(), "sampler", -1);
+    t.source = o.index("source", doc->images.size(), "image", -1);
+    if (JsonReader* ext = o.optionalObject("extensions")) {
       // EXT_texture_webp: the WebP image (OpenImageIO decodes it) wins over the fallback.
       if (JsonReader* webp = ext->optionalObject("EXT_texture_webp"))
         t.source = webp->index("source", doc->images.size(), "image");
@@ -175,11 +178,12 @@ void readTextures(JsonReader& root, Document* doc) {
 
 void readMaterials(JsonReader& root, Document* doc) {
   size_t index = 0;
-  for (JsonReader* o : root.objects("materials")) {
+  for (const JsonItem& item : root.optionalArray("materials")) {
+    JsonReader o(item);
     Material m;
-    m.where = o->where();
-    m.name = o->get<std::string>("name", "material " + std::to_string(index++));
-    if (JsonReader* pbr = o->optionalObject("pbrMetallicRoughness")) {
+    m.where = o.where();
+    m.name = o.get<std::string>("name", "material " + std::to_string(index++));
+    if (JsonReader* pbr = o.optionalObject("pbrMetallicRoughness")) {
       if (pbr->has("baseColorFactor")) {
         auto f = pbr->numbers<4>("baseColorFactor");
         for (size_t i = 0; i < 4; ++i)
@@ -192,25 +196,25 @@ void readMaterials(JsonReader& root, Document* doc) {
       m.metallic = nonNegative(*pbr, "metallicFactor", 1, 1);
       m.roughness = nonNegative(*pbr, "roughnessFactor", 1, 1);
     }
-    m.normalTexture = textureRef(*o, "normalTexture", *doc);
-    if (o->has("normalTexture"))
-      m.normalScale = float(o->object("normalTexture").get<double>("scale", 1.0));
-    textureRef(*o, "occlusionTexture", *doc);  // ambient occlusion: not used by a ray tracer
-    m.alphaMode = o->get<std::string>("alphaMode", "OPAQUE");
+    m.normalTexture = textureRef(o, "normalTexture", *doc);
+    if (o.has("normalTexture"))
+      m.normalScale = float(o.object("normalTexture").get<double>("scale", 1.0));
+    textureRef(o, "occlusionTexture", *doc);  // ambient occlusion: not used by a ray tracer
+    m.alphaMode = o.get<std::string>("alphaMode", "OPAQUE");
     if (m.alphaMode != "OPAQUE" && m.alphaMode != "MASK" && m.alphaMode != "BLEND")
-      throw SceneError(o->where("alphaMode"),
+      throw SceneError(o.where("alphaMode"),
                        "must be OPAQUE, MASK or BLEND (got '" + m.alphaMode + "')");
-    m.alphaCutoff = nonNegative(*o, "alphaCutoff", 0.5, kInfinity);
-    m.emissiveTexture = textureRef(*o, "emissiveTexture", *doc);
-    if (o->has("emissiveFactor")) {
-      auto f = o->numbers<3>("emissiveFactor");
+    m.alphaCutoff = nonNegative(o, "alphaCutoff", 0.5, kInfinity);
+    m.emissiveTexture = textureRef(o, "emissiveTexture", *doc);
+    if (o.has("emissiveFactor")) {
+      auto f = o.numbers<3>("emissiveFactor");
       for (size_t i = 0; i < 3; ++i)
         if (f[i] < 0 || f[i] > 1)
-          throw SceneError(o->where("emissiveFactor").child(i), "must be between 0 and 1");
+          throw SceneError(o.where("emissiveFactor").child(i), "must be between 0 and 1");
       m.emissiveFactor = {float(f[0]), float(f[1]), float(f[2])};
     }
-    m.doubleSided = o->get<bool>("doubleSided", false);
-    if (JsonReader* ext = o->optionalObject("extensions")) {
+    m.doubleSided = o.get<bool>("doubleSided", false);
+    if (JsonReader* ext = o.optionalObject("extensions")) {
       if (JsonReader* es = ext->optionalObject("KHR_materials_emissive_strength"))
         m.emissiveStrength = nonNegative(*es, "emissiveStrength", 1, kInfinity);
       if (ext->has("KHR_materials_unlit")) m.unlit = true;

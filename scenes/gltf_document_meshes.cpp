@@ -119,16 +119,17 @@ void readVariants(JsonReader& root, Document* doc) {
 
 void readMeshes(JsonReader& root, Document* doc) {
   size_t meshIndex = 0;
-  for (JsonReader* o : root.objects("meshes")) {
+  for (const JsonItem& item : root.optionalArray("meshes")) {
+    JsonReader o(item);
     Mesh mesh;
-    mesh.where = o->where();
-    mesh.name = o->get<std::string>("name", "mesh " + std::to_string(meshIndex++));
-    o->require("primitives");
-    for (JsonReader* po : o->objects("primitives"))
+    mesh.where = o.where();
+    mesh.name = o.get<std::string>("name", "mesh " + std::to_string(meshIndex++));
+    o.require("primitives");
+    for (JsonReader* po : o.objects("primitives"))
       mesh.primitives.push_back(readPrimitive(*po, mesh, *doc));
-    if (mesh.primitives.empty()) throw SceneError(o->where("primitives"), "must not be empty");
+    if (mesh.primitives.empty()) throw SceneError(o.where("primitives"), "must not be empty");
     mesh.targetCount = mesh.primitives[0].targets.size();
-    mesh.weights = morphWeights(*o, "weights", mesh.targetCount, "the mesh's primitives have");
+    mesh.weights = morphWeights(o, "weights", mesh.targetCount, "the mesh's primitives have");
     doc->meshes.push_back(mesh);
   }
 }

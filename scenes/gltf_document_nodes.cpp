@@ -89,13 +89,14 @@ constexpr int kMaxNodeDepth = 1000;
 }  // namespace
 
 void readCameras(JsonReader& root, Document* doc) {
-  for (JsonReader* o : root.objects("cameras")) {
+  for (const JsonItem& item : root.optionalArray("cameras")) {
+    JsonReader o(item);
     CameraDesc c;
-    c.where = o->where();
-    c.name = o->get<std::string>("name", "");
-    std::string type = o->get<std::string>("type");
+    c.where = o.where();
+    c.name = o.get<std::string>("name", "");
+    std::string type = o.get<std::string>("type");
     if (type == "perspective") {
-      JsonReader& p = o->object("perspective");
+      JsonReader& p = o.object("perspective");
       c.type = CameraType::Perspective;
       c.yfov = float(p.get<double>("yfov"));
       if (c.yfov <= 0 || c.yfov >= kPi)
@@ -109,7 +110,7 @@ void readCameras(JsonReader& root, Document* doc) {
       if (p.has("zfar") && c.zfar <= c.znear)
         throw SceneError(p.where("zfar"), "must be greater than znear");
     } else if (type == "orthographic") {
-      JsonReader& p = o->object("orthographic");
+      JsonReader& p = o.object("orthographic");
       c.type = CameraType::Orthographic;
       c.xmag = float(p.get<double>("xmag"));
       if (c.xmag == 0) throw SceneError(p.where("xmag"), "must not be zero");
@@ -120,8 +121,8 @@ void readCameras(JsonReader& root, Document* doc) {
       c.zfar = float(p.get<double>("zfar"));
       if (c.zfar <= c.znear) throw SceneError(p.where("zfar"), "must be greater than znear");
     } else {
-      throw SceneError(o->where("type"), "unknown camera type '" + type +
-                                             "' (expected 'perspective' or 'orthographic')");
+      throw SceneError(o.where("type"), "unknown camera type '" + type +
+                                            "' (expected 'perspective' or 'orthographic')");
     }
     doc->cameras.push_back(c);
   }
@@ -131,11 +132,12 @@ void readLights(JsonReader& root, Document* doc) {
   JsonReader* ext = root.optionalObject("extensions");
   JsonReader* punctual = ext ? ext->optionalObject("KHR_lights_punctual") : nullptr;
   if (!punctual) return;
-  for (JsonReader* o : punctual->objects("lights")) {
+  for (const JsonItem& item : punctual->optionalArray("lights")) {
+    JsonReader o(item);
     LightDesc l;
-    l.where = o->where();
-    l.name = o->get<std::string>("name", "");
-    std::string type = o->get<std::string>("type");
+    l.where = o.where();
+    l.name = o.get<std::string>("name", "");
+    std::string type = o.get<std::string>("type");
     if (type == "point") {
       l.type = LightType::Point;
     } else if (type == "spot") {
@@ -143,21 +145,21 @@ void readLights(JsonReader& root, Document* doc) {
     } else if (type == "directional") {
       l.type = LightType::Directional;
     } else {
-      throw SceneError(o->where("type"), "unknown light type '" + type +
-                                             "' (expected 'point', 'spot' or 'directional')");
+      throw SceneError(o.where("type"), "unknown light type '" + type +
+                                            "' (expected 'point', 'spot' or 'directional')");
     }
-    if (o->has("color")) {
-      auto c = o->numbers<3>("color");
+    if (o.has("color")) {
+      auto c = o.numbers<3>("color");
       for (size_t i = 0; i < 3; ++i)
-        if (c[i] < 0) throw SceneError(o->where("color").child(i), "must not be negative");
+        if (c[i] < 0) throw SceneError(o.where("color").child(i), "must not be negative");
       l.color = {float(c[0]), float(c[1]), float(c[2])};
     }
-    l.intensity = nonNegative(*o, "intensity", 1, kInfinity);
-    l.range = float(o->get<double>("range", 0.0));
-    if (o->has("range") && l.range <= 0)
-      throw SceneError(o->where("range"), "must be greater than 0");
+    l.intensity = nonNegative(o, "intensity", 1, kInfinity);
+    l.range = float(o.get<double>("range", 0.0));
+    if (o.has("range") && l.range <= 0)
+      throw SceneError(o.where("range"), "must be greater than 0");
     if (l.type == LightType::Spot) {
-      JsonReader& s = o->object("spot");
+      JsonReader& s = o.object("spot");
       l.innerConeAngle = float(s.get<double>("innerConeAngle", 0.0));
       l.outerConeAngle = float(s.get<double>("outerConeAngle", kPi / 4));
       if (l.outerConeAngle <= 0 || l.outerConeAngle > kPi / 2)
@@ -171,33 +173,34 @@ void readLights(JsonReader& root, Document* doc) {
 }
 
 void readNodes(JsonReader& root, Document* doc) {
-  std::vector<JsonReader*> nodes = root.objects("nodes");
-  size_t n = nodes.size();
-  for (JsonReader* o : nodes) {
+  const std::vector<JsonItem> nodes = root.optionalArray("nodes");
+  const size_t n = nodes.size();
+  for (const JsonItem& item : nodes) {
+    JsonReader o(item);
     Node node;
-    node.where = o->where();
-    node.name = o->get<std::string>("name", "");
-    node.mesh = o->index("mesh", doc->meshes.size(), "mesh", -1);
-    node.camera = o->index("camera", doc->cameras.size(), "camera", -1);
-    if (JsonReader* ext = o->optionalObject("extensions")) {
+    node.where = o.where();
+    node.name = o.get<std::string>("name", "");
+    node.mesh = o.index("mesh", doc->meshes.size(), "mesh", -1);
+    node.camera = o.index("camera", doc->cameras.size(), "camera", -1);
+    if (JsonReader* ext = o.optionalObject("extensions")) {
       if (JsonReader* light = ext->optionalObject("KHR_lights_punctual"))
         node.light = light->index("light", doc->lights.size(), "light");
       if (JsonReader* instancing = ext->optionalObject("EXT_mesh_gpu_instancing"))
         readInstancing(*instancing, *doc, &node);
     }
-    for (const JsonItem& child : o->optionalArray("children"))
+    for (const JsonItem& child : o.optionalArray("children"))
       node.children.push_back(child.asIndex(n, "node"));
-    nodeTransform(*o, &node);
+    nodeTransform(o, &node);
     // Skins are read after the nodes (their joints are nodes): the index is checked there.
-    if (o->has("skin")) {
-      node.skin = int(std::min<size_t>(o->getSize("skin"), size_t(1) << 30));
-      if (node.mesh < 0) throw SceneError(o->where("skin"), "a skin needs a mesh on the same node");
+    if (o.has("skin")) {
+      node.skin = int(std::min<size_t>(o.getSize("skin"), size_t(1) << 30));
+      if (node.mesh < 0) throw SceneError(o.where("skin"), "a skin needs a mesh on the same node");
     }
-    if (o->has("weights")) {
+    if (o.has("weights")) {
       if (node.mesh < 0)
-        throw SceneError(o->where("weights"), "morph weights need a mesh on the same node");
+        throw SceneError(o.where("weights"), "morph weights need a mesh on the same node");
       const Mesh& mesh = doc->meshes[size_t(node.mesh)];
-      node.weights = morphWeights(*o, "weights", mesh.targetCount,
+      node.weights = morphWeights(o, "weights", mesh.targetCount,
                                   "mesh " + std::to_string(node.mesh) + " has");
     }
     doc->nodes.push_back(node);
@@ -260,15 +263,16 @@ void readNodes(JsonReader& root, Document* doc) {
     }
   }
 
-  for (JsonReader* o : root.objects("scenes")) {
+  for (const JsonItem& item : root.optionalArray("scenes")) {
+    JsonReader o(item);
     Scene s;
-    s.where = o->where();
-    for (const JsonItem& item : o->optionalArray("nodes")) {
-      int node = item.asIndex(n, "node");
+    s.where = o.where();
+    for (const JsonItem& entry : o.optionalArray("nodes")) {
+      int node = entry.asIndex(n, "node");
       if (parent[size_t(node)] >= 0)
-        throw SceneError(item.where, "node " + std::to_string(node) +
-                                         " is not a root node (its parent is node " +
-                                         std::to_string(parent[size_t(node)]) + ")");
+        throw SceneError(entry.where, "node " + std::to_string(node) +
+                                          " is not a root node (its parent is node " +
+                                          std::to_string(parent[size_t(node)]) + ")");
       s.nodes.push_back(node);
     }
     doc->scenes.push_back(s);
@@ -277,23 +281,24 @@ void readNodes(JsonReader& root, Document* doc) {
 }
 
 void readSkins(JsonReader& root, Document* doc) {
-  for (JsonReader* o : root.objects("skins")) {
+  for (const JsonItem& item : root.optionalArray("skins")) {
+    JsonReader o(item);
     Skin skin;
-    skin.where = o->where();
-    for (const JsonItem& joint : o->array("joints"))
+    skin.where = o.where();
+    for (const JsonItem& joint : o.array("joints"))
       skin.joints.push_back(joint.asIndex(doc->nodes.size(), "node"));
-    if (skin.joints.empty()) throw SceneError(o->where("joints"), "must not be empty");
+    if (skin.joints.empty()) throw SceneError(o.where("joints"), "must not be empty");
     skin.inverseBindMatrices =
-        o->index("inverseBindMatrices", doc->accessors.size(), "accessor", -1);
+        o.index("inverseBindMatrices", doc->accessors.size(), "accessor", -1);
     if (skin.inverseBindMatrices >= 0) {
       const Accessor& a = doc->accessors[size_t(skin.inverseBindMatrices)];
       if (a.type != "MAT4" || a.componentType != kFloat)
-        throw SceneError(o->where("inverseBindMatrices"),
+        throw SceneError(o.where("inverseBindMatrices"),
                          "accessor " + std::to_string(skin.inverseBindMatrices) + " is " + a.type +
                              " of " + componentTypeName(a.componentType) +
                              "; inverse bind matrices must be MAT4 of FLOAT");
       if (a.count < skin.joints.size())
-        throw SceneError(o->where("inverseBindMatrices"),
+        throw SceneError(o.where("inverseBindMatrices"),
                          "accessor " + std::to_string(skin.inverseBindMatrices) + " has " +
                              std::to_string(a.count) + " matrices for " +
                              plural(skin.joints.size(), "joint"));

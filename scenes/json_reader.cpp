@@ -400,6 +400,9 @@ JsonReader::JsonReader(const Json& object, SourceLocation where, std::optional<d
 JsonReader::JsonReader(const Json& object, SourceLocation where, JsonMode mode)
     : JsonReader(object, std::move(where), std::nullopt, mode) {}
 
+JsonReader::JsonReader(const JsonItem& element)
+    : JsonReader(*element.value, element.where, std::nullopt, element.mode) {}
+
 JsonReader::JsonReader(const Json& object, SourceLocation where, std::optional<double> time,
                        JsonMode mode)
     : object_(&object), where_(std::move(where)), time_(time), mode_(mode) {

@@ -185,6 +185,12 @@ class JsonReader {
              std::optional<double> time = std::nullopt);
   // A reader in `mode` (keyframes are not allowed). Child readers share the mode.
   JsonReader(const nlohmann::json& object, SourceLocation where, JsonMode mode);
+  // A reader of its own for an array element (from array() or optionalArray()), in the
+  // element's mode, without a time. Unlike item(), no parent owns or finishes it: it lives as
+  // long as its user keeps it (a strict one is finished by its user). Reading a long array this
+  // way holds one element's readers at a time, not all of them until the parent goes (a glTF
+  // file can hold 100,000 accessors).
+  explicit JsonReader(const JsonItem& element);
   JsonReader(JsonReader&&) = default;
   JsonReader& operator=(JsonReader&&) = default;
 

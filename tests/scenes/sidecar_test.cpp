@@ -296,6 +296,28 @@ TEST(JsonReader, LenientFinishAcceptsUnknownKeysInEveryChild) {
                      "unknown key 'unknownTopLevel'");
 }
 
+TEST(JsonReader, AnElementReaderIsItsOwnAndKeepsTheMode) {
+  json doc = parseJson(R"({"list": [{"a": 1, "b": 2}, 3]})", "t.json");
+  JsonReader r(doc, {"t.json", ""});
+  std::vector<JsonItem> items = r.array("list");
+  JsonReader element(items[0]);
+  EXPECT_EQ(element.where().pointer, "/list/0");
+  EXPECT_EQ(element.mode(), JsonMode::Strict);
+  EXPECT_EQ(element.get<int>("a"), 1);
+  EXPECT_NO_THROW(r.finish());  // the parent does not own it
+  EXPECT_SCENE_ERROR(errorFrom([&] { element.finish(); }), "t.json", "/list/0/b",
+                     "unknown key 'b'");
+  EXPECT_SCENE_ERROR(errorFrom([&] { JsonReader notAnObject(items[1]); }), "t.json", "/list/1",
+                     "expected object, got integer");
+  JsonReader lenient(doc, {"t.gltf", ""}, JsonMode::Lenient);
+  std::vector<JsonItem> lenientItems = lenient.array("list");
+  JsonReader lenientElement(lenientItems[0]);
+  EXPECT_EQ(lenientElement.mode(), JsonMode::Lenient);
+  EXPECT_NO_THROW(lenientElement.finish());
+  EXPECT_SCENE_ERROR(errorFrom([&] { JsonReader notAnObject(lenientItems[1]); }), "t.gltf",
+                     "/list/1", "expected an object, got integer");
+}
+
 TEST(JsonReader, LenientModeKeepsTheGltfWording) {
   json doc = parseJson(
       R"({"o": [1], "n": "1", "a": {}, "v": [1, 2], "w": 1, "k": {"keys": [[0, 1]]}, "s": [1, "x"]})",
