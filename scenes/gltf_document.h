@@ -4,6 +4,23 @@
 // dangling indices and out-of-range byte ranges are reported with the exact pointer instead
 // of tinygltf's pointer-less messages. It reads only what glint uses (plus what it must check
 // for safety); unknown keys, extras and optional extensions are ignored, as glTF allows.
+//
+// The JSON is read with JsonReader (scenes/json_reader.h), the reader of every sidecar and
+// scene schema, in its lenient mode: the same typed getters, located errors, size and index
+// readers, with unknown keys allowed and glTF's wording of errors ("missing required property
+// 'x'"). glTF thus has no JSON reader of its own.
+//
+// The reading is split by concept, one file per group of top-level glTF arrays, in the order
+// readDocument reads them (each part checks its indices against the parts read before it):
+//   gltf_document.cpp             the document: asset, extensionsRequired/Used, the order
+//   gltf_document_buffers.cpp     buffers, buffer views (EXT_meshopt_compression), accessors
+//   gltf_document_materials.cpp   images, samplers, textures, materials and their extensions
+//   gltf_document_meshes.cpp      meshes, primitives, morph targets, variants, Draco
+//   gltf_document_nodes.cpp       cameras, lights, nodes and the node graph, scenes, skins
+//   gltf_document_animations.cpp  animations
+// Why split: the single file had grown to 1,350 lines across six unrelated concerns; a
+// material extension, say, is now read, reviewed and changed beside the other materials
+// alone. scenes/gltf_document_parts.h declares the parts and their few shared helpers.
 #pragma once
 
 #include <nlohmann/json.hpp>

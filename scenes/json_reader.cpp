@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 
@@ -47,9 +48,16 @@ size_t editDistance(std::string_view a, std::string_view b) {
   return d[a.size()][b.size()];
 }
 
+// "number" (strict) or "a number" (lenient): the type a value should have had, as each mode
+// words it (JsonMode).
+std::string typeName(const std::string& noun, JsonMode mode) {
+  if (mode == JsonMode::Strict) return noun;
+  return (std::string_view("aeiou").find(noun[0]) != std::string_view::npos ? "an " : "a ") + noun;
+}
+
 [[noreturn]] void wrongType(const Json& value, const SourceLocation& where,
-                            const std::string& expected) {
-  throw SceneError(where, "expected " + expected + ", got " + jsonTypeName(value));
+                            const std::string& expected, JsonMode mode = JsonMode::Strict) {
+  throw SceneError(where, "expected " + typeName(expected, mode) + ", got " + jsonTypeName(value));
 }
 
 }  // namespace
@@ -87,27 +95,59 @@ void checkRange(double v, const SourceLocation& where, const Range& range) {
   if (!range.contains(v)) throw SceneError(where, range.describe());
 }
 
-float toFloat(const Json& value, const SourceLocation& where, const Range& range) {
-  if (!value.is_number()) wrongType(value, where, "number");
+// A number finite as a float, as written (not yet rounded).
+double toFiniteNumber(const Json& value, const SourceLocation& where, JsonMode mode) {
+  if (!value.is_number()) wrongType(value, where, "number", mode);
   double d = value.get<double>();
   // JSON has no NaN or Inf, but 1e39 overflows a float (and 1e400 a double).
   if (!std::isfinite(d) || std::abs(d) > double(std::numeric_limits<float>::max()))
     throw SceneError(where, "must be finite (the number is too large for a float)");
-  float f = float(d);
+  return d;
+}
+
+float toFloat(const Json& value, const SourceLocation& where, const Range& range,
+              JsonMode mode = JsonMode::Strict) {
+  float f = float(toFiniteNumber(value, where, mode));
   checkRange(double(f), where, range);
   return f;
 }
 
-template <size_t N>
-std::array<float, N> toFloats(const Json& value, const SourceLocation& where, const Range& range) {
-  std::string expected = "an array of " + std::to_string(N) + " numbers";
+// Checks that `value` is an array of `n` elements, worded as `mode` words it.
+void checkArrayOf(const Json& value, const SourceLocation& where, size_t n, JsonMode mode) {
+  std::string expected = "an array of " + std::to_string(n) + " numbers";
+  if (mode == JsonMode::Lenient) {
+    if (!value.is_array() || value.size() != n) throw SceneError(where, "expected " + expected);
+    return;
+  }
   if (!value.is_array()) wrongType(value, where, expected);
-  if (value.size() != N)
+  if (value.size() != n)
     throw SceneError(
-        where, "expected " + std::to_string(N) + " numbers, got " + std::to_string(value.size()));
+        where, "expected " + std::to_string(n) + " numbers, got " + std::to_string(value.size()));
+}
+
+template <size_t N>
+std::array<float, N> toFloats(const Json& value, const SourceLocation& where, const Range& range,
+                              JsonMode mode = JsonMode::Strict) {
+  checkArrayOf(value, where, N, mode);
   std::array<float, N> out;
-  for (size_t i = 0; i < N; ++i) out[i] = toFloat(value[i], where.child(i), range);
+  for (size_t i = 0; i < N; ++i) out[i] = toFloat(value[i], where.child(i), range, mode);
   return out;
+}
+
+// A value as an error message shows it: "number -1.5", "string \"three\"", "object".
+std::string describeValue(const Json& v) {
+  if (v.is_number()) return "number " + v.dump();
+  if (v.is_string()) return "string " + v.dump();
+  return jsonTypeName(v);
+}
+
+// "3 accessors", "1 mesh", "2 meshes".
+std::string countOf(size_t n, std::string_view what) {
+  std::string out = std::to_string(n) + " " + std::string(what);
+  if (n == 1) return out;
+  const bool sibilant =
+      what.ends_with("s") || what.ends_with("sh") || what.ends_with("ch") || what.ends_with("x");
+  return out + (sibilant ? "es" : "s");
 }
 
 Vec3f toVec3(const Json& value, const SourceLocation& where) {
@@ -201,6 +241,32 @@ Transform toOperation(const Json& op, const SourceLocation& where, MeantTransfor
 
 }  // namespace
 
+size_t readSize(const Json& value, const SourceLocation& where) {
+  if (value.is_number_unsigned()) return value.get<size_t>();
+  if (value.is_number_integer())
+    throw SceneError(where,
+                     "must not be negative (got " + std::to_string(value.get<int64_t>()) + ")");
+  if (value.is_number_float()) {
+    double d = value.get<double>();
+    if (d >= 0 && d == std::floor(d) && d < 9e15) return size_t(d);
+  }
+  throw SceneError(where, "expected a non-negative integer, got " + describeValue(value));
+}
+
+int readIndex(const Json& value, const SourceLocation& where, size_t count, std::string_view what) {
+  size_t i = readSize(value, where);
+  if (i >= count)
+    throw SceneError(where, std::string(what) + " " + std::to_string(i) + " does not exist (" +
+                                countOf(count, what) + " in the file)");
+  return int(i);
+}
+
+void readNumbers(const Json& value, const SourceLocation& where, double* out, size_t n,
+                 const Range& range, JsonMode mode) {
+  checkArrayOf(value, where, n, mode);
+  for (size_t i = 0; i < n; ++i) out[i] = readValue<double>(value[i], where.child(i), range, mode);
+}
+
 Transform readTransform(const Json& value, const SourceLocation& where, MeantTransform* meant) {
   if (!value.is_array()) wrongType(value, where, "a 4x4 matrix or a list of transform operations");
   MeantTransform composed;
@@ -232,14 +298,15 @@ Transform readTransform(const Json& value, const SourceLocation& where, MeantTra
 }
 
 template <>
-bool readValue<bool>(const Json& value, const SourceLocation& where, const Range&) {
-  if (!value.is_boolean()) wrongType(value, where, "boolean");
+bool readValue<bool>(const Json& value, const SourceLocation& where, const Range&, JsonMode mode) {
+  if (!value.is_boolean()) wrongType(value, where, "boolean", mode);
   return value.get<bool>();
 }
 
 template <>
-int readValue<int>(const Json& value, const SourceLocation& where, const Range& range) {
-  if (!value.is_number_integer()) wrongType(value, where, "integer");
+int readValue<int>(const Json& value, const SourceLocation& where, const Range& range,
+                   JsonMode mode) {
+  if (!value.is_number_integer()) wrongType(value, where, "integer", mode);
   bool fits = value.is_number_unsigned()
                   ? value.get<uint64_t>() <= uint64_t(std::numeric_limits<int>::max())
                   : value.get<int64_t>() >= std::numeric_limits<int>::min() &&
@@ -251,8 +318,9 @@ int readValue<int>(const Json& value, const SourceLocation& where, const Range& 
 }
 
 template <>
-uint64_t readValue<uint64_t>(const Json& value, const SourceLocation& where, const Range& range) {
-  if (!value.is_number_integer()) wrongType(value, where, "integer");
+uint64_t readValue<uint64_t>(const Json& value, const SourceLocation& where, const Range& range,
+                             JsonMode mode) {
+  if (!value.is_number_integer()) wrongType(value, where, "integer", mode);
   if (!value.is_number_unsigned() && value.get<int64_t>() < 0)
     throw SceneError(where, "must be >= 0");
   uint64_t v = value.get<uint64_t>();
@@ -261,47 +329,62 @@ uint64_t readValue<uint64_t>(const Json& value, const SourceLocation& where, con
 }
 
 template <>
-float readValue<float>(const Json& value, const SourceLocation& where, const Range& range) {
-  return toFloat(value, where, range);
+float readValue<float>(const Json& value, const SourceLocation& where, const Range& range,
+                       JsonMode mode) {
+  return toFloat(value, where, range, mode);
 }
 
 template <>
-double readValue<double>(const Json& value, const SourceLocation& where, const Range& range) {
-  if (!value.is_number()) wrongType(value, where, "number");
-  double d = value.get<double>();
-  if (!std::isfinite(d)) throw SceneError(where, "must be finite");
+double readValue<double>(const Json& value, const SourceLocation& where, const Range& range,
+                         JsonMode mode) {
+  double d;
+  if (mode == JsonMode::Lenient) {
+    // glint keeps every glTF number as a float: it must fit one. It is returned unrounded, so
+    // that bounds are checked on the number as written.
+    d = toFiniteNumber(value, where, mode);
+  } else {
+    // The sidecar's doubles (the scene time, fps) are doubles: finite is enough.
+    if (!value.is_number()) wrongType(value, where, "number", mode);
+    d = value.get<double>();
+    if (!std::isfinite(d)) throw SceneError(where, "must be finite");
+  }
   checkRange(d, where, range);
   return d;
 }
 
 template <>
-std::string readValue<std::string>(const Json& value, const SourceLocation& where, const Range&) {
-  if (!value.is_string()) wrongType(value, where, "string");
+std::string readValue<std::string>(const Json& value, const SourceLocation& where, const Range&,
+                                   JsonMode mode) {
+  if (!value.is_string()) wrongType(value, where, "string", mode);
   return value.get<std::string>();
 }
 
 template <>
-Vec2f readValue<Vec2f>(const Json& value, const SourceLocation& where, const Range& range) {
-  auto v = toFloats<2>(value, where, range);
+Vec2f readValue<Vec2f>(const Json& value, const SourceLocation& where, const Range& range,
+                       JsonMode mode) {
+  auto v = toFloats<2>(value, where, range, mode);
   return {v[0], v[1]};
 }
 
 template <>
-Vec3f readValue<Vec3f>(const Json& value, const SourceLocation& where, const Range& range) {
-  auto v = toFloats<3>(value, where, range);
+Vec3f readValue<Vec3f>(const Json& value, const SourceLocation& where, const Range& range,
+                       JsonMode mode) {
+  auto v = toFloats<3>(value, where, range, mode);
   return {v[0], v[1], v[2]};
 }
 
 template <>
-Quaternion readValue<Quaternion>(const Json& value, const SourceLocation& where, const Range&) {
-  auto q = toFloats<4>(value, where, {});
+Quaternion readValue<Quaternion>(const Json& value, const SourceLocation& where, const Range&,
+                                 JsonMode mode) {
+  auto q = toFloats<4>(value, where, {}, mode);
   Quaternion r{q[0], q[1], q[2], q[3]};
   if (!(dot(r, r) > 1e-12f)) throw SceneError(where, "quaternion must not be zero");
   return normalize(r);
 }
 
 template <>
-Transform readValue<Transform>(const Json& value, const SourceLocation& where, const Range&) {
+Transform readValue<Transform>(const Json& value, const SourceLocation& where, const Range&,
+                               JsonMode) {
   return readTransform(value, where);
 }
 
@@ -312,28 +395,64 @@ bool isKeyframes(const Json& value) { return value.is_object() && value.contains
 // ---------------------------------------------------------------------------------------------
 
 JsonReader::JsonReader(const Json& object, SourceLocation where, std::optional<double> time)
-    : object_(&object), where_(std::move(where)), time_(time) {
-  if (!object.is_object()) wrongType(object, where_, "object");
+    : JsonReader(object, std::move(where), time, JsonMode::Strict) {}
+
+JsonReader::JsonReader(const Json& object, SourceLocation where, JsonMode mode)
+    : JsonReader(object, std::move(where), std::nullopt, mode) {}
+
+JsonReader::JsonReader(const JsonItem& element)
+    : JsonReader(*element.value, element.where, std::nullopt, element.mode) {}
+
+JsonReader::JsonReader(const Json& object, SourceLocation where, std::optional<double> time,
+                       JsonMode mode)
+    : object_(&object), where_(std::move(where)), time_(time), mode_(mode) {
+  if (!object.is_object()) wrongType(object, where_, "object", mode_);
+}
+
+JsonReader& JsonReader::child(const Json& value, SourceLocation at) {
+  children_.push_back(
+      std::unique_ptr<JsonReader>(new JsonReader(value, std::move(at), time_, mode_)));
+  return *children_.back();
 }
 
 bool JsonReader::has(std::string_view key) const { return object_->contains(key); }
 
+// Lenient readers keep no record: their finish() accepts every key.
 void JsonReader::markKnown(std::string_view key) {
-  if (known_.find(key) == known_.end()) known_.emplace(key);
+  if (mode_ == JsonMode::Strict && known_.find(key) == known_.end()) known_.emplace(key);
 }
 
 const Json* JsonReader::take(std::string_view key) {
   markKnown(key);
   auto it = object_->find(key);
   if (it == object_->end()) return nullptr;
-  if (read_.find(key) == read_.end()) read_.emplace(key);
+  if (mode_ == JsonMode::Strict && read_.find(key) == read_.end()) read_.emplace(key);
   return &*it;
 }
 
 const Json& JsonReader::require(std::string_view key) {
   const Json* v = take(key);
-  if (!v) throw SceneError(where_, "missing required key '" + std::string(key) + "'");
+  if (!v)
+    throw SceneError(where_, std::string("missing required ") +
+                                 (mode_ == JsonMode::Strict ? "key" : "property") + " '" +
+                                 std::string(key) + "'");
   return *v;
+}
+
+size_t JsonReader::getSize(std::string_view key) { return readSize(require(key), where(key)); }
+
+size_t JsonReader::getSize(std::string_view key, size_t fallback) {
+  const Json* v = take(key);
+  return v ? readSize(*v, where(key)) : fallback;
+}
+
+int JsonReader::index(std::string_view key, size_t count, std::string_view what) {
+  return readIndex(require(key), where(key), count, what);
+}
+
+int JsonReader::index(std::string_view key, size_t count, std::string_view what, int fallback) {
+  const Json* v = take(key);
+  return v ? readIndex(*v, where(key), count, what) : fallback;
 }
 
 std::string JsonReader::oneOf(std::string_view key, const std::vector<std::string>& allowed) {
@@ -356,8 +475,7 @@ std::string JsonReader::oneOf(std::string_view key, const std::vector<std::strin
 
 JsonReader& JsonReader::object(std::string_view key) {
   const Json& v = require(key);
-  children_.push_back(std::make_unique<JsonReader>(v, where(key), time_));
-  return *children_.back();
+  return child(v, where(key));
 }
 
 JsonReader* JsonReader::optionalObject(std::string_view key) {
@@ -371,9 +489,10 @@ JsonReader* JsonReader::optionalObject(std::string_view key) {
 std::vector<JsonItem> JsonReader::array(std::string_view key) {
   const Json& v = require(key);
   SourceLocation at = where(key);
-  if (!v.is_array()) wrongType(v, at, "array");
+  if (!v.is_array()) wrongType(v, at, "array", mode_);
   std::vector<JsonItem> items;
-  for (size_t i = 0; i < v.size(); ++i) items.push_back({&v[i], at.child(i)});
+  items.reserve(v.size());
+  for (size_t i = 0; i < v.size(); ++i) items.push_back({&v[i], at.child(i), mode_});
   return items;
 }
 
@@ -386,8 +505,7 @@ std::vector<JsonItem> JsonReader::optionalArray(std::string_view key) {
 }
 
 JsonReader& JsonReader::item(const JsonItem& element) {
-  children_.push_back(std::make_unique<JsonReader>(*element.value, element.where, time_));
-  return *children_.back();
+  return child(*element.value, element.where);
 }
 
 std::vector<JsonReader*> JsonReader::objects(std::string_view key) {
@@ -397,6 +515,7 @@ std::vector<JsonReader*> JsonReader::objects(std::string_view key) {
 }
 
 void JsonReader::finish() const {
+  if (mode_ == JsonMode::Lenient) return;  // and so are its children
   for (const auto& [key, value] : object_->items()) {
     if (read_.find(key) != read_.end()) continue;
     std::string message = "unknown key '" + key + "'";

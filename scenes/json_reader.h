@@ -14,8 +14,14 @@
 // like pbrt-v4's unused-parameter check and Mitsuba's check_unused_parameters, so a typo never
 // silently renders the wrong thing. Child readers (object(), objects(), item()) are owned by
 // their parent and finished by the parent's finish().
+//
+// glTF is read by the same class in lenient mode (JsonMode::Lenient, scenes/gltf_document.h):
+// glTF allows keys it does not define, "extras" and unknown optional extensions, so there
+// finish() accepts every key; the checks on what is read are the same.
 #pragma once
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -59,20 +65,40 @@ inline constexpr Range kUnit{.ge = 0, .le = 1};
 std::string closestMatch(std::string_view word, const std::vector<std::string>& candidates);
 
 // ---------------------------------------------------------------------------------------------
+// Modes
+// ---------------------------------------------------------------------------------------------
+
+// Strict: glint's own schemas (sidecars, .json scenes). Unread keys are errors (finish()), and
+// messages name keys and types tersely: "missing required key 'x'", "expected number, got
+// string".
+// Lenient: glTF. Keys the reader never asks for are allowed, as glTF allows them (extras,
+// unknown optional extensions, properties glint does not use). Messages keep the glTF
+// vocabulary glint has always reported and its tests and users know: "missing required
+// property 'x'", "expected a number, got string", "expected an array of 3 numbers". There are
+// no keyframes, and a double must fit a float (every glTF number becomes one); a strict
+// double (the sidecar's scene time) need only be finite.
+// Every other check and message is the same in both modes.
+enum class JsonMode { Strict, Lenient };
+
+// ---------------------------------------------------------------------------------------------
 // Value conversion
 // ---------------------------------------------------------------------------------------------
 
 // Converts one JSON value found at `where` to T, or throws a SceneError at `where`. Supported:
 // bool, int, uint64_t, float, double, std::string, Vec2f, Vec3f (= Rgb), Quaternion ([x, y, z, w],
 // not zero, normalised), Transform. `range` applies to numbers (each component of a vector)
-// and is ignored for the other types.
+// and is ignored for the other types. `mode` words the type errors (see JsonMode); in lenient
+// mode a double must also fit a float (glint keeps glTF's numbers as floats) and is returned as
+// written, so that bounds are checked before rounding.
 template <class T>
-T readValue(const nlohmann::json& value, const SourceLocation& where, const Range& range = {});
+T readValue(const nlohmann::json& value, const SourceLocation& where, const Range& range = {},
+            JsonMode mode = JsonMode::Strict);
 
 // The supported types (defined in json_reader.cpp; other types fail to link).
-#define GLINT_JSON_READ_VALUE(T) \
-  template <>                    \
-  T readValue<T>(const nlohmann::json& value, const SourceLocation& where, const Range& range)
+#define GLINT_JSON_READ_VALUE(T)                                                               \
+  template <>                                                                                  \
+  T readValue<T>(const nlohmann::json& value, const SourceLocation& where, const Range& range, \
+                 JsonMode mode)
 GLINT_JSON_READ_VALUE(bool);
 GLINT_JSON_READ_VALUE(int);
 GLINT_JSON_READ_VALUE(uint64_t);
@@ -85,6 +111,22 @@ GLINT_JSON_READ_VALUE(Quaternion);
 GLINT_JSON_READ_VALUE(Transform);
 #undef GLINT_JSON_READ_VALUE
 
+// A size, count, byte offset or enumeration code: a non-negative integer. An integral number
+// written with a fraction (3.0, as some glTF exporters write counts) is accepted too. Errors:
+// "must not be negative (got -3)", "expected a non-negative integer, got string \"three\"".
+size_t readSize(const nlohmann::json& value, const SourceLocation& where);
+
+// An index into an array of `count` items called `what`, read as readSize reads: "accessor 7
+// does not exist (3 accessors in the file)".
+int readIndex(const nlohmann::json& value, const SourceLocation& where, size_t count,
+              std::string_view what);
+
+// An array of exactly `n` numbers (each as readValue<double> reads it in `mode`, within
+// `range`) into `out`. Strict: "expected an array of 3 numbers, got string", "expected 3 numbers,
+// got 2"; lenient: "expected an array of 3 numbers" for both.
+void readNumbers(const nlohmann::json& value, const SourceLocation& where, double* out, size_t n,
+                 const Range& range = {}, JsonMode mode = JsonMode::Strict);
+
 // A 4x4 transform: 16 numbers (row-major), 4 rows of 4 numbers, or a list of operations applied
 // in order, the first one first:
 //   [{"scale": 2}, {"rotate": {"axis": [0, 1, 0], "degrees": 90}}, {"translate": [1, 0, 0]}]
@@ -95,14 +137,20 @@ GLINT_JSON_READ_VALUE(Transform);
 Transform readTransform(const nlohmann::json& value, const SourceLocation& where,
                         MeantTransform* meant = nullptr);
 
-// One element of an array read through a JsonReader, with its location.
+// One element of an array read through a JsonReader, with its location (and the reader's mode,
+// which words its errors).
 struct JsonItem {
   const nlohmann::json* value = nullptr;
   SourceLocation where;
+  JsonMode mode = JsonMode::Strict;
 
   template <class T>
   T as(const Range& range = {}) const {
-    return readValue<T>(*value, where, range);
+    return readValue<T>(*value, where, range, mode);
+  }
+  size_t asSize() const { return readSize(*value, where); }
+  int asIndex(size_t count, std::string_view what) const {
+    return readIndex(*value, where, count, what);
   }
 };
 
@@ -135,9 +183,18 @@ class JsonReader {
   // that time; without one, keyframes are an error. Child readers share the time.
   JsonReader(const nlohmann::json& object, SourceLocation where,
              std::optional<double> time = std::nullopt);
+  // A reader in `mode` (keyframes are not allowed). Child readers share the mode.
+  JsonReader(const nlohmann::json& object, SourceLocation where, JsonMode mode);
+  // A reader of its own for an array element (from array() or optionalArray()), in the
+  // element's mode, without a time. Unlike item(), no parent owns or finishes it: it lives as
+  // long as its user keeps it (a strict one is finished by its user). Reading a long array this
+  // way holds one element's readers at a time, not all of them until the parent goes (a glTF
+  // file can hold 100,000 accessors).
+  explicit JsonReader(const JsonItem& element);
   JsonReader(JsonReader&&) = default;
   JsonReader& operator=(JsonReader&&) = default;
 
+  JsonMode mode() const { return mode_; }
   const SourceLocation& where() const { return where_; }
   SourceLocation where(std::string_view key) const { return where_.child(std::string(key)); }
   const nlohmann::json& json() const { return *object_; }
@@ -147,7 +204,7 @@ class JsonReader {
   bool has(std::string_view key) const;
 
   // --- scalars and vectors (see readValue for the supported types) ---
-  // Required: a missing key is "/parent: missing required key 'key'".
+  // Required: a missing key is "/parent: missing required key 'key'" (lenient: "property").
   template <class T>
   T get(std::string_view key, const Range& range = {}) {
     return value<T>(require(key), where(key), range);
@@ -167,17 +224,34 @@ class JsonReader {
   }
   // A value taken with take(): like readValue, but float, Vec2f and Vec3f may be keyframes,
   // evaluated at time(). Every key's value must satisfy `range`, and so must the value at
-  // time() (a "smooth" curve can overshoot its keys).
+  // time() (a "smooth" curve can overshoot its keys). Lenient readers know no keyframes (glTF
+  // has its own animations): {"keys": ...} is then just a value of the wrong type.
   template <class T>
   T value(const nlohmann::json& v, const SourceLocation& at, const Range& range = {}) const {
-    if (isKeyframes(v)) {
+    if (mode_ == JsonMode::Strict && isKeyframes(v)) {
       if constexpr (std::is_same_v<T, float> || std::is_same_v<T, Vec2f> ||
                     std::is_same_v<T, Vec3f>)
         return keyframed<T>(v, at, range);
       else
         throw SceneError(at, "keyframes are only allowed on numbers and vectors");
     }
-    return readValue<T>(v, at, range);
+    return readValue<T>(v, at, range, mode_);
+  }
+
+  // --- sizes, indices and fixed-length number arrays (see readSize, readIndex, readNumbers) ---
+  // A required size (count, byte length, enumeration code), or one with a fallback.
+  size_t getSize(std::string_view key);
+  size_t getSize(std::string_view key, size_t fallback);
+  // A required index into `count` items called `what` ("accessor"), or one with a fallback
+  // (glTF's -1 for "none").
+  int index(std::string_view key, size_t count, std::string_view what);
+  int index(std::string_view key, size_t count, std::string_view what, int fallback);
+  // Exactly N numbers, required, returned as written (before rounding to float).
+  template <size_t N>
+  std::array<double, N> numbers(std::string_view key, const Range& range = {}) {
+    std::array<double, N> out;
+    readNumbers(require(key), where(key), out.data(), N, range, mode_);
+    return out;
   }
 
   // --- enumerations: a string that must be one of `allowed` ---
@@ -222,10 +296,14 @@ class JsonReader {
   void ignore(std::string_view key) { take(key); }
 
   // Throws for the first key of this object (then of each child, in creation order) that was
-  // never read: "/render/spq: unknown key 'spq'; did you mean 'spp'?".
+  // never read: "/render/spq: unknown key 'spq'; did you mean 'spp'?". A lenient reader
+  // accepts every key: finish() checks nothing (and the reader keeps no record of keys read).
   void finish() const;
 
  private:
+  JsonReader(const nlohmann::json& object, SourceLocation where, std::optional<double> time,
+             JsonMode mode);
+  JsonReader& child(const nlohmann::json& value, SourceLocation at);
   void markKnown(std::string_view key);
   template <class T>
   T keyframed(const nlohmann::json& v, const SourceLocation& at, const Range& range) const;
@@ -233,6 +311,7 @@ class JsonReader {
   const nlohmann::json* object_;
   SourceLocation where_;
   std::optional<double> time_;
+  JsonMode mode_ = JsonMode::Strict;
   std::set<std::string, std::less<>> read_;   // keys taken
   std::set<std::string, std::less<>> known_;  // keys asked for, present or not
   std::vector<std::unique_ptr<JsonReader>> children_;

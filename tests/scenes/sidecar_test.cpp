@@ -4,9 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <functional>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "scene_error_support.h"
 #include "scenes/json_reader.h"
@@ -195,6 +197,160 @@ TEST(JsonReader, ClosestMatchToleratesTranspositions) {
   EXPECT_EQ(closestMatch("transalte", {"translate", "rotate"}), "translate");
   EXPECT_EQ(closestMatch("radus", {"radius", "type"}), "radius");
   EXPECT_EQ(closestMatch("zzz", {"radius", "type"}), "");
+}
+
+// --- sizes, indices, number arrays, lenient mode (the glTF reader's needs) ---
+
+TEST(JsonReader, DoublesAreReadAsWritten) {
+  EXPECT_EQ(readOne<double>(R"({"value": 1.0000000001})"), 1.0000000001);
+  // The range is checked before rounding: 1.0000000001 is a float 1, but it is not <= 1.
+  EXPECT_SCENE_ERROR(readOneError<double>(R"({"value": 1.0000000001})", kUnit), "t.json", "/value",
+                     "must be >= 0 and <= 1");
+  // Strict doubles (the sidecar's time and fps) need only be finite; lenient ones (glTF's
+  // numbers, kept as floats) must fit a float.
+  EXPECT_EQ(readOne<double>(R"({"value": 1e39})"), 1e39);
+  json doc = parseJson(R"({"value": 1e39, "fits": -3.4e38})", "t.gltf");
+  JsonReader lenient(doc, {"t.gltf", ""}, JsonMode::Lenient);
+  EXPECT_SCENE_ERROR(errorFrom([&] { lenient.get<double>("value"); }), "t.gltf", "/value",
+                     "must be finite (the number is too large for a float)");
+  EXPECT_EQ(lenient.get<double>("fits"), -3.4e38);
+}
+
+TEST(JsonReader, SizesAcceptIntegralNumbersOnly) {
+  json doc = parseJson(
+      R"({"a": 3, "b": 3.0, "c": -3, "d": 2.5, "e": "three", "f": -1.0, "g": null, "h": 1e16})",
+      "t.json");
+  JsonReader r(doc, {"t.json", ""});
+  EXPECT_EQ(r.getSize("a"), 3u);
+  EXPECT_EQ(r.getSize("b"), 3u);
+  EXPECT_EQ(r.getSize("missing", 7), 7u);
+  EXPECT_SCENE_ERROR(errorFrom([&] { r.getSize("c"); }), "t.json", "/c",
+                     "must not be negative (got -3)");
+  EXPECT_SCENE_ERROR(errorFrom([&] { r.getSize("d"); }), "t.json", "/d",
+                     "expected a non-negative integer, got number 2.5");
+  EXPECT_SCENE_ERROR(errorFrom([&] { r.getSize("e"); }), "t.json", "/e",
+                     "expected a non-negative integer, got string \"three\"");
+  EXPECT_SCENE_ERROR(errorFrom([&] { r.getSize("f"); }), "t.json", "/f",
+                     "expected a non-negative integer, got number -1.0");
+  EXPECT_SCENE_ERROR(errorFrom([&] { r.getSize("g"); }), "t.json", "/g",
+                     "expected a non-negative integer, got null");
+  // Beyond 2^53 a double no longer holds every integer: written as a number, it is refused.
+  EXPECT_SCENE_ERROR(errorFrom([&] { r.getSize("h"); }), "t.json", "/h",
+                     "expected a non-negative integer");
+  EXPECT_SCENE_ERROR(errorFrom([&] { r.getSize("absent"); }), "t.json", "",
+                     "missing required key 'absent'");
+  EXPECT_NO_THROW(r.finish());
+}
+
+TEST(JsonReader, IndicesNameWhatDoesNotExist) {
+  json doc = parseJson(R"({"accessor": 7, "mesh": 2, "ok": 2.0, "nodes": [0, 5]})", "t.json");
+  JsonReader r(doc, {"t.json", "/meshes/0"});
+  EXPECT_EQ(r.index("ok", 3, "accessor"), 2);
+  EXPECT_EQ(r.index("absent", 3, "accessor", -1), -1);
+  EXPECT_SCENE_ERROR(errorFrom([&] { r.index("accessor", 3, "accessor"); }), "t.json",
+                     "/meshes/0/accessor", "accessor 7 does not exist (3 accessors in the file)");
+  EXPECT_SCENE_ERROR(errorFrom([&] { r.index("accessor", 1, "accessor", -1); }), "t.json",
+                     "/meshes/0/accessor", "accessor 7 does not exist (1 accessor in the file)");
+  EXPECT_SCENE_ERROR(errorFrom([&] { r.index("mesh", 2, "mesh"); }), "t.json", "/meshes/0/mesh",
+                     "mesh 2 does not exist (2 meshes in the file)");
+  std::vector<JsonItem> nodes = r.array("nodes");
+  EXPECT_EQ(nodes[0].asIndex(5, "node"), 0);
+  EXPECT_SCENE_ERROR(errorFrom([&] { nodes[1].asIndex(5, "node"); }), "t.json", "/meshes/0/nodes/1",
+                     "node 5 does not exist (5 nodes in the file)");
+}
+
+TEST(JsonReader, NumberArraysHaveExactlyNElements) {
+  json doc =
+      parseJson(R"({"v": [1, 2.5, 1.0000000001], "short": [1, 2], "big": [0, 1e39]})", "t.json");
+  JsonReader r(doc, {"t.json", ""});
+  std::array<double, 3> v = r.numbers<3>("v");
+  EXPECT_EQ(v[1], 2.5);
+  EXPECT_EQ(v[2], 1.0000000001);  // as written, not rounded to a float
+  EXPECT_SCENE_ERROR(errorFrom([&] { r.numbers<3>("short"); }), "t.json", "/short",
+                     "expected 3 numbers, got 2");
+  JsonReader lenient(doc, {"t.gltf", ""}, JsonMode::Lenient);
+  EXPECT_SCENE_ERROR(errorFrom([&] { lenient.numbers<2>("big"); }), "t.gltf", "/big/1",
+                     "must be finite");
+  EXPECT_SCENE_ERROR(errorFrom([&] { r.numbers<3>("v", {.le = 2}); }), "t.json", "/v/1",
+                     "must be <= 2");
+}
+
+TEST(JsonReader, LenientFinishAcceptsUnknownKeysInEveryChild) {
+  json doc = parseJson(R"({"asset": {"version": "2.0", "generator": "x", "extras": {"a": 1}},
+                           "nodes": [{"name": "n", "extensions": {"VENDOR_thing": {}}}],
+                           "unknownTopLevel": 1})",
+                       "t.gltf");
+  JsonReader lenient(doc, {"t.gltf", ""}, JsonMode::Lenient);
+  EXPECT_EQ(lenient.mode(), JsonMode::Lenient);
+  EXPECT_EQ(lenient.object("asset").get<std::string>("version"), "2.0");
+  for (JsonReader* node : lenient.objects("nodes")) {
+    EXPECT_EQ(node->mode(), JsonMode::Lenient);
+    node->get<std::string>("name");
+  }
+  EXPECT_NO_THROW(lenient.finish());
+  // The same reads in strict mode refuse the first key never read.
+  JsonReader strict(doc, {"t.gltf", ""});
+  strict.object("asset").get<std::string>("version");
+  for (JsonReader* node : strict.objects("nodes")) node->get<std::string>("name");
+  EXPECT_SCENE_ERROR(errorFrom([&] { strict.finish(); }), "t.gltf", "/unknownTopLevel",
+                     "unknown key 'unknownTopLevel'");
+}
+
+TEST(JsonReader, AnElementReaderIsItsOwnAndKeepsTheMode) {
+  json doc = parseJson(R"({"list": [{"a": 1, "b": 2}, 3]})", "t.json");
+  JsonReader r(doc, {"t.json", ""});
+  std::vector<JsonItem> items = r.array("list");
+  JsonReader element(items[0]);
+  EXPECT_EQ(element.where().pointer, "/list/0");
+  EXPECT_EQ(element.mode(), JsonMode::Strict);
+  EXPECT_EQ(element.get<int>("a"), 1);
+  EXPECT_NO_THROW(r.finish());  // the parent does not own it
+  EXPECT_SCENE_ERROR(errorFrom([&] { element.finish(); }), "t.json", "/list/0/b",
+                     "unknown key 'b'");
+  EXPECT_SCENE_ERROR(errorFrom([&] { JsonReader notAnObject(items[1]); }), "t.json", "/list/1",
+                     "expected object, got integer");
+  JsonReader lenient(doc, {"t.gltf", ""}, JsonMode::Lenient);
+  std::vector<JsonItem> lenientItems = lenient.array("list");
+  JsonReader lenientElement(lenientItems[0]);
+  EXPECT_EQ(lenientElement.mode(), JsonMode::Lenient);
+  EXPECT_NO_THROW(lenientElement.finish());
+  EXPECT_SCENE_ERROR(errorFrom([&] { JsonReader notAnObject(lenientItems[1]); }), "t.gltf",
+                     "/list/1", "expected an object, got integer");
+}
+
+TEST(JsonReader, LenientModeKeepsTheGltfWording) {
+  json doc = parseJson(
+      R"({"o": [1], "n": "1", "a": {}, "v": [1, 2], "w": 1, "k": {"keys": [[0, 1]]}, "s": [1, "x"]})",
+      "t.gltf");
+  JsonReader r(doc, {"t.gltf", "/materials/0"}, JsonMode::Lenient);
+  EXPECT_SCENE_ERROR(errorFrom([&] { r.get<double>("absent"); }), "t.gltf", "/materials/0",
+                     "missing required property 'absent'");
+  EXPECT_SCENE_ERROR(errorFrom([&] { r.object("o"); }), "t.gltf", "/materials/0/o",
+                     "expected an object, got array");
+  EXPECT_SCENE_ERROR(errorFrom([&] { r.get<double>("n"); }), "t.gltf", "/materials/0/n",
+                     "expected a number, got string");
+  EXPECT_SCENE_ERROR(errorFrom([&] { r.array("a"); }), "t.gltf", "/materials/0/a",
+                     "expected an array, got object");
+  EXPECT_SCENE_ERROR(errorFrom([&] { r.numbers<3>("v"); }), "t.gltf", "/materials/0/v",
+                     "expected an array of 3 numbers");
+  EXPECT_SCENE_ERROR(errorFrom([&] { r.numbers<3>("w"); }), "t.gltf", "/materials/0/w",
+                     "expected an array of 3 numbers");
+  // glTF has no keyframe objects: one is a value of the wrong type.
+  EXPECT_SCENE_ERROR(errorFrom([&] { r.get<float>("k"); }), "t.gltf", "/materials/0/k",
+                     "expected a number, got object");
+  // Array elements carry the mode.
+  std::vector<JsonItem> s = r.array("s");
+  EXPECT_EQ(s[1].as<std::string>(), "x");
+  EXPECT_SCENE_ERROR(errorFrom([&] { s[0].as<std::string>(); }), "t.gltf", "/materials/0/s/0",
+                     "expected a string, got integer");
+  // Strict wording for the same problems, unchanged.
+  JsonReader strict(doc, {"t.json", ""});
+  EXPECT_SCENE_ERROR(errorFrom([&] { strict.get<double>("absent"); }), "t.json", "",
+                     "missing required key 'absent'");
+  EXPECT_SCENE_ERROR(errorFrom([&] { strict.get<double>("n"); }), "t.json", "/n",
+                     "expected number, got string");
+  EXPECT_SCENE_ERROR(errorFrom([&] { strict.get<float>("k"); }), "t.json", "/k",
+                     "keyframes are not allowed here");
 }
 
 // ---------------------------------------------------------------------------------------------
