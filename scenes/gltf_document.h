@@ -1,8 +1,8 @@
 // glint — the glTF JSON read into small validated structs, every item with its JSON pointer.
 //
-// This is the loader's first pass: it runs before tinygltf sees the file, so that type errors,
-// dangling indices and out-of-range byte ranges are reported with the exact pointer instead
-// of tinygltf's pointer-less messages. It reads only what glint uses (plus what it must check
+// This is the loader's first pass (scenes/gltf_loader.cpp): it runs before any byte a buffer
+// or image holds is read, so that type errors, dangling indices and out-of-range byte ranges
+// are reported with the exact pointer. It reads only what glint uses (plus what it must check
 // for safety); unknown keys, extras and optional extensions are ignored, as glTF allows.
 //
 // The JSON is read with JsonReader (scenes/json_reader.h), the reader of every sidecar and
