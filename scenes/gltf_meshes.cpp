@@ -66,8 +66,8 @@ int MeshConverter::convertPrimitive(const Primitive& p, const std::string& name,
   readPositions(p, &mesh);
   readNormals(p, &mesh);
   readTangents(p, &mesh);
-  readUvs(p, p.texcoord0, "TEXCOORD_0", &mesh.uvs);
-  readUvs(p, p.texcoord1, "TEXCOORD_1", &mesh.uvs1);
+  readUvs(p, p.texcoord0, "TEXCOORD_0", mesh.positions.size(), &mesh.uvs);
+  readUvs(p, p.texcoord1, "TEXCOORD_1", mesh.positions.size(), &mesh.uvs1);
   readColors(p, &mesh);
   if (p.joints0 >= 0) readSkinning(p, &mesh);
   readMorphTargets(p, &mesh);
@@ -140,11 +140,10 @@ void MeshConverter::readTangents(const Primitive& p, MeshDesc* mesh) {
   }
 }
 
-void MeshConverter::readUvs(const Primitive& p, int accessor, const char* set,
+void MeshConverter::readUvs(const Primitive& p, int accessor, const char* set, size_t n,
                             std::vector<Vec2f>* uvs) {
   if (accessor < 0) return;
   const Accessor& ta = attribute(accessor, p, set, {"VEC2"}, Kind::TexCoord);
-  const size_t n = doc_.accessors[size_t(p.position)].count;
   checkCount(accessor, p.where.child("attributes").child(set), n);
   std::vector<double> v = reader_.read(accessor);
   uvs->resize(n);

@@ -33,7 +33,8 @@ class MeshConverter {
   void readPositions(const Primitive& p, MeshDesc* mesh);
   void readNormals(const Primitive& p, MeshDesc* mesh);
   void readTangents(const Primitive& p, MeshDesc* mesh);
-  void readUvs(const Primitive& p, int accessor, const char* set, std::vector<Vec2f>* uvs);
+  void readUvs(const Primitive& p, int accessor, const char* set, size_t n,
+               std::vector<Vec2f>* uvs);
   void readColors(const Primitive& p, MeshDesc* mesh);
   void readSkinning(const Primitive& p, MeshDesc* mesh);
   void readMorphTargets(const Primitive& p, MeshDesc* mesh);
