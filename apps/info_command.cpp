@@ -123,7 +123,7 @@ void printEffectsOverFrames(const InfoArgs& args, double fps) {
       args.overrides.apply(&d);
       const RenderScene s = buildRenderScene(d, nullptr, {.decodeImages = false});
       ++checked;
-      for (const std::string& name : s.features.names()) {
+      for (const std::string& name : s.features().names()) {
         auto it = seen.try_emplace(name, Seen{frame, frame, 0}).first;
         it->second.last = frame;
         ++it->second.frames;
@@ -157,10 +157,10 @@ void runInfo(const InfoArgs& args) {
 
   size_t triangles = 0;
   for (const MeshDesc& m : desc.meshes) triangles += m.indices.size() / 3;
-  Bounds3f b = scene.geometry.bounds();
+  Bounds3f b = scene.geometry().bounds();
   std::printf("scene:      %s\n", desc.file.c_str());
   std::printf("meshes:     %zu (%zu triangles stored, %zu placed in the world)%s%s\n",
-              desc.meshes.size(), triangles, scene.geometry.instancedTriangleCount(),
+              desc.meshes.size(), triangles, scene.geometry().instancedTriangleCount(),
               desc.meshes.empty() ? "" : ": ", listNames(desc.meshes, [](const MeshDesc& m) {
                                                  return m.name.empty() ? std::string("(unnamed)")
                                                                        : m.name;
@@ -179,11 +179,11 @@ void runInfo(const InfoArgs& args) {
   std::printf("textures:   %zu (%zu images)\n", desc.textures.size(), desc.images.size());
   // Where each image the textures read lives: in memory (a MIP pyramid glint looks up itself)
   // or in OpenImageIO's texture cache (tiled, MIP-mapped files, and images too big to hold).
-  if (scene.images) {
+  if (scene.images()) {
     size_t resident = 0;
-    for (TextureImages::Handle h : scene.images->handles()) {
-      std::printf("  image %s\n", scene.images->describe(h).c_str());
-      resident += scene.images->residentBytes(h);
+    for (TextureImages::Handle h : scene.images()->handles()) {
+      std::printf("  image %s\n", scene.images()->describe(h).c_str());
+      resident += scene.images()->residentBytes(h);
     }
     std::printf("  images in memory: %.1f MiB once decoded\n",
                 double(resident) / (1024.0 * 1024.0));
@@ -203,14 +203,14 @@ void runInfo(const InfoArgs& args) {
                                                                              : " (orthographic)");
                         })
                   .c_str(),
-              scene.cameraName.c_str());
+              scene.cameraName().c_str());
   std::printf("lights:     %zu%s%s\n", desc.lights.size(), desc.lights.empty() ? "" : ": ",
               listNames(desc.lights, [](const LightDesc& l) {
                 return (l.name.empty() ? std::string("(unnamed)") : l.name) + " (" +
                        lightTypeName(l.type) + ")";
               }).c_str());
   // Emitting surfaces that are not lights: next-event estimation never samples them.
-  for (const RenderScene::UnsampledEmitter& e : scene.unsampledEmitters)
+  for (const UnsampledEmitter& e : scene.unsampledEmitters())
     std::printf("unsampled emitter: instance %u (%s): %s\n", e.instance, e.shape.c_str(),
                 e.reason.c_str());
   if (b.empty())
@@ -221,7 +221,7 @@ void runInfo(const InfoArgs& args) {
   std::string integratorLabel = integratorName(resolveIntegrator(scene, desc.render.integrator));
   if (desc.render.integrator.type == "auto") integratorLabel += " (auto)";
   std::printf("image:      %dx%d, %d spp, seed %llu, accel %s, integrator %s\n",
-              scene.camera.width(), scene.camera.height(), desc.render.spp,
+              scene.camera().width(), scene.camera().height(), desc.render.spp,
               (unsigned long long)desc.render.seed, desc.render.accel.c_str(),
               integratorLabel.c_str());
   auto [animStart, animEnd] = animationRange(desc);
@@ -237,9 +237,9 @@ void runInfo(const InfoArgs& args) {
   // What motion blur costs: how many placements move and meshes deform over the shutter, and
   // with how many time steps (each a pose Embree stores and blends).
   size_t moving = 0, movingKeys = 0, deforming = 0, deformSteps = 0;
-  for (const Instance& inst : scene.geometry.instances)
+  for (const Instance& inst : scene.geometry().instances)
     if (inst.moves()) ++moving, movingKeys = std::max(movingKeys, inst.motion.keyCount());
-  for (const TriangleMesh& m : scene.geometry.meshes)
+  for (const TriangleMesh& m : scene.geometry().meshes)
     if (m.deforms()) ++deforming, deformSteps = std::max(deformSteps, m.positionSteps.size());
   std::string motion;
   if (moving > 0)
@@ -250,7 +250,7 @@ void runInfo(const InfoArgs& args) {
               (deforming == 1 ? "" : "es") + " (up to " + std::to_string(deformSteps) +
               " time steps)";
   if (!motion.empty()) std::printf("motion:     %s over the shutter\n", motion.c_str());
-  std::vector<std::string> effects = scene.features.names();
+  std::vector<std::string> effects = scene.features().names();
   std::printf("effects:    %s\n", effects.empty()
                                       ? "none"
                                       : listNames(
