@@ -31,8 +31,8 @@ SceneParts triangleParts() {
       std::make_unique<LambertMaterial>(ColorParam{{0.5f, 0.5f, 0.5f}}, ColorParam{{0, 0, 0}}));
   p.meshMaterial = {0};
   p.lights.push_back(std::make_unique<PointLight>(Vec3f{0, 0, 2}, Rgb{1, 1, 1}, 0.0f, true));
-  p.camera = Camera::perspective(AnimatedTransform(Transform::translate({0, 0, 3})), 0.8f, 8, 8,
-                                 0, kInfinity);
+  p.camera = Camera::perspective(AnimatedTransform(Transform::translate({0, 0, 3})), 0.8f, 8, 8, 0,
+                                 kInfinity);
   return p;
 }
 
@@ -185,8 +185,7 @@ TEST(RenderScene, ANewCameraIsDetectedAgainAndMaterialsAreReplacedInRange) {
   EXPECT_TRUE(scene.features().has(Feature::Lens));
 
   EXPECT_THROW(scene.replaceMaterial(uint32_t(scene.materials().size()),
-                                     std::make_unique<LambertMaterial>(ColorParam{},
-                                                                       ColorParam{})),
+                                     std::make_unique<LambertMaterial>(ColorParam{}, ColorParam{})),
                std::logic_error);
 }
 
