@@ -172,46 +172,49 @@ void readLights(JsonReader& root, Document* doc) {
   }
 }
 
-void readNodes(JsonReader& root, Document* doc) {
-  const std::vector<JsonItem> nodes = root.optionalArray("nodes");
-  const size_t n = nodes.size();
-  for (const JsonItem& item : nodes) {
-    JsonReader o(item);
-    Node node;
-    node.where = o.where();
-    node.name = o.get<std::string>("name", "");
-    node.mesh = o.index("mesh", doc->meshes.size(), "mesh", -1);
-    node.camera = o.index("camera", doc->cameras.size(), "camera", -1);
-    if (JsonReader* ext = o.optionalObject("extensions")) {
-      if (JsonReader* light = ext->optionalObject("KHR_lights_punctual"))
-        node.light = light->index("light", doc->lights.size(), "light");
-      if (JsonReader* instancing = ext->optionalObject("EXT_mesh_gpu_instancing"))
-        readInstancing(*instancing, *doc, &node);
-    }
-    for (const JsonItem& child : o.optionalArray("children"))
-      node.children.push_back(child.asIndex(n, "node"));
-    nodeTransform(o, &node);
-    // Skins are read after the nodes (their joints are nodes): the index is checked there.
-    if (o.has("skin")) {
-      node.skin = int(std::min<size_t>(o.getSize("skin"), size_t(1) << 30));
-      if (node.mesh < 0) throw SceneError(o.where("skin"), "a skin needs a mesh on the same node");
-    }
-    if (o.has("weights")) {
-      if (node.mesh < 0)
-        throw SceneError(o.where("weights"), "morph weights need a mesh on the same node");
-      const Mesh& mesh = doc->meshes[size_t(node.mesh)];
-      node.weights = morphWeights(o, "weights", mesh.targetCount,
-                                  "mesh " + std::to_string(node.mesh) + " has");
-    }
-    doc->nodes.push_back(node);
-  }
+namespace {
 
-  // glTF node graphs are disjoint trees: one parent per node, no cycles.
-  std::vector<int> parent(n, -1);
-  for (size_t i = 0; i < n; ++i)
-    for (size_t k = 0; k < doc->nodes[i].children.size(); ++k) {
-      int c = doc->nodes[i].children[k];
-      SourceLocation loc = doc->nodes[i].where.child("children").child(k);
+// One node of the "nodes" array (`n` nodes in all); its children are checked to be nodes, not
+// yet to form trees.
+Node readNode(const JsonItem& item, size_t n, const Document& doc) {
+  JsonReader o(item);
+  Node node;
+  node.where = o.where();
+  node.name = o.get<std::string>("name", "");
+  node.mesh = o.index("mesh", doc.meshes.size(), "mesh", -1);
+  node.camera = o.index("camera", doc.cameras.size(), "camera", -1);
+  if (JsonReader* ext = o.optionalObject("extensions")) {
+    if (JsonReader* light = ext->optionalObject("KHR_lights_punctual"))
+      node.light = light->index("light", doc.lights.size(), "light");
+    if (JsonReader* instancing = ext->optionalObject("EXT_mesh_gpu_instancing"))
+      readInstancing(*instancing, doc, &node);
+  }
+  for (const JsonItem& child : o.optionalArray("children"))
+    node.children.push_back(child.asIndex(n, "node"));
+  nodeTransform(o, &node);
+  // Skins are read after the nodes (their joints are nodes): the index is checked there.
+  if (o.has("skin")) {
+    node.skin = int(std::min<size_t>(o.getSize("skin"), size_t(1) << 30));
+    if (node.mesh < 0) throw SceneError(o.where("skin"), "a skin needs a mesh on the same node");
+  }
+  if (o.has("weights")) {
+    if (node.mesh < 0)
+      throw SceneError(o.where("weights"), "morph weights need a mesh on the same node");
+    const Mesh& mesh = doc.meshes[size_t(node.mesh)];
+    node.weights =
+        morphWeights(o, "weights", mesh.targetCount, "mesh " + std::to_string(node.mesh) + " has");
+  }
+  return node;
+}
+
+// Each node's parent (-1 for roots). glTF node graphs are disjoint trees: one parent per
+// node, and no node its own child.
+std::vector<int> nodeParents(const std::vector<Node>& nodes) {
+  std::vector<int> parent(nodes.size(), -1);
+  for (size_t i = 0; i < nodes.size(); ++i)
+    for (size_t k = 0; k < nodes[i].children.size(); ++k) {
+      int c = nodes[i].children[k];
+      SourceLocation loc = nodes[i].where.child("children").child(k);
       if (size_t(c) == i)
         throw SceneError(
             loc, "node " + std::to_string(c) + " is its own child (cycle in the node graph)");
@@ -221,11 +224,16 @@ void readNodes(JsonReader& root, Document* doc) {
                                   " (the node graph must be a set of trees)");
       parent[size_t(c)] = int(i);
     }
-  // With one parent each, a cycle is a parent chain that comes back to where it started. Each
-  // node's depth is found once, walking up until a root or a node whose depth is known, so a
-  // long chain costs linear time; the loader recurses once per level, hence the depth limit.
+  return parent;
+}
+
+// With one parent each, a cycle is a parent chain that comes back to where it started. Each
+// node's depth is found once, walking up until a root or a node whose depth is known, so a
+// long chain costs linear time; the loader recurses once per level, hence the depth limit.
+void checkNodeDepths(const std::vector<Node>& nodes, const std::vector<int>& parent) {
+  const size_t n = nodes.size();
   auto childEntry = [&](size_t node) {  // the pointer of `node` in its parent's children
-    const Node& parentNode = doc->nodes[size_t(parent[node])];
+    const Node& parentNode = nodes[size_t(parent[node])];
     size_t k = size_t(std::find(parentNode.children.begin(), parentNode.children.end(), int(node)) -
                       parentNode.children.begin());
     return parentNode.where.child("children").child(k);
@@ -262,13 +270,16 @@ void readNodes(JsonReader& root, Document* doc) {
                                               std::to_string(kMaxNodeDepth) + " levels deep");
     }
   }
+}
 
+// The "scenes" array, whose nodes must be roots, and the default "scene".
+void readScenes(JsonReader& root, const std::vector<int>& parent, Document* doc) {
   for (const JsonItem& item : root.optionalArray("scenes")) {
     JsonReader o(item);
     Scene s;
     s.where = o.where();
     for (const JsonItem& entry : o.optionalArray("nodes")) {
-      int node = entry.asIndex(n, "node");
+      int node = entry.asIndex(parent.size(), "node");
       if (parent[size_t(node)] >= 0)
         throw SceneError(entry.where, "node " + std::to_string(node) +
                                           " is not a root node (its parent is node " +
@@ -278,6 +289,16 @@ void readNodes(JsonReader& root, Document* doc) {
     doc->scenes.push_back(s);
   }
   doc->scene = root.index("scene", doc->scenes.size(), "scene", -1);
+}
+
+}  // namespace
+
+void readNodes(JsonReader& root, Document* doc) {
+  const std::vector<JsonItem> nodes = root.optionalArray("nodes");
+  for (const JsonItem& item : nodes) doc->nodes.push_back(readNode(item, nodes.size(), *doc));
+  const std::vector<int> parent = nodeParents(doc->nodes);
+  checkNodeDepths(doc->nodes, parent);
+  readScenes(root, parent, doc);
 }
 
 void readSkins(JsonReader& root, Document* doc) {
