@@ -20,6 +20,12 @@
 // transmittance and in-scattering at every tentative collision, or for homogeneous stretches
 // exact transmittance and one exponentially distributed in-scattering point; unbiased,
 // noisier).
+//
+// Tracking skips empty space where a density field has a majorant grid (VDB media,
+// materials/majorant_grid.h): the ray is cut where it crosses the grid's cells
+// (renderer/majorant_dda.h) and each stretch is tracked at its own cell's majorant, so empty
+// cells cost no collision at all (pbrt-v4's approach). Where several media overlap, the first
+// with a grid contributes its cells and the others their single majorants.
 #pragma once
 
 #include <cstdint>
@@ -50,6 +56,22 @@ struct MediumEvent {
   float t = 0;          // ray parameter of the event
   Rgb weight{1, 1, 1};  // multiplies the path throughput (zero: absorbed)
   float g = 0;          // phase asymmetry of the medium that scattered
+};
+
+// Tentative collisions of the trackers, summed over all threads since the last reset: how
+// much work tracking does, and how much of it was wasted on null collisions.
+struct TrackingCounts {
+  uint64_t tentative = 0;       // delta tracking's tentative collisions (free-flight sampling)
+  uint64_t real = 0;            // of those, real ones (absorption or scattering)
+  uint64_t ratioTentative = 0;  // ratio tracking's collisions (transmittance, shadow rays)
+  double nullPerReal() const;   // (tentative - real) / real, 0 without real collisions
+};
+TrackingCounts trackingCounts();
+void resetTrackingCounts();
+
+// A stretch [t0, t1] of a ray with one majorant (max over channels of sigma_t).
+struct MajorantSegment {
+  float t0, t1, majorant;
 };
 
 class MediaScene {
@@ -110,13 +132,23 @@ class MediaScene {
     std::unique_ptr<Shape> shape;  // null: `box` in world space
     std::optional<PlacedShape> placed;
     Transform objectFromWorld;
-    Bounds3f box;        // world-space bounds
-    float majorant = 0;  // max over channels of sigma_t, times the max density
-    float step = 0;      // marching step (world units)
+    Bounds3f box;                        // world-space bounds
+    float majorant = 0;                  // max over channels of sigma_t, times the max density
+    float step = 0;                      // marching step (world units)
+    const MajorantGrid* grid = nullptr;  // the density's cell maxima (null: `majorant` only)
+    float gridScale = 0;                 // max over channels of sigma_t: grid value -> majorant
   };
   struct Coefficients {
     Rgb sigmaT, sigmaS, emission;
   };
+  // The majorant along [a, b] of `ray` over the `active` regions, in segments (appended to
+  // `out`, cleared first): the regions' single majorants added, except that the first region
+  // with a majorant grid gives its cells' along the ray.
+  void majorantSegments(const Ray& ray, float a, float b, const std::vector<uint32_t>& active,
+                        std::vector<MajorantSegment>* out) const;
+  // Appends the cells of `r`'s majorant grid along [a, b] of `ray`, each plus `constant`.
+  void gridSegments(const Region& r, const Ray& ray, float a, float b, float constant,
+                    std::vector<MajorantSegment>* out) const;
   void finishRegion(Region* r, const Bounds3f& objectBounds);
   float density(const Region& r, Vec3f pWorld) const {
     return r.medium->homogeneous() ? r.medium->density->density(pWorld)
@@ -125,7 +157,7 @@ class MediaScene {
   Coefficients coefficients(const std::vector<uint32_t>& active, Vec3f p) const;
   // Transmittance through one region over world-space distance [0, length) from ray.at(t0).
   Rgb regionTransmittance(const Region& r, const Ray& ray, float t0, float t1, Sampler& sampler,
-                          bool track) const;
+                          bool track, std::vector<MajorantSegment>* segments) const;
   Rgb transmittance(const Ray& ray, float tMax, Sampler& sampler, bool track) const;
   // Delta tracking; emission gathered into `*emitted` when it is not null.
   MediumEvent deltaTrack(const Ray& ray, float tMax, Sampler& sampler, Rgb* emitted) const;
