@@ -12,9 +12,12 @@ sample (`render_seconds` of --stats),
 
     speed of the grid at equal error = (v_single * t_single) / (v_grid * t_grid)
 
-Both trackers are unbiased, so the variance is the error; the script also reports the two
-variants' mean pixel values (equal up to noise) and, from --stats, the delta tracker's
-tentative collisions per real one ("null per real") and the ratio tracker's collisions.
+Both trackers are unbiased, so the variance is the error; the mean squared difference comes
+from `glint diff --json` (its rmse, over R, G, B and A alike for both variants, so the ratio
+holds). The script also compares each round's first grid and single images with `glint diff
+--statistical` (both carry their variance, --aovs): the same image up to noise, or not. From
+--stats: the delta tracker's tentative collisions per real one ("null per real") and the ratio
+tracker's collisions.
 
     python3 benchmarks/vdb_majorant.py --glint build/glint --tool build/tools/glint_make_vdb_scenes \\
         --work /tmp/vdbm --rounds 3
@@ -31,13 +34,10 @@ import statistics
 import subprocess
 import sys
 
-import numpy as np
-
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
 import accel_report  # noqa: E402
-import helmet_equal_error as helmet  # noqa: E402
 
 
 def scene(work, vdb, cells, width, height, with_medium=True):
@@ -58,10 +58,21 @@ def scene(work, vdb, cells, width, height, with_medium=True):
 def render(args, json_path, spp, seed, exr):
     stats = exr[:-4] + ".stats.json"
     cmd = [args.glint, "render", json_path, "--spp", str(spp), "--seed", str(seed), "--threads",
-           str(args.threads), "--quiet", "--stats", stats, "-o", exr]
+           str(args.threads), "--quiet", "--aovs", "--stats", stats, "-o", exr]
     subprocess.run(cmd, check=True)
     with open(stats) as f:
         return json.load(f)
+
+
+def diff(args, a, b, *extra):
+    r = subprocess.run([args.glint, "diff", a, b, "--json", *extra], capture_output=True,
+                       text=True)
+    return json.loads(r.stdout)
+
+
+def load_average():
+    with open("/proc/loadavg") as f:
+        return float(f.read().split()[0])
 
 
 def frame_stats(s):
@@ -78,29 +89,32 @@ def main():
     ap.add_argument("--spp", type=int, default=16)
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--cells", type=int, default=64, help="the grid's majorant_cells")
     ap.add_argument("--memory-size", type=int, default=0)
     ap.add_argument("--out", default=os.path.join(HERE, "results", "vdb_majorant.json"))
     args = ap.parse_args()
     os.makedirs(args.work, exist_ok=True)
     subprocess.run([args.tool, args.work], check=True, capture_output=True)
     vdb = os.path.join(args.work, "cloud.vdb")
-    paths = {"grid": scene(args.work, vdb, 64, args.width, args.height),
+    paths = {"grid": scene(args.work, vdb, args.cells, args.width, args.height),
              "single": scene(args.work, vdb, 1, args.width, args.height)}
     rounds = []
     for rnd in range(args.rounds):
-        row = {"load_before": helmet.load_average()}
+        row = {"load_before": load_average()}
         images = {k: [] for k in paths}
         for seed in (1, 2):
             for name, path in paths.items():
                 exr = os.path.join(args.work, f"{name}_{rnd}_{seed}.exr")
                 s = frame_stats(render(args, path, args.spp, 100 * rnd + seed, exr))
-                images[name].append(helmet.read_rgb(exr))
+                images[name].append(exr)
                 row.setdefault(f"{name}_render_seconds", []).append(s["render_seconds"])
                 row[f"{name}_tracking"] = s.get("tracking_collisions")
         for name in paths:
             a, b = images[name]
-            row[f"{name}_variance"] = float(np.mean((a - b) ** 2)) / 2 * args.spp
-            row[f"{name}_mean"] = float(np.mean(a + b)) / 2
+            row[f"{name}_variance"] = diff(args, a, b)["rmse"] ** 2 / 2 * args.spp
+        same = diff(args, images["grid"][0], images["single"][0], "--statistical")
+        row["grid_vs_single"] = {k: same.get(k) for k in ("verdict", "pass_percent", "global_z",
+                                                          "biased", "mean_z2")}
         t = {n: statistics.mean(row[f"{n}_render_seconds"]) / args.spp for n in paths}
         row["speed"] = (row["single_variance"] * t["single"]) / (row["grid_variance"] * t["grid"])
         rounds.append(row)

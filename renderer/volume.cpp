@@ -86,7 +86,6 @@ struct Scratch {
   std::vector<MediaScene::Interval> intervals;
   std::vector<float> cuts;
   std::vector<uint32_t> active;
-  std::vector<MajorantSegment> segments;
 };
 Scratch& integrateScratch() {
   thread_local Scratch s;
@@ -181,10 +180,8 @@ MediaScene::Coefficients MediaScene::coefficients(const std::vector<uint32_t>& a
   return c;
 }
 
-void MediaScene::majorantSegments(const Ray& ray, float a, float b,
-                                  const std::vector<uint32_t>& active,
-                                  std::vector<MajorantSegment>* out) const {
-  out->clear();
+MajorantWalk MediaScene::majorantWalk(const Ray& ray, float a, float b,
+                                      const std::vector<uint32_t>& active) const {
   const Region* gridded = nullptr;
   float constant = 0;
   for (uint32_t i : active) {
@@ -194,33 +191,14 @@ void MediaScene::majorantSegments(const Ray& ray, float a, float b,
     else
       constant += r.majorant;
   }
-  if (gridded)
-    gridSegments(*gridded, ray, a, b, constant, out);
-  else
-    out->push_back({a, b, constant});
+  return gridded ? regionWalk(*gridded, ray, a, b, constant) : MajorantWalk(a, b, constant);
 }
 
-void MediaScene::gridSegments(const Region& r, const Ray& ray, float a, float b, float constant,
-                              std::vector<MajorantSegment>* out) const {
-  // Runs of cells with the same value are one segment: tracking restarts at no boundary it
-  // need not (exponential steps are memoryless, so cutting changes nothing but the cost).
-  auto add = [&](float t0, float t1, float majorant) {
-    if (!(t1 > t0)) return;
-    if (!out->empty() && out->back().majorant == majorant && out->back().t1 == t0)
-      out->back().t1 = t1;
-    else
-      out->push_back({t0, t1, majorant});
-  };
-  // The grid covers the region's box, where the density lives; stretches the walk leaves out
-  // by rounding at the box's faces hold none.
-  MajorantDda dda(*r.grid, r.objectFromWorld.point(ray.o), r.objectFromWorld.vector(ray.d), a, b);
-  float t0 = 0, t1 = 0, value = 0, last = a;
-  while (dda.next(&t0, &t1, &value)) {
-    add(last, t0, constant);
-    add(std::max(t0, last), t1, constant + value * r.gridScale);
-    last = std::max(last, t1);
-  }
-  add(last, b, constant);
+MajorantWalk MediaScene::regionWalk(const Region& r, const Ray& ray, float a, float b,
+                                    float constant) const {
+  if (!r.grid) return MajorantWalk(a, b, constant + r.majorant);
+  return MajorantWalk(*r.grid, r.gridScale, r.objectFromWorld.point(ray.o),
+                      r.objectFromWorld.vector(ray.d), a, b, constant);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -228,8 +206,7 @@ void MediaScene::gridSegments(const Region& r, const Ray& ray, float a, float b,
 // ---------------------------------------------------------------------------------------------
 
 Rgb MediaScene::regionTransmittance(const Region& r, const Ray& ray, float t0, float t1,
-                                    Sampler& sampler, bool track,
-                                    std::vector<MajorantSegment>* segments) const {
+                                    Sampler& sampler, bool track) const {
   const float len = length(ray.d);
   const float s = (t1 - t0) * len;  // world-space length
   const Medium& m = *r.medium;
@@ -241,14 +218,11 @@ Rgb MediaScene::regionTransmittance(const Region& r, const Ray& ray, float t0, f
     // Ratio tracking (Novák et al. 2014): tentative collisions at the majorant's rate, each
     // multiplying by the probability of it being a null collision; cell by cell where the
     // density has a majorant grid.
-    segments->clear();
-    if (r.grid)
-      gridSegments(r, ray, t0, t1, 0, segments);
-    else
-      segments->push_back({t0, t1, r.majorant});
+    MajorantWalk walk = regionWalk(r, ray, t0, t1, 0);
     CollisionTally tally(gRatioTentative);
     Rgb T{1, 1, 1};
-    for (const MajorantSegment& seg : *segments) {
+    MajorantSegment seg;
+    while (walk.next(&seg)) {
       if (seg.majorant <= 0) continue;
       const float segLength = (seg.t1 - seg.t0) * len;
       const Vec3f segStart = ray.at(seg.t0);
@@ -293,8 +267,7 @@ Rgb MediaScene::transmittance(const Ray& ray, float tMax, Sampler& sampler, bool
   // Coefficients of overlapping regions add, so their transmittances multiply.
   Rgb T{1, 1, 1};
   for (const Interval& i : scratch.intervals) {
-    T *=
-        regionTransmittance(regions_[i.region], ray, i.t0, i.t1, sampler, track, &scratch.segments);
+    T *= regionTransmittance(regions_[i.region], ray, i.t0, i.t1, sampler, track);
     if (maxComponent(T) <= 0) return {};
   }
   return T;
@@ -381,9 +354,10 @@ VolumeSegment MediaScene::integrate(const RenderScene& scene, const Ray& ray, fl
       // form a Poisson process of rate `majorant`, so sum T(x_i) S(x_i) / majorant estimates
       // the integral of T S, with T(x_i) the ratio-tracking estimate up to x_i. Stretch by
       // stretch of the majorant grid, where there is one.
-      majorantSegments(ray, a, b, scratch.active, &scratch.segments);
+      MajorantWalk walk = majorantWalk(ray, a, b, scratch.active);
       CollisionTally tally(gRatioTentative);
-      for (const MajorantSegment& m : scratch.segments) {
+      MajorantSegment m;
+      while (walk.next(&m)) {
         const float segLength = (m.t1 - m.t0) * len;
         const Vec3f segStart = ray.at(m.t0);
         if (m.majorant <= 0) {
@@ -464,8 +438,9 @@ MediumEvent MediaScene::deltaTrack(const Ray& ray, float tMax, Sampler& sampler,
       emits = emits || regions_[i].medium->emits();
       homogeneous = homogeneous && regions_[i].medium->homogeneous();
     }
-    majorantSegments(ray, a, b, scratch.active, &scratch.segments);
-    for (const MajorantSegment& seg : scratch.segments) {
+    MajorantWalk walk = majorantWalk(ray, a, b, scratch.active);
+    MajorantSegment seg;
+    while (walk.next(&seg)) {
       const float majorant = seg.majorant;
       const float s = (seg.t1 - seg.t0) * len;
       const Vec3f start = ray.at(seg.t0);

@@ -35,6 +35,7 @@
 
 #include "geometry/shape.h"
 #include "materials/medium.h"
+#include "renderer/majorant_dda.h"
 #include "renderer/sampler.h"
 #include "renderer/settings.h"
 
@@ -68,11 +69,6 @@ struct TrackingCounts {
 };
 TrackingCounts trackingCounts();
 void resetTrackingCounts();
-
-// A stretch [t0, t1] of a ray with one majorant (max over channels of sigma_t).
-struct MajorantSegment {
-  float t0, t1, majorant;
-};
 
 class MediaScene {
  public:
@@ -141,14 +137,13 @@ class MediaScene {
   struct Coefficients {
     Rgb sigmaT, sigmaS, emission;
   };
-  // The majorant along [a, b] of `ray` over the `active` regions, in segments (appended to
-  // `out`, cleared first): the regions' single majorants added, except that the first region
-  // with a majorant grid gives its cells' along the ray.
-  void majorantSegments(const Ray& ray, float a, float b, const std::vector<uint32_t>& active,
-                        std::vector<MajorantSegment>* out) const;
-  // Appends the cells of `r`'s majorant grid along [a, b] of `ray`, each plus `constant`.
-  void gridSegments(const Region& r, const Ray& ray, float a, float b, float constant,
-                    std::vector<MajorantSegment>* out) const;
+  // The majorant along [a, b] of `ray` over the `active` regions: the regions' single
+  // majorants added, except that the first region with a majorant grid gives its cells'
+  // along the ray.
+  MajorantWalk majorantWalk(const Ray& ray, float a, float b,
+                            const std::vector<uint32_t>& active) const;
+  // The same for one region, plus `constant`.
+  MajorantWalk regionWalk(const Region& r, const Ray& ray, float a, float b, float constant) const;
   void finishRegion(Region* r, const Bounds3f& objectBounds);
   float density(const Region& r, Vec3f pWorld) const {
     return r.medium->homogeneous() ? r.medium->density->density(pWorld)
@@ -157,7 +152,7 @@ class MediaScene {
   Coefficients coefficients(const std::vector<uint32_t>& active, Vec3f p) const;
   // Transmittance through one region over world-space distance [0, length) from ray.at(t0).
   Rgb regionTransmittance(const Region& r, const Ray& ray, float t0, float t1, Sampler& sampler,
-                          bool track, std::vector<MajorantSegment>* segments) const;
+                          bool track) const;
   Rgb transmittance(const Ray& ray, float tMax, Sampler& sampler, bool track) const;
   // Delta tracking; emission gathered into `*emitted` when it is not null.
   MediumEvent deltaTrack(const Ray& ray, float tMax, Sampler& sampler, Rgb* emitted) const;

@@ -33,7 +33,9 @@ TEST(MajorantDda, VisitsTheCellsAlongTheRayInOrder) {
     bool first = true;
     while (dda.next(&t0, &t1, &value)) {
       ASSERT_LE(t0, t1);
-      if (!first) ASSERT_NEAR(t0, last, 1e-5f);  // contiguous
+      if (!first) {
+        ASSERT_NEAR(t0, last, 1e-5f);  // contiguous
+      }
       first = false;
       last = t1;
       // The segment's middle lies in the cell whose value it carries.
@@ -42,7 +44,9 @@ TEST(MajorantDda, VisitsTheCellsAlongTheRayInOrder) {
       for (int a = 0; a < 3; ++a)
         c[a] = std::clamp(int((p[a] - box.lower[a]) / box.diagonal()[a] * float(grid.res(a))), 0,
                           grid.res(a) - 1);
-      if (t1 - t0 > 1e-4f) EXPECT_EQ(value, float(c[0] + 7 * (c[1] + 3 * c[2])));
+      if (t1 - t0 > 1e-4f) {
+        EXPECT_EQ(value, float(c[0] + 7 * (c[1] + 3 * c[2])));
+      }
       ++crossed;
     }
   }

@@ -16,6 +16,7 @@
 #include "image/output.h"
 #include "image/statistical.h"
 #include "materials/blackbody.h"
+#include "media_scene.h"
 #include "renderer/integrator.h"
 #include "renderer/render.h"
 #include "renderer/volume.h"
@@ -72,29 +73,12 @@ openvdb::FloatGrid::Ptr cube(const std::string& name, float voxel, int n, float 
 // Scenes
 // ---------------------------------------------------------------------------------------------
 
-// An orthographic camera on +z looking down -z at [-half, half]^2, a box filter of one pixel,
-// and a far-away triangle so that the geometry is not empty. Media come from `mediaJson` (the
-// sidecar's "media" array), read as if from `file`.
+// The media tests' scene (tests/media_scene.h) seeing [-half, half]^2, with the media of
+// `mediaJson` (the sidecar's "media" array), read as if from `file`.
 SceneDescription mediaScene(const std::string& file, const std::string& mediaJson, int size,
                             int spp, float half, const std::string& integrator = "path") {
-  SceneDescription d;
+  SceneDescription d = test::orthographicMediaScene(size, spp, half, integrator, 16);
   d.file = file;
-  MeshDesc far;
-  far.positions = {{100, 100, 100}, {101, 100, 100}, {100, 101, 100}};
-  far.indices = {0, 1, 2};
-  d.meshes.push_back(far);
-  d.instances.push_back({0, Transform(), "far", {}});
-  CameraDesc cam;
-  cam.name = "c";
-  cam.type = CameraType::Orthographic;
-  cam.xmag = cam.ymag = half;
-  cam.worldFromCamera = Transform::lookAt({0, 0, 6}, {0, 0, 0}, {0, 1, 0});
-  d.cameras.push_back(cam);
-  d.render.width = d.render.height = size;
-  d.render.spp = spp;
-  d.render.filter = {"box", 0.5f};
-  d.render.integrator.type = integrator;
-  d.render.integrator.maxDepth = 16;
   applySceneJsonText("{\"media\": " + mediaJson + "}", file, SceneJsonKind::Sidecar, &d);
   return d;
 }
