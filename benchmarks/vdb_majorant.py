@@ -3,8 +3,8 @@
 
 The cloud is scenes/volumes/cloud.vdb (tools/make_vdb_scenes.cpp: a cumulus with a dense core in
 a mostly empty box) in scenes/volumes/cloud.json (sun and sky, path tracer, depth 8), rendered at
---width x --height with `majorant_cells` 64 (the grid) and 1 (one majorant for the whole volume,
-the tracker every other medium uses). Each variant renders twice at the same spp with different
+--width x --height with `majorant_cells` --cells (the grid; 16 by default) and 1 (one
+majorant for the whole volume, the tracker every other medium uses). Each variant renders twice at the same spp with different
 seeds, interleaved (grid, single, grid, single) so that a change in the machine's load falls on
 both; --rounds repeats that. Half the mean squared difference of a variant's two images is its
 variance at that spp; times spp, the variance of one sample. With t the render seconds per
@@ -89,7 +89,7 @@ def main():
     ap.add_argument("--spp", type=int, default=16)
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--threads", type=int, default=2)
-    ap.add_argument("--cells", type=int, default=64, help="the grid's majorant_cells")
+    ap.add_argument("--cells", type=int, default=16, help="the grid's majorant_cells")
     ap.add_argument("--memory-size", type=int, default=0)
     ap.add_argument("--out", default=os.path.join(HERE, "results", "vdb_majorant.json"))
     args = ap.parse_args()

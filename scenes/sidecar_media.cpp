@@ -118,7 +118,7 @@ void readVdb(JsonReader& d, const std::string& file, float fps, MediumDesc* m) {
         VdbGridRequest{d.get<std::string>("temperature_grid"), d.where("temperature_grid")};
   if (d.has("flame_grid"))
     request.flame = VdbGridRequest{d.get<std::string>("flame_grid"), d.where("flame_grid")};
-  request.majorantCells = d.get<int>("majorant_cells", 64, {.ge = 1, .le = 1024});
+  request.majorantCells = d.get<int>("majorant_cells", 16, {.ge = 1, .le = 1024});
   m->vdbScale = d.get<float>("scale", 1.0f, kNonNegative);
   m->blackbodyIntensity =
       d.get<float>("blackbody_intensity", request.temperature ? 1.0f : 0.0f, kNonNegative);

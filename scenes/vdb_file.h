@@ -46,7 +46,7 @@ struct VdbRequest {
   std::optional<VdbGridRequest> temperature, flame;
   // Cells of the majorant grid along the box's longest axis (the others in proportion);
   // 1: no grid, a single majorant.
-  int majorantCells = 64;
+  int majorantCells = 16;
 };
 
 // Reads the requested grids of the .vdb file at `path`. Errors are SceneErrors at the
