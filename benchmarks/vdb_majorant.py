@@ -91,7 +91,7 @@ def main():
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--cells", type=int, default=16, help="the grid's majorant_cells")
     ap.add_argument("--memory-size", type=int, default=0)
-    ap.add_argument("--out", default=os.path.join(HERE, "results", "vdb_majorant.json"))
+    ap.add_argument("--out", required=True)
     args = ap.parse_args()
     os.makedirs(args.work, exist_ok=True)
     subprocess.run([args.tool, args.work], check=True, capture_output=True)
