@@ -20,7 +20,7 @@ holds). The script also compares each round's first grid and single images with 
 tracker's collisions.
 
     python3 benchmarks/vdb_majorant.py --glint build/glint --tool build/tools/glint_make_vdb_scenes \\
-        --work /tmp/vdbm --rounds 3
+        --work /tmp/vdbm --rounds 3 --out benchmarks/results/vdb_majorant_16.json
 
 Memory: with --memory-size N it also writes an N-voxel-wide cloud and reports the process's
 peak resident memory rendering it (1 spp) against the same scene without the medium, beside
