@@ -11,6 +11,7 @@
 #include "renderer/integrator.h"
 #include "scenes/build.h"
 #include "scenes/load.h"
+#include "scenes/vdb_file.h"
 
 namespace glint::app {
 
@@ -144,6 +145,32 @@ void printEffectsOverFrames(const InfoArgs& args, double fps) {
   if (names.empty()) std::printf("  none\n");
 }
 
+// The media, and each grid of every VDB file they read: what a user needs to name grids in
+// the sidecar and to judge the memory a volume takes.
+void printMedia(const SceneDescription& desc) {
+  if (desc.media.empty()) return;
+  static const char* kTypes[] = {"constant", "grid", "noise", "exponential", "vdb"};
+  std::printf("media:      %zu: %s\n", desc.media.size(),
+              listNames(desc.media, [](const MediumDesc& m) {
+                return (m.name.empty() ? std::string("(unnamed)") : m.name) + " (" +
+                       kTypes[int(m.density)] + ")";
+              }).c_str());
+  for (const MediumDesc& m : desc.media) {
+    if (!m.vdb) continue;
+    const VdbVolume& v = *m.vdb;
+    std::printf("  vdb %s: %.2f MiB in memory (NanoVDB grids and majorant grid)\n", v.file.c_str(),
+                double(v.bytes()) / (1024.0 * 1024.0));
+    for (const VdbGridInfo& g : listVdbGrids(v.file))
+      std::printf(
+          "    grid '%s': %s, voxel %g x %g x %g, %llu active voxels, bounds (%g, %g, %g) to "
+          "(%g, %g, %g), %.2f MiB\n",
+          g.name.c_str(), g.type.c_str(), g.voxelSize.x, g.voxelSize.y, g.voxelSize.z,
+          (unsigned long long)g.activeVoxels, g.worldBounds.lower.x, g.worldBounds.lower.y,
+          g.worldBounds.lower.z, g.worldBounds.upper.x, g.worldBounds.upper.y,
+          g.worldBounds.upper.z, double(g.memoryBytes) / (1024.0 * 1024.0));
+  }
+}
+
 void runInfo(const InfoArgs& args) {
   SceneDescription desc;
   RenderScene scene;
@@ -209,6 +236,7 @@ void runInfo(const InfoArgs& args) {
                 return (l.name.empty() ? std::string("(unnamed)") : l.name) + " (" +
                        lightTypeName(l.type) + ")";
               }).c_str());
+  printMedia(desc);
   // Emitting surfaces that are not lights: next-event estimation never samples them.
   for (const UnsampledEmitter& e : scene.unsampledEmitters())
     std::printf("unsampled emitter: instance %u (%s): %s\n", e.instance, e.shape.c_str(),

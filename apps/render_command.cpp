@@ -26,6 +26,7 @@
 #include "renderer/progress.h"
 #include "renderer/render.h"
 #include "renderer/subdivide.h"
+#include "renderer/volume.h"
 #include "scenes/build.h"
 #include "scenes/load.h"
 
@@ -176,6 +177,12 @@ nlohmann::json frameJson(const FrameRecord& r) {
   const auto [resident, peak] = residentMemoryMiB();
   j["resident_mib"] = resident;
   j["peak_resident_mib"] = peak;
+  // Media tracking's collisions, summed over the process so far (a single render: its own).
+  if (const TrackingCounts t = trackingCounts(); t.tentative + t.ratioTentative > 0)
+    j["tracking_collisions"] = {{"delta_tentative", t.tentative},
+                                {"delta_real", t.real},
+                                {"ratio_tentative", t.ratioTentative},
+                                {"null_per_real", t.nullPerReal()}};
   if (!r.integratorSetup.empty()) {
     nlohmann::json setup = nlohmann::json::object();
     for (const Integrator::SetupStat& s : r.integratorSetup) setup[s.name] = s.value;

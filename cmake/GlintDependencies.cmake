@@ -11,6 +11,21 @@ find_package(meshoptimizer REQUIRED)  # EXT_meshopt_compression (libmeshoptimize
 find_package(nlohmann_json 3 REQUIRED)
 find_package(fmt REQUIRED)
 find_package(CLI11 REQUIRED)
+# VDB media: OpenVDB (libopenvdb-dev) and NanoVDB (libnanovdb-dev, header-only). Debian's
+# FindOpenVDB.cmake (in its own folder, beside its own FindTBB and FindOpenEXR) insists on
+# Boost.Iostreams' CMake package, which only OpenVDB's build needs; the library and its
+# headers are all glint uses, so the target is made here. Its headers include Boost's
+# (libboost-dev, which libopenvdb-dev does not depend on) and Imath's.
+find_path(OPENVDB_INCLUDE_DIR openvdb/openvdb.h REQUIRED)
+find_library(OPENVDB_LIBRARY openvdb REQUIRED)
+find_path(BOOST_INCLUDE_DIR boost/any.hpp REQUIRED)
+find_package(Imath REQUIRED)  # half floats, in OpenVDB's headers (libimath-dev)
+add_library(OpenVDB::openvdb UNKNOWN IMPORTED)
+set_target_properties(OpenVDB::openvdb PROPERTIES
+  IMPORTED_LOCATION "${OPENVDB_LIBRARY}"
+  INTERFACE_INCLUDE_DIRECTORIES "${OPENVDB_INCLUDE_DIR};${BOOST_INCLUDE_DIR}"
+  INTERFACE_LINK_LIBRARIES "TBB::tbb;Imath::Imath")
+find_path(NANOVDB_INCLUDE_DIR nanovdb/NanoVDB.h REQUIRED)
 find_package(PkgConfig REQUIRED)
 
 # Debian installs OpenColorIOConfig.cmake where find_package does not look, and with a hint it

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "geometry/math.h"
+#include "materials/majorant_grid.h"
 #include "materials/noise.h"
 
 namespace glint {
@@ -36,6 +37,18 @@ class DensityField {
   virtual float maxDensity(const Bounds3f& region) const = 0;
   // True when density() is the same everywhere: transmittance is then exp(-sigma_t s).
   virtual bool isConstant() const { return false; }
+  // Bounds of density() cell by cell over the object-space region, for trackers that skip
+  // empty space (materials/majorant_grid.h); null: maxDensity() of the region is the only one.
+  virtual const MajorantGrid* majorantGrid() const { return nullptr; }
+};
+
+// Emission of a medium's own that is not proportional to its density (a VDB fire's blackbody
+// radiation from a temperature grid, a flame grid): radiance per unit length at an
+// object-space point, added to Le x density.
+class EmissionField {
+ public:
+  virtual ~EmissionField() = default;
+  virtual Rgb emission(Vec3f p) const = 0;
 };
 
 // The same density everywhere (a homogeneous medium).
@@ -111,9 +124,10 @@ struct Medium {
   Rgb Le{0, 0, 0};                       // emitted radiance per unit length, at density 1
   float g = 0;                           // Henyey–Greenstein asymmetry, |g| < 1
   std::unique_ptr<DensityField> density;
+  std::unique_ptr<EmissionField> emissionField;  // null: Le x density is all it emits
 
   Rgb sigmaT() const { return sigmaA + sigmaS; }
-  bool emits() const { return maxComponent(Le) > 0; }
+  bool emits() const { return maxComponent(Le) > 0 || emissionField; }
   bool scatters() const { return maxComponent(sigmaS) > 0; }
   bool homogeneous() const { return density->isConstant(); }
 };

@@ -2,11 +2,13 @@
 #include "renderer/volume.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "materials/phase.h"
 #include "renderer/direct_light.h"
 #include "renderer/integrator.h"
+#include "renderer/majorant_dda.h"
 #include "renderer/scene.h"
 
 namespace glint {
@@ -62,6 +64,22 @@ void activeIn(const std::vector<MediaScene::Interval>& iv, float a, float b,
     if (i.t0 <= a && i.t1 >= b) out->push_back(i.region);
 }
 
+// The trackers' collision counts (TrackingCounts), added once per tracked ray, not per
+// collision, so threads seldom meet on them.
+std::atomic<uint64_t> gTentative{0}, gReal{0}, gRatioTentative{0};
+
+// Counts one tracked ray's collisions and adds them when it goes out of scope.
+struct CollisionTally {
+  std::atomic<uint64_t>& total;
+  uint64_t n = 0;
+  explicit CollisionTally(std::atomic<uint64_t>& t) : total(t) {}
+  CollisionTally(const CollisionTally&) = delete;
+  CollisionTally& operator=(const CollisionTally&) = delete;
+  ~CollisionTally() {
+    if (n) total.fetch_add(n, std::memory_order_relaxed);
+  }
+};
+
 // Per-thread scratch lists: no allocation per ray once warm. `integrate` and `transmittance`
 // (which it calls for shadow rays) use separate ones.
 struct Scratch {
@@ -80,6 +98,16 @@ Scratch& transmittanceScratch() {
 
 }  // namespace
 
+double TrackingCounts::nullPerReal() const {
+  return real ? double(tentative - real) / double(real) : 0.0;
+}
+
+TrackingCounts trackingCounts() {
+  return {gTentative.load(), gReal.load(), gRatioTentative.load()};
+}
+
+void resetTrackingCounts() { gTentative = 0, gReal = 0, gRatioTentative = 0; }
+
 // ---------------------------------------------------------------------------------------------
 // Regions
 // ---------------------------------------------------------------------------------------------
@@ -92,6 +120,8 @@ MediaScene::MediaScene(const IntegratorSettings& settings)
 void MediaScene::finishRegion(Region* r, const Bounds3f& objectBounds) {
   r->majorant = maxComponent(r->medium->sigmaT()) * r->medium->density->maxDensity(objectBounds);
   r->step = step_ > 0 ? step_ : length(r->box.diagonal()) / kAutoStepsPerDiagonal;
+  r->grid = r->medium->density->majorantGrid();
+  r->gridScale = maxComponent(r->medium->sigmaT());
 }
 
 void MediaScene::addRegion(std::unique_ptr<Medium> medium, std::unique_ptr<Shape> shape,
@@ -144,8 +174,31 @@ MediaScene::Coefficients MediaScene::coefficients(const std::vector<uint32_t>& a
     c.sigmaT += r.medium->sigmaT() * d;
     c.sigmaS += r.medium->sigmaS * d;
     c.emission += r.medium->Le * d;
+    if (r.medium->emissionField)
+      c.emission += r.medium->emissionField->emission(r.objectFromWorld.point(p));
   }
   return c;
+}
+
+MajorantWalk MediaScene::majorantWalk(const Ray& ray, float a, float b,
+                                      const std::vector<uint32_t>& active) const {
+  const Region* gridded = nullptr;
+  float constant = 0;
+  for (uint32_t i : active) {
+    const Region& r = regions_[i];
+    if (!gridded && r.grid)
+      gridded = &r;
+    else
+      constant += r.majorant;
+  }
+  return gridded ? regionWalk(*gridded, ray, a, b, constant) : MajorantWalk(a, b, constant);
+}
+
+MajorantWalk MediaScene::regionWalk(const Region& r, const Ray& ray, float a, float b,
+                                    float constant) const {
+  if (!r.grid) return MajorantWalk(a, b, constant + r.majorant);
+  return MajorantWalk(*r.grid, r.gridScale, r.objectFromWorld.point(ray.o),
+                      r.objectFromWorld.vector(ray.d), a, b, constant);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -163,22 +216,33 @@ Rgb MediaScene::regionTransmittance(const Region& r, const Ray& ray, float t0, f
   const Vec3f start = ray.at(t0);
   if (track) {
     // Ratio tracking (Novák et al. 2014): tentative collisions at the majorant's rate, each
-    // multiplying by the probability of it being a null collision.
+    // multiplying by the probability of it being a null collision; cell by cell where the
+    // density has a majorant grid.
+    MajorantWalk walk = regionWalk(r, ray, t0, t1, 0);
+    CollisionTally tally(gRatioTentative);
     Rgb T{1, 1, 1};
-    float x = 0;
-    for (;;) {
-      x -= std::log1p(-sampler.get1D()) / r.majorant;
-      if (x >= s) return T;
-      const float d = density(r, start + dUnit * x);
-      T *= max(Rgb{0, 0, 0}, Rgb{1, 1, 1} - m.sigmaT() * (d / r.majorant));
-      const float q = maxComponent(T);
-      if (q <= 0) return {};
-      if (q < kRouletteThreshold) {
-        const float survive = q / kRouletteThreshold;
-        if (sampler.get1D() >= survive) return {};
-        T = T / survive;
+    MajorantSegment seg;
+    while (walk.next(&seg)) {
+      if (seg.majorant <= 0) continue;
+      const float segLength = (seg.t1 - seg.t0) * len;
+      const Vec3f segStart = ray.at(seg.t0);
+      float x = 0;
+      for (;;) {
+        x -= std::log1p(-sampler.get1D()) / seg.majorant;
+        if (x >= segLength) break;
+        ++tally.n;
+        const float d = density(r, segStart + dUnit * x);
+        T *= max(Rgb{0, 0, 0}, Rgb{1, 1, 1} - m.sigmaT() * (d / seg.majorant));
+        const float q = maxComponent(T);
+        if (q <= 0) return {};
+        if (q < kRouletteThreshold) {
+          const float survive = q / kRouletteThreshold;
+          if (sampler.get1D() >= survive) return {};
+          T = T / survive;
+        }
       }
     }
+    return T;
   }
   // Fixed steps, all shifted by one jittered offset.
   const int n = std::clamp(int(std::ceil(s / r.step)), 1, kMaxSteps);
@@ -256,13 +320,12 @@ VolumeSegment MediaScene::integrate(const RenderScene& scene, const Ray& ray, fl
     const float s = (b - a) * len;
     const Vec3f start = ray.at(a);
     bool homogeneous = true, scatters = false;
-    float step = kInfinity, majorant = 0;
+    float step = kInfinity;
     for (uint32_t i : scratch.active) {
       const Region& r = regions_[i];
       homogeneous = homogeneous && r.medium->homogeneous();
       scatters = scatters || r.medium->scatters();
       step = std::min(step, r.step);
-      majorant += r.majorant;
     }
     const bool sourceVaries = single_ && scatters;
     if (homogeneous && !sourceVaries) {
@@ -287,25 +350,40 @@ VolumeSegment MediaScene::integrate(const RenderScene& scene, const Ray& ray, fl
       seg.L += seg.T * S * expNeg(c.sigmaT * x) / pdf;
       seg.T *= expNeg(c.sigmaT * s);
     } else if (track_) {
-      if (majorant <= 0) continue;
       // Ratio tracking with the source gathered at every tentative collision: the collisions
       // form a Poisson process of rate `majorant`, so sum T(x_i) S(x_i) / majorant estimates
-      // the integral of T S, with T(x_i) the ratio-tracking estimate up to x_i.
-      float x = 0;
-      for (;;) {
-        x -= std::log1p(-sampler.get1D()) / majorant;
-        if (x >= s) break;
-        const Vec3f p = start + dUnit * x;
-        const Coefficients c = coefficients(scratch.active, p);
-        seg.L += seg.T * source(scene, scratch.active, p, dUnit, ray.time, c, sampler, counters) /
-                 majorant;
-        seg.T *= max(Rgb{0, 0, 0}, Rgb{1, 1, 1} - c.sigmaT / majorant);
-        const float q = maxComponent(seg.T);
-        if (q <= 0) return {Rgb{0, 0, 0}, seg.L};
-        if (q < kRouletteThreshold) {
-          const float survive = q / kRouletteThreshold;
-          if (sampler.get1D() >= survive) return {Rgb{0, 0, 0}, seg.L};
-          seg.T = seg.T / survive;
+      // the integral of T S, with T(x_i) the ratio-tracking estimate up to x_i. Stretch by
+      // stretch of the majorant grid, where there is one.
+      MajorantWalk walk = majorantWalk(ray, a, b, scratch.active);
+      CollisionTally tally(gRatioTentative);
+      MajorantSegment m;
+      while (walk.next(&m)) {
+        const float segLength = (m.t1 - m.t0) * len;
+        const Vec3f segStart = ray.at(m.t0);
+        if (m.majorant <= 0) {
+          // No extinction here (T stays), so no collisions: emission from one uniformly
+          // placed sample of its integral.
+          const Vec3f p = segStart + dUnit * (sampler.get1D() * segLength);
+          seg.L += seg.T * coefficients(scratch.active, p).emission * segLength;
+          continue;
+        }
+        float x = 0;
+        for (;;) {
+          x -= std::log1p(-sampler.get1D()) / m.majorant;
+          if (x >= segLength) break;
+          ++tally.n;
+          const Vec3f p = segStart + dUnit * x;
+          const Coefficients c = coefficients(scratch.active, p);
+          seg.L += seg.T * source(scene, scratch.active, p, dUnit, ray.time, c, sampler, counters) /
+                   m.majorant;
+          seg.T *= max(Rgb{0, 0, 0}, Rgb{1, 1, 1} - c.sigmaT / m.majorant);
+          const float q = maxComponent(seg.T);
+          if (q <= 0) return {Rgb{0, 0, 0}, seg.L};
+          if (q < kRouletteThreshold) {
+            const float survive = q / kRouletteThreshold;
+            if (sampler.get1D() >= survive) return {Rgb{0, 0, 0}, seg.L};
+            seg.T = seg.T / survive;
+          }
         }
       }
     } else {
@@ -350,61 +428,70 @@ MediumEvent MediaScene::deltaTrack(const Ray& ray, float tMax, Sampler& sampler,
   const Vec3f dUnit = ray.d / len;
   breakpoints(scratch.intervals, &scratch.cuts);
   auto mean = [](Rgb c) { return (c.x + c.y + c.z) / 3; };
+  CollisionTally tentative(gTentative), real(gReal);
   for (size_t k = 0; k + 1 < scratch.cuts.size(); ++k) {
     const float a = scratch.cuts[k], b = scratch.cuts[k + 1];
     activeIn(scratch.intervals, a, b, &scratch.active);
     if (scratch.active.empty() || !(b > a)) continue;
-    float majorant = 0;
     bool emits = false, homogeneous = true;
     for (uint32_t i : scratch.active) {
-      majorant += regions_[i].majorant;
       emits = emits || regions_[i].medium->emits();
       homogeneous = homogeneous && regions_[i].medium->homogeneous();
     }
-    const float s = (b - a) * len;
-    const Vec3f start = ray.at(a);
-    if (majorant <= 0) {
-      // No extinction (T = 1 here), so no collisions to gather emission at: the integral
-      // itself when constant, else one uniformly placed sample of it.
-      if (emitted && emits) {
-        const float x = homogeneous ? 0 : sampler.get1D() * s;
-        *emitted += event.weight * coefficients(scratch.active, start + dUnit * x).emission * s;
-      }
-      continue;
-    }
-    float x = 0;
-    for (;;) {
-      x -= std::log1p(-sampler.get1D()) / majorant;
-      if (x >= s) break;
-      const Coefficients c = coefficients(scratch.active, start + dUnit * x);
-      // Collisions come at rate `majorant`: weight x emission / majorant per collision
-      // estimates the integral of T emission, whatever the event chosen below.
-      if (emitted && emits) *emitted += event.weight * c.emission / majorant;
-      // Channel-averaged event probabilities (majorant >= every channel's sigma_t, so they
-      // sum to <= 1); each event weighs its true coefficient over majorant * its probability,
-      // which keeps every channel unbiased and is exactly 1 for grey media.
-      const float pAbsorb = mean(c.sigmaT - c.sigmaS) / majorant;
-      const float pScatter = mean(c.sigmaS) / majorant;
-      const float u = sampler.get1D();
-      if (u < pAbsorb) return {false, 0, Rgb{0, 0, 0}, 0};
-      if (u < pAbsorb + pScatter) {
-        event.scattered = true;
-        event.t = a + x / len;
-        event.weight *= c.sigmaS / (majorant * pScatter);
-        // The scattering region, in proportion to its share of sigma_s.
-        float pick = sampler.get1D() * mean(c.sigmaS);
-        for (uint32_t i : scratch.active) {
-          const Region& r = regions_[i];
-          event.g = r.medium->g;
-          pick -= mean(r.medium->sigmaS) * density(r, start + dUnit * x);
-          if (pick < 0) break;
+    MajorantWalk walk = majorantWalk(ray, a, b, scratch.active);
+    MajorantSegment seg;
+    while (walk.next(&seg)) {
+      const float majorant = seg.majorant;
+      const float s = (seg.t1 - seg.t0) * len;
+      const Vec3f start = ray.at(seg.t0);
+      if (majorant <= 0) {
+        // No extinction (T = 1 here), so no collisions to gather emission at: the integral
+        // itself when constant, else one uniformly placed sample of it.
+        if (emitted && emits) {
+          const float x = homogeneous ? 0 : sampler.get1D() * s;
+          *emitted += event.weight * coefficients(scratch.active, start + dUnit * x).emission * s;
         }
-        return event;
+        continue;
       }
-      const float pNull = 1 - pAbsorb - pScatter;
-      if (pNull <= 0) continue;  // only by rounding: then sigma_t = majorant, a weight of 1
-      event.weight *=
-          max(Rgb{0, 0, 0}, Rgb{majorant, majorant, majorant} - c.sigmaT) / (majorant * pNull);
+      float x = 0;
+      for (;;) {
+        x -= std::log1p(-sampler.get1D()) / majorant;
+        if (x >= s) break;
+        ++tentative.n;
+        const Coefficients c = coefficients(scratch.active, start + dUnit * x);
+        // Collisions come at rate `majorant`: weight x emission / majorant per collision
+        // estimates the integral of T emission, whatever the event chosen below.
+        if (emitted && emits) *emitted += event.weight * c.emission / majorant;
+        // Channel-averaged event probabilities (majorant >= every channel's sigma_t, so they
+        // sum to <= 1); each event weighs its true coefficient over majorant * its probability,
+        // which keeps every channel unbiased and is exactly 1 for grey media.
+        const float pAbsorb = mean(c.sigmaT - c.sigmaS) / majorant;
+        const float pScatter = mean(c.sigmaS) / majorant;
+        const float u = sampler.get1D();
+        if (u < pAbsorb) {
+          ++real.n;
+          return {false, 0, Rgb{0, 0, 0}, 0};
+        }
+        if (u < pAbsorb + pScatter) {
+          ++real.n;
+          event.scattered = true;
+          event.t = seg.t0 + x / len;
+          event.weight *= c.sigmaS / (majorant * pScatter);
+          // The scattering region, in proportion to its share of sigma_s.
+          float pick = sampler.get1D() * mean(c.sigmaS);
+          for (uint32_t i : scratch.active) {
+            const Region& r = regions_[i];
+            event.g = r.medium->g;
+            pick -= mean(r.medium->sigmaS) * density(r, start + dUnit * x);
+            if (pick < 0) break;
+          }
+          return event;
+        }
+        const float pNull = 1 - pAbsorb - pScatter;
+        if (pNull <= 0) continue;  // only by rounding: then sigma_t = majorant, a weight of 1
+        event.weight *=
+            max(Rgb{0, 0, 0}, Rgb{majorant, majorant, majorant} - c.sigmaT) / (majorant * pNull);
+      }
     }
   }
   return event;

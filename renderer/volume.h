@@ -20,6 +20,12 @@
 // transmittance and in-scattering at every tentative collision, or for homogeneous stretches
 // exact transmittance and one exponentially distributed in-scattering point; unbiased,
 // noisier).
+//
+// Tracking skips empty space where a density field has a majorant grid (VDB media,
+// materials/majorant_grid.h): the ray is cut where it crosses the grid's cells
+// (renderer/majorant_dda.h) and each stretch is tracked at its own cell's majorant, so empty
+// cells cost no collision at all (pbrt-v4's approach). Where several media overlap, the first
+// with a grid contributes its cells and the others their single majorants.
 #pragma once
 
 #include <cstdint>
@@ -29,6 +35,7 @@
 
 #include "geometry/shape.h"
 #include "materials/medium.h"
+#include "renderer/majorant_dda.h"
 #include "renderer/sampler.h"
 #include "renderer/settings.h"
 
@@ -51,6 +58,17 @@ struct MediumEvent {
   Rgb weight{1, 1, 1};  // multiplies the path throughput (zero: absorbed)
   float g = 0;          // phase asymmetry of the medium that scattered
 };
+
+// Tentative collisions of the trackers, summed over all threads since the last reset: how
+// much work tracking does, and how much of it was wasted on null collisions.
+struct TrackingCounts {
+  uint64_t tentative = 0;       // delta tracking's tentative collisions (free-flight sampling)
+  uint64_t real = 0;            // of those, real ones (absorption or scattering)
+  uint64_t ratioTentative = 0;  // ratio tracking's collisions (transmittance, shadow rays)
+  double nullPerReal() const;   // (tentative - real) / real, 0 without real collisions
+};
+TrackingCounts trackingCounts();
+void resetTrackingCounts();
 
 class MediaScene {
  public:
@@ -110,13 +128,22 @@ class MediaScene {
     std::unique_ptr<Shape> shape;  // null: `box` in world space
     std::optional<PlacedShape> placed;
     Transform objectFromWorld;
-    Bounds3f box;        // world-space bounds
-    float majorant = 0;  // max over channels of sigma_t, times the max density
-    float step = 0;      // marching step (world units)
+    Bounds3f box;                        // world-space bounds
+    float majorant = 0;                  // max over channels of sigma_t, times the max density
+    float step = 0;                      // marching step (world units)
+    const MajorantGrid* grid = nullptr;  // the density's cell maxima (null: `majorant` only)
+    float gridScale = 0;                 // max over channels of sigma_t: grid value -> majorant
   };
   struct Coefficients {
     Rgb sigmaT, sigmaS, emission;
   };
+  // The majorant along [a, b] of `ray` over the `active` regions: the regions' single
+  // majorants added, except that the first region with a majorant grid gives its cells'
+  // along the ray.
+  MajorantWalk majorantWalk(const Ray& ray, float a, float b,
+                            const std::vector<uint32_t>& active) const;
+  // The same for one region, plus `constant`.
+  MajorantWalk regionWalk(const Region& r, const Ray& ray, float a, float b, float constant) const;
   void finishRegion(Region* r, const Bounds3f& objectBounds);
   float density(const Region& r, Vec3f pWorld) const {
     return r.medium->homogeneous() ? r.medium->density->density(pWorld)

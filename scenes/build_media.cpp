@@ -1,6 +1,8 @@
 // glint — media descriptions to render-time media.
 #include "scenes/build_media.h"
 
+#include "materials/vdb_volume.h"
+
 namespace glint {
 
 namespace {
@@ -15,6 +17,8 @@ std::unique_ptr<DensityField> makeDensity(const MediumDesc& m, const Bounds3f& r
                                             m.noiseSeed, m.noiseOffset);
     case DensityType::Exponential:
       return std::make_unique<ExponentialDensity>(m.up, m.falloff, m.h0);
+    case DensityType::Vdb:
+      return std::make_unique<VdbDensity>(m.vdb, m.vdbScale);
     case DensityType::Constant:
     default:
       return std::make_unique<ConstantDensity>(m.value);
@@ -31,6 +35,22 @@ Bounds3f sceneBox(const SceneParts& scene) {
   return {box.lower - margin, box.upper + margin};
 }
 
+// A VDB fire's own emission (blackbody, flame); null when it has none.
+std::unique_ptr<EmissionField> makeEmission(const MediumDesc& m) {
+  if (m.density != DensityType::Vdb) return nullptr;
+  const VdbVolume& v = *m.vdb;
+  const bool blackbody = v.temperature && m.blackbodyIntensity > 0;
+  const bool flame = v.flame && m.flameStrength > 0 && maxComponent(m.flameColor) > 0;
+  if (!blackbody && !flame) return nullptr;
+  VdbEmissionParams p;
+  p.blackbodyIntensity = blackbody ? m.blackbodyIntensity : 0;
+  p.temperatureScale = m.temperatureScale;
+  p.temperatureOffset = m.temperatureOffset;
+  p.flameStrength = flame ? m.flameStrength : 0;
+  p.flameColor = m.flameColor;
+  return std::make_unique<VdbEmission>(m.vdb, p);
+}
+
 }  // namespace
 
 void addMedia(const SceneDescription& desc, SceneParts* scene) {
@@ -44,6 +64,7 @@ void addMedia(const SceneDescription& desc, SceneParts* scene) {
     medium->sigmaS = m.sigmaS;
     medium->Le = m.emission;
     medium->g = m.g;
+    medium->emissionField = makeEmission(m);
     switch (m.region) {
       case MediumDesc::Region::Scene:
         medium->density = makeDensity(m, box);

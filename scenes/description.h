@@ -358,7 +358,9 @@ struct ObjectDesc {
 // Participating media (sidecar "media"; materials/medium.h, renderer/volume.h)
 // ---------------------------------------------------------------------------------------------
 
-enum class DensityType { Constant, Grid, Noise, Exponential };
+enum class DensityType { Constant, Grid, Noise, Exponential, Vdb };
+
+struct VdbVolume;  // materials/vdb_volume.h (read by scenes/vdb_file.h)
 
 // A medium filling a region: a convex solid (`shape` placed by worldFromRegion), the solid of
 // the analytic object `object`, or (neither) the whole scene.
@@ -380,6 +382,13 @@ struct MediumDesc {
   Vec3f noiseOffset{0, 0, 0};  // noise: the pattern moves by this
   Vec3f up{0, 1, 0};           // exponential
   float falloff = 1, h0 = 0;
+  // vdb: the grids read from the file (the region is the box of their active voxels, in the
+  // file's world space placed by worldFromRegion), the density scale and the fire's emission
+  std::shared_ptr<const VdbVolume> vdb;
+  float vdbScale = 1;
+  float blackbodyIntensity = 0, temperatureScale = 1, temperatureOffset = 0;
+  float flameStrength = 0;
+  Rgb flameColor{1, 1, 1};
   SourceLocation where;
 };
 

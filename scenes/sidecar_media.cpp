@@ -1,10 +1,13 @@
 // glint — reading participating media from the sidecar JSON (schema: scenes/README.md, media).
 #include "scenes/sidecar_media.h"
 
+#include <cmath>
 #include <filesystem>
 
+#include "geometry/shapes/box.h"
 #include "scenes/paths.h"
 #include "scenes/sidecar_objects.h"
+#include "scenes/vdb_file.h"
 #include "scenes/vol_file.h"
 
 namespace glint {
@@ -18,10 +21,9 @@ namespace {
 bool isBoundedSolid(const Shape& shape) { return shape.isSolid() && !isUnbounded(shape.bounds()); }
 
 const std::vector<std::pair<std::string, DensityType>> kDensityTypes = {
-    {"constant", DensityType::Constant},
-    {"grid", DensityType::Grid},
-    {"noise", DensityType::Noise},
-    {"exponential", DensityType::Exponential},
+    {"constant", DensityType::Constant}, {"grid", DensityType::Grid},
+    {"noise", DensityType::Noise},       {"exponential", DensityType::Exponential},
+    {"vdb", DensityType::Vdb},
 };
 
 // A coefficient: one number (grey) or [r, g, b], either possibly keyframed; >= 0.
@@ -76,7 +78,58 @@ void readGrid(JsonReader& d, const std::string& file, MediumDesc* m) {
   for (const JsonItem& v : values) m->gridValues.push_back(v.as<float>(kNonNegative));
 }
 
-void readDensity(JsonReader& d, const std::string& file, MediumDesc* m) {
+// "smoke_####.vdb" for `frame`: the run of '#' in the file name replaced by the frame number,
+// zero-padded to the run's length (as `glint render --frames` names its outputs); a name
+// without '#' as it is.
+std::string framePath(const std::string& written, long long frame, const SourceLocation& where) {
+  const size_t slash = written.find_last_of('/');
+  const size_t nameStart = slash == std::string::npos ? 0 : slash + 1;
+  const size_t first = written.find('#', nameStart);
+  if (written.find('#') < nameStart)
+    throw SceneError(where, "'#' (the frame number) belongs in the file name, not a folder");
+  if (first == std::string::npos) return written;
+  const size_t last = written.find_first_not_of('#', first);
+  const size_t width = (last == std::string::npos ? written.size() : last) - first;
+  if (last != std::string::npos && written.find('#', last) != std::string::npos)
+    throw SceneError(where, "one run of '#' stands for the frame number; this name has two");
+  std::string number = std::to_string(frame);
+  if (number.size() < width) number.insert(0, width - number.size(), '0');
+  return written.substr(0, first) + number + written.substr(first + width);
+}
+
+// A VDB medium: its file (one per frame for a '#' pattern), grids, scales and emission.
+void readVdb(JsonReader& d, const std::string& file, float fps, MediumDesc* m) {
+  const std::string written = d.get<std::string>("file");
+  // The frame of the scene time: round(time x frame_rate) + frame_offset.
+  const float rate = d.get<float>("frame_rate", fps, kPositive);
+  const int offset = d.get<int>("frame_offset", 0);
+  const long long frame = std::llround(d.time().value_or(0.0) * double(rate)) + offset;
+  const bool sequence = written.find('#') != std::string::npos;
+  if (sequence && frame < 0)
+    throw SceneError(d.where("frame_offset"),
+                     "the scene time gives frame " + std::to_string(frame) + " (must be >= 0)");
+  const std::string relative = framePath(written, frame, d.where("file"));
+  const fs::path path = existingScenePath(relative, file, d.where("file"));
+  VdbRequest request;
+  request.where = d.where("file");
+  request.density = {d.get<std::string>("grid", "density"), d.where("grid")};
+  if (d.has("temperature_grid"))
+    request.temperature =
+        VdbGridRequest{d.get<std::string>("temperature_grid"), d.where("temperature_grid")};
+  if (d.has("flame_grid"))
+    request.flame = VdbGridRequest{d.get<std::string>("flame_grid"), d.where("flame_grid")};
+  request.majorantCells = d.get<int>("majorant_cells", 16, {.ge = 1, .le = 1024});
+  m->vdbScale = d.get<float>("scale", 1.0f, kNonNegative);
+  m->blackbodyIntensity =
+      d.get<float>("blackbody_intensity", request.temperature ? 1.0f : 0.0f, kNonNegative);
+  m->temperatureScale = d.get<float>("temperature_scale", 1.0f, kNonNegative);
+  m->temperatureOffset = d.get<float>("temperature_offset", 0.0f);
+  m->flameStrength = d.get<float>("flame_strength", request.flame ? 1.0f : 0.0f, kNonNegative);
+  m->flameColor = d.get<Vec3f>("flame_color", Vec3f{1, 1, 1}, kNonNegative);
+  m->vdb = readVdbFile(path.string(), request);
+}
+
+void readDensity(JsonReader& d, const std::string& file, float fps, MediumDesc* m) {
   m->density = d.oneOf<DensityType>("type", kDensityTypes);
   switch (m->density) {
     case DensityType::Constant:
@@ -99,6 +152,9 @@ void readDensity(JsonReader& d, const std::string& file, MediumDesc* m) {
       m->falloff = d.get<float>("falloff", 1.0f, kNonNegative);
       m->h0 = d.get<float>("height", 0.0f);
       break;
+    case DensityType::Vdb:
+      readVdb(d, file, fps, m);
+      break;
   }
 }
 
@@ -113,6 +169,20 @@ int objectByName(const SceneDescription& scene, const std::string& name,
   if (std::string guess = closestMatch(name, names); !guess.empty())
     message += "; did you mean '" + guess + "'?";
   throw SceneError(where, message);
+}
+
+// A VDB medium fills the box of its grids' active voxels (VdbVolume::bounds) in the file's
+// world space, which the medium's "transform" and "animation" place in the scene.
+void placeVdb(JsonReader& r, MediumDesc* m) {
+  if (m->region != MediumDesc::Region::Scene)
+    throw SceneError(r.where(m->region == MediumDesc::Region::Shape ? "region" : "object"),
+                     "a vdb medium fills the box of its grids' active voxels: it takes "
+                     "'transform' and 'animation', not a region or an object");
+  m->region = MediumDesc::Region::Shape;
+  m->shape = std::make_shared<Box>(m->vdb->bounds.lower, m->vdb->bounds.upper);
+  m->worldFromRegion = r.get<Transform>("transform", Transform());
+  if (std::optional<NodeDesc> node = readAnimation(r, m->name))
+    m->worldFromRegion = worldFromNode({*node}, 0, r.time().value_or(0.0)) * m->worldFromRegion;
 }
 
 MediumDesc readMedium(JsonReader& r, const std::string& file, const SceneDescription& scene) {
@@ -149,7 +219,9 @@ MediumDesc readMedium(JsonReader& r, const std::string& file, const SceneDescrip
   m.sigmaS = readCoefficient(r, "sigma_s");
   m.emission = readCoefficient(r, "emission");
   m.g = r.get<float>("g", 0.0f, {.gt = -1, .lt = 1});
-  if (JsonReader* d = r.optionalObject("density")) readDensity(*d, file, &m);
+  if (JsonReader* d = r.optionalObject("density"))
+    readDensity(*d, file, float(scene.render.fps), &m);
+  if (m.density == DensityType::Vdb) placeVdb(r, &m);
   return m;
 }
 

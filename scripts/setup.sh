@@ -14,6 +14,10 @@ PACKAGES=(
   libopencolorio-dev opencolorio-tools
   nlohmann-json3-dev libassimp-dev libdraco-dev libmeshoptimizer-dev
   libcli11-dev libfmt-dev
+  # VDB media: OpenVDB reads .vdb files (scenes/vdb_file.cpp); NanoVDB (header-only) holds the
+  # grids the renderer samples (materials/vdb_volume.h); OpenVDB's headers include Boost's,
+  # which libopenvdb-dev does not pull in
+  libopenvdb-dev libnanovdb-dev libboost-dev
   # glint preview: the HTTP server (header-only); its browser test drives Debian's Chromium
   # from Node.js (installed below when the machine has no node)
   libcpp-httplib-dev chromium

@@ -10,6 +10,7 @@
 
 #include "geometry/shapes/box.h"
 #include "geometry/shapes/sphere.h"
+#include "media_scene.h"
 #include "renderer/path.h"
 #include "renderer/render.h"
 #include "renderer/volume.h"
@@ -25,29 +26,9 @@ namespace {
 
 constexpr float kHalf = 2;  // the orthographic camera sees [-2, 2]^2 of the plane z = 0
 
-// An orthographic camera on +z looking down -z at [-2, 2]^2, a box filter of one pixel (so a
-// pixel's expectation is the mean over its own square), and a small far-away triangle out of
-// view so that the geometry is not empty. Media and lights are added by the tests.
+// The media tests' scene (tests/media_scene.h) seeing [-2, 2]^2.
 SceneDescription mediaScene(int size, int spp, const std::string& integrator, int maxDepth = 64) {
-  SceneDescription d;
-  d.file = "path_volume_test (in code)";
-  MeshDesc far;
-  far.positions = {{100, 100, 100}, {101, 100, 100}, {100, 101, 100}};
-  far.indices = {0, 1, 2};
-  d.meshes.push_back(far);
-  d.instances.push_back({0, Transform(), "far", {}});
-  CameraDesc cam;
-  cam.name = "c";
-  cam.type = CameraType::Orthographic;
-  cam.xmag = cam.ymag = kHalf;
-  cam.worldFromCamera = Transform::lookAt({0, 0, 6}, {0, 0, 0}, {0, 1, 0});
-  d.cameras.push_back(cam);
-  d.render.width = d.render.height = size;
-  d.render.spp = spp;
-  d.render.filter = {"box", 0.5f};
-  d.render.integrator.type = integrator;
-  d.render.integrator.maxDepth = maxDepth;
-  return d;
+  return test::orthographicMediaScene(size, spp, kHalf, integrator, maxDepth);
 }
 
 // A homogeneous medium in the box [lower, upper].

@@ -1,0 +1,151 @@
+// glint — walking a majorant grid along a ray: the cells a ray segment crosses, in order, each
+// with the stretch of the ray inside it (a 3D DDA, Amanatides and Woo 1987; pbrt-v4's
+// DDAMajorantIterator), and MajorantWalk, the stretches of one majorant that trackers sample
+// collisions in (renderer/volume.cpp).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "geometry/math.h"
+#include "materials/majorant_grid.h"
+
+namespace glint {
+
+class MajorantDda {
+ public:
+  // The segment t in [tMin, tMax] of the object-space ray o + t d (d need not be unit: t is
+  // the caller's ray parameter) through `grid`, clipped to the grid's box.
+  MajorantDda(const MajorantGrid& grid, Vec3f o, Vec3f d, float tMin, float tMax) : grid_(grid) {
+    const Bounds3f& b = grid.bounds();
+    const Vec3f extent = b.diagonal();
+    // The ray in grid space, where the grid is [0, 1]^3.
+    Vec3f oG, dG;
+    for (int a = 0; a < 3; ++a) {
+      oG[a] = (o[a] - b.lower[a]) / extent[a];
+      dG[a] = d[a] / extent[a];
+      const float inv = 1 / dG[a];
+      float t0 = (0 - oG[a]) * inv, t1 = (1 - oG[a]) * inv;
+      if (t0 > t1) std::swap(t0, t1);
+      // NaN (a parallel ray on a slab plane) leaves the segment as it is.
+      if (t0 > tMin) tMin = t0;
+      if (t1 < tMax) tMax = t1;
+    }
+    t_ = tMin, tEnd_ = tMax;
+    if (!(t_ < tEnd_)) return;
+    const Vec3f p = oG + dG * t_;
+    for (int a = 0; a < 3; ++a) {
+      const int n = grid.res(a);
+      cell_[a] = std::clamp(int(p[a] * float(n)), 0, n - 1);
+      if (dG[a] == 0) {
+        next_[a] = kInfinity, delta_[a] = 0, step_[a] = 0, stop_[a] = -2;
+        continue;
+      }
+      delta_[a] = 1 / (std::abs(dG[a]) * float(n));
+      if (dG[a] > 0) {
+        next_[a] = t_ + (float(cell_[a] + 1) / float(n) - p[a]) / dG[a];
+        step_[a] = 1, stop_[a] = n;
+      } else {
+        next_[a] = t_ + (float(cell_[a]) / float(n) - p[a]) / dG[a];
+        step_[a] = -1, stop_[a] = -1;
+      }
+    }
+  }
+
+  // The next cell: the ray stretch [*t0, *t1] inside it and its value. False when done.
+  bool next(float* t0, float* t1, float* value) {
+    if (!(t_ < tEnd_)) return false;
+    const int a =
+        next_[0] < next_[1] ? (next_[0] < next_[2] ? 0 : 2) : (next_[1] < next_[2] ? 1 : 2);
+    *t0 = t_;
+    *t1 = std::max(t_, std::min(tEnd_, next_[a]));
+    *value = grid_.at(cell_[0], cell_[1], cell_[2]);
+    t_ = *t1;
+    cell_[a] += step_[a];
+    next_[a] += delta_[a];
+    if (cell_[a] == stop_[a]) t_ = tEnd_;
+    return true;
+  }
+
+ private:
+  const MajorantGrid& grid_;
+  float t_ = 0, tEnd_ = 0;
+  int cell_[3] = {0, 0, 0}, step_[3] = {0, 0, 0}, stop_[3] = {0, 0, 0};
+  float next_[3] = {kInfinity, kInfinity, kInfinity}, delta_[3] = {0, 0, 0};
+};
+
+// A stretch [t0, t1] of a ray with one majorant (max over channels of sigma_t).
+struct MajorantSegment {
+  float t0, t1, majorant;
+};
+
+// The majorant along [a, b] of a ray, stretch by stretch, as a tracker advances: one stretch of
+// `constant`, or the cells of a majorant grid along the ray (each cell's value times `scale`,
+// plus `constant`), runs of equal majorant joined. Lazy: a walk that ends at a real collision
+// walks no further cells.
+class MajorantWalk {
+ public:
+  MajorantWalk(float a, float b, float constant) : t_(a), b_(b), constant_(constant) {}
+  // `o`, `d`: the ray in the grid's (object) space; t is the caller's ray parameter.
+  MajorantWalk(const MajorantGrid& grid, float scale, Vec3f o, Vec3f d, float a, float b,
+               float constant)
+      : t_(a), b_(b), constant_(constant), scale_(scale) {
+    dda_.emplace(grid, o, d, a, b);
+  }
+
+  // The next stretch; false when the walk has reached b.
+  bool next(MajorantSegment* out) {
+    bool have = false;
+    if (pending_) *out = *pending_, pending_.reset(), have = true;
+    MajorantSegment raw;
+    while (nextRaw(&raw)) {
+      if (!have) {
+        *out = raw, have = true;
+      } else if (raw.majorant == out->majorant) {
+        out->t1 = raw.t1;
+      } else {
+        pending_ = raw;
+        break;
+      }
+    }
+    return have;
+  }
+
+ private:
+  // The next cell, or a stretch of `constant` where the grid's box leaves [a, b] uncovered (by
+  // rounding at its faces: the density there is 0).
+  bool nextRaw(MajorantSegment* out) {
+    while (t_ < b_) {
+      if (dda_ && !ddaDone_) {
+        if (!haveCell_ && !(haveCell_ = dda_->next(&c0_, &c1_, &value_))) {
+          ddaDone_ = true;
+          continue;
+        }
+        if (c0_ > t_) {
+          *out = {t_, std::min(c0_, b_), constant_};
+          t_ = out->t1;
+          return true;
+        }
+        haveCell_ = false;
+        const float t1 = std::min(c1_, b_);
+        if (!(t1 > t_)) continue;
+        *out = {t_, t1, constant_ + value_ * scale_};
+        t_ = t1;
+        return true;
+      }
+      *out = {t_, b_, constant_};
+      t_ = b_;
+      return true;
+    }
+    return false;
+  }
+
+  float t_, b_, constant_, scale_ = 0;
+  std::optional<MajorantDda> dda_;
+  bool ddaDone_ = false, haveCell_ = false;
+  float c0_ = 0, c1_ = 0, value_ = 0;
+  std::optional<MajorantSegment> pending_;
+};
+
+}  // namespace glint

@@ -1,0 +1,504 @@
+// glint tests — VDB media: files written here with libopenvdb (no binaries in the tree), read
+// through the sidecar, checked against closed forms and the existing media: a sphere of fog
+// against exp(-sigma_t chord) per pixel, a constant box against the homogeneous medium, the
+// majorant grid against the single majorant (same image, fewer collisions), temperature and
+// flame grids against the emission integral, frame sequences, and every kind of bad input
+// with its file and JSON pointer.
+#include <gtest/gtest.h>
+#include <openvdb/io/File.h>
+#include <openvdb/openvdb.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "image/output.h"
+#include "image/statistical.h"
+#include "materials/blackbody.h"
+#include "media_scene.h"
+#include "renderer/integrator.h"
+#include "renderer/render.h"
+#include "renderer/volume.h"
+#include "scene_error_support.h"
+#include "scenes/build.h"
+#include "scenes/load.h"
+#include "scenes/sidecar.h"
+#include "scenes/vdb_file.h"
+#include "test_support.h"
+
+namespace glint {
+namespace {
+
+namespace fs = std::filesystem;
+
+// ---------------------------------------------------------------------------------------------
+// Writing VDB files
+// ---------------------------------------------------------------------------------------------
+
+// A float grid `name` of voxel size `voxel` (voxel (i, j, k) centred at (i, j, k) x voxel)
+// holding f(i, j, k) over the index box [lo, hi]; voxels where f is 0 stay inactive unless
+// `keepZeros`.
+template <class F>
+openvdb::FloatGrid::Ptr makeGrid(const std::string& name, float voxel, openvdb::Coord lo,
+                                 openvdb::Coord hi, F f, bool keepZeros = false) {
+  openvdb::initialize();
+  openvdb::FloatGrid::Ptr g = openvdb::FloatGrid::create(0.0f);
+  g->setName(name);
+  g->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
+  auto acc = g->getAccessor();
+  for (int k = lo.z(); k <= hi.z(); ++k)
+    for (int j = lo.y(); j <= hi.y(); ++j)
+      for (int i = lo.x(); i <= hi.x(); ++i) {
+        const float v = f(i, j, k);
+        if (v != 0 || keepZeros) acc.setValueOn(openvdb::Coord(i, j, k), v);
+      }
+  return g;
+}
+
+void writeVdb(const std::string& path, const openvdb::GridPtrVec& grids) {
+  openvdb::initialize();
+  openvdb::io::File file(path);
+  file.write(grids);
+  file.close();
+}
+
+// A constant cube of n^3 voxels, indices [0, n-1].
+openvdb::FloatGrid::Ptr cube(const std::string& name, float voxel, int n, float value) {
+  return makeGrid(name, voxel, {0, 0, 0}, {n - 1, n - 1, n - 1},
+                  [&](int, int, int) { return value; });
+}
+
+// ---------------------------------------------------------------------------------------------
+// Scenes
+// ---------------------------------------------------------------------------------------------
+
+// The media tests' scene (tests/media_scene.h) seeing [-half, half]^2, with the media of
+// `mediaJson` (the sidecar's "media" array), read as if from `file`.
+SceneDescription mediaScene(const std::string& file, const std::string& mediaJson, int size,
+                            int spp, float half, const std::string& integrator = "path") {
+  SceneDescription d = test::orthographicMediaScene(size, spp, half, integrator, 16);
+  d.file = file;
+  applySceneJsonText("{\"media\": " + mediaJson + "}", file, SceneJsonKind::Sidecar, &d);
+  return d;
+}
+
+Film renderScene(const RenderScene& scene, const RenderSettings& settings) {
+  auto integrator = makeIntegrator(scene, settings);
+  RenderOptions options;
+  options.threads = 2;
+  RenderStats stats;
+  Film film = render(scene, *integrator, settings, options, &stats);
+  EXPECT_EQ(stats.nonfiniteSamples, 0u);
+  return film;
+}
+
+// World position of pixel centre (x, y) on the plane z = 0 for a camera seeing [-half, half]^2.
+Vec2f pixelCentre(const Film& film, int x, int y, float half) {
+  return {-half + 2 * half * (float(x) + 0.5f) / float(film.width),
+          half - 2 * half * (float(y) + 0.5f) / float(film.height)};
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reading
+// ---------------------------------------------------------------------------------------------
+
+TEST(VdbFile, ReadsGridsBoundsAndListsThem) {
+  const std::string dir = test::scratchDir("VdbFile.ReadsGridsBoundsAndListsThem");
+  const float voxel = 0.25f;
+  auto density = makeGrid("density", voxel, {2, 3, 4}, {5, 6, 7},
+                          [](int i, int, int) { return 0.5f * float(i); });
+  auto temperature = cube("temperature", voxel, 4, 1500);
+  writeVdb(dir + "/smoke.vdb", {density, temperature});
+
+  const std::vector<VdbGridInfo> grids = listVdbGrids(dir + "/smoke.vdb");
+  ASSERT_EQ(grids.size(), 2u);
+  EXPECT_EQ(grids[0].name, "density");
+  EXPECT_EQ(grids[0].type, "float");
+  EXPECT_EQ(grids[0].voxelSize, (Vec3f{voxel, voxel, voxel}));
+  EXPECT_EQ(grids[0].activeVoxels, 4u * 4u * 4u);
+  // Voxel (i, j, k) spans (i -+ 0.5) x voxel.
+  EXPECT_NEAR(grids[0].worldBounds.lower.x, 1.5f * voxel, 1e-6f);
+  EXPECT_NEAR(grids[0].worldBounds.upper.z, 7.5f * voxel, 1e-6f);
+  EXPECT_GT(grids[0].memoryBytes, 0u);
+  EXPECT_EQ(grids[1].name, "temperature");
+
+  VdbRequest request;
+  request.where = {"scene.json", "/media/0/density/file"};
+  request.density = {"density", {"scene.json", "/media/0/density/grid"}};
+  request.temperature = VdbGridRequest{"temperature", {"scene.json", "/x"}};
+  const std::shared_ptr<VdbVolume> v = readVdbFile(dir + "/smoke.vdb", request);
+  EXPECT_EQ(v->maxDensity, 2.5f);
+  // The box where lookups can be non-zero: one voxel beyond the outermost active centres, of
+  // both grids.
+  EXPECT_NEAR(v->bounds.lower.x, -1 * voxel, 1e-6f);
+  EXPECT_NEAR(v->bounds.upper.x, 6 * voxel, 1e-6f);
+  EXPECT_NEAR(v->bounds.upper.z, 8 * voxel, 1e-6f);
+  EXPECT_NEAR(v->density.sample(Vec3f{3, 4, 5} * voxel), 1.5f, 1e-6f);
+  EXPECT_NEAR(v->density.sample(Vec3f{3.5f, 4, 5} * voxel), 1.75f, 1e-6f);  // trilinear
+  EXPECT_EQ(v->density.sample(Vec3f{20, 20, 20}), 0.0f);
+  ASSERT_TRUE(v->temperature);
+  EXPECT_NEAR(v->temperature->sample(Vec3f{1, 1, 1} * voxel), 1500.0f, 1e-3f);
+  // Every cell of the majorant grid bounds the density inside it.
+  ASSERT_TRUE(v->majorants);
+  const MajorantGrid& m = *v->majorants;
+  EXPECT_EQ(m.maxValue(), 2.5f);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0, 1);
+  for (int n = 0; n < 20000; ++n) {
+    const Vec3f p = v->bounds.lower + v->bounds.diagonal() * Vec3f{u(rng), u(rng), u(rng)};
+    int c[3];
+    for (int a = 0; a < 3; ++a)
+      c[a] = std::min(m.res(a) - 1, int((p[a] - m.bounds().lower[a]) / m.bounds().diagonal()[a] *
+                                        float(m.res(a))));
+    ASSERT_GE(m.at(c[0], c[1], c[2]), v->density.sample(p)) << p.x << " " << p.y << " " << p.z;
+  }
+  EXPECT_GT(m.emptyFraction(), 0.0f);
+}
+
+// Bad files and bad names: the error is at the sidecar's key, names the file, says what is
+// wrong; for a missing grid it lists the grids the file has.
+TEST(VdbFile, BadInputNamesTheFileAndThePointer) {
+  const std::string dir = test::scratchDir("VdbFile.BadInputNamesTheFileAndThePointer");
+  const std::string file = dir + "/scene.json";
+  auto error = [&](const std::string& density) {
+    return test::errorFrom([&] {
+      SceneDescription d;
+      applySceneJsonText("{\"media\": [{\"density\": " + density + "}]}", file,
+                         SceneJsonKind::Sidecar, &d);
+    });
+  };
+  writeVdb(dir + "/good.vdb", {cube("density", 0.1f, 4, 1), cube("temperature", 0.1f, 4, 1000)});
+  openvdb::Vec3SGrid::Ptr vec = openvdb::Vec3SGrid::create();
+  vec->setName("velocity");
+  vec->getAccessor().setValueOn({0, 0, 0}, openvdb::Vec3s(1, 2, 3));
+  writeVdb(dir + "/vec.vdb", {cube("density", 0.1f, 4, 1), vec});
+  writeVdb(dir + "/negative.vdb",
+           {makeGrid("density", 0.1f, {0, 0, 0}, {3, 3, 3},
+                     [](int i, int, int) { return i == 2 ? -1.0f : 1.0f; })});
+  writeVdb(dir + "/nan.vdb", {makeGrid("density", 0.1f, {0, 0, 0}, {3, 3, 3}, [](int i, int, int) {
+             return i == 1 ? std::nanf("") : 1.0f;
+           })});
+  {
+    openvdb::FloatGrid::Ptr g = openvdb::FloatGrid::create(0.0f);
+    g->setName("density");
+    writeVdb(dir + "/empty.vdb", {g});
+  }
+  std::ofstream(dir + "/text.vdb") << "this is not a VDB file\n";
+  {
+    const std::string bytes = test::slurp(dir + "/good.vdb");
+    std::ofstream(dir + "/truncated.vdb", std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  }
+  const std::string p = "/media/0/density";
+  EXPECT_SCENE_ERROR(error(R"({"type": "vdb", "file": "text.vdb"})"), file, p + "/file",
+                     "text.vdb: not a readable VDB file");
+  EXPECT_SCENE_ERROR(error(R"({"type": "vdb", "file": "truncated.vdb"})"), file, p + "/file",
+                     "truncated.vdb: not a readable VDB file");
+  EXPECT_SCENE_ERROR(error(R"({"type": "vdb", "file": "missing.vdb"})"), file, p + "/file",
+                     "file not found");
+  EXPECT_SCENE_ERROR(error(R"({"type": "vdb", "file": "good.vdb", "grid": "dens"})"), file,
+                     p + "/grid",
+                     "good.vdb has no grid 'dens' (its grids: density (float), temperature "
+                     "(float))");
+  EXPECT_SCENE_ERROR(error(R"({"type": "vdb", "file": "vec.vdb", "temperature_grid": "velocity"})"),
+                     file, p + "/temperature_grid",
+                     "vec.vdb: grid 'velocity' holds vec3s values, not float");
+  EXPECT_SCENE_ERROR(error(R"({"type": "vdb", "file": "negative.vdb"})"), file, p + "/grid",
+                     "negative.vdb: grid 'density' has at voxel [2, 0, 0] the value -1");
+  EXPECT_SCENE_ERROR(error(R"({"type": "vdb", "file": "nan.vdb"})"), file, p + "/grid",
+                     "nan.vdb: grid 'density' has at voxel [1, 0, 0] the value nan");
+  EXPECT_SCENE_ERROR(error(R"({"type": "vdb", "file": "empty.vdb"})"), file, p + "/grid",
+                     "empty.vdb: grid 'density' is empty (no active voxels)");
+  EXPECT_SCENE_ERROR(error(R"({"type": "vdb", "file": "good.vdb", "scale": -1})"), file,
+                     p + "/scale", "must be >= 0");
+  EXPECT_SCENE_ERROR(error(R"({"type": "vdb", "file": "good.vdb", "gird": "density"})"), file,
+                     p + "/gird", "unknown key 'gird'");
+  // A VDB medium is placed by its transform, not a region.
+  EXPECT_SCENE_ERROR(test::errorFrom([&] {
+                       SceneDescription d;
+                       applySceneJsonText(
+                           R"({"media": [{"region": {"type": "sphere", "radius": 1},
+                                "density": {"type": "vdb", "file": "good.vdb"}}]})",
+                           file, SceneJsonKind::Sidecar, &d);
+                     }),
+                     file, "/media/0/region", "a vdb medium fills the box");
+}
+
+// The command line: exit 2, one line naming the sidecar, the pointer and the VDB file, and the
+// output that was there before is left alone.
+TEST(VdbFile, CommandLineExitsTwoAndKeepsTheOutput) {
+  const std::string dir = test::scratchDir("VdbFile.CommandLineExitsTwoAndKeepsTheOutput");
+  writeVdb(dir + "/cloud.vdb", {cube("density", 0.1f, 4, 1)});
+  std::ofstream(dir + "/scene.json") << R"({
+    "cameras": [{"name": "c", "position": [0, 0, 3], "look_at": [0, 0, 0]}],
+    "render": {"width": 8, "height": 8, "spp": 1},
+    "media": [{"sigma_s": 1, "density": {"type": "vdb", "file": "cloud.vdb", "grid": "smoke"}}]
+  })";
+  std::ofstream(dir + "/out.exr") << "previous good image";
+  const test::CommandResult r =
+      test::runGlint("render '" + dir + "/scene.json' -o '" + dir + "/out.exr'");
+  EXPECT_EQ(r.exitCode, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find("scene.json: /media/0/density/grid: cloud.vdb has no grid 'smoke' (its "
+                       "grids: density (float))"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(test::slurp(dir + "/out.exr"), "previous good image");
+
+  // glint info lists the file's grids.
+  std::ofstream(dir + "/ok.json") << R"({
+    "cameras": [{"name": "c", "position": [0, 0, 3], "look_at": [0, 0, 0]}],
+    "media": [{"sigma_s": 1, "density": {"type": "vdb", "file": "cloud.vdb"}}]
+  })";
+  const test::CommandResult info = test::runGlint("info '" + dir + "/ok.json'");
+  EXPECT_EQ(info.exitCode, 0) << info.err;
+  EXPECT_NE(info.out.find("grid 'density': float, voxel 0.1 x 0.1 x 0.1, 64 active voxels"),
+            std::string::npos)
+      << info.out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Rendering against closed forms and the existing media
+// ---------------------------------------------------------------------------------------------
+
+// A sphere of fog (density 1 in the voxels whose centres lie within 24 voxels of the centre,
+// radius 1) absorbing in front of an environment of radiance 1: each pixel sees
+// exp(-sigma_a chord). The voxelised surface with its one-voxel trilinear ramp moves the
+// chord's ends by up to half a voxel each: the tolerance allows one voxel of optical depth,
+// and pixels within two voxels of the silhouette are left out. Delta tracking (path) and
+// ratio tracking (Whitted's "track" estimator) both go through the majorant grid.
+TEST(VdbRender, SphereFogTransmitsTheExponentialOfTheChord) {
+  const std::string dir = test::scratchDir("VdbRender.SphereFogTransmitsTheExponential");
+  const int r = 24;
+  const float voxel = 1.0f / float(r);
+  writeVdb(dir + "/ball.vdb",
+           {makeGrid("density", voxel, {-r, -r, -r}, {r, r, r}, [&](int i, int j, int k) {
+             return i * i + j * j + k * k <= r * r ? 1.0f : 0.0f;
+           })});
+  // Chromatic for ratio tracking; grey for delta tracking, whose channel-averaged null
+  // collisions weigh the thinner channels by factors > 1 (unbiased, but heavy-tailed: a
+  // per-pixel 4-sigma test at 64 spp fails on it).
+  const Rgb chromatic{0.4f, 0.8f, 1.2f}, grey{0.8f, 0.8f, 0.8f};
+  const float radius = (float(r) + 0.5f) * voxel;  // the ramp's middle on the axes
+  for (const char* integrator : {"path", "whitted"}) {
+    const Rgb sigmaA = std::string(integrator) == "path" ? grey : chromatic;
+    SceneDescription d =
+        mediaScene(dir + "/scene.json",
+                   R"([{"sigma_a": [)" + std::to_string(sigmaA.x) + ", " +
+                       std::to_string(sigmaA.y) + ", " + std::to_string(sigmaA.z) + R"(],
+                                        "density": {"type": "vdb", "file": "ball.vdb"}}])",
+                   24, 64, 1.2f, integrator);
+    d.render.integrator.volumeEstimator = "track";
+    RenderScene scene = buildRenderScene(d);
+    test::useUniformEnvironment(&scene, {1, 1, 1});
+    const Film film = renderScene(scene, d.render);
+    int tested = 0;
+    for (int y = 0; y < film.height; ++y)
+      for (int x = 0; x < film.width; ++x) {
+        const Vec2f p = pixelCentre(film, x, y, 1.2f);
+        const float rho = std::sqrt(p.x * p.x + p.y * p.y);
+        // The pixel's footprint (0.1 wide) spreads the chord: leave out the silhouette.
+        if (std::abs(rho - radius) < 2 * voxel + 0.075f) continue;
+        const float chord = rho < radius ? 2 * std::sqrt(radius * radius - rho * rho) : 0;
+        const size_t i = film.index(x, y);
+        for (int c = 0; c < 3; ++c) {
+          const float exact = std::exp(-sigmaA[c] * chord);
+          const float sigma = std::sqrt(film.variance[i][c]);
+          const float slack = exact * (1 - std::exp(-sigmaA[c] * voxel));
+          EXPECT_NEAR(film.color[i][c], exact, 4 * sigma + slack + 1e-6f)
+              << integrator << " pixel " << x << "," << y << " channel " << c;
+        }
+        ++tested;
+      }
+    EXPECT_GT(tested, 300);
+  }
+}
+
+// Writes `film` with its variance and runs the project's statistical comparison against
+// `reference` (also a film): the verdict, and the result printed on failure.
+StatisticalResult compareFilms(const std::string& dir, const Film& a, const Film& reference,
+                               int spp) {
+  ImageMetadata meta;
+  meta.spp = spp;
+  writeImage(dir + "/a.exr", a, RenderSettings{}, meta);
+  writeImage(dir + "/ref.exr", reference, RenderSettings{}, meta);
+  return diffStatistical(dir + "/a.exr", dir + "/ref.exr", {});
+}
+
+// A VDB cube of constant density 1 placed by the sidecar's transform over [-1, 1]^3, against
+// the homogeneous medium in the box [-1, 1]^3: the same scattering image (the statistical
+// comparison of image/statistical.h). The VDB's faces are a one-voxel trilinear ramp where the
+// box has a step; along the camera's axis-aligned rays the two integrate to the same optical
+// depth, so only the pixels straddling the side faces differ: those are made equal before
+// comparing.
+TEST(VdbRender, ConstantBoxMatchesTheHomogeneousMedium) {
+  const std::string dir = test::scratchDir("VdbRender.ConstantBoxMatchesTheHomogeneous");
+  const int n = 16;
+  const float voxel = 0.125f;
+  writeVdb(dir + "/box.vdb", {cube("density", voxel, n, 1)});
+  const std::string common = R"("sigma_a": [0.3, 0.2, 0.1], "sigma_s": [0.6, 0.9, 1.2], "g": 0.4)";
+  const float c = -0.5f * float(n - 1) * voxel;  // voxel centres from c to -c: faces at -+1
+  SceneDescription dv =
+      mediaScene(dir + "/scene.json",
+                 "[{" + common + R"(, "transform": [{"translate": [)" + std::to_string(c) + ", " +
+                     std::to_string(c) + ", " + std::to_string(c) +
+                     R"(]}], "density": {"type": "vdb", "file": "box.vdb"}}])",
+                 24, 128, 1.5f);
+  SceneDescription dh = mediaScene(
+      dir + "/scene.json", "[{" + common + R"(, "region": {"type": "box", "min": [-1, -1, -1],
+                                                 "max": [1, 1, 1]}}])",
+      24, 128, 1.5f);
+  dh.render.seed = 7;
+  Film films[2];
+  SceneDescription* descs[2] = {&dv, &dh};
+  for (int k = 0; k < 2; ++k) {
+    RenderScene scene = buildRenderScene(*descs[k]);
+    test::useUniformEnvironment(&scene, {1, 1, 1});
+    films[k] = renderScene(scene, descs[k]->render);
+  }
+  // Pixels whose footprint (0.125 wide) touches the ramp of the side faces: equal in both.
+  for (int y = 0; y < 24; ++y)
+    for (int x = 0; x < 24; ++x) {
+      const Vec2f p = pixelCentre(films[0], x, y, 1.5f);
+      const float edge = std::min(std::abs(std::abs(p.x) - 1), std::abs(std::abs(p.y) - 1));
+      if (edge < voxel / 2 + 0.0625f) {
+        const size_t i = films[0].index(x, y);
+        films[0].color[i] = films[1].color[i];
+      }
+    }
+  const StatisticalResult r = compareFilms(dir, films[0], films[1], 128);
+  EXPECT_EQ(r.verdict, DiffVerdict::Pass)
+      << "pass " << r.passPercent << "% maxZ " << r.maxZ << " at " << r.maxZX << "," << r.maxZY
+      << " globalZ " << r.globalZ[0] << " " << r.globalZ[1] << " " << r.globalZ[2];
+  // And the medium is really there: the centre is darker than the environment.
+  EXPECT_LT(films[0].color[films[0].index(12, 12)].x, 0.9f);
+}
+
+// A sparse cloud (a dense ball in one corner of a mostly empty box, and one faint voxel in the
+// opposite corner that makes the box big): the majorant grid renders the same image as the
+// single majorant (statistically) and takes far fewer tentative collisions.
+TEST(VdbRender, MajorantGridMatchesTheSingleMajorantWithFewerCollisions) {
+  const std::string dir = test::scratchDir("VdbRender.MajorantGridMatchesTheSingleMajorant");
+  const float voxel = 1.0f / 32;
+  writeVdb(dir + "/cloud.vdb",
+           {makeGrid("density", voxel, {0, 0, 0}, {63, 63, 63}, [](int i, int j, int k) {
+             const int di = i - 16, dj = j - 16, dk = k - 40;
+             if (di * di + dj * dj + dk * dk <= 100) return 8.0f;
+             return i == 60 && j == 60 && k == 4 ? 0.05f : 0.0f;
+           })});
+  Film films[2];
+  uint64_t tentative[2] = {0, 0}, real[2] = {0, 0};
+  const int cells[2] = {64, 1};
+  for (int k = 0; k < 2; ++k) {
+    SceneDescription d = mediaScene(dir + "/scene.json",
+                                    R"([{"sigma_a": 0.1, "sigma_s": [0.8, 1.0, 1.2], "g": 0.5,
+             "transform": [{"translate": [-1, -1, -1]}],
+             "density": {"type": "vdb", "file": "cloud.vdb", "majorant_cells": )" +
+                                        std::to_string(cells[k]) + "}}]",
+                                    24, 96, 1.1f);
+    d.render.seed = uint64_t(k);
+    RenderScene scene = buildRenderScene(d);
+    test::useUniformEnvironment(&scene, {1, 1, 1});
+    resetTrackingCounts();
+    films[k] = renderScene(scene, d.render);
+    tentative[k] = trackingCounts().tentative + trackingCounts().ratioTentative;
+    real[k] = trackingCounts().real;
+  }
+  const StatisticalResult r = compareFilms(dir, films[0], films[1], 96);
+  EXPECT_EQ(r.verdict, DiffVerdict::Pass)
+      << "pass " << r.passPercent << "% maxZ " << r.maxZ << " globalZ " << r.globalZ[0] << " "
+      << r.globalZ[1] << " " << r.globalZ[2];
+  EXPECT_GT(real[0], 1000u);
+  // Real collisions are a property of the medium; tentative ones of the tracker.
+  EXPECT_LT(double(tentative[0]), 0.25 * double(tentative[1]))
+      << "grid " << tentative[0] << ", single " << tentative[1];
+  std::printf("tentative collisions: grid %llu, single %llu; real: %llu, %llu\n",
+              (unsigned long long)tentative[0], (unsigned long long)tentative[1],
+              (unsigned long long)real[0], (unsigned long long)real[1]);
+}
+
+// Fire: a cube whose temperature grid holds 1,500 K and whose flame grid holds 2, without
+// extinction, seen along z: the radiance is the emission integrated along the ray. Inside the
+// cube each emits its constant; over the one-voxel ramps at the front and back faces the grid
+// value goes linearly from 0 to its constant, so the flame (linear in the value) adds half a
+// voxel at each face, and the blackbody (T^4 and a colour) the integral of its emission over
+// the ramp, computed here from blackbodyEmission.
+TEST(VdbRender, TemperatureAndFlameGridsEmitTheirIntegral) {
+  const std::string dir = test::scratchDir("VdbRender.TemperatureAndFlameGridsEmit");
+  const int n = 8;
+  const float voxel = 0.25f;
+  writeVdb(dir + "/fire.vdb", {cube("density", voxel, n, 1), cube("temperature", voxel, n, 1500),
+                               cube("flame", voxel, n, 2)});
+  const float c = -0.5f * float(n - 1) * voxel;
+  const std::string place = R"("transform": [{"translate": [)" + std::to_string(c) + ", " +
+                            std::to_string(c) + ", " + std::to_string(c) + "]}]";
+  const float inner = float(n - 1) * voxel;
+  Rgb ramp;  // the integral of the blackbody emission over one ramp
+  const int steps = 2000;
+  for (int s = 0; s < steps; ++s)
+    ramp += blackbodyEmission(1500 * (float(s) + 0.5f) / float(steps)) * (voxel / float(steps));
+  struct Case {
+    std::string keys;
+    Rgb expected;
+  };
+  const Rgb flameColor{1, 0.5f, 0.25f};
+  const Case cases[] = {
+      {R"("temperature_grid": "temperature", "blackbody_intensity": 2)",
+       (blackbodyEmission(1500) * inner + ramp * 2) * 2},
+      {R"("flame_grid": "flame", "flame_strength": 3, "flame_color": [1, 0.5, 0.25])",
+       flameColor * (3 * 2 * (inner + voxel))},
+  };
+  for (const Case& k : cases) {
+    for (const char* integrator : {"path", "whitted"}) {
+      SceneDescription d = mediaScene(dir + "/scene.json",
+                                      "[{" + place + R"(, "density": {"type": "vdb",
+                                          "file": "fire.vdb", )" +
+                                          k.keys + "}}]",
+                                      16, 32, 1.5f, integrator);
+      d.render.integrator.volumeEstimator = "track";
+      RenderScene scene = buildRenderScene(d);
+      test::useUniformEnvironment(&scene, {0, 0, 0});
+      const Film film = renderScene(scene, d.render);
+      // The pixels well inside the cube's silhouette (|x|, |y| < 0.6).
+      Rgb sum, var;
+      int count = 0;
+      for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x) {
+          const Vec2f p = pixelCentre(film, x, y, 1.5f);
+          if (std::abs(p.x) > 0.6f || std::abs(p.y) > 0.6f) continue;
+          sum += film.color[film.index(x, y)];
+          var += film.variance[film.index(x, y)];
+          ++count;
+        }
+      ASSERT_GT(count, 10);
+      for (int ch = 0; ch < 3; ++ch) {
+        const float mean = sum[ch] / float(count), sigma = std::sqrt(var[ch]) / float(count);
+        EXPECT_NEAR(mean, k.expected[ch], 4 * sigma + 1e-3f * k.expected[ch])
+            << k.keys << " " << integrator << " channel " << ch;
+      }
+      EXPECT_GT(luminance(k.expected), 0.05f);
+    }
+  }
+}
+
+// `smoke_####.vdb`: one file per frame, the frame of the scene time at the scene's frame rate.
+TEST(VdbFile, FramePatternReadsOneFilePerFrame) {
+  const std::string dir = test::scratchDir("VdbFile.FramePatternReadsOneFilePerFrame");
+  for (int f = 0; f < 2; ++f) {
+    char name[64];
+    std::snprintf(name, sizeof name, "/smoke_%04d.vdb", f);
+    writeVdb(dir + name, {cube("density", 0.1f, 4, float(f + 1))});
+  }
+  std::ofstream(dir + "/scene.json") << R"({
+    "render": {"fps": 24},
+    "cameras": [{"name": "c", "position": [0, 0, 3], "look_at": [0, 0, 0]}],
+    "media": [{"sigma_s": 1, "density": {"type": "vdb", "file": "smoke_####.vdb"}}]
+  })";
+  const SceneLoader loader(dir + "/scene.json");
+  EXPECT_EQ(loader.at(0.0).media[0].vdb->maxDensity, 1.0f);
+  EXPECT_EQ(loader.at(1.0 / 24).media[0].vdb->maxDensity, 2.0f);
+  EXPECT_SCENE_ERROR(test::errorFrom([&] { loader.at(2.0 / 24); }), dir + "/scene.json",
+                     "/media/0/density/file", "smoke_0002.vdb");
+}
+
+}  // namespace
+}  // namespace glint
