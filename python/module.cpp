@@ -3,6 +3,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <array>
+
 #include "python/compare.h"
 #include "python/errors.h"
 #include "python/info.h"
@@ -54,6 +56,24 @@ PYBIND11_MODULE(_glint, m) {
            py::call_guard<py::gil_scoped_release>())
       .def_property_readonly("file", &SceneHandle::file)
       .def_property_readonly("builds", &SceneHandle::builds)
+      .def_property_readonly("timings",
+                             [](const SceneHandle& s) {
+                               py::dict d;
+                               d["load_seconds"] = s.loadSeconds();
+                               d["build_seconds"] = s.lastBuild().totalSeconds;
+                               d["accelerator_seconds"] = s.lastBuild().acceleratorSeconds;
+                               return d;
+                             })
+      .def("update", &SceneHandle::update, py::arg("patch"))
+      .def(
+          "set_light",
+          [](SceneHandle& s, const std::string& name, std::optional<float> intensity,
+             std::optional<std::array<float, 3>> color) {
+            std::optional<Rgb> rgb;
+            if (color) rgb = Rgb{(*color)[0], (*color)[1], (*color)[2]};
+            s.setLight(name, intensity, rgb);
+          },
+          py::arg("name"), py::arg("intensity"), py::arg("color"))
       .def_property_readonly("cameras",
                              [](const SceneHandle& s) {
                                std::vector<std::string> names;

@@ -1,6 +1,7 @@
 // glint — the Python module's scene (see scene_handle.h).
 #include "python/scene_handle.h"
 
+#include <chrono>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
@@ -13,6 +14,10 @@
 namespace glint::python {
 
 namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
 
 // Whether a render scene built with `a` serves a render with `b`: the settings buildRenderScene
 // reads (scenes/build*.cpp) are the same. The rest (spp, seed, threads, adaptive sampling,
@@ -40,15 +45,69 @@ struct SceneHandle::Prepared {
 
 SceneHandle::SceneHandle(const std::string& path, const std::optional<std::string>& sidecar,
                          std::optional<double> time)
-    : file_(path),
-      loader_(std::make_unique<SceneLoader>(path, sidecar)),
-      desc_(loader_->at(time)) {}
+    : file_(path) {
+  const auto start = std::chrono::steady_clock::now();
+  loader_ = std::make_unique<SceneLoader>(path, sidecar);
+  desc_ = loader_->at(time);
+  loadSeconds_ = secondsSince(start);
+}
 
 SceneHandle::SceneHandle(const SceneLoader::JsonText& json, const std::optional<std::string>& scene,
                          std::optional<double> time)
-    : file_(scene ? *scene : json.file),
-      loader_(std::make_unique<SceneLoader>(json, scene)),
-      desc_(loader_->at(time)) {}
+    : file_(scene ? *scene : json.file) {
+  const auto start = std::chrono::steady_clock::now();
+  loader_ = std::make_unique<SceneLoader>(json, scene);
+  desc_ = loader_->at(time);
+  loadSeconds_ = secondsSince(start);
+}
+
+void SceneHandle::update(const std::string& patch) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  const std::string where = "update()";
+  const nlohmann::json doc = parseSceneJson(patch, where);
+  auto edit = [doc, where](SceneDescription* d) {
+    SceneJsonOptions options;
+    options.time = d->render.time;
+    options.loadGltf = false;
+    applySceneJson(doc, where, SceneJsonKind::Sidecar, d, options);
+  };
+  SceneDescription changed = desc_;
+  edit(&changed);  // throws before anything changes
+  desc_ = std::move(changed);
+  edits_.push_back(edit);
+  ++version_;
+}
+
+void SceneHandle::setLight(const std::string& name, std::optional<float> intensity,
+                           std::optional<Rgb> color) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  const std::string where = "set_light()";
+  if (intensity && !(*intensity >= 0 && std::isfinite(*intensity)))
+    throw SceneError({where, "/intensity"}, "must be >= 0 and finite");
+  if (color && !(color->x >= 0 && color->y >= 0 && color->z >= 0 && isFinite(*color)))
+    throw SceneError({where, "/color"}, "must be >= 0 and finite");
+  std::vector<std::string> names;
+  bool found = false;
+  for (const LightDesc& l : desc_.lights) {
+    names.push_back(l.name);
+    found |= l.name == name;
+  }
+  if (!found)
+    throw SceneError({where, "/name"},
+                     "no light named '" + name + "'" +
+                         (names.empty() ? " (the scene has no lights)"
+                                        : " (lights: " + quotedNames(names) + ")"));
+  auto edit = [name, intensity, color](SceneDescription* d) {
+    for (LightDesc& l : d->lights) {
+      if (l.name != name) continue;
+      if (intensity) l.intensity = *intensity;
+      if (color) l.color = *color;
+    }
+  };
+  edit(&desc_);
+  edits_.push_back(edit);
+  ++version_;
+}
 
 SceneHandle::Request SceneHandle::request(const std::string& options,
                                           const std::string& caller) const {
@@ -56,7 +115,12 @@ SceneHandle::Request SceneHandle::request(const std::string& options,
   JsonReader r(doc, {caller, ""});
   Request q;
   const std::optional<double> time = r.optional<double>("time");
-  q.desc = time ? loader_->at(time) : desc_;
+  if (time) {
+    q.desc = loader_->at(time);
+    for (const auto& edit : edits_) edit(&q.desc);
+  } else {
+    q.desc = desc_;
+  }
   q.budget.timeLimit = r.optional<double>("time_limit", kPositive).value_or(0);
   q.budget.noiseTarget = r.optional<double>("noise_target", {.gt = 0, .lt = 1}).value_or(0);
   q.budget.sppAsked = r.has("spp");
@@ -74,12 +138,13 @@ SceneHandle::Request SceneHandle::request(const std::string& options,
 }
 
 std::shared_ptr<const RenderScene> SceneHandle::built(const SceneDescription& desc) {
-  if (!scene_ || !sameBuild(builtWith_, desc.render)) {
+  if (!scene_ || !sameBuild(builtWith_, desc.render) || builtVersion_ != version_) {
     scene_.reset();  // its memory first, unless a progressive render holds it
     scene_ = std::make_shared<const RenderScene>(
-        buildRenderScene(desc, nullptr, BuildOptions{.images = images_}));
+        buildRenderScene(desc, &lastBuild_, BuildOptions{.images = images_}));
     if (scene_->images) images_ = scene_->images;
     builtWith_ = desc.render;
+    builtVersion_ = version_;
     ++builds_;
   }
   return scene_;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -11,6 +12,7 @@
 #include "python/rendered_image.h"
 #include "renderer/integrator.h"
 #include "renderer/scene.h"
+#include "scenes/build.h"
 #include "scenes/load.h"
 #include "scenes/scene_info.h"
 
@@ -49,8 +51,20 @@ class SceneHandle {
   // The same render pass by pass (ProgressiveSession::next).
   std::unique_ptr<ProgressiveSession> progressive(const std::string& options);
 
+  // Applies `patch`, a JSON object in the sidecar's schema, to the scene as a second sidecar
+  // would (a camera or material named like an existing one changes it, render keys replace the
+  // scene's, lights and objects are added), for every render after it; the files are not read
+  // again. Errors name "update()". Throws SceneError.
+  void update(const std::string& patch);
+  // Sets the intensity and/or colour of the light named `name` for the renders after it.
+  // Throws SceneError (no such light, a negative or non-finite value).
+  void setLight(const std::string& name, std::optional<float> intensity, std::optional<Rgb> color);
+
   // Render scenes built so far: a render that reuses the last one builds none.
   int builds() const { return builds_; }
+  // How long loading the files took, and the last build (accelerator included).
+  double loadSeconds() const { return loadSeconds_; }
+  const BuildTimings& lastBuild() const { return lastBuild_; }
 
  private:
   struct Request;
@@ -69,7 +83,14 @@ class SceneHandle {
   std::shared_ptr<const RenderScene> scene_;  // shared with progressive renders under way
   RenderSettings builtWith_;
   std::shared_ptr<TextureImages> images_;  // decoded once, for every build
+  // The changes made since loading (update, setLight), applied again to the description at
+  // another scene time; `version_` counts them, and a render scene built at another version
+  // is built again.
+  std::vector<std::function<void(SceneDescription*)>> edits_;
+  int version_ = 0, builtVersion_ = 0;
   int builds_ = 0;
+  double loadSeconds_ = 0;
+  BuildTimings lastBuild_;
 };
 
 // A progressive render: the passes of a render one call at a time, each call's image a copy of

@@ -165,6 +165,22 @@ class Scene:
     builds = property(lambda self: self._native.builds,
                       doc="render scenes built so far (a render that reuses one builds none)")
 
+    timings = property(lambda self: self._native.timings,
+                       doc="load_seconds (the files), build_seconds and accelerator_seconds "
+                           "(the last build of the render scene)")
+
+    def update(self, patch):
+        """Changes the scene with `patch`, a dict in the sidecar schema, as a second sidecar
+        would: a camera or material named like an existing one changes (only the keys given:
+        {"materials": [{"name": "Plane", "diffuse": [0.8, 0.2, 0.2]}]}; a camera given
+        "position" and "look_at" is placed anew), render keys replace the scene's, lights and
+        objects are added. The files are not read again."""
+        self._native.update(_to_json(patch, "update()"))
+
+    def set_light(self, name, *, intensity=None, color=None):
+        """Sets the intensity and/or colour of the light named `name`."""
+        self._native.set_light(name, intensity, None if color is None else tuple(color))
+
     def info(self):
         """What `glint info` prints, as a dict: meshes, nodes, objects, materials, textures,
         cameras, lights, bounds, the image settings and the integrator, animation, motion and

@@ -220,3 +220,14 @@ def test_tonemap_options_are_checked(plane):
     assert e.value.file == "tonemap()" and e.value.pointer == "/tonemap/operater"
     with pytest.raises(glint.InputError):
         image.tonemap(view="No Such View")
+
+
+def test_a_full_hd_images_arrays_come_back_in_under_a_millisecond(spheres):
+    image = spheres.render(spp=1, width=1920, height=1080, aovs=True)
+    times = []
+    for _ in range(200):
+        start = time.perf_counter()
+        arrays = image._native.arrays
+        times.append(time.perf_counter() - start)
+    assert len(arrays) == 7 and arrays["beauty"].shape == (1080, 1920, 3)
+    assert sorted(times)[len(times) // 2] < 1e-3
