@@ -350,22 +350,22 @@ void runBenchAccel(const BenchArgs& args) {
     desc.render.accel = "embree";
     scene = buildRenderScene(desc);
   });
-  if (scene.geometry.instancedTriangleCount() == 0)
+  if (scene.geometry().instancedTriangleCount() == 0)
     throw SceneError({args.mesh, ""}, "has no triangles to benchmark");
-  if (!(length(scene.geometry.bounds().diagonal()) > 0))
+  if (!(length(scene.geometry().bounds().diagonal()) > 0))
     throw SceneError({args.mesh, ""}, "all its triangles are in one point");
-  size_t triangles = scene.geometry.instancedTriangleCount();
-  const auto* embree = dynamic_cast<const EmbreeAccelerator*>(scene.accel.get());
+  size_t triangles = scene.geometry().instancedTriangleCount();
+  const auto* embree = dynamic_cast<const EmbreeAccelerator*>(&scene.accel());
   // desc.render.accel is "embree" above: anything else is a bug (main: "internal error").
   if (!embree) throw std::logic_error("the reference accelerator is not Embree");
 
   int threads =
       args.threads > 0 ? args.threads : std::max(1, int(std::thread::hardware_concurrency()));
   tbb::task_arena arena(threads);
-  Camera camera = benchCamera(scene.geometry.bounds(), args.width, args.height);
+  Camera camera = benchCamera(scene.geometry().bounds(), args.width, args.height);
   note("generating camera and occlusion rays");
   std::vector<Ray> camRays = cameraRays(camera, args, arena);
-  std::vector<Ray> occRays = occlusionRays(camRays, *embree, scene.geometry, args, arena);
+  std::vector<Ray> occRays = occlusionRays(camRays, *embree, scene.geometry(), args, arena);
   uint64_t referenceHits = occRays.size();
 
   note("bare rtcIntersect1 loop");
@@ -381,14 +381,14 @@ void runBenchAccel(const BenchArgs& args) {
       r.name = name;
       note("building " + name);
       Clock::time_point start = Clock::now();
-      std::unique_ptr<Accelerator> accel = makeAccelerator(name, scene.geometry);
+      std::unique_ptr<Accelerator> accel = makeAccelerator(name, scene.geometry());
       r.buildSeconds = seconds(start, Clock::now());
       r.stats = accel->stats();
       if (name == "embree" && args.embreeHighQuality) {
         // The kd-tree build target is relative to Embree's high-quality build.
         note("building embree (high quality)");
         Clock::time_point hq = Clock::now();
-        EmbreeAccelerator high(scene.geometry, /*highQuality=*/true);
+        EmbreeAccelerator high(scene.geometry(), /*highQuality=*/true);
         r.highQualityBuildSeconds = seconds(hq, Clock::now());
       }
       note("tracing with " + name);

@@ -77,7 +77,7 @@ void printEffectsOverFrames(const InfoArgs& args, double fps) {
       args.overrides.apply(&d);
       const RenderScene s = buildRenderScene(d, nullptr, {.decodeImages = false});
       ++checked;
-      for (const std::string& name : s.features.names()) {
+      for (const std::string& name : s.features().names()) {
         auto it = seen.try_emplace(name, Seen{frame, frame, 0}).first;
         it->second.last = frame;
         ++it->second.frames;
@@ -146,7 +146,7 @@ void runInfo(const InfoArgs& args) {
   std::printf("lights:     %zu%s%s\n", info.lights.size(), info.lights.empty() ? "" : ": ",
               listNames(info.lights, namedSummary).c_str());
   // Emitting surfaces that are not lights: next-event estimation never samples them.
-  for (const RenderScene::UnsampledEmitter& e : info.unsampledEmitters)
+  for (const UnsampledEmitter& e : info.unsampledEmitters)
     std::printf("unsampled emitter: instance %u (%s): %s\n", e.instance, e.shape.c_str(),
                 e.reason.c_str());
   const Bounds3f& b = info.bounds;

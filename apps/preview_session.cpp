@@ -55,9 +55,9 @@ Vec3f toVec(const std::array<double, 3>& a) { return {float(a[0]), float(a[1]), 
 // point along its axis nearest the bounds' centre), its up and field of view.
 CameraView viewOf(const RenderScene& scene, const SceneDescription& desc) {
   CameraView view;
-  const Camera& c = scene.camera;
+  const Camera& c = scene.camera();
   const Vec3f position = c.position(), forward = c.forward();
-  const Bounds3f bounds = scene.geometry.bounds();
+  const Bounds3f bounds = scene.geometry().bounds();
   float distance = 1;
   if (!bounds.empty()) {
     const Vec3f center = bounds.center();
@@ -69,7 +69,7 @@ CameraView viewOf(const RenderScene& scene, const SceneDescription& desc) {
   view.up = toArray(c.worldFromCamera().vector({0, 1, 0}));
   view.yfovDegrees = 40;  // the framing camera's
   for (const CameraDesc& cd : desc.cameras)
-    if (cd.name == scene.cameraName && cd.type == CameraType::Perspective)
+    if (cd.name == scene.cameraName() && cd.type == CameraType::Perspective)
       view.yfovDegrees = double(cd.yfov) * 180.0 / kPi;
   return view;
 }
@@ -79,9 +79,9 @@ void applyView(const CameraView& view, RenderScene* scene) {
   const Vec3f eye = toVec(view.position), target = toVec(view.lookAt), up = toVec(view.up);
   const Transform worldFromCamera = Transform::lookAt(eye, target, up);
   const float yfov = float(std::clamp(view.yfovDegrees, 1.0, 170.0) * kPi / 180.0);
-  scene->camera = Camera::perspective(worldFromCamera, yfov, scene->camera.width(),
-                                      scene->camera.height(), 0.0f, kInfinity);
-  scene->cameraName = "preview";
+  scene->setCamera(Camera::perspective(worldFromCamera, yfov, scene->camera().width(),
+                                       scene->camera().height(), 0.0f, kInfinity),
+                   "preview");
 }
 
 }  // namespace
@@ -217,8 +217,8 @@ void PreviewSession::renderLoop() {
             fresh->scene = buildRenderScene(fresh->desc);
             fresh->integrator = makeIntegrator(fresh->scene, fresh->desc.render);
             fresh->sceneView = viewOf(fresh->scene, fresh->desc);
-            fresh->sceneCamera = fresh->scene.camera;
-            fresh->sceneCameraName = fresh->scene.cameraName;
+            fresh->sceneCamera = fresh->scene.camera();
+            fresh->sceneCameraName = fresh->scene.cameraName();
           });
         } catch (const std::exception& e) {
           problem = e.what();
@@ -276,15 +276,14 @@ void PreviewSession::renderLoop() {
       if (view) {
         applyView(*view, &loaded->scene);
       } else {
-        loaded->scene.camera = loaded->sceneCamera;
-        loaded->scene.cameraName = loaded->sceneCameraName;
+        loaded->scene.setCamera(loaded->sceneCamera, loaded->sceneCameraName);
       }
       RenderOptions options;
       options.threads = loaded->desc.render.threads;
       render = std::make_unique<ProgressiveRender>(loaded->scene, *loaded->integrator,
                                                    loaded->desc.render, options);
       const CameraView shown = view.value_or(loaded->sceneView);
-      const Bounds3f bounds = loaded->scene.geometry.bounds();
+      const Bounds3f bounds = loaded->scene.geometry().bounds();
       publish([&](PreviewSnapshot& s) {
         if (reload) s.problem.reset();
         ++s.generation;
@@ -295,7 +294,7 @@ void PreviewSession::renderLoop() {
         s.rendering = true;
         s.camera = shown;
         s.customCamera = view.has_value();
-        s.width = loaded->scene.camera.width(), s.height = loaded->scene.camera.height();
+        s.width = loaded->scene.camera().width(), s.height = loaded->scene.camera().height();
         if (!bounds.empty()) {
           s.boundsMin = toArray(bounds.lower);
           s.boundsMax = toArray(bounds.upper);

@@ -184,9 +184,9 @@ nlohmann::json sceneJson(const RenderArgs& args, const SceneDescription& desc,
   j["integrator"] =
       integratorName(resolveIntegrator(scene, desc.render.integrator));  // "auto" resolved
   j["integrator_requested"] = desc.render.integrator.type;
-  j["camera"] = scene.cameraName;
-  j["width"] = scene.camera.width();
-  j["height"] = scene.camera.height();
+  j["camera"] = scene.cameraName();
+  j["width"] = scene.camera().width();
+  j["height"] = scene.camera().height();
   // The spp asked for; with a budget and no --spp there is no cap (spp_reached says where the
   // render stopped).
   j["spp"] = hasBudget(args) && !args.overrides.spp ? nlohmann::json(nullptr)
@@ -202,19 +202,21 @@ nlohmann::json sceneJson(const RenderArgs& args, const SceneDescription& desc,
                      {"jitter", desc.render.adaptive.jitter}};
   j["seed"] = desc.render.seed;
   j["threads"] = threads;
-  j["triangles"] = scene.geometry.instancedTriangleCount();
-  j["triangles_stored"] = scene.geometry.uniqueTriangleCount();
+  j["triangles"] = scene.geometry().instancedTriangleCount();
+  j["triangles_stored"] = scene.geometry().uniqueTriangleCount();
   // Everything the accelerator intersects: placed triangles plus analytic objects (a CSG tree
   // counts as one primitive: it is one Embree user primitive).
-  j["primitives"] = scene.geometry.instancedTriangleCount() + scene.geometry.shapeInstanceCount();
-  j["analytic_objects"] = scene.geometry.shapeInstanceCount();
-  j["instances"] = scene.geometry.instances.size();
-  j["lights"] = scene.lights.size();
-  j["effects"] = scene.features.names();
-  if (scene.images) {
+  j["primitives"] =
+      scene.geometry().instancedTriangleCount() + scene.geometry().shapeInstanceCount();
+  j["analytic_objects"] = scene.geometry().shapeInstanceCount();
+  j["instances"] = scene.geometry().instances.size();
+  j["lights"] = scene.lights().size();
+  j["effects"] = scene.features().names();
+  if (scene.images()) {
     // The images glint holds decoded (MIP pyramids); those in OpenImageIO's cache not counted.
     size_t bytes = 0;
-    for (TextureImages::Handle h : scene.images->handles()) bytes += scene.images->residentBytes(h);
+    for (TextureImages::Handle h : scene.images()->handles())
+      bytes += scene.images()->residentBytes(h);
     j["texture_mib"] = double(bytes) / (1024.0 * 1024.0);
   }
   return j;
@@ -283,7 +285,7 @@ bool renderAndWrite(const RenderArgs& args, const SceneDescription& desc, const 
     options.threads = desc.render.threads;
     options.progress = tileProgress;
     // Arguments were checked in runRender; whether the window fits is known only now.
-    record->window = requestedWindow(args, scene.camera.width(), scene.camera.height());
+    record->window = requestedWindow(args, scene.camera().width(), scene.camera().height());
     record->subdivide = desc.render.adaptive.subdivide;
     if (args.crop || args.tile) options.crop = record->window;
     film = renderUntil(scene, *integ, desc.render, options, rule, &record->stats, &record->result,
@@ -315,7 +317,7 @@ void printSummary(const std::vector<std::string>& outputs, const RenderScene& sc
   if (r.reason == StopReason::NoiseTarget) ended += ", noise target reached";
   if (r.reason == StopReason::Interrupted) ended += ", interrupted: --resume continues it";
   // A crop or tile says which pixels of which frame it holds.
-  const int w = scene.camera.width(), h = scene.camera.height();
+  const int w = scene.camera().width(), h = scene.camera().height();
   const std::string size =
       record.window == PixelWindow{0, 0, w, h}
           ? fmt::format("{}x{}", w, h)
@@ -485,7 +487,7 @@ void runSequence(const RenderArgs& args, const std::vector<std::string>& pattern
     namingFile(args.scene, "cannot build the scene", [&] {
       scene = buildRenderScene(desc, &record.build, BuildOptions{.images = images});
     });
-    if (scene.images) images = scene.images;
+    if (scene.images()) images = scene.images();
     if (records.empty()) {
       checkDisplaySettings(desc, outputs);
       if (!args.quiet && !warned)

@@ -115,7 +115,7 @@ void renderBenchmark(benchmark::State& state, const Variant& v) {
   }
   state.counters["ms_per_image"] = benchmark::Counter(
       1e-3, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
-  state.SetLabel(std::to_string(b.scene.features.names().size()) + " features");
+  state.SetLabel(std::to_string(b.scene.features().names().size()) + " features");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -148,9 +148,9 @@ Film minimalRender(const RenderScene& scene, const RenderSettings& settings) {
     for (int s = 0; s < kSpp; ++s) {
       Sampler sampler(key, uint32_t(s), kFilmDimension);
       const Vec2f o = filter.sampleOffset(sampler.get2D());
-      rays[s] = scene.camera.pinholeRay({float(x) + 0.5f + o.x, float(y) + 0.5f + o.y}, 0);
+      rays[s] = scene.camera().pinholeRay({float(x) + 0.5f + o.x, float(y) + 0.5f + o.y}, 0);
     }
-    scene.accel->closestHits(rays, hits, kSpp);
+    scene.accel().closestHits(rays, hits, kSpp);
     if constexpr (kBookkeeping) tally.camera += kSpp;
     Rgb sum;
     double sums[3] = {0, 0, 0}, squares[3] = {0, 0, 0}, found = 0;
@@ -158,18 +158,18 @@ Film minimalRender(const RenderScene& scene, const RenderSettings& settings) {
       if (hits[s].instance == Hit::kInvalid) continue;
       Rgb L;
       const SurfaceInteraction si =
-          computeSurfaceInteraction(scene.geometry, rays[s], hits[s], needs);
-      const Material& material = *scene.materials[scene.materialIndex(hits[s])];
+          computeSurfaceInteraction(scene.geometry(), rays[s], hits[s], needs);
+      const Material& material = *scene.materials()[scene.materialIndex(hits[s])];
       const LightSampleContext ctx(si, 0);
       TextureLookups lookups(si);
       const Bsdf bsdf = material.bsdf(si, lookups);
-      for (const auto& light : scene.lights) {
+      for (const auto& light : scene.lights()) {
         const std::optional<LightSample> ls = light->sampleLi(ctx, {0.5f, 0.5f});
         if (!ls) continue;
         const Rgb f = bsdf.f(ls->wi);
         if (!(maxComponent(f) > 0)) continue;
         if constexpr (kBookkeeping) ++tally.shadow;
-        if (scene.accel->anyHit(shadowRay(ctx, *ls))) continue;
+        if (scene.accel().anyHit(shadowRay(ctx, *ls))) continue;
         L += f * ls->L * std::abs(dot(si.ns, ls->wi));
       }
       if constexpr (kBookkeeping) {
@@ -286,7 +286,7 @@ void BM_PlainVsMinimal(benchmark::State& state) {
   state.counters["ratio"] = median(ratio);
   state.counters["kept_ratio"] = median(keptRatio);
   state.counters["pairs"] = double(ratio.size());  // rounds of three
-  state.SetLabel(std::to_string(b.scene.features.names().size()) + " features");
+  state.SetLabel(std::to_string(b.scene.features().names().size()) + " features");
 }
 
 // ---------------------------------------------------------------------------------------------

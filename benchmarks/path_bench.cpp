@@ -54,7 +54,7 @@ struct Fixture {
     for (MeshDesc& m : desc.meshes) m.material = 0;
     for (InstanceDesc& i : desc.instances) i.material = -1;
     // The dragon's extent (built once without the box) sizes the room around it.
-    const Bounds3f b = buildRenderScene(desc).geometry.bounds();
+    const Bounds3f b = buildRenderScene(desc).geometry().bounds();
     const Vec3f size = b.upper - b.lower, centre = (b.lower + b.upper) * 0.5f;
     const float r = std::max({size.x, size.y, size.z});
 

@@ -81,7 +81,7 @@ struct Fixture {
           Sampler sampler(pixelSampleKey(desc.render.seed, pixel), uint32_t(s));
           Vec2f o = filter.sampleOffset(sampler.get2D());
           rays[pixel * kSpp + size_t(s)] =
-              scene.camera.generateRay({float(x) + 0.5f + o.x, float(y) + 0.5f + o.y}, 0);
+              scene.camera().generateRay({float(x) + 0.5f + o.x, float(y) + 0.5f + o.y}, 0);
         }
       }
     });
@@ -107,7 +107,7 @@ Fixture& fixture(int mesh) {
 
 // A bare loop: RTCRayHit setup + rtcIntersect1 for each precomputed ray, nothing else.
 uint64_t bareEmbreePass(const Fixture& f) {
-  RTCScene rtc = static_cast<const EmbreeAccelerator&>(*f.scene.accel).rtcScene();
+  RTCScene rtc = static_cast<const EmbreeAccelerator&>(f.scene.accel()).rtcScene();
   tbb::task_arena arena(f.threads);
   uint64_t hits = 0;
   arena.execute([&] {
@@ -124,7 +124,7 @@ uint64_t bareEmbreePass(const Fixture& f) {
 // For transparency, the ceiling glint's packet path works against: the same rays, each pixel's
 // 16 samples as one rtcIntersect16 packet with a coherent context, nothing else.
 uint64_t bareEmbreePacketPass(const Fixture& f) {
-  RTCScene rtc = static_cast<const EmbreeAccelerator&>(*f.scene.accel).rtcScene();
+  RTCScene rtc = static_cast<const EmbreeAccelerator&>(f.scene.accel()).rtcScene();
   static_assert(kSpp == 16, "one packet per pixel");
   tbb::task_arena arena(f.threads);
   uint64_t hits = 0;

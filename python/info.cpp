@@ -51,7 +51,7 @@ py::dict infoDict(const SceneInfo& info) {
   d["camera"] = info.camera;
   d["lights"] = named(info.lights);
   py::list emitters;
-  for (const RenderScene::UnsampledEmitter& e : info.unsampledEmitters)
+  for (const UnsampledEmitter& e : info.unsampledEmitters)
     emitters.append(py::dict(py::arg("instance") = e.instance, py::arg("shape") = e.shape,
                              py::arg("reason") = e.reason));
   d["unsampled_emitters"] = emitters;

@@ -56,6 +56,7 @@ PYBIND11_MODULE(_glint, m) {
            py::call_guard<py::gil_scoped_release>())
       .def_property_readonly("file", &SceneHandle::file)
       .def_property_readonly("builds", &SceneHandle::builds)
+      .def_property_readonly("refreshes", &SceneHandle::refreshes)
       .def_property_readonly("timings",
                              [](const SceneHandle& s) {
                                py::dict d;

@@ -76,6 +76,16 @@ void SceneHandle::update(const std::string& patch) {
   desc_ = std::move(changed);
   edits_.push_back(edit);
   ++version_;
+  // Cameras and lights are made again in the render scene; render keys decide for themselves
+  // (sameBuild); anything else (materials, objects, media, textures) needs a build.
+  for (const auto& [key, value] : doc.items()) {
+    if (key == "cameras")
+      changed_ |= kRefreshCamera;
+    else if (key == "lights" || key == "environment")
+      changed_ |= kRefreshLights;
+    else if (key != "render")
+      changed_ |= kRebuild;
+  }
 }
 
 void SceneHandle::setLight(const std::string& name, std::optional<float> intensity,
@@ -107,6 +117,7 @@ void SceneHandle::setLight(const std::string& name, std::optional<float> intensi
   edit(&desc_);
   edits_.push_back(edit);
   ++version_;
+  changed_ |= kRefreshLights;
 }
 
 SceneHandle::Request SceneHandle::request(const std::string& options,
@@ -138,13 +149,26 @@ SceneHandle::Request SceneHandle::request(const std::string& options,
 }
 
 std::shared_ptr<const RenderScene> SceneHandle::built(const SceneDescription& desc) {
+  // A camera or lights changed, and nothing else: made again in the scene, unless a
+  // progressive render still holds it (then it keeps its scene, and this one is built).
+  const bool edited = builtVersion_ != version_;
+  if (scene_ && sameBuild(builtWith_, desc.render) && edited && !(changed_ & kRebuild)) {
+    if (changed_ == 0) {  // render keys only: sameBuild has judged them
+      builtVersion_ = version_;
+    } else if (scene_.use_count() == 1 && refreshRenderScene(desc, changed_, scene_.get())) {
+      builtVersion_ = version_;
+      changed_ = 0;
+      ++refreshes_;
+    }
+  }
   if (!scene_ || !sameBuild(builtWith_, desc.render) || builtVersion_ != version_) {
     scene_.reset();  // its memory first, unless a progressive render holds it
-    scene_ = std::make_shared<const RenderScene>(
+    scene_ = std::make_shared<RenderScene>(
         buildRenderScene(desc, &lastBuild_, BuildOptions{.images = images_}));
-    if (scene_->images) images_ = scene_->images;
+    if (scene_->images()) images_ = scene_->images();
     builtWith_ = desc.render;
     builtVersion_ = version_;
+    changed_ = 0;
     ++builds_;
   }
   return scene_;

@@ -62,6 +62,9 @@ class SceneHandle {
 
   // Render scenes built so far: a render that reuses the last one builds none.
   int builds() const { return builds_; }
+  // Render scenes brought up to date without a build (refreshRenderScene: a camera or lights
+  // changed).
+  int refreshes() const { return refreshes_; }
   // How long loading the files took, and the last build (accelerator included).
   double loadSeconds() const { return loadSeconds_; }
   const BuildTimings& lastBuild() const { return lastBuild_; }
@@ -80,7 +83,7 @@ class SceneHandle {
   std::string file_;
   std::unique_ptr<SceneLoader> loader_;
   SceneDescription desc_;
-  std::shared_ptr<const RenderScene> scene_;  // shared with progressive renders under way
+  std::shared_ptr<RenderScene> scene_;  // shared with progressive renders under way
   RenderSettings builtWith_;
   std::shared_ptr<TextureImages> images_;  // decoded once, for every build
   // The changes made since loading (update, setLight), applied again to the description at
@@ -88,7 +91,11 @@ class SceneHandle {
   // is built again.
   std::vector<std::function<void(SceneDescription*)>> edits_;
   int version_ = 0, builtVersion_ = 0;
-  int builds_ = 0;
+  // What the edits since the last build changed (kRefreshCamera, kRefreshLights), or
+  // kRebuild: something only a build makes.
+  static constexpr uint32_t kRebuild = 1u << 31;
+  uint32_t changed_ = 0;
+  int builds_ = 0, refreshes_ = 0;
   double loadSeconds_ = 0;
   BuildTimings lastBuild_;
 };

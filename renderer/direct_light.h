@@ -64,7 +64,7 @@ Rgb sampleDirectLight(const RenderScene& scene, const LightSampleContext& ctx, c
     const Ray shadow = shadowRay(ctx, *ls);
     if (!options.transmittanceTraces) {
       ++counters.shadow;
-      if (scene.accel->anyHit(shadow)) return {};
+      if (scene.accel().anyHit(shadow)) return {};
     }
     f *= transmittance(shadow);
     if (!(maxComponent(f) > 0)) return {};

@@ -29,28 +29,29 @@ SceneFeatures detectFeatures(const RenderScene& scene, const IntegratorSettings&
   SceneFeatures f;
   f.set(Feature::DefaultLight, notes.defaultLight);
   f.set(Feature::Terrain, notes.terrain);
-  f.set(Feature::Lens, scene.camera.hasLens());
+  f.set(Feature::Lens, scene.camera().hasLens());
   // Moving placements and deforming meshes alike.
-  f.set(Feature::MotionBlur, scene.camera.isMoving() || scene.geometry.hasMotion());
-  f.set(Feature::Volumes, scene.media != nullptr);
-  std::vector<uint32_t> uses(scene.geometry.meshes.size(), 0);
+  f.set(Feature::MotionBlur, scene.camera().isMoving() || scene.geometry().hasMotion());
+  f.set(Feature::Volumes, scene.media() != nullptr);
+  std::vector<uint32_t> uses(scene.geometry().meshes.size(), 0);
   bool anyLit = false;
-  for (const Instance& inst : scene.geometry.instances) {
+  for (const Instance& inst : scene.geometry().instances) {
     if (!inst.isShape()) {
       ++uses[inst.mesh];
       continue;
     }
     f.set(Feature::Analytic);
-    if (dynamic_cast<const CsgShape*>(scene.geometry.shapes[inst.shape].get())) f.set(Feature::Csg);
-    for (uint32_t m : scene.shapeMaterials[inst.shape])
-      addMaterialFeatures(*scene.materials[m], &f, &anyLit);
+    if (dynamic_cast<const CsgShape*>(scene.geometry().shapes[inst.shape].get()))
+      f.set(Feature::Csg);
+    for (uint32_t m : scene.shapeMaterials(inst.shape))
+      addMaterialFeatures(*scene.materials()[m], &f, &anyLit);
   }
-  for (size_t m = 0; m < scene.geometry.meshes.size(); ++m) {
+  for (size_t m = 0; m < scene.geometry().meshes.size(); ++m) {
     if (uses[m] == 0) continue;
     if (uses[m] > 1) f.set(Feature::Instancing);
     addMaterialFeatures(scene.materialOf(uint32_t(m)), &f, &anyLit);
   }
-  for (const auto& light : scene.lights) {
+  for (const auto& light : scene.lights()) {
     if (light->castsShadows() && anyLit) f.set(Feature::Shadows);
     if (light->kind() == LightKind::Area) f.set(Feature::AreaLights);
     if (light->kind() == LightKind::Infinite) f.set(Feature::Environment);

@@ -54,7 +54,7 @@ class SceneFeatures {
 // The user-facing name of a feature ("motion blur").
 const char* featureName(Feature f);
 
-struct RenderScene;
+class RenderScene;
 struct IntegratorSettings;
 
 // What the builder made that the built scene does not show by itself.

@@ -85,8 +85,8 @@ InstantRadiosityIntegrator::InstantRadiosityIntegrator(const RenderScene& scene,
       paths_(settings.vplPaths),
       clamp_(settings.vplClamp),
       shadowShare_(settings.vplShadowShare),
-      shadows_(scene.features.has(Feature::Shadows)),
-      media_(scene.features.has(Feature::Volumes) ? scene.media.get() : nullptr),
+      shadows_(scene.features().has(Feature::Shadows)),
+      media_(scene.features().has(Feature::Volumes) ? scene.media() : nullptr),
       whitted_(scene, settings.maxDepth, settings.glassShadows, settings.minWeight, this) {
   if (settings.vplPaths <= 0) throw InputError("instant radiosity: vpl_paths must be > 0");
   traceLightPaths(settings.vplPaths, seed);
@@ -108,11 +108,11 @@ std::vector<Integrator::SetupStat> InstantRadiosityIntegrator::setupStats() cons
 void InstantRadiosityIntegrator::traceLightPaths(int paths, uint64_t seed) {
   // A VPL at light-path vertex k lights camera paths of k + 1 bounces.
   const int lastVertex = maxDepth_ - 1;
-  if (scene_.lights.empty() || lastVertex < 1) return;
+  if (scene_.lights().empty() || lastVertex < 1) return;
   // Lights by power, as the power light sampler picks them (but independent of the NEE
   // sampler setting: a BVH sampler needs a receiving point, a light path has none).
   std::vector<float> power;
-  for (const auto& light : scene_.lights) {
+  for (const auto& light : scene_.lights()) {
     const float p = luminance(light->phi());
     power.push_back(std::isfinite(p) && p > 0 ? p : 0);
   }
@@ -127,7 +127,7 @@ void InstantRadiosityIntegrator::traceLightPaths(int paths, uint64_t seed) {
     const Vec2f uPos = u.get2D(), uDir = u.get2D();
     const uint32_t index = lightDistribution.sample(uLight, &pLight);
     if (!(pLight > 0)) continue;
-    const std::optional<LightLeSample> le = scene_.lights[index]->sampleLe(uPos, uDir, 0);
+    const std::optional<LightLeSample> le = scene_.lights()[index]->sampleLe(uPos, uDir, 0);
     if (!le || !(le->pdfPos > 0) || !(le->pdfDir > 0)) continue;
     const Rgb power0 = le->beta() * (invPaths / pLight);
     if (!(maxComponent(power0) > 0) || !isFinite(power0)) continue;
@@ -146,7 +146,7 @@ void InstantRadiosityIntegrator::traceLightPaths(int paths, uint64_t seed) {
       const float uRoulette = u.get1D();
 
       ++lightPathRays_;
-      if (!scene_.accel->closestHit(ray, &hit)) break;
+      if (!scene_.accel().closestHit(ray, &hit)) break;
       if (media_) {
         // The flux that arrives: the segment's transmittance (estimated, unbiased for
         // tracking) weights the rest of the path.
@@ -388,7 +388,7 @@ Rgb InstantRadiosityIntegrator::gather(const SurfaceInteraction& si, const Bsdf&
     ++counters.shadow;
     const Ray shadow =
         spawnRayToSurface(si.p, si.pError, si.ng, v.si.p, v.si.pError, v.si.ng, time);
-    if (scene_.accel->anyHit(shadow)) return {};
+    if (scene_.accel().anyHit(shadow)) return {};
     if (!media_) return cand.c;
     const Rgb Tr = media_->transmittance(shadow, shadow.tMax, sampler);
     return maxComponent(Tr) > 0 ? cand.c * Tr : Rgb{};

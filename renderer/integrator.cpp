@@ -14,7 +14,7 @@ Integrator::Integrator(const RenderScene& scene)
 Rgb Integrator::Li(const Ray& ray, Sampler& sampler, RayCounters& counters, PathAovs& aovs) const {
   ++counters.camera;
   Hit hit;
-  bool found = scene_.accel->closestHit(ray, &hit);
+  bool found = scene_.accel().closestHit(ray, &hit);
   return LiFromHit(ray, found ? &hit : nullptr, sampler, counters, aovs);
 }
 
@@ -33,15 +33,15 @@ IntegratorKind resolveIntegrator(const RenderScene& scene, const IntegratorSetti
   // Media asking for multiple scattering need the path tracer (Whitted scatters once); other
   // media go by the light rule below (Whitted's marched single scattering is the low-noise
   // answer for point lights).
-  if (scene.media && settings.volume == "multiple") return IntegratorKind::Path;
+  if (scene.media() && settings.volume == "multiple") return IntegratorKind::Path;
   // Light with an extent (area, emitting surfaces, the environment) is what Whitted's hard
   // shadows cannot render; point, spot and directional lights it renders exactly.
-  bool extended = !scene.infiniteLights.empty();
-  for (int32_t l : scene.instanceLight) extended = extended || l >= 0;
-  for (const auto& light : scene.lights) extended = extended || !light->isDelta();
+  bool extended = !scene.infiniteLights().empty();
+  for (int32_t l : scene.instanceLight()) extended = extended || l >= 0;
+  for (const auto& light : scene.lights()) extended = extended || !light->isDelta();
   // A rough metal reflects the rest of the scene through a glossy lobe, which Whitted renders
   // only as highlights of point lights: it looks black elsewhere.
-  for (const auto& material : scene.materials)
+  for (const auto& material : scene.materials())
     extended = extended || material->traits().glossyMetal;
   return extended ? IntegratorKind::Path : IntegratorKind::Whitted;
 }

@@ -54,25 +54,25 @@ bool leavesLights(const Bsdf& bsdf) {
 
 PathIntegrator::PathIntegrator(const RenderScene& scene, const IntegratorSettings& settings)
     : Integrator(scene), maxDepth_(settings.maxDepth), rrDepth_(settings.rrDepth) {
-  shadows_ = scene.features.has(Feature::Shadows);
-  lights_ = !scene.lights.empty() && scene.lightSampler;
-  for (const Light* l : scene.infiniteLights)
-    for (size_t i = 0; i < scene.lights.size(); ++i)
-      if (scene.lights[i].get() == l) infinite_.push_back({l, uint32_t(i)});
-  bsdfFindable_.assign(scene.lights.size(), false);
+  shadows_ = scene.features().has(Feature::Shadows);
+  lights_ = !scene.lights().empty() && scene.lightSampler();
+  for (const Light* l : scene.infiniteLights())
+    for (size_t i = 0; i < scene.lights().size(); ++i)
+      if (scene.lights()[i].get() == l) infinite_.push_back({l, uint32_t(i)});
+  bsdfFindable_.assign(scene.lights().size(), false);
   for (const auto& [light, index] : infinite_) bsdfFindable_[index] = true;
-  for (int32_t l : scene.instanceLight)
+  for (int32_t l : scene.instanceLight())
     if (l >= 0) bsdfFindable_[size_t(l)] = true;
-  bsdfOnlyAtSurfaces_.assign(scene.lights.size(), false);
-  for (size_t i = 0; i < scene.lights.size(); ++i) {
-    bsdfOnlyAtSurfaces_[i] = bsdfFindable_[i] && scene.lights[i]->leftToBsdfSampling();
+  bsdfOnlyAtSurfaces_.assign(scene.lights().size(), false);
+  for (size_t i = 0; i < scene.lights().size(); ++i) {
+    bsdfOnlyAtSurfaces_[i] = bsdfFindable_[i] && scene.lights()[i]->leftToBsdfSampling();
     someLeftToBsdf_ = someLeftToBsdf_ || bsdfOnlyAtSurfaces_[i];
   }
-  if (scene.features.has(Feature::Volumes) && scene.media) {
-    media_ = scene.media.get();
+  if (scene.features().has(Feature::Volumes) && scene.media()) {
+    media_ = scene.media();
     mediaScatter_ = settings.volume != "emission";
   }
-  emissionFindable_ = !infinite_.empty() || maxComponent(scene.background) > 0 || media_;
+  emissionFindable_ = !infinite_.empty() || maxComponent(scene.background()) > 0 || media_;
   for (const MaterialShading& s : shading_) emissionFindable_ = emissionFindable_ || s.emits;
 }
 
@@ -107,7 +107,7 @@ Rgb PathIntegrator::surfacePath(const Ray& cameraRay, const Hit* cameraHit, Samp
                                 RayCounters& counters, PathAovs& aovs) const {
   // The camera's cone, read at every path, not kept from construction: the preview changes the
   // scene's camera under a built integrator.
-  Path path(scene_.camera.pixelCone());
+  Path path(scene_.camera().pixelCone());
   Ray ray = cameraRay;
   Hit found;
   const Hit* hit = cameraHit;
@@ -120,14 +120,14 @@ Rgb PathIntegrator::surfacePath(const Ray& cameraRay, const Hit* cameraHit, Samp
     if (depth == 0) aovs.record(h);
     if (!surfaceVertex(path, h, *hit, depth, sampler, noMedia, counters, &ray)) break;
     ++counters.secondary;
-    hit = scene_.accel->closestHit(ray, &found) ? &found : nullptr;
+    hit = scene_.accel().closestHit(ray, &found) ? &found : nullptr;
   }
   return path.L;
 }
 
 Rgb PathIntegrator::volumetricPath(const Ray& cameraRay, const Hit* cameraHit, Sampler& sampler,
                                    RayCounters& counters, PathAovs& aovs) const {
-  Path path(scene_.camera.pixelCone());
+  Path path(scene_.camera().pixelCone());
   // Tracking's own random stream (path.h), drawn before the vertices' dimensions.
   Sampler tracker = trackingStream(sampler);
   auto shadowMedia = [&](const Ray& shadow) {
@@ -163,7 +163,7 @@ Rgb PathIntegrator::volumetricPath(const Ray& cameraRay, const Hit* cameraHit, S
       if (!surfaceVertex(path, h, *hit, depth, sampler, shadowMedia, counters, &ray)) break;
     }
     ++counters.secondary;
-    hit = scene_.accel->closestHit(ray, &found) ? &found : nullptr;
+    hit = scene_.accel().closestHit(ray, &found) ? &found : nullptr;
   }
   return path.L;
 }
@@ -299,7 +299,7 @@ Rgb PathIntegrator::sampleLight(const SurfaceInteraction& si, const Bsdf& bsdf, 
                                 float time, float uLight, Vec2f uPoint, ShadowMedia&& shadowMedia,
                                 RayCounters& counters) const {
   const LightSampleContext ctx(si, time);
-  const std::optional<SampledLight> picked = scene_.lightSampler->sample(ctx, uLight);
+  const std::optional<SampledLight> picked = scene_.lightSampler()->sample(ctx, uLight);
   if (!picked || !(picked->p > 0)) return {};
   // Left to BSDF sampling: the other lights keep their probabilities, so nothing is lost but
   // this sample (pbrt-v4 does the same).
@@ -312,14 +312,14 @@ Rgb PathIntegrator::sampleLight(const SurfaceInteraction& si, const Bsdf& bsdf, 
   };
   const DirectLightOptions options{
       .pmf = picked->p, .shadows = shadows_, .mis = bsdfFindable_[picked->index]};
-  return sampleDirectLight(scene_, ctx, *scene_.lights[picked->index], uPoint, options, scatter,
+  return sampleDirectLight(scene_, ctx, *scene_.lights()[picked->index], uPoint, options, scatter,
                            shadowMedia, counters);
 }
 
 Rgb PathIntegrator::sampleLightInMedium(const LightSampleContext& ctx, Vec3f d, float g,
                                         float uLight, Vec2f uPoint, Sampler& tracker,
                                         RayCounters& counters) const {
-  const std::optional<SampledLight> picked = scene_.lightSampler->sample(ctx, uLight);
+  const std::optional<SampledLight> picked = scene_.lightSampler()->sample(ctx, uLight);
   if (!picked || !(picked->p > 0)) return {};
   // The phase function stands for f |cos|; it is also the density phase sampling has.
   auto scatter = [&](Vec3f wi, float* pdf) -> Rgb {
@@ -332,7 +332,7 @@ Rgb PathIntegrator::sampleLightInMedium(const LightSampleContext& ctx, Vec3f d, 
   const DirectLightOptions options{
       .pmf = picked->p, .shadows = true, .mis = bsdfFindable_[picked->index]};
   return sampleDirectLight(
-      scene_, ctx, *scene_.lights[picked->index], uPoint, options, scatter,
+      scene_, ctx, *scene_.lights()[picked->index], uPoint, options, scatter,
       [&](const Ray& shadow) { return media_->trackedTransmittance(shadow, shadow.tMax, tracker); },
       counters);
 }

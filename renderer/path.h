@@ -3,7 +3,7 @@
 // Estimates the radiance arriving at the camera, L = Le + ∫ f Li |cos|, by following one path
 // per camera sample. At every vertex it adds light two ways and weights them against each
 // other with multiple importance sampling (Veach's power heuristic, beta = 2):
-//   next-event estimation — one light picked by scene.lightSampler, one point or direction on
+//   next-event estimation — one light picked by scene.lightSampler(), one point or direction on
 //     it (Light::sampleLi) and a shadow ray; weighted by pmf x pdfLi against the BSDF's pdf
 //     (delta lights, and area lights that are not geometry — the sidecar's quad, disk and
 //     sphere lights — weight 1: no BSDF sample can find them);
@@ -120,7 +120,7 @@ class PathIntegrator final : public Integrator {
   // it in registers (callgrind: 0.3% of a Cornell box's instructions).
   float lightPdf(LightSampleContext prev, uint32_t index, const Light& light, Vec3f wi,
                  const LightHit& at) const {
-    return scene_.lightSampler->pmf(prev, index) * light.pdfLi(prev, wi, at);
+    return scene_.lightSampler()->pmf(prev, index) * light.pdfLi(prev, wi, at);
   }
 
   // One light sampled for the lit point `si` (next-event estimation), MIS-weighted against
@@ -145,14 +145,14 @@ class PathIntegrator final : public Integrator {
   // Can a BSDF-sampled ray find light at all (an emitting surface, an environment, a
   // non-black background, media)? If not, the last bounce is not traced.
   bool emissionFindable_ = true;
-  // The environment lights with their indices in scene.lights (the light sampler's pmf
+  // The environment lights with their indices in scene.lights() (the light sampler's pmf
   // needs the index).
   std::vector<std::pair<const Light*, uint32_t>> infinite_;
-  // Per light in scene.lights: can a BSDF sample find it (an environment, or an area light
+  // Per light in scene.lights(): can a BSDF sample find it (an environment, or an area light
   // some instance's emission maps to)? Next-event estimation weights only those by MIS; the
   // others are its only way in and keep weight 1.
   std::vector<bool> bsdfFindable_;
-  // Per light in scene.lights: left to BSDF sampling at the surfaces whose BSDF samples it
+  // Per light in scene.lights(): left to BSDF sampling at the surfaces whose BSDF samples it
   // well (Light::leftToBsdfSampling, leavesLights in path.cpp): next-event estimation there
   // draws nothing from it, and a BSDF sample from there that finds it has weight 1. Media
   // points still sample it.

@@ -118,15 +118,15 @@ struct ProgressiveRender::State {
   State(const RenderScene& scene, const Integrator& integrator, const RenderSettings& settings,
         const RenderOptions& options)
       : evaluator(scene, integrator, settings),
-        window(renderWindow(options, scene.camera.width(), scene.camera.height())),
+        window(renderWindow(options, scene.camera().width(), scene.camera().height())),
         contrast(settings.adaptive),
         adaptive(settings.adaptive),
-        tiles(grown(window, contrast.margin(), scene.camera.width(), scene.camera.height()),
+        tiles(grown(window, contrast.margin(), scene.camera().width(), scene.camera().height()),
               options.tileSize),
         threads(options.threads),
         film(window.width(), window.height(), settings.aovs) {
     film.originX = window.x0, film.originY = window.y0;
-    film.fullWidth = scene.camera.width(), film.fullHeight = scene.camera.height();
+    film.fullWidth = scene.camera().width(), film.fullHeight = scene.camera().height();
     contrast.start(tiles.pixels());
     stats.threads = threads.count;
   }
@@ -353,7 +353,7 @@ Film renderSubdividedUntil(const RenderScene& scene, const Integrator& integrato
         "anti-aliasing by subdivision renders in one pass: it takes no time limit "
         "or noise target");
   const uint64_t pixels = options.crop ? uint64_t(options.crop->width()) * options.crop->height()
-                                       : uint64_t(scene.camera.width()) * scene.camera.height();
+                                       : uint64_t(scene.camera().width()) * scene.camera().height();
   ProgressBar bar("rendering", 2 * std::max<uint64_t>(pixels, 1), options.progress);
   Film film;
   RenderStats st;

@@ -13,10 +13,10 @@ SampleEvaluator::SampleEvaluator(const RenderScene& scene, const Integrator& int
   // The camera decides whether there is a lens to sample (the scene builder reports it as
   // Feature::Lens); time is sampled only when the builder found something moving. Neither, on
   // a static pinhole: the pinhole rays of before, with no per-ray test.
-  const bool lens = scene.camera.hasLens();
-  const bool motion = scene.features.has(Feature::MotionBlur);
+  const bool lens = scene.camera().hasLens();
+  const bool motion = scene.features().has(Feature::MotionBlur);
   if (!lens && !motion)
-    cameraRays_ = scene.camera.isStaticPinhole() ? CameraRays::Pinhole : CameraRays::Generic;
+    cameraRays_ = scene.camera().isStaticPinhole() ? CameraRays::Pinhole : CameraRays::Generic;
   else
     cameraRays_ = !motion ? CameraRays::Lens
                   : !lens ? CameraRays::Motion
@@ -26,7 +26,7 @@ SampleEvaluator::SampleEvaluator(const RenderScene& scene, const Integrator& int
 PixelKeys SampleEvaluator::keys(int x, int y) const {
   PixelKeys k;
   k.x = x, k.y = y;
-  k.key = pixelSampleKey(seed_, size_t(y) * size_t(scene_.camera.width()) + size_t(x));
+  k.key = pixelSampleKey(seed_, size_t(y) * size_t(scene_.camera().width()) + size_t(x));
   k.film = DimensionSeeds(k.key, kFilmDimension);
   if (cameraRays_ == CameraRays::Lens || cameraRays_ == CameraRays::LensAndMotion)
     k.lens = DimensionSeeds(k.key, kLensDimension);
@@ -56,7 +56,7 @@ void SampleEvaluator::sampledRays(const PixelKeys& pixel, uint32_t first, uint32
     cs.pFilm = {filmX[i], filmY[i]};
     if constexpr (kLens) cs.pLens = Fraction2{lx[i], ly[i]}.toFloat();
     if constexpr (kMotion) cs.time = time[i];
-    rays[i] = scene_.camera.generateRay(cs);
+    rays[i] = scene_.camera().generateRay(cs);
   }
 }
 
@@ -78,7 +78,7 @@ void SampleEvaluator::evaluate(const PixelKeys& pixel, uint32_t n, bool centre, 
   }
   switch (cameraRays_) {
     case CameraRays::Pinhole:
-      scene_.camera.pinholeRays(filmX, filmY, int(n), batch.rays);
+      scene_.camera().pinholeRays(filmX, filmY, int(n), batch.rays);
       break;
     case CameraRays::Generic:
       sampledRays<false, false>(pixel, first, n, filmX, filmY, batch.rays);
@@ -93,7 +93,7 @@ void SampleEvaluator::evaluate(const PixelKeys& pixel, uint32_t n, bool centre, 
       sampledRays<true, true>(pixel, first, n, filmX, filmY, batch.rays);
       break;
   }
-  scene_.accel->closestHits(batch.rays, batch.found, int(n));
+  scene_.accel().closestHits(batch.rays, batch.found, int(n));
   tally.rays.camera += n;
   if (aovs_)
     shade<true>(pixel, n, batch, sums, tally);

@@ -36,10 +36,10 @@ void setPixelFootprint(SurfaceInteraction& si, Vec3f d, float width) {
 }
 
 std::vector<MaterialShading> materialShadings(const RenderScene& scene) {
-  const SceneFeatures& f = scene.features;
-  std::vector<MaterialShading> shadings(scene.materials.size());
+  const SceneFeatures& f = scene.features();
+  std::vector<MaterialShading> shadings(scene.materials().size());
   for (size_t m = 0; m < shadings.size(); ++m) {
-    const Material& mat = *scene.materials[m];
+    const Material& mat = *scene.materials()[m];
     const MaterialTraits& t = mat.traits();
     MaterialShading& s = shadings[m];
     s.flags = mat.flags();
@@ -61,19 +61,19 @@ std::vector<MaterialShading> materialShadings(const RenderScene& scene) {
 
 ShadedHit::ShadedHit(const RenderScene& scene, const std::vector<MaterialShading>& shadings,
                      uint32_t materialIndex, const Ray& ray, const Hit& hit, RayCone cone)
-    : material(*scene.materials[materialIndex]),
+    : material(*scene.materials()[materialIndex]),
       shading(shadings[materialIndex]),
-      si(computeSurfaceInteraction(scene.geometry, ray, hit, shading.needs,
+      si(computeSurfaceInteraction(scene.geometry(), ray, hit, shading.needs,
                                    scene.placedShape(hit.instance))),
       lookups(si),
       distance(hit.t * length(ray.d)) {
   if (shading.objectSpace) {
     // A moving object's texture moves with it: its frame at the ray's time.
-    const Instance& inst = scene.geometry.instances[hit.instance];
+    const Instance& inst = scene.geometry().instances[hit.instance];
     if (inst.moves())
       si.objectFromWorld = frame_.set(inst.worldFromObjectAt(ray.time).inverse());
     else
-      si.objectFromWorld = &scene.objectFromWorld[hit.instance];
+      si.objectFromWorld = &scene.objectFromWorld(hit.instance);
   }
   if (shading.footprint) setPixelFootprint(si, ray.d / length(ray.d), cone.widthAt(distance));
   material.perturbNormal(si);

@@ -28,7 +28,7 @@ struct MaterialShading {
   uint32_t flags = 0;
 };
 
-// One MaterialShading per material of `scene`, in the order of scene.materials.
+// One MaterialShading per material of `scene`, in the order of scene.materials().
 std::vector<MaterialShading> materialShadings(const RenderScene& scene);
 
 // Sets si.dpdx/dpdy and si.duvdx/duvdy for a ray of unit direction `d` whose pixel cone is

@@ -120,10 +120,10 @@ class Subdivider {
         contrast_(settings.adaptive.contrast),
         jitter_(settings.adaptive.jitter),
         aovs_(settings.aovs),
-        lens_(scene.camera.hasLens()),
-        motion_(scene.features.has(Feature::MotionBlur)),
-        plain_(!lens_ && !motion_ && scene.camera.isStaticPinhole()),
-        keyRow_(uint64_t(scene.camera.width()) * (1u << kMaxSubdivision) + 1) {}
+        lens_(scene.camera().hasLens()),
+        motion_(scene.features().has(Feature::MotionBlur)),
+        plain_(!lens_ && !motion_ && scene.camera().isStaticPinhole()),
+        keyRow_(uint64_t(scene.camera().width()) * (1u << kMaxSubdivision) + 1) {}
 
   uint32_t side() const { return side_; }
 
@@ -143,17 +143,17 @@ class Subdivider {
       }
     }
     if (plain_) {
-      scene_.camera.pinholeRays(filmX, filmY, n, rays);
+      scene_.camera().pinholeRays(filmX, filmY, n, rays);
     } else {
       for (int i = 0; i < n; ++i) {
         CameraSample cs;
         cs.pFilm = {filmX[i], filmY[i]};
         if (lens_) cs.pLens = Sampler(keys[i], 0, kLensDimension).get2D();
         if (motion_) cs.time = Sampler(keys[i], 0, kTimeDimension).get1D();
-        rays[i] = scene_.camera.generateRay(cs);
+        rays[i] = scene_.camera().generateRay(cs);
       }
     }
-    scene_.accel->closestHits(rays, found, n);
+    scene_.accel().closestHits(rays, found, n);
     w.rays.camera += uint64_t(n);
     for (int i = 0; i < n; ++i) {
       Sampler sampler(keys[i], 0, kIntegratorDimension);
@@ -265,7 +265,7 @@ bool renderSubdivided(const RenderScene& scene, const Integrator& integrator,
                       const RenderSettings& settings, const RenderOptions& options, Film* film,
                       RenderStats* stats, const std::atomic<bool>* cancel,
                       const std::function<void(uint64_t)>& onPixels) {
-  const int width = scene.camera.width(), height = scene.camera.height();
+  const int width = scene.camera().width(), height = scene.camera().height();
   const int depth = settings.adaptive.subdivide;
   if (depth < 1 || depth > kMaxSubdivision)
     throw InputError(fmt::format("anti-aliasing by subdivision: {} levels, must be 1 to {}", depth,

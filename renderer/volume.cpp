@@ -231,7 +231,7 @@ Rgb MediaScene::source(const RenderScene& scene, const std::vector<uint32_t>& ac
     return sum;
   };
   auto tr = [&](const Ray& shadow) { return transmittance(shadow, shadow.tMax, sampler); };
-  for (const auto& light : scene.lights) {
+  for (const auto& light : scene.lights()) {
     const Vec2f u = light->isDelta() ? Vec2f{0.5f, 0.5f} : sampler.get2D();
     S += sampleDirectLight(scene, ctx, *light, u, DirectLightOptions{}, scatter, tr, counters);
   }

@@ -34,7 +34,7 @@
 
 namespace glint {
 
-struct RenderScene;
+class RenderScene;
 struct RayCounters;
 
 // What a ray segment adds and lets through: radiance arriving = T * (radiance at the far end)

@@ -10,9 +10,9 @@ namespace glint {
 WhittedIntegrator::WhittedIntegrator(const RenderScene& scene, int maxDepth, bool glassShadows,
                                      float minWeight, const IndirectLight* indirect)
     : Integrator(scene), maxDepth_(maxDepth), minWeight_(minWeight), indirect_(indirect) {
-  shadows_ = scene.features.has(Feature::Shadows);
-  glassShadows_ = glassShadows && shadows_ && scene.features.has(Feature::Refraction);
-  media_ = scene.features.has(Feature::Volumes) ? scene.media.get() : nullptr;
+  shadows_ = scene.features().has(Feature::Shadows);
+  glassShadows_ = glassShadows && shadows_ && scene.features().has(Feature::Refraction);
+  media_ = scene.features().has(Feature::Volumes) ? scene.media() : nullptr;
   plainShadows_ = !media_ && !glassShadows_;
   kinds_.resize(shading_.size());
   for (size_t m = 0; m < shading_.size(); ++m) {
@@ -31,14 +31,14 @@ Rgb WhittedIntegrator::LiFromHit(const Ray& ray, const Hit* hit, Sampler& sample
                                  RayCounters& counters, PathAovs& aovs) const {
   // The camera's cone, read at every ray, not kept from construction: the preview changes the
   // scene's camera under a built integrator.
-  return radiance(ray, hit, scene_.camera.pixelCone(), 0, 1, sampler, counters, &aovs);
+  return radiance(ray, hit, scene_.camera().pixelCone(), 0, 1, sampler, counters, &aovs);
 }
 
 Rgb WhittedIntegrator::trace(const Ray& ray, const RayCone& cone, int depth, float weight,
                              Sampler& sampler, RayCounters& counters) const {
   ++counters.secondary;
   Hit hit;
-  const bool found = scene_.accel->closestHit(ray, &hit);
+  const bool found = scene_.accel().closestHit(ray, &hit);
   return radiance(ray, found ? &hit : nullptr, cone, depth, weight, sampler, counters, nullptr);
 }
 
@@ -172,7 +172,7 @@ Rgb WhittedIntegrator::directLight(const SurfaceInteraction& si, const Bsdf& bsd
     return bsdf.f(wi) * cosTheta;
   };
   const DirectLightOptions options{.pmf = 1, .shadows = shadows_, .mis = false};
-  for (const auto& light : scene_.lights) {
+  for (const auto& light : scene_.lights()) {
     const Vec2f u = light->isDelta() ? Vec2f{0.5f, 0.5f} : sampler.get2D();
     if constexpr (kPlainShadows) {
       L += sampleDirectLight(scene_, ctx, *light, u, options, scatter, noMedia, counters);
@@ -209,10 +209,10 @@ Rgb WhittedIntegrator::throughGlass(const Ray& shadow, RayCounters& counters) co
   for (int crossing = 0; crossing < kMaxCrossings; ++crossing) {
     ++counters.shadow;
     Hit hit;
-    if (!scene_.accel->closestHit(ray, &hit)) return T;
+    if (!scene_.accel().closestHit(ray, &hit)) return T;
     const uint32_t materialIndex = scene_.materialIndex(hit);
     if (!(shading_[materialIndex].flags & kBsdfTransmission) ||
-        !scene_.materials[materialIndex]->traits().refraction)
+        !scene_.materials()[materialIndex]->traits().refraction)
       return {};
     ShadedHit h(scene_, shading_, materialIndex, ray, hit, RayCone{});
     const SurfaceInteraction& si = h.si;

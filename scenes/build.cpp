@@ -198,7 +198,7 @@ RandomColorTexture::Mode toRandomMode(TextureDesc::RandomMode m) {
 // Creates textures on demand, one per (texture, encoding), sharing decoded images.
 class TextureCache {
  public:
-  TextureCache(const SceneDescription& desc, RenderScene* scene,
+  TextureCache(const SceneDescription& desc, SceneParts* scene,
                std::shared_ptr<TextureImages> reuse)
       : desc_(desc), scene_(scene), reuse_(std::move(reuse)) {}
   // Texture `texture` of the description; `srgb` is how a glTF image's colour is encoded
@@ -214,10 +214,11 @@ class TextureCache {
     scene_->textures.push_back(std::move(t));
     return scene_->textures.back().get();
   }
-  // Waits for the glTF images' pixels; one that cannot be decoded is a SceneError at the image.
-  void waitForDecodes() {
-    if (!scene_->images) return;
-    for (const auto& [name, reason] : scene_->images->waitForDecodes())
+  // Waits for the glTF images' pixels (`images`: the set this cache filled, wherever the
+  // parts went since); one that cannot be decoded is a SceneError at the image.
+  void waitForDecodes(TextureImages* images) {
+    if (!images) return;
+    for (const auto& [name, reason] : images->waitForDecodes())
       if (auto it = imageWhere_.find(name); it != imageWhere_.end())
         throw SceneError(it->second, reason);
   }
@@ -292,7 +293,7 @@ class TextureCache {
   }
 
   const SceneDescription& desc_;
-  RenderScene* scene_;
+  SceneParts* scene_;
   std::map<std::pair<int, bool>, const Texture*> textures_;
   std::map<std::pair<int, bool>, TextureImages::Handle> pixels_;
   std::map<std::pair<std::string, bool>, TextureImages::Handle> files_;
@@ -503,7 +504,7 @@ Transform placementAtShutterMiddle(const std::vector<NodeDesc>& nodes, int node,
 
 // Lights are placed once per frame, where they are in the middle of the shutter.
 void addLights(const SceneDescription& desc, const ShutterTimes& shutter, TextureCache* textures,
-               RenderScene* scene) {
+               SceneParts* scene) {
   for (const LightDesc& l : desc.lights) {
     Rgb power = l.color * l.intensity;
     Transform worldFromLight = placementAtShutterMiddle(desc.nodes, l.transformNode,
@@ -677,7 +678,7 @@ void poseOverShutter(const SceneDescription& desc, const InstanceDesc& inst,
 // The description's glTF instances into scene->geometry: single static placements are baked
 // into world space, shared or moving meshes instanced. A mesh that nodes give different
 // materials is one geometry mesh per material.
-void buildMeshes(const SceneDescription& desc, const ShutterTimes& shutter, RenderScene* scene,
+void buildMeshes(const SceneDescription& desc, const ShutterTimes& shutter, SceneParts* scene,
                  GeometryMaterials* materials) {
   using MeshKey = std::pair<int, int>;  // (description mesh, node material or -1)
   std::map<MeshKey, uint32_t> uses;
@@ -746,7 +747,7 @@ void buildMeshes(const SceneDescription& desc, const ShutterTimes& shutter, Rend
 
 // The sidecar's objects into scene->geometry: shapes and CSG trees stay in object space under
 // their transform; terrain becomes a triangle mesh, baked into world space.
-void buildObjects(const SceneDescription& desc, const ShutterTimes& shutter, RenderScene* scene,
+void buildObjects(const SceneDescription& desc, const ShutterTimes& shutter, SceneParts* scene,
                   GeometryMaterials* materials) {
   for (const ObjectDesc& obj : desc.objects) {
     AnimatedTransform motion = placementOverShutter(
@@ -796,7 +797,7 @@ void buildObjects(const SceneDescription& desc, const ShutterTimes& shutter, Ren
 // One render material per description material (and per vertex-colour use), plus a default,
 // assigned to the meshes and shape slots.
 void buildMaterials(const SceneDescription& desc, const GeometryMaterials& geometry,
-                    TextureCache& textures, RenderScene* scene) {
+                    TextureCache& textures, SceneParts* scene) {
   std::map<std::pair<int, bool>, uint32_t> materialIndex;
   auto materialFor = [&](int material, bool colors) -> uint32_t {
     auto key = std::make_pair(material, colors);
@@ -871,38 +872,56 @@ Bounds3f framingBounds(const SceneDescription& desc, const Bounds3f& now) {
   return b;
 }
 
-// The selected camera (or one framing the geometry over the whole animation, when the scene
-// names none) with its lens and its placement over the shutter.
-void buildCamera(const SceneDescription& desc, const CameraDesc* selected,
-                 const ShutterTimes& shutter, RenderScene* scene) {
+// The selected camera (or one framing `bounds`, the geometry now, over the whole animation, when
+// the scene names none) with its lens and its placement over the shutter; *name is its name.
+Camera makeCamera(const SceneDescription& desc, const CameraDesc* selected,
+                  const ShutterTimes& shutter, const Bounds3f& bounds, std::string* name) {
   int width = 0, height = 0;
   resolveImageSize(desc, selected, &width, &height);
   CameraDesc framing;
   if (!selected) {
-    framing =
-        framingCamera(framingBounds(desc, scene->geometry.bounds()), float(width) / float(height));
+    framing = framingCamera(framingBounds(desc, bounds), float(width) / float(height));
     selected = &framing;
   }
-  scene->cameraName = selected->name;
+  *name = selected->name;
   AnimatedTransform worldFromCamera =
       placementOverShutter(desc.nodes, selected->transformNode, selected->nodeFromCamera,
                            selected->worldFromCamera, shutter);
-  if (selected->type == CameraType::Perspective)
-    scene->camera = Camera::perspective(worldFromCamera, selected->yfov, width, height,
-                                        selected->znear, selected->zfar);
-  else
-    scene->camera = Camera::orthographic(worldFromCamera, selected->ymag, width, height,
-                                         selected->znear, selected->zfar);
+  Camera camera = selected->type == CameraType::Perspective
+                      ? Camera::perspective(worldFromCamera, selected->yfov, width, height,
+                                            selected->znear, selected->zfar)
+                      : Camera::orthographic(worldFromCamera, selected->ymag, width, height,
+                                             selected->znear, selected->zfar);
   if (selected->apertureRadius > 0)
-    scene->camera.setLens({selected->apertureRadius, selected->focusDistance,
-                           selected->apertureBlades, selected->apertureRotation});
+    camera.setLens({selected->apertureRadius, selected->focusDistance, selected->apertureBlades,
+                    selected->apertureRotation});
+  return camera;
+}
+
+void buildCamera(const SceneDescription& desc, const CameraDesc* selected,
+                 const ShutterTimes& shutter, SceneParts* scene) {
+  scene->camera = makeCamera(desc, selected, shutter, scene->geometry.bounds(), &scene->cameraName);
+}
+
+// The frame's shutter decides what moves: the render settings' when given, else the selected
+// camera's; without either (the automatic camera has none of its own) nothing moves.
+ShutterTimes frameShutter(const SceneDescription& desc, const CameraDesc* selected) {
+  ShutterTimes shutter{desc.render.time, desc.render.time};
+  if (desc.render.shutter) {
+    shutter.open += (*desc.render.shutter)[0];
+    shutter.close += (*desc.render.shutter)[1];
+  } else if (selected) {
+    shutter.open += selected->shutterOpen;
+    shutter.close += selected->shutterClose;
+  }
+  return shutter;
 }
 
 // Every light (emitting surfaces too) and the sampler that picks among them; the studio
 // environment when the scene brings no light of its own (RenderSettings::defaultLight), so a
 // file without lights still gets a good first image. Returns whether the studio was added.
 bool buildLights(const SceneDescription& desc, const ShutterTimes& shutter, TextureCache& textures,
-                 RenderScene* scene) {
+                 SceneParts* scene) {
   addLights(desc, shutter, &textures, scene);
   if (desc.environment) scene->lights.push_back(makeEnvironmentLight(*desc.environment));
   // Emitting surfaces do not count: a glowing visor must not leave the rest of a helmet black.
@@ -918,14 +937,6 @@ bool buildLights(const SceneDescription& desc, const ShutterTimes& shutter, Text
     studio.studio = true;
     scene->lights.push_back(makeEnvironmentLight(studio));
   }
-  addEmissiveSurfaceLights(scene);
-  // Lights at infinity learn the scene's extent; then the sampler that picks among them.
-  const Bounds3f sceneExtent = scene->geometry.bounds();
-  for (auto& light : scene->lights) {
-    light->preprocess(sceneExtent);
-    if (light->kind() == LightKind::Infinite) scene->infiniteLights.push_back(light.get());
-  }
-  scene->lightSampler = makeLightSampler(desc.render.integrator.lightSampler, scene->lights);
   return defaultLight;
 }
 
@@ -946,44 +957,60 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
                              const BuildOptions& options) {
   auto start = Clock::now();
   checkVariant(desc);
-  RenderScene scene;
-  scene.background = desc.render.background;
+  SceneParts parts;
+  parts.background = desc.render.background;
   // The frame's shutter decides what moves: the render settings' when given, else the
   // camera's; without either (the automatic camera, framed below, has none of its own) nothing
   // moves.
   const CameraDesc* selected = selectCamera(desc);
-  ShutterTimes shutter{desc.render.time, desc.render.time};
-  if (desc.render.shutter) {
-    shutter.open += (*desc.render.shutter)[0];
-    shutter.close += (*desc.render.shutter)[1];
-  } else if (selected) {
-    shutter.open += selected->shutterOpen;
-    shutter.close += selected->shutterClose;
-  }
+  const ShutterTimes shutter = frameShutter(desc, selected);
   GeometryMaterials geometryMaterials;
-  buildMeshes(desc, shutter, &scene, &geometryMaterials);
-  buildObjects(desc, shutter, &scene, &geometryMaterials);
-  TextureCache textures(desc, &scene, options.images);
-  buildMaterials(desc, geometryMaterials, textures, &scene);
+  buildMeshes(desc, shutter, &parts, &geometryMaterials);
+  buildObjects(desc, shutter, &parts, &geometryMaterials);
+  TextureCache textures(desc, &parts, options.images);
+  buildMaterials(desc, geometryMaterials, textures, &parts);
   // Image pixels decode on worker threads while the camera, lights and BVH are built.
-  if (options.decodeImages && scene.images) scene.images->startDecoding();
-  buildCamera(desc, selected, shutter, &scene);
-  BuildNotes notes;
-  notes.defaultLight = buildLights(desc, shutter, textures, &scene);
-  notes.terrain = geometryMaterials.terrain;
-  addMedia(desc, &scene);
-  scene.features = detectFeatures(scene, desc.render.integrator, notes);
+  if (options.decodeImages && parts.images) parts.images->startDecoding();
+  buildCamera(desc, selected, shutter, &parts);
+  SceneAssembly assembly{.accelerator = desc.render.accel, .integrator = desc.render.integrator};
+  assembly.notes.defaultLight = buildLights(desc, shutter, textures, &parts);
+  assembly.notes.terrain = geometryMaterials.terrain;
+  addMedia(desc, &parts);
 
-  auto accelStart = Clock::now();
-  scene.buildAccelerator(desc.render.accel);
-  auto accelEnd = Clock::now();
-  if (options.decodeImages) textures.waitForDecodes();
-  auto end = Clock::now();
+  double acceleratorSeconds = 0;
+  RenderScene scene(std::move(parts), assembly, &acceleratorSeconds);
+  if (options.decodeImages) textures.waitForDecodes(scene.images().get());
   if (timings) {
-    timings->acceleratorSeconds = std::chrono::duration<double>(accelEnd - accelStart).count();
-    timings->totalSeconds = std::chrono::duration<double>(end - start).count();
+    timings->acceleratorSeconds = acceleratorSeconds;
+    timings->totalSeconds = std::chrono::duration<double>(Clock::now() - start).count();
   }
   return scene;
+}
+
+bool refreshRenderScene(const SceneDescription& desc, uint32_t what, RenderScene* scene) {
+  const CameraDesc* selected = selectCamera(desc);
+  const ShutterTimes shutter = frameShutter(desc, selected);
+  // An open shutter decides what moves and how the geometry was built over it.
+  if (shutter.open != shutter.close) return false;
+  std::vector<std::unique_ptr<Light>> lights;
+  if (what & kRefreshLights) {
+    SceneParts parts;  // the lights alone: none of them reads a texture
+    for (const LightDesc& l : desc.lights)
+      if (l.texture >= 0) return false;
+    TextureCache noTextures(desc, &parts, nullptr);
+    addLights(desc, shutter, &noTextures, &parts);
+    if (desc.environment) parts.lights.push_back(makeEnvironmentLight(*desc.environment));
+    // The studio light of a scene without lights is the whole build's decision.
+    if (parts.lights.empty()) return false;
+    lights = std::move(parts.lights);
+  }
+  if (what & kRefreshCamera) {
+    std::string name;
+    Camera camera = makeCamera(desc, selected, shutter, scene->geometry().bounds(), &name);
+    scene->setCamera(std::move(camera), std::move(name));
+  }
+  if (what & kRefreshLights) scene->setLights(std::move(lights));
+  return true;
 }
 
 }  // namespace glint

@@ -22,7 +22,7 @@ std::unique_ptr<DensityField> makeDensity(const MediumDesc& m, const Bounds3f& r
 }
 
 // The box a whole-scene medium fills.
-Bounds3f sceneBox(const RenderScene& scene) {
+Bounds3f sceneBox(const SceneParts& scene) {
   Bounds3f box = scene.geometry.bounds();
   box.extend(scene.camera.position());
   for (const auto& light : scene.lights)
@@ -33,7 +33,7 @@ Bounds3f sceneBox(const RenderScene& scene) {
 
 }  // namespace
 
-void addMedia(const SceneDescription& desc, RenderScene* scene) {
+void addMedia(const SceneDescription& desc, SceneParts* scene) {
   if (desc.media.empty()) return;
   auto media = std::make_unique<MediaScene>(desc.render.integrator);
   const Bounds3f box = sceneBox(*scene);

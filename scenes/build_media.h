@@ -11,6 +11,6 @@ namespace glint {
 // once the geometry, camera and lights are built: a medium filling the whole scene fills the
 // box around them (bounded geometry, camera position, finite lights), enlarged by 1% of its
 // diagonal, so escaping rays cross a finite amount of it.
-void addMedia(const SceneDescription& desc, RenderScene* scene);
+void addMedia(const SceneDescription& desc, SceneParts* scene);
 
 }  // namespace glint

@@ -85,7 +85,7 @@ SceneInfo describeScene(const SceneDescription& desc, const RenderScene& scene) 
     info.meshes.push_back(m.name);
     info.trianglesStored += m.indices.size() / 3;
   }
-  info.trianglesPlaced = scene.geometry.instancedTriangleCount();
+  info.trianglesPlaced = scene.geometry().instancedTriangleCount();
   info.instances = desc.instances.size();
   info.nodes = nodesOf(desc);
   for (const ObjectDesc& o : desc.objects) info.objects.push_back(objectInfo(o));
@@ -93,11 +93,11 @@ SceneInfo describeScene(const SceneDescription& desc, const RenderScene& scene) 
     info.materials.push_back({m.name, materialTypeName(m.type)});
   info.textures = desc.textures.size();
   info.images = desc.images.size();
-  if (scene.images) {
+  if (scene.images()) {
     info.imagesListed = true;
-    for (TextureImages::Handle h : scene.images->handles()) {
-      info.imageDescriptions.push_back(scene.images->describe(h));
-      info.imageBytes += scene.images->residentBytes(h);
+    for (TextureImages::Handle h : scene.images()->handles()) {
+      info.imageDescriptions.push_back(scene.images()->describe(h));
+      info.imageBytes += scene.images()->residentBytes(h);
     }
   }
   info.variants = desc.variants;
@@ -105,12 +105,12 @@ SceneInfo describeScene(const SceneDescription& desc, const RenderScene& scene) 
   for (const CameraDesc& c : desc.cameras)
     info.cameras.push_back(
         {c.name, c.type == CameraType::Perspective ? "perspective" : "orthographic"});
-  info.camera = scene.cameraName;
+  info.camera = scene.cameraName();
   for (const LightDesc& l : desc.lights) info.lights.push_back({l.name, lightTypeName(l.type)});
-  info.unsampledEmitters = scene.unsampledEmitters;
-  info.bounds = scene.geometry.bounds();
-  info.width = scene.camera.width();
-  info.height = scene.camera.height();
+  info.unsampledEmitters = scene.unsampledEmitters();
+  info.bounds = scene.geometry().bounds();
+  info.width = scene.camera().width();
+  info.height = scene.camera().height();
   info.spp = desc.render.spp;
   info.seed = desc.render.seed;
   info.accel = desc.render.accel;
@@ -121,13 +121,13 @@ SceneInfo describeScene(const SceneDescription& desc, const RenderScene& scene) 
   info.fps = desc.render.fps;
   std::tie(info.firstFrame, info.lastFrame) =
       framesCovering(info.animationStart, info.animationEnd, info.fps);
-  for (const Instance& inst : scene.geometry.instances)
+  for (const Instance& inst : scene.geometry().instances)
     if (inst.moves())
       ++info.moving, info.movingKeys = std::max(info.movingKeys, inst.motion.keyCount());
-  for (const TriangleMesh& m : scene.geometry.meshes)
+  for (const TriangleMesh& m : scene.geometry().meshes)
     if (m.deforms())
       ++info.deforming, info.deformSteps = std::max(info.deformSteps, m.positionSteps.size());
-  info.effects = scene.features.names();
+  info.effects = scene.features().names();
   return info;
 }
 

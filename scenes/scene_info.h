@@ -49,7 +49,7 @@ struct SceneInfo {
   std::vector<Named> cameras;
   std::string camera;  // the one rendering
   std::vector<Named> lights;
-  std::vector<RenderScene::UnsampledEmitter> unsampledEmitters;
+  std::vector<UnsampledEmitter> unsampledEmitters;
   Bounds3f bounds;
   int width = 0, height = 0, spp = 0;
   uint64_t seed = 0;

@@ -100,18 +100,11 @@ ScopedEnv::~ScopedEnv() {
 }
 
 void useUniformEnvironment(RenderScene* scene, Rgb L) {
-  scene->lights.clear();
-  scene->infiniteLights.clear();
-  // Emitting surfaces were lights at indices that no longer exist: none is a light now, and
-  // rays that hit one still find its emission.
-  scene->instanceLight.clear();
-  scene->lights.push_back(std::make_unique<UniformEnvironmentLight>(L));
-  scene->lights.back()->preprocess(scene->geometry.bounds());
-  scene->infiniteLights.push_back(scene->lights.back().get());
-  scene->lightSampler = makeLightSampler("power", scene->lights);
-  scene->features.set(Feature::DefaultLight, false);
-  scene->features.set(Feature::Environment);
-  scene->features.set(Feature::Shadows);
+  // The scene's own lights give way to the environment; emitting surfaces stay lights.
+  std::vector<std::unique_ptr<Light>> lights;
+  lights.push_back(std::make_unique<UniformEnvironmentLight>(L));
+  scene->setLights(std::move(lights));
+  scene->setLightSampler("power");
 }
 
 Rendered renderJson(const std::string& text) {
@@ -121,7 +114,7 @@ Rendered renderJson(const std::string& text) {
   RenderScene scene = buildRenderScene(d);
   auto integrator = makeIntegrator(scene, d.render);
   Rendered r;
-  r.features = scene.features;
+  r.features = scene.features();
   r.film = render(scene, *integrator, d.render, {.threads = 2}, &r.stats);
   return r;
 }

@@ -165,6 +165,10 @@ class Scene:
     builds = property(lambda self: self._native.builds,
                       doc="render scenes built so far (a render that reuses one builds none)")
 
+    refreshes = property(lambda self: self._native.refreshes,
+                         doc="render scenes brought up to date without a build: a camera or the "
+                             "lights changed, and the geometry, its accelerator, the materials "
+                             "and the textures stayed")
     timings = property(lambda self: self._native.timings,
                        doc="load_seconds (the files), build_seconds and accelerator_seconds "
                            "(the last build of the render scene)")

@@ -664,7 +664,7 @@ Film renderScene(const Json& scene, const std::string& file, SceneFeatures* feat
   d.file = file;
   applySceneJson(scene, file, SceneJsonKind::Scene, &d);
   RenderScene built = buildRenderScene(d);
-  if (features) *features = built.features;
+  if (features) *features = built.features();
   auto integrator = makeIntegrator(built, d.render);
   RenderStats stats;
   return render(built, *integrator, d.render, {.threads = 2}, &stats);

@@ -222,7 +222,7 @@ TEST(AntiAliasing, AStoppedPixelIsItsCentreAndARefinedOneAPlainRendersPixel) {
         continue;
       }
       ASSERT_EQ(k, 1u);
-      const Ray ray = w.scene.camera.pinholeRay({float(x) + 0.5f, float(y) + 0.5f}, 0);
+      const Ray ray = w.scene.camera().pinholeRay({float(x) + 0.5f, float(y) + 0.5f}, 0);
       Sampler sampler(pixelSampleKey(w.desc.render.seed, i), 0, kIntegratorDimension);
       RayCounters counters;
       PathAovs aovs;

@@ -297,9 +297,9 @@ TEST(InstantRadiosity, VplAtTheShadingPointGivesNoNonFiniteRadiance) {
     const SurfaceInteraction& v = ir.vpls()[i].si;
     const Ray ray{v.p + v.ng * 0.25f, -v.ng, 0, kInfinity, 0};
     Hit hit;
-    ASSERT_TRUE(scene.accel->closestHit(ray, &hit));
+    ASSERT_TRUE(scene.accel().closestHit(ray, &hit));
     const SurfaceInteraction si =
-        computeSurfaceInteraction(scene.geometry, ray, hit, {.position = true});
+        computeSurfaceInteraction(scene.geometry(), ray, hit, {.position = true});
     onTop += length(si.p - v.p) <= length(si.pError) + length(v.pError);
     Sampler sampler(pixelSampleKey(1, i), 0, kIntegratorDimension);
     RayCounters counters;
@@ -416,14 +416,14 @@ TEST(InstantRadiosity, SidecarRejectsNonPositivePathCounts) {
 TEST(InstantRadiosity, FactoryBuildsItAndAutoNeverPicksIt) {
   SceneDescription d = describe(test::cornellBoxJson(8, 1, 4, irSettings(8, 0)));
   const RenderScene scene = buildRenderScene(d);
-  EXPECT_TRUE(scene.features.has(Feature::Vpls));
-  EXPECT_TRUE(scene.features.has(Feature::Indirect));
+  EXPECT_TRUE(scene.features().has(Feature::Vpls));
+  EXPECT_TRUE(scene.features().has(Feature::Indirect));
   EXPECT_NE(dynamic_cast<InstantRadiosityIntegrator*>(makeIntegrator(scene, d.render).get()),
             nullptr);
   d.render.integrator.type = "auto";
   const RenderScene autoScene = buildRenderScene(d);
   EXPECT_EQ(resolveIntegrator(autoScene, d.render.integrator), IntegratorKind::Path);
-  EXPECT_FALSE(autoScene.features.has(Feature::Vpls));
+  EXPECT_FALSE(autoScene.features().has(Feature::Vpls));
   const auto& names = integratorNames();
   EXPECT_NE(std::find(names.begin(), names.end(), "instant-radiosity"), names.end());
   EXPECT_EQ(names.back(), "auto");

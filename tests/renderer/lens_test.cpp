@@ -103,14 +103,21 @@ Probe probe(const RenderScene& scene, const SceneDescription& d) {
   return {integrator.rays, integrator.samples};
 }
 
+// The scene's camera given `lens` (the scene detects the lens feature again).
+void withLens(RenderScene* scene, const ThinLens& lens) {
+  Camera camera = scene->camera();
+  camera.setLens(lens);
+  scene->setCamera(camera, scene->cameraName());
+}
+
 // ---- aperture 0 ------------------------------------------------------------------------------
 
 TEST(Lens, ApertureZeroRendersThePinholeImage) {
   SceneDescription d = edgeScene(5, 48, 32, 16);
   RenderScene pinhole = buildRenderScene(d);
   RenderScene zero = buildRenderScene(d);
-  zero.camera.setLens({0.0f, 5.0f, 6, 0.3f});
-  zero.features.set(Feature::Lens);  // even when told there is a lens
+  withLens(&zero, {0.0f, 5.0f, 6, 0.3f});
+  zero.setFeature(Feature::Lens);  // even when told there is a lens
   Film a = renderScene(pinhole, d), b = renderScene(zero, d);
   for (size_t i = 0; i < a.color.size(); ++i) {
     ASSERT_EQ(a.color[i], b.color[i]) << "pixel " << i;
@@ -126,7 +133,7 @@ TEST(Lens, ApertureZeroRendersThePinholeImage) {
   }
   // A real aperture moves the rays but leaves the integrator's samples where they were.
   RenderScene open = buildRenderScene(d);
-  open.camera.setLens({0.2f, 3.0f});
+  withLens(&open, {0.2f, 3.0f});
   Probe pc = probe(open, d);
   ASSERT_EQ(pa.samples, pc.samples);
   size_t moved = 0;
@@ -146,8 +153,7 @@ TEST(Lens, FocusPlaneStaysSharp) {
   d.render.filter = {"box", 0.5f};
   RenderScene pinhole = buildRenderScene(d);
   RenderScene lens = buildRenderScene(d);
-  lens.camera.setLens({0.5f, f});
-  lens.features.set(Feature::Lens);
+  withLens(&lens, {0.5f, f});
   Film a = renderScene(pinhole, d), b = renderScene(lens, d);
   // The image does hold a hard edge.
   EXPECT_EQ(a.color[a.index(width / 2 - 2, 5)].y, 0.0f);
@@ -167,7 +173,7 @@ TEST(Lens, FocusPlaneStaysSharp) {
   // Focused twice as far, the same aperture blurs the edge over a 3.2-pixel circle: the edge
   // columns go grey (about 0.3 and 0.7), far beyond the tolerance above.
   RenderScene defocused = buildRenderScene(d);
-  defocused.camera.setLens({0.5f, 2 * f});
+  withLens(&defocused, {0.5f, 2 * f});
   Film c = renderScene(defocused, d);
   for (int y = 0; y < height; ++y) {
     EXPECT_GT(c.color[c.index(width / 2 - 1, y)].y, 0.2f) << y;
@@ -218,8 +224,7 @@ TEST(Lens, DefocusBlurMatchesTheCircleOfConfusion) {
     SceneDescription d = edgeScene(c.depth, width, height, spp);
     d.render.filter = {"box", 0.5f};
     RenderScene scene = buildRenderScene(d);
-    scene.camera.setLens({c.radius, c.focus});
-    scene.features.set(Feature::Lens);
+    withLens(&scene, {c.radius, c.focus});
     Film film = renderScene(scene, d);
     // Thin lens: a point at depth d spreads over a disk of diameter 2 A |d - f| / d on the
     // focus plane, whose film is 2 f tan(yfov/2) = f high, i.e. `height` pixels.
@@ -251,18 +256,18 @@ TEST(MotionBlur, TimeIsSampledOnlyWithTheFeatureAndMovesTheCamera) {
   SceneDescription d = edgeScene(5, 12, 8, spp);
   AnimatedTransform slide({Transform::translate({0, 0, 0}), Transform::translate({1, 0, 0})});
   RenderScene scene = buildRenderScene(d);
-  scene.camera = Camera::perspective(slide, d.cameras[0].yfov, 12, 8, 0, kInfinity);
-  ASSERT_TRUE(scene.camera.isMoving());
+  scene.setCamera(Camera::perspective(slide, d.cameras[0].yfov, 12, 8, 0, kInfinity), "slide");
+  ASSERT_TRUE(scene.camera().isMoving());
 
   // Without the feature: time 0, the camera at its first key.
-  scene.features.set(Feature::MotionBlur, false);
+  scene.setFeature(Feature::MotionBlur, false);
   Probe still = probe(scene, d);
   for (const Ray& r : still.rays) {
     ASSERT_EQ(r.time, 0.0f);
     ASSERT_EQ(r.o.x, 0.0f);
   }
 
-  scene.features.set(Feature::MotionBlur);
+  scene.setFeature(Feature::MotionBlur);
   Probe moving = probe(scene, d);
   ASSERT_EQ(moving.rays.size(), size_t(12 * 8 * spp));
   // The integrator's samples do not move when time is drawn.
@@ -287,10 +292,11 @@ TEST(MotionBlur, LensAndMotionImagesAreIdenticalForAnyThreadsAndTiles) {
   d.render.aovs = true;
   RenderScene scene = buildRenderScene(d);
   AnimatedTransform turn({Transform::rotate(-5, {0, 1, 0}), Transform::rotate(5, {0, 1, 0})});
-  scene.camera = Camera::perspective(turn, d.cameras[0].yfov, 40, 24, 0, kInfinity);
-  scene.camera.setLens({0.4f, 3, 7, 0.1f});
-  scene.features.set(Feature::Lens);
-  scene.features.set(Feature::MotionBlur);
+  Camera turning = Camera::perspective(turn, d.cameras[0].yfov, 40, 24, 0, kInfinity);
+  turning.setLens({0.4f, 3, 7, 0.1f});
+  scene.setCamera(turning, "turning");
+  ASSERT_TRUE(scene.features().has(Feature::Lens));
+  ASSERT_TRUE(scene.features().has(Feature::MotionBlur));
   Film a = renderScene(scene, d, 1, 16), b = renderScene(scene, d, 2, 5);
   for (size_t i = 0; i < a.color.size(); ++i) {
     ASSERT_EQ(a.color[i], b.color[i]) << "pixel " << i;

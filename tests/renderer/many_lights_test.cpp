@@ -161,7 +161,7 @@ double irradiance(const ManyLights& s, Vec3f p) {
 // Per pixel, the mean reflected radiance over the pixel's square.
 // Checks on the way that every camera ray finds the plane first (the emitters are out of view).
 std::vector<double> referenceImage(const ManyLights& s, const RenderScene& scene) {
-  const Camera& camera = scene.camera;
+  const Camera& camera = scene.camera();
   constexpr int kSub = 8;
   std::vector<double> image(size_t(kWidth) * kHeight, 0);
   for (int y = 0; y < kHeight; ++y)
@@ -174,7 +174,7 @@ std::vector<double> referenceImage(const ManyLights& s, const RenderScene& scene
           EXPECT_LT(r.d.y, 0) << "every pixel sees the plane";
           const float t = -r.o.y / r.d.y;
           Hit hit;
-          EXPECT_TRUE(scene.accel->closestHit(r, &hit));
+          EXPECT_TRUE(scene.accel().closestHit(r, &hit));
           EXPECT_NEAR(hit.t, t, 1e-3f * t) << "pixel " << x << ", " << y << " sees an emitter";
           const Vec3f p = r.o + r.d * t;
           sum += kAlbedo / kPi * irradiance(s, {p.x, 0, p.z});
@@ -208,7 +208,7 @@ SeedStatistics renderSeeds(const ManyLights& lights, const std::string& sampler,
     applySceneJsonText(sceneJson(lights, sampler, uint64_t(s) + 1, spp, area), d.file,
                        SceneJsonKind::Scene, &d);
     RenderScene scene = buildRenderScene(d);
-    EXPECT_EQ(scene.lights.size(), 72u);
+    EXPECT_EQ(scene.lights().size(), 72u);
     PathIntegrator integrator(scene, d.render.integrator);
     RenderStats stats;
     Film film = render(scene, integrator, d.render, {.threads = 2}, &stats);
@@ -265,7 +265,7 @@ void expectUnbiased(const ManyLights& lights, const char* sampler, AreaLights ar
   d.file = "scene.json";
   applySceneJsonText(sceneJson(lights, sampler, 1, 1, area), d.file, SceneJsonKind::Scene, &d);
   const RenderScene scene = buildRenderScene(d);
-  ASSERT_EQ(scene.camera.width(), kWidth);
+  ASSERT_EQ(scene.camera().width(), kWidth);
   const std::vector<double> reference = regionMeans(referenceImage(lights, scene));
   const SeedStatistics st = renderSeeds(lights, sampler, 16, 4, area);
   for (int r = 0; r < kRegions; ++r) {

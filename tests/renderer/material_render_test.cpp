@@ -323,8 +323,8 @@ TEST(MaterialRender, TexturesReadTheUvSetTheyName) {
   si.uv = {0.25f, 0.5f};
   si.uv1 = {0.75f, 0.5f};
   TextureLookups lookups(si);
-  EXPECT_NEAR(scene.materials[1]->albedo(si, lookups).x, 1, 1e-3f);
-  EXPECT_NEAR(scene.materials[0]->albedo(si, lookups).y, 1, 1e-3f);
+  EXPECT_NEAR(scene.materials()[1]->albedo(si, lookups).x, 1, 1e-3f);
+  EXPECT_NEAR(scene.materials()[0]->albedo(si, lookups).y, 1, 1e-3f);
 }
 
 // An emissive texture on TEXCOORD_1 glows the same when a light samples it as when a camera
@@ -343,7 +343,7 @@ TEST(MaterialRender, EmissiveTextureOnTheSecondSetIsTheSameSampled) {
   ctx.p = {0, 0, 1};
   ctx.n = ctx.ns = {0, 0, -1};
   int samples = 0;
-  for (const auto& light : scene.lights)
+  for (const auto& light : scene.lights())
     for (float u : {0.1f, 0.4f, 0.6f, 0.9f}) {
       auto s = light->sampleLi(ctx, {u, 1 - u});
       // The studio environment lights this scene too; the square at x = 5 reads set 0.

@@ -302,14 +302,14 @@ TEST(PathTracer, AutoChoosesThePathTracerForExtendedLight) {
   RenderScene scene = buildRenderScene(d);
   // Point lights only: Whitted renders them exactly.
   EXPECT_EQ(resolveIntegrator(scene, d.render.integrator), IntegratorKind::Whitted);
-  EXPECT_FALSE(scene.features.has(Feature::Indirect));
+  EXPECT_FALSE(scene.features().has(Feature::Indirect));
   EXPECT_EQ(resolveIntegrator(scene, {.type = "whitted"}), IntegratorKind::Whitted);
   test::useUniformEnvironment(&scene, {1, 1, 1});
   EXPECT_EQ(resolveIntegrator(scene, d.render.integrator), IntegratorKind::Path);
   EXPECT_NE(dynamic_cast<PathIntegrator*>(makeIntegrator(scene, d.render).get()), nullptr);
   // The builder marks indirect light when the path tracer is asked for.
   d.render.integrator.type = "path";
-  EXPECT_TRUE(buildRenderScene(d).features.has(Feature::Indirect));
+  EXPECT_TRUE(buildRenderScene(d).features().has(Feature::Indirect));
 }
 
 TEST(PathTracer, RendersMediaAndAutoPicksItForMultipleScattering) {
@@ -378,11 +378,9 @@ TEST(PathTracer, ProvocativeSceneProducesNoNonFiniteSamples) {
   d.lights.push_back(dark);
   RenderScene scene = buildRenderScene(d);
   // The zero-intensity light plus an environment, both sampled by power (one has none).
-  scene.lights.push_back(std::make_unique<UniformEnvironmentLight>(Rgb{0.5f, 0.5f, 0.5f}));
-  scene.lights.back()->preprocess(scene.geometry.bounds());
-  scene.infiniteLights.push_back(scene.lights.back().get());
+  scene.addLight(std::make_unique<UniformEnvironmentLight>(Rgb{0.5f, 0.5f, 0.5f}));
   for (const char* sampler : {"power", "uniform"}) {
-    scene.lightSampler = makeLightSampler(sampler, scene.lights);
+    scene.setLightSampler(sampler);
     RenderStats stats;
     Film film = renderPath(scene, d.render, 2, &stats);
     EXPECT_EQ(stats.nonfiniteSamples, 0u) << sampler;

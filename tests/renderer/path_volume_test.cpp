@@ -79,14 +79,11 @@ LightDesc pointLight(Vec3f p, float intensity) {
   return l;
 }
 
-// Removes every light (the studio a scene without lights gets included).
+// Removes every light the scene names (the studio a scene without lights gets included);
+// emitting surfaces stay lights.
 void dropLights(RenderScene* scene) {
-  scene->lights.clear();
-  scene->infiniteLights.clear();
-  scene->instanceLight.clear();  // its indices named the lights dropped
-  scene->lightSampler = makeLightSampler("power", scene->lights);
-  scene->features.set(Feature::DefaultLight, false);
-  scene->features.set(Feature::Environment, false);
+  scene->setLights({});
+  scene->setLightSampler("power");
 }
 
 Film renderWith(const RenderScene& scene, const RenderSettings& settings, int threads = 2,
@@ -400,10 +397,8 @@ TEST(PathVolume, DensityZeroAndStrongAnisotropyProduceNoNonFiniteSamples) {
     SceneDescription d = busyFog(16, 8);
     d.media.back().g = g;
     RenderScene scene = buildRenderScene(d);
-    scene.lights.push_back(std::make_unique<UniformEnvironmentLight>(Rgb{0.5f, 0.5f, 0.5f}));
-    scene.lights.back()->preprocess(scene.geometry.bounds());
-    scene.infiniteLights.push_back(scene.lights.back().get());
-    scene.lightSampler = makeLightSampler("power", scene.lights);
+    scene.addLight(std::make_unique<UniformEnvironmentLight>(Rgb{0.5f, 0.5f, 0.5f}));
+    scene.setLightSampler("power");
     RenderStats stats;
     const Film f = renderWith(scene, d.render, 2, 16, &stats);
     EXPECT_EQ(stats.nonfiniteSamples, 0u) << "g " << g;

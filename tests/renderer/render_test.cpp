@@ -70,7 +70,7 @@ TEST(Render, LambertPlaneUnderPointLightMatchesClosedForm) {
   double maxRel = 0, regionRendered = 0, regionExact = 0;
   for (int y = 0; y < size; ++y)
     for (int x = 0; x < size; ++x) {
-      Ray r = scene.camera.generateRay({x + 0.5f, y + 0.5f}, 0);
+      Ray r = scene.camera().generateRay({x + 0.5f, y + 0.5f}, 0);
       Vec3f p = r.o + r.d * 10.0f;  // the pixel centre on the plane (camera at y = 10)
       double r2 = double(p.x) * p.x + double(p.z) * p.z + double(h) * h;
       double exact = rho / kPi * I * h / (r2 * std::sqrt(r2));
@@ -126,7 +126,7 @@ TEST(Render, ShadowsDarkenWhatIsBehindAnOccluder) {
   // between blocker and plane, looking down.
   d.cameras[0].worldFromCamera = Transform::lookAt({0, 0.5f, 0}, {0, 0, 0}, {0, 0, -1});
   RenderScene scene = buildRenderScene(d);
-  EXPECT_TRUE(scene.features.has(Feature::Shadows));
+  EXPECT_TRUE(scene.features().has(Feature::Shadows));
   Film film = renderDescription(d, 2);
   // Centre pixel is in the umbra (shadow of [-0.4,0.4]^2 on the plane); corners are lit.
   EXPECT_EQ(film.color[film.index(16, 16)].y, 0.0f);
@@ -138,8 +138,8 @@ TEST(Render, SceneWithoutLightsGetsTheStudio) {
   d.lights.clear();
   d.render.spp = 64;
   RenderScene scene = buildRenderScene(d);
-  EXPECT_TRUE(scene.features.has(Feature::DefaultLight));
-  EXPECT_TRUE(scene.features.has(Feature::Environment));
+  EXPECT_TRUE(scene.features().has(Feature::DefaultLight));
+  EXPECT_TRUE(scene.features().has(Feature::Environment));
   EXPECT_EQ(resolveIntegrator(scene, d.render.integrator), IntegratorKind::Path);
   Film film = renderDescription(d, 2);
   // A white Lambert plane facing up under the studio (scaled to irradiance pi from above):
@@ -149,7 +149,7 @@ TEST(Render, SceneWithoutLightsGetsTheStudio) {
   EXPECT_NEAR(sum / double(film.color.size()), 1.0, 0.03);
   // Off: the plane is black.
   d.render.defaultLight = false;
-  EXPECT_FALSE(buildRenderScene(d).features.has(Feature::DefaultLight));
+  EXPECT_FALSE(buildRenderScene(d).features().has(Feature::DefaultLight));
   Film dark = renderDescription(d, 2);
   EXPECT_EQ(dark.color[dark.index(8, 8)].y, 0.0f);
 }
@@ -183,7 +183,7 @@ class NanMaterial final : public Material {
 TEST(Render, NanSamplesAreCountedAndNeverReachTheFilm) {
   SceneDescription d = lambertPlaneScene(0.5f, 0, 2, 16);
   RenderScene scene = buildRenderScene(d);
-  scene.materials[scene.meshMaterial[0]] = std::make_unique<NanMaterial>();
+  scene.replaceMaterial(scene.meshMaterialIndex(0), std::make_unique<NanMaterial>());
   auto integrator = makeIntegrator(scene, d.render);
   RenderStats stats;
   Film film = render(scene, *integrator, d.render, RenderOptions{}, &stats);
@@ -210,8 +210,10 @@ TEST(Render, AnIntegratorFollowsTheCameraChangedAfterItWasBuilt) {
     const std::unique_ptr<Integrator> kept = makeIntegrator(scene, d.render);
     RenderStats stats;
     const Film before = render(scene, *kept, d.render, {.threads = 2}, &stats);
-    scene.camera = Camera::perspective(scene.camera.worldFromCamera(), 1.4f, scene.camera.width(),
-                                       scene.camera.height(), 0.0f, kInfinity);
+    scene.setCamera(
+        Camera::perspective(scene.camera().worldFromCamera(), 1.4f, scene.camera().width(),
+                            scene.camera().height(), 0.0f, kInfinity),
+        scene.cameraName());
     const std::unique_ptr<Integrator> fresh = makeIntegrator(scene, d.render);
     const Film a = render(scene, *kept, d.render, {.threads = 2}, &stats);
     const Film b = render(scene, *fresh, d.render, {.threads = 2}, &stats);

@@ -130,8 +130,8 @@ TEST(SampleEvaluator, BatchesOfAnySizeGiveTheSameSums) {
       moving.find("\"material\": \"clay\"}"), 19,
       R"("material": "clay", "animation": {"translation": {"keys": [[0, [0, 0, 0]], [1, [0.3, 0, 0]]]}}})");
   const auto blurred = stage(moving);
-  ASSERT_TRUE(blurred->scene.camera.hasLens());
-  ASSERT_TRUE(blurred->scene.features.has(Feature::MotionBlur));
+  ASSERT_TRUE(blurred->scene.camera().hasLens());
+  ASSERT_TRUE(blurred->scene.features().has(Feature::MotionBlur));
   const PixelSums blur = evaluateInBatches(*blurred, 10, 3, {16});
   expectSameSums(blur, evaluateInBatches(*blurred, 10, 3, {1, 1, 2, 4, 8}));
   EXPECT_NE(blur.moments.sum[0], whole.moments.sum[0]);
@@ -144,7 +144,7 @@ TEST(SampleEvaluator, TheCentreLookGoesThroughTheMiddleOfThePixel) {
   SampleTally tally;
   PixelSums sums;
   evaluator.evaluate(evaluator.keys(7, 3), 1, true, batch, sums, tally);
-  const Ray expected = s->scene.camera.generateRay(Vec2f{7.5f, 3.5f}, 0);
+  const Ray expected = s->scene.camera().generateRay(Vec2f{7.5f, 3.5f}, 0);
   EXPECT_EQ(batch.rays[0].o, expected.o);
   EXPECT_EQ(batch.rays[0].d, expected.d);
   EXPECT_EQ(sums.taken, 1u);

@@ -161,12 +161,12 @@ TEST(ShadowRays, AreaLightsDoNotShadowThemselvesAndBlockersNearThemStillCount) {
     text += "]}";
     applySceneJsonText(text, d.file, SceneJsonKind::Scene, &d);
     RenderScene scene = buildRenderScene(d);
-    ASSERT_EQ(scene.lights.size(), 1u);
-    const Light& light = *scene.lights[0];
+    ASSERT_EQ(scene.lights().size(), 1u);
+    const Light& light = *scene.lights()[0];
     // The light is geometry: a ray aimed at it from below reports it.
     Hit hit;
     ASSERT_TRUE(
-        scene.accel->closestHit(Ray{{0.1f, blocker ? -1e-4f : -5.0f, 0.2f}, {0, 1, 0}}, &hit));
+        scene.accel().closestHit(Ray{{0.1f, blocker ? -1e-4f : -5.0f, 0.2f}, {0, 1, 0}}, &hit));
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> u01(0, 1), u(-1, 1);
     int samples = 0, shadowed = 0;
@@ -182,7 +182,7 @@ TEST(ShadowRays, AreaLightsDoNotShadowThemselvesAndBlockersNearThemStillCount) {
         const std::optional<LightSample> ls = light.sampleLi(ctx, {u01(rng), u01(rng)});
         if (!ls || !(ls->pdf > 0)) continue;
         ++samples;
-        shadowed += scene.accel->anyHit(shadowRay(ctx, *ls));
+        shadowed += scene.accel().anyHit(shadowRay(ctx, *ls));
       }
       if (!blocker) {
         EXPECT_EQ(shadowed, 0) << "the light shadowed itself at distance " << far;

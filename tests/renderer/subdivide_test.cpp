@@ -66,7 +66,7 @@ struct Stage {
     Sampler sampler(0, 0, kIntegratorDimension);
     RayCounters counters;
     PathAovs aovs;
-    return integrator->Li(scene.camera.pinholeRay({x, y}, 0), sampler, counters, aovs);
+    return integrator->Li(scene.camera().pinholeRay({x, y}, 0), sampler, counters, aovs);
   }
 };
 

@@ -242,10 +242,10 @@ TEST(Volume, SingleScatteringMatchesNumericalIntegration) {
   ASSERT_GT(exact, 0.01);
   {
     LitMedium lit("march", 0.002f);
-    ASSERT_TRUE(lit.scene.features.has(Feature::Volumes));
+    ASSERT_TRUE(lit.scene.features().has(Feature::Volumes));
     RayCounters counters;
     auto [mean, error] = meanAndError(64, [&](Sampler& s) {
-      return lit.scene.media->integrate(lit.scene, ray, kInfinity, s, counters).L;
+      return lit.scene.media()->integrate(lit.scene, ray, kInfinity, s, counters).L;
     });
     EXPECT_NEAR(mean.y, exact, 0.005 * exact);
     EXPECT_GT(counters.shadow, 0u);
@@ -254,7 +254,7 @@ TEST(Volume, SingleScatteringMatchesNumericalIntegration) {
     LitMedium lit("track", 0);
     RayCounters counters;
     auto [mean, error] = meanAndError(40000, [&](Sampler& s) {
-      return lit.scene.media->integrate(lit.scene, ray, kInfinity, s, counters).L;
+      return lit.scene.media()->integrate(lit.scene, ray, kInfinity, s, counters).L;
     });
     EXPECT_NEAR(mean.y, exact, 4 * error.y + 0.002 * exact);
   }
@@ -354,8 +354,8 @@ Film renderIt(const SceneDescription& d) {
 TEST(VolumeRender, ScenesWithoutMediaTakeTheMediaFreePath) {
   SceneDescription d = shadowScene(24);
   RenderScene scene = buildRenderScene(d);
-  EXPECT_FALSE(scene.features.has(Feature::Volumes));
-  EXPECT_EQ(scene.media, nullptr);
+  EXPECT_FALSE(scene.features().has(Feature::Volumes));
+  EXPECT_EQ(scene.media(), nullptr);
   // The same scene with a medium that was then removed renders exactly as before.
   SceneDescription withFog = d;
   withFog.media.push_back(fogBox(1));

@@ -26,22 +26,22 @@ TEST(Build, MeshPlacedTwiceIsInstancedAndMeshPlacedOnceIsBaked) {
                  {0, Transform::translate({-5, 0, 0}), "b", {}},
                  {1, Transform::translate({0, 7, 0}), "c", {}}};
   RenderScene s = buildRenderScene(d);
-  ASSERT_EQ(s.geometry.meshes.size(), 2u);  // the shared mesh is stored once
-  ASSERT_EQ(s.geometry.instances.size(), 3u);
-  EXPECT_FALSE(s.geometry.instances[0].worldFromObject.isIdentity());
-  EXPECT_EQ(s.geometry.instances[0].mesh, s.geometry.instances[1].mesh);
+  ASSERT_EQ(s.geometry().meshes.size(), 2u);  // the shared mesh is stored once
+  ASSERT_EQ(s.geometry().instances.size(), 3u);
+  EXPECT_FALSE(s.geometry().instances[0].worldFromObject.isIdentity());
+  EXPECT_EQ(s.geometry().instances[0].mesh, s.geometry().instances[1].mesh);
   // The single placement is baked: identity transform, world-space positions.
-  const Instance& baked = s.geometry.instances[2];
+  const Instance& baked = s.geometry().instances[2];
   EXPECT_TRUE(baked.worldFromObject.isIdentity());
-  EXPECT_EQ(s.geometry.meshes[baked.mesh].positions[1], (Vec3f{1, 7, 0}));
-  EXPECT_TRUE(s.features.has(Feature::Instancing));
-  EXPECT_EQ(s.geometry.instancedTriangleCount(), 3u);
-  EXPECT_EQ(s.geometry.uniqueTriangleCount(), 2u);
+  EXPECT_EQ(s.geometry().meshes[baked.mesh].positions[1], (Vec3f{1, 7, 0}));
+  EXPECT_TRUE(s.features().has(Feature::Instancing));
+  EXPECT_EQ(s.geometry().instancedTriangleCount(), 3u);
+  EXPECT_EQ(s.geometry().uniqueTriangleCount(), 2u);
   // Both placements are hit where they are.
   Hit hit;
-  EXPECT_TRUE(s.accel->closestHit(Ray{{5.2f, 0.2f, 1}, {0, 0, -1}}, &hit));
-  EXPECT_TRUE(s.accel->closestHit(Ray{{-4.8f, 0.2f, 1}, {0, 0, -1}}, &hit));
-  EXPECT_TRUE(s.accel->closestHit(Ray{{0.2f, 7.2f, 1}, {0, 0, -1}}, &hit));
+  EXPECT_TRUE(s.accel().closestHit(Ray{{5.2f, 0.2f, 1}, {0, 0, -1}}, &hit));
+  EXPECT_TRUE(s.accel().closestHit(Ray{{-4.8f, 0.2f, 1}, {0, 0, -1}}, &hit));
+  EXPECT_TRUE(s.accel().closestHit(Ray{{0.2f, 7.2f, 1}, {0, 0, -1}}, &hit));
 }
 
 TEST(Build, ImageSizeFollowsTheCameraAspect) {
@@ -76,9 +76,9 @@ TEST(Build, DefaultCameraSeesEveryCornerOfTheBounds) {
   d.render.width = 160;
   d.render.height = 90;
   RenderScene s = buildRenderScene(d);
-  EXPECT_EQ(s.cameraName, "default");
-  Bounds3f b = s.geometry.bounds();
-  Transform cameraFromWorld = s.camera.worldFromCamera().inverse();
+  EXPECT_EQ(s.cameraName(), "default");
+  Bounds3f b = s.geometry().bounds();
+  Transform cameraFromWorld = s.camera().worldFromCamera().inverse();
   float tanY = std::tan(0.5f * 40.0f * kPi / 180.0f), tanX = tanY * 160.0f / 90.0f;
   float widest = 0;
   for (int i = 0; i < 8; ++i) {
@@ -105,18 +105,18 @@ TEST(Build, FeaturesFollowWhatTheSceneUses) {
   d.lights = {light};
   RenderScene s = buildRenderScene(d);
   // Only eyelight surfaces: the light casts no shadows anyone could see.
-  EXPECT_FALSE(s.features.has(Feature::Shadows));
-  EXPECT_FALSE(s.features.has(Feature::Textures));
-  EXPECT_FALSE(s.features.has(Feature::DefaultLight));
+  EXPECT_FALSE(s.features().has(Feature::Shadows));
+  EXPECT_FALSE(s.features().has(Feature::Textures));
+  EXPECT_FALSE(s.features().has(Feature::DefaultLight));
 
   d.materials[0].type = MaterialType::Lambert;
   d.meshes[0].colors.assign(3, {1, 0, 0, 1});
   s = buildRenderScene(d);
-  EXPECT_TRUE(s.features.has(Feature::Shadows));
-  EXPECT_TRUE(s.features.has(Feature::VertexColors));
+  EXPECT_TRUE(s.features().has(Feature::Shadows));
+  EXPECT_TRUE(s.features().has(Feature::VertexColors));
 
   d.materials[0].emissive = {1, 1, 1};
-  EXPECT_TRUE(buildRenderScene(d).features.has(Feature::Emission));
+  EXPECT_TRUE(buildRenderScene(d).features().has(Feature::Emission));
 }
 
 TEST(Build, PhongThatReflectsMoreThanItReceivesIsRejected) {
@@ -166,10 +166,9 @@ TEST(Build, StaticShapesArePlacedOnceAndShadeAsPlacedPerHit) {
   d.meshes = {unitTriangle()};
   d.instances = {{0, Transform::translate({0, 0, -3}), "tri", {}}};
   const RenderScene s = buildRenderScene(d);
-  ASSERT_EQ(s.placedShapeOf.size(), s.geometry.instances.size());
   int placed = 0, moving = 0;
-  for (uint32_t i = 0; i < s.geometry.instances.size(); ++i) {
-    const Instance& inst = s.geometry.instances[i];
+  for (uint32_t i = 0; i < s.geometry().instances.size(); ++i) {
+    const Instance& inst = s.geometry().instances[i];
     EXPECT_EQ(s.placedShape(i) != nullptr, inst.isShape() && !inst.moves()) << "instance " << i;
     placed += s.placedShape(i) != nullptr;
     moving += inst.isShape() && inst.moves();
@@ -184,12 +183,12 @@ TEST(Build, StaticShapesArePlacedOnceAndShadeAsPlacedPerHit) {
       const Vec3f target{-3 + 6 * (x + 0.5f) / 32, 2 - 3.5f * (y + 0.5f) / 24, 0};
       const Ray ray{{0, 1, 6}, target - Vec3f{0, 1, 6}, 0, kInfinity, 0.3f};
       Hit hit;
-      if (!s.accel->closestHit(ray, &hit)) continue;
+      if (!s.accel().closestHit(ray, &hit)) continue;
       const PlacedShape* p = s.placedShape(hit.instance);
       if (!p) continue;
       ++shapeHits;
-      const SurfaceInteraction a = computeSurfaceInteraction(s.geometry, ray, hit, {}, p);
-      const SurfaceInteraction b = computeSurfaceInteraction(s.geometry, ray, hit);
+      const SurfaceInteraction a = computeSurfaceInteraction(s.geometry(), ray, hit, {}, p);
+      const SurfaceInteraction b = computeSurfaceInteraction(s.geometry(), ray, hit);
       EXPECT_EQ(a.p, b.p);
       EXPECT_EQ(a.pError, b.pError);
       EXPECT_EQ(a.ng, b.ng);
@@ -199,14 +198,14 @@ TEST(Build, StaticShapesArePlacedOnceAndShadeAsPlacedPerHit) {
     }
   EXPECT_GT(shapeHits, 300);
 
-  // A scene of meshes alone keeps no per-instance table.
+  // A scene of meshes alone has no placed shapes.
   SceneDescription meshes;
   meshes.meshes = {unitTriangle()};
   meshes.instances = {{0, Transform::translate({1, 0, 0}), "a", {}},
                       {0, Transform::translate({-1, 0, 0}), "b", {}}};
   const RenderScene m = buildRenderScene(meshes);
-  EXPECT_TRUE(m.placedShapeOf.empty());
   EXPECT_EQ(m.placedShape(0), nullptr);
+  EXPECT_EQ(m.placedShape(1), nullptr);
 }
 
 }  // namespace

@@ -92,11 +92,11 @@ TEST(Deform, TheBuilderPosesAtTheFrameTimeAndFramesTheWholeAnimation) {
   RenderScene scene = buildRenderScene(s);
   // The skinned triangle, baked into the world: its vertex 1 is at (1, 2, 0) at t = 1.
   bool found = false;
-  for (const TriangleMesh& m : scene.geometry.meshes)
+  for (const TriangleMesh& m : scene.geometry().meshes)
     for (Vec3f p : m.positions) found = found || length(p - Vec3f{1, 2, 0}) < 1e-5f;
   EXPECT_TRUE(found);
   // Not at the ignored node translation.
-  EXPECT_LT(scene.geometry.bounds().upper.x, 50);
+  EXPECT_LT(scene.geometry().bounds().upper.x, 50);
 }
 
 // Deformation blur: with a shutter open over the animation, a pose that changes inside it gets
@@ -115,14 +115,14 @@ SceneDescription skinMorphWithShutter(float open, float close) {
 TEST(Deform, APoseThatChangesInsideTheShutterGetsTimeSteps) {
   SceneDescription s = skinMorphWithShutter(0, 1);
   RenderScene scene = buildRenderScene(s);
-  ASSERT_EQ(scene.geometry.instances.size(), 4u);
+  ASSERT_EQ(scene.geometry().instances.size(), 4u);
   auto meshOf = [&](size_t i) -> const TriangleMesh& {
-    return scene.geometry.meshes[scene.geometry.instances[i].mesh];
+    return scene.geometry().meshes[scene.geometry().instances[i].mesh];
   };
   // Static weights: no steps.
   EXPECT_FALSE(meshOf(0).deforms());
   EXPECT_FALSE(meshOf(1).deforms());
-  EXPECT_TRUE(scene.features.has(Feature::MotionBlur));
+  EXPECT_TRUE(scene.features().has(Feature::MotionBlur));
   // Weights keyed linearly over the shutter: a linear deformation, three steps are exact.
   const TriangleMesh& morph = meshOf(2);
   ASSERT_EQ(morph.positionSteps.size(), 3u);
@@ -147,25 +147,25 @@ TEST(Deform, APoseThatChangesInsideTheShutterGetsTimeSteps) {
   }
   // No shutter: posed at the frame's time, no steps.
   RenderScene still = buildRenderScene(skinMorphWithShutter(0, 0));
-  for (const TriangleMesh& m : still.geometry.meshes) EXPECT_FALSE(m.deforms());
-  EXPECT_FALSE(still.features.has(Feature::MotionBlur));
+  for (const TriangleMesh& m : still.geometry().meshes) EXPECT_FALSE(m.deforms());
+  EXPECT_FALSE(still.features().has(Feature::MotionBlur));
 }
 
 // render.shutter (--shutter) gives the automatic camera a shutter, and replaces a camera's.
 TEST(Deform, TheRenderShutterBlursWithTheAutomaticCameraToo) {
   SceneDescription s = skinMorph();
   ASSERT_TRUE(s.cameras.empty());
-  EXPECT_FALSE(buildRenderScene(s).geometry.hasMotion());
+  EXPECT_FALSE(buildRenderScene(s).geometry().hasMotion());
   s.render.shutter = std::array<double, 2>{0, 1};
   RenderScene blurred = buildRenderScene(s);
-  EXPECT_TRUE(blurred.features.has(Feature::MotionBlur));
+  EXPECT_TRUE(blurred.features().has(Feature::MotionBlur));
   size_t deforming = 0;
-  for (const TriangleMesh& m : blurred.geometry.meshes) deforming += m.deforms();
+  for (const TriangleMesh& m : blurred.geometry().meshes) deforming += m.deforms();
   EXPECT_EQ(deforming, 2u);
   // A closed render shutter overrides the camera's open one.
   SceneDescription closed = skinMorphWithShutter(0, 1);
   closed.render.shutter = std::array<double, 2>{0, 0};
-  EXPECT_FALSE(buildRenderScene(closed).geometry.hasMotion());
+  EXPECT_FALSE(buildRenderScene(closed).geometry().hasMotion());
 }
 
 // The Khronos samples: skinned (CesiumMan, RiggedSimple, RiggedFigure) and morphed

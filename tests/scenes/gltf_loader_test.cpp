@@ -417,17 +417,18 @@ TEST(GltfLoader, SequenceFramesShareDecodedImages) {
   const SceneDescription s = load(goodFile("features.gltf"));
   ASSERT_EQ(s.images.size(), 2u);
   const RenderScene first = buildRenderScene(s);
-  ASSERT_TRUE(first.images);
-  const size_t held = first.images->size();
+  ASSERT_TRUE(first.images());
+  const size_t held = first.images()->size();
   EXPECT_GE(held, 2u);
-  const RenderScene second = buildRenderScene(s, nullptr, BuildOptions{.images = first.images});
-  EXPECT_EQ(second.images.get(), first.images.get());
-  EXPECT_EQ(first.images->size(), held);
+  const RenderScene second = buildRenderScene(s, nullptr, BuildOptions{.images = first.images()});
+  EXPECT_EQ(second.images().get(), first.images().get());
+  EXPECT_EQ(first.images()->size(), held);
   SceneDescription copied = s;
   for (ImageDesc& img : copied.images)
     img.encoded = std::make_shared<const std::string>(*img.encoded);
-  const RenderScene third = buildRenderScene(copied, nullptr, BuildOptions{.images = first.images});
-  EXPECT_EQ(first.images->size(), 2 * held);
+  const RenderScene third =
+      buildRenderScene(copied, nullptr, BuildOptions{.images = first.images()});
+  EXPECT_EQ(first.images()->size(), 2 * held);
 }
 
 TEST(GltfLoader, ReadsMaterialsTexturesSamplersAndImages) {
@@ -499,15 +500,15 @@ TEST(GltfLoader, ReadsPbrExtensionsAlphaNormalMapsAndTangents) {
   }
   // Built: the tangent reaches the surface interaction of a hit that needs tangents.
   RenderScene scene = buildRenderScene(s);
-  EXPECT_TRUE(scene.features.has(Feature::Bump));
-  EXPECT_TRUE(scene.features.has(Feature::Refraction));
-  EXPECT_TRUE(scene.features.has(Feature::Transparency));
-  EXPECT_TRUE(scene.features.has(Feature::Textures));
+  EXPECT_TRUE(scene.features().has(Feature::Bump));
+  EXPECT_TRUE(scene.features().has(Feature::Refraction));
+  EXPECT_TRUE(scene.features().has(Feature::Transparency));
+  EXPECT_TRUE(scene.features().has(Feature::Textures));
   Ray ray{{0.25f, 0.25f, 1}, {0, 0, -1}};
   Hit hit;
-  ASSERT_TRUE(scene.accel->closestHit(ray, &hit));
+  ASSERT_TRUE(scene.accel().closestHit(ray, &hit));
   SurfaceInteraction si =
-      computeSurfaceInteraction(scene.geometry, ray, hit, {.uvs = true, .tangents = true});
+      computeSurfaceInteraction(scene.geometry(), ray, hit, {.uvs = true, .tangents = true});
   EXPECT_NEAR(si.tangent.x, 1, 1e-6f);
   EXPECT_EQ(si.bitangentSign, -1.0f);
   EXPECT_NEAR(length(si.dpdu - Vec3f{1, 0, 0}), 0, 1e-6f);  // from the UVs
@@ -693,10 +694,10 @@ TEST(GltfLoader, MaterialExtensionsAreRead) {
   EXPECT_FLOAT_EQ(l.anisotropyRotation, 1.5f);
   EXPECT_FLOAT_EQ(l.dispersion, 0.5f);
   RenderScene scene = buildRenderScene(s);
-  ASSERT_EQ(scene.materials.size(), 2u);
-  EXPECT_GT(maxComponent(scene.materials[0]->absorption()), 0);
-  EXPECT_EQ(scene.materials[1]->absorption(), (Rgb{0, 0, 0}));
-  EXPECT_TRUE(scene.materials[1]->traits().needs.tangents);  // anisotropy reads the tangent
+  ASSERT_EQ(scene.materials().size(), 2u);
+  EXPECT_GT(maxComponent(scene.materials()[0]->absorption()), 0);
+  EXPECT_EQ(scene.materials()[1]->absorption(), (Rgb{0, 0, 0}));
+  EXPECT_TRUE(scene.materials()[1]->traits().needs.tangents);  // anisotropy reads the tangent
 }
 
 TEST(GltfBadInput, MaterialExtensionsOutOfRangeAreRejected) {
@@ -786,9 +787,9 @@ TEST(GltfLoader, QuantizedAttributesAndGpuInstancesAreRead) {
              1e-4f);
   // They share the mesh: built, it is stored once and instanced.
   RenderScene scene = buildRenderScene(s);
-  EXPECT_EQ(scene.geometry.instances.size(), 4u);
-  EXPECT_EQ(scene.geometry.uniqueTriangleCount(), 1u);
-  EXPECT_EQ(scene.geometry.instancedTriangleCount(), 4u);
+  EXPECT_EQ(scene.geometry().instances.size(), 4u);
+  EXPECT_EQ(scene.geometry().uniqueTriangleCount(), 1u);
+  EXPECT_EQ(scene.geometry().instancedTriangleCount(), 4u);
 }
 
 TEST(GltfBadInput, QuantizationAndInstancingAreChecked) {
@@ -1049,16 +1050,16 @@ TEST(GltfLoader, SingleSidedMaterialsHideBackFacesOnceBuilt) {
     const Ray fromFront{{0.1f, 0.2f, 5 * c.frontZ}, {0, 0, -c.frontZ}, 0, kInfinity, 0};
     const Ray fromBack{{0.1f, 0.2f, -5 * c.frontZ}, {0, 0, c.frontZ}, 0, kInfinity, 0};
     Hit h;
-    EXPECT_TRUE(scene.accel->closestHit(fromFront, &h));
-    EXPECT_EQ(scene.accel->closestHit(fromBack, &h), c.backVisible);
-    EXPECT_EQ(scene.accel->anyHit(fromBack), c.backVisible);
+    EXPECT_TRUE(scene.accel().closestHit(fromFront, &h));
+    EXPECT_EQ(scene.accel().closestHit(fromBack, &h), c.backVisible);
+    EXPECT_EQ(scene.accel().anyHit(fromBack), c.backVisible);
   }
   // A single-sided emitter is a one-sided light: nothing behind it is lit.
   std::ofstream(dir + "/square.gltf") << squareGltf(R"({"emissiveFactor": [1, 1, 1]})", {1, 1, 1});
   SceneDescription d = loadScene(dir + "/square.gltf");
   RenderScene scene = buildRenderScene(d);
-  ASSERT_FALSE(scene.instanceLight.empty());
-  const Light& light = *scene.lights[size_t(scene.instanceLight[0])];
+  ASSERT_FALSE(scene.instanceLight().empty());
+  const Light& light = *scene.lights()[size_t(scene.instanceLight()[0])];
   LightSampleContext front, back;
   front.p = {0, 0, 2};
   back.p = {0, 0, -2};

@@ -42,28 +42,28 @@ Vec3f origin(const Transform& xf) { return xf.point({0, 0, 0}); }
 TEST(MotionBuild, StaticSceneBuildsNoMotion) {
   SceneDescription d = movingSphere({0, 1}, {{0, 0, 0}, {2, 0, 0}}, 0, 0);
   RenderScene s = buildRenderScene(d);
-  ASSERT_EQ(s.geometry.instances.size(), 1u);
-  EXPECT_FALSE(s.geometry.instances[0].motion.isAnimated());
-  EXPECT_FALSE(s.features.has(Feature::MotionBlur));
+  ASSERT_EQ(s.geometry().instances.size(), 1u);
+  EXPECT_FALSE(s.geometry().instances[0].motion.isAnimated());
+  EXPECT_FALSE(s.features().has(Feature::MotionBlur));
   // Without a shutter the object is where the animation puts it at the frame's time.
   d.render.time = 0.5;
   RenderScene half = buildRenderScene(d);
-  EXPECT_NEAR(origin(half.geometry.instances[0].worldFromObject).x, 1.0f, 1e-6f);
-  EXPECT_FALSE(half.features.has(Feature::MotionBlur));
+  EXPECT_NEAR(origin(half.geometry().instances[0].worldFromObject).x, 1.0f, 1e-6f);
+  EXPECT_FALSE(half.features().has(Feature::MotionBlur));
 }
 
 TEST(MotionBuild, LinearMotionAcrossTheShutterIsOneSegment) {
   SceneDescription d = movingSphere({0, 1}, {{0, 0, 0}, {2, 0, 0}}, 0, 1);
   RenderScene s = buildRenderScene(d);
-  const Instance& inst = s.geometry.instances[0];
+  const Instance& inst = s.geometry().instances[0];
   ASSERT_TRUE(inst.motion.isAnimated());
   ASSERT_EQ(inst.motion.keyCount(), 2u);
   EXPECT_NEAR(origin(inst.motion.key(0)).x, 0.0f, 1e-6f);
   EXPECT_NEAR(origin(inst.motion.key(1)).x, 2.0f, 1e-6f);
   EXPECT_NEAR(origin(inst.motion.at(0.25f)).x, 0.5f, 1e-6f);
-  EXPECT_TRUE(s.features.has(Feature::MotionBlur));
-  EXPECT_NE(std::find(s.features.names().begin(), s.features.names().end(), "motion blur"),
-            s.features.names().end());
+  EXPECT_TRUE(s.features().has(Feature::MotionBlur));
+  EXPECT_NE(std::find(s.features().names().begin(), s.features().names().end(), "motion blur"),
+            s.features().names().end());
 }
 
 TEST(MotionBuild, ShutterShorterThanTheAnimationSamplesOnlyItsInterval) {
@@ -71,7 +71,7 @@ TEST(MotionBuild, ShutterShorterThanTheAnimationSamplesOnlyItsInterval) {
   SceneDescription d = movingSphere({0, 1}, {{0, 0, 0}, {4, 0, 0}}, 0, 0.25f);
   d.render.time = 0.25;
   RenderScene s = buildRenderScene(d);
-  const AnimatedTransform& m = s.geometry.instances[0].motion;
+  const AnimatedTransform& m = s.geometry().instances[0].motion;
   ASSERT_TRUE(m.isAnimated());
   EXPECT_NEAR(origin(m.at(0)).x, 1.0f, 1e-5f);  // t = 0.25
   EXPECT_NEAR(origin(m.at(1)).x, 2.0f, 1e-5f);  // t = 0.5
@@ -82,7 +82,7 @@ TEST(MotionBuild, KeysInsideTheShutterAreSampledAndHitExactly) {
   // Out and back: x = 0 -> 2 -> 0 over [0, 1]; a linear blend of the ends would not move.
   SceneDescription d = movingSphere({0, 0.5f, 1}, {{0, 0, 0}, {2, 0, 0}, {0, 0, 0}}, 0, 1);
   RenderScene s = buildRenderScene(d);
-  const AnimatedTransform& m = s.geometry.instances[0].motion;
+  const AnimatedTransform& m = s.geometry().instances[0].motion;
   ASSERT_TRUE(m.isAnimated());
   ASSERT_GT(m.keyCount(), 2u);
   ASSERT_EQ((m.keyCount() - 1) % 2, 0u) << "t = 0.5 must fall on a key";
@@ -105,7 +105,7 @@ TEST(MotionBuild, FullTurnIsSampledFinelyEnoughForSlerp) {
   d.objects[0].shape =
       std::make_shared<Sphere>(Vec3f{1, 0, 0}, 0.5f);  // off the axis, so the turn moves it
   RenderScene s = buildRenderScene(d);
-  const AnimatedTransform& m = s.geometry.instances[0].motion;
+  const AnimatedTransform& m = s.geometry().instances[0].motion;
   ASSERT_TRUE(m.isAnimated());
   for (size_t i = 1; i < m.keyCount(); ++i)
     EXPECT_GT(std::abs(dot(m.decomposedKey(i - 1).rotation, m.decomposedKey(i).rotation)), 0.7071f)
@@ -125,12 +125,12 @@ TEST(MotionBuild, TheAutomaticCameraFramesTheWholeAnimationOnce) {
   for (double t : {0.0, 0.7, 2.0}) {
     d.render.time = t;
     const RenderScene s = buildRenderScene(d);
-    positions.push_back(s.camera.position());
+    positions.push_back(s.camera().position());
     // The ball is in view wherever it is: a ray from the camera to it hits it.
     const Vec3f ball{-4 + 4 * float(t), 0, 0};
-    Ray ray{s.camera.position(), normalize(ball - s.camera.position())};
+    Ray ray{s.camera().position(), normalize(ball - s.camera().position())};
     Hit hit;
-    EXPECT_TRUE(s.accel->closestHit(ray, &hit)) << t;
+    EXPECT_TRUE(s.accel().closestHit(ray, &hit)) << t;
   }
   // The same camera to float precision (each frame's own bounds, padded by their rounding
   // error, join the swept ones; they may differ in the last bit).
@@ -152,12 +152,12 @@ TEST(MotionBuild, MovingMeshIsNotBakedAndStaticOneIs) {
   moving.transformNode = 0;
   d.instances = {moving, {1, Transform::translate({0, 3, 0}), "still", {}}};
   RenderScene s = buildRenderScene(d);
-  ASSERT_EQ(s.geometry.instances.size(), 2u);
-  EXPECT_TRUE(s.geometry.instances[0].motion.isAnimated());
-  EXPECT_EQ(s.geometry.meshes[s.geometry.instances[0].mesh].positions[1], (Vec3f{1, 0, 0}))
+  ASSERT_EQ(s.geometry().instances.size(), 2u);
+  EXPECT_TRUE(s.geometry().instances[0].motion.isAnimated());
+  EXPECT_EQ(s.geometry().meshes[s.geometry().instances[0].mesh].positions[1], (Vec3f{1, 0, 0}))
       << "a moving mesh keeps its object space";
-  EXPECT_FALSE(s.geometry.instances[1].motion.isAnimated());
-  EXPECT_TRUE(s.geometry.instances[1].worldFromObject.isIdentity()) << "the still one is baked";
+  EXPECT_FALSE(s.geometry().instances[1].motion.isAnimated());
+  EXPECT_TRUE(s.geometry().instances[1].worldFromObject.isIdentity()) << "the still one is baked";
 }
 
 TEST(MotionBuild, LightsArePlacedInTheMiddleOfTheShutter) {
@@ -172,11 +172,11 @@ TEST(MotionBuild, LightsArePlacedInTheMiddleOfTheShutter) {
   d.lights.push_back(bulb);
   d.render.time = 0.5;
   RenderScene s = buildRenderScene(d);
-  ASSERT_EQ(s.lights.size(), 1u);
-  EXPECT_TRUE(s.features.has(Feature::MotionBlur));
-  EXPECT_FALSE(s.features.has(Feature::DefaultLight));
+  ASSERT_EQ(s.lights().size(), 1u);
+  EXPECT_TRUE(s.features().has(Feature::MotionBlur));
+  EXPECT_FALSE(s.features().has(Feature::DefaultLight));
   // A point light's incident direction reveals its position.
-  auto ls = s.lights[0]->sampleLi(LightSampleContext::inMedium({7.5f, 0, 0}, 0), {0.5f, 0.5f});
+  auto ls = s.lights()[0]->sampleLi(LightSampleContext::inMedium({7.5f, 0, 0}, 0), {0.5f, 0.5f});
   ASSERT_TRUE(ls.has_value());
   EXPECT_NEAR(ls->wi.x, 0.0f, 1e-5f);
   EXPECT_NEAR(ls->wi.y, 1.0f, 1e-5f);
@@ -194,7 +194,7 @@ TEST(MotionBuild, ObjectOffItsPivotFollowsTheArc) {
   n.rotationTrack.values = {{0, 0, 0, 1}, {0, std::sin(h), 0, std::cos(h)}};
   d.objects[0].nodeFromObject = Transform::translate({3, 0, 0});
   RenderScene s = buildRenderScene(d);
-  const AnimatedTransform& m = s.geometry.instances[0].motion;
+  const AnimatedTransform& m = s.geometry().instances[0].motion;
   ASSERT_TRUE(m.isAnimated());
   EXPECT_GT(m.keyCount(), 2u);
   EXPECT_LE(m.keyCount(), kMaxMotionKeys);
@@ -215,13 +215,13 @@ TEST(MotionBuild, StepInsideTheShutterStaysWithinEmbreesTimeStepLimit) {
   n.rotationTrack.values = {{0, 0, 0, 1}, {0, 1, 0, 0}};
   d.objects[0].nodeFromObject = Transform::translate({1, 0, 0});
   RenderScene s = buildRenderScene(d);
-  const AnimatedTransform& m = s.geometry.instances[0].motion;
+  const AnimatedTransform& m = s.geometry().instances[0].motion;
   ASSERT_TRUE(m.isAnimated());
   EXPECT_LE(m.keyCount(), kMaxMotionKeys);
   EXPECT_NEAR(origin(m.at(0)).x, 1.0f, 1e-5f);
   EXPECT_NEAR(origin(m.at(1)).x, -1.0f, 1e-5f);
   Hit hit;  // and the accelerator was built
-  EXPECT_TRUE(s.accel->closestHit(Ray{{-1, 0, 5}, {0, 0, -1}, 0, kInfinity, 1.0f}, &hit));
+  EXPECT_TRUE(s.accel().closestHit(Ray{{-1, 0, 5}, {0, 0, -1}, 0, kInfinity, 1.0f}, &hit));
 }
 
 }  // namespace

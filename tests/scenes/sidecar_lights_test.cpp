@@ -74,14 +74,14 @@ TEST(SidecarLights, ReadsQuadDiskSphereAndProjective) {
   EXPECT_NEAR(d.lights[3].attenuation, 0.5f, 1e-6f);  // keyframed, at time 1
 
   RenderScene s = buildRenderScene(d);
-  ASSERT_EQ(s.lights.size(), 4u);
-  auto* quad = areaLightOf(s.lights[0].get(), "quad");
+  ASSERT_EQ(s.lights().size(), 4u);
+  auto* quad = areaLightOf(s.lights()[0].get(), "quad");
   ASSERT_NE(quad, nullptr);
   EXPECT_NEAR(quad->area(), 1, 1e-6f);
   // Radiance 4 (1, 0.5, 0.25), both sides, area 1: phi = 2 pi L.
   EXPECT_NEAR(quad->phi().x, 2 * kPi * 4, 1e-3f);
   // The disk faces down: it lights the floor below, not a point above.
-  auto* disk = areaLightOf(s.lights[1].get(), "disk");
+  auto* disk = areaLightOf(s.lights()[1].get(), "disk");
   ASSERT_NE(disk, nullptr);
   EXPECT_NEAR(disk->area(), kPi * 0.25f, 1e-5f);
   LightSampleContext below, above;
@@ -89,12 +89,12 @@ TEST(SidecarLights, ReadsQuadDiskSphereAndProjective) {
   above.p = {0, 4, 0};
   EXPECT_TRUE(disk->sampleLi(below, {0.3f, 0.4f}).has_value());
   EXPECT_FALSE(disk->sampleLi(above, {0.3f, 0.4f}).has_value());
-  EXPECT_NE(areaLightOf(s.lights[2].get(), "sphere"), nullptr);
-  EXPECT_NE(dynamic_cast<const ProjectiveLight*>(s.lights[3].get()), nullptr);
-  EXPECT_TRUE(s.features.has(Feature::AreaLights));
-  EXPECT_TRUE(s.features.has(Feature::Projective));
-  EXPECT_FALSE(s.features.has(Feature::Environment));
-  EXPECT_FALSE(s.features.has(Feature::DefaultLight));
+  EXPECT_NE(areaLightOf(s.lights()[2].get(), "sphere"), nullptr);
+  EXPECT_NE(dynamic_cast<const ProjectiveLight*>(s.lights()[3].get()), nullptr);
+  EXPECT_TRUE(s.features().has(Feature::AreaLights));
+  EXPECT_TRUE(s.features().has(Feature::Projective));
+  EXPECT_FALSE(s.features().has(Feature::Environment));
+  EXPECT_FALSE(s.features().has(Feature::DefaultLight));
 }
 
 // Area lights placed by a transform: a quad's corner and edges in the light's space, a disk in
@@ -110,12 +110,12 @@ TEST(SidecarLights, AreaLightsTakeATransform) {
       {"type": "sphere", "radius": 1, "transform": [{"scale": 0.5}, {"translate": [-4, 2, 0]}]}
     ], )" + kFloor + "}");
   RenderScene s = buildRenderScene(d);
-  ASSERT_EQ(s.lights.size(), 4u);
-  auto* quad = areaLightOf(s.lights[0].get(), "quad");
+  ASSERT_EQ(s.lights().size(), 4u);
+  auto* quad = areaLightOf(s.lights()[0].get(), "quad");
   ASSERT_NE(quad, nullptr);
   EXPECT_NEAR(quad->area(), 6, 1e-5f);
   // The XY-plane disk turned to face down: lights the floor below, nothing above.
-  auto* disk = areaLightOf(s.lights[1].get(), "disk");
+  auto* disk = areaLightOf(s.lights()[1].get(), "disk");
   ASSERT_NE(disk, nullptr);
   LightSampleContext below, above;
   below.p = {0, 0, 0};
@@ -123,11 +123,11 @@ TEST(SidecarLights, AreaLightsTakeATransform) {
   EXPECT_TRUE(disk->sampleLi(below, {0.3f, 0.4f}).has_value());
   EXPECT_FALSE(disk->sampleLi(above, {0.3f, 0.4f}).has_value());
   // A prolate spheroid of semi-axes 1, 1, 2: area 2 pi (1 + 2 * 2 / e asin e), e^2 = 3/4.
-  auto* ellipsoid = areaLightOf(s.lights[2].get(), "sphere");
+  auto* ellipsoid = areaLightOf(s.lights()[2].get(), "sphere");
   ASSERT_NE(ellipsoid, nullptr);
   const float e = std::sqrt(0.75f);
   EXPECT_NEAR(ellipsoid->area(), 2 * kPi * (1 + 2 / e * std::asin(e)), 2e-3f * 21.5f);
-  auto* sphere = areaLightOf(s.lights[3].get(), "sphere");
+  auto* sphere = areaLightOf(s.lights()[3].get(), "sphere");
   ASSERT_NE(sphere, nullptr);
   EXPECT_NEAR(sphere->area(), kPi, 1e-5f);
   // A frame is given once.
@@ -181,10 +181,10 @@ TEST(SidecarLights, ConstantEnvironmentLightsTheScene) {
       apply(R"({"environment": {"color": [0.5, 1, 2], "intensity": 2}, )" + kFloor + "}");
   ASSERT_TRUE(d.environment.has_value());
   RenderScene s = buildRenderScene(d);
-  ASSERT_EQ(s.infiniteLights.size(), 1u);
+  ASSERT_EQ(s.infiniteLights().size(), 1u);
   EXPECT_EQ(s.escaped({0, 1, 0}), (Rgb{1, 2, 4}));
-  EXPECT_TRUE(s.features.has(Feature::Environment));
-  EXPECT_FALSE(s.features.has(Feature::DefaultLight));
+  EXPECT_TRUE(s.features().has(Feature::Environment));
+  EXPECT_FALSE(s.features().has(Feature::DefaultLight));
 }
 
 TEST(SidecarLights, ImageEnvironmentIsReadFromAnExr) {
@@ -198,8 +198,8 @@ TEST(SidecarLights, ImageEnvironmentIsReadFromAnExr) {
           "}",
       dir + "/scene.json", SceneJsonKind::Scene, &d);
   RenderScene s = buildRenderScene(d);
-  ASSERT_EQ(s.infiniteLights.size(), 1u);
-  auto* env = dynamic_cast<const ImageEnvironmentLight*>(s.infiniteLights[0]);
+  ASSERT_EQ(s.infiniteLights().size(), 1u);
+  auto* env = dynamic_cast<const ImageEnvironmentLight*>(s.infiniteLights()[0]);
   ASSERT_NE(env, nullptr);
   // Straight up is the top row; every pixel of it has G = 1, times the intensity.
   EXPECT_NEAR(s.escaped({0, 1, 0}).y, 3, 1e-5f);
@@ -217,8 +217,8 @@ TEST(SidecarLights, EnvironmentPresetsAndFormats) {
   ASSERT_TRUE(d.environment.has_value());
   EXPECT_TRUE(d.environment->studio);
   RenderScene s = buildRenderScene(d);
-  EXPECT_FALSE(s.features.has(Feature::DefaultLight));  // the scene asked for it
-  ASSERT_EQ(s.infiniteLights.size(), 1u);
+  EXPECT_FALSE(s.features().has(Feature::DefaultLight));  // the scene asked for it
+  ASSERT_EQ(s.infiniteLights().size(), 1u);
   // Twice the studio: straight up is brighter than the horizon, all of it grey.
   const Rgb up = s.escaped({0, 1, 0}), horizon = s.escaped({0, 0.02f, -1});
   EXPECT_GT(up.y, horizon.y);
@@ -268,29 +268,29 @@ TEST(SidecarLights, EmittingSurfacesBecomeLights) {
     ]})");
   d.render.defaultLight = false;  // the emitters alone
   RenderScene s = buildRenderScene(d);
-  ASSERT_EQ(s.instanceLight.size(), 5u);
-  EXPECT_EQ(s.instanceLight[0], -1);
-  ASSERT_GE(s.instanceLight[1], 0);
-  ASSERT_GE(s.instanceLight[2], 0);
-  ASSERT_GE(s.instanceLight[3], 0);
-  ASSERT_GE(s.instanceLight[4], 0);
-  EXPECT_EQ(s.lights.size(), 4u);  // and no default light
-  EXPECT_FALSE(s.features.has(Feature::DefaultLight));
-  EXPECT_TRUE(s.features.has(Feature::AreaLights));
-  auto* disk = areaLightOf(s.lights[size_t(s.instanceLight[1])].get(), "disk");
+  ASSERT_EQ(s.instanceLight().size(), 5u);
+  EXPECT_EQ(s.instanceLight()[0], -1);
+  ASSERT_GE(s.instanceLight()[1], 0);
+  ASSERT_GE(s.instanceLight()[2], 0);
+  ASSERT_GE(s.instanceLight()[3], 0);
+  ASSERT_GE(s.instanceLight()[4], 0);
+  EXPECT_EQ(s.lights().size(), 4u);  // and no default light
+  EXPECT_FALSE(s.features().has(Feature::DefaultLight));
+  EXPECT_TRUE(s.features().has(Feature::AreaLights));
+  auto* disk = areaLightOf(s.lights()[size_t(s.instanceLight()[1])].get(), "disk");
   ASSERT_NE(disk, nullptr);
   EXPECT_NEAR(disk->area(), kPi * 0.25f, 1e-5f);
   // Two-sided radiance 2 over the area: phi = 2 pi L A.
   EXPECT_NEAR(disk->phi().x, 2 * kPi * 2 * disk->area(), 1e-3f);
-  auto* sphere = areaLightOf(s.lights[size_t(s.instanceLight[2])].get(), "sphere");
+  auto* sphere = areaLightOf(s.lights()[size_t(s.instanceLight()[2])].get(), "sphere");
   ASSERT_NE(sphere, nullptr);
   EXPECT_NEAR(sphere->area(), 4 * kPi, 1e-4f);  // radius 0.5 scaled by 2
   // The box's six faces, sampled by area.
-  auto* box = areaLightOf(s.lights[size_t(s.instanceLight[3])].get(), "box");
+  auto* box = areaLightOf(s.lights()[size_t(s.instanceLight()[3])].get(), "box");
   ASSERT_NE(box, nullptr);
   EXPECT_NEAR(box->area(), 6, 1e-4f);
   EXPECT_NEAR(box->phi().x, 2 * kPi * 2 * 6, 1e-2f);
-  auto* quad = areaLightOf(s.lights[size_t(s.instanceLight[4])].get(), "quad");
+  auto* quad = areaLightOf(s.lights()[size_t(s.instanceLight()[4])].get(), "quad");
   ASSERT_NE(quad, nullptr);
   // The radiance a light sample carries is the material's emission.
   LightSampleContext ctx;
@@ -312,13 +312,13 @@ TEST(SidecarLights, EmissiveMeshesAndTexturedEmission) {
       {"type": "quad", "corner": [0, 3, 0], "edge_u": [1, 0, 0], "edge_v": [0, 0, 1], "material": "tiles"}
     ]})");
   RenderScene s = buildRenderScene(d);
-  ASSERT_EQ(s.instanceLight.size(), 2u);
-  auto* mesh = areaLightOf(s.lights[size_t(s.instanceLight[0])].get(), nullptr);
+  ASSERT_EQ(s.instanceLight().size(), 2u);
+  auto* mesh = areaLightOf(s.lights()[size_t(s.instanceLight()[0])].get(), nullptr);
   ASSERT_NE(mesh, nullptr);
   EXPECT_GE(mesh->area(), 4.0f);  // at least its footprint
   EXPECT_NEAR(mesh->phi().x, 2 * kPi * 2 * mesh->area(), 1e-3f * mesh->phi().x);
   // The quad's light carries the texture at the sampled uv, as a camera hit there sees it.
-  auto* quad = areaLightOf(s.lights[size_t(s.instanceLight[1])].get(), "quad");
+  auto* quad = areaLightOf(s.lights()[size_t(s.instanceLight()[1])].get(), "quad");
   ASSERT_NE(quad, nullptr);
   LightSampleContext ctx;
   ctx.p = {0.5f, 0, 0.5f};
@@ -340,18 +340,18 @@ TEST(SidecarLights, EmittersDoNotSwitchTheDefaultLightOff) {
                 {"type": "sphere", "radius": 1, "material": "glow"}]})");
   RenderScene s = buildRenderScene(d);
   // The studio, then the sphere; an infinite plane glows when hit but cannot be sampled.
-  ASSERT_EQ(s.lights.size(), 2u);
-  EXPECT_TRUE(s.features.has(Feature::DefaultLight));
-  EXPECT_EQ(s.infiniteLights.size(), 1u);
+  ASSERT_EQ(s.lights().size(), 2u);
+  EXPECT_TRUE(s.features().has(Feature::DefaultLight));
+  EXPECT_EQ(s.infiniteLights().size(), 1u);
   // Switched off, the emitters alone light the scene.
   d.render.defaultLight = false;
   s = buildRenderScene(d);
-  EXPECT_EQ(s.lights.size(), 1u);
-  EXPECT_FALSE(s.features.has(Feature::DefaultLight));
+  EXPECT_EQ(s.lights().size(), 1u);
+  EXPECT_FALSE(s.features().has(Feature::DefaultLight));
   // ... and is listed, with the reason, for `glint info`.
-  ASSERT_EQ(s.unsampledEmitters.size(), 1u);
-  EXPECT_EQ(s.unsampledEmitters[0].shape, "plane");
-  EXPECT_NE(s.unsampledEmitters[0].reason.find("unbounded"), std::string::npos);
+  ASSERT_EQ(s.unsampledEmitters().size(), 1u);
+  EXPECT_EQ(s.unsampledEmitters()[0].shape, "plane");
+  EXPECT_NE(s.unsampledEmitters()[0].reason.find("unbounded"), std::string::npos);
 }
 
 TEST(SidecarLights, EmittingCsgTreesAreListedAsUnsampled) {
@@ -362,12 +362,12 @@ TEST(SidecarLights, EmittingCsgTreesAreListedAsUnsampled) {
       {"type": "sphere", "radius": 0.5, "material": "glow", "transform": [{"translate": [3, 0, 0]}]}]})");
   d.render.defaultLight = false;  // the emitters alone
   RenderScene s = buildRenderScene(d);
-  ASSERT_EQ(s.lights.size(), 1u);  // the sphere
-  EXPECT_EQ(s.instanceLight[0], -1);
-  ASSERT_EQ(s.unsampledEmitters.size(), 1u);
-  EXPECT_EQ(s.unsampledEmitters[0].instance, 0u);
-  EXPECT_EQ(s.unsampledEmitters[0].shape, "csg");
-  EXPECT_NE(s.unsampledEmitters[0].reason.find("CSG"), std::string::npos);
+  ASSERT_EQ(s.lights().size(), 1u);  // the sphere
+  EXPECT_EQ(s.instanceLight()[0], -1);
+  ASSERT_EQ(s.unsampledEmitters().size(), 1u);
+  EXPECT_EQ(s.unsampledEmitters()[0].instance, 0u);
+  EXPECT_EQ(s.unsampledEmitters()[0].shape, "csg");
+  EXPECT_NE(s.unsampledEmitters()[0].reason.find("CSG"), std::string::npos);
 }
 
 }  // namespace

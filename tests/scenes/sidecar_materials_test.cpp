@@ -110,7 +110,7 @@ TEST(SidecarMaterials, NodesTakeAssignedMaterials) {
   EXPECT_EQ(d.instances[0].material, 1);
   // The override builds one more material than the glTF's own.
   RenderScene scene = buildRenderScene(d);
-  EXPECT_EQ(scene.meshMaterial.size(), 1u);
+  EXPECT_EQ(scene.geometry().meshes.size(), 1u);
 }
 
 TEST(SidecarMaterials, OverrideSwitchesAGltfMaterialToGlass) {
@@ -119,8 +119,8 @@ TEST(SidecarMaterials, OverrideSwitchesAGltfMaterialToGlass) {
   EXPECT_EQ(d.materials[0].type, MaterialType::Glass);
   EXPECT_EQ(d.materials[0].roughness, 0.0f);
   RenderScene scene = buildRenderScene(d);
-  EXPECT_TRUE(scene.features.has(Feature::Refraction));
-  EXPECT_FALSE(scene.features.has(Feature::Textures));
+  EXPECT_TRUE(scene.features().has(Feature::Refraction));
+  EXPECT_FALSE(scene.features().has(Feature::Textures));
 }
 
 // A glTF material overridden into an impossible Phong is reported at the override (the
@@ -140,18 +140,18 @@ TEST(SidecarMaterials, FeaturesFollowTheMaterials) {
     "materials": [{"name": "Paint", "type": "lambert", "bump": {"texture": "h"}}]})",
                              gltfLike());
   RenderScene scene = buildRenderScene(d);
-  EXPECT_TRUE(scene.features.has(Feature::Bump));
-  EXPECT_TRUE(scene.features.has(Feature::Procedural));
-  EXPECT_FALSE(scene.features.has(Feature::Textures));
-  EXPECT_FALSE(scene.features.has(Feature::Refraction));
-  EXPECT_FALSE(scene.features.has(Feature::Transparency));
+  EXPECT_TRUE(scene.features().has(Feature::Bump));
+  EXPECT_TRUE(scene.features().has(Feature::Procedural));
+  EXPECT_FALSE(scene.features().has(Feature::Textures));
+  EXPECT_FALSE(scene.features().has(Feature::Refraction));
+  EXPECT_FALSE(scene.features().has(Feature::Transparency));
   // A plain scene calls for none of them, so it pays for none of them.
   RenderScene plain = buildRenderScene(gltfLike());
   for (Feature f : {Feature::Bump, Feature::Procedural, Feature::Textures, Feature::Refraction,
                     Feature::Transparency})
-    EXPECT_FALSE(plain.features.has(f)) << featureName(f);
-  EXPECT_FALSE(plain.materials[0]->traits().needs.uvs);
-  EXPECT_FALSE(plain.materials[0]->traits().needs.tangents);
+    EXPECT_FALSE(plain.features().has(f)) << featureName(f);
+  EXPECT_FALSE(plain.materials()[0]->traits().needs.uvs);
+  EXPECT_FALSE(plain.materials()[0]->traits().needs.tangents);
 }
 
 // ---------------------------------------------------------------------------------------------

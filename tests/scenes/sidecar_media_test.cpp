@@ -79,21 +79,21 @@ TEST(SidecarMedia, BuildsMediaAndSetsTheFeature) {
   SceneDescription s = applyMedia(R"([{"object": "ball", "sigma_a": 1},
                                       {"sigma_s": 0.1}])");
   RenderScene scene = buildRenderScene(s);
-  ASSERT_NE(scene.media, nullptr);
-  EXPECT_TRUE(scene.features.has(Feature::Volumes));
-  EXPECT_EQ(scene.media->regionCount(), 2u);
+  ASSERT_NE(scene.media(), nullptr);
+  EXPECT_TRUE(scene.features().has(Feature::Volumes));
+  EXPECT_EQ(scene.media()->regionCount(), 2u);
   // The ball region (radius 2 at the origin) is crossed over 4 units by a ray through it.
   const Ray ray{{-10, 0, 0}, {1, 0, 0}};
   std::vector<MediaScene::Interval> iv;
-  scene.media->intervals(ray, kInfinity, &iv);
+  scene.media()->intervals(ray, kInfinity, &iv);
   ASSERT_EQ(iv.size(), 2u);
   const auto& ball = iv[0].region == 0 ? iv[0] : iv[1];
   EXPECT_NEAR(ball.t1 - ball.t0, 4, 1e-4f);
   // Without media: no feature, no media object.
   SceneDescription none = applyMedia("[]");
   RenderScene plain = buildRenderScene(none);
-  EXPECT_EQ(plain.media, nullptr);
-  EXPECT_FALSE(plain.features.has(Feature::Volumes));
+  EXPECT_EQ(plain.media(), nullptr);
+  EXPECT_FALSE(plain.features().has(Feature::Volumes));
 }
 
 TEST(SidecarMedia, ReadsVolFiles) {

@@ -241,19 +241,19 @@ TEST(SidecarObjects, BuildPlacesShapesAndSetsEffects) {
     {"type": "terrain", "depth": 2}
   ])");
   RenderScene scene = buildRenderScene(s);
-  EXPECT_EQ(scene.geometry.shapeInstanceCount(), 3u);
-  EXPECT_EQ(scene.geometry.instancedTriangleCount(), 32u);  // 2 * 4^2
-  std::vector<std::string> effects = scene.features.names();
+  EXPECT_EQ(scene.geometry().shapeInstanceCount(), 3u);
+  EXPECT_EQ(scene.geometry().instancedTriangleCount(), 32u);  // 2 * 4^2
+  std::vector<std::string> effects = scene.features().names();
   for (const char* e : {"analytic", "csg", "terrain"})
     EXPECT_NE(std::find(effects.begin(), effects.end(), e), effects.end()) << e;
   // The CSG's two leaves: the object's default material and blue.
-  ASSERT_EQ(scene.shapeMaterials.size(), 3u);
-  ASSERT_EQ(scene.shapeMaterials[2].size(), 2u);
-  EXPECT_NE(scene.shapeMaterials[2][0], scene.shapeMaterials[2][1]);
-  EXPECT_EQ(scene.shapeMaterials[1][0], scene.shapeMaterials[2][1]);  // both blue
+  ASSERT_EQ(scene.geometry().shapes.size(), 3u);
+  ASSERT_EQ(scene.shapeMaterials(2).size(), 2u);
+  EXPECT_NE(scene.shapeMaterials(2)[0], scene.shapeMaterials(2)[1]);
+  EXPECT_EQ(scene.shapeMaterials(1)[0], scene.shapeMaterials(2)[1]);  // both blue
   // A ray down onto the sphere finds it above the plane.
   Hit hit;
-  ASSERT_TRUE(scene.accel->closestHit(Ray{{0, 5, 0.01f}, {0, -1, 0}}, &hit));
+  ASSERT_TRUE(scene.accel().closestHit(Ray{{0, 5, 0.01f}, {0, -1, 0}}, &hit));
   EXPECT_NEAR(hit.t, 3.0f, 1e-4f);
 }
 
