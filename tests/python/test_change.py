@@ -55,22 +55,23 @@ def test_changes_last_for_a_render_at_another_time():
     assert np.array_equal(scene.render(spp=2, time=0.5).beauty, scene.render(spp=2).beauty)
 
 
-def copy_of_the_plane(tmp_path):
+def loaded_then_deleted(tmp_path):
+    """The plane loaded and rendered from a copy whose files are then deleted: a render after a
+    change can only work if nothing is read again."""
     folder = tmp_path / "scene"
     folder.mkdir()
-    for name in ("lambert_plane.gltf", "lambert_plane.glint.json"):
+    names = ("lambert_plane.gltf", "lambert_plane.glint.json")
+    for name in names:
         (folder / name).write_bytes((DATA / "scenes" / name).read_bytes())
-    return folder
+    scene = glint.load(folder / "lambert_plane.gltf")
+    scene.render(spp=1)
+    for name in names:
+        (folder / name).unlink()
+    return scene
 
 
 def test_a_light_or_camera_change_rebuilds_only_them_and_reads_no_file(tmp_path):
-    # A copy whose files are gone after loading: rendering after a change can only work if
-    # nothing is read again.
-    folder = copy_of_the_plane(tmp_path)
-    scene = glint.load(folder / "lambert_plane.gltf")
-    scene.render(spp=1)
-    for name in ("lambert_plane.gltf", "lambert_plane.glint.json"):
-        (folder / name).unlink()
+    scene = loaded_then_deleted(tmp_path)
     assert (scene.builds, scene.refreshes) == (1, 0)
     scene.set_light("Bulb", intensity=5)
     lit = scene.render(spp=2)
@@ -102,11 +103,7 @@ def test_a_refreshed_scene_renders_as_a_fresh_load_of_the_change():
 
 
 def test_a_material_change_builds_again_but_reads_no_file(tmp_path):
-    folder = copy_of_the_plane(tmp_path)
-    scene = glint.load(folder / "lambert_plane.gltf")
-    scene.render(spp=1)
-    for name in ("lambert_plane.gltf", "lambert_plane.glint.json"):
-        (folder / name).unlink()
+    scene = loaded_then_deleted(tmp_path)
     scene.update({"materials": [{"name": "Plane", "diffuse": [0.8, 0.2, 0.2]}]})
     scene.render(spp=1)
     assert (scene.builds, scene.refreshes) == (2, 0)
