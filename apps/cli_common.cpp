@@ -205,21 +205,6 @@ void SceneOverrides::apply(SceneDescription* desc) const {
   }
 }
 
-void namingFile(const std::string& file, const std::string& doing,
-                const std::function<void()>& work) {
-  try {
-    work();
-  } catch (const SceneError&) {
-    throw;  // names its file and JSON pointer already
-  } catch (const InputError& e) {
-    throw InputError(file + ": " + e.what());
-  } catch (const std::logic_error&) {
-    throw;  // a bug: main says "internal error"
-  } catch (const std::exception& e) {
-    throw FailureError(file + ": " + (doing.empty() ? "" : doing + ": ") + e.what());
-  }
-}
-
 void createOutputFolder(const std::string& path) {
   const std::filesystem::path folder = std::filesystem::path(path).parent_path();
   std::error_code ec;

@@ -3,7 +3,6 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
-#include <functional>
 #include <optional>
 #include <string>
 
@@ -49,16 +48,6 @@ struct SceneOverrides {
 // fraction or a number that does not fit an int. --help shows the range after the option's
 // type ("INT:>= 1").
 CLI::Validator numberIn(const Range& range, bool whole = false);
-
-// Runs `work`, which loads, builds or renders `file`, so that its errors name the file: a bad
-// input that does not name it already (a renderer setting, a tile count above the image height)
-// becomes the InputError "FILE: message"; a std::logic_error (a bug) passes as it is; anything
-// else that is not a SceneError becomes the failure "FILE: DOING: message" (or "FILE: message"
-// without `doing`: a failed write, out of memory, an Embree failure). The renderer cannot say
-// which file its settings came from; this is where the commands add it, and main.cpp alone turns
-// the error into an exit code.
-void namingFile(const std::string& file, const std::string& doing,
-                const std::function<void()>& work);
 
 // Creates the folder an output `path` goes into when it is missing (a sequence usually goes
 // into a folder of its own: -o out/frame_####.exr). Throws OutputError.

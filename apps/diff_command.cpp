@@ -6,95 +6,21 @@
 #include <exception>
 #include <limits>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "apps/cli_common.h"
 #include "apps/commands.h"
-#include "image/diff.h"
-#include "image/flip.h"
-#include "image/output.h"
-#include "image/statistical.h"
+#include "image/compare.h"
 
 namespace glint::app {
 
 namespace {
 
-struct DiffOptions {
-  std::string a, b;
-  DiffThresholds thresholds;
-  bool statistical = false;
-  StatisticalThresholds statistics;
-  std::string heatMap;  // statistical mode: where to write the |z| heat map
-  bool flip = false;    // also compute FLIP
-  double pixelsPerDegree = kFlipDefaultPixelsPerDegree;
-  double flipMax = std::numeric_limits<double>::infinity();  // fail above this mean FLIP
-  std::string flipMap;                                       // where to write FLIP's error map
+struct DiffOptions : CompareOptions {
   bool json = false;
 };
-
-// FLIP of `a` against reference `b`: LDR-FLIP for two display-encoded images (PNG, JPEG, 8/16-bit
-// TIFF), HDR-FLIP for two scene-linear ones (EXR).
-struct FlipReport {
-  bool hdr = false;
-  FlipResult result;
-};
-
-std::vector<float> rgbOf(const Image& image, const std::string& path) {
-  int r = image.channel("R"), g = image.channel("G"), b = image.channel("B");
-  if (r < 0 || g < 0 || b < 0) {
-    if (image.channels < 3) throw ImageReadError(fmt::format("{}: FLIP needs R, G, B", path));
-    r = 0, g = 1, b = 2;
-  }
-  std::vector<float> rgb(size_t(image.width) * size_t(image.height) * 3);
-  for (size_t i = 0; i < rgb.size() / 3; ++i) {
-    const float* p = &image.pixels[i * size_t(image.channels)];
-    rgb[3 * i] = p[r], rgb[3 * i + 1] = p[g], rgb[3 * i + 2] = p[b];
-  }
-  return rgb;
-}
-
-FlipReport flipImages(const DiffOptions& o, const Image& a, const Image& b) {
-  if (a.floatingPoint != b.floatingPoint)
-    throw ImageReadError(fmt::format(
-        "{} vs {}: FLIP compares two display-encoded images (PNG, JPEG) or two scene-linear "
-        "ones (EXR), not one of each",
-        o.a, o.b));
-  std::vector<float> rgbA = rgbOf(a, o.a), rgbB = rgbOf(b, o.b);
-  FlipReport report;
-  report.hdr = a.floatingPoint;
-  if (report.hdr) {
-    FlipHdrOptions options;
-    options.pixelsPerDegree = o.pixelsPerDegree;
-    report.result = flipHdr(rgbB, rgbA, a.width, a.height, options);
-  } else {
-    report.result = flipLdr(rgbB, rgbA, a.width, a.height, o.pixelsPerDegree);
-  }
-  if (!o.flipMap.empty())
-    writeRawImage(o.flipMap, a.width, a.height, 3, flipHeatMap(report.result.error));
-  return report;
-}
-
-nlohmann::ordered_json flipJson(const DiffOptions& o, const FlipReport& f) {
-  const FlipStats& s = f.result.stats;
-  nlohmann::ordered_json j;
-  j["mode"] = f.hdr ? "hdr" : "ldr";
-  j["pixels_per_degree"] = o.pixelsPerDegree;
-  if (f.hdr)
-    j["exposures"] = {{"start", f.result.exposures.start},
-                      {"stop", f.result.exposures.stop},
-                      {"count", f.result.exposures.count}};
-  j["mean"] = s.mean;
-  j["weighted_median"] = s.weightedMedian;
-  j["weighted_quartiles"] = {s.weightedQuartile1, s.weightedQuartile3};
-  j["percentile_95"] = s.percentile95;
-  j["max"] = s.max;
-  j["max_pixel"] = {s.maxX, s.maxY};
-  j["max_mean_allowed"] = o.flipMax;  // null when there is no limit
-  return j;
-}
 
 void printFlipText(const DiffOptions& o, const FlipReport& f) {
   const FlipStats& s = f.result.stats;
@@ -107,46 +33,6 @@ void printFlipText(const DiffOptions& o, const FlipReport& f) {
       "{:.4g}, max {:.4g} @ ({}, {}){}\n",
       how, o.pixelsPerDegree, s.mean, s.weightedMedian, s.percentile95, s.max, s.maxX, s.maxY,
       std::isfinite(o.flipMax) ? fmt::format(" (limit {:g})", o.flipMax) : "");
-}
-
-// What both modes report first: the files, the verdict and the sizes.
-template <class Result>
-nlohmann::ordered_json jsonHeader(const DiffOptions& o, const Result& r, const char* mode) {
-  nlohmann::ordered_json j;
-  j["a"] = o.a;
-  j["b"] = o.b;
-  if (mode) j["mode"] = mode;
-  j["verdict"] = verdictName(r.verdict);
-  j["pass"] = r.verdict != DiffVerdict::Fail;
-  j["size_a"] = {r.widthA, r.heightA};
-  j["size_b"] = {r.widthB, r.heightB};
-  j["size_mismatch"] = r.sizeMismatch;
-  return j;
-}
-
-void printJson(const DiffOptions& o, const DiffResult& r, const std::optional<FlipReport>& flip) {
-  nlohmann::ordered_json j = jsonHeader(o, r, nullptr);
-  if (!r.sizeMismatch) {  // JSON has no infinity (PSNR of identical images): nlohmann writes null
-    j["channels"] = r.channels;
-    j["pixels"] = r.pixels;
-    j["mean_abs_error"] = r.meanAbsError;
-    j["rmse"] = r.rmse;
-    j["rel_mse"] = r.relMse;
-    j["psnr"] = r.psnr;
-    j["max_error"] = r.maxError;
-    j["max_pixel"] = {r.maxX, r.maxY};
-    j["max_channel"] = r.maxChannel;
-    j["fail_threshold"] = o.thresholds.fail;
-    j["fail_percent_allowed"] = o.thresholds.failPercent;
-    j["fail_pixels"] = r.failPixels;
-    j["fail_pixel_percent"] = r.failPixelPercent;
-    j["warn_threshold"] = o.thresholds.warn;
-    j["warn_percent_allowed"] = o.thresholds.warnPercent;
-    j["warn_pixels"] = r.warnPixels;
-    j["warn_pixel_percent"] = r.warnPixelPercent;
-  }
-  if (flip) j["flip"] = flipJson(o, *flip);
-  fmt::print("{}\n", j.dump(2));
 }
 
 void printText(const DiffOptions& o, const DiffResult& r, const std::optional<FlipReport>& flip) {
@@ -168,36 +54,6 @@ void printText(const DiffOptions& o, const DiffResult& r, const std::optional<Fl
   fmt::print("{}\n", r.verdict == DiffVerdict::Pass   ? "PASS"
                      : r.verdict == DiffVerdict::Warn ? "WARNING"
                                                       : "FAILURE");
-}
-
-void printJson(const DiffOptions& o, const StatisticalResult& r,
-               const std::optional<FlipReport>& flip) {
-  const StatisticalThresholds& t = o.statistics;
-  nlohmann::ordered_json j = jsonHeader(o, r, "statistical");
-  if (!r.sizeMismatch) {
-    j["pixels"] = r.pixels;
-    j["spp"] = {r.sppA, r.sppB};
-    j["variance_model"] = r.varianceModel;
-    j["significance"] = t.significance;
-    j["pixel_z_limit"] = r.pixelZ;
-    j["fail_pixels"] = r.failPixels;
-    j["pass_percent"] = r.passPercent;
-    j["min_pass_percent"] = t.minPassPercent;
-    j["max_z"] = r.maxZ;
-    j["max_z_pixel"] = {r.maxZX, r.maxZY};
-    j["max_z_channel"] = r.maxZChannel;
-    j["mean_z2"] = r.meanZ2;
-    j["global_z"] = r.globalZ;
-    j["global_z_limit"] = r.globalZLimit;
-    j["biased"] = r.biased;
-    j["max_error"] = r.maxError;
-    j["max_error_pixel"] = {r.maxErrorX, r.maxErrorY};
-    j["max_error_allowed"] = t.maxError;  // null when there is no cap
-    j["error_cap_exceeded"] = r.errorCapExceeded;
-    j["non_finite"] = r.nonFinite;
-  }
-  if (flip) j["flip"] = flipJson(o, *flip);
-  fmt::print("{}\n", j.dump(2));
 }
 
 // How A's variance was set, in words: "A's predicted from B's (32 vs 1024 spp)".
@@ -298,36 +154,17 @@ void printText(const DiffOptions& o, const StatisticalResult& r,
   }
 }
 
-// Prints the verdict; true when the images differ (a warning passes). A mean FLIP above
-// --flip-max fails a comparison that would otherwise pass.
-template <class Result>
-bool report(const DiffOptions& o, Result r, const std::optional<FlipReport>& flip) {
-  if (flip && !r.sizeMismatch && flip->result.stats.mean > o.flipMax) r.verdict = DiffVerdict::Fail;
-  if (o.json)
-    printJson(o, r, flip);
-  else
-    printText(o, r, flip);
-  return r.verdict == DiffVerdict::Fail;
-}
-
-// True when the images differ.
+// Prints the verdict; true when the images differ (a warning passes).
 bool runDiff(const DiffOptions& o) {
-  // A FLIP map or limit asks for FLIP.
-  const bool wantFlip = o.flip || !o.flipMap.empty() || std::isfinite(o.flipMax);
   // An unreadable image (ImageReadError) or a failed write (OutputError) goes to main.
-  if (!o.statistical) {
-    DiffResult r = diffImages(o.a, o.b, o.thresholds);
-    std::optional<FlipReport> flip;
-    // OpenImageIO's comparison read the files itself; FLIP reads them once more.
-    if (wantFlip && !r.sizeMismatch) flip = flipImages(o, readImage(o.a), readImage(o.b));
-    return report(o, r, flip);
-  }
-  const Image a = readImage(o.a), b = readImage(o.b);
-  StatisticalResult r = diffStatistical(a, o.a, b, o.b, o.statistics);
-  if (!o.heatMap.empty() && !r.sizeMismatch) writeZHeatMap(o.heatMap, r);
-  std::optional<FlipReport> flip;
-  if (wantFlip && !r.sizeMismatch) flip = flipImages(o, a, b);
-  return report(o, r, flip);
+  const Comparison c = compareImages(o);
+  if (o.json)
+    fmt::print("{}\n", comparisonJson(o, c));
+  else if (c.plain)
+    printText(o, *c.plain, c.flip);
+  else
+    printText(o, *c.statistical, c.flip);
+  return c.differ();
 }
 
 }  // namespace

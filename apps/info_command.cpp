@@ -7,11 +7,9 @@
 #include "apps/cli_common.h"
 #include "apps/commands.h"
 #include "apps/frames.h"
-#include "materials/image_texture.h"
-#include "renderer/integrator.h"
 #include "scenes/build.h"
 #include "scenes/load.h"
-#include "scenes/vdb_file.h"
+#include "scenes/scene_info.h"
 
 namespace glint::app {
 
@@ -24,26 +22,6 @@ struct InfoArgs {
   SceneOverrides overrides;
 };
 
-const char* lightTypeName(LightType t) {
-  switch (t) {
-    case LightType::Point:
-      return "point";
-    case LightType::Spot:
-      return "spot";
-    case LightType::Directional:
-      return "directional";
-    case LightType::Quad:
-      return "quad";
-    case LightType::Disk:
-      return "disk";
-    case LightType::Sphere:
-      return "sphere";
-    case LightType::Projective:
-      return "projective";
-  }
-  return "?";
-}
-
 // "a, b, c" of up to `limit` names, then "... (N more)".
 template <class T, class F>
 std::string listNames(const std::vector<T>& items, F name, size_t limit = 8) {
@@ -54,57 +32,32 @@ std::string listNames(const std::vector<T>& items, F name, size_t limit = 8) {
 }
 
 // "ball (sphere)", "dice (csg, 7 leaves)", "mountain (terrain, 32768 triangles)".
-std::string objectSummary(const ObjectDesc& o) {
-  std::string name = o.name.empty() ? std::string("(unnamed)") : o.name;
-  switch (o.kind) {
-    case ObjectKind::Shape:
-      return name + " (" + o.shape->typeName() + ")";
-    case ObjectKind::Csg: {
-      size_t leaves = 0;
-      for (const CsgNodeDesc& n : o.csg.nodes) leaves += n.op == CsgOp::Leaf;
-      return name + " (csg, " + std::to_string(leaves) + " leaves)";
-    }
-    case ObjectKind::Terrain:
-      return name + " (terrain, " + std::to_string(2ull << (2 * o.terrain.depth)) + " triangles)";
-  }
-  return name;
+std::string objectSummary(const SceneInfo::Object& o) {
+  const std::string name = o.name.empty() ? std::string("(unnamed)") : o.name;
+  if (o.type == "csg") return name + " (csg, " + std::to_string(o.leaves) + " leaves)";
+  if (o.type == "terrain")
+    return name + " (terrain, " + std::to_string(o.triangles) + " triangles)";
+  return name + " (" + o.type + ")";
 }
 
-// The glTF nodes that place a mesh, each with its meshes, as a sidecar material's "nodes" list
-// names them (scenes/sidecar_materials.cpp matches InstanceDesc::node): "'CubeLeft' (mesh
-// 'Cube')". A node placed several times (EXT_mesh_gpu_instancing) or holding a mesh of several
-// primitives (one MeshDesc each, "Name (primitive 1)") is listed once, in file order.
-std::string nodeSummary(const SceneDescription& desc) {
-  std::vector<std::pair<std::string, std::vector<std::string>>> nodes;
-  for (const InstanceDesc& inst : desc.instances) {
-    auto it = std::find_if(nodes.begin(), nodes.end(),
-                           [&](const auto& n) { return n.first == inst.node; });
-    if (it == nodes.end()) it = nodes.insert(nodes.end(), {inst.node, {}});
-    const std::string& mesh = desc.meshes[size_t(inst.mesh)].name;
-    const std::string name = mesh.empty() ? "mesh " + std::to_string(inst.mesh) : mesh;
-    if (std::find(it->second.begin(), it->second.end(), name) == it->second.end())
-      it->second.push_back(name);
-  }
+// The nodes with a mesh, as a sidecar material's "nodes" list names them: "'CubeLeft' (mesh
+// 'Cube')".
+std::string nodeSummary(const std::vector<SceneInfo::Node>& nodes) {
   return std::to_string(nodes.size()) +
          " with a mesh (names for a sidecar material's "
          "\"nodes\"): " +
          listNames(
              nodes,
-             [](const auto& n) {
-               return "'" + n.first + "' (mesh" + (n.second.size() == 1 ? " " : "es ") +
-                      quotedNames(n.second) + ")";
+             [](const SceneInfo::Node& n) {
+               return "'" + n.name + "' (mesh" + (n.meshes.size() == 1 ? " " : "es ") +
+                      quotedNames(n.meshes) + ")";
              },
              32);
 }
 
-// The whole frames that cover the animation's keys from `start` to `end` seconds at `fps`: the
-// last frame at or before the first key to the first at or after the last, as --frames takes
-// them (never below 0). A tolerance keeps a key stored as the float 1/24 s on frame 1.
-std::pair<long long, long long> framesCovering(double start, double end, double fps) {
-  const double eps = 1e-3;  // of a frame
-  const long long first = std::max(0LL, (long long)std::floor(start * fps + eps));
-  const long long last = std::max(first, (long long)std::ceil(end * fps - eps));
-  return {first, last};
+// "Name (type)", "(unnamed) (type)".
+std::string namedSummary(const SceneInfo::Named& n) {
+  return (n.name.empty() ? std::string("(unnamed)") : n.name) + " (" + n.type + ")";
 }
 
 // The effects of every frame of `args.frames` (each built as `glint render --frames` would
@@ -145,22 +98,18 @@ void printEffectsOverFrames(const InfoArgs& args, double fps) {
   if (names.empty()) std::printf("  none\n");
 }
 
-// The media, and each grid of every VDB file they read: what a user needs to name grids in
-// the sidecar and to judge the memory a volume takes.
-void printMedia(const SceneDescription& desc) {
-  if (desc.media.empty()) return;
-  static const char* kTypes[] = {"constant", "grid", "noise", "exponential", "vdb"};
-  std::printf("media:      %zu: %s\n", desc.media.size(),
-              listNames(desc.media, [](const MediumDesc& m) {
-                return (m.name.empty() ? std::string("(unnamed)") : m.name) + " (" +
-                       kTypes[int(m.density)] + ")";
+// The media, and each grid of every VDB file they read.
+void printMedia(const SceneInfo& info) {
+  if (info.media.empty()) return;
+  std::printf("media:      %zu: %s\n", info.media.size(),
+              listNames(info.media, [](const SceneInfo::Medium& m) {
+                return (m.name.empty() ? std::string("(unnamed)") : m.name) + " (" + m.type + ")";
               }).c_str());
-  for (const MediumDesc& m : desc.media) {
-    if (!m.vdb) continue;
-    const VdbVolume& v = *m.vdb;
-    std::printf("  vdb %s: %.2f MiB in memory (NanoVDB grids and majorant grid)\n", v.file.c_str(),
-                double(v.bytes()) / (1024.0 * 1024.0));
-    for (const VdbGridInfo& g : listVdbGrids(v.file))
+  for (const SceneInfo::Medium& m : info.media) {
+    if (m.vdbFile.empty()) continue;
+    std::printf("  vdb %s: %.2f MiB in memory (NanoVDB grids and majorant grid)\n",
+                m.vdbFile.c_str(), double(m.vdbBytes) / (1024.0 * 1024.0));
+    for (const VdbGridInfo& g : m.grids)
       std::printf(
           "    grid '%s': %s, voxel %g x %g x %g, %llu active voxels, bounds (%g, %g, %g) to "
           "(%g, %g, %g), %.2f MiB\n",
@@ -172,119 +121,88 @@ void printMedia(const SceneDescription& desc) {
 }
 
 void runInfo(const InfoArgs& args) {
-  SceneDescription desc;
-  RenderScene scene;
+  SceneInfo info;
   namingFile(args.scene, "cannot build the scene", [&] {
-    desc = loadScene(args.scene, args.sidecar);
+    SceneDescription desc = loadScene(args.scene, args.sidecar);
     args.overrides.apply(&desc);
     // Nothing here reads a texel: image textures stay undecoded.
-    scene = buildRenderScene(desc, nullptr, {.decodeImages = false});
+    const RenderScene scene = buildRenderScene(desc, nullptr, {.decodeImages = false});
+    info = describeScene(desc, scene);
   });
-  for (const std::string& w : desc.warnings) std::printf("warning: %s\n", w.c_str());
+  for (const std::string& w : info.warnings) std::printf("warning: %s\n", w.c_str());
 
-  size_t triangles = 0;
-  for (const MeshDesc& m : desc.meshes) triangles += m.indices.size() / 3;
-  Bounds3f b = scene.geometry().bounds();
-  std::printf("scene:      %s\n", desc.file.c_str());
+  std::printf("scene:      %s\n", info.file.c_str());
   std::printf("meshes:     %zu (%zu triangles stored, %zu placed in the world)%s%s\n",
-              desc.meshes.size(), triangles, scene.geometry().instancedTriangleCount(),
-              desc.meshes.empty() ? "" : ": ", listNames(desc.meshes, [](const MeshDesc& m) {
-                                                 return m.name.empty() ? std::string("(unnamed)")
-                                                                       : m.name;
+              info.meshes.size(), info.trianglesStored, info.trianglesPlaced,
+              info.meshes.empty() ? "" : ": ", listNames(info.meshes, [](const std::string& m) {
+                                                 return m.empty() ? std::string("(unnamed)") : m;
                                                }).c_str());
-  std::printf("instances:  %zu\n", desc.instances.size());
-  if (!desc.instances.empty()) std::printf("nodes:      %s\n", nodeSummary(desc).c_str());
-  if (!desc.objects.empty())
-    std::printf(
-        "objects:    %zu: %s\n", desc.objects.size(),
-        listNames(desc.objects, [](const ObjectDesc& o) { return objectSummary(o); }).c_str());
-  std::printf("materials:  %zu%s%s\n", desc.materials.size(), desc.materials.empty() ? "" : ": ",
-              listNames(desc.materials, [](const MaterialDesc& m) {
-                return (m.name.empty() ? std::string("(unnamed)") : m.name) + " (" +
-                       materialTypeName(m.type) + ")";
-              }).c_str());
-  std::printf("textures:   %zu (%zu images)\n", desc.textures.size(), desc.images.size());
+  std::printf("instances:  %zu\n", info.instances);
+  if (info.instances > 0) std::printf("nodes:      %s\n", nodeSummary(info.nodes).c_str());
+  if (!info.objects.empty())
+    std::printf("objects:    %zu: %s\n", info.objects.size(),
+                listNames(info.objects, objectSummary).c_str());
+  std::printf("materials:  %zu%s%s\n", info.materials.size(), info.materials.empty() ? "" : ": ",
+              listNames(info.materials, namedSummary).c_str());
+  std::printf("textures:   %zu (%zu images)\n", info.textures, info.images);
   // Where each image the textures read lives: in memory (a MIP pyramid glint looks up itself)
   // or in OpenImageIO's texture cache (tiled, MIP-mapped files, and images too big to hold).
-  if (scene.images()) {
-    size_t resident = 0;
-    for (TextureImages::Handle h : scene.images()->handles()) {
-      std::printf("  image %s\n", scene.images()->describe(h).c_str());
-      resident += scene.images()->residentBytes(h);
-    }
+  if (info.imagesListed) {
+    for (const std::string& image : info.imageDescriptions)
+      std::printf("  image %s\n", image.c_str());
     std::printf("  images in memory: %.1f MiB once decoded\n",
-                double(resident) / (1024.0 * 1024.0));
+                double(info.imageBytes) / (1024.0 * 1024.0));
   }
-  if (!desc.variants.empty()) {
+  if (!info.variants.empty()) {
     std::string names;
-    for (const std::string& v : desc.variants) names += (names.empty() ? "" : ", ") + v;
-    std::printf(
-        "variants:   %zu: %s%s\n", desc.variants.size(), names.c_str(),
-        desc.render.variant.empty() ? "" : ("; showing '" + desc.render.variant + "'").c_str());
+    for (const std::string& v : info.variants) names += (names.empty() ? "" : ", ") + v;
+    std::printf("variants:   %zu: %s%s\n", info.variants.size(), names.c_str(),
+                info.variant.empty() ? "" : ("; showing '" + info.variant + "'").c_str());
   }
-  std::printf("cameras:    %zu%s%s; rendering with '%s'\n", desc.cameras.size(),
-              desc.cameras.empty() ? "" : ": ",
-              listNames(desc.cameras,
-                        [](const CameraDesc& c) {
-                          return c.name + (c.type == CameraType::Perspective ? " (perspective)"
-                                                                             : " (orthographic)");
-                        })
+  std::printf("cameras:    %zu%s%s; rendering with '%s'\n", info.cameras.size(),
+              info.cameras.empty() ? "" : ": ",
+              listNames(info.cameras,
+                        [](const SceneInfo::Named& c) { return c.name + " (" + c.type + ")"; })
                   .c_str(),
-              scene.cameraName().c_str());
-  std::printf("lights:     %zu%s%s\n", desc.lights.size(), desc.lights.empty() ? "" : ": ",
-              listNames(desc.lights, [](const LightDesc& l) {
-                return (l.name.empty() ? std::string("(unnamed)") : l.name) + " (" +
-                       lightTypeName(l.type) + ")";
-              }).c_str());
-  printMedia(desc);
+              info.camera.c_str());
+  std::printf("lights:     %zu%s%s\n", info.lights.size(), info.lights.empty() ? "" : ": ",
+              listNames(info.lights, namedSummary).c_str());
+  printMedia(info);
   // Emitting surfaces that are not lights: next-event estimation never samples them.
-  for (const UnsampledEmitter& e : scene.unsampledEmitters())
+  for (const UnsampledEmitter& e : info.unsampledEmitters)
     std::printf("unsampled emitter: instance %u (%s): %s\n", e.instance, e.shape.c_str(),
                 e.reason.c_str());
+  const Bounds3f& b = info.bounds;
   if (b.empty())
     std::printf("bounds:     empty\n");
   else
     std::printf("bounds:     (%g, %g, %g) to (%g, %g, %g)\n", b.lower.x, b.lower.y, b.lower.z,
                 b.upper.x, b.upper.y, b.upper.z);
-  std::string integratorLabel = integratorName(resolveIntegrator(scene, desc.render.integrator));
-  if (desc.render.integrator.type == "auto") integratorLabel += " (auto)";
-  std::printf("image:      %dx%d, %d spp, seed %llu, accel %s, integrator %s\n",
-              scene.camera().width(), scene.camera().height(), desc.render.spp,
-              (unsigned long long)desc.render.seed, desc.render.accel.c_str(),
-              integratorLabel.c_str());
-  auto [animStart, animEnd] = animationRange(desc);
-  size_t animatedNodes = 0;
-  for (const NodeDesc& n : desc.nodes) animatedNodes += n.hasTracks();
-  if (animatedNodes > 0) {
-    const auto [firstFrame, lastFrame] = framesCovering(animStart, animEnd, desc.render.fps);
+  std::printf("image:      %dx%d, %d spp, seed %llu, accel %s, integrator %s%s\n", info.width,
+              info.height, info.spp, (unsigned long long)info.seed, info.accel.c_str(),
+              info.integrator.c_str(), info.integratorAuto ? " (auto)" : "");
+  if (info.animatedNodes > 0)
     std::printf(
         "animation:  %zu animated node%s, keys from %g s to %g s (frames %lld-%lld at %g fps)\n",
-        animatedNodes, animatedNodes == 1 ? "" : "s", animStart, animEnd, firstFrame, lastFrame,
-        desc.render.fps);
-  }
+        info.animatedNodes, info.animatedNodes == 1 ? "" : "s", info.animationStart,
+        info.animationEnd, info.firstFrame, info.lastFrame, info.fps);
   // What motion blur costs: how many placements move and meshes deform over the shutter, and
   // with how many time steps (each a pose Embree stores and blends).
-  size_t moving = 0, movingKeys = 0, deforming = 0, deformSteps = 0;
-  for (const Instance& inst : scene.geometry().instances)
-    if (inst.moves()) ++moving, movingKeys = std::max(movingKeys, inst.motion.keyCount());
-  for (const TriangleMesh& m : scene.geometry().meshes)
-    if (m.deforms()) ++deforming, deformSteps = std::max(deformSteps, m.positionSteps.size());
   std::string motion;
-  if (moving > 0)
-    motion = std::to_string(moving) + " moving placement" + (moving == 1 ? "" : "s") + " (up to " +
-             std::to_string(movingKeys) + " keys)";
-  if (deforming > 0)
-    motion += (motion.empty() ? "" : ", ") + std::to_string(deforming) + " deforming mesh" +
-              (deforming == 1 ? "" : "es") + " (up to " + std::to_string(deformSteps) +
+  if (info.moving > 0)
+    motion = std::to_string(info.moving) + " moving placement" + (info.moving == 1 ? "" : "s") +
+             " (up to " + std::to_string(info.movingKeys) + " keys)";
+  if (info.deforming > 0)
+    motion += (motion.empty() ? "" : ", ") + std::to_string(info.deforming) + " deforming mesh" +
+              (info.deforming == 1 ? "" : "es") + " (up to " + std::to_string(info.deformSteps) +
               " time steps)";
   if (!motion.empty()) std::printf("motion:     %s over the shutter\n", motion.c_str());
-  std::vector<std::string> effects = scene.features().names();
-  std::printf("effects:    %s\n", effects.empty()
-                                      ? "none"
-                                      : listNames(
-                                            effects, [](const std::string& s) { return s; }, 64)
-                                            .c_str());
-  if (args.frames) printEffectsOverFrames(args, desc.render.fps);
+  std::printf("effects:    %s\n",
+              info.effects.empty() ? "none"
+                                   : listNames(
+                                         info.effects, [](const std::string& s) { return s; }, 64)
+                                         .c_str());
+  if (args.frames) printEffectsOverFrames(args, info.fps);
 }
 
 }  // namespace

@@ -106,19 +106,10 @@ bool hasBudget(const RenderArgs& args) { return args.timeLimit || args.noiseTarg
 
 // When this render stops: --spp, or a budget (capped by --spp only when it is given).
 StopRule stopRuleFor(const RenderArgs& args, const SceneDescription& desc) {
-  StopRule rule;
-  rule.cancel = args.cancel;
-  rule.timeLimit = args.timeLimitSeconds;
-  if (args.noiseTarget) rule.noiseTarget = *args.noiseTarget;
-  rule.maxSpp = hasBudget(args) && !args.overrides.spp ? kNoSppCap : uint32_t(desc.render.spp);
-  // Anti-aliasing by subdivision records the most looks a pixel can hold as its spp (what
-  // --resume compares); it refuses budgets itself.
-  if (desc.render.adaptive.subdivide > 0 && !hasBudget(args))
-    rule.maxSpp = subdivisionMaxLooks(desc.render.adaptive.subdivide);
-  // A budget needs small first passes to fit a short limit; a plain render passes every 16 spp
-  // (the widest packets), which keeps it interruptible.
-  rule.warmup = hasBudget(args);
-  return rule;
+  const RenderBudget budget{.timeLimit = args.timeLimitSeconds,
+                            .noiseTarget = args.noiseTarget.value_or(0),
+                            .sppAsked = args.overrides.spp.has_value()};
+  return glint::stopRuleFor(desc.render, budget, args.cancel);
 }
 
 // The process's resident memory now and at its peak, in MiB, from /proc/self/status (Linux);
@@ -308,12 +299,9 @@ bool renderAndWrite(const RenderArgs& args, const SceneDescription& desc, const 
                        from ? &from->film : nullptr, from ? from->spp : 0);
   });
   if (record->result.spp == 0) return false;  // interrupted before a pass completed
-  ImageMetadata meta{args.scene,        int(record->result.spp),
-                     desc.render.seed,  record->stats.renderSeconds + (from ? from->seconds : 0),
-                     desc.render.accel, integrator};
-  meta.time = desc.render.time;
-  meta.stop = std::string(stopReasonName(record->result.reason));
-  meta.error = record->result.error;
+  const ImageMetadata meta =
+      renderMetadata(args.scene, desc.render, integrator, record->result,
+                     record->stats.renderSeconds + (from ? from->seconds : 0));
   for (const std::string& out : outputs) writeImage(out, film, desc.render, meta);
   return true;
 }

@@ -55,21 +55,9 @@ Image exrImage(const Film& film, const RenderSettings& settings) {
 // the OCIO display/view transform.
 Image displayImage(const std::string& path, const Film& film, const ToneMapSettings& tonemap,
                    double logAverageLuminance) {
-  std::vector<Rgb> color = film.color;
-  applyToneMap(color, tonemap, logAverageLuminance);
-
   Image img;
   img.width = film.width, img.height = film.height, img.channels = 3;
-  img.pixels.resize(color.size() * 3);
-  for (size_t i = 0; i < color.size(); ++i) {
-    img.pixels[3 * i + 0] = color[i].x;
-    img.pixels[3 * i + 1] = color[i].y;
-    img.pixels[3 * i + 2] = color[i].z;
-  }
-  applyDisplayView(img.pixels, tonemap.display, tonemap.view);
-  // OIIO clamps to [0, 1] and rounds when it quantizes; NaN has no defined conversion.
-  for (float& v : img.pixels)
-    if (std::isnan(v)) v = 0;
+  img.pixels = displayPixels(film.color, tonemap, logAverageLuminance);
   img.type = isTiffPath(path) ? PixelType::UInt16 : PixelType::UInt8;
   return img;
 }
@@ -88,6 +76,33 @@ void checkWritable(const std::string& path, const Film& film) {
 }
 
 }  // namespace
+
+std::vector<float> displayPixels(std::span<const Rgb> sceneLinear, const ToneMapSettings& tonemap,
+                                 double logAverageLuminance) {
+  std::vector<Rgb> color(sceneLinear.begin(), sceneLinear.end());
+  applyToneMap(color, tonemap, logAverageLuminance);
+  std::vector<float> pixels(color.size() * 3);
+  for (size_t i = 0; i < color.size(); ++i) {
+    pixels[3 * i + 0] = color[i].x;
+    pixels[3 * i + 1] = color[i].y;
+    pixels[3 * i + 2] = color[i].z;
+  }
+  applyDisplayView(pixels, tonemap.display, tonemap.view);
+  // OIIO clamps to [0, 1] and rounds when it quantizes; NaN has no defined conversion.
+  for (float& v : pixels)
+    if (std::isnan(v)) v = 0;
+  return pixels;
+}
+
+ImageMetadata renderMetadata(const std::string& scene, const RenderSettings& settings,
+                             const std::string& integrator, const ProgressiveResult& result,
+                             double seconds) {
+  ImageMetadata meta{scene, int(result.spp), settings.seed, seconds, settings.accel, integrator};
+  meta.time = settings.time;
+  meta.stop = std::string(stopReasonName(result.reason));
+  meta.error = result.error;
+  return meta;
+}
 
 void writeImage(const std::string& path, const Film& film, const RenderSettings& settings,
                 const ImageMetadata& meta) {

@@ -3,14 +3,29 @@
 // writer. Reading films back (EXR, a render to resume, environment maps) is image/input.h.
 #pragma once
 
+#include <span>
 #include <string>
 #include <vector>
 
 #include "image/io.h"
 #include "renderer/film.h"
+#include "renderer/render.h"
 #include "renderer/settings.h"
 
 namespace glint {
+
+// Scene-linear pixels as a display shows them: exposure, tone mapping with the scale that
+// `logAverageLuminance` gives (toneMapScale), then the OCIO display/view transform; interleaved
+// RGB, display-encoded, NaN as 0 (not clamped: quantizing clamps). What PNG, JPEG and TIFF
+// output hold. Throws ColorError for an unknown display or view.
+std::vector<float> displayPixels(std::span<const Rgb> sceneLinear, const ToneMapSettings& tonemap,
+                                 double logAverageLuminance);
+
+// glint's metadata of a render of `scene` with `settings` by `integrator` that ended as `result`
+// after `seconds` of rendering.
+ImageMetadata renderMetadata(const std::string& scene, const RenderSettings& settings,
+                             const std::string& integrator, const ProgressiveResult& result,
+                             double seconds);
 
 // Writes `film` to `path` (format by extension). The data goes to a temporary file in the same
 // folder that is renamed over `path` only when complete: a failed write never leaves a

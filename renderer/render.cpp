@@ -416,6 +416,44 @@ class PassProgress {
 
 }  // namespace
 
+BudgetedRender::BudgetedRender(const RenderScene& scene, const Integrator& integrator,
+                               const RenderSettings& settings, const RenderOptions& options,
+                               const StopRule& rule)
+    : render_(scene, integrator, settings, options),
+      budget_(rule),
+      cancel_(rule.cancel),
+      began_(std::chrono::steady_clock::now()) {}
+
+std::optional<StopReason> BudgetedRender::stopBeforeNextPass() {
+  if (!decided_) {
+    const auto error = [&] { return render_.estimatedError(); };
+    decision_ =
+        budget_.stopBefore(render_.spp(), budget_.nextPass(render_.spp()), seconds(), error);
+    if (decision_) reason_ = *decision_;
+    decided_ = true;
+  }
+  return decision_;
+}
+
+bool BudgetedRender::nextPass(const std::function<void(uint64_t)>& onTile) {
+  if (stopBeforeNextPass()) return false;
+  decided_ = false;
+  const uint32_t before = render_.spp();
+  const auto passStart = std::chrono::steady_clock::now();
+  if (!render_.renderTo(budget_.nextPass(before), cancel_, onTile)) {
+    reason_ = StopReason::Interrupted;
+    return false;
+  }
+  budget_.passDone(render_.spp() - before, secondsSince(passStart));
+  return true;
+}
+
+double BudgetedRender::seconds() const { return secondsSince(began_); }
+
+ProgressiveResult BudgetedRender::result() const {
+  return {reason_, render_.spp(), render_.estimatedError(), render_.passes()};
+}
+
 Film renderUntil(const RenderScene& scene, const Integrator& integrator,
                  const RenderSettings& settings, const RenderOptions& options, const StopRule& rule,
                  RenderStats* stats, ProgressiveResult* result, const Film* resume,
@@ -423,39 +461,19 @@ Film renderUntil(const RenderScene& scene, const Integrator& integrator,
   if (settings.adaptive.subdivide > 0)
     return renderSubdividedUntil(scene, integrator, settings, options, rule, stats, result,
                                  resume != nullptr);
-  ProgressiveRender pr(scene, integrator, settings, options);
+  BudgetedRender budgeted(scene, integrator, settings, options, rule);
+  ProgressiveRender& pr = budgeted.progressive();
   if (resume) pr.resumeFrom(*resume, resumeSpp);
-  BudgetStop budget(rule);
   PassProgress progress(rule, pr.spp(), double(pr.film().width) * double(pr.film().height),
                         options.progress);
   const auto onTile = [&](uint64_t samples) { progress.advance(samples); };
-  const auto began = std::chrono::steady_clock::now();
-  const auto error = [&] { return pr.estimatedError(); };
-  StopReason reason = StopReason::Spp;
-  while (true) {
-    const uint32_t next = budget.nextPass(pr.spp());
-    if (const std::optional<StopReason> stop =
-            budget.stopBefore(pr.spp(), next, secondsSince(began), error)) {
-      reason = *stop;
-      break;
-    }
-    const uint32_t before = pr.spp();
-    const auto passStart = std::chrono::steady_clock::now();
-    if (!pr.renderTo(next, rule.cancel, onTile)) {
-      reason = StopReason::Interrupted;
-      break;
-    }
-    budget.passDone(pr.spp() - before, secondsSince(passStart));
+  while (budgeted.nextPass(onTile)) {
     if (onPass) onPass(pr);
-    progress.passDone(pr, budget, secondsSince(began));
+    progress.passDone(pr, budgeted.budget(), budgeted.seconds());
   }
-  if (reason != StopReason::Interrupted) progress.finish();
-  if (result) {
-    result->reason = reason;
-    result->spp = pr.spp();
-    result->error = pr.estimatedError();
-    result->passes = pr.passes();
-  }
+  const ProgressiveResult ended = budgeted.result();
+  if (ended.reason != StopReason::Interrupted) progress.finish();
+  if (result) *result = ended;
   if (stats) *stats = pr.stats();
   return pr.takeFilm();
 }

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -161,6 +162,37 @@ struct ProgressiveResult {
   uint32_t spp = 0;  // reached
   double error = 0;  // estimatedRelativeError at the end
   int passes = 0;
+};
+
+// renderUntil one pass at a time: the passes `rule` allows, for a caller that looks at the image
+// after each (the Python module's progressive render; renderUntil is this loop with a progress
+// bar).
+class BudgetedRender {
+ public:
+  // Throws InputError for a crop outside the image (as render()).
+  BudgetedRender(const RenderScene& scene, const Integrator& integrator,
+                 const RenderSettings& settings, const RenderOptions& options,
+                 const StopRule& rule);
+  // Whether the rule ends the render before the next pass, and why. Decided once per pass (a
+  // time limit's answer changes with time), and nextPass() follows the decision.
+  std::optional<StopReason> stopBeforeNextPass();
+  // Renders the next pass, or returns false when the render is over: the rule stops it before
+  // the pass, or its `cancel` during it (the pass is dropped). result() says why.
+  bool nextPass(const std::function<void(uint64_t)>& onTile = {});
+  ProgressiveRender& progressive() { return render_; }
+  const ProgressiveRender& progressive() const { return render_; }
+  const BudgetStop& budget() const { return budget_; }
+  double seconds() const;            // since construction
+  ProgressiveResult result() const;  // the passes so far, and why the render stopped
+
+ private:
+  ProgressiveRender render_;
+  BudgetStop budget_;
+  const std::atomic<bool>* cancel_;
+  std::chrono::steady_clock::time_point began_;
+  StopReason reason_ = StopReason::Spp;
+  bool decided_ = false;  // stopBeforeNextPass() decided for the pass after the last one
+  std::optional<StopReason> decision_;
 };
 
 // Renders passes until `rule` says stop (from `resume`'s state when given: a film that

@@ -63,6 +63,8 @@ struct IntegratorSettings {
   // each; the others share shadow rays by unbiased sampling (InstantRadiosityIntegrator).
   // 0: every VPL gets a shadow ray.
   float vplShadowShare = 1.0f / 16;
+
+  friend bool operator==(const IntegratorSettings&, const IntegratorSettings&) = default;
 };
 
 // The deepest anti-aliasing by subdivision (AdaptiveSettings::subdivide): 2^6 = 64 squares per

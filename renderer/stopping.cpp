@@ -5,6 +5,8 @@
 
 #include <cmath>
 
+#include "renderer/subdivide.h"
+
 namespace glint {
 
 // ---- Passes -----------------------------------------------------------------------------
@@ -108,6 +110,25 @@ void ContrastStop::resume(uint32_t spp, const PixelSumsGrid& sums, int regionWid
 }
 
 // ---- Budgets ----------------------------------------------------------------------------
+
+StopRule stopRuleFor(const RenderSettings& settings, const RenderBudget& budget,
+                     const std::atomic<bool>* cancel) {
+  // The spp cap of a budgeted render given no spp: none, in effect (glint:spp is an int).
+  constexpr uint32_t kNoSppCap = 0x7fffffff;
+  StopRule rule;
+  rule.cancel = cancel;
+  rule.timeLimit = budget.timeLimit;
+  rule.noiseTarget = budget.noiseTarget;
+  rule.maxSpp = budget.given() && !budget.sppAsked ? kNoSppCap : uint32_t(settings.spp);
+  // Anti-aliasing by subdivision records the most looks a pixel can hold as its spp (what
+  // --resume compares); it refuses budgets itself.
+  if (settings.adaptive.subdivide > 0 && !budget.given())
+    rule.maxSpp = subdivisionMaxLooks(settings.adaptive.subdivide);
+  // A budget needs small first passes to fit a short limit; a plain render passes every 16 spp
+  // (the widest packets), which keeps it interruptible.
+  rule.warmup = budget.given();
+  return rule;
+}
 
 std::string_view stopReasonName(StopReason reason) {
   switch (reason) {

@@ -160,6 +160,23 @@ struct StopRule {
   const std::atomic<bool>* cancel = nullptr;
 };
 
+// What a user asks of a render beyond its settings: a time limit and a noise target (0: none),
+// and whether the spp was asked for too (a budget given no spp has no spp cap; the settings'
+// spp, from a sidecar, does not cap it). What `glint render` and the Python module both take.
+struct RenderBudget {
+  double timeLimit = 0;
+  double noiseTarget = 0;
+  bool sppAsked = false;
+  bool given() const { return timeLimit > 0 || noiseTarget > 0; }
+};
+
+// The StopRule of a render of `settings` with `budget`: without a budget, settings.spp in passes
+// of 16 (the widest packets; interruptible), or the most looks anti-aliasing by subdivision
+// can take; with one, the pass schedule from 1 spp until the budget is met, capped at
+// settings.spp only when budget.sppAsked.
+StopRule stopRuleFor(const RenderSettings& settings, const RenderBudget& budget,
+                     const std::atomic<bool>* cancel);
+
 // A StopRule applied pass by pass (Ctrl-C aside: the pass loop sees that).
 class BudgetStop {
  public:

@@ -872,31 +872,49 @@ Bounds3f framingBounds(const SceneDescription& desc, const Bounds3f& now) {
   return b;
 }
 
-// The selected camera (or one framing the geometry over the whole animation, when the scene
-// names none) with its lens and its placement over the shutter.
-void buildCamera(const SceneDescription& desc, const CameraDesc* selected,
-                 const ShutterTimes& shutter, SceneParts* scene) {
+// The selected camera (or one framing `bounds`, the geometry now, over the whole animation, when
+// the scene names none) with its lens and its placement over the shutter; *name is its name.
+Camera makeCamera(const SceneDescription& desc, const CameraDesc* selected,
+                  const ShutterTimes& shutter, const Bounds3f& bounds, std::string* name) {
   int width = 0, height = 0;
   resolveImageSize(desc, selected, &width, &height);
   CameraDesc framing;
   if (!selected) {
-    framing =
-        framingCamera(framingBounds(desc, scene->geometry.bounds()), float(width) / float(height));
+    framing = framingCamera(framingBounds(desc, bounds), float(width) / float(height));
     selected = &framing;
   }
-  scene->cameraName = selected->name;
+  *name = selected->name;
   AnimatedTransform worldFromCamera =
       placementOverShutter(desc.nodes, selected->transformNode, selected->nodeFromCamera,
                            selected->worldFromCamera, shutter);
-  if (selected->type == CameraType::Perspective)
-    scene->camera = Camera::perspective(worldFromCamera, selected->yfov, width, height,
-                                        selected->znear, selected->zfar);
-  else
-    scene->camera = Camera::orthographic(worldFromCamera, selected->ymag, width, height,
-                                         selected->znear, selected->zfar);
+  Camera camera = selected->type == CameraType::Perspective
+                      ? Camera::perspective(worldFromCamera, selected->yfov, width, height,
+                                            selected->znear, selected->zfar)
+                      : Camera::orthographic(worldFromCamera, selected->ymag, width, height,
+                                             selected->znear, selected->zfar);
   if (selected->apertureRadius > 0)
-    scene->camera.setLens({selected->apertureRadius, selected->focusDistance,
-                           selected->apertureBlades, selected->apertureRotation});
+    camera.setLens({selected->apertureRadius, selected->focusDistance, selected->apertureBlades,
+                    selected->apertureRotation});
+  return camera;
+}
+
+void buildCamera(const SceneDescription& desc, const CameraDesc* selected,
+                 const ShutterTimes& shutter, SceneParts* scene) {
+  scene->camera = makeCamera(desc, selected, shutter, scene->geometry.bounds(), &scene->cameraName);
+}
+
+// The frame's shutter decides what moves: the render settings' when given, else the selected
+// camera's; without either (the automatic camera has none of its own) nothing moves.
+ShutterTimes frameShutter(const SceneDescription& desc, const CameraDesc* selected) {
+  ShutterTimes shutter{desc.render.time, desc.render.time};
+  if (desc.render.shutter) {
+    shutter.open += (*desc.render.shutter)[0];
+    shutter.close += (*desc.render.shutter)[1];
+  } else if (selected) {
+    shutter.open += selected->shutterOpen;
+    shutter.close += selected->shutterClose;
+  }
+  return shutter;
 }
 
 // Every light (emitting surfaces too) and the sampler that picks among them; the studio
@@ -945,14 +963,7 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
   // camera's; without either (the automatic camera, framed below, has none of its own) nothing
   // moves.
   const CameraDesc* selected = selectCamera(desc);
-  ShutterTimes shutter{desc.render.time, desc.render.time};
-  if (desc.render.shutter) {
-    shutter.open += (*desc.render.shutter)[0];
-    shutter.close += (*desc.render.shutter)[1];
-  } else if (selected) {
-    shutter.open += selected->shutterOpen;
-    shutter.close += selected->shutterClose;
-  }
+  const ShutterTimes shutter = frameShutter(desc, selected);
   GeometryMaterials geometryMaterials;
   buildMeshes(desc, shutter, &parts, &geometryMaterials);
   buildObjects(desc, shutter, &parts, &geometryMaterials);
@@ -974,6 +985,32 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
     timings->totalSeconds = std::chrono::duration<double>(Clock::now() - start).count();
   }
   return scene;
+}
+
+bool refreshRenderScene(const SceneDescription& desc, uint32_t what, RenderScene* scene) {
+  const CameraDesc* selected = selectCamera(desc);
+  const ShutterTimes shutter = frameShutter(desc, selected);
+  // An open shutter decides what moves and how the geometry was built over it.
+  if (shutter.open != shutter.close) return false;
+  std::vector<std::unique_ptr<Light>> lights;
+  if (what & kRefreshLights) {
+    SceneParts parts;  // the lights alone: none of them reads a texture
+    for (const LightDesc& l : desc.lights)
+      if (l.texture >= 0) return false;
+    TextureCache noTextures(desc, &parts, nullptr);
+    addLights(desc, shutter, &noTextures, &parts);
+    if (desc.environment) parts.lights.push_back(makeEnvironmentLight(*desc.environment));
+    // The studio light of a scene without lights is the whole build's decision.
+    if (parts.lights.empty()) return false;
+    lights = std::move(parts.lights);
+  }
+  if (what & kRefreshCamera) {
+    std::string name;
+    Camera camera = makeCamera(desc, selected, shutter, scene->geometry().bounds(), &name);
+    scene->setCamera(std::move(camera), std::move(name));
+  }
+  if (what & kRefreshLights) scene->setLights(std::move(lights));
+  return true;
 }
 
 }  // namespace glint

@@ -30,6 +30,19 @@ struct BuildOptions {
 RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings = nullptr,
                              const BuildOptions& options = {});
 
+// What refreshRenderScene makes again.
+inline constexpr uint32_t kRefreshCamera = 1;  // the selected camera and its placement
+inline constexpr uint32_t kRefreshLights = 2;  // the scene's own lights and environment
+
+// Brings `scene`, built by buildRenderScene from an earlier version of `desc`, up to date where
+// only what `what` names changed: the camera placed anew (RenderScene::setCamera), the lights
+// made again (setLights); the geometry and its accelerator, the materials, textures and decoded
+// images stay as they are. Returns false, having changed nothing, when the change needs a whole
+// build instead: the frame's shutter is open (it decides how the geometry was built), a light
+// reads a texture (which lives among the scene's textures), or the scene has no light of its
+// own (the studio light is the whole build's decision). Throws SceneError as buildRenderScene.
+bool refreshRenderScene(const SceneDescription& desc, uint32_t what, RenderScene* scene);
+
 // The image size the description asks for: explicit width/height, else derived from the
 // selected camera's aspect (640 wide by default).
 void resolveImageSize(const SceneDescription& desc, const CameraDesc* camera, int* width,

@@ -1,6 +1,8 @@
 // glint — SceneError formatting.
 #include "scenes/errors.h"
 
+#include <stdexcept>
+
 namespace glint {
 
 namespace {
@@ -39,6 +41,21 @@ std::string quotedNames(const std::vector<std::string>& names) {
   std::string list;
   for (const std::string& n : names) list += (list.empty() ? "'" : ", '") + n + "'";
   return list;
+}
+
+void namingFile(const std::string& file, const std::string& doing,
+                const std::function<void()>& work) {
+  try {
+    work();
+  } catch (const SceneError&) {
+    throw;  // names its file and JSON pointer already
+  } catch (const InputError& e) {
+    throw InputError(file + ": " + e.what());
+  } catch (const std::logic_error&) {
+    throw;  // a bug: main says "internal error"
+  } catch (const std::exception& e) {
+    throw FailureError(file + ": " + (doing.empty() ? "" : doing + ": ") + e.what());
+  }
 }
 
 }  // namespace glint

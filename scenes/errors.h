@@ -1,6 +1,7 @@
 // glint — errors in user input, carried with their source location until main prints them.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -35,5 +36,15 @@ class SceneError : public InputError {
 
 // "'a', 'b', 'c'": the names an error message offers as the choices there were.
 std::string quotedNames(const std::vector<std::string>& names);
+
+// Runs `work`, which loads, builds or renders `file`, so that its errors name the file: a bad
+// input that does not name it already (a renderer setting, a tile count above the image height)
+// becomes the InputError "FILE: message"; a std::logic_error (a bug) passes as it is; anything
+// else that is not a SceneError becomes the failure "FILE: DOING: message" (or "FILE: message"
+// without `doing`: a failed write, out of memory, an Embree failure). The renderer cannot say
+// which file its settings came from; this is where the commands (and the Python module) add
+// it; apps/main.cpp alone turns the error into an exit code.
+void namingFile(const std::string& file, const std::string& doing,
+                const std::function<void()>& work);
 
 }  // namespace glint

@@ -27,19 +27,28 @@ void requireFile(const std::string& path, const std::string& what) {
   if (!fs::is_regular_file(path, ec)) throw SceneError({path, ""}, what + " is not a file");
 }
 
+bool isModelFile(const std::string& path) {
+  const std::string ext = lowerExtension(path);
+  return ext == ".gltf" || ext == ".glb" || isMeshFile(path);
+}
+
 }  // namespace
+
+void SceneLoader::loadBase(const std::string& path) {
+  // A bare mesh takes a sidecar like a glTF file does: it has no camera, lights or materials of
+  // its own, and the sidecar is where they come from.
+  if (isMeshFile(path))
+    loadMeshFile(path, &base_);
+  else
+    loadGltf(path, &base_);
+}
 
 SceneLoader::SceneLoader(const std::string& path, const std::optional<std::string>& sidecar) {
   requireFile(path, "scene file");
   base_.file = path;
   std::string ext = lowerExtension(path);
-  if (ext == ".gltf" || ext == ".glb" || isMeshFile(path)) {
-    // A bare mesh takes a sidecar like a glTF file does: it has no camera, lights or
-    // materials of its own, and the sidecar is where they come from.
-    if (isMeshFile(path))
-      loadMeshFile(path, &base_);
-    else
-      loadGltf(path, &base_);
+  if (isModelFile(path)) {
+    loadBase(path);
     if (sidecar) {
       requireFile(*sidecar, "sidecar file");
       jsonFile_ = *sidecar;
@@ -63,6 +72,25 @@ SceneLoader::SceneLoader(const std::string& path, const std::optional<std::strin
                                      "'; expected a .gltf, .glb, .ply, .obj or glint .json file");
   }
   // The first frame is checked here, so that a bad file fails at construction.
+  at();
+}
+
+SceneLoader::SceneLoader(const JsonText& json, const std::optional<std::string>& scene) {
+  jsonFile_ = json.file;
+  if (scene) {
+    requireFile(*scene, "scene file");
+    if (!isModelFile(*scene))
+      throw SceneError({*scene, ""}, "a sidecar applies to a .gltf, .glb, .ply or .obj scene");
+    base_.file = *scene;
+    loadBase(*scene);
+    kind_ = SceneJsonKind::Sidecar;
+    json_ = parseSceneJson(json.text, json.file);
+  } else {
+    base_.file = json.file;
+    kind_ = SceneJsonKind::Scene;
+    json_ = parseSceneJson(json.text, json.file);
+    loadSceneGltfList(json_, json.file, &base_);
+  }
   at();
 }
 

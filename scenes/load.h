@@ -22,6 +22,16 @@ class SceneLoader {
   explicit SceneLoader(const std::string& path,
                        const std::optional<std::string>& sidecar = std::nullopt);
 
+  // The same with the JSON given as text instead of a file (the Python module's dicts):
+  // `json.file` names it in messages, and relative paths in it resolve against its folder as
+  // they would for a file there. With `scene`, the JSON is the sidecar of that .gltf/.glb or
+  // .ply/.obj file; without, it is a glint .json scene.
+  struct JsonText {
+    std::string text;
+    std::string file;
+  };
+  SceneLoader(const JsonText& json, const std::optional<std::string>& scene);
+
   // The scene at `time` seconds; unset: the file's render.time (0 when it gives none).
   // render.time of the result is the time used.
   SceneDescription at(std::optional<double> time = std::nullopt) const;
@@ -31,6 +41,9 @@ class SceneLoader {
   const std::string& jsonFile() const { return jsonFile_; }
 
  private:
+  // Reads the .gltf/.glb or mesh at `path` into base_.
+  void loadBase(const std::string& path);
+
   SceneDescription base_;  // what the glTF files / mesh hold
   std::string jsonFile_;   // "" = no sidecar
   nlohmann::json json_;    // its parsed contents

@@ -426,6 +426,11 @@ void applySceneJsonFile(const std::string& path, SceneJsonKind kind, SceneDescri
   applySceneJsonText(readTextFile(path), path, kind, scene, options);
 }
 
+void readRenderBlock(JsonReader& r, SceneDescription* scene) {
+  readRender(r, &scene->render);
+  checkRenderCamera(r, *scene);
+}
+
 void loadSceneGltfList(const nlohmann::json& doc, const std::string& file,
                        SceneDescription* scene) {
   JsonReader root(doc, {file, ""});

@@ -41,6 +41,15 @@ void applySceneJsonText(std::string_view text, const std::string& file, SceneJso
 void applySceneJson(const nlohmann::json& doc, const std::string& file, SceneJsonKind kind,
                     SceneDescription* scene, const SceneJsonOptions& options = {});
 
+class JsonReader;
+
+// Reads the keys of a "render" block that `r` holds (the sidecar's schema: spp, seed, camera,
+// integrator, ...) into scene->render, a missing key keeping the value there, and checks that
+// the camera it names is one of the scene's. Throws SceneError at the key's pointer. Unknown
+// keys are the caller's to reject (r.finish()): it may read keys of its own from the same
+// object (the Python module's render options).
+void readRenderBlock(JsonReader& r, SceneDescription* scene);
+
 // Loads only the glTF files a .json scene lists (no checks of the rest of the file).
 void loadSceneGltfList(const nlohmann::json& doc, const std::string& file, SceneDescription* scene);
 

@@ -3,10 +3,12 @@
 
 The product's rooms, lowest first (docs/layout.md):
 
-    geometry -> materials -> renderer -> image -> scenes -> apps
+    geometry -> materials -> renderer -> image -> scenes -> apps | python
 
 A file in a room may include its own room and the rooms before it, never one after it, and
-no product file includes from tests/, benchmarks/ or tools/. Within and across rooms, no
+no product file includes from tests/, benchmarks/ or tools/. apps/ (the command line) and
+python/ (the Python module) both sit on top of scenes/, side by side: neither includes the
+other. Within and across rooms, no
 header may reach itself through its includes (a cycle makes the order a matter of
 `#pragma once` luck). Only quoted includes of project paths ("room/file.h") count; system
 headers are not the house's.
@@ -19,8 +21,11 @@ import os
 import re
 import sys
 
-ROOMS = ["geometry", "materials", "renderer", "image", "scenes", "apps"]
-NOT_PRODUCT = ["tests", "benchmarks", "tools", "python"]
+ROOMS = ["geometry", "materials", "renderer", "image", "scenes", "apps", "python"]
+# Rooms of the same rank sit side by side (the top two).
+RANK = {"geometry": 0, "materials": 1, "renderer": 2, "image": 3, "scenes": 4, "apps": 5,
+        "python": 5}
+NOT_PRODUCT = ["tests", "benchmarks", "tools"]
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
 SOURCES = (".h", ".cpp", ".inc")
 
@@ -45,14 +50,15 @@ def includes(root, path):
 
 
 def order_violations(root):
-    rank = {room: i for i, room in enumerate(ROOMS)}
+    rank = RANK
     found = []
     for room, path in product_files(root):
         for number, target in includes(root, path):
             top = target.split("/")[0]
-            if top in rank and rank[top] > rank[room]:
-                found.append(f"{path}:{number}: includes {target}: {top}/ comes after {room}/ "
-                             f"({' -> '.join(ROOMS)})")
+            if top in rank and (rank[top] > rank[room] or (rank[top] == rank[room] and top != room)):
+                found.append(f"{path}:{number}: includes {target}: {top}/ is not below {room}/ "
+                             f"(geometry -> materials -> renderer -> image -> scenes -> "
+                             f"apps | python)")
             elif top in NOT_PRODUCT:
                 found.append(f"{path}:{number}: includes {target}: product code includes "
                              f"nothing from {top}/")

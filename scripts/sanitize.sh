@@ -27,7 +27,7 @@ source "$root/scripts/compiler_cache.sh"
 start=$SECONDS
 cmake -S "$root" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only" \
-  -DGLINT_SANITIZE=ON -DGLINT_FUZZ=ON -DGLINT_BUILD_BENCHMARKS=OFF "${compiler_cache[@]}" >/dev/null
+  -DGLINT_SANITIZE=ON -DGLINT_FUZZ=ON -DGLINT_BUILD_BENCHMARKS=OFF -DGLINT_BUILD_PYTHON=OFF "${compiler_cache[@]}" >/dev/null
 nice cmake --build "$build_dir" --parallel "$(nproc)"
 echo "sanitize: build took $((SECONDS - start)) s" >&2
 

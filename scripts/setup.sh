@@ -29,6 +29,11 @@ PACKAGES=(
   clang libclang-rt-14-dev llvm
   # scripts/slurm: the Slurm test and benchmark bring up a one-node cluster on this machine
   slurmctld slurmd slurm-client munge
+  # The Python module (python/, docs/python.md): built with pybind11 against Python 3's headers,
+  # returns numpy arrays; its tests run under pytest, and the example notebook runs headless
+  # through nbclient (nbconvert) on the ipykernel kernel
+  pybind11-dev python3-dev python3-numpy python3-pytest
+  python3-nbclient python3-nbconvert python3-ipykernel
 )
 
 # Node.js and npm for the browser test: Debian's unless the machine already has a node (a
