@@ -57,15 +57,14 @@ py::dict infoDict(const SceneInfo& info) {
       grids.append(py::dict(
           py::arg("name") = g.name, py::arg("type") = g.type,
           py::arg("voxel_size") = xyz(g.voxelSize), py::arg("active_voxels") = g.activeVoxels,
-          py::arg("bounds") = g.worldBounds.empty()
-                                  ? py::object(py::none())
-                                  : py::object(py::make_tuple(xyz(g.worldBounds.lower),
-                                                              xyz(g.worldBounds.upper))),
+          py::arg("bounds") =
+              g.worldBounds.empty()
+                  ? py::object(py::none())
+                  : py::object(py::make_tuple(xyz(g.worldBounds.lower), xyz(g.worldBounds.upper))),
           py::arg("memory_bytes") = g.memoryBytes));
     media.append(py::dict(py::arg("name") = m.name, py::arg("type") = m.type,
-                          py::arg("vdb_file") = m.vdbFile.empty()
-                                                    ? py::object(py::none())
-                                                    : py::object(py::str(m.vdbFile)),
+                          py::arg("vdb_file") = m.vdbFile.empty() ? py::object(py::none())
+                                                                  : py::object(py::str(m.vdbFile)),
                           py::arg("vdb_bytes") = m.vdbBytes, py::arg("grids") = grids));
   }
   d["media"] = media;

@@ -53,9 +53,9 @@ struct SceneInfo {
   // Participating media, and every grid of each VDB file they read: what a user needs to name
   // grids in the sidecar and to judge the memory a volume takes.
   struct Medium {
-    std::string name, type;  // its density's type: "constant", "grid", "noise", ..., "vdb"
-    std::string vdbFile;     // "" unless it reads a VDB file
-    size_t vdbBytes = 0;     // held in memory: its NanoVDB grids and majorant grid
+    std::string name, type;          // its density's type: "constant", "grid", "noise", ..., "vdb"
+    std::string vdbFile;             // "" unless it reads a VDB file
+    size_t vdbBytes = 0;             // held in memory: its NanoVDB grids and majorant grid
     std::vector<VdbGridInfo> grids;  // every grid of the file, in file order
   };
   std::vector<Medium> media;
