@@ -14,6 +14,9 @@ option(GLINT_FUZZ "Build the libFuzzer targets in tests/fuzz (Clang, with GLINT_
 if(GLINT_SANITIZE)
   set(glint_sanitize_flags -fsanitize=address,undefined -fno-sanitize-recover=all
                            -fno-omit-frame-pointer)
+  # Third-party headers whose inline code UBSan would otherwise check (the file says why).
+  add_compile_options(
+    "-fsanitize-ignorelist=${CMAKE_SOURCE_DIR}/tests/sanitizers/ubsan_ignore.txt")
   # Must come before any target is defined: every object and every link is instrumented.
   add_compile_options(${glint_sanitize_flags})
   add_link_options(${glint_sanitize_flags})
