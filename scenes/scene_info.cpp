@@ -8,6 +8,7 @@
 #include "materials/image_texture.h"
 #include "materials/vdb_volume.h"
 #include "renderer/integrator.h"
+#include "scenes/sidecar_media.h"
 
 namespace glint {
 
@@ -108,9 +109,8 @@ SceneInfo describeScene(const SceneDescription& desc, const RenderScene& scene) 
         {c.name, c.type == CameraType::Perspective ? "perspective" : "orthographic"});
   info.camera = scene.cameraName();
   for (const LightDesc& l : desc.lights) info.lights.push_back({l.name, lightTypeName(l.type)});
-  static const char* kDensityTypes[] = {"constant", "grid", "noise", "exponential", "vdb"};
   for (const MediumDesc& m : desc.media) {
-    SceneInfo::Medium medium{m.name, kDensityTypes[int(m.density)]};
+    SceneInfo::Medium medium{m.name, densityTypeName(m.density)};
     if (m.vdb) {
       medium.vdbFile = m.vdb->file;
       medium.vdbBytes = m.vdb->bytes();

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <stdexcept>
 
 #include "geometry/shapes/box.h"
 #include "scenes/paths.h"
@@ -226,6 +227,12 @@ MediumDesc readMedium(JsonReader& r, const std::string& file, const SceneDescrip
 }
 
 }  // namespace
+
+const std::string& densityTypeName(DensityType type) {
+  for (const auto& [name, t] : kDensityTypes)
+    if (t == type) return name;
+  throw std::logic_error("densityTypeName: a density type without a sidecar name");
+}
 
 void readMedia(JsonReader& root, const std::string& file, SceneDescription* scene) {
   for (JsonReader* r : root.objects("media")) scene->media.push_back(readMedium(*r, file, *scene));

@@ -13,4 +13,7 @@ namespace glint {
 // it). Object names must exist in scene->objects.
 void readMedia(JsonReader& root, const std::string& file, SceneDescription* scene);
 
+// The sidecar's name for a density type ("constant", "grid", "noise", "exponential", "vdb").
+const std::string& densityTypeName(DensityType type);
+
 }  // namespace glint
