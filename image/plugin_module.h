@@ -41,8 +41,8 @@ inline std::vector<std::string> pluginCandidates(const PluginModule& m) {
   const std::filesystem::path exe = executableFolder();
   if (!exe.empty()) {
     paths.push_back((exe / m.fileName).string());
-    paths.push_back(installedPath(exe, std::filesystem::path(kInstalledPluginFolder) / m.fileName)
-                        .string());
+    paths.push_back(
+        installedPath(exe, std::filesystem::path(kInstalledPluginFolder) / m.fileName).string());
   }
   if (m.buildPath) paths.emplace_back(m.buildPath);
   return paths;

@@ -9,14 +9,14 @@ namespace glint {
 namespace {
 
 const openvdb_plugin::Plugin& plugin() {
-  static constexpr PluginModule kModule{
-      "libglint_openvdb.so", "GLINT_OPENVDB_PLUGIN", openvdb_plugin::kEntryPoint,
+  static constexpr PluginModule kModule{"libglint_openvdb.so",           "GLINT_OPENVDB_PLUGIN",
+                                        openvdb_plugin::kEntryPoint,
 #ifdef GLINT_OPENVDB_PLUGIN_BUILD_PATH
-      GLINT_OPENVDB_PLUGIN_BUILD_PATH,
+                                        GLINT_OPENVDB_PLUGIN_BUILD_PATH,
 #else
       nullptr,
 #endif
-      "glint's OpenVDB plugin", "needed for .vdb media"};
+                                        "glint's OpenVDB plugin",        "needed for .vdb media"};
   return loadPlugin<openvdb_plugin::Plugin>(kModule);
 }
 

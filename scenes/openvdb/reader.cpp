@@ -1,4 +1,5 @@
 // glint — the OpenVDB plugin's module: reading OpenVDB files (see plugin.h).
+#include <malloc.h>
 #include <nanovdb/util/OpenToNanoVDB.h>
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
@@ -191,7 +192,7 @@ std::vector<VdbGridInfo> listGrids(const std::string& path) {
 }
 
 std::shared_ptr<VdbVolume> read(const std::string& path, const VdbRequest& request) {
-  return guarded(path, request.where, [&] {
+  std::shared_ptr<VdbVolume> result = guarded(path, request.where, [&] {
     OpenFile f(path);
     auto volume = std::make_shared<VdbVolume>();
     volume->file = path;
@@ -219,6 +220,10 @@ std::shared_ptr<VdbVolume> read(const std::string& path, const VdbRequest& reque
       volume->majorants = majorants(*density, volume->bounds, request.majorantCells);
     return volume;
   });
+  // OpenVDB's trees are freed by now, but as many small nodes the allocator keeps: hand the
+  // pages back, or the render runs at the loading's peak (8 MiB more for a 1.3 M voxel cloud).
+  ::malloc_trim(0);
+  return result;
 }
 
 class OpenVdbPlugin final : public Plugin {
