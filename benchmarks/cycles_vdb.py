@@ -56,7 +56,6 @@ import datetime
 import json
 import math
 import os
-import statistics
 import subprocess
 import sys
 
@@ -438,31 +437,75 @@ def volume_mask(ref, empty):
     return np.abs(a - b) > 0.02 * np.maximum(np.maximum(a, b), 1e-3)
 
 
-def bias_row(img, ref, mask):
+def bias_row(img, ref, mask, block=8):
+    """The image's mean over the volume's pixels against the reference's, per channel; and
+    per block x block tile (at least half of it the volume's) the relative difference of the
+    luminance means: a local bias (brighter edges, a darker core) would show there where the
+    whole mean could hide it. Noise alone gives the tiles of a second glint image."""
     m, r = img[mask].mean(axis=0), ref[mask].mean(axis=0)
     whole = img.mean(axis=0).mean(axis=0) / ref.mean(axis=0).mean(axis=0) - 1
+    lum = np.array([0.2126, 0.7152, 0.0722])
+    tiles = []
+    for y in range(0, img.shape[0] - block + 1, block):
+        for x in range(0, img.shape[1] - block + 1, block):
+            k = mask[y:y + block, x:x + block]
+            if k.sum() >= block * block // 2:
+                a = img[y:y + block, x:x + block][k] @ lum
+                b = ref[y:y + block, x:x + block][k] @ lum
+                tiles.append(a.mean() / b.mean() - 1)
+    tiles = np.abs(np.array(tiles))
     return {"volume_relative_mean_difference_rgb": (m / r - 1).tolist(),
             "image_relative_mean_difference_rgb": whole.tolist(),
-            "volume_pixels": int(mask.sum())}
+            "volume_pixels": int(mask.sum()), "tiles": len(tiles),
+            "tile_abs_relative_difference_median": float(np.median(tiles)),
+            "tile_abs_relative_difference_p95": float(np.percentile(tiles, 95))}
 
 
 def png(args, name, left, right):
-    """A side-by-side PNG (glint left, Cycles right), sRGB through oiiotool."""
+    """A side-by-side PNG, sRGB through oiiotool: glint, Cycles, and 0.5 + 4 x (Cycles - glint)
+    (uniform grey: equal; brighter or coloured: Cycles above glint)."""
     path = os.path.join(args.png_dir, f"cycles_vdb_{name}.png")
-    subprocess.run(["oiiotool", left, "--ch", "R,G,B", right, "--ch", "R,G,B", "--mosaic", "2x1",
-                    "--colorconvert", "linear", "sRGB", "-d", "uint8", "-o", path], check=True)
+    diff = os.path.join(args.work, f"{name}_diff.exr")
+    subprocess.run(["oiiotool", right, "--ch", "R,G,B", left, "--ch", "R,G,B", "--sub",
+                    "--mulc", "4", "--addc", "0.5", "-o", diff], check=True)
+    subprocess.run(["oiiotool", left, "--ch", "R,G,B", right, "--ch", "R,G,B", diff,
+                    "--mosaic", "3x1", "--colorconvert", "linear", "sRGB", "-d", "uint8",
+                    "-o", path], check=True)
     return os.path.relpath(path, ROOT)
 
 
-def time_for_error(rows, error):
-    """glint's render seconds at `error` along its ladder [(seconds, rmse)] (log-log)."""
-    curve = sorted((r["render_seconds"], r["rmse_corrected"]) for r in rows)
+def time_for_error(rows, error, key):
+    """glint's `key` seconds at `error` along its ladder [(seconds, rmse)] (log-log)."""
+    curve = sorted((r[key], r["rmse_corrected"]) for r in rows)
     for (t0, e0), (t1, e1) in zip(curve, curve[1:]):
         if e0 >= error >= e1:
             f = (math.log(e0) - math.log(error)) / (math.log(e0) - math.log(e1))
             return math.exp(math.log(t0) + f * (math.log(t1) - math.log(t0)))
     t, e = curve[-1] if error < curve[-1][1] else curve[0]
     return t * (e / error) ** 2  # beyond the ladder: error ~ 1/sqrt(time)
+
+
+# (label, glint's key, Cycles' key): render seconds (glint's rendering; Cycles' sampling, no
+# sync), and CPU seconds (glint's whole process; Cycles' render call, sync included), which
+# hold better than wall time on a loaded machine.
+TIMES = (("render", "render_seconds", "render_seconds"),
+         ("cpu", "cpu_seconds", "render_call_cpu_seconds"))
+
+
+def equal_error(ladder_rows):
+    """For each Cycles image, the glint time at its RMSE along glint's ladder of the same round,
+    and the ratio (above 1: glint reaches that error sooner)."""
+    out = []
+    for rnd in sorted({r["round"] for r in ladder_rows}):
+        g = [r for r in ladder_rows if r["round"] == rnd and r["renderer"] == "glint"]
+        for c in (r for r in ladder_rows if r["round"] == rnd and r["renderer"] == "cycles"):
+            row = {"round": rnd, "cycles_spp": c["spp"], "cycles_rmse": c["rmse_corrected"]}
+            for label, gkey, ckey in TIMES:
+                t = time_for_error(g, c["rmse_corrected"], gkey)
+                row.update({f"cycles_{label}": c[ckey], f"glint_{label}": t,
+                            f"speed_{label}": c[ckey] / t})
+            out.append(row)
+    return out
 
 
 def analyse(args):
@@ -492,21 +535,19 @@ def analyse(args):
         for r in ladder_rows:
             img = heq.read_rgb(r["image"])
             r.update(heq.errors(img, own[r["renderer"]][0], r["spp"], own[r["renderer"]][1]))
-        ratios = []
-        for rnd in sorted({r["round"] for r in ladder_rows}):
-            g = [r for r in ladder_rows if r["round"] == rnd and r["renderer"] == "glint"]
-            for c in (r for r in ladder_rows if r["round"] == rnd and r["renderer"] == "cycles"):
-                t = time_for_error(g, c["rmse_corrected"])
-                ratios.append({"round": rnd, "cycles_spp": c["spp"],
-                               "cycles_rmse": c["rmse_corrected"],
-                               "cycles_seconds": c["render_seconds"], "glint_seconds": t,
-                               "speed": c["render_seconds"] / t})
-        speeds = [x["speed"] for x in ratios]
-        out["ladder"] = [{k: v for k, v in r.items() if k not in ("image",)} for r in ladder_rows]
-        out["equal_error"] = ratios
-        if speeds:
-            out["speed"] = {"median": statistics.median(speeds), "min": min(speeds),
-                            "max": max(speeds), "n": len(speeds)}
+        out["ladder"] = [{k: v for k, v in r.items() if k != "image"} for r in ladder_rows]
+        out["equal_error"] = equal_error(ladder_rows)
+        for label, _, _ in TIMES:
+            speeds = [x[f"speed_{label}"] for x in out["equal_error"]]
+            if speeds:
+                out[f"speed_{label}"] = heq.median_spread(speeds)
+        out["levels"] = {}
+        for r in ladder_rows:
+            out["levels"].setdefault(f"{r['renderer']} {r['spp']}", []).append(r)
+        out["levels"] = {k: {key: heq.median_spread([r[key] for r in rs]) for key in
+                             ("rmse_corrected", "render_seconds", "cpu_seconds")
+                             if all(r.get(key) is not None for r in rs)}
+                         for k, rs in out["levels"].items()}
         out["loads"] = [r["load_before"][0] for r in ladder_rows]
         result["scenes"][name] = out
     return result
@@ -544,8 +585,9 @@ def main():
             for b in s["bias"]:
                 print(name, b["renderer"], b.get("step_rate"), b["spp"],
                       " ".join(f"{v:+.4f}" for v in b["volume_relative_mean_difference_rgb"]))
-            if "speed" in s:
-                print(name, "speed at equal error", s["speed"])
+            for label, _, _ in TIMES:
+                if f"speed_{label}" in s:
+                    print(name, f"speed at equal error ({label})", s[f"speed_{label}"])
 
 
 if __name__ == "__main__":
