@@ -24,14 +24,14 @@ that builds the same scene in Cycles from glint's JSON:
 - box pixel filters one pixel wide in both (glint `filter` box radius 0.5, Cycles BOX 1.0 px),
   no denoiser, adaptive sampling, clamping or light threshold in Cycles, linear float EXR.
 
-Cycles ray-marches volumes in steps of voxel size / `volume_step_rate` (biased); glint's path
+Cycles ray-marches volumes in steps of voxel size x `volume_step_rate` (biased); glint's path
 tracer is unbiased (delta and ratio tracking against a majorant grid). The script measures:
 
 1. `references`: glint's high-spp reference per scene (--ref-spp) and a second glint image at
    --mean-spp with another seed (the noise floor of the comparison), and Cycles at --mean-spp
    for each of --step-rates. Each image's mean over the volume's pixels (those that differ by
    more than 2% from a glint render without the medium) per channel, relative to glint's
-   reference: the bias. Writes side-by-side PNGs.
+   reference, and per 8 x 8 tile of them: the bias.
 2. `ladder`: --rounds rounds, alternating the renderers (glint first in even rounds, Cycles in
    odd), each rendering --spp-levels with a new seed; each image's RMSE against its OWN
    converged reference (glint: the reference above; Cycles: its --mean-spp image at step rate
@@ -39,12 +39,17 @@ tracer is unbiased (delta and ratio tracking against a majorant grid). The scrip
    `render_seconds` (--stats: rendering only, no loading or building), Cycles' sampling time
    from its progress lines ("Sample 0/N" to "Finished": no start-up, VDB loading or scene sync;
    the render call including sync is recorded too).
-3. `report`: for each Cycles image, the glint render time that reaches the same RMSE (log-log
+3. `parts`: the fire with its blackbody emission alone and its flame emission alone (the
+   other set to 0), both renderers at --parts-spp: Cycles against glint per channel and in
+   luminance, which tells the colour of the blackbody from the rest.
+4. `report`: for each Cycles image, the glint render time that reaches the same RMSE (log-log
    interpolation along glint's ladder of the same round) and the ratio of times, median and
-   spread over levels and rounds; the load before each run.
+   spread over levels and rounds, by render seconds and by CPU seconds (glint's process;
+   Cycles' render call); the load before each run; a PNG per scene in --png-dir: glint,
+   Cycles and their difference.
 
-    /usr/bin/python3 benchmarks/cycles_vdb.py --glint build-tests/glint \\
-        --tool build-tests/tools/glint_make_vdb_scenes --work /tmp/cyc all \\
+    /usr/bin/python3 benchmarks/cycles_vdb.py all --glint build-tests/glint \\
+        --tool build-tests/tools/glint_make_vdb_scenes --work /tmp/cyc \\
         --out benchmarks/results/cycles_vdb.json
 
 Needs `blender` (Debian 12: `apt-get install blender`, 3.4.1; not part of scripts/setup.sh),
@@ -84,9 +89,11 @@ from mathutils import Matrix, Vector
 
 SCENE = json.loads(r"""@SCENE@""")
 a = sys.argv[sys.argv.index("--") + 1:]
-out, spp, seed, step_rate, threads, timing = a[0], int(a[1]), int(a[2]), float(a[3]), int(a[4]), a[5]
+out, timing = a[0], a[5]
+spp, seed, step_rate, threads = int(a[1]), int(a[2]), float(a[3]), int(a[4])
 
-# glint (glTF, Y up) to Blender (Z up), as Blender's glTF importer converts: (x, y, z) -> (x, -z, y).
+# glint (glTF, Y up) to Blender (Z up), as Blender's glTF importer converts:
+# (x, y, z) -> (x, -z, y).
 Y_UP = Matrix(((1, 0, 0, 0), (0, 0, -1, 0), (0, 1, 0, 0), (0, 0, 0, 1)))
 def point(v):
     return (Y_UP @ Vector((v[0], v[1], v[2], 1.0))).xyz
@@ -281,9 +288,9 @@ def principled_volume(medium):
             "flame_color": d.get("flame_color", [1, 1, 1])}
 
 
-def glint_scene(args, name, with_medium=True):
+def glint_scene(args, name, with_medium=True, density_patch=None, tag=""):
     """scenes/volumes/NAME.json at --width x --height, box filter, depth GLINT_DEPTH, the VDB
-    from --work; returns (path, the parsed scene)."""
+    from --work, `density_patch` over each medium's density keys; returns (path, the scene)."""
     with open(os.path.join(ROOT, "scenes", "volumes", name + ".json")) as f:
         s = json.load(f)
     s["render"].update({"width": args.width, "height": args.height,
@@ -291,9 +298,10 @@ def glint_scene(args, name, with_medium=True):
     s["render"]["integrator"] = {"type": "path", "max_depth": GLINT_DEPTH}
     for m in s.get("media", []):
         m["density"]["file"] = os.path.join(args.work, os.path.basename(m["density"]["file"]))
+        m["density"].update(density_patch or {})
     if not with_medium:
         del s["media"]
-    path = os.path.join(args.work, f"{name}{'' if with_medium else '_empty'}.json")
+    path = os.path.join(args.work, f"{name}{'' if with_medium else '_empty'}{tag}.json")
     with open(path, "w") as f:
         json.dump(s, f, indent=1)
     return path, s
@@ -314,7 +322,8 @@ def cycles_scene(s):
     for light in s.get("lights", []):
         if light["type"] != "directional":
             sys.exit(f"cycles_vdb: light type {light['type']} not translated")
-        out["suns"].append({"direction": light["direction"], "irradiance": light.get("intensity", 1),
+        out["suns"].append({"direction": light["direction"],
+                            "irradiance": light.get("intensity", 1),
                             "color": light.get("color", [1, 1, 1])})
     materials = {m["name"]: m for m in s.get("materials", [])}
     for o in s.get("objects", []):
@@ -330,8 +339,8 @@ def cycles_scene(s):
     return out
 
 
-def write_blender_script(args, name, s):
-    path = os.path.join(args.work, f"cycles_{name}.py")
+def write_blender_script(args, name, s, tag=""):
+    path = os.path.join(args.work, f"cycles_{name}{tag}.py")
     with open(path, "w") as f:
         f.write(BLENDER_SCRIPT.replace("@SCENE@", json.dumps(cycles_scene(s))))
     return path
@@ -396,18 +405,18 @@ def prepare(args):
 
 def references(args, scenes):
     for name, p in scenes.items():
-        w = args.work
-        append(args, dict(render_glint(args, p["glint"], args.ref_spp, 1, f"{w}/{name}_glint_ref.exr"),
+        w = f"{args.work}/{name}"
+        append(args, dict(render_glint(args, p["glint"], args.ref_spp, 1, f"{w}_glint_ref.exr"),
                           scene=name, kind="reference"))
-        append(args, dict(render_glint(args, p["glint"], args.mean_spp, 2, f"{w}/{name}_glint_mean.exr"),
+        append(args, dict(render_glint(args, p["glint"], args.mean_spp, 2, f"{w}_glint_mean.exr"),
                           scene=name, kind="mean"))
-        append(args, dict(render_glint(args, p["empty"], 64, 3, f"{w}/{name}_glint_empty.exr"),
+        append(args, dict(render_glint(args, p["empty"], 64, 3, f"{w}_glint_empty.exr"),
                           scene=name, kind="empty"))
         for rate in args.step_rates:
             # Cycles' step is the voxel size times the rate: below rate 1 the finer steps cost
             # more per sample, so spp x rate (about the same time).
             spp = max(16, int(args.mean_spp * min(rate, 1.0)))
-            exr = f"{w}/{name}_cycles_mean_rate{rate:g}.exr"
+            exr = f"{w}_cycles_mean_rate{rate:g}.exr"
             append(args, dict(render_cycles(args, p["cycles"], spp, 1, rate, exr),
                               scene=name, kind="mean"))
 
@@ -423,6 +432,22 @@ def ladder(args, scenes):
                     r = (render_glint(args, p["glint"], spp, seed, exr) if renderer == "glint" else
                          render_cycles(args, p["cycles"], spp, seed, 1.0, exr))
                     append(args, dict(r, scene=name, kind="ladder", round=rnd))
+
+
+# The fire's two emissions apart: each renderer with the other one off.
+FIRE_PARTS = {"blackbody": {"flame_strength": 0}, "flame": {"blackbody_intensity": 0}}
+
+
+def fire_parts(args):
+    for part, patch in FIRE_PARTS.items():
+        tag = "_" + part
+        path, s = glint_scene(args, "fire", density_patch=patch, tag=tag)
+        script = write_blender_script(args, "fire", s, tag)
+        exr = f"{args.work}/fire{tag}"
+        append(args, dict(render_glint(args, path, args.parts_spp, 7, exr + "_glint.exr"),
+                          scene="fire", kind="part", part=part))
+        append(args, dict(render_cycles(args, script, args.parts_spp, 7, 1.0, exr + "_cycles.exr"),
+                          scene="fire", kind="part", part=part))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -526,6 +551,14 @@ def analyse(args):
                                          "load_before")}
             row.update(bias_row(heq.read_rgb(r["image"]), ref, mask))
             out["bias"].append(row)
+        for part in FIRE_PARTS:
+            pair = {r["renderer"]: heq.read_rgb(r["image"]) for r in find(kind="part", part=part)}
+            if len(pair) == 2:
+                row = bias_row(pair["cycles"], pair["glint"], mask)
+                lum = np.array([0.2126, 0.7152, 0.0722])
+                row["volume_relative_luminance_difference"] = float(
+                    (pair["cycles"][mask] @ lum).mean() / (pair["glint"][mask] @ lum).mean() - 1)
+                out.setdefault("parts_cycles_vs_glint", {})[part] = row
         cyc_ref = find(renderer="cycles", kind="mean", step_rate=1.0)[-1]
         out["png"] = png(args, name, find(renderer="glint", kind="mean")[-1]["image"],
                          cyc_ref["image"])
@@ -555,7 +588,8 @@ def analyse(args):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("phase", choices=("scripts", "references", "ladder", "report", "all"))
+    ap.add_argument("phase", choices=("scripts", "references", "ladder", "parts", "report",
+                                      "all"))
     ap.add_argument("--glint", required=True)
     ap.add_argument("--tool", required=True, help="glint_make_vdb_scenes")
     ap.add_argument("--blender", default="blender")
@@ -566,8 +600,9 @@ def main():
     ap.add_argument("--ref-spp", type=int, default=4096)
     ap.add_argument("--mean-spp", type=int, default=1024)
     ap.add_argument("--step-rates", type=float, nargs="+", default=[1.0, 0.25, 4.0])
-    ap.add_argument("--spp-levels", type=int, nargs="+", default=[4, 16, 64])
+    ap.add_argument("--spp-levels", type=int, nargs="+", default=[4, 16, 64, 256])
     ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--parts-spp", type=int, default=512)
     ap.add_argument("--png-dir", default=os.path.join(HERE, "results"))
     ap.add_argument("--out", default=os.path.join(HERE, "results", "cycles_vdb.json"))
     args = ap.parse_args()
@@ -577,6 +612,8 @@ def main():
         references(args, scenes)
     if args.phase in ("ladder", "all"):
         ladder(args, scenes)
+    if args.phase in ("parts", "all"):
+        fire_parts(args)
     if args.phase in ("report", "all"):
         result = analyse(args)
         with open(args.out, "w") as f:
@@ -585,6 +622,10 @@ def main():
             for b in s["bias"]:
                 print(name, b["renderer"], b.get("step_rate"), b["spp"],
                       " ".join(f"{v:+.4f}" for v in b["volume_relative_mean_difference_rgb"]))
+            for part, b in s.get("parts_cycles_vs_glint", {}).items():
+                print(name, part, "only, Cycles against glint",
+                      " ".join(f"{v:+.4f}" for v in b["volume_relative_mean_difference_rgb"]),
+                      f"luminance {b['volume_relative_luminance_difference']:+.4f}")
             for label, _, _ in TIMES:
                 if f"speed_{label}" in s:
                     print(name, f"speed at equal error ({label})", s[f"speed_{label}"])
