@@ -578,7 +578,8 @@ def analyse(args):
         for r in ladder_rows:
             out["levels"].setdefault(f"{r['renderer']} {r['spp']}", []).append(r)
         out["levels"] = {k: {key: heq.median_spread([r[key] for r in rs]) for key in
-                             ("rmse_corrected", "render_seconds", "cpu_seconds")
+                             ("rmse_corrected", "render_seconds", "cpu_seconds",
+                              "render_call_cpu_seconds")
                              if all(r.get(key) is not None for r in rs)}
                          for k, rs in out["levels"].items()}
         out["loads"] = [r["load_before"][0] for r in ladder_rows]
