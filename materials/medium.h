@@ -125,6 +125,10 @@ struct Medium {
   float g = 0;                           // Henyey–Greenstein asymmetry, |g| < 1
   std::unique_ptr<DensityField> density;
   std::unique_ptr<EmissionField> emissionField;  // null: Le x density is all it emits
+  // Coloured extinction (sigma_t differing between channels) tracked by spectral MIS over a
+  // hero channel (renderer/volume.cpp); false: against the largest channel, with channel-mean
+  // event probabilities (the older estimator: unbiased, heavy-tailed).
+  bool heroTracking = true;
 
   Rgb sigmaT() const { return sigmaA + sigmaS; }
   bool emits() const { return maxComponent(Le) > 0 || emissionField; }

@@ -4,17 +4,71 @@
 #include <nanovdb/util/SampleFromVoxels.h>
 
 #include <algorithm>
+#include <atomic>
+#include <optional>
+#include <type_traits>
 
 #include "materials/blackbody.h"
 
 namespace glint {
 
+namespace {
+
+std::atomic<uint64_t> gNextSerial{1};
+
+// Per-thread trilinear samplers, kept from one lookup to the next. A NanoVDB read accessor caches
+// the path from the root to the last leaf it read, and the sampler the eight voxels around the
+// last point; successive lookups along a ray mostly fall in the same leaf (a leaf is 8 voxels
+// wide, tracking's collisions a few voxels apart), so a kept accessor skips the descent from the
+// root that a fresh one makes at every lookup. Slots are keyed by the grid's serial, not its
+// address, which a later grid may reuse; a few slots serve a fire's density, temperature and
+// flame grids in turn.
+struct CachedSampler {
+  using Accessor = nanovdb::DefaultReadAccessor<float>;
+  using Trilinear = nanovdb::SampleFromVoxels<Accessor, 1, true>;
+  uint64_t serial = 0;
+  std::optional<Accessor> accessor;
+  std::optional<Trilinear> trilinear;
+};
+
+CachedSampler& cachedSampler(const nanovdb::FloatGrid& grid, uint64_t serial) {
+  constexpr int kSlots = 4;
+  thread_local CachedSampler slots[kSlots];
+  thread_local int victim = 0;
+  for (CachedSampler& s : slots)
+    if (s.serial == serial) return s;
+  CachedSampler& s = slots[victim];
+  victim = (victim + 1) % kSlots;
+  s.serial = serial;
+  s.trilinear.reset();
+  s.accessor.emplace(grid.getAccessor());
+  s.trilinear.emplace(*s.accessor);
+  return s;
+}
+
+}  // namespace
+
+uint64_t VdbGrid::nextSerial() { return gNextSerial.fetch_add(1, std::memory_order_relaxed); }
+
 float VdbGrid::sample(Vec3f p) const {
   const nanovdb::FloatGrid* grid = handle.grid<float>();
-  // A read accessor per lookup: it caches the path to the last leaf, and costs a few words.
-  const auto accessor = grid->getAccessor();
   const nanovdb::Vec3f index = grid->worldToIndexF(nanovdb::Vec3f(p.x, p.y, p.z));
-  return nanovdb::createSampler<1>(accessor)(index);
+  CachedSampler& cache = cachedSampler(*grid, serial);
+  nanovdb::Vec3f uvw = index;
+  const nanovdb::Coord ijk = nanovdb::Floor<nanovdb::Coord>(uvw);  // uvw: the fraction left
+  // Most stencils (7 in 8 along each axis) lie inside one leaf: one cached leaf lookup and
+  // eight loads instead of eight accessor lookups. The same interpolation as NanoVDB's sampler.
+  if ((ijk[0] & 7) != 7 && (ijk[1] & 7) != 7 && (ijk[2] & 7) != 7) {
+    if (const auto* leaf = cache.accessor->probeLeaf(ijk)) {
+      using Leaf = std::remove_cv_t<std::remove_pointer_t<decltype(leaf)>>;
+      const uint32_t n = Leaf::CoordToOffset(ijk);
+      auto v = [&](uint32_t i, uint32_t j, uint32_t k) { return leaf->getValue(n + 64 * i + 8 * j + k); };
+      const float stencil[2][2][2] = {{{v(0, 0, 0), v(0, 0, 1)}, {v(0, 1, 0), v(0, 1, 1)}},
+                                      {{v(1, 0, 0), v(1, 0, 1)}, {v(1, 1, 0), v(1, 1, 1)}}};
+      return CachedSampler::Trilinear::sample(uvw, stencil);
+    }
+  }
+  return (*cache.trilinear)(index);
 }
 
 size_t VdbVolume::bytes() const {

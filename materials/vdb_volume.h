@@ -15,6 +15,7 @@
 #include <nanovdb/util/GridHandle.h>
 #include <nanovdb/util/HostBuffer.h>
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -28,11 +29,16 @@ namespace glint {
 struct VdbGrid {
   std::string name;
   nanovdb::GridHandle<nanovdb::HostBuffer> handle;
+  // Unique per grid made (moves keep it): the key of the per-thread lookup caches.
+  uint64_t serial = nextSerial();
 
   // Trilinear interpolation at the object-space point p of a float grid (voxel values sit at
   // integer index coordinates, OpenVDB's convention); the background outside active voxels.
   float sample(Vec3f p) const;
   size_t bytes() const { return handle.size(); }
+
+ private:
+  static uint64_t nextSerial();
 };
 
 struct VdbVolume {

@@ -64,6 +64,7 @@ void addMedia(const SceneDescription& desc, SceneParts* scene) {
     medium->sigmaS = m.sigmaS;
     medium->Le = m.emission;
     medium->g = m.g;
+    medium->heroTracking = m.heroTracking;
     medium->emissionField = makeEmission(m);
     switch (m.region) {
       case MediumDesc::Region::Scene:

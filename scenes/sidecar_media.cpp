@@ -220,6 +220,9 @@ MediumDesc readMedium(JsonReader& r, const std::string& file, const SceneDescrip
   m.sigmaS = readCoefficient(r, "sigma_s");
   m.emission = readCoefficient(r, "emission");
   m.g = r.get<float>("g", 0.0f, {.gt = -1, .lt = 1});
+  m.heroTracking =
+      r.oneOf("chromatic_tracking", {"spectral_mis", "max_channel"}, "spectral_mis") ==
+      "spectral_mis";
   if (JsonReader* d = r.optionalObject("density"))
     readDensity(*d, file, float(scene.render.fps), &m);
   if (m.density == DensityType::Vdb) placeVdb(r, &m);
