@@ -3,6 +3,7 @@
 //
 //   PREFIX/bin/glint                          the executable
 //   PREFIX/lib/glint/libglint_oiio.so         the OpenImageIO plugin (image/oiio/plugin.h)
+//   PREFIX/lib/glint/libglint_openvdb.so      the OpenVDB plugin (scenes/openvdb/plugin.h)
 //   PREFIX/share/glint/ocio/config.ocio       the default OpenColorIO config (image/color.h)
 //
 // so each is found from the running executable's own folder; a glint run from its build folder
@@ -24,7 +25,7 @@ inline std::filesystem::path executableFolder() {
 }
 
 // Where `cmake --install` puts each file, relative to the prefix.
-inline constexpr const char* kInstalledPlugin = "lib/glint/libglint_oiio.so";
+inline constexpr const char* kInstalledPluginFolder = "lib/glint";
 inline constexpr const char* kInstalledOcioConfig = "share/glint/ocio/config.ocio";
 
 // `relative` (e.g. kInstalledOcioConfig) under the prefix an executable in `binFolder` was

@@ -1,222 +1,41 @@
-// glint — reading OpenVDB files.
+// glint — OpenVDB files, through the OpenVDB plugin (scenes/openvdb/plugin.h).
 #include "scenes/vdb_file.h"
 
-#include <nanovdb/util/OpenToNanoVDB.h>
-#include <openvdb/io/File.h>
-#include <openvdb/openvdb.h>
-
-#include <algorithm>
-#include <cmath>
-#include <filesystem>
-#include <mutex>
+#include "image/plugin_module.h"
+#include "scenes/openvdb/plugin.h"
 
 namespace glint {
 
-namespace fs = std::filesystem;
-
 namespace {
 
-// openvdb::initialize() registers the grid types; once per process.
-void initializeOpenVdb() {
-  static std::once_flag once;
-  std::call_once(once, [] { openvdb::initialize(); });
+const openvdb_plugin::Plugin& plugin() {
+  static constexpr PluginModule kModule{"libglint_openvdb.so",           "GLINT_OPENVDB_PLUGIN",
+                                        openvdb_plugin::kEntryPoint,
+#ifdef GLINT_OPENVDB_PLUGIN_BUILD_PATH
+                                        GLINT_OPENVDB_PLUGIN_BUILD_PATH,
+#else
+      nullptr,
+#endif
+                                        "glint's OpenVDB plugin",        "needed for .vdb media"};
+  return loadPlugin<openvdb_plugin::Plugin>(kModule);
 }
 
-std::string fileName(const std::string& path) { return fs::path(path).filename().string(); }
-
-// An index-to-world map that is affine: world = origin + axes * index.
-struct AffineMap {
-  Vec3f origin;
-  Vec3f axis[3];  // the images of the index axes
-
-  explicit AffineMap(const openvdb::math::Transform& t) {
-    const openvdb::Vec3d o = t.indexToWorld(openvdb::Vec3d(0, 0, 0));
-    origin = {float(o.x()), float(o.y()), float(o.z())};
-    for (int a = 0; a < 3; ++a) {
-      openvdb::Vec3d e(0, 0, 0);
-      e[a] = 1;
-      const openvdb::Vec3d w = t.indexToWorld(e) - o;
-      axis[a] = {float(w.x()), float(w.y()), float(w.z())};
-    }
-  }
-  // The world box around the continuous index box [lo, hi].
-  Bounds3f worldBox(Vec3f lo, Vec3f hi) const {
-    const Vec3f c = (lo + hi) * 0.5f, h = (hi - lo) * 0.5f;
-    Vec3f centre = origin + axis[0] * c.x + axis[1] * c.y + axis[2] * c.z;
-    Vec3f half;
-    for (int a = 0; a < 3; ++a)
-      half[a] =
-          std::abs(axis[0][a]) * h.x + std::abs(axis[1][a]) * h.y + std::abs(axis[2][a]) * h.z;
-    return {centre - half, centre + half};
-  }
-};
-
-Vec3f toVec(const openvdb::Coord& c) { return {float(c.x()), float(c.y()), float(c.z())}; }
-
-// The world box where trilinear lookups of the index box `box` can be non-zero: one voxel
-// further out on every side.
-Bounds3f reach(const AffineMap& map, const openvdb::CoordBBox& box) {
-  return map.worldBox(toVec(box.min()) - Vec3f{1, 1, 1}, toVec(box.max()) + Vec3f{1, 1, 1});
-}
-
-// The file, opened and read in full (no delayed loading, so a truncated file fails here and
-// not in the middle of a render).
-struct OpenFile {
-  openvdb::io::File file;
-  explicit OpenFile(const std::string& path) : file(path) {
-    initializeOpenVdb();
-    file.open(false);
-  }
-  ~OpenFile() {
-    if (file.isOpen()) file.close();
-  }
-};
-
-// Runs `f`, turning OpenVDB's (and the standard library's) exceptions into a SceneError at
-// `where` that names the file.
-template <class F>
-auto guarded(const std::string& path, const SourceLocation& where, F&& f) {
-  if (!fs::exists(path)) throw SceneError(where, fileName(path) + ": no such file");
-  try {
-    return f();
-  } catch (const SceneError&) {
-    throw;
-  } catch (const openvdb::Exception& e) {
-    throw SceneError(where, fileName(path) + ": not a readable VDB file (" + e.what() + ")");
-  } catch (const std::exception& e) {
-    throw SceneError(where, fileName(path) + ": not a readable VDB file (" + e.what() + ")");
-  }
-}
-
-std::string gridList(openvdb::io::File& file) {
-  std::string s;
-  openvdb::GridPtrVecPtr grids = file.readAllGridMetadata();
-  for (const openvdb::GridBase::Ptr& g : *grids)
-    s += (s.empty() ? "" : ", ") + g->getName() + " (" + g->valueType() + ")";
-  return s.empty() ? "none" : s;
-}
-
-// One requested grid, checked: a float grid with an affine transform, finite values >= 0,
-// at least one active voxel. Returns it with the maximum of its values.
-openvdb::FloatGrid::Ptr readFloatGrid(openvdb::io::File& file, const std::string& path,
-                                      const VdbGridRequest& request, float* maxValue) {
-  const std::string name = fileName(path);
-  if (!file.hasGrid(request.name))
-    throw SceneError(request.where, name + " has no grid '" + request.name +
-                                        "' (its grids: " + gridList(file) + ")");
-  openvdb::GridBase::Ptr base = file.readGrid(request.name);
-  openvdb::FloatGrid::Ptr grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
-  if (!grid)
-    throw SceneError(request.where, name + ": grid '" + request.name + "' holds " +
-                                        base->valueType() + " values, not float");
-  if (!grid->transform().isLinear())
-    throw SceneError(request.where,
-                     name + ": grid '" + request.name + "' has a non-linear (frustum) transform");
-  if (grid->activeVoxelCount() == 0)
-    throw SceneError(request.where,
-                     name + ": grid '" + request.name + "' is empty (no active voxels)");
-  float best = grid->background();
-  auto check = [&](float v, const std::string& what) {
-    if (!std::isfinite(v) || v < 0)
-      throw SceneError(request.where, name + ": grid '" + request.name + "' has " + what + " " +
-                                          std::to_string(v) + " (values must be finite and >= 0)");
-  };
-  check(grid->background(), "the background");
-  for (auto it = grid->cbeginValueOn(); it; ++it) {
-    const float v = *it;
-    if (!std::isfinite(v) || v < 0) {
-      const openvdb::Coord c = it.getCoord();
-      check(v, "at voxel [" + std::to_string(c.x()) + ", " + std::to_string(c.y()) + ", " +
-                   std::to_string(c.z()) + "] the value");
-    }
-    best = std::max(best, v);
-  }
-  *maxValue = best;
-  return grid;
-}
-
-VdbGrid flatten(const openvdb::FloatGrid& grid, const std::string& name) {
-  VdbGrid g;
-  g.name = name;
-  g.handle = nanovdb::openToNanoVDB<nanovdb::HostBuffer>(grid);
-  return g;
-}
-
-// The density maxima over `bounds`: every active voxel or tile raises the cells its trilinear
-// reach overlaps to its value.
-MajorantGrid majorants(const openvdb::FloatGrid& grid, const Bounds3f& bounds, int cells) {
-  const Vec3f extent = bounds.diagonal();
-  const float longest = std::max({extent.x, extent.y, extent.z});
-  int res[3];
-  for (int a = 0; a < 3; ++a)
-    res[a] = std::clamp(int(std::ceil(float(cells) * extent[a] / longest)), 1, cells);
-  MajorantGrid out(bounds, res[0], res[1], res[2]);
-  const AffineMap map(grid.transform());
-  openvdb::CoordBBox box;
-  for (auto it = grid.cbeginValueOn(); it; ++it) {
-    if (*it <= 0) continue;
-    it.getBoundingBox(box);
-    out.include(reach(map, box), *it);
-  }
-  return out;
+template <class T>
+T orThrow(T result, openvdb_plugin::Refusal& refusal) {
+  if (!refusal.message.empty()) throw SceneError(refusal.where, refusal.message);
+  return result;
 }
 
 }  // namespace
 
 std::vector<VdbGridInfo> listVdbGrids(const std::string& path) {
-  const SourceLocation where{path, ""};
-  return guarded(path, where, [&] {
-    OpenFile f(path);
-    std::vector<VdbGridInfo> out;
-    openvdb::GridPtrVecPtr grids = f.file.getGrids();
-    for (const openvdb::GridBase::Ptr& g : *grids) {
-      VdbGridInfo info;
-      info.name = g->getName();
-      info.type = g->valueType();
-      const openvdb::Vec3d v = g->voxelSize();
-      info.voxelSize = {float(v.x()), float(v.y()), float(v.z())};
-      info.activeVoxels = g->activeVoxelCount();
-      info.memoryBytes = g->memUsage();
-      const openvdb::CoordBBox box = g->evalActiveVoxelBoundingBox();
-      if (info.activeVoxels > 0 && g->transform().isLinear())
-        info.worldBounds = AffineMap(g->transform())
-                               .worldBox(toVec(box.min()) - Vec3f{0.5f, 0.5f, 0.5f},
-                                         toVec(box.max()) + Vec3f{0.5f, 0.5f, 0.5f});
-      out.push_back(std::move(info));
-    }
-    return out;
-  });
+  openvdb_plugin::Refusal refusal;
+  return orThrow(plugin().listGrids(path, &refusal), refusal);
 }
 
 std::shared_ptr<VdbVolume> readVdbFile(const std::string& path, const VdbRequest& request) {
-  return guarded(path, request.where, [&] {
-    OpenFile f(path);
-    auto volume = std::make_shared<VdbVolume>();
-    volume->file = path;
-    float maxDensity = 0, ignored = 0;
-    openvdb::FloatGrid::Ptr density = readFloatGrid(f.file, path, request.density, &maxDensity);
-    if (density->background() != 0)
-      throw SceneError(request.density.where,
-                       fileName(path) + ": density grid '" + request.density.name +
-                           "' has a background of " + std::to_string(density->background()) +
-                           " (a medium is bounded by its active voxels: it must be 0)");
-    volume->maxDensity = maxDensity;
-    volume->bounds = reach(AffineMap(density->transform()), density->evalActiveVoxelBoundingBox());
-    auto optionalGrid = [&](const std::optional<VdbGridRequest>& r) -> std::optional<VdbGrid> {
-      if (!r) return std::nullopt;
-      openvdb::FloatGrid::Ptr g = readFloatGrid(f.file, path, *r, &ignored);
-      // Emission reaches as far as its grid: the region must hold it too (a flame grid's
-      // background is emitted everywhere, so only its active voxels bound it).
-      volume->bounds.extend(reach(AffineMap(g->transform()), g->evalActiveVoxelBoundingBox()));
-      return flatten(*g, r->name);
-    };
-    volume->temperature = optionalGrid(request.temperature);
-    volume->flame = optionalGrid(request.flame);
-    volume->density = flatten(*density, request.density.name);
-    if (request.majorantCells > 1)
-      volume->majorants = majorants(*density, volume->bounds, request.majorantCells);
-    return volume;
-  });
+  openvdb_plugin::Refusal refusal;
+  return orThrow(plugin().read(path, request, &refusal), refusal);
 }
 
 }  // namespace glint

@@ -1,6 +1,7 @@
 // glint — OpenVDB files (.vdb): reading the grids a sidecar medium names into a VdbVolume
 // (materials/vdb_volume.h: NanoVDB grids, their bounds and majorant grid), and listing a
-// file's grids for `glint info`. The only place glint uses OpenVDB.
+// file's grids for `glint info`. The reading is done by the OpenVDB plugin
+// (scenes/openvdb/plugin.h), loaded the first time a scene names a .vdb file.
 //
 // What is accepted: float grids (density, temperature, flame) with a linear index-to-world
 // transform (OpenVDB's affine maps; a frustum transform is refused), every active value and

@@ -10,7 +10,7 @@ prefix=$(mktemp -d)
 trap 'rm -rf "$prefix"' EXIT
 
 cmake --install "$build" --prefix "$prefix" >"$prefix/install.log"
-for f in bin/glint lib/glint/libglint_oiio.so share/glint/ocio/config.ocio; do
+for f in bin/glint lib/glint/libglint_oiio.so lib/glint/libglint_openvdb.so share/glint/ocio/config.ocio; do
   [[ -f "$prefix/$f" ]] || { echo "FAIL: cmake --install made no $f"; cat "$prefix/install.log"; exit 1; }
 done
 

@@ -256,6 +256,44 @@ TEST(VdbFile, CommandLineExitsTwoAndKeepsTheOutput) {
       << info.out;
 }
 
+// OpenVDB lives in a plugin (scenes/openvdb/plugin.h): a scene without a .vdb medium never
+// loads it (nor libopenvdb: the dynamic loader's LD_DEBUG=files log names every file it
+// opens), and a missing plugin fails a VDB scene clearly (exit code 1: not the scene's fault)
+// without touching the output.
+TEST(VdbFile, OnlyVdbScenesLoadTheOpenVdbPlugin) {
+  const std::string dir = test::scratchDir("VdbFile.OnlyVdbScenesLoadTheOpenVdbPlugin");
+  std::ofstream(dir + "/ball.json") << test::litBallJson(16, 12);
+  {
+    test::ScopedEnv debug("LD_DEBUG", "files");
+    const test::CommandResult r =
+        test::runGlint("render '" + dir + "/ball.json' -q --spp 1 -o '" + dir + "/ball.exr'");
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find("file="), std::string::npos) << "no loader log: " << r.err;
+    EXPECT_EQ(r.err.find("openvdb"), std::string::npos) << r.err;
+  }
+  writeVdb(dir + "/cloud.vdb", {cube("density", 0.1f, 4, 1)});
+  std::ofstream(dir + "/scene.json") << R"({
+    "cameras": [{"name": "c", "position": [0, 0, 3], "look_at": [0, 0, 0]}],
+    "render": {"width": 8, "height": 8, "spp": 1},
+    "media": [{"sigma_s": 1, "density": {"type": "vdb", "file": "cloud.vdb"}}]
+  })";
+  {
+    test::ScopedEnv debug("LD_DEBUG", "files");
+    const test::CommandResult r =
+        test::runGlint("render '" + dir + "/scene.json' -q -o '" + dir + "/out.exr'");
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find("libglint_openvdb.so"), std::string::npos) << r.err;
+  }
+  std::ofstream(dir + "/out.exr") << "previous good image";
+  test::ScopedEnv noPlugin("GLINT_OPENVDB_PLUGIN", (dir + "/missing/libglint_openvdb.so").c_str());
+  const test::CommandResult r =
+      test::runGlint("render '" + dir + "/scene.json' -q -o '" + dir + "/out.exr'");
+  EXPECT_EQ(r.exitCode, 1) << r.err;
+  EXPECT_NE(r.err.find("OpenVDB plugin"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("missing/libglint_openvdb.so: no such file"), std::string::npos) << r.err;
+  EXPECT_EQ(test::slurp(dir + "/out.exr"), "previous good image");
+}
+
 // ---------------------------------------------------------------------------------------------
 // Rendering against closed forms and the existing media
 // ---------------------------------------------------------------------------------------------
