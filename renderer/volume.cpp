@@ -139,11 +139,11 @@ MediaScene::MediaScene(const IntegratorSettings& settings)
 
 void MediaScene::finishRegion(Region* r, const Bounds3f& objectBounds) {
   r->maxDensity = r->medium->density->maxDensity(objectBounds);
-  r->majorant = maxComponent(r->medium->sigmaT()) * r->maxDensity;
+  r->majorant = maxComponent(r->medium->sigmaTBound()) * r->maxDensity;
   r->step = step_ > 0 ? step_ : length(r->box.diagonal()) / kAutoStepsPerDiagonal;
   r->grid = r->medium->density->majorantGrid();
-  r->gridScale = maxComponent(r->medium->sigmaT());
-  const Rgb sigmaT = r->medium->sigmaT();
+  r->gridScale = maxComponent(r->medium->sigmaTBound());
+  const Rgb sigmaT = r->medium->sigmaTBound();
   const bool coloured = sigmaT.x != sigmaT.y || sigmaT.y != sigmaT.z;
   if (coloured && r->medium->heroTracking) heroTracking_ = true;
 }
@@ -205,8 +205,9 @@ MediaScene::Coefficients MediaScene::coefficients(const std::vector<uint32_t>& a
   for (uint32_t i : active) {
     const Region& r = regions_[i];
     const float d = density(r, p);
-    c.sigmaT += r.medium->sigmaT() * d;
-    c.sigmaS += r.medium->sigmaS * d;
+    const Rgb sigmaS = scattering(r, p);
+    c.sigmaT += (r.medium->sigmaA + sigmaS) * d;
+    c.sigmaS += sigmaS * d;
     c.emission += r.medium->Le * d;
     if (r.medium->emissionField)
       c.emission += r.medium->emissionField->emission(r.objectFromWorld.point(p));
@@ -264,8 +265,9 @@ Rgb MediaScene::regionTransmittance(const Region& r, const Ray& ray, float t0, f
       float x = 0;
       while (stepper.next(seg.majorant, segLength, &x, sampler)) {
         ++tally.n;
-        const float d = density(r, segStart + dUnit * x);
-        T *= max(Rgb{0, 0, 0}, Rgb{1, 1, 1} - m.sigmaT() * (d / seg.majorant));
+        const Vec3f p = segStart + dUnit * x;
+        const Rgb sigmaT = m.color ? m.sigmaA + scattering(r, p) : m.sigmaT();
+        T *= max(Rgb{0, 0, 0}, Rgb{1, 1, 1} - sigmaT * (density(r, p) / seg.majorant));
         const float q = maxComponent(T);
         if (q <= 0) return {};
         if (q < kRouletteThreshold) {
@@ -281,6 +283,14 @@ Rgb MediaScene::regionTransmittance(const Region& r, const Ray& ray, float t0, f
   const int n = std::clamp(int(std::ceil(s / r.step)), 1, kMaxSteps);
   const float ds = s / float(n);
   const float u = sampler.get1D();
+  if (m.color) {  // sigma_t varies in colour as well
+    Rgb depth;
+    for (int k = 0; k < n; ++k) {
+      const Vec3f p = start + dUnit * ((float(k) + u) * ds);
+      depth += (m.sigmaA + scattering(r, p)) * density(r, p);
+    }
+    return expNeg(depth * ds);
+  }
   float depth = 0;
   for (int k = 0; k < n; ++k) depth += density(r, start + dUnit * ((float(k) + u) * ds));
   return expNeg(m.sigmaT() * (depth * ds));
@@ -323,7 +333,7 @@ Rgb MediaScene::source(const RenderScene& scene, const std::vector<uint32_t>& ac
     for (uint32_t i : active) {
       const Region& r = regions_[i];
       if (!r.medium->scatters()) continue;
-      sum += r.medium->sigmaS * (density(r, p) * henyeyGreenstein(cosTheta, r.medium->g));
+      sum += scattering(r, p) * (density(r, p) * henyeyGreenstein(cosTheta, r.medium->g));
     }
     return sum;
   };
@@ -440,8 +450,8 @@ VolumeSegment MediaScene::integrate(const RenderScene& scene, const Ray& ray, fl
 // Free-flight sampling
 // ---------------------------------------------------------------------------------------------
 
-void MediaScene::pickScatterer(const std::vector<uint32_t>& active, Vec3f p,
-                               const Coefficients& c, Sampler& sampler, MediumEvent* event) const {
+void MediaScene::pickScatterer(const std::vector<uint32_t>& active, Vec3f p, const Coefficients& c,
+                               Sampler& sampler, MediumEvent* event) const {
   // The scattering region (whose phase function the path takes), in proportion to its share
   // of sigma_s. The number is drawn even for one region, so the stream does not depend on it.
   float pick = sampler.get1D() * mean(c.sigmaS);
@@ -452,7 +462,7 @@ void MediaScene::pickScatterer(const std::vector<uint32_t>& active, Vec3f p,
   for (uint32_t i : active) {
     const Region& r = regions_[i];
     event->g = r.medium->g;
-    pick -= mean(r.medium->sigmaS) * density(r, p);
+    pick -= mean(scattering(r, p)) * density(r, p);
     if (pick < 0) break;
   }
 }
@@ -571,9 +581,9 @@ Rgb MediaScene::channelMajorants(const std::vector<uint32_t>& active, float cell
   for (uint32_t i : active) {
     const Region& r = regions_[i];
     if (!gridded && r.grid)
-      gridded = true, M += r.medium->sigmaT() * cell;
+      gridded = true, M += r.medium->sigmaTBound() * cell;
     else
-      M += r.medium->sigmaT() * r.maxDensity;
+      M += r.medium->sigmaTBound() * r.maxDensity;
   }
   return M;
 }

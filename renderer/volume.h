@@ -166,6 +166,12 @@ class MediaScene {
     return r.medium->homogeneous() ? r.medium->density->density(pWorld)
                                    : r.medium->density->density(r.objectFromWorld.point(pWorld));
   }
+  // sigma_s at the world point p, per unit density: the medium's, times its colour field there.
+  Rgb scattering(const Region& r, Vec3f pWorld) const {
+    return r.medium->color
+               ? r.medium->sigmaS * r.medium->color->color(r.objectFromWorld.point(pWorld))
+               : r.medium->sigmaS;
+  }
   Coefficients coefficients(const std::vector<uint32_t>& active, Vec3f p) const;
   // Transmittance through one region over world-space distance [0, length) from ray.at(t0).
   Rgb regionTransmittance(const Region& r, const Ray& ray, float t0, float t1, Sampler& sampler,
@@ -188,10 +194,10 @@ class MediaScene {
              float time, const Coefficients& c, Sampler& sampler, RayCounters& counters) const;
 
   std::vector<Region> regions_;
-  bool single_;  // single scattering (else emission and absorption only)
-  bool track_;   // tracking estimators (else marching)
+  bool single_;                // single scattering (else emission and absorption only)
+  bool track_;                 // tracking estimators (else marching)
   bool heroTracking_ = false;  // a medium with coloured extinction asks for heroTrack
-  float step_;   // the configured step; 0 = per region
+  float step_;                 // the configured step; 0 = per region
 };
 
 }  // namespace glint

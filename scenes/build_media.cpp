@@ -66,6 +66,8 @@ void addMedia(const SceneDescription& desc, SceneParts* scene) {
     medium->g = m.g;
     medium->heroTracking = m.heroTracking;
     medium->emissionField = makeEmission(m);
+    if (m.density == DensityType::Vdb && m.vdb->color)
+      medium->color = std::make_unique<VdbColor>(m.vdb);
     switch (m.region) {
       case MediumDesc::Region::Scene:
         medium->density = makeDensity(m, box);
