@@ -51,6 +51,15 @@ class EmissionField {
   virtual Rgb emission(Vec3f p) const = 0;
 };
 
+// A scattering colour per point (a VDB medium's colour grid): sigma_s(p) = sigma_s x color(p)
+// x density(p). Object space, as density fields.
+class ColorField {
+ public:
+  virtual ~ColorField() = default;
+  virtual Rgb color(Vec3f p) const = 0;  // >= 0 per component
+  virtual Rgb maxColor() const = 0;      // a bound of color() per component
+};
+
 // The same density everywhere (a homogeneous medium).
 class ConstantDensity final : public DensityField {
  public:
@@ -125,8 +134,15 @@ struct Medium {
   float g = 0;                           // Henyey–Greenstein asymmetry, |g| < 1
   std::unique_ptr<DensityField> density;
   std::unique_ptr<EmissionField> emissionField;  // null: Le x density is all it emits
+  std::unique_ptr<ColorField> color;             // null: sigma_s alone (a colour of 1)
+  // Coloured extinction (sigma_t differing between channels) tracked by spectral MIS over a
+  // hero channel (renderer/volume.cpp); false: against the largest channel, with channel-mean
+  // event probabilities (the older estimator: unbiased, heavy-tailed).
+  bool heroTracking = true;
 
   Rgb sigmaT() const { return sigmaA + sigmaS; }
+  // sigma_t's bound per channel at density 1, the colour field's included: the majorants'.
+  Rgb sigmaTBound() const { return color ? sigmaA + sigmaS * color->maxColor() : sigmaT(); }
   bool emits() const { return maxComponent(Le) > 0 || emissionField; }
   bool scatters() const { return maxComponent(sigmaS) > 0; }
   bool homogeneous() const { return density->isConstant(); }

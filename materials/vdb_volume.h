@@ -15,6 +15,8 @@
 #include <nanovdb/util/GridHandle.h>
 #include <nanovdb/util/HostBuffer.h>
 
+#include <atomic>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -28,17 +30,37 @@ namespace glint {
 struct VdbGrid {
   std::string name;
   nanovdb::GridHandle<nanovdb::HostBuffer> handle;
+  // Unique per grid made (moves keep it): the key of the per-thread lookup caches.
+  struct Key {
+    const void* origin = nullptr;  // the counter that numbered it
+    uint64_t count = 0;
+    bool operator==(const Key&) const = default;
+  };
+  Key key = newKey();
 
   // Trilinear interpolation at the object-space point p of a float grid (voxel values sit at
   // integer index coordinates, OpenVDB's convention); the background outside active voxels.
   float sample(Vec3f p) const;
+  // The same for a vec3 grid (the colour grid).
+  Rgb sampleVec3(Vec3f p) const;
   size_t bytes() const { return handle.size(); }
+
+ private:
+  // Inline, because grids are made in the OpenVDB plugin (scenes/openvdb/) as well as in glint,
+  // and each has its own copy of the counter: the key pairs the count with the counter's
+  // address, so the two never give the same key.
+  static Key newKey() {
+    static std::atomic<uint64_t> counter{0};
+    return {&counter, counter.fetch_add(1, std::memory_order_relaxed) + 1};
+  }
 };
 
 struct VdbVolume {
   std::string file;
   VdbGrid density;                            // float, required
   std::optional<VdbGrid> temperature, flame;  // float, optional
+  std::optional<VdbGrid> color;               // vec3, optional: multiplies sigma_s per point
+  Rgb maxColor{1, 1, 1};                      // of the colour grid's values, per component
   // Object-space box outside which every grid's lookups give the background: the active
   // voxels (and tiles) of the grids, grown by one voxel for the trilinear lookups' reach.
   Bounds3f bounds;
@@ -62,6 +84,18 @@ class VdbDensity final : public DensityField {
   float scale_;
   float max_ = 0;
   std::optional<MajorantGrid> majorants_;  // the volume's, times scale
+};
+
+// The scattering colour per point from the colour grid (as Cycles' Principled Volume "Color":
+// sigma_s(p) = sigma_s x colour(p) x density(p)), bounded by the grid's largest components.
+class VdbColor final : public ColorField {
+ public:
+  explicit VdbColor(std::shared_ptr<const VdbVolume> volume) : volume_(std::move(volume)) {}
+  Rgb color(Vec3f p) const override { return volume_->color->sampleVec3(p); }
+  Rgb maxColor() const override { return volume_->maxColor; }
+
+ private:
+  std::shared_ptr<const VdbVolume> volume_;
 };
 
 // Fire: blackbody radiation of the temperature grid (T = temperature_scale x grid +

@@ -6,10 +6,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
 
 #include "geometry/math.h"
 #include "materials/majorant_grid.h"
+#include "renderer/sampler.h"
 
 namespace glint {
 
@@ -17,7 +17,8 @@ class MajorantDda {
  public:
   // The segment t in [tMin, tMax] of the object-space ray o + t d (d need not be unit: t is
   // the caller's ray parameter) through `grid`, clipped to the grid's box.
-  MajorantDda(const MajorantGrid& grid, Vec3f o, Vec3f d, float tMin, float tMax) : grid_(grid) {
+  MajorantDda() = default;  // no cells
+  MajorantDda(const MajorantGrid& grid, Vec3f o, Vec3f d, float tMin, float tMax) : grid_(&grid) {
     const Bounds3f& b = grid.bounds();
     const Vec3f extent = b.diagonal();
     // The ray in grid space, where the grid is [0, 1]^3.
@@ -60,7 +61,7 @@ class MajorantDda {
         next_[0] < next_[1] ? (next_[0] < next_[2] ? 0 : 2) : (next_[1] < next_[2] ? 1 : 2);
     *t0 = t_;
     *t1 = std::max(t_, std::min(tEnd_, next_[a]));
-    *value = grid_.at(cell_[0], cell_[1], cell_[2]);
+    *value = grid_->at(cell_[0], cell_[1], cell_[2]);
     t_ = *t1;
     cell_[a] += step_[a];
     next_[a] += delta_[a];
@@ -69,15 +70,17 @@ class MajorantDda {
   }
 
  private:
-  const MajorantGrid& grid_;
+  const MajorantGrid* grid_ = nullptr;
   float t_ = 0, tEnd_ = 0;
   int cell_[3] = {0, 0, 0}, step_[3] = {0, 0, 0}, stop_[3] = {0, 0, 0};
   float next_[3] = {kInfinity, kInfinity, kInfinity}, delta_[3] = {0, 0, 0};
 };
 
-// A stretch [t0, t1] of a ray with one majorant (max over channels of sigma_t).
+// A stretch [t0, t1] of a ray with one majorant (max over channels of sigma_t); `cell` is the
+// majorant grid's value there (0 without a grid), for trackers that need each channel's.
 struct MajorantSegment {
   float t0, t1, majorant;
+  float cell = 0;
 };
 
 // The majorant along [a, b] of a ray, stretch by stretch, as a tracker advances: one stretch of
@@ -90,62 +93,81 @@ class MajorantWalk {
   // `o`, `d`: the ray in the grid's (object) space; t is the caller's ray parameter.
   MajorantWalk(const MajorantGrid& grid, float scale, Vec3f o, Vec3f d, float a, float b,
                float constant)
-      : t_(a), b_(b), constant_(constant), scale_(scale) {
-    dda_.emplace(grid, o, d, a, b);
-  }
+      : t_(a), b_(b), constant_(constant), scale_(scale), dda_(grid, o, d, a, b), gridded_(true) {}
 
   // The next stretch; false when the walk has reached b.
   bool next(MajorantSegment* out) {
-    bool have = false;
-    if (pending_) *out = *pending_, pending_.reset(), have = true;
-    MajorantSegment raw;
-    while (nextRaw(&raw)) {
-      if (!have) {
-        *out = raw, have = true;
-      } else if (raw.majorant == out->majorant) {
-        out->t1 = raw.t1;
-      } else {
-        pending_ = raw;
-        break;
-      }
-    }
-    return have;
-  }
-
- private:
-  // The next cell, or a stretch of `constant` where the grid's box leaves [a, b] uncovered (by
-  // rounding at its faces: the density there is 0).
-  bool nextRaw(MajorantSegment* out) {
-    while (t_ < b_) {
-      if (dda_ && !ddaDone_) {
-        if (!haveCell_ && !(haveCell_ = dda_->next(&c0_, &c1_, &value_))) {
-          ddaDone_ = true;
-          continue;
-        }
-        if (c0_ > t_) {
-          *out = {t_, std::min(c0_, b_), constant_};
-          t_ = out->t1;
-          return true;
-        }
-        haveCell_ = false;
-        const float t1 = std::min(c1_, b_);
-        if (!(t1 > t_)) continue;
-        *out = {t_, t1, constant_ + value_ * scale_};
-        t_ = t1;
-        return true;
-      }
+    if (!(t_ < b_)) return false;
+    if (!gridded_) {
       *out = {t_, b_, constant_};
       t_ = b_;
       return true;
     }
+    if (!haveCell_ && !nextCell()) {
+      // Past the grid's box (by rounding at its faces: the density there is 0).
+      *out = {t_, b_, constant_};
+      t_ = b_;
+      return true;
+    }
+    if (c0_ > t_) {  // before the grid's box, likewise
+      *out = {t_, std::min(c0_, b_), constant_};
+      t_ = out->t1;
+      return true;
+    }
+    // This cell, and the following ones of the same value (one stretch for the tracker).
+    const float value = value_;
+    float t1 = std::min(c1_, b_);
+    haveCell_ = false;
+    if (!(t1 > t_)) return next(out);  // a cell left behind by rounding
+    while (t1 < b_ && nextCell()) {
+      if (value_ != value || c0_ > t1) break;
+      t1 = std::min(c1_, b_);
+      haveCell_ = false;
+    }
+    *out = {t_, t1, constant_ + value * scale_, value};
+    t_ = t1;
+    return true;
+  }
+
+ private:
+  // The DDA's next cell into (c0_, c1_, value_), skipping empty stretches; false when done.
+  bool nextCell() {
+    while (dda_.next(&c0_, &c1_, &value_))
+      if (c1_ > c0_ && c1_ > t_) return haveCell_ = true;
     return false;
   }
 
   float t_, b_, constant_, scale_ = 0;
-  std::optional<MajorantDda> dda_;
-  bool ddaDone_ = false, haveCell_ = false;
+  MajorantDda dda_;
+  bool gridded_ = false, haveCell_ = false;
   float c0_ = 0, c1_ = 0, value_ = 0;
-  std::optional<MajorantSegment> pending_;
+};
+
+// Tentative collisions along the stretches of a MajorantWalk: the majorant's optical depth to
+// the next collision is exponentially distributed, so one draw serves however many stretches it
+// crosses. A stretch that ends first passes the depth left over on to the next, and a ray pays
+// one random number and one logarithm per collision rather than per cell it crosses. (Drawing
+// afresh at every stretch, as pbrt-v4 does, is as correct and costs a draw per cell.) Within one
+// stretch the collisions are those of x += -log(1 - u) / majorant, bit for bit.
+class CollisionStepper {
+ public:
+  // The next collision after *x in a stretch of length s with majorant m > 0: true and *x moved
+  // to it, or false when it lies beyond s (the depth left over is kept for the next stretch).
+  bool next(float m, float s, float* x, Sampler& sampler) {
+    if (!have_) tau_ = -std::log1p(-sampler.get1D()), have_ = true;
+    const float step = tau_ / m;
+    if (*x + step >= s) {
+      tau_ = std::max(0.0f, tau_ - (s - *x) * m);
+      return false;
+    }
+    *x += step;
+    have_ = false;
+    return true;
+  }
+
+ private:
+  float tau_ = 0;
+  bool have_ = false;
 };
 
 }  // namespace glint

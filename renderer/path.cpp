@@ -130,6 +130,8 @@ Rgb PathIntegrator::volumetricPath(const Ray& cameraRay, const Hit* cameraHit, S
   Path path(scene_.camera().pixelCone());
   // Tracking's own random stream (path.h), drawn before the vertices' dimensions.
   Sampler tracker = trackingStream(sampler);
+  // Coloured extinction: one hero channel for the whole path (spectral MIS, volume.h).
+  ChannelPath channels = media_->startPath(tracker);
   auto shadowMedia = [&](const Ray& shadow) {
     return media_->trackedTransmittance(shadow, shadow.tMax, tracker);
   };
@@ -149,7 +151,7 @@ Rgb PathIntegrator::volumetricPath(const Ray& cameraRay, const Hit* cameraHit, S
     // --- The media along the segment: their emission, then pass or scatter.
     Rgb Le;
     const MediumEvent event =
-        media_->sampleScatteringAndEmission(ray, hit ? hit->t : kInfinity, tracker, &Le);
+        media_->sampleScatteringAndEmission(ray, hit ? hit->t : kInfinity, tracker, &Le, &channels);
     path.L += path.beta * Le;
     path.beta *= event.weight;
     if (!(maxComponent(path.beta) > 0)) break;  // absorbed

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cmath>
 
+#include "geometry/shapes/box.h"
 #include "materials/phase.h"
 #include "renderer/direct_light.h"
 #include "renderer/integrator.h"
@@ -47,6 +48,25 @@ Rgb sourceIntegral(Rgb sigmaT, float s) {
 }
 
 Rgb expNeg(Rgb x) { return {std::exp(-x.x), std::exp(-x.y), std::exp(-x.z)}; }
+
+// R *= exp(-M x) per channel, with R kept up to a common factor: the exponents are shifted by
+// their largest, then R is rescaled to a largest component of 1.
+void attenuate(Rgb* R, Rgb M, float x) {
+  const Rgb e = M * -x;
+  const float top = maxComponent(e);
+  *R *= expNeg(Rgb{top, top, top} - e);
+  const float big = maxComponent(*R);
+  if (big > 0) *R = *R / big;
+}
+
+float mean(Rgb c) { return (c.x + c.y + c.z) / 3; }
+
+// a / b per channel, 0 where b is 0 (a channel the path has already lost).
+Rgb safeDivide(Rgb a, Rgb b) {
+  Rgb out;
+  for (int c = 0; c < 3; ++c) out[c] = b[c] > 0 ? a[c] / b[c] : 0.0f;
+  return out;
+}
 
 // Sorted distinct interval ends: the pieces between consecutive ones have a fixed set of
 // active regions.
@@ -118,10 +138,14 @@ MediaScene::MediaScene(const IntegratorSettings& settings)
       step_(settings.volumeStep) {}
 
 void MediaScene::finishRegion(Region* r, const Bounds3f& objectBounds) {
-  r->majorant = maxComponent(r->medium->sigmaT()) * r->medium->density->maxDensity(objectBounds);
+  r->maxDensity = r->medium->density->maxDensity(objectBounds);
+  r->majorant = maxComponent(r->medium->sigmaTBound()) * r->maxDensity;
   r->step = step_ > 0 ? step_ : length(r->box.diagonal()) / kAutoStepsPerDiagonal;
   r->grid = r->medium->density->majorantGrid();
-  r->gridScale = maxComponent(r->medium->sigmaT());
+  r->gridScale = maxComponent(r->medium->sigmaTBound());
+  const Rgb sigmaT = r->medium->sigmaTBound();
+  const bool coloured = sigmaT.x != sigmaT.y || sigmaT.y != sigmaT.z;
+  if (coloured && r->medium->heroTracking) heroTracking_ = true;
 }
 
 void MediaScene::addRegion(std::unique_ptr<Medium> medium, std::unique_ptr<Shape> shape,
@@ -132,6 +156,7 @@ void MediaScene::addRegion(std::unique_ptr<Medium> medium, std::unique_ptr<Shape
   r.placed.emplace(r.shape.get(), worldFromObject);
   r.objectFromWorld = worldFromObject.inverse();
   r.box = r.placed->bounds();
+  if (dynamic_cast<const Box*>(r.shape.get())) r.objectBox = r.shape->bounds();
   const Bounds3f objectBounds = r.shape->bounds();
   finishRegion(&r, objectBounds);
   regions_.push_back(std::move(r));
@@ -153,9 +178,18 @@ void MediaScene::intervals(const Ray& ray, float tMax, std::vector<Interval>* ou
     if (r.placed) {
       // Most rays pass a bounded region by: its box settles them before the exact span.
       if (segmentMissesBox(ray, reciprocalDirection(ray.d), r.box, t0, t1)) continue;
-      Span span;
-      if (!r.placed->span(ray, {}, &span)) continue;
-      t0 = std::max(t0, span.enter.t), t1 = std::min(t1, span.exit.t);
+      if (r.objectBox) {
+        // A box (every VDB medium's region): a slab test in its object space, where t means
+        // what it does here (an affine map keeps a ray's parameter). The exact span's error
+        // bounds and normals serve surfaces; a medium's edge needs neither, and this is most of
+        // the cost of a ray that enters a medium.
+        const Ray local{r.objectFromWorld.point(ray.o), r.objectFromWorld.vector(ray.d)};
+        if (!clipToBox(local, *r.objectBox, &t0, &t1)) continue;
+      } else {
+        Span span;
+        if (!r.placed->span(ray, {}, &span)) continue;
+        t0 = std::max(t0, span.enter.t), t1 = std::min(t1, span.exit.t);
+      }
     } else if (!clipToBox(ray, r.box, &t0, &t1)) {
       continue;
     }
@@ -171,8 +205,9 @@ MediaScene::Coefficients MediaScene::coefficients(const std::vector<uint32_t>& a
   for (uint32_t i : active) {
     const Region& r = regions_[i];
     const float d = density(r, p);
-    c.sigmaT += r.medium->sigmaT() * d;
-    c.sigmaS += r.medium->sigmaS * d;
+    const Rgb sigmaS = scattering(r, p);
+    c.sigmaT += (r.medium->sigmaA + sigmaS) * d;
+    c.sigmaS += sigmaS * d;
     c.emission += r.medium->Le * d;
     if (r.medium->emissionField)
       c.emission += r.medium->emissionField->emission(r.objectFromWorld.point(p));
@@ -222,17 +257,17 @@ Rgb MediaScene::regionTransmittance(const Region& r, const Ray& ray, float t0, f
     CollisionTally tally(gRatioTentative);
     Rgb T{1, 1, 1};
     MajorantSegment seg;
+    CollisionStepper stepper;
     while (walk.next(&seg)) {
       if (seg.majorant <= 0) continue;
       const float segLength = (seg.t1 - seg.t0) * len;
       const Vec3f segStart = ray.at(seg.t0);
       float x = 0;
-      for (;;) {
-        x -= std::log1p(-sampler.get1D()) / seg.majorant;
-        if (x >= segLength) break;
+      while (stepper.next(seg.majorant, segLength, &x, sampler)) {
         ++tally.n;
-        const float d = density(r, segStart + dUnit * x);
-        T *= max(Rgb{0, 0, 0}, Rgb{1, 1, 1} - m.sigmaT() * (d / seg.majorant));
+        const Vec3f p = segStart + dUnit * x;
+        const Rgb sigmaT = m.color ? m.sigmaA + scattering(r, p) : m.sigmaT();
+        T *= max(Rgb{0, 0, 0}, Rgb{1, 1, 1} - sigmaT * (density(r, p) / seg.majorant));
         const float q = maxComponent(T);
         if (q <= 0) return {};
         if (q < kRouletteThreshold) {
@@ -248,6 +283,14 @@ Rgb MediaScene::regionTransmittance(const Region& r, const Ray& ray, float t0, f
   const int n = std::clamp(int(std::ceil(s / r.step)), 1, kMaxSteps);
   const float ds = s / float(n);
   const float u = sampler.get1D();
+  if (m.color) {  // sigma_t varies in colour as well
+    Rgb depth;
+    for (int k = 0; k < n; ++k) {
+      const Vec3f p = start + dUnit * ((float(k) + u) * ds);
+      depth += (m.sigmaA + scattering(r, p)) * density(r, p);
+    }
+    return expNeg(depth * ds);
+  }
   float depth = 0;
   for (int k = 0; k < n; ++k) depth += density(r, start + dUnit * ((float(k) + u) * ds));
   return expNeg(m.sigmaT() * (depth * ds));
@@ -290,7 +333,7 @@ Rgb MediaScene::source(const RenderScene& scene, const std::vector<uint32_t>& ac
     for (uint32_t i : active) {
       const Region& r = regions_[i];
       if (!r.medium->scatters()) continue;
-      sum += r.medium->sigmaS * (density(r, p) * henyeyGreenstein(cosTheta, r.medium->g));
+      sum += scattering(r, p) * (density(r, p) * henyeyGreenstein(cosTheta, r.medium->g));
     }
     return sum;
   };
@@ -357,6 +400,7 @@ VolumeSegment MediaScene::integrate(const RenderScene& scene, const Ray& ray, fl
       MajorantWalk walk = majorantWalk(ray, a, b, scratch.active);
       CollisionTally tally(gRatioTentative);
       MajorantSegment m;
+      CollisionStepper stepper;
       while (walk.next(&m)) {
         const float segLength = (m.t1 - m.t0) * len;
         const Vec3f segStart = ray.at(m.t0);
@@ -368,9 +412,7 @@ VolumeSegment MediaScene::integrate(const RenderScene& scene, const Ray& ray, fl
           continue;
         }
         float x = 0;
-        for (;;) {
-          x -= std::log1p(-sampler.get1D()) / m.majorant;
-          if (x >= segLength) break;
+        while (stepper.next(m.majorant, segLength, &x, sampler)) {
           ++tally.n;
           const Vec3f p = segStart + dUnit * x;
           const Coefficients c = coefficients(scratch.active, p);
@@ -408,18 +450,36 @@ VolumeSegment MediaScene::integrate(const RenderScene& scene, const Ray& ray, fl
 // Free-flight sampling
 // ---------------------------------------------------------------------------------------------
 
+void MediaScene::pickScatterer(const std::vector<uint32_t>& active, Vec3f p, const Coefficients& c,
+                               Sampler& sampler, MediumEvent* event) const {
+  // The scattering region (whose phase function the path takes), in proportion to its share
+  // of sigma_s. The number is drawn even for one region, so the stream does not depend on it.
+  float pick = sampler.get1D() * mean(c.sigmaS);
+  if (active.size() == 1) {
+    event->g = regions_[active[0]].medium->g;
+    return;
+  }
+  for (uint32_t i : active) {
+    const Region& r = regions_[i];
+    event->g = r.medium->g;
+    pick -= mean(scattering(r, p)) * density(r, p);
+    if (pick < 0) break;
+  }
+}
+
 MediumEvent MediaScene::sampleScattering(const Ray& ray, float tMax, Sampler& sampler) const {
-  return deltaTrack(ray, tMax, sampler, nullptr);
+  return deltaTrack(ray, tMax, sampler, nullptr, nullptr);
 }
 
 MediumEvent MediaScene::sampleScatteringAndEmission(const Ray& ray, float tMax, Sampler& sampler,
-                                                    Rgb* emitted) const {
+                                                    Rgb* emitted, ChannelPath* path) const {
   *emitted = {};
-  return deltaTrack(ray, tMax, sampler, emitted);
+  return deltaTrack(ray, tMax, sampler, emitted, path);
 }
 
-MediumEvent MediaScene::deltaTrack(const Ray& ray, float tMax, Sampler& sampler,
-                                   Rgb* emitted) const {
+MediumEvent MediaScene::deltaTrack(const Ray& ray, float tMax, Sampler& sampler, Rgb* emitted,
+                                   ChannelPath* path) const {
+  if (heroTracking_) return heroTrack(ray, tMax, sampler, emitted, path);
   MediumEvent event;
   Scratch& scratch = integrateScratch();
   intervals(ray, tMax, &scratch.intervals);
@@ -427,7 +487,6 @@ MediumEvent MediaScene::deltaTrack(const Ray& ray, float tMax, Sampler& sampler,
   const float len = length(ray.d);
   const Vec3f dUnit = ray.d / len;
   breakpoints(scratch.intervals, &scratch.cuts);
-  auto mean = [](Rgb c) { return (c.x + c.y + c.z) / 3; };
   CollisionTally tentative(gTentative), real(gReal);
   for (size_t k = 0; k + 1 < scratch.cuts.size(); ++k) {
     const float a = scratch.cuts[k], b = scratch.cuts[k + 1];
@@ -440,6 +499,7 @@ MediumEvent MediaScene::deltaTrack(const Ray& ray, float tMax, Sampler& sampler,
     }
     MajorantWalk walk = majorantWalk(ray, a, b, scratch.active);
     MajorantSegment seg;
+    CollisionStepper stepper;
     while (walk.next(&seg)) {
       const float majorant = seg.majorant;
       const float s = (seg.t1 - seg.t0) * len;
@@ -454,9 +514,7 @@ MediumEvent MediaScene::deltaTrack(const Ray& ray, float tMax, Sampler& sampler,
         continue;
       }
       float x = 0;
-      for (;;) {
-        x -= std::log1p(-sampler.get1D()) / majorant;
-        if (x >= s) break;
+      while (stepper.next(majorant, s, &x, sampler)) {
         ++tentative.n;
         const Coefficients c = coefficients(scratch.active, start + dUnit * x);
         // Collisions come at rate `majorant`: weight x emission / majorant per collision
@@ -477,14 +535,7 @@ MediumEvent MediaScene::deltaTrack(const Ray& ray, float tMax, Sampler& sampler,
           event.scattered = true;
           event.t = seg.t0 + x / len;
           event.weight *= c.sigmaS / (majorant * pScatter);
-          // The scattering region, in proportion to its share of sigma_s.
-          float pick = sampler.get1D() * mean(c.sigmaS);
-          for (uint32_t i : scratch.active) {
-            const Region& r = regions_[i];
-            event.g = r.medium->g;
-            pick -= mean(r.medium->sigmaS) * density(r, start + dUnit * x);
-            if (pick < 0) break;
-          }
+          pickScatterer(scratch.active, start + dUnit * x, c, sampler, &event);
           return event;
         }
         const float pNull = 1 - pAbsorb - pScatter;
@@ -494,6 +545,131 @@ MediumEvent MediaScene::deltaTrack(const Ray& ray, float tMax, Sampler& sampler,
       }
     }
   }
+  return event;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Coloured extinction: spectral MIS over a hero channel
+// ---------------------------------------------------------------------------------------------
+//
+// deltaTrack samples collisions at the largest channel's majorant and picks events by the
+// channels' mean probabilities; each null collision then weighs (majorant - sigma_t) /
+// (majorant pNull) per channel, which for sigma_t = (1, 4, 16) is far from 1 in every channel
+// but the largest, and the product over a ray's null collisions is heavy-tailed. heroTrack
+// follows the null-scattering path integral (Miller, Georgiev and Jarosz 2019) as pbrt-v4's
+// VolPathIntegrator does with its hero wavelength: one channel h, chosen uniformly per ray,
+// is tracked on its own (its own majorant, its own absorption, scattering and null
+// probabilities), and every channel c is weighed by one-sample MIS (the balance heuristic)
+// over the three channels' trackers:
+//   weight_c = f_c / ((p_0 + p_1 + p_2) / 3),
+// where p_k is the density with which channel k's tracker makes the same collisions and
+// events. For a tracker that follows its own channel exactly, f_c = p_c (analogue tracking),
+// so weight_c = p_c / mean(p): never above 3, whatever the channels. Only ratios of the p_k
+// matter, so R = (p_0, p_1, p_2) is kept up to a common factor (pbrt-v4's r_u), renormalised
+// so that it neither overflows nor underflows. Per collision and stretch:
+//   a stretch of length x without collision: p_k *= exp(-M_k x) (M_k: channel k's majorant);
+//   a collision: p_k *= M_k (its rate), then the event's probability sigma_a,k / M_k,
+//     sigma_s,k / M_k or sigma_n,k / M_k = (M_k - sigma_t,k) / M_k, so p_k *= sigma_n,k for a
+//     null collision and sigma_s,k for a scattering one;
+//   emission, gathered at every collision: emission_c R_c / mean(R M) (f_c of the way up to
+//     the collision over the channels' mean density of a collision there).
+// Grey extinction keeps deltaTrack: there all channels' trackers are the same one.
+
+Rgb MediaScene::channelMajorants(const std::vector<uint32_t>& active, float cell) const {
+  Rgb M;
+  bool gridded = false;
+  for (uint32_t i : active) {
+    const Region& r = regions_[i];
+    if (!gridded && r.grid)
+      gridded = true, M += r.medium->sigmaTBound() * cell;
+    else
+      M += r.medium->sigmaTBound() * r.maxDensity;
+  }
+  return M;
+}
+
+ChannelPath MediaScene::startPath(Sampler& sampler) const {
+  ChannelPath path;
+  if (heroTracking_) path.hero = std::min(2, int(sampler.get1D() * 3));
+  return path;
+}
+
+MediumEvent MediaScene::heroTrack(const Ray& ray, float tMax, Sampler& sampler, Rgb* emitted,
+                                  ChannelPath* path) const {
+  MediumEvent event;
+  Scratch& scratch = integrateScratch();
+  intervals(ray, tMax, &scratch.intervals);
+  if (scratch.intervals.empty()) return event;
+  const float len = length(ray.d);
+  const Vec3f dUnit = ray.d / len;
+  breakpoints(scratch.intervals, &scratch.cuts);
+  CollisionTally tentative(gTentative), real(gReal);
+  ChannelPath own;
+  if (!path) own = startPath(sampler), path = &own;
+  const int h = path->hero;
+  // R: the channels' trackers' densities of the path so far, up to a factor. The caller's
+  // throughput already holds Rin / mean(Rin); what this segment returns turns that into
+  // R / mean(R): weights (R / Rin) mean(Rin) / mean(R), and emission likewise.
+  const Rgb Rin = path->R;
+  const Rgb RinMean = Rgb{1, 1, 1} * mean(Rin);
+  auto change = [&](Rgb R) { return safeDivide(R, Rin) * RinMean; };
+  Rgb& R = path->R;
+  for (size_t k = 0; k + 1 < scratch.cuts.size(); ++k) {
+    const float a = scratch.cuts[k], b = scratch.cuts[k + 1];
+    activeIn(scratch.intervals, a, b, &scratch.active);
+    if (scratch.active.empty() || !(b > a)) continue;
+    bool emits = false;
+    for (uint32_t i : scratch.active) emits = emits || regions_[i].medium->emits();
+    MajorantWalk walk = majorantWalk(ray, a, b, scratch.active);
+    MajorantSegment seg;
+    CollisionStepper stepper;
+    while (walk.next(&seg)) {
+      const Rgb M = channelMajorants(scratch.active, seg.cell);
+      const float s = (seg.t1 - seg.t0) * len;
+      const Vec3f start = ray.at(seg.t0);
+      if (maxComponent(M) <= 0) {
+        // No extinction: as in deltaTrack, one uniformly placed sample of the emission.
+        if (emitted && emits) {
+          const Vec3f p = start + dUnit * (sampler.get1D() * s);
+          *emitted += change(R) / mean(R) * coefficients(scratch.active, p).emission * s;
+        }
+        continue;
+      }
+      float x = 0, last = 0;
+      // A hero without extinction here makes no collision: its tracker passes.
+      while (M[h] > 0 && stepper.next(M[h], s, &x, sampler)) {
+        ++tentative.n;
+        attenuate(&R, M, x - last);
+        last = x;
+        const Coefficients c = coefficients(scratch.active, start + dUnit * x);
+        if (emitted && emits) *emitted += c.emission * change(R) / mean(R * M);
+        const float pAbsorb = (c.sigmaT[h] - c.sigmaS[h]) / M[h];
+        const float pScatter = c.sigmaS[h] / M[h];
+        const float u = sampler.get1D();
+        if (u < pAbsorb) {
+          ++real.n;
+          return {false, 0, Rgb{0, 0, 0}, 0};
+        }
+        if (u < pAbsorb + pScatter) {
+          ++real.n;
+          R *= c.sigmaS;
+          if (!(maxComponent(R) > 0)) return {false, 0, Rgb{0, 0, 0}, 0};
+          R = R / maxComponent(R);
+          event.scattered = true;
+          event.t = seg.t0 + x / len;
+          event.weight = change(R) / mean(R);
+          pickScatterer(scratch.active, start + dUnit * x, c, sampler, &event);
+          return event;
+        }
+        R *= max(Rgb{0, 0, 0}, M - c.sigmaT);
+        const float big = maxComponent(R);
+        if (!(big > 0)) return {false, 0, Rgb{0, 0, 0}, 0};
+        R = R / big;
+      }
+      attenuate(&R, M, s - last);
+    }
+  }
+  event.weight = change(R) / mean(R);
   return event;
 }
 

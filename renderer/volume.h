@@ -59,6 +59,15 @@ struct MediumEvent {
   float g = 0;          // phase asymmetry of the medium that scattered
 };
 
+// Spectral MIS over a whole path (MediaScene::heroTrack): the path's hero channel, tracked on
+// its own in every segment, and the three channels' trackers' densities of the path so far,
+// up to a common factor (pbrt-v4's r_u). Path throughputs already carry R / mean(R), so a
+// segment's weight is the change of that ratio.
+struct ChannelPath {
+  int hero = 0;
+  Rgb R{1, 1, 1};
+};
+
 // Tentative collisions of the trackers, summed over all threads since the last reset: how
 // much work tracking does, and how much of it was wasted on null collisions.
 struct TrackingCounts {
@@ -120,19 +129,27 @@ class MediaScene {
   // uniformly placed sample of it. Draws the same numbers as sampleScattering where no such
   // stretch emits.
   MediumEvent sampleScatteringAndEmission(const Ray& ray, float tMax, Sampler& sampler,
-                                          Rgb* emitted) const;
+                                          Rgb* emitted, ChannelPath* path = nullptr) const;
+  // A path's spectral MIS state, where a medium has coloured extinction: its hero channel is
+  // drawn from `sampler` (nothing is drawn otherwise). Passed to every segment's
+  // sampleScatteringAndEmission, it makes one MIS over the whole path; without it, each
+  // segment draws its own hero and its weight is an MIS over that segment alone (unbiased,
+  // but the weights of a path's segments then multiply, up to 3 each).
+  ChannelPath startPath(Sampler& sampler) const;
 
  private:
   struct Region {
     std::unique_ptr<Medium> medium;
     std::unique_ptr<Shape> shape;  // null: `box` in world space
     std::optional<PlacedShape> placed;
+    std::optional<Bounds3f> objectBox;  // a Box's object-space bounds: its span is a slab test
     Transform objectFromWorld;
     Bounds3f box;                        // world-space bounds
     float majorant = 0;                  // max over channels of sigma_t, times the max density
     float step = 0;                      // marching step (world units)
     const MajorantGrid* grid = nullptr;  // the density's cell maxima (null: `majorant` only)
     float gridScale = 0;                 // max over channels of sigma_t: grid value -> majorant
+    float maxDensity = 0;                // the density's bound over the region
   };
   struct Coefficients {
     Rgb sigmaT, sigmaS, emission;
@@ -149,21 +166,38 @@ class MediaScene {
     return r.medium->homogeneous() ? r.medium->density->density(pWorld)
                                    : r.medium->density->density(r.objectFromWorld.point(pWorld));
   }
+  // sigma_s at the world point p, per unit density: the medium's, times its colour field there.
+  Rgb scattering(const Region& r, Vec3f pWorld) const {
+    return r.medium->color
+               ? r.medium->sigmaS * r.medium->color->color(r.objectFromWorld.point(pWorld))
+               : r.medium->sigmaS;
+  }
   Coefficients coefficients(const std::vector<uint32_t>& active, Vec3f p) const;
   // Transmittance through one region over world-space distance [0, length) from ray.at(t0).
   Rgb regionTransmittance(const Region& r, const Ray& ray, float t0, float t1, Sampler& sampler,
                           bool track) const;
   Rgb transmittance(const Ray& ray, float tMax, Sampler& sampler, bool track) const;
   // Delta tracking; emission gathered into `*emitted` when it is not null.
-  MediumEvent deltaTrack(const Ray& ray, float tMax, Sampler& sampler, Rgb* emitted) const;
+  MediumEvent deltaTrack(const Ray& ray, float tMax, Sampler& sampler, Rgb* emitted,
+                         ChannelPath* path) const;
+  // At a scattering event at p: the scattering region's phase asymmetry into event->g.
+  void pickScatterer(const std::vector<uint32_t>& active, Vec3f p, const Coefficients& c,
+                     Sampler& sampler, MediumEvent* event) const;
+  // The same for coloured extinction: spectral MIS over a hero channel (volume.cpp).
+  MediumEvent heroTrack(const Ray& ray, float tMax, Sampler& sampler, Rgb* emitted,
+                        ChannelPath* path) const;
+  // Each channel's majorant over a stretch of majorantWalk(..., active) whose gridded region's
+  // cell holds `cell` (the walk's majorant is their largest).
+  Rgb channelMajorants(const std::vector<uint32_t>& active, float cell) const;
   // The source term at p (emission + single scattering towards -d), per unit length.
   Rgb source(const RenderScene& scene, const std::vector<uint32_t>& active, Vec3f p, Vec3f d,
              float time, const Coefficients& c, Sampler& sampler, RayCounters& counters) const;
 
   std::vector<Region> regions_;
-  bool single_;  // single scattering (else emission and absorption only)
-  bool track_;   // tracking estimators (else marching)
-  float step_;   // the configured step; 0 = per region
+  bool single_;                // single scattering (else emission and absorption only)
+  bool track_;                 // tracking estimators (else marching)
+  bool heroTracking_ = false;  // a medium with coloured extinction asks for heroTrack
+  float step_;                 // the configured step; 0 = per region
 };
 
 }  // namespace glint

@@ -64,7 +64,10 @@ void addMedia(const SceneDescription& desc, SceneParts* scene) {
     medium->sigmaS = m.sigmaS;
     medium->Le = m.emission;
     medium->g = m.g;
+    medium->heroTracking = m.heroTracking;
     medium->emissionField = makeEmission(m);
+    if (m.density == DensityType::Vdb && m.vdb->color)
+      medium->color = std::make_unique<VdbColor>(m.vdb);
     switch (m.region) {
       case MediumDesc::Region::Scene:
         medium->density = makeDensity(m, box);

@@ -372,6 +372,7 @@ struct MediumDesc {
   int object = -1;            // Region::Object: index into SceneDescription::objects
   Rgb sigmaA{0, 0, 0}, sigmaS{0, 0, 0}, emission{0, 0, 0};
   float g = 0;
+  bool heroTracking = true;  // "chromatic_tracking": "spectral_mis" (else "max_channel")
   DensityType density = DensityType::Constant;
   float value = 1;             // constant
   int gridRes[3] = {0, 0, 0};  // grid (x fastest in gridValues)

@@ -119,6 +119,8 @@ void readVdb(JsonReader& d, const std::string& file, float fps, MediumDesc* m) {
         VdbGridRequest{d.get<std::string>("temperature_grid"), d.where("temperature_grid")};
   if (d.has("flame_grid"))
     request.flame = VdbGridRequest{d.get<std::string>("flame_grid"), d.where("flame_grid")};
+  if (d.has("color_grid"))
+    request.color = VdbGridRequest{d.get<std::string>("color_grid"), d.where("color_grid")};
   request.majorantCells = d.get<int>("majorant_cells", 16, {.ge = 1, .le = 1024});
   m->vdbScale = d.get<float>("scale", 1.0f, kNonNegative);
   m->blackbodyIntensity =
@@ -220,6 +222,8 @@ MediumDesc readMedium(JsonReader& r, const std::string& file, const SceneDescrip
   m.sigmaS = readCoefficient(r, "sigma_s");
   m.emission = readCoefficient(r, "emission");
   m.g = r.get<float>("g", 0.0f, {.gt = -1, .lt = 1});
+  m.heroTracking = r.oneOf("chromatic_tracking", {"spectral_mis", "max_channel"}, "spectral_mis") ==
+                   "spectral_mis";
   if (JsonReader* d = r.optionalObject("density"))
     readDensity(*d, file, float(scene.render.fps), &m);
   if (m.density == DensityType::Vdb) placeVdb(r, &m);

@@ -3,11 +3,11 @@
 // file's grids for `glint info`. The reading is done by the OpenVDB plugin
 // (scenes/openvdb/plugin.h), loaded the first time a scene names a .vdb file.
 //
-// What is accepted: float grids (density, temperature, flame) with a linear index-to-world
-// transform (OpenVDB's affine maps; a frustum transform is refused), every active value and
-// the background finite and >= 0, the density grid with a background of 0 (a medium is
-// bounded by its active voxels) and at least one active voxel. Anything else is a SceneError
-// naming the sidecar's key and the file.
+// What is accepted: float grids (density, temperature, flame) and a vec3s colour grid, each
+// with a linear index-to-world transform (OpenVDB's affine maps; a frustum transform is
+// refused), every active value (component) and the background finite and >= 0, the density grid
+// with a background of 0 (a medium is bounded by its active voxels) and at least one active voxel.
+// Anything else is a SceneError naming the sidecar's key and the file.
 #pragma once
 
 #include <cstdint>
@@ -45,6 +45,7 @@ struct VdbRequest {
   SourceLocation where;  // where the sidecar names the file
   VdbGridRequest density;
   std::optional<VdbGridRequest> temperature, flame;
+  std::optional<VdbGridRequest> color;  // vec3s: multiplies sigma_s per point
   // Cells of the majorant grid along the box's longest axis (the others in proportion);
   // 1: no grid, a single majorant.
   int majorantCells = 16;

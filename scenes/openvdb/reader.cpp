@@ -102,22 +102,32 @@ std::string gridList(openvdb::io::File& file) {
   return s.empty() ? "none" : s;
 }
 
-// One requested grid, checked: a float grid with an affine transform, finite values >= 0,
-// at least one active voxel. Returns it with the maximum of its values.
-openvdb::FloatGrid::Ptr readFloatGrid(openvdb::io::File& file, const std::string& path,
-                                      const VdbGridRequest& request, float* maxValue) {
+// One requested grid of type Grid (OpenVDB's value type name `type`), present, of that type and
+// with an affine transform.
+template <class Grid>
+typename Grid::Ptr readTypedGrid(openvdb::io::File& file, const std::string& path,
+                                 const VdbGridRequest& request, const char* type) {
   const std::string name = fileName(path);
   if (!file.hasGrid(request.name))
     refuse(request.where,
            name + " has no grid '" + request.name + "' (its grids: " + gridList(file) + ")");
   openvdb::GridBase::Ptr base = file.readGrid(request.name);
-  openvdb::FloatGrid::Ptr grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
+  typename Grid::Ptr grid = openvdb::gridPtrCast<Grid>(base);
   if (!grid)
     refuse(request.where, name + ": grid '" + request.name + "' holds " + base->valueType() +
-                              " values, not float");
+                              " values, not " + type);
   if (!grid->transform().isLinear())
     refuse(request.where,
            name + ": grid '" + request.name + "' has a non-linear (frustum) transform");
+  return grid;
+}
+
+// One requested grid, checked: a float grid with an affine transform, finite values >= 0,
+// at least one active voxel. Returns it with the maximum of its values.
+openvdb::FloatGrid::Ptr readFloatGrid(openvdb::io::File& file, const std::string& path,
+                                      const VdbGridRequest& request, float* maxValue) {
+  const std::string name = fileName(path);
+  openvdb::FloatGrid::Ptr grid = readTypedGrid<openvdb::FloatGrid>(file, path, request, "float");
   if (grid->activeVoxelCount() == 0)
     refuse(request.where, name + ": grid '" + request.name + "' is empty (no active voxels)");
   float best = grid->background();
@@ -140,7 +150,29 @@ openvdb::FloatGrid::Ptr readFloatGrid(openvdb::io::File& file, const std::string
   return grid;
 }
 
-VdbGrid flatten(const openvdb::FloatGrid& grid, const std::string& name) {
+// The colour grid a medium names (color_grid): vec3s, linear, every component finite and >= 0.
+// Returns it with the largest value of each component (the majorants' bound).
+openvdb::Vec3SGrid::Ptr readColorGrid(openvdb::io::File& file, const std::string& path,
+                                      const VdbGridRequest& request, Rgb* maxValue) {
+  const std::string name = fileName(path);
+  openvdb::Vec3SGrid::Ptr grid = readTypedGrid<openvdb::Vec3SGrid>(file, path, request, "vec3s");
+  Rgb best{0, 0, 0};
+  auto check = [&](const openvdb::Vec3s& v) {
+    for (int c = 0; c < 3; ++c) {
+      if (!std::isfinite(v[c]) || v[c] < 0)
+        refuse(request.where, name + ": grid '" + request.name + "' has a component " +
+                                  std::to_string(v[c]) + " (colours must be finite and >= 0)");
+      best[c] = std::max(best[c], v[c]);
+    }
+  };
+  check(grid->background());
+  for (auto it = grid->cbeginValueOn(); it; ++it) check(*it);
+  *maxValue = best;
+  return grid;
+}
+
+template <class Grid>
+VdbGrid flatten(const Grid& grid, const std::string& name) {
   VdbGrid g;
   g.name = name;
   g.handle = nanovdb::openToNanoVDB<nanovdb::HostBuffer>(grid);
@@ -215,6 +247,9 @@ std::shared_ptr<VdbVolume> read(const std::string& path, const VdbRequest& reque
     };
     volume->temperature = optionalGrid(request.temperature);
     volume->flame = optionalGrid(request.flame);
+    if (request.color)
+      volume->color = flatten(*readColorGrid(f.file, path, *request.color, &volume->maxColor),
+                              request.color->name);
     volume->density = flatten(*density, request.density.name);
     if (request.majorantCells > 1)
       volume->majorants = majorants(*density, volume->bounds, request.majorantCells);
