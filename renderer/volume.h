@@ -123,11 +123,12 @@ class MediaScene {
   // events, and E[weight] = T(tMax) over rays that pass. Emission is not included.
   MediumEvent sampleScattering(const Ray& ray, float tMax, Sampler& sampler) const;
   // sampleScattering plus the media's emission along the way: `*emitted` receives an unbiased
-  // estimate of the integral of T(t) emission(t) dt over t up to the event (or to tMax): at
-  // every tentative collision the tracking weight so far times emission / majorant (pbrt-v4's
-  // estimator), and for stretches without extinction (majorant 0) the exact integral or one
-  // uniformly placed sample of it. Draws the same numbers as sampleScattering where no such
-  // stretch emits.
+  // estimate of the integral of T(t) emission(t) dt over t up to the event (or to tMax), by
+  // the track-length estimator: over each stretch between tentative collisions (or across a
+  // stretch without extinction), the tracking weight so far times the stretch's length times
+  // the emission at one uniformly placed point of it (the stretch's integral when constant).
+  // Media with coloured extinction under spectral MIS (heroTrack) still weigh emission at
+  // each collision. Draws the same numbers as sampleScattering where nothing emits.
   MediumEvent sampleScatteringAndEmission(const Ray& ray, float tMax, Sampler& sampler,
                                           Rgb* emitted, ChannelPath* path = nullptr) const;
   // A path's spectral MIS state, where a medium has coloured extinction: its hero channel is
@@ -173,6 +174,7 @@ class MediaScene {
                : r.medium->sigmaS;
   }
   Coefficients coefficients(const std::vector<uint32_t>& active, Vec3f p) const;
+  Rgb emission(const std::vector<uint32_t>& active, Vec3f p) const;  // coefficients' emission
   // Transmittance through one region over world-space distance [0, length) from ray.at(t0).
   Rgb regionTransmittance(const Region& r, const Ray& ray, float t0, float t1, Sampler& sampler,
                           bool track) const;
