@@ -837,9 +837,8 @@ void buildMaterials(const SceneDescription& desc, const GeometryMaterials& geome
     const uint32_t index = materialFor(m.material, m.colors);
     scene->meshMaterial.push_back(index);
     if (uses) uses->meshMaterial.push_back(m.material);
-    scene->geometry.meshes[i].singleSided =
-        singleSided(m.material >= 0 ? &desc.materials[size_t(m.material)] : nullptr,
-                    *scene->materials[index]);
+    scene->geometry.meshes[i].singleSided = singleSided(
+        m.material >= 0 ? &desc.materials[size_t(m.material)] : nullptr, *scene->materials[index]);
   }
   for (const std::vector<int>& slots : geometry.shapeSlots) {
     std::vector<uint32_t> materials;
