@@ -23,12 +23,7 @@ import subprocess
 import sys
 import time
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-
-
-def spread(values):
-    return f"{min(values):.3f} / {statistics.median(values):.3f} / {max(values):.3f}"
-
+from python_overhead import ROOT, spread  # the folder and min / median / max, as printed there
 
 def main():
     parser = argparse.ArgumentParser()
