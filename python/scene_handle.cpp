@@ -73,19 +73,48 @@ void SceneHandle::update(const std::string& patch) {
   };
   SceneDescription changed = desc_;
   edit(&changed);  // throws before anything changes
+  // Cameras, lights and materials' parameters are made again in the render scene; render keys
+  // decide for themselves (sameBuild); anything else (objects, media, textures) needs a build.
+  uint32_t change = 0;
+  for (const auto& [key, value] : doc.items()) {
+    if (key == "cameras")
+      change |= kRefreshCamera;
+    else if (key == "lights" || key == "environment")
+      change |= kRefreshLights;
+    else if (key == "materials")
+      change |= materialsChange(value);
+    else if (key != "render")
+      change |= kRebuild;
+  }
   desc_ = std::move(changed);
   edits_.push_back(edit);
   ++version_;
-  // Cameras and lights are made again in the render scene; render keys decide for themselves
-  // (sameBuild); anything else (materials, objects, media, textures) needs a build.
-  for (const auto& [key, value] : doc.items()) {
-    if (key == "cameras")
-      changed_ |= kRefreshCamera;
-    else if (key == "lights" || key == "environment")
-      changed_ |= kRefreshLights;
-    else if (key != "render")
-      changed_ |= kRebuild;
+  changed_ |= change;
+}
+
+uint32_t SceneHandle::materialsChange(const nlohmann::json& materials) {
+  uint32_t change = 0;
+  for (const nlohmann::json& m : materials) {  // validated by the edit: objects with a name
+    const std::string name = m.at("name").get<std::string>();
+    const size_t before = changedMaterials_.size();
+    for (size_t i = 0; i < desc_.materials.size(); ++i)
+      if (desc_.materials[i].name == name) changedMaterials_.push_back(int(i));
+    // A new material, or one given to nodes, changes which mesh takes which material.
+    if (changedMaterials_.size() == before || m.contains("nodes"))
+      change |= kRebuild;
+    else
+      change |= kRefreshMaterials;
   }
+  return change;
+}
+
+bool SceneHandle::refresh(const SceneDescription& desc) {
+  if ((changed_ & kRefreshMaterials) &&
+      !refreshMaterials(desc, changedMaterials_, materialUses_, scene_.get()))
+    return false;
+  changed_ &= ~kRefreshMaterials;  // done, whatever follows
+  changedMaterials_.clear();
+  return changed_ == 0 || refreshRenderScene(desc, changed_, scene_.get());
 }
 
 void SceneHandle::setLight(const std::string& name, std::optional<float> intensity,
@@ -155,7 +184,7 @@ std::shared_ptr<const RenderScene> SceneHandle::built(const SceneDescription& de
   if (scene_ && sameBuild(builtWith_, desc.render) && edited && !(changed_ & kRebuild)) {
     if (changed_ == 0) {  // render keys only: sameBuild has judged them
       builtVersion_ = version_;
-    } else if (scene_.use_count() == 1 && refreshRenderScene(desc, changed_, scene_.get())) {
+    } else if (scene_.use_count() == 1 && refresh(desc)) {
       builtVersion_ = version_;
       changed_ = 0;
       ++refreshes_;
@@ -163,12 +192,13 @@ std::shared_ptr<const RenderScene> SceneHandle::built(const SceneDescription& de
   }
   if (!scene_ || !sameBuild(builtWith_, desc.render) || builtVersion_ != version_) {
     scene_.reset();  // its memory first, unless a progressive render holds it
-    scene_ = std::make_shared<RenderScene>(
-        buildRenderScene(desc, &lastBuild_, BuildOptions{.images = images_}));
+    scene_ = std::make_shared<RenderScene>(buildRenderScene(
+        desc, &lastBuild_, BuildOptions{.images = images_, .materialUses = &materialUses_}));
     if (scene_->images()) images_ = scene_->images();
     builtWith_ = desc.render;
     builtVersion_ = version_;
     changed_ = 0;
+    changedMaterials_.clear();
     ++builds_;
   }
   return scene_;

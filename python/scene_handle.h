@@ -5,6 +5,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -63,7 +64,7 @@ class SceneHandle {
   // Render scenes built so far: a render that reuses the last one builds none.
   int builds() const { return builds_; }
   // Render scenes brought up to date without a build (refreshRenderScene: a camera or lights
-  // changed).
+  // changed; refreshMaterials: a material's parameters).
   int refreshes() const { return refreshes_; }
   // How long loading the files took, and the last build (accelerator included).
   double loadSeconds() const { return loadSeconds_; }
@@ -91,10 +92,19 @@ class SceneHandle {
   // is built again.
   std::vector<std::function<void(SceneDescription*)>> edits_;
   int version_ = 0, builtVersion_ = 0;
-  // What the edits since the last build changed (kRefreshCamera, kRefreshLights), or
-  // kRebuild: something only a build makes.
+  // What the edits since the last build changed (kRefreshCamera, kRefreshLights,
+  // kRefreshMaterials: the description materials in changedMaterials_), or kRebuild: something
+  // only a build makes.
+  static constexpr uint32_t kRefreshMaterials = 1u << 30;
   static constexpr uint32_t kRebuild = 1u << 31;
   uint32_t changed_ = 0;
+  std::vector<int> changedMaterials_;
+  MaterialUses materialUses_;  // what the last build made of each description material
+  // Brings scene_ up to date with `desc` for what changed_ names; false: it needs a build.
+  bool refresh(const SceneDescription& desc);
+  // What a "materials" patch changes: kRefreshMaterials for parameters of materials the scene
+  // has, kRebuild for a new material or one assigned to nodes.
+  uint32_t materialsChange(const nlohmann::json& materials);
   int builds_ = 0, refreshes_ = 0;
   double loadSeconds_ = 0;
   BuildTimings lastBuild_;

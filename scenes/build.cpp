@@ -210,6 +210,10 @@ class TextureCache {
     scene_->textures.push_back(make(desc_.textures[size_t(texture)], srgb));
     return textures_[key] = scene_->textures.back().get();
   }
+  // The textures made so far, by (description texture, sRGB); and made ones to use again
+  // (refreshMaterials: a new material reads the render scene's own).
+  const std::map<std::pair<int, bool>, const Texture*>& made() const { return textures_; }
+  void reuse(const std::map<std::pair<int, bool>, const Texture*>& made) { textures_ = made; }
   Texture* add(std::unique_ptr<Texture> t) {
     scene_->textures.push_back(std::move(t));
     return scene_->textures.back().get();
@@ -606,6 +610,11 @@ bool keepsDetailBaked(const std::vector<Vec3f>& positions, const Transform& worl
   return reach <= 1024 * size;
 }
 
+// Whether `m` shades in glTF's tangent space: a normal map or anisotropy.
+bool readsTangentSpace(const MaterialDesc& m) {
+  return m.normalTexture >= 0 || m.layers.clearcoatNormalTexture >= 0 || m.layers.anisotropy > 0;
+}
+
 // Tangents for a mesh whose file gives none, when its material reads glTF's tangent space (a
 // normal map or anisotropy): per vertex from the uv set the normal map reads (vertexTangents),
 // as MikkTSpace would make them. Without normals or that uv set, or for materials that do not
@@ -616,8 +625,8 @@ std::vector<Vec4f> derivedTangents(const SceneDescription& desc, const MeshDesc&
       size_t(material) >= desc.materials.size())
     return mesh.tangents;
   const MaterialDesc& m = desc.materials[size_t(material)];
+  if (!readsTangentSpace(m)) return {};
   const int map = m.normalTexture >= 0 ? m.normalTexture : m.layers.clearcoatNormalTexture;
-  if (map < 0 && !(m.layers.anisotropy > 0)) return {};
   const int uvSet = map >= 0 ? desc.textures[size_t(map)].mapping.uvSet : 0;
   const std::vector<Vec2f>& uvs = uvSet == 1 ? mesh.uvs1 : mesh.uvs;
   if (uvs.empty()) return {};
@@ -794,10 +803,17 @@ void buildObjects(const SceneDescription& desc, const ShutterTimes& shutter, Sce
   }
 }
 
+// Whether a mesh of description material `md` (null: the default) made as `made` hides its
+// back faces: a single-sided material does, except where light must leave through them (a
+// refracting interior, glass or glTF transmission, is seen from behind).
+bool singleSided(const MaterialDesc* md, const Material& made) {
+  return md && !md->doubleSided && !made.traits().refraction;
+}
+
 // One render material per description material (and per vertex-colour use), plus a default,
-// assigned to the meshes and shape slots.
+// assigned to the meshes and shape slots; `uses` (when given) records which is which.
 void buildMaterials(const SceneDescription& desc, const GeometryMaterials& geometry,
-                    TextureCache& textures, SceneParts* scene) {
+                    TextureCache& textures, SceneParts* scene, MaterialUses* uses) {
   std::map<std::pair<int, bool>, uint32_t> materialIndex;
   auto materialFor = [&](int material, bool colors) -> uint32_t {
     auto key = std::make_pair(material, colors);
@@ -808,17 +824,21 @@ void buildMaterials(const SceneDescription& desc, const GeometryMaterials& geome
     fallback.baseColor = {0.8f, 0.8f, 0.8f};
     const MaterialDesc& md = material >= 0 ? desc.materials[size_t(material)] : fallback;
     scene->materials.push_back(makeMaterial(md, colors, textures));
-    return materialIndex[key] = uint32_t(scene->materials.size() - 1);
+    const auto index = uint32_t(scene->materials.size() - 1);
+    if (uses) {
+      MaterialUses::Use& use = uses->ofDescription[material];
+      use.made.push_back({index, colors});
+      use.tangentSpace = readsTangentSpace(md);
+    }
+    return materialIndex[key] = index;
   };
   for (size_t i = 0; i < geometry.meshes.size(); ++i) {
     const GeometryMaterials::Mesh& m = geometry.meshes[i];
     const uint32_t index = materialFor(m.material, m.colors);
     scene->meshMaterial.push_back(index);
-    // A single-sided material hides the mesh's back faces, except where light must leave
-    // through them: a refracting (glass, glTF transmission) interior is seen from behind.
-    scene->geometry.meshes[i].singleSided = m.material >= 0 &&
-                                            !desc.materials[size_t(m.material)].doubleSided &&
-                                            !scene->materials[index]->traits().refraction;
+    if (uses) uses->meshMaterial.push_back(m.material);
+    scene->geometry.meshes[i].singleSided = singleSided(
+        m.material >= 0 ? &desc.materials[size_t(m.material)] : nullptr, *scene->materials[index]);
   }
   for (const std::vector<int>& slots : geometry.shapeSlots) {
     std::vector<uint32_t> materials;
@@ -968,7 +988,8 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
   buildMeshes(desc, shutter, &parts, &geometryMaterials);
   buildObjects(desc, shutter, &parts, &geometryMaterials);
   TextureCache textures(desc, &parts, options.images);
-  buildMaterials(desc, geometryMaterials, textures, &parts);
+  if (options.materialUses) *options.materialUses = {};
+  buildMaterials(desc, geometryMaterials, textures, &parts, options.materialUses);
   // Image pixels decode on worker threads while the camera, lights and BVH are built.
   if (options.decodeImages && parts.images) parts.images->startDecoding();
   buildCamera(desc, selected, shutter, &parts);
@@ -976,6 +997,7 @@ RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings
   assembly.notes.defaultLight = buildLights(desc, shutter, textures, &parts);
   assembly.notes.terrain = geometryMaterials.terrain;
   addMedia(desc, &parts);
+  if (options.materialUses) options.materialUses->textures = textures.made();
 
   double acceleratorSeconds = 0;
   RenderScene scene(std::move(parts), assembly, &acceleratorSeconds);
@@ -1010,6 +1032,40 @@ bool refreshRenderScene(const SceneDescription& desc, uint32_t what, RenderScene
     scene->setCamera(std::move(camera), std::move(name));
   }
   if (what & kRefreshLights) scene->setLights(std::move(lights));
+  return true;
+}
+
+bool refreshMaterials(const SceneDescription& desc, const std::vector<int>& changed,
+                      const MaterialUses& uses, RenderScene* scene) {
+  std::vector<std::pair<uint32_t, std::unique_ptr<Material>>> made;
+  for (int material : changed) {
+    const auto use = uses.ofDescription.find(material);
+    if (material < 0 || use == uses.ofDescription.end()) continue;  // no mesh or shape uses it
+    const MaterialDesc& md = desc.materials[size_t(material)];
+    if (readsTangentSpace(md) != use->second.tangentSpace) return false;
+    for (const MaterialUses::Made& m : use->second.made) {
+      // The scene's own textures serve; a texture it lacks lands in `noTextures`, and needs
+      // the whole build.
+      SceneParts noTextures;
+      TextureCache textures(desc, &noTextures, nullptr);
+      textures.reuse(uses.textures);
+      std::unique_ptr<Material> fresh = makeMaterial(md, m.vertexColors, textures);
+      const Material& old = *scene->materials()[m.index];
+      if (!noTextures.textures.empty() ||
+          (fresh->flags() & kBsdfUnlit) != (old.flags() & kBsdfUnlit))
+        return false;
+      made.emplace_back(m.index, std::move(fresh));
+    }
+  }
+  // The meshes' back-face culling, which the accelerator was built with, stays as it was.
+  const auto& meshes = scene->geometry().meshes;
+  for (const auto& [index, material] : made)
+    for (size_t i = 0; i < meshes.size(); ++i)
+      if (scene->meshMaterialIndex(uint32_t(i)) == index &&
+          singleSided(&desc.materials[size_t(uses.meshMaterial[i])], *material) !=
+              meshes[i].singleSided)
+        return false;
+  for (auto& [index, material] : made) scene->replaceMaterial(index, std::move(material));
   return true;
 }
 

@@ -1,6 +1,10 @@
 // glint — building the render scene from a validated description.
 #pragma once
 
+#include <map>
+#include <utility>
+#include <vector>
+
 #include "renderer/scene.h"
 #include "scenes/description.h"
 
@@ -9,6 +13,23 @@ namespace glint {
 struct BuildTimings {
   double acceleratorSeconds = 0;  // Embree (or kd-tree) build
   double totalSeconds = 0;        // everything, including the accelerator
+};
+
+// Which render materials a build made of each description material (buildRenderScene records
+// it when asked), so that refreshMaterials can replace just those.
+struct MaterialUses {
+  struct Made {
+    uint32_t index;     // in RenderScene::materials
+    bool vertexColors;  // made for meshes with vertex colours
+  };
+  struct Use {
+    std::vector<Made> made;
+    bool tangentSpace = false;  // it shades in tangent space (derivedTangents made tangents)
+  };
+  std::map<int, Use> ofDescription;  // description material -> what was made of it
+  std::vector<int> meshMaterial;     // per geometry mesh: its description material (-1 default)
+  // The textures made, by (description texture, sRGB): a remade material reads the same ones.
+  std::map<std::pair<int, bool>, const Texture*> textures;
 };
 
 // Resolves the image size and camera, bakes single placements into world space (meshes placed
@@ -26,6 +47,8 @@ struct BuildOptions {
   // there (the same encoded bytes, the same file) are used as they are, decoded already, and
   // new ones are added to the set. A sequence passes each frame's set on to the next.
   std::shared_ptr<TextureImages> images;
+  // When given, filled with what was made of each description material (refreshMaterials).
+  MaterialUses* materialUses = nullptr;
 };
 RenderScene buildRenderScene(const SceneDescription& desc, BuildTimings* timings = nullptr,
                              const BuildOptions& options = {});
@@ -42,6 +65,18 @@ inline constexpr uint32_t kRefreshLights = 2;  // the scene's own lights and env
 // reads a texture (which lives among the scene's textures), or the scene has no light of its
 // own (the studio light is the whole build's decision). Throws SceneError as buildRenderScene.
 bool refreshRenderScene(const SceneDescription& desc, uint32_t what, RenderScene* scene);
+
+// Replaces the render materials made of description materials `changed` (`uses`, recorded by
+// the build of `scene`) with ones made from `desc` (RenderScene::replaceMaterial: the emitting
+// surfaces' lights are made again); the geometry and its accelerator, the textures and the
+// scene's own lights stay. Returns false, having changed nothing, when the change needs a whole
+// build: a material reads a texture the scene has not made (textures live among the scene's),
+// turns its meshes single-
+// or double-sided or refracting (the accelerator culls back faces by it), needs tangents its
+// meshes were not given (or were given for it), or goes from unlit to lit or back (which
+// decides the studio light). Throws SceneError as buildRenderScene.
+bool refreshMaterials(const SceneDescription& desc, const std::vector<int>& changed,
+                      const MaterialUses& uses, RenderScene* scene);
 
 // The image size the description asks for: explicit width/height, else derived from the
 // selected camera's aspect (640 wide by default).
