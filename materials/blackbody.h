@@ -1,7 +1,8 @@
 // glint — blackbody emission: the colour and strength of a body's thermal radiation at a
 // temperature, for fire (VDB temperature grids, materials/vdb_volume.h).
 //
-// Units and normalisation (the same as Cycles' Principled Volume at Blackbody Intensity 1):
+// Units and normalisation (the same luminance as Cycles' Principled Volume at Blackbody
+// Intensity 1; below about 1,900 K Cycles 3.4 keeps the negative components this clamps):
 //   blackbodyEmission(T) = 1e-6 sigma T^4 / pi x rgb(T)
 // sigma T^4 / pi is the radiance of a black body (W m^-2 sr^-1, Stefan–Boltzmann: Planck's
 // law integrated over all wavelengths); the 1e-6 maps it to scene units so that a flame of
