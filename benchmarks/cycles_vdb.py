@@ -396,7 +396,7 @@ def prepare(args):
     os.makedirs(args.work, exist_ok=True)
     subprocess.run([args.tool, args.work], check=True, capture_output=True)
     out = {}
-    for name in SCENES:
+    for name in args.scenes:
         path, s = glint_scene(args, name)
         out[name] = {"glint": path, "cycles": write_blender_script(args, name, s),
                      "empty": glint_scene(args, name, with_medium=False)[0]}
@@ -539,7 +539,7 @@ def analyse(args):
               "cores": os.cpu_count(), "threads": args.threads, "width": args.width,
               "height": args.height, "glint_depth": GLINT_DEPTH, "cycles_bounces": CYCLES_BOUNCES,
               "scenes": {}}
-    for name in SCENES:
+    for name in args.scenes:
         rs = [r for r in recs if r["scene"] == name]
         find = lambda **kw: [r for r in rs if all(r.get(k) == v for k, v in kw.items())]  # noqa
         ref_rec = find(renderer="glint", kind="reference")[-1]
@@ -606,6 +606,7 @@ def main():
     ap.add_argument("--parts-spp", type=int, default=512)
     ap.add_argument("--png-dir", default=os.path.join(HERE, "results"))
     ap.add_argument("--out", default=os.path.join(HERE, "results", "cycles_vdb.json"))
+    ap.add_argument("--scenes", nargs="+", choices=list(SCENES), default=list(SCENES))
     args = ap.parse_args()
     args.work = os.path.abspath(args.work)
     scenes = prepare(args)
@@ -613,7 +614,7 @@ def main():
         references(args, scenes)
     if args.phase in ("ladder", "all"):
         ladder(args, scenes)
-    if args.phase in ("parts", "all"):
+    if args.phase in ("parts", "all") and "fire" in args.scenes:
         fire_parts(args)
     if args.phase in ("report", "all"):
         result = analyse(args)
