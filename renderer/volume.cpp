@@ -106,6 +106,22 @@ struct Scratch {
   std::vector<MediaScene::Interval> intervals;
   std::vector<float> cuts;
   std::vector<uint32_t> active;
+
+  // The regions along t in [0, tMax] of `ray` and the cuts where the set of them changes;
+  // false when the ray meets none.
+  bool along(const MediaScene& media, const Ray& ray, float tMax) {
+    media.intervals(ray, tMax, &intervals);
+    if (intervals.empty()) return false;
+    breakpoints(intervals, &cuts);
+    return true;
+  }
+  // Stretch k between two cuts, [*a, *b], with its regions in `active`; false when it is empty
+  // or no region is active there.
+  bool stretch(size_t k, float* a, float* b) {
+    *a = cuts[k], *b = cuts[k + 1];
+    activeIn(intervals, *a, *b, &active);
+    return !active.empty() && *b > *a;
+  }
 };
 Scratch& integrateScratch() {
   thread_local Scratch s;
@@ -359,17 +375,14 @@ VolumeSegment MediaScene::integrate(const RenderScene& scene, const Ray& ray, fl
                                     Sampler& sampler, RayCounters& counters) const {
   VolumeSegment seg;
   Scratch& scratch = integrateScratch();
-  intervals(ray, tMax, &scratch.intervals);
-  if (scratch.intervals.empty()) return seg;
+  if (!scratch.along(*this, ray, tMax)) return seg;
   const float len = length(ray.d);
   const Vec3f dUnit = ray.d / len;
   // One jittered offset for every marched stretch of this camera sample.
   const float jitter = track_ ? 0 : sampler.get1D();
-  breakpoints(scratch.intervals, &scratch.cuts);
   for (size_t k = 0; k + 1 < scratch.cuts.size(); ++k) {
-    const float a = scratch.cuts[k], b = scratch.cuts[k + 1];
-    activeIn(scratch.intervals, a, b, &scratch.active);
-    if (scratch.active.empty() || !(b > a)) continue;
+    float a, b;
+    if (!scratch.stretch(k, &a, &b)) continue;
     const float s = (b - a) * len;
     const Vec3f start = ray.at(a);
     bool homogeneous = true, scatters = false;
@@ -492,16 +505,13 @@ MediumEvent MediaScene::deltaTrack(const Ray& ray, float tMax, Sampler& sampler,
   if (heroTracking_) return heroTrack(ray, tMax, sampler, emitted, path);
   MediumEvent event;
   Scratch& scratch = integrateScratch();
-  intervals(ray, tMax, &scratch.intervals);
-  if (scratch.intervals.empty()) return event;
+  if (!scratch.along(*this, ray, tMax)) return event;
   const float len = length(ray.d);
   const Vec3f dUnit = ray.d / len;
-  breakpoints(scratch.intervals, &scratch.cuts);
   CollisionTally tentative(gTentative), real(gReal);
   for (size_t k = 0; k + 1 < scratch.cuts.size(); ++k) {
-    const float a = scratch.cuts[k], b = scratch.cuts[k + 1];
-    activeIn(scratch.intervals, a, b, &scratch.active);
-    if (scratch.active.empty() || !(b > a)) continue;
+    float a, b;
+    if (!scratch.stretch(k, &a, &b)) continue;
     bool emits = false, homogeneous = true;
     for (uint32_t i : scratch.active) {
       emits = emits || regions_[i].medium->emits();
@@ -616,11 +626,9 @@ MediumEvent MediaScene::heroTrack(const Ray& ray, float tMax, Sampler& sampler, 
                                   ChannelPath* path) const {
   MediumEvent event;
   Scratch& scratch = integrateScratch();
-  intervals(ray, tMax, &scratch.intervals);
-  if (scratch.intervals.empty()) return event;
+  if (!scratch.along(*this, ray, tMax)) return event;
   const float len = length(ray.d);
   const Vec3f dUnit = ray.d / len;
-  breakpoints(scratch.intervals, &scratch.cuts);
   CollisionTally tentative(gTentative), real(gReal);
   ChannelPath own;
   if (!path) own = startPath(sampler), path = &own;
@@ -633,9 +641,8 @@ MediumEvent MediaScene::heroTrack(const Ray& ray, float tMax, Sampler& sampler, 
   auto change = [&](Rgb R) { return safeDivide(R, Rin) * RinMean; };
   Rgb& R = path->R;
   for (size_t k = 0; k + 1 < scratch.cuts.size(); ++k) {
-    const float a = scratch.cuts[k], b = scratch.cuts[k + 1];
-    activeIn(scratch.intervals, a, b, &scratch.active);
-    if (scratch.active.empty() || !(b > a)) continue;
+    float a, b;
+    if (!scratch.stretch(k, &a, &b)) continue;
     bool emits = false;
     for (uint32_t i : scratch.active) emits = emits || regions_[i].medium->emits();
     MajorantWalk walk = majorantWalk(ray, a, b, scratch.active);
