@@ -195,6 +195,11 @@ std::optional<LightLeSample> ImageEnvironmentLight::sampleLe(Vec2f uPos, Vec2f u
   return s;
 }
 
+DistantImportance ImageEnvironmentLight::distantImportance() const {
+  // phi() is 4 pi x the mean radiance x pi r^2; pi x the mean radiance is the irradiance.
+  return {luminance(phi()) / (4 * kPi * sceneRadius_ * sceneRadius_), {}};
+}
+
 Rgb ImageEnvironmentLight::phi() const {
   // Each pixel's radiance over its solid angle, through the scene's disk.
   Rgb sum;

@@ -54,6 +54,7 @@ class ImageEnvironmentLight final : public Light {
   Rgb Le(Vec3f d) const override;
   std::optional<LightLeSample> sampleLe(Vec2f uPos, Vec2f uDir, float time) const override;
   Rgb phi() const override;
+  DistantImportance distantImportance() const override;
   void preprocess(const Bounds3f& sceneBounds) override;
 
   // The map coordinates of a world direction, and back.

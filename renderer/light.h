@@ -32,14 +32,19 @@ struct LightSampleContext {
   Vec3f pError;  // rounding-error bound of p, for the shadow ray's origin
   Vec3f n;       // unit geometric normal, or zero in a medium
   Vec3f ns;      // unit shading normal, or zero in a medium
+  // In a medium: the unit direction the path arrives along (towards p) and the Henyey–Greenstein
+  // asymmetry there, for light samplers that weigh a directional light by the phase function
+  // (zero: not known, as for single scattering's samples of every light).
+  Vec3f wo;
+  float g = 0;
   float time = 0;
 
   LightSampleContext() = default;
   LightSampleContext(const SurfaceInteraction& si, float rayTime)
       : p(si.p), pError(si.pError), n(si.ng), ns(si.ns), time(rayTime) {}
-  static LightSampleContext inMedium(Vec3f p, float rayTime) {
+  static LightSampleContext inMedium(Vec3f p, float rayTime, Vec3f wo = {}, float g = 0) {
     LightSampleContext c;
-    c.p = p, c.time = rayTime;
+    c.p = p, c.wo = wo, c.g = g, c.time = rayTime;
     return c;
   }
   bool onSurface() const { return n.x != 0 || n.y != 0 || n.z != 0; }
@@ -93,6 +98,16 @@ struct LightBounds {
   bool twoSided = false;
 };
 
+// A light at infinity as light samplers weigh it: the luminance of the irradiance it gives a
+// surface facing it (a directional light's irradiance; an environment's pi x its mean radiance,
+// what a surface under a sky of that average receives) and, for a directional light, the
+// direction towards it (zero: light from every direction), whose cosine with the receiving
+// surface scales it.
+struct DistantImportance {
+  float irradiance = 0;
+  Vec3f towards{0, 0, 0};
+};
+
 class Light {
  public:
   explicit Light(LightKind kind) : kind_(kind) {}
@@ -128,6 +143,10 @@ class Light {
   // Total emitted power, in RGB (infinite and directional lights: through a disk of the scene's
   // radius, so call preprocess first).
   virtual Rgb phi() const = 0;
+  // Lights at infinity (directional and environment lights, whose bounds() are nullopt): how
+  // a receiving point weighs them against each other when it picks one (DistantLightPicker,
+  // renderer/light_sampler.h).
+  virtual DistantImportance distantImportance() const { return {luminance(phi()), {}}; }
   // Bounds for a light BVH; nullopt for infinite and directional lights, which are sampled
   // beside the tree.
   virtual std::optional<LightBounds> bounds() const { return std::nullopt; }
@@ -185,6 +204,9 @@ class DirectionalLight final : public Light {
   std::optional<LightSample> sampleLi(const LightSampleContext& ctx, Vec2f u) const override;
   std::optional<LightLeSample> sampleLe(Vec2f uPos, Vec2f uDir, float time) const override;
   Rgb phi() const override { return irradiance_ * (kPi * sceneRadius_ * sceneRadius_); }
+  DistantImportance distantImportance() const override {
+    return {luminance(irradiance_), -direction_};
+  }
   void preprocess(const Bounds3f& sceneBounds) override;
 
  private:
@@ -205,6 +227,7 @@ class UniformEnvironmentLight final : public Light {
   Rgb Le(Vec3f) const override { return radiance_; }
   std::optional<LightLeSample> sampleLe(Vec2f uPos, Vec2f uDir, float time) const override;
   Rgb phi() const override;
+  DistantImportance distantImportance() const override { return {kPi * luminance(radiance_), {}}; }
   void preprocess(const Bounds3f& sceneBounds) override;
   bool leftToBsdfSampling() const override { return true; }
 

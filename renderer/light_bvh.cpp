@@ -99,6 +99,7 @@ BvhLightSampler::BvhLightSampler(const std::vector<std::unique_ptr<Light>>& ligh
     }
   }
   if (!items.empty()) build(items, 0, items.size(), 0, 0);
+  distant_ = DistantLightPicker(lights, infinite_);
 }
 
 uint32_t BvhLightSampler::build(std::vector<std::pair<uint32_t, LightBounds>>& items, size_t begin,
@@ -147,9 +148,10 @@ std::optional<SampledLight> BvhLightSampler::sample(const LightSampleContext& ct
   if (groups == 0) return std::nullopt;
   const float pInfinite = float(infinite_.size()) / float(groups);
   if (u < pInfinite) {
-    const size_t i =
-        std::min(size_t(u / pInfinite * float(infinite_.size())), infinite_.size() - 1);
-    return SampledLight{infinite_[i], 1.0f / float(groups)};
+    std::optional<SampledLight> picked =
+        distant_.sample(ctx, std::min(u / pInfinite, 0x1.fffffep-1f));
+    if (picked) picked->p *= pInfinite;
+    return picked;
   }
   u = std::min((u - pInfinite) / (1 - pInfinite), 0x1.fffffep-1f);
   float p = 1 - pInfinite;
@@ -174,7 +176,8 @@ std::optional<SampledLight> BvhLightSampler::sample(const LightSampleContext& ct
 float BvhLightSampler::pmf(const LightSampleContext& ctx, uint32_t index) const {
   if (index >= trails_.size()) return 0;
   const size_t groups = infinite_.size() + (nodes_.empty() ? 0 : 1);
-  if (trails_[index] == kInfinite) return 1.0f / float(groups);
+  if (trails_[index] == kInfinite)
+    return float(infinite_.size()) / float(groups) * distant_.pmf(ctx, index);
   if (trails_[index] == kInfinite - 1) return 0;
   float p = 1.0f / float(groups);
   uint32_t n = 0;

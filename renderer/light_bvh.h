@@ -1,8 +1,9 @@
 // glint — the light BVH sampler ("bvh"): a hierarchy over the lights' bounds, descended from
 // the receiving point by an importance estimated from each node's bounds (pbrt-v4's
 // BVHLightSampler idea: power, distance, the cone of emission and the receiver's normal).
-// Lights without bounds (directional, environment) are sampled beside the tree, each with the
-// same probability as the whole tree. A descent that ends at a light which cannot reach the
+// Lights without bounds (directional, environment) are sampled beside the tree, together with
+// as many times the whole tree's probability as there are of them, and DistantLightPicker
+// chooses among them. A descent that ends at a light which cannot reach the
 // point (a one-sided emitter facing away) returns no light, so the pmf over all lights sums
 // to at most 1: the rest is the probability of sampling nothing, which is unbiased.
 #pragma once
@@ -34,6 +35,7 @@ class BvhLightSampler final : public LightSampler {
 
   std::vector<Node> nodes_;
   std::vector<uint32_t> infinite_;  // lights sampled beside the tree
+  DistantLightPicker distant_;      // picks among them
   // Per light: its path from the root (bit d = took the second child at depth d), or
   // kInfinite for lights beside the tree.
   std::vector<uint64_t> trails_;

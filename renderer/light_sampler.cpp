@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "geometry/error.h"
+#include "materials/phase.h"
 #include "renderer/light_bvh.h"
 
 namespace glint {
@@ -53,23 +54,98 @@ float UniformLightSampler::pmf(const LightSampleContext&, uint32_t index) const 
   return index < count_ ? 1.0f / float(count_) : 0.0f;
 }
 
+DistantLightPicker::DistantLightPicker(const std::vector<std::unique_ptr<Light>>& lights,
+                                       const std::vector<uint32_t>& indices) {
+  for (uint32_t i : indices) entries_.push_back({i, lights[i]->distantImportance()});
+}
+
+float DistantLightPicker::weight(const Entry& e, const LightSampleContext& ctx) const {
+  const Vec3f w = e.importance.towards;
+  if (w.x == 0 && w.y == 0 && w.z == 0) return e.importance.irradiance;
+  if (!ctx.onSurface()) {
+    if (ctx.wo.x == 0 && ctx.wo.y == 0 && ctx.wo.z == 0) return e.importance.irradiance;
+    // The phase function towards the light, relative to an isotropic one's 1 / (4 pi).
+    return e.importance.irradiance * (4 * kPi) * henyeyGreenstein(dot(ctx.wo, w), ctx.g);
+  }
+  const float cosine = std::max(std::abs(dot(ctx.n, w)), std::abs(dot(ctx.ns, w)));
+  return e.importance.irradiance * cosine;
+}
+
+std::optional<SampledLight> DistantLightPicker::sample(const LightSampleContext& ctx,
+                                                       float u) const {
+  if (entries_.size() == 1) return SampledLight{entries_[0].light, 1};
+  // Few lights (a sun and a sky): the weights are summed afresh rather than kept in a table.
+  float total = 0;
+  for (const Entry& e : entries_) total += weight(e, ctx);
+  if (!(total > 0)) return std::nullopt;
+  float target = u * total;
+  const Entry* last = nullptr;  // the last with weight: it takes what rounding leaves over
+  float lastWeight = 0;
+  for (const Entry& e : entries_) {
+    const float w = weight(e, ctx);
+    if (!(w > 0)) continue;
+    if (target < w) return SampledLight{e.light, w / total};
+    target -= w;
+    last = &e, lastWeight = w;
+  }
+  return SampledLight{last->light, lastWeight / total};
+}
+
+float DistantLightPicker::pmf(const LightSampleContext& ctx, uint32_t index) const {
+  if (entries_.size() == 1) return entries_[0].light == index ? 1.0f : 0.0f;
+  float total = 0, mine = 0;
+  for (const Entry& e : entries_) {
+    const float w = weight(e, ctx);
+    total += w;
+    if (e.light == index) mine = w;
+  }
+  return total > 0 ? mine / total : 0.0f;
+}
+
 PowerLightSampler::PowerLightSampler(const std::vector<std::unique_ptr<Light>>& lights) {
   std::vector<float> weights;
-  weights.reserve(lights.size());
-  for (const auto& l : lights) weights.push_back(luminance(l->phi()));
+  std::vector<uint32_t> distant;
+  float distantPower = 0;
+  entryOf_.resize(lights.size());
+  for (uint32_t i = 0; i < lights.size(); ++i) {
+    const float power = luminance(lights[i]->phi());
+    const LightKind kind = lights[i]->kind();
+    if (kind == LightKind::Infinite || kind == LightKind::DeltaDirection) {
+      if (distantEntry_ == ~0u) {
+        distantEntry_ = uint32_t(weights.size());
+        weights.push_back(0);
+        lightOf_.push_back(~0u);
+      }
+      entryOf_[i] = distantEntry_;
+      distant.push_back(i);
+      if (std::isfinite(power) && power > 0) distantPower += power;
+      continue;
+    }
+    entryOf_[i] = uint32_t(weights.size());
+    weights.push_back(power);
+    lightOf_.push_back(i);
+  }
+  if (distantEntry_ != ~0u) weights[distantEntry_] = distantPower;
   distribution_ = DiscreteDistribution(weights);
+  distant_ = DistantLightPicker(lights, distant);
 }
 
-std::optional<SampledLight> PowerLightSampler::sample(const LightSampleContext&, float u) const {
+std::optional<SampledLight> PowerLightSampler::sample(const LightSampleContext& ctx,
+                                                      float u) const {
   if (distribution_.size() == 0) return std::nullopt;
-  float p = 0;
-  const uint32_t i = distribution_.sample(u, &p);
+  float p = 0, v = 0;
+  const uint32_t entry = distribution_.sample(u, &p, &v);
   if (!(p > 0)) return std::nullopt;
-  return SampledLight{i, p};
+  if (entry != distantEntry_) return SampledLight{lightOf_[entry], p};
+  std::optional<SampledLight> picked = distant_.sample(ctx, v);
+  if (picked) picked->p *= p;
+  return picked;
 }
 
-float PowerLightSampler::pmf(const LightSampleContext&, uint32_t index) const {
-  return distribution_.pmf(index);
+float PowerLightSampler::pmf(const LightSampleContext& ctx, uint32_t index) const {
+  if (index >= entryOf_.size()) return 0;
+  const float p = distribution_.pmf(entryOf_[index]);
+  return entryOf_[index] == distantEntry_ ? p * distant_.pmf(ctx, index) : p;
 }
 
 const std::vector<std::string>& lightSamplerNames() {

@@ -253,7 +253,8 @@ bool PathIntegrator::mediumVertex(Path& path, const MediumEvent& event, int dept
   if (!mediaScatter_ || depth >= maxDepth_) return false;
   const float len = length(ray->d);
   const Vec3f d = ray->d / len;
-  const LightSampleContext ctx = LightSampleContext::inMedium(ray->at(event.t), ray->time);
+  const LightSampleContext ctx =
+      LightSampleContext::inMedium(ray->at(event.t), ray->time, d, event.g);
   path.cone = RayCone{path.cone.widthAt(event.t * len), path.cone.spread};
 
   // --- Next-event estimation from the medium point.
