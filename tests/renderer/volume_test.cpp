@@ -261,31 +261,46 @@ TEST(Volume, SingleScatteringMatchesNumericalIntegration) {
 }
 
 TEST(Volume, DeltaTrackingScattersWithTheRightProbability) {
-  // Grey homogeneous slab: P(scatter before leaving) = sigma_s / sigma_t (1 - exp(-sigma_t d)),
-  // P(absorbed) the rest, and every weight is exactly 1.
-  const float sa = 0.3f, ss = 0.6f, st = sa + ss;
-  MediaScene media(settingsFor("track"));
-  addSlab(&media,
-          makeMedium({sa, sa, sa}, {ss, ss, ss}, {}, 0.4f, std::make_unique<ConstantDensity>(1)));
-  const int n = 100000;
-  int scattered = 0, passed = 0;
-  for (int i = 0; i < n; ++i) {
-    Sampler s(mixBits(uint64_t(i)), 0);
-    MediumEvent e = media.sampleScattering(kAcross, kInfinity, s);
-    if (e.scattered) {
-      ++scattered;
-      EXPECT_NEAR(e.weight.x, 1, 1e-5f);
-      EXPECT_EQ(e.g, 0.4f);
-      EXPECT_GE(e.t, 1.0f);  // inside the slab: x in [-1, 1] is t in [1, 2]
-      EXPECT_LE(e.t, 2.0f);
-    } else if (e.weight.x > 0) {
-      ++passed;
+  // Grey homogeneous slab. Absorption is weighed, not sampled, where the medium scatters: every
+  // real collision scatters, P(scatter before leaving) = 1 - exp(-sigma_t d), with the weight
+  // sigma_s / sigma_t, so the expected weight of scattering is sigma_s / sigma_t (1 -
+  // exp(-sigma_t d)) as for the analogue tracker; paths that leave carry exactly 1. Without
+  // scattering (sigma_s = 0) absorption still ends paths.
+  const float sa = 0.3f, ss = 0.6f;
+  for (float sigmaS : {ss, 0.0f}) {
+    SCOPED_TRACE(sigmaS);
+    const float sigmaT = sa + sigmaS;
+    MediaScene media(settingsFor("track"));
+    addSlab(&media, makeMedium({sa, sa, sa}, {sigmaS, sigmaS, sigmaS}, {}, 0.4f,
+                               std::make_unique<ConstantDensity>(1)));
+    const int n = 100000;
+    int scattered = 0, passed = 0, absorbed = 0;
+    for (int i = 0; i < n; ++i) {
+      Sampler s(mixBits(uint64_t(i)), 0);
+      MediumEvent e = media.sampleScattering(kAcross, kInfinity, s);
+      if (e.scattered) {
+        ++scattered;
+        EXPECT_NEAR(e.weight.x, sigmaS / sigmaT, 1e-5f);
+        EXPECT_EQ(e.g, 0.4f);
+        EXPECT_GE(e.t, 1.0f);  // inside the slab: x in [-1, 1] is t in [1, 2]
+        EXPECT_LE(e.t, 2.0f);
+      } else if (e.weight.x > 0) {
+        EXPECT_NEAR(e.weight.x, 1, 1e-5f);
+        ++passed;
+      } else {
+        ++absorbed;
+      }
+    }
+    const double pPass = std::exp(-sigmaT * kSlab);
+    const double pScatter = sigmaS > 0 ? 1 - pPass : 0;
+    EXPECT_NEAR(double(scattered) / n, pScatter, 4 * std::sqrt(pScatter * (1 - pScatter) / n));
+    EXPECT_NEAR(double(passed) / n, pPass, 4 * std::sqrt(pPass * (1 - pPass) / n));
+    if (sigmaS > 0) {
+      EXPECT_EQ(absorbed, 0);
+    } else {
+      EXPECT_NEAR(double(absorbed) / n, 1 - pPass, 4 * std::sqrt(pPass * (1 - pPass) / n));
     }
   }
-  const double pScatter = ss / st * (1 - std::exp(-st * kSlab));
-  const double pPass = std::exp(-st * kSlab);
-  EXPECT_NEAR(double(scattered) / n, pScatter, 4 * std::sqrt(pScatter * (1 - pScatter) / n));
-  EXPECT_NEAR(double(passed) / n, pPass, 4 * std::sqrt(pPass * (1 - pPass) / n));
 }
 
 // Emission that varies along the ray independently of the density (a fire's temperature in
