@@ -29,6 +29,9 @@ class MajorantGrid {
   }
 
   float at(int x, int y, int z) const { return cells_[(size_t(z) * res_[1] + y) * res_[0] + x]; }
+  void set(int x, int y, int z, float value) {
+    cells_[(size_t(z) * res_[1] + y) * res_[0] + x] = value;
+  }
   const Bounds3f& bounds() const { return bounds_; }
   int res(int axis) const { return res_[axis]; }
   // The largest cell value (the single majorant the grid refines).

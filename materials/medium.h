@@ -49,6 +49,10 @@ class EmissionField {
  public:
   virtual ~EmissionField() = default;
   virtual Rgb emission(Vec3f p) const = 0;
+  // A bound of emission()'s luminance cell by cell, over the same cells as the density's
+  // majorant grid (positive wherever the emission can be); null: none. It tells the path
+  // tracer's emission estimator where to spend its samples (renderer/volume.cpp).
+  virtual const MajorantGrid* luminanceBound() const { return nullptr; }
 };
 
 // A scattering colour per point (a VDB medium's colour grid): sigma_s(p) = sigma_s x color(p)

@@ -82,6 +82,8 @@ size_t VdbVolume::bytes() const {
   if (color) n += color->bytes();
   if (temperature) n += temperature->bytes();
   if (flame) n += flame->bytes();
+  if (temperatureMaxima) n += temperatureMaxima->bytes();
+  if (flameMaxima) n += flameMaxima->bytes();
   return n;
 }
 
@@ -97,7 +99,31 @@ VdbDensity::VdbDensity(std::shared_ptr<const VdbVolume> volume, float scale)
 }
 
 VdbEmission::VdbEmission(std::shared_ptr<const VdbVolume> volume, const VdbEmissionParams& params)
-    : volume_(std::move(volume)), params_(params) {}
+    : volume_(std::move(volume)), params_(params) {
+  const bool blackbody = volume_->temperature && params_.blackbodyIntensity > 0;
+  const bool flame = volume_->flame && params_.flameStrength > 0;
+  if (!volume_->majorants || (blackbody && !volume_->temperatureMaxima) ||
+      (blackbody && params_.temperatureScale < 0) || (flame && !volume_->flameMaxima))
+    return;
+  // Blackbody luminance grows with the temperature (as T^4), so a cell's hottest voxel bounds
+  // it; the flame's is its largest value times the colour's luminance.
+  const MajorantGrid& cells = *volume_->majorants;
+  bound_.emplace(cells.bounds(), cells.res(0), cells.res(1), cells.res(2));
+  for (int z = 0; z < cells.res(2); ++z)
+    for (int y = 0; y < cells.res(1); ++y)
+      for (int x = 0; x < cells.res(0); ++x) {
+        float L = 0;
+        if (blackbody) {
+          const float T = params_.temperatureScale * volume_->temperatureMaxima->at(x, y, z) +
+                          params_.temperatureOffset;
+          L += luminance(blackbodyEmission(T)) * params_.blackbodyIntensity;
+        }
+        if (flame)
+          L += luminance(params_.flameColor) * params_.flameStrength *
+               std::max(0.0f, volume_->flameMaxima->at(x, y, z));
+        bound_->set(x, y, z, L);
+      }
+}
 
 Rgb VdbEmission::emission(Vec3f p) const {
   Rgb L{0, 0, 0};

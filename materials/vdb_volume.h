@@ -67,6 +67,9 @@ struct VdbVolume {
   float maxDensity = 0;  // of the density grid's values (active and background)
   // Density maxima over `bounds` (materials/majorant_grid.h); absent: one majorant.
   std::optional<MajorantGrid> majorants;
+  // The temperature and flame grids' maxima over the same cells (where those grids are read
+  // and `majorants` is there), background included: VdbEmission's bound, cell by cell.
+  std::optional<MajorantGrid> temperatureMaxima, flameMaxima;
 
   size_t bytes() const;
 };
@@ -113,10 +116,15 @@ class VdbEmission final : public EmissionField {
  public:
   VdbEmission(std::shared_ptr<const VdbVolume> volume, const VdbEmissionParams& params);
   Rgb emission(Vec3f p) const override;
+  const MajorantGrid* luminanceBound() const override { return bound_ ? &*bound_ : nullptr; }
 
  private:
   std::shared_ptr<const VdbVolume> volume_;
   VdbEmissionParams params_;
+  // The luminance of the emission's bound per cell of the density's majorant grid, from the
+  // grids' maxima (absent without them, or with a temperature scale < 0, for which the
+  // maxima would bound nothing).
+  std::optional<MajorantGrid> bound_;
 };
 
 }  // namespace glint

@@ -17,8 +17,11 @@ class MajorantDda {
  public:
   // The segment t in [tMin, tMax] of the object-space ray o + t d (d need not be unit: t is
   // the caller's ray parameter) through `grid`, clipped to the grid's box.
+  // `aux`: a second grid over the same cells whose values come along (null: 0).
   MajorantDda() = default;  // no cells
-  MajorantDda(const MajorantGrid& grid, Vec3f o, Vec3f d, float tMin, float tMax) : grid_(&grid) {
+  MajorantDda(const MajorantGrid& grid, Vec3f o, Vec3f d, float tMin, float tMax,
+              const MajorantGrid* aux = nullptr)
+      : grid_(&grid), aux_(aux) {
     const Bounds3f& b = grid.bounds();
     const Vec3f extent = b.diagonal();
     // The ray in grid space, where the grid is [0, 1]^3.
@@ -54,14 +57,16 @@ class MajorantDda {
     }
   }
 
-  // The next cell: the ray stretch [*t0, *t1] inside it and its value. False when done.
-  bool next(float* t0, float* t1, float* value) {
+  // The next cell: the ray stretch [*t0, *t1] inside it and its value (and `aux`'s, into
+  // *auxValue). False when done.
+  bool next(float* t0, float* t1, float* value, float* auxValue = nullptr) {
     if (!(t_ < tEnd_)) return false;
     const int a =
         next_[0] < next_[1] ? (next_[0] < next_[2] ? 0 : 2) : (next_[1] < next_[2] ? 1 : 2);
     *t0 = t_;
     *t1 = std::max(t_, std::min(tEnd_, next_[a]));
     *value = grid_->at(cell_[0], cell_[1], cell_[2]);
+    if (auxValue) *auxValue = aux_ ? aux_->at(cell_[0], cell_[1], cell_[2]) : 0.0f;
     t_ = *t1;
     cell_[a] += step_[a];
     next_[a] += delta_[a];
@@ -71,16 +76,18 @@ class MajorantDda {
 
  private:
   const MajorantGrid* grid_ = nullptr;
+  const MajorantGrid* aux_ = nullptr;
   float t_ = 0, tEnd_ = 0;
   int cell_[3] = {0, 0, 0}, step_[3] = {0, 0, 0}, stop_[3] = {0, 0, 0};
   float next_[3] = {kInfinity, kInfinity, kInfinity}, delta_[3] = {0, 0, 0};
 };
 
 // A stretch [t0, t1] of a ray with one majorant (max over channels of sigma_t); `cell` is the
-// majorant grid's value there (0 without a grid), for trackers that need each channel's.
+// majorant grid's value there (0 without a grid), for trackers that need each channel's, and
+// `emission` the emission bound's there (EmissionField::luminanceBound; 0 without one).
 struct MajorantSegment {
   float t0, t1, majorant;
-  float cell = 0;
+  float cell = 0, emission = 0;
 };
 
 // The majorant along [a, b] of a ray, stretch by stretch, as a tracker advances: one stretch of
@@ -91,9 +98,15 @@ class MajorantWalk {
  public:
   MajorantWalk(float a, float b, float constant) : t_(a), b_(b), constant_(constant) {}
   // `o`, `d`: the ray in the grid's (object) space; t is the caller's ray parameter.
+  // `emission`: an emission bound over the same cells, whose values the stretches carry.
   MajorantWalk(const MajorantGrid& grid, float scale, Vec3f o, Vec3f d, float a, float b,
-               float constant)
-      : t_(a), b_(b), constant_(constant), scale_(scale), dda_(grid, o, d, a, b), gridded_(true) {}
+               float constant, const MajorantGrid* emission = nullptr)
+      : t_(a),
+        b_(b),
+        constant_(constant),
+        scale_(scale),
+        dda_(grid, o, d, a, b, emission),
+        gridded_(true) {}
 
   // The next stretch; false when the walk has reached b.
   bool next(MajorantSegment* out) {
@@ -114,17 +127,17 @@ class MajorantWalk {
       t_ = out->t1;
       return true;
     }
-    // This cell, and the following ones of the same value (one stretch for the tracker).
-    const float value = value_;
+    // This cell, and the following ones of the same values (one stretch for the tracker).
+    const float value = value_, emission = emission_;
     float t1 = std::min(c1_, b_);
     haveCell_ = false;
     if (!(t1 > t_)) return next(out);  // a cell left behind by rounding
     while (t1 < b_ && nextCell()) {
-      if (value_ != value || c0_ > t1) break;
+      if (value_ != value || emission_ != emission || c0_ > t1) break;
       t1 = std::min(c1_, b_);
       haveCell_ = false;
     }
-    *out = {t_, t1, constant_ + value * scale_, value};
+    *out = {t_, t1, constant_ + value * scale_, value, emission};
     t_ = t1;
     return true;
   }
@@ -132,7 +145,7 @@ class MajorantWalk {
  private:
   // The DDA's next cell into (c0_, c1_, value_), skipping empty stretches; false when done.
   bool nextCell() {
-    while (dda_.next(&c0_, &c1_, &value_))
+    while (dda_.next(&c0_, &c1_, &value_, &emission_))
       if (c1_ > c0_ && c1_ > t_) return haveCell_ = true;
     return false;
   }
@@ -140,7 +153,7 @@ class MajorantWalk {
   float t_, b_, constant_, scale_ = 0;
   MajorantDda dda_;
   bool gridded_ = false, haveCell_ = false;
-  float c0_ = 0, c1_ = 0, value_ = 0;
+  float c0_ = 0, c1_ = 0, value_ = 0, emission_ = 0;
 };
 
 // Tentative collisions along the stretches of a MajorantWalk: the majorant's optical depth to

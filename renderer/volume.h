@@ -151,6 +151,11 @@ class MediaScene {
     const MajorantGrid* grid = nullptr;  // the density's cell maxima (null: `majorant` only)
     float gridScale = 0;                 // max over channels of sigma_t: grid value -> majorant
     float maxDensity = 0;                // the density's bound over the region
+    // The emission's luminance bound over the majorant grid's cells (null: none, or the
+    // medium also emits Le x density, which it does not bound), and the emission samples it
+    // asks for per object-space unit length per unit of it.
+    const MajorantGrid* emissionBound = nullptr;
+    float emissionRate = 0;
   };
   struct Coefficients {
     Rgb sigmaT, sigmaS, emission;

@@ -237,22 +237,36 @@ std::shared_ptr<VdbVolume> read(const std::string& path, const VdbRequest& reque
                  " (a medium is bounded by its active voxels: it must be 0)");
     volume->maxDensity = maxDensity;
     volume->bounds = reach(AffineMap(density->transform()), density->evalActiveVoxelBoundingBox());
-    auto optionalGrid = [&](const std::optional<VdbGridRequest>& r) -> std::optional<VdbGrid> {
+    openvdb::FloatGrid::Ptr emitting[2];  // temperature, flame
+    auto optionalGrid = [&](const std::optional<VdbGridRequest>& r,
+                            openvdb::FloatGrid::Ptr* kept) -> std::optional<VdbGrid> {
       if (!r) return std::nullopt;
       openvdb::FloatGrid::Ptr g = readFloatGrid(f.file, path, *r, &ignored);
       // Emission reaches as far as its grid: the region must hold it too (a flame grid's
       // background is emitted everywhere, so only its active voxels bound it).
       volume->bounds.extend(reach(AffineMap(g->transform()), g->evalActiveVoxelBoundingBox()));
+      *kept = g;
       return flatten(*g, r->name);
     };
-    volume->temperature = optionalGrid(request.temperature);
-    volume->flame = optionalGrid(request.flame);
+    volume->temperature = optionalGrid(request.temperature, &emitting[0]);
+    volume->flame = optionalGrid(request.flame, &emitting[1]);
     if (request.color)
       volume->color = flatten(*readColorGrid(f.file, path, *request.color, &volume->maxColor),
                               request.color->name);
     volume->density = flatten(*density, request.density.name);
-    if (request.majorantCells > 1)
+    if (request.majorantCells > 1) {
       volume->majorants = majorants(*density, volume->bounds, request.majorantCells);
+      // The emission grids' maxima over the same cells, which bound the emission cell by cell
+      // (VdbEmission). Inactive voxels read the background, which an emission grid may have
+      // (an ambient temperature): every cell is at least that.
+      auto maxima = [&](const openvdb::FloatGrid& g) {
+        MajorantGrid m = majorants(g, volume->bounds, request.majorantCells);
+        if (g.background() > 0) m.include(volume->bounds, g.background());
+        return m;
+      };
+      if (emitting[0]) volume->temperatureMaxima = maxima(*emitting[0]);
+      if (emitting[1]) volume->flameMaxima = maxima(*emitting[1]);
+    }
     return volume;
   });
   // OpenVDB's trees are freed by now, but as many small nodes the allocator keeps: hand the
