@@ -125,7 +125,11 @@ PowerLightSampler::PowerLightSampler(const std::vector<std::unique_ptr<Light>>& 
     weights.push_back(power);
     lightOf_.push_back(i);
   }
-  if (distantEntry_ != ~0u) weights[distantEntry_] = distantPower;
+  if (distantEntry_ != ~0u) {
+    weights[distantEntry_] = distantPower;
+    // One light at infinity is its entry's light, and nothing is left to pick.
+    if (distant.size() == 1) lightOf_[distantEntry_] = distant[0], distantEntry_ = ~0u;
+  }
   distribution_ = DiscreteDistribution(weights);
   distant_ = DistantLightPicker(lights, distant);
 }
@@ -134,7 +138,8 @@ std::optional<SampledLight> PowerLightSampler::sample(const LightSampleContext& 
                                                       float u) const {
   if (distribution_.size() == 0) return std::nullopt;
   float p = 0, v = 0;
-  const uint32_t entry = distribution_.sample(u, &p, &v);
+  const uint32_t entry = distantEntry_ == ~0u ? distribution_.sample(u, &p)
+                                              : distribution_.sample(u, &p, &v);
   if (!(p > 0)) return std::nullopt;
   if (entry != distantEntry_) return SampledLight{lightOf_[entry], p};
   std::optional<SampledLight> picked = distant_.sample(ctx, v);

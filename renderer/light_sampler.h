@@ -106,7 +106,8 @@ class PowerLightSampler final : public LightSampler {
   float pmf(const LightSampleContext& ctx, uint32_t index) const override;
 
  private:
-  // Over the lights, the lights at infinity all standing at the entry `distantEntry_`.
+  // Over the lights, the lights at infinity all standing at the entry `distantEntry_` (none,
+  // ~0u, when there are fewer than two: a single one is an entry like any light).
   DiscreteDistribution distribution_;
   std::vector<uint32_t> entryOf_;  // per light: its entry
   std::vector<uint32_t> lightOf_;  // per entry: its light (the distant entry: unused)
