@@ -138,8 +138,8 @@ std::optional<SampledLight> PowerLightSampler::sample(const LightSampleContext& 
                                                       float u) const {
   if (distribution_.size() == 0) return std::nullopt;
   float p = 0, v = 0;
-  const uint32_t entry = distantEntry_ == ~0u ? distribution_.sample(u, &p)
-                                              : distribution_.sample(u, &p, &v);
+  const uint32_t entry =
+      distantEntry_ == ~0u ? distribution_.sample(u, &p) : distribution_.sample(u, &p, &v);
   if (!(p > 0)) return std::nullopt;
   if (entry != distantEntry_) return SampledLight{lightOf_[entry], p};
   std::optional<SampledLight> picked = distant_.sample(ctx, v);
