@@ -126,7 +126,9 @@ class MediaScene {
   // estimate of the integral of T(t) emission(t) dt over t up to the event (or to tMax), by
   // the track-length estimator: over each stretch between tentative collisions (or across a
   // stretch without extinction), the tracking weight so far times the stretch's length times
-  // the emission at one uniformly placed point of it (the stretch's integral when constant).
+  // the emission's mean over jittered points of it: one, or where the emitting medium bounds
+  // its emission cell by cell (EmissionField::luminanceBound) none in cells that cannot emit
+  // and more in proportion to the bound elsewhere (the stretch's integral when constant).
   // Media with coloured extinction under spectral MIS (heroTrack) still weigh emission at
   // each collision. Draws the same numbers as sampleScattering where nothing emits.
   MediumEvent sampleScatteringAndEmission(const Ray& ray, float tMax, Sampler& sampler,
