@@ -83,7 +83,7 @@ CYCLES_BOUNCES = GLINT_DEPTH - 1
 # ---------------------------------------------------------------------------------------------
 
 BLENDER_SCRIPT = r'''
-import json, math, resource, sys, time
+import json, math, sys
 import bpy
 from mathutils import Matrix, Vector
 
@@ -218,18 +218,8 @@ for i, m in enumerate(SCENE["volumes"]):
 scene.render.image_settings.file_format = "OPEN_EXR"
 scene.render.image_settings.color_depth = "32"
 scene.render.image_settings.exr_codec = "ZIP"
-r0 = resource.getrusage(resource.RUSAGE_SELF)
-t0 = time.perf_counter()
-bpy.ops.render.render()
-t1 = time.perf_counter()
-r1 = resource.getrusage(resource.RUSAGE_SELF)
-bpy.data.images["Render Result"].save_render(out)
-with open(timing, "w") as f:
-    json.dump({"render_call_seconds": t1 - t0,
-               "render_call_cpu_seconds": (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime),
-               "blender": bpy.app.version_string,
-               "sampling_pattern": c.sampling_pattern}, f)
-'''
+timing_extra = {"blender": bpy.app.version_string, "sampling_pattern": c.sampling_pattern}
+''' + heq.TIMED_RENDER
 
 # ---------------------------------------------------------------------------------------------
 # glint's scene, and the same values for Cycles

@@ -78,11 +78,27 @@ WIDTH, HEIGHT = 400, 400
 POSITION, LOOK_AT, YFOV = [0, 0.5614, 2.641], [0, 0, 0], 45
 GLINT_DEPTH = 8
 
+# The end of a Blender script that renders with its render call timed: wall and CPU seconds,
+# then the image to `out` and the times, with the script's `timing_extra` dict, to `timing`
+# as JSON (this script's and cycles_vdb.py's).
+TIMED_RENDER = r'''
+import json, resource, time
+r0 = resource.getrusage(resource.RUSAGE_SELF)
+t0 = time.perf_counter()
+bpy.ops.render.render()
+t1 = time.perf_counter()
+r1 = resource.getrusage(resource.RUSAGE_SELF)
+bpy.data.images["Render Result"].save_render(out)
+with open(timing, "w") as f:
+    json.dump(dict({"render_call_seconds": t1 - t0,
+                    "render_call_cpu_seconds": (r1.ru_utime - r0.ru_utime) +
+                                               (r1.ru_stime - r0.ru_stime)}, **timing_extra), f)
+'''
+
 # conformance.py's script ends by rendering and writing the image; this replaces that last
 # line with the settings an equal-error comparison needs and a timed render call.
 _TAIL = "bpy.ops.render.render(write_still=True)\n"
 BLENDER_EXTRA = r'''
-import json, resource
 seed, timing, threads = int(a[12]), a[13], int(a[14])
 c = scene.cycles
 c.use_adaptive_sampling = False
@@ -104,17 +120,8 @@ keys = ("samples", "max_bounces", "diffuse_bounces", "glossy_bounces", "transmis
 settings = {k: getattr(c, k) for k in keys}
 settings["threads"] = scene.render.threads
 settings["blender"] = bpy.app.version_string
-r0 = resource.getrusage(resource.RUSAGE_SELF)
-t0 = time.perf_counter()
-bpy.ops.render.render()
-t1 = time.perf_counter()
-r1 = resource.getrusage(resource.RUSAGE_SELF)
-bpy.data.images["Render Result"].save_render(out)
-with open(timing, "w") as f:
-    json.dump({"render_call_seconds": t1 - t0,
-               "render_call_cpu_seconds": (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime),
-               "settings": settings}, f)
-'''
+timing_extra = {"settings": settings}
+''' + TIMED_RENDER
 
 
 def blender_script():
