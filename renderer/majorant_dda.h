@@ -166,6 +166,8 @@ class CollisionStepper {
  public:
   // The next collision after *x in a stretch of length s with majorant m > 0: true and *x moved
   // to it, or false when it lies beyond s (the depth left over is kept for the next stretch).
+  // Makes the next collision's optical depth -log(1 - u) rather than a draw from the sampler.
+  void start(float u) { tau_ = -std::log1p(-u), have_ = true; }
   bool next(float m, float s, float* x, Sampler& sampler) {
     if (!have_) tau_ = -std::log1p(-sampler.get1D()), have_ = true;
     const float step = tau_ / m;

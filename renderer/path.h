@@ -33,9 +33,10 @@
 // a scene without media runs surfacePath, with no volume code in it). Every segment of the path
 // (camera ray, bounce, up to the hit or to where it leaves the media) is crossed by delta
 // tracking against the density majorants (MediaScene::sampleScatteringAndEmission):
-//   emission — at every tentative collision the path adds beta x tracking weight x
-//     emission / majorant (pbrt-v4's estimator; unbiased for any majorant), so glowing media
-//     are found by the camera and by every bounce, never by next-event estimation;
+//   emission — the track-length estimator: up to the segment's collision, the path adds
+//     beta x tracking weight x the emission integrated over each stretch between tentative
+//     collisions (unbiased for any majorant), so glowing media are found by the camera and by
+//     every bounce, never by next-event estimation;
 //   passing — beta takes the tracking weight (an unbiased estimate of the transmittance; 1 for
 //     grey media), and the path goes on at the surface or the environment as without media:
 //     emission found there keeps its MIS weight, now times that transmittance estimate;
@@ -58,9 +59,11 @@
 // sampler dimensions of every later vertex. So the media instantiation draws one 2D sample at
 // the start of the path (after the integrator's first dimension) and hashes it into the key of
 // a private Sampler whose successive dimensions at sample 0 serve as a hashed random stream
-// (Sampler is a pure function of (key, dimension)): every tracking decision and ratio-tracking
-// shadow ray reads that stream. Vertices still read fixed dimensions, and results depend only
-// on (pixel, sample, seed).
+// (Sampler is a pure function of (key, dimension)): tracking decisions and ratio-tracking
+// shadow rays read that stream. Only a fixed few numbers per segment come from the path's
+// own dimensions, stratified over the pixel's samples (SegmentSamples, volume.h: the first
+// free flight, the first event, the emission offset), as Cycles' scatter distance does.
+// Vertices still read fixed dimensions, and results depend only on (pixel, sample, seed).
 //
 // Not yet: path regularisation, and ray cones after diffuse bounces (texture footprints keep
 // the camera cone's spread).

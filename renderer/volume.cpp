@@ -513,24 +513,30 @@ void MediaScene::pickScatterer(const std::vector<uint32_t>& active, Vec3f p, con
 }
 
 MediumEvent MediaScene::sampleScattering(const Ray& ray, float tMax, Sampler& sampler) const {
-  return deltaTrack(ray, tMax, sampler, nullptr, nullptr);
+  return deltaTrack(ray, tMax, sampler, nullptr, nullptr, nullptr);
 }
 
 MediumEvent MediaScene::sampleScatteringAndEmission(const Ray& ray, float tMax, Sampler& sampler,
-                                                    Rgb* emitted, ChannelPath* path) const {
+                                                    Rgb* emitted, ChannelPath* path,
+                                                    const SegmentSamples* first) const {
   *emitted = {};
-  return deltaTrack(ray, tMax, sampler, emitted, path);
+  return deltaTrack(ray, tMax, sampler, emitted, path, first);
 }
 
 MediumEvent MediaScene::deltaTrack(const Ray& ray, float tMax, Sampler& sampler, Rgb* emitted,
-                                   ChannelPath* path) const {
-  if (heroTracking_) return heroTrack(ray, tMax, sampler, emitted, path);
+                                   ChannelPath* path, const SegmentSamples* first) const {
+  if (heroTracking_) return heroTrack(ray, tMax, sampler, emitted, path, first);
   MediumEvent event;
   Scratch& scratch = integrateScratch();
   if (!scratch.along(*this, ray, tMax)) return event;
   const float len = length(ray.d);
   const Vec3f dUnit = ray.d / len;
   CollisionTally tentative(gTentative), real(gReal);
+  // One optical depth per collision, carried across the regions' stretches and the grid's
+  // cells (the gaps between regions have no extinction, so what is left of it stays valid).
+  CollisionStepper stepper;
+  if (first) stepper.start(first->flight);
+  bool firstEvent = first != nullptr;
   for (size_t k = 0; k + 1 < scratch.cuts.size(); ++k) {
     float a, b;
     if (!scratch.stretch(k, &a, &b)) continue;
@@ -552,7 +558,6 @@ MediumEvent MediaScene::deltaTrack(const Ray& ray, float tMax, Sampler& sampler,
       guide = gridded->emissionRate * length(gridded->objectFromWorld.vector(dUnit));
     MajorantWalk walk = majorantWalk(ray, a, b, scratch.active);
     MajorantSegment seg;
-    CollisionStepper stepper;
     while (walk.next(&seg)) {
       const float majorant = seg.majorant;
       const float s = (seg.t1 - seg.t0) * len;
@@ -577,12 +582,14 @@ MediumEvent MediaScene::deltaTrack(const Ray& ray, float tMax, Sampler& sampler,
           n = int(std::clamp(std::ceil(guide * seg.emission * (to - from)), 1.0f,
                              float(kMaxEmissionSamples)));
         }
-        // n jittered points, one in each nth of the stretch.
+        // n jittered points, one in each nth of the stretch (all at the segment's offset where
+        // it has one).
         const float h = (to - from) / float(n);
         Rgb sum;
-        for (int i = 0; i < n; ++i)
-          sum +=
-              emission(scratch.active, start + dUnit * (from + (float(i) + sampler.get1D()) * h));
+        for (int i = 0; i < n; ++i) {
+          const float u = first ? first->jitter : sampler.get1D();
+          sum += emission(scratch.active, start + dUnit * (from + (float(i) + u) * h));
+        }
         *emitted += event.weight * sum * h;
       };
       if (majorant <= 0) {  // no extinction (T = 1 here), so no collisions
@@ -609,7 +616,8 @@ MediumEvent MediaScene::deltaTrack(const Ray& ray, float tMax, Sampler& sampler,
         const float pReal = mean(c.sigmaT) / majorant;
         const float pScatter = mean(c.sigmaS) > 0 ? pReal : 0.0f;
         const float pAbsorb = pReal - pScatter;
-        const float u = sampler.get1D();
+        const float u = firstEvent ? first->event : sampler.get1D();
+        firstEvent = false;
         if (u < pAbsorb) {
           ++real.n;
           return {false, 0, Rgb{0, 0, 0}, 0};
@@ -679,7 +687,7 @@ ChannelPath MediaScene::startPath(Sampler& sampler) const {
 }
 
 MediumEvent MediaScene::heroTrack(const Ray& ray, float tMax, Sampler& sampler, Rgb* emitted,
-                                  ChannelPath* path) const {
+                                  ChannelPath* path, const SegmentSamples* first) const {
   MediumEvent event;
   Scratch& scratch = integrateScratch();
   if (!scratch.along(*this, ray, tMax)) return event;
@@ -696,6 +704,9 @@ MediumEvent MediaScene::heroTrack(const Ray& ray, float tMax, Sampler& sampler, 
   const Rgb RinMean = Rgb{1, 1, 1} * mean(Rin);
   auto change = [&](Rgb R) { return safeDivide(R, Rin) * RinMean; };
   Rgb& R = path->R;
+  CollisionStepper stepper;  // as in deltaTrack, across stretches and cells
+  if (first) stepper.start(first->flight);
+  bool firstEvent = first != nullptr;
   for (size_t k = 0; k + 1 < scratch.cuts.size(); ++k) {
     float a, b;
     if (!scratch.stretch(k, &a, &b)) continue;
@@ -703,7 +714,6 @@ MediumEvent MediaScene::heroTrack(const Ray& ray, float tMax, Sampler& sampler, 
     for (uint32_t i : scratch.active) emits = emits || regions_[i].medium->emits();
     MajorantWalk walk = majorantWalk(ray, a, b, scratch.active);
     MajorantSegment seg;
-    CollisionStepper stepper;
     while (walk.next(&seg)) {
       const Rgb M = channelMajorants(scratch.active, seg.cell);
       const float s = (seg.t1 - seg.t0) * len;
@@ -726,7 +736,8 @@ MediumEvent MediaScene::heroTrack(const Ray& ray, float tMax, Sampler& sampler, 
         if (emitted && emits) *emitted += c.emission * change(R) / mean(R * M);
         const float pAbsorb = (c.sigmaT[h] - c.sigmaS[h]) / M[h];
         const float pScatter = c.sigmaS[h] / M[h];
-        const float u = sampler.get1D();
+        const float u = firstEvent ? first->event : sampler.get1D();
+        firstEvent = false;
         if (u < pAbsorb) {
           ++real.n;
           return {false, 0, Rgb{0, 0, 0}, 0};

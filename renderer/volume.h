@@ -68,6 +68,18 @@ struct ChannelPath {
   Rgb R{1, 1, 1};
 };
 
+// The numbers a path draws for one segment's tracking from its own sample dimensions, which
+// are stratified over a pixel's samples, instead of from its tracking stream (path.h): the
+// first free flight's optical depth, the event of the first tentative collision, and the
+// offset of the emission samples (one jitter shared by the segment's stretches, as a ray
+// marcher shares its step offset). The first free flight decides how far into a medium the
+// path gets before it collides, and so how much of a flame the camera ray gathers before it
+// scatters; stratified, it took the fire of scenes/volumes from 0.051 to 0.0095 variance per
+// sample at depth 0 (benchmarks/README, issue 52). Later collisions draw from the stream.
+struct SegmentSamples {
+  float flight = 0, event = 0, jitter = 0;  // uniform in [0, 1)
+};
+
 // Tentative collisions of the trackers, summed over all threads since the last reset: how
 // much work tracking does, and how much of it was wasted on null collisions.
 struct TrackingCounts {
@@ -131,8 +143,10 @@ class MediaScene {
   // and more in proportion to the bound elsewhere (the stretch's integral when constant).
   // Media with coloured extinction under spectral MIS (heroTrack) still weigh emission at
   // each collision. Draws the same numbers as sampleScattering where nothing emits.
+  // `first`, when given, supplies the segment's first numbers (SegmentSamples).
   MediumEvent sampleScatteringAndEmission(const Ray& ray, float tMax, Sampler& sampler,
-                                          Rgb* emitted, ChannelPath* path = nullptr) const;
+                                          Rgb* emitted, ChannelPath* path = nullptr,
+                                          const SegmentSamples* first = nullptr) const;
   // A path's spectral MIS state, where a medium has coloured extinction: its hero channel is
   // drawn from `sampler` (nothing is drawn otherwise). Passed to every segment's
   // sampleScatteringAndEmission, it makes one MIS over the whole path; without it, each
@@ -188,13 +202,13 @@ class MediaScene {
   Rgb transmittance(const Ray& ray, float tMax, Sampler& sampler, bool track) const;
   // Delta tracking; emission gathered into `*emitted` when it is not null.
   MediumEvent deltaTrack(const Ray& ray, float tMax, Sampler& sampler, Rgb* emitted,
-                         ChannelPath* path) const;
+                         ChannelPath* path, const SegmentSamples* first) const;
   // At a scattering event at p: the scattering region's phase asymmetry into event->g.
   void pickScatterer(const std::vector<uint32_t>& active, Vec3f p, const Coefficients& c,
                      Sampler& sampler, MediumEvent* event) const;
   // The same for coloured extinction: spectral MIS over a hero channel (volume.cpp).
   MediumEvent heroTrack(const Ray& ray, float tMax, Sampler& sampler, Rgb* emitted,
-                        ChannelPath* path) const;
+                        ChannelPath* path, const SegmentSamples* first) const;
   // Each channel's majorant over a stretch of majorantWalk(..., active) whose gridded region's
   // cell holds `cell` (the walk's majorant is their largest).
   Rgb channelMajorants(const std::vector<uint32_t>& active, float cell) const;

@@ -350,6 +350,60 @@ TEST(Volume, DeltaTrackingGathersEmissionThatVariesWithoutTheDensity) {
   }
 }
 
+// A segment's first numbers from a pixel's stratified dimensions (SegmentSamples), as the path
+// tracer passes them: the emission a ray gathers before it collides keeps its mean, and a
+// pixel's 64 samples of it spread far less than with every number from the tracking stream
+// (where the segment collides is what varied most in the fire of scenes/volumes).
+class UniformEmission final : public EmissionField {
+ public:
+  Rgb emission(Vec3f) const override { return {2, 2, 2}; }
+};
+
+TEST(Volume, SegmentSamplesStratifyWhereTheSegmentCollides) {
+  // A constant density grid (the heterogeneous tracker, no null collisions) glowing evenly:
+  // a ray gathers 2 x the distance to its collision, so where it collides is all that varies.
+  const float sigma = 0.4f;  // sigma_a = sigma_s: half the collisions' weight scatters
+  MediaScene media(settingsFor("track"));
+  auto m = makeMedium({sigma, sigma, sigma}, {sigma, sigma, sigma}, {}, 0, constantGrid(1));
+  m->emissionField = std::make_unique<UniformEmission>();
+  addSlab(&media, std::move(m));
+  const double sigmaT = 2 * sigma;
+  const double exact = 2 * (1 - std::exp(-sigmaT * kSlab)) / sigmaT;
+  const int pixels = 400, spp = 64;
+  for (bool stratified : {false, true}) {
+    SCOPED_TRACE(stratified);
+    double sum = 0, sum2 = 0, pixelSum2 = 0;
+    for (int p = 0; p < pixels; ++p) {
+      double pixel = 0;
+      for (int i = 0; i < spp; ++i) {
+        Sampler sampler(mixBits(uint64_t(p) + 777), uint32_t(i));
+        Sampler tracker(mixBits(uint64_t(p * spp + i) ^ 0x5bd1e995u), 0);
+        SegmentSamples first;
+        const Vec2f u = sampler.get2D();
+        first.flight = u.x, first.event = u.y, first.jitter = sampler.get1D();
+        Rgb emitted;
+        media.sampleScatteringAndEmission(kAcross, kInfinity, tracker, &emitted, nullptr,
+                                          stratified ? &first : nullptr);
+        sum += emitted.x, sum2 += double(emitted.x) * emitted.x, pixel += emitted.x;
+      }
+      pixel /= spp;
+      pixelSum2 += (pixel - exact) * (pixel - exact);
+    }
+    const double count = double(pixels) * spp;
+    const double mean = sum / count;
+    const double perSample = sum2 / count - mean * mean;
+    // The pixels are independent of each other, so their mean's error follows their spread.
+    const double pixelVariance = pixelSum2 / pixels;
+    EXPECT_NEAR(mean, exact, 4 * std::sqrt(pixelVariance / pixels));
+    if (stratified) {
+      // Unstratified, a pixel's variance is one sample's over 64; stratified, far lower.
+      EXPECT_LT(pixelVariance, 0.05 * perSample / spp);
+    } else {
+      EXPECT_NEAR(pixelVariance, perSample / spp, 0.3 * perSample / spp);
+    }
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Rendered scenes
 // ---------------------------------------------------------------------------------------------
