@@ -22,6 +22,10 @@ class MajorantGrid {
 
   // Raises every cell that overlaps the object-space box `box` to at least `value`.
   void include(const Bounds3f& box, float value);
+  // include's cells along `axis` for the interval [lo, hi] of the box: *first to *last.
+  void cellRange(int axis, float lo, float hi, int* first, int* last) const;
+  // Raises the cells first[a] ... last[a] (per axis, inclusive) to at least `value`.
+  void includeCells(const int first[3], const int last[3], float value);
 
   // Multiplies every cell by `factor` (>= 0).
   void scale(float factor) {

@@ -169,6 +169,76 @@ TEST(VdbFile, ReadsGridsBoundsAndListsThem) {
   EXPECT_GT(m.emptyFraction(), 0.0f);
 }
 
+// The majorant grid is built a leaf at a time where the file's transform is axis-aligned; it
+// must be cell for cell what raising every active voxel's and tile's trilinear reach (its index
+// box -+ 1, in world space as the reader computes it) to its value gives. A sparse grid of
+// random voxels over several leaves, a tile, a scale that differs per axis and an offset; and
+// a rotated transform (each voxel on its own) still bounding the density.
+TEST(VdbFile, MajorantGridIsEveryVoxelsReach) {
+  const std::string dir = test::scratchDir("VdbFile.MajorantGridIsEveryVoxelsReach");
+  openvdb::initialize();
+  for (bool rotated : {false, true}) {
+    SCOPED_TRACE(rotated);
+    openvdb::FloatGrid::Ptr g = openvdb::FloatGrid::create(0.0f);
+    g->setName("density");
+    openvdb::math::Mat4d m = openvdb::math::Mat4d::identity();
+    m.preScale(openvdb::Vec3d(0.25, 0.5, 0.125));
+    if (rotated) m.postRotate(openvdb::math::Z_AXIS, 0.3);
+    m.postTranslate(openvdb::Vec3d(0.3, -1.7, 2.1));
+    g->setTransform(openvdb::math::Transform::createLinearTransform(m));
+    std::mt19937 rng(11);
+    std::uniform_int_distribution<int> coord(-20, 40);
+    std::uniform_real_distribution<float> value(0.1f, 3.0f);
+    auto acc = g->getAccessor();
+    for (int i = 0; i < 3000; ++i)
+      acc.setValueOn(openvdb::Coord(coord(rng), coord(rng), coord(rng)), value(rng));
+    g->tree().addTile(1, openvdb::Coord(64, 0, 0), 4.0f, true);  // a 16^3 tile of 4
+    writeVdb(dir + "/sparse.vdb", {g});
+
+    VdbRequest request;
+    request.where = {"scene.json", "/media/0/density/file"};
+    request.density = {"density", {"scene.json", "/media/0/density/grid"}};
+    const std::shared_ptr<VdbVolume> v = readVdbFile(dir + "/sparse.vdb", request);
+    ASSERT_TRUE(v->majorants);
+    const MajorantGrid& got = *v->majorants;
+    EXPECT_EQ(got.maxValue(), 4.0f);
+    expectCellsBound(got, v->bounds, 4, 0, [&](Vec3f p) { return v->density.sample(p); });
+    if (rotated) continue;
+    // The reference: the reader's float affine map, one include per active value.
+    const openvdb::Vec3d o = g->transform().indexToWorld(openvdb::Vec3d(0, 0, 0));
+    const Vec3f origin{float(o.x()), float(o.y()), float(o.z())};
+    Vec3f axis[3];
+    for (int a = 0; a < 3; ++a) {
+      openvdb::Vec3d e(0, 0, 0);
+      e[a] = 1;
+      const openvdb::Vec3d w = g->transform().indexToWorld(e) - o;
+      axis[a] = {float(w.x()), float(w.y()), float(w.z())};
+    }
+    MajorantGrid want(got.bounds(), got.res(0), got.res(1), got.res(2));
+    openvdb::CoordBBox box;
+    for (auto it = g->cbeginValueOn(); it; ++it) {
+      it.getBoundingBox(box);
+      const Vec3f lo =
+          Vec3f{float(box.min().x()), float(box.min().y()), float(box.min().z())} - Vec3f{1, 1, 1};
+      const Vec3f hi =
+          Vec3f{float(box.max().x()), float(box.max().y()), float(box.max().z())} + Vec3f{1, 1, 1};
+      const Vec3f c = (lo + hi) * 0.5f, h = (hi - lo) * 0.5f;
+      const Vec3f centre = origin + axis[0] * c.x + axis[1] * c.y + axis[2] * c.z;
+      Vec3f half;
+      for (int a = 0; a < 3; ++a)
+        half[a] =
+            std::abs(axis[0][a]) * h.x + std::abs(axis[1][a]) * h.y + std::abs(axis[2][a]) * h.z;
+      want.include({centre - half, centre + half}, *it);
+    }
+    int differ = 0;
+    for (int z = 0; z < got.res(2); ++z)
+      for (int y = 0; y < got.res(1); ++y)
+        for (int x = 0; x < got.res(0); ++x) differ += got.at(x, y, z) != want.at(x, y, z);
+    EXPECT_EQ(differ, 0);
+    EXPECT_GT(got.emptyFraction(), 0.0f);
+  }
+}
+
 // Bad files and bad names: the error is at the sidecar's key, names the file, says what is
 // wrong; for a missing grid it lists the grids the file has.
 TEST(VdbFile, BadInputNamesTheFileAndThePointer) {
