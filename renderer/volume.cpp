@@ -512,6 +512,45 @@ void MediaScene::pickScatterer(const std::vector<uint32_t>& active, Vec3f p, con
   }
 }
 
+MediaScene::EmissionGuide MediaScene::emissionGuide(const std::vector<uint32_t>& active,
+                                                    Vec3f dUnit) const {
+  EmissionGuide g;
+  const Region* gridded = nullptr;  // the region whose cells majorantWalk walks
+  int emitters = 0;
+  for (uint32_t i : active) {
+    const Region& r = regions_[i];
+    if (!gridded && r.grid) gridded = &r;
+    emitters += r.medium->emits() ? 1 : 0;
+  }
+  g.emits = emitters > 0;
+  if (emitters == 1 && gridded && gridded->emissionBound && gridded->medium->emits())
+    g.rate = gridded->emissionRate * length(gridded->objectFromWorld.vector(dUnit));
+  return g;
+}
+
+template <class Weight>
+Rgb MediaScene::stretchEmission(const std::vector<uint32_t>& active, Vec3f start, Vec3f dUnit,
+                                float from, float to, const EmissionGuide& guide, float bound,
+                                const SegmentSamples* first, Sampler& sampler,
+                                Weight&& weight) const {
+  int n = 1;
+  if (guide.rate > 0) {
+    if (!(bound > 0)) return {};  // the bound says nothing is emitted in this cell
+    n = int(
+        std::clamp(std::ceil(guide.rate * bound * (to - from)), 1.0f, float(kMaxEmissionSamples)));
+  }
+  // n jittered points, one in each nth of the stretch (all at the segment's offset where it
+  // has one).
+  const float h = (to - from) / float(n);
+  Rgb sum;
+  for (int i = 0; i < n; ++i) {
+    const float u = first ? first->jitter : sampler.get1D();
+    const float y = from + (float(i) + u) * h;
+    sum += emission(active, start + dUnit * y) * weight(y);
+  }
+  return sum * h;
+}
+
 MediumEvent MediaScene::sampleScattering(const Ray& ray, float tMax, Sampler& sampler) const {
   return deltaTrack(ray, tMax, sampler, nullptr, nullptr, nullptr);
 }
@@ -541,21 +580,10 @@ MediumEvent MediaScene::deltaTrack(const Ray& ray, float tMax, Sampler& sampler,
     float a, b;
     if (!scratch.stretch(k, &a, &b)) continue;
     bool homogeneous = true;
-    const Region* gridded = nullptr;  // the region whose cells majorantWalk walks
-    int emitters = 0;
-    for (uint32_t i : scratch.active) {
-      const Region& r = regions_[i];
-      if (!gridded && r.grid) gridded = &r;
-      emitters += r.medium->emits() ? 1 : 0;
-      homogeneous = homogeneous && r.medium->homogeneous();
-    }
-    const bool emits = emitters > 0;
-    // Where the one emitting region bounds its emission cell by cell, the emission samples
-    // follow the bound: none in its cold cells, more in its hot ones (`guide`: samples per
-    // world unit length per unit of the bound).
-    float guide = 0;
-    if (emitted && emitters == 1 && gridded && gridded->emissionBound && gridded->medium->emits())
-      guide = gridded->emissionRate * length(gridded->objectFromWorld.vector(dUnit));
+    for (uint32_t i : scratch.active)
+      homogeneous = homogeneous && regions_[i].medium->homogeneous();
+    const EmissionGuide guide = emissionGuide(scratch.active, dUnit);
+    const bool emits = guide.emits;
     MajorantWalk walk = majorantWalk(ray, a, b, scratch.active);
     MajorantSegment seg;
     while (walk.next(&seg)) {
@@ -576,21 +604,10 @@ MediumEvent MediaScene::deltaTrack(const Ray& ray, float tMax, Sampler& sampler,
           *emitted += event.weight * emission(scratch.active, start + dUnit * from) * (to - from);
           return;
         }
-        int n = 1;
-        if (guide > 0) {
-          if (!(seg.emission > 0)) return;  // the bound says nothing is emitted in this cell
-          n = int(std::clamp(std::ceil(guide * seg.emission * (to - from)), 1.0f,
-                             float(kMaxEmissionSamples)));
-        }
-        // n jittered points, one in each nth of the stretch (all at the segment's offset where
-        // it has one).
-        const float h = (to - from) / float(n);
-        Rgb sum;
-        for (int i = 0; i < n; ++i) {
-          const float u = first ? first->jitter : sampler.get1D();
-          sum += emission(scratch.active, start + dUnit * (from + (float(i) + u) * h));
-        }
-        *emitted += event.weight * sum * h;
+        *emitted += event.weight * stretchEmission(scratch.active, start, dUnit, from, to, guide,
+                                                   seg.emission, first, sampler, [](float) {
+                                                     return Rgb{1, 1, 1};
+                                                   });
       };
       if (majorant <= 0) {  // no extinction (T = 1 here), so no collisions
         gather(0, s);
@@ -660,11 +677,17 @@ MediumEvent MediaScene::deltaTrack(const Ray& ray, float tMax, Sampler& sampler,
 // matter, so R = (p_0, p_1, p_2) is kept up to a common factor (pbrt-v4's r_u), renormalised
 // so that it neither overflows nor underflows. Per collision and stretch:
 //   a stretch of length x without collision: p_k *= exp(-M_k x) (M_k: channel k's majorant);
-//   a collision: p_k *= M_k (its rate), then the event's probability sigma_a,k / M_k,
-//     sigma_s,k / M_k or sigma_n,k / M_k = (M_k - sigma_t,k) / M_k, so p_k *= sigma_n,k for a
-//     null collision and sigma_s,k for a scattering one;
-//   emission, gathered at every collision: emission_c R_c / mean(R M) (f_c of the way up to
-//     the collision over the channels' mean density of a collision there).
+//   a collision: p_k *= M_k (its rate), then the event's probability: where the medium
+//     scatters, absorption is weighed as in deltaTrack (a real collision scatters with
+//     probability sigma_t,k / M_k, and the path takes the albedo sigma_s,c / sigma_t,c), else
+//     it absorbs with sigma_a,k / M_k; null sigma_n,k / M_k = (M_k - sigma_t,k) / M_k. So
+//     p_k *= sigma_n,k for a null collision and sigma_t,k (sigma_s,k) for a scattering one;
+//   emission, by the track-length estimator as in deltaTrack: a sample at y between two
+//     collisions weighs R_c(y) / mean(R(y)), R(y) its value at the stretch's start times
+//     exp(-M y) (the channels' densities of the hero being alive there). It was gathered at
+//     the collisions (emission_c R_c / mean(R M), pbrt-v4's estimator) until a fire with
+//     coloured smoke came out 8x noisier under spectral MIS than under max_channel, which
+//     had these estimators (benchmarks/README, issue 52).
 // Grey extinction keeps deltaTrack: there all channels' trackers are the same one.
 
 Rgb MediaScene::channelMajorants(const std::vector<uint32_t>& active, float cell) const {
@@ -710,32 +733,42 @@ MediumEvent MediaScene::heroTrack(const Ray& ray, float tMax, Sampler& sampler, 
   for (size_t k = 0; k + 1 < scratch.cuts.size(); ++k) {
     float a, b;
     if (!scratch.stretch(k, &a, &b)) continue;
-    bool emits = false;
-    for (uint32_t i : scratch.active) emits = emits || regions_[i].medium->emits();
+    const EmissionGuide guide = emissionGuide(scratch.active, dUnit);
     MajorantWalk walk = majorantWalk(ray, a, b, scratch.active);
     MajorantSegment seg;
     while (walk.next(&seg)) {
       const Rgb M = channelMajorants(scratch.active, seg.cell);
       const float s = (seg.t1 - seg.t0) * len;
       const Vec3f start = ray.at(seg.t0);
-      if (maxComponent(M) <= 0) {
-        // No extinction: as in deltaTrack, one uniformly placed sample of the emission.
-        if (emitted && emits) {
-          const Vec3f p = start + dUnit * (sampler.get1D() * s);
-          *emitted += change(R) / mean(R) * coefficients(scratch.active, p).emission * s;
-        }
-        continue;
-      }
+      // Emission by the track-length estimator, as in deltaTrack: along a stretch from a
+      // collision (or the cell's start) the trackers' densities fall as exp(-M y), so each
+      // emission sample weighs the MIS weight R / mean(R) where it lies.
+      auto gather = [&](float from, float to) {
+        if (!emitted || !guide.emits || !(to > from)) return;
+        *emitted += stretchEmission(scratch.active, start, dUnit, from, to, guide, seg.emission,
+                                    first, sampler, [&](float y) {
+                                      Rgb Ry = R;
+                                      attenuate(&Ry, M, y - from);
+                                      return change(Ry) / mean(Ry);
+                                    });
+      };
       float x = 0, last = 0;
-      // A hero without extinction here makes no collision: its tracker passes.
-      while (M[h] > 0 && stepper.next(M[h], s, &x, sampler)) {
+      for (;;) {
+        // A hero without extinction here makes no collision: its tracker passes.
+        const float from = x;
+        const bool collided = M[h] > 0 && stepper.next(M[h], s, &x, sampler);
+        gather(from, collided ? x : s);
+        if (!collided) break;
         ++tentative.n;
         attenuate(&R, M, x - last);
         last = x;
         const Coefficients c = coefficients(scratch.active, start + dUnit * x);
-        if (emitted && emits) *emitted += c.emission * change(R) / mean(R * M);
-        const float pAbsorb = (c.sigmaT[h] - c.sigmaS[h]) / M[h];
-        const float pScatter = c.sigmaS[h] / M[h];
+        // As in deltaTrack, absorption is weighed where the medium scatters: every real
+        // collision of the hero scatters (each channel's tracker with probability
+        // sigma_t / M, so its density takes sigma_t) and the path takes the albedo.
+        const bool weighs = mean(c.sigmaS) > 0;
+        const float pScatter = (weighs ? c.sigmaT[h] : c.sigmaS[h]) / M[h];
+        const float pAbsorb = (c.sigmaT[h] - c.sigmaS[h]) / M[h] * (weighs ? 0.0f : 1.0f);
         const float u = firstEvent ? first->event : sampler.get1D();
         firstEvent = false;
         if (u < pAbsorb) {
@@ -744,12 +777,13 @@ MediumEvent MediaScene::heroTrack(const Ray& ray, float tMax, Sampler& sampler, 
         }
         if (u < pAbsorb + pScatter) {
           ++real.n;
-          R *= c.sigmaS;
+          R *= weighs ? c.sigmaT : c.sigmaS;
           if (!(maxComponent(R) > 0)) return {false, 0, Rgb{0, 0, 0}, 0};
           R = R / maxComponent(R);
           event.scattered = true;
           event.t = seg.t0 + x / len;
           event.weight = change(R) / mean(R);
+          if (weighs) event.weight *= safeDivide(c.sigmaS, c.sigmaT);
           pickScatterer(scratch.active, start + dUnit * x, c, sampler, &event);
           return event;
         }

@@ -142,8 +142,9 @@ class MediaScene {
   // the emission's mean over jittered points of it: one, or where the emitting medium bounds
   // its emission cell by cell (EmissionField::luminanceBound) none in cells that cannot emit
   // and more in proportion to the bound elsewhere (the stretch's integral when constant).
-  // Media with coloured extinction under spectral MIS (heroTrack) still weigh emission at
-  // each collision. Draws the same numbers as sampleScattering where nothing emits.
+  // Media with coloured extinction under spectral MIS (heroTrack) gather it the same way,
+  // each sample weighed by the MIS weight where it lies. Draws the same numbers as
+  // sampleScattering where nothing emits.
   // `first`, when given, supplies the segment's first numbers (SegmentSamples).
   MediumEvent sampleScatteringAndEmission(const Ray& ray, float tMax, Sampler& sampler,
                                           Rgb* emitted, ChannelPath* path = nullptr,
@@ -207,6 +208,20 @@ class MediaScene {
   // At a scattering event at p: the scattering region's phase asymmetry into event->g.
   void pickScatterer(const std::vector<uint32_t>& active, Vec3f p, const Coefficients& c,
                      Sampler& sampler, MediumEvent* event) const;
+  // Where a stretch's emission comes from: whether any active region emits, and the emission
+  // samples' guide (samples per world unit length per unit of the emission bound, where the
+  // one emitting region bounds its emission cell by cell; 0: one per stretch).
+  struct EmissionGuide {
+    bool emits = false;
+    float rate = 0;
+  };
+  EmissionGuide emissionGuide(const std::vector<uint32_t>& active, Vec3f dUnit) const;
+  // The emission integral over [from, to) along unit `dUnit` from `start` (a majorant cell's
+  // entry; `bound`: its emission bound), each jittered sample at distance y times weight(y).
+  template <class Weight>
+  Rgb stretchEmission(const std::vector<uint32_t>& active, Vec3f start, Vec3f dUnit, float from,
+                      float to, const EmissionGuide& guide, float bound,
+                      const SegmentSamples* first, Sampler& sampler, Weight&& weight) const;
   // The same for coloured extinction: spectral MIS over a hero channel (volume.cpp).
   MediumEvent heroTrack(const Ray& ray, float tMax, Sampler& sampler, Rgb* emitted,
                         ChannelPath* path, const SegmentSamples* first) const;
