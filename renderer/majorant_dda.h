@@ -164,10 +164,10 @@ class MajorantWalk {
 // stretch the collisions are those of x += -log(1 - u) / majorant, bit for bit.
 class CollisionStepper {
  public:
-  // The next collision after *x in a stretch of length s with majorant m > 0: true and *x moved
-  // to it, or false when it lies beyond s (the depth left over is kept for the next stretch).
   // Makes the next collision's optical depth -log(1 - u) rather than a draw from the sampler.
   void start(float u) { tau_ = -std::log1p(-u), have_ = true; }
+  // The next collision after *x in a stretch of length s with majorant m > 0: true and *x moved
+  // to it, or false when it lies beyond s (the depth left over is kept for the next stretch).
   bool next(float m, float s, float* x, Sampler& sampler) {
     if (!have_) tau_ = -std::log1p(-sampler.get1D()), have_ = true;
     const float step = tau_ / m;
