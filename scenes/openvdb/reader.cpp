@@ -220,6 +220,7 @@ MajorantGrid majorants(const openvdb::FloatGrid& grid, const Bounds3f& bounds, i
   constexpr int kDim = int(Leaf::DIM);
   for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf) {
     const openvdb::Coord origin = leaf->origin();
+    // Per axis: each index's run, and each run's cells (first[a][r] to last[a][r]).
     int first[3][kDim], last[3][kDim], run[3][kDim], runs[3];
     for (int a = 0; a < 3; ++a) {
       runs[a] = 0;
@@ -227,38 +228,29 @@ MajorantGrid majorants(const openvdb::FloatGrid& grid, const Bounds3f& bounds, i
         const float index = float(origin[a] + i);
         float lo, hi;
         map.worldAxis(a, index - 1, index + 1, &lo, &hi);
-        out.cellRange(a, lo, hi, &first[a][i], &last[a][i]);
-        const bool same = i > 0 && first[a][i] == first[a][i - 1] && last[a][i] == last[a][i - 1];
-        run[a][i] = same ? runs[a] - 1 : runs[a]++;
+        int f, l;
+        out.cellRange(a, lo, hi, &f, &l);
+        const int r = runs[a] - 1;
+        if (r < 0 || first[a][r] != f || last[a][r] != l)
+          first[a][runs[a]] = f, last[a][runs[a]] = l, ++runs[a];
+        run[a][i] = runs[a] - 1;
       }
     }
     float best[kDim][kDim][kDim] = {};
-    bool any = false;
     for (auto it = leaf->cbeginValueOn(); it; ++it) {
       if (*it <= 0) continue;
       const openvdb::Coord c = it.getCoord() - origin;
       float& b = best[run[0][c.x()]][run[1][c.y()]][run[2][c.z()]];
-      b = std::max(b, *it), any = true;
+      b = std::max(b, *it);
     }
-    if (!any) continue;
-    // A run's cells, from its first index.
-    int lo[3], hi[3], at[3] = {0, 0, 0};
-    for (int x = 0; x < kDim; ++x) {
-      if (x > 0 && run[0][x] == run[0][x - 1]) continue;
-      at[0] = x;
-      for (int y = 0; y < kDim; ++y) {
-        if (y > 0 && run[1][y] == run[1][y - 1]) continue;
-        at[1] = y;
-        for (int z = 0; z < kDim; ++z) {
-          if (z > 0 && run[2][z] == run[2][z - 1]) continue;
-          at[2] = z;
-          const float b = best[run[0][x]][run[1][y]][run[2][z]];
-          if (!(b > 0)) continue;
-          for (int a = 0; a < 3; ++a) lo[a] = first[a][at[a]], hi[a] = last[a][at[a]];
-          out.includeCells(lo, hi, b);
+    for (int x = 0; x < runs[0]; ++x)
+      for (int y = 0; y < runs[1]; ++y)
+        for (int z = 0; z < runs[2]; ++z) {
+          if (!(best[x][y][z] > 0)) continue;
+          const int lo[3] = {first[0][x], first[1][y], first[2][z]};
+          const int hi[3] = {last[0][x], last[1][y], last[2][z]};
+          out.includeCells(lo, hi, best[x][y][z]);
         }
-      }
-    }
   }
   // Active tiles above the leaves, each on its own.
   auto tile = grid.tree().cbeginValueOn();
