@@ -103,7 +103,7 @@ VdbEmission::VdbEmission(std::shared_ptr<const VdbVolume> volume, const VdbEmiss
   const bool blackbody = volume_->temperature && params_.blackbodyIntensity > 0;
   const bool flame = volume_->flame && params_.flameStrength > 0;
   if (!volume_->majorants || (blackbody && !volume_->temperatureMaxima) ||
-      (blackbody && params_.temperatureScale < 0) || (flame && !volume_->flameMaxima))
+      (flame && !volume_->flameMaxima))
     return;
   // Blackbody luminance grows with the temperature (as T^4), so a cell's hottest voxel bounds
   // it; the flame's is its largest value times the colour's luminance.
@@ -114,8 +114,7 @@ VdbEmission::VdbEmission(std::shared_ptr<const VdbVolume> volume, const VdbEmiss
       for (int x = 0; x < cells.res(0); ++x) {
         float L = 0;
         if (blackbody) {
-          const float T = params_.temperatureScale * volume_->temperatureMaxima->at(x, y, z) +
-                          params_.temperatureOffset;
+          const float T = volume_->temperatureMaxima->at(x, y, z);
           L += luminance(blackbodyEmission(T)) * params_.blackbodyIntensity;
         }
         if (flame)
@@ -128,9 +127,7 @@ VdbEmission::VdbEmission(std::shared_ptr<const VdbVolume> volume, const VdbEmiss
 Rgb VdbEmission::emission(Vec3f p) const {
   Rgb L{0, 0, 0};
   if (volume_->temperature && params_.blackbodyIntensity > 0) {
-    const float T =
-        params_.temperatureScale * volume_->temperature->sample(p) + params_.temperatureOffset;
-    L += blackbodyEmission(T) * params_.blackbodyIntensity;
+    L += blackbodyEmission(volume_->temperature->sample(p)) * params_.blackbodyIntensity;
   }
   if (volume_->flame && params_.flameStrength > 0)
     L += params_.flameColor * (params_.flameStrength * std::max(0.0f, volume_->flame->sample(p)));

@@ -101,13 +101,13 @@ class VdbColor final : public ColorField {
   std::shared_ptr<const VdbVolume> volume_;
 };
 
-// Fire: blackbody radiation of the temperature grid (T = temperature_scale x grid +
-// temperature_offset, materials/blackbody.h, times blackbody_intensity) plus the flame grid
+// Fire: blackbody radiation of the temperature grid (in kelvin: the reader maps its voxels,
+// scenes/vdb_file.h's VdbTemperatureMap; materials/blackbody.h, times blackbody_intensity)
+// plus the flame grid
 // times flame_strength x flame_color. Per unit length, independent of density (as Cycles'
 // Principled Volume).
 struct VdbEmissionParams {
   float blackbodyIntensity = 0;
-  float temperatureScale = 1, temperatureOffset = 0;
   float flameStrength = 0;
   Rgb flameColor{1, 1, 1};
 };
@@ -122,8 +122,7 @@ class VdbEmission final : public EmissionField {
   std::shared_ptr<const VdbVolume> volume_;
   VdbEmissionParams params_;
   // The luminance of the emission's bound per cell of the density's majorant grid, from the
-  // grids' maxima (absent without them, or with a temperature scale < 0, for which the
-  // maxima would bound nothing).
+  // grids' maxima (absent without them).
   std::optional<MajorantGrid> bound_;
 };
 

@@ -44,8 +44,6 @@ std::unique_ptr<EmissionField> makeEmission(const MediumDesc& m) {
   if (!blackbody && !flame) return nullptr;
   VdbEmissionParams p;
   p.blackbodyIntensity = blackbody ? m.blackbodyIntensity : 0;
-  p.temperatureScale = m.temperatureScale;
-  p.temperatureOffset = m.temperatureOffset;
   p.flameStrength = flame ? m.flameStrength : 0;
   p.flameColor = m.flameColor;
   return std::make_unique<VdbEmission>(m.vdb, p);

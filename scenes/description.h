@@ -387,7 +387,7 @@ struct MediumDesc {
   // file's world space placed by worldFromRegion), the density scale and the fire's emission
   std::shared_ptr<const VdbVolume> vdb;
   float vdbScale = 1;
-  float blackbodyIntensity = 0, temperatureScale = 1, temperatureOffset = 0;
+  float blackbodyIntensity = 0;  // the temperature map is in the file's request
   float flameStrength = 0;
   Rgb flameColor{1, 1, 1};
   SourceLocation where;

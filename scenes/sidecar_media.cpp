@@ -121,12 +121,13 @@ void readVdb(JsonReader& d, const std::string& file, float fps, MediumDesc* m) {
     request.flame = VdbGridRequest{d.get<std::string>("flame_grid"), d.where("flame_grid")};
   if (d.has("color_grid"))
     request.color = VdbGridRequest{d.get<std::string>("color_grid"), d.where("color_grid")};
+  request.kelvin.scale = d.get<float>("temperature_scale", 1.0f, kNonNegative);
+  request.kelvin.offset = d.get<float>("temperature_offset", 0.0f);
+  request.kelvin.cutoff = d.get<float>("temperature_cutoff", 0.0f, kNonNegative);
   request.majorantCells = d.get<int>("majorant_cells", 16, {.ge = 1, .le = 1024});
   m->vdbScale = d.get<float>("scale", 1.0f, kNonNegative);
   m->blackbodyIntensity =
       d.get<float>("blackbody_intensity", request.temperature ? 1.0f : 0.0f, kNonNegative);
-  m->temperatureScale = d.get<float>("temperature_scale", 1.0f, kNonNegative);
-  m->temperatureOffset = d.get<float>("temperature_offset", 0.0f);
   m->flameStrength = d.get<float>("flame_strength", request.flame ? 1.0f : 0.0f, kNonNegative);
   m->flameColor = d.get<Vec3f>("flame_color", Vec3f{1, 1, 1}, kNonNegative);
   m->vdb = readVdbFile(path.string(), request);

@@ -41,10 +41,19 @@ struct VdbGridRequest {
   SourceLocation where;
 };
 
+// How the temperature grid's values become kelvin, voxel by voxel: scale x value + offset,
+// and 0 K (no emission) at or below the cutoff. Mapped before the grid is interpolated, so a
+// flame's edge fades to 0 K across one voxel, as in Blender's rendering of its fluid domains
+// (whose temperature is their flame grid mapped so).
+struct VdbTemperatureMap {
+  float scale = 1, offset = 0, cutoff = 0;
+};
+
 struct VdbRequest {
   SourceLocation where;  // where the sidecar names the file
   VdbGridRequest density;
   std::optional<VdbGridRequest> temperature, flame;
+  VdbTemperatureMap kelvin;             // for the temperature grid
   std::optional<VdbGridRequest> color;  // vec3s: multiplies sigma_s per point
   // Cells of the majorant grid along the box's longest axis (the others in proportion);
   // 1: no grid, a single majorant.

@@ -164,6 +164,17 @@ openvdb::FloatGrid::Ptr readFloatGrid(openvdb::io::File& file, const std::string
   return grid;
 }
 
+// The temperature grid in kelvin (VdbTemperatureMap): every value, inactive ones and the
+// background included, mapped, so that trilinear lookups interpolate kelvin.
+void toKelvin(openvdb::FloatGrid& grid, const VdbTemperatureMap& map) {
+  auto kelvin = [&](float v) {
+    const float t = map.scale * v + map.offset;
+    return t > map.cutoff ? t : 0.0f;
+  };
+  for (auto it = grid.beginValueAll(); it; ++it) it.setValue(kelvin(*it));
+  grid.tree().root().setBackground(kelvin(grid.background()), /*updateChildNodes=*/false);
+}
+
 // The colour grid a medium names (color_grid): vec3s, linear, every component finite and >= 0.
 // Returns it with the largest value of each component (the majorants' bound).
 openvdb::Vec3SGrid::Ptr readColorGrid(openvdb::io::File& file, const std::string& path,
@@ -303,18 +314,19 @@ std::shared_ptr<VdbVolume> read(const std::string& path, const VdbRequest& reque
     volume->maxDensity = maxDensity;
     volume->bounds = reach(AffineMap(density->transform()), density->evalActiveVoxelBoundingBox());
     openvdb::FloatGrid::Ptr emitting[2];  // temperature, flame
-    auto optionalGrid = [&](const std::optional<VdbGridRequest>& r,
-                            openvdb::FloatGrid::Ptr* kept) -> std::optional<VdbGrid> {
+    auto optionalGrid = [&](const std::optional<VdbGridRequest>& r, openvdb::FloatGrid::Ptr* kept,
+                            const VdbTemperatureMap* kelvin) -> std::optional<VdbGrid> {
       if (!r) return std::nullopt;
       openvdb::FloatGrid::Ptr g = readFloatGrid(f.file, path, *r, &ignored);
+      if (kelvin) toKelvin(*g, *kelvin);
       // Emission reaches as far as its grid: the region must hold it too (a flame grid's
       // background is emitted everywhere, so only its active voxels bound it).
       volume->bounds.extend(reach(AffineMap(g->transform()), g->evalActiveVoxelBoundingBox()));
       *kept = g;
       return flatten(*g, r->name);
     };
-    volume->temperature = optionalGrid(request.temperature, &emitting[0]);
-    volume->flame = optionalGrid(request.flame, &emitting[1]);
+    volume->temperature = optionalGrid(request.temperature, &emitting[0], &request.kelvin);
+    volume->flame = optionalGrid(request.flame, &emitting[1], nullptr);
     if (request.color)
       volume->color = flatten(*readColorGrid(f.file, path, *request.color, &volume->maxColor),
                               request.color->name);

@@ -169,6 +169,43 @@ TEST(VdbFile, ReadsGridsBoundsAndListsThem) {
   EXPECT_GT(m.emptyFraction(), 0.0f);
 }
 
+// The temperature grid becomes kelvin voxel by voxel (scale x value + offset, 0 K at or below
+// the cutoff) before it is interpolated, as Blender maps its fluid domains' flame grid: half a
+// voxel beyond a flame's last voxel the temperature is half that voxel's (the interpolation of
+// kelvin), not the map of half its value. Without a cutoff the offset holds everywhere, the
+// background too (an ambient temperature); the emission bound follows the kelvin.
+TEST(VdbFile, TemperatureMapsVoxelsToKelvinBeforeInterpolating) {
+  const std::string dir = test::scratchDir("VdbFile.TemperatureMapsVoxelsToKelvin");
+  const float voxel = 0.25f;
+  writeVdb(dir + "/fire.vdb", {cube("density", voxel, 4, 1), cube("flame", voxel, 4, 2)});
+  struct Case {
+    VdbTemperatureMap map;
+    float inside, halfVoxelOut, far;
+  };
+  const Case cases[] = {
+      // Blender's defaults (ignition 1.5, max 3, Temperature 1000), flame > 0.01 burning.
+      {{1500, 1500, 1515}, 4500, 2250, 0},
+      {{2, 100, 0}, 104, 102, 100},  // offset everywhere
+      {{1, 0, 0}, 2, 1, 0},          // the grid as it is
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.map.offset);
+    VdbRequest request;
+    request.where = {"scene.json", "/media/0/density/file"};
+    request.density = {"density", {"scene.json", "/media/0/density/grid"}};
+    request.temperature = VdbGridRequest{"flame", {"scene.json", "/x"}};
+    request.kelvin = c.map;
+    const std::shared_ptr<VdbVolume> v = readVdbFile(dir + "/fire.vdb", request);
+    ASSERT_TRUE(v->temperature);
+    EXPECT_NEAR(v->temperature->sample(Vec3f{1, 2, 1} * voxel), c.inside, 1e-3f * c.inside);
+    EXPECT_NEAR(v->temperature->sample(Vec3f{3.5f, 2, 1} * voxel), c.halfVoxelOut,
+                1e-3f * c.inside);
+    EXPECT_EQ(v->temperature->sample(Vec3f{20, 20, 20}), c.far);
+    ASSERT_TRUE(v->temperatureMaxima);
+    EXPECT_NEAR(v->temperatureMaxima->maxValue(), c.inside, 1e-3f * c.inside);
+  }
+}
+
 // The majorant grid is built a leaf at a time where the file's transform is axis-aligned; it
 // must be cell for cell what raising every active voxel's and tile's trilinear reach (its index
 // box -+ 1, in world space as the reader computes it) to its value gives. A sparse grid of
@@ -715,6 +752,11 @@ TEST(VdbRender, TemperatureAndFlameGridsEmitTheirIntegral) {
        (blackbodyEmission(1500) * inner + ramp * 2) * 2},
       {R"("flame_grid": "flame", "flame_strength": 3, "flame_color": [1, 0.5, 0.25])",
        flameColor * (3 * 2 * (inner + voxel))},
+      // The flame grid (2) as the temperature, mapped voxel by voxel to 1,500 K and 0 K
+      // outside (500 K before the cutoff): the same ramps as the first case.
+      {R"("temperature_grid": "flame", "temperature_scale": 500, "temperature_offset": 500,
+          "temperature_cutoff": 600, "blackbody_intensity": 2)",
+       (blackbodyEmission(1500) * inner + ramp * 2) * 2},
   };
   for (const Case& k : cases) {
     for (const char* integrator : {"path", "whitted"}) {
