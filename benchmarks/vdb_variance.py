@@ -16,7 +16,9 @@ the sun or the sky alone, with one bounce, and so on, in glint and in Cycles.
 
 glint's --set KEY=VALUE patches the scene JSON (dotted keys, list indices as numbers); Cycles'
 patches the scene dictionary cycles_vdb.py embeds in its Blender script ("sky", "bounces",
-"suns.0.irradiance", ...). The mask: pixels where --mask (a converged image) differs from
+"suns.0.irradiance", ...); glint's patched scene is written beside the original for the
+render and removed after. Any glint scene works: with --bright -1 the mask is every pixel
+(how the roulette rule was measured on surface scenes). The mask: pixels where --mask (a converged image) differs from
 --empty (the scene without the medium) by more than 2%, or with --bright Y, where --mask's
 luminance exceeds Y (a fire's flame). Needs /usr/bin/python3 with numpy and OpenImageIO.
 """
@@ -66,13 +68,18 @@ def render_glint(args, work, seed):
         scene = json.load(f)
     for k, v in patches(args.set):
         patch(scene, k, v)
-    path = os.path.join(work, "scene.json")
+    # Beside the original, so that the file names the scene gives relative to itself hold.
+    path = os.path.join(os.path.dirname(os.path.abspath(args.scene)),
+                        f".vdb_variance_{os.getpid()}.json")
     with open(path, "w") as f:
         json.dump(scene, f)
     out, stats = os.path.join(work, f"g{seed}.exr"), os.path.join(work, f"g{seed}.json")
-    subprocess.run([args.glint, "render", path, "--spp", str(args.spp), "--seed", str(seed),
-                    "--threads", str(args.threads), "--quiet", "-o", out, "--stats", stats],
-                   check=True)
+    try:
+        subprocess.run([args.glint, "render", path, "--spp", str(args.spp), "--seed", str(seed),
+                        "--threads", str(args.threads), "--quiet", "-o", out, "--stats", stats],
+                       check=True)
+    finally:
+        os.remove(path)
     with open(stats) as f:
         st = json.load(f)
     return read(out), (st["frames"][0] if "frames" in st else st)["render_seconds"]

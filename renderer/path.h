@@ -15,8 +15,9 @@
 //     samples them).
 // Paths end after `maxDepth` bounces (0: only what the camera sees emitting; the last bounce
 // is not traced when nothing in the scene can be found by it) or by Russian roulette from
-// `rrDepth` bounces on (renderer/roulette.h: survival probability = the largest throughput
-// component, undoing radiance's 1/eta^2 at refractions, clamped to [0.05, 1]).
+// `rrDepth` bounces on (renderer/roulette.h: survival probability = the square root of the
+// largest throughput component, undoing radiance's 1/eta^2 at refractions, clamped to
+// [0.05, 1]).
 //
 // Shared with Whitted: unlit (eyelight) materials return colour x |cos| and end the path;
 // partly transparent surfaces (opacity < 1) let the path pass straight through with

@@ -38,7 +38,7 @@ struct ToneMapSettings {
 struct IntegratorSettings {
   std::string type = "auto";           // "whitted" | "path" | "instant-radiosity" | "auto"
   int maxDepth = 8;                    // bounces: Whitted's mirror/glass recursion, path length
-  int rrDepth = 3;                     // path: Russian roulette from this many bounces on
+  int rrDepth = 5;                     // path: Russian roulette from this many bounces on
   std::string lightSampler = "power";  // next-event estimation: "uniform" | "power" | "bvh"
   // Participating media. Whitted: emission only, or single scattering ("multiple" acts as
   // "single"); path: "emission" scatters nothing, the others scatter any number of times
