@@ -337,6 +337,12 @@ TEST(VdbFile, BadInputNamesTheFileAndThePointer) {
                      "empty.vdb: grid 'density' is empty (no active voxels)");
   EXPECT_SCENE_ERROR(error(R"({"type": "vdb", "file": "good.vdb", "scale": -1})"), file,
                      p + "/scale", "must be >= 0");
+  EXPECT_SCENE_ERROR(error(R"({"type": "vdb", "file": "good.vdb", "temperature_grid":
+                               "temperature", "temperature_cutoff": -1})"),
+                     file, p + "/temperature_cutoff", "must be >= 0");
+  EXPECT_SCENE_ERROR(error(R"({"type": "vdb", "file": "good.vdb", "temperature_grid":
+                               "temperature", "temperature_scale": -2})"),
+                     file, p + "/temperature_scale", "must be >= 0");
   EXPECT_SCENE_ERROR(error(R"({"type": "vdb", "file": "good.vdb", "gird": "density"})"), file,
                      p + "/gird", "unknown key 'gird'");
   // A VDB medium is placed by its transform, not a region.
