@@ -115,48 +115,15 @@ import bpy
 from mathutils import Matrix, Vector
 a = sys.argv[sys.argv.index("--") + 1:]
 out, spp, seed, threads, timing = a[0], int(a[1]), int(a[2]), int(a[3]), a[4]
-S = json.loads(r"""@SCENE@""")
+step_rate = 1.0
+SCENE = json.loads(r"""@SCENE@""")
 Y_UP = Matrix(((1, 0, 0, 0), (0, 0, -1, 0), (0, 1, 0, 0), (0, 0, 0, 1)))
 def point(v):
     return (Y_UP @ Vector((v[0], v[1], v[2], 1.0))).xyz
 scene = bpy.context.scene
-scene.frame_set(S["frame"])
-scene.render.engine = "CYCLES"
-scene.render.resolution_x, scene.render.resolution_y = S["width"], S["height"]
-scene.render.resolution_percentage = 100
-scene.render.threads_mode = "FIXED"
-scene.render.threads = threads
-c = scene.cycles
-c.device = "CPU"
-c.samples = spp
-c.seed = seed
-c.use_animated_seed = False
-c.use_adaptive_sampling = False
-c.use_denoising = False
-c.max_bounces = c.volume_bounces = c.diffuse_bounces = S["bounces"]
-c.glossy_bounces = c.transmission_bounces = c.transparent_max_bounces = S["bounces"]
-c.sample_clamp_direct = c.sample_clamp_indirect = 0.0
-c.light_sampling_threshold = 0.0
-c.pixel_filter_type = "BOX"
-c.filter_width = 1.0
-c.volume_step_rate = 1.0
-c.volume_max_steps = 65536
-scene.view_settings.view_transform = "Standard"
-scene.view_settings.look = "None"
-world = bpy.data.worlds.new("sky")
-scene.world = world
-world.use_nodes = True
-world.node_tree.nodes["Background"].inputs["Color"].default_value = (*S["sky"], 1.0)
-cam_data = bpy.data.cameras.new("View")
-cam_data.sensor_fit = "VERTICAL"
-cam_data.angle_y = math.radians(S["camera"]["yfov_degrees"])
-cam = bpy.data.objects.new("View", cam_data)
-scene.collection.objects.link(cam)
-scene.camera = cam
-pos, look = point(S["camera"]["position"]), point(S["camera"]["look_at"])
-cam.location = pos
-cam.rotation_euler = (look - pos).to_track_quat("-Z", "Y").to_euler()
-m = S["volume"]
+scene.frame_set(SCENE["frame"])
+''' + cycles_vdb.CYCLES_COMMON + r'''
+m = SCENE["volume"]
 dom = bpy.data.objects["Domain"]
 mat = bpy.data.materials.new("fire")
 mat.use_nodes = True

@@ -82,26 +82,10 @@ CYCLES_BOUNCES = GLINT_DEPTH - 1
 # The Blender side: SCENE (glint's values, glint's axes) is filled in per scene.
 # ---------------------------------------------------------------------------------------------
 
-BLENDER_SCRIPT = r'''
-import json, math, sys
-import bpy
-from mathutils import Matrix, Vector
-
-SCENE = json.loads(r"""@SCENE@""")
-a = sys.argv[sys.argv.index("--") + 1:]
-out, timing = a[0], a[5]
-spp, seed, step_rate, threads = int(a[1]), int(a[2]), float(a[3]), int(a[4])
-
-# glint (glTF, Y up) to Blender (Z up), as Blender's glTF importer converts:
-# (x, y, z) -> (x, -z, y).
-Y_UP = Matrix(((1, 0, 0, 0), (0, 0, -1, 0), (0, 1, 0, 0), (0, 0, 0, 1)))
-def point(v):
-    return (Y_UP @ Vector((v[0], v[1], v[2], 1.0))).xyz
-def direction(v):
-    return (Y_UP.to_3x3() @ Vector(v)).normalized()
-
-bpy.ops.wm.read_factory_settings(use_empty=True)
-scene = bpy.context.scene
+# Cycles' settings for a comparison, its film, a constant sky and the camera: Blender-side
+# code shared with blender_fluid.py. It expects `scene`, `SCENE` (width, height, bounces, sky,
+# camera in glint's axes), spp, seed, step_rate, threads and point() (glint to Blender axes).
+CYCLES_COMMON = r'''
 scene.render.engine = "CYCLES"
 scene.render.resolution_x, scene.render.resolution_y = SCENE["width"], SCENE["height"]
 scene.render.resolution_percentage = 100
@@ -146,6 +130,29 @@ scene.camera = cam
 pos, look = point(SCENE["camera"]["position"]), point(SCENE["camera"]["look_at"])
 cam.location = pos
 cam.rotation_euler = (look - pos).to_track_quat("-Z", "Y").to_euler()
+'''
+
+BLENDER_SCRIPT = r'''
+import json, math, sys
+import bpy
+from mathutils import Matrix, Vector
+
+SCENE = json.loads(r"""@SCENE@""")
+a = sys.argv[sys.argv.index("--") + 1:]
+out, timing = a[0], a[5]
+spp, seed, step_rate, threads = int(a[1]), int(a[2]), float(a[3]), int(a[4])
+
+# glint (glTF, Y up) to Blender (Z up), as Blender's glTF importer converts:
+# (x, y, z) -> (x, -z, y).
+Y_UP = Matrix(((1, 0, 0, 0), (0, 0, -1, 0), (0, 1, 0, 0), (0, 0, 0, 1)))
+def point(v):
+    return (Y_UP @ Vector((v[0], v[1], v[2], 1.0))).xyz
+def direction(v):
+    return (Y_UP.to_3x3() @ Vector(v)).normalized()
+
+bpy.ops.wm.read_factory_settings(use_empty=True)
+scene = bpy.context.scene
+''' + CYCLES_COMMON + r'''
 
 for i, s in enumerate(SCENE["suns"]):
     light = bpy.data.lights.new(f"sun{i}", "SUN")
