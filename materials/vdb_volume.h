@@ -103,9 +103,8 @@ class VdbColor final : public ColorField {
 
 // Fire: blackbody radiation of the temperature grid (in kelvin: the reader maps its voxels,
 // scenes/vdb_file.h's VdbTemperatureMap; materials/blackbody.h, times blackbody_intensity)
-// plus the flame grid
-// times flame_strength x flame_color. Per unit length, independent of density (as Cycles'
-// Principled Volume).
+// plus the flame grid times flame_strength x flame_color. Per unit length, independent of
+// density (as Cycles' Principled Volume).
 struct VdbEmissionParams {
   float blackbodyIntensity = 0;
   float flameStrength = 0;
