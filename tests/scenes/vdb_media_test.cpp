@@ -276,6 +276,73 @@ TEST(VdbFile, MajorantGridIsEveryVoxelsReach) {
   }
 }
 
+// A file shaped as Blender's fluid caches are (scenes/README, "Blender's fluid caches"): 16-bit
+// floats, Blosc, grids counted from the domain's corner, a `shadow` grid of -1 and a vec3
+// `velocity` beside the float grids, read with the sidecar entry the README gives: the grid
+// stretched over the domain box with Blender's axes turned, and the flame grid as Blender's
+// temperature (ignition 1.5, maximum 3: 1,500 K + flame x 1,500 K above a flame of 0.01).
+TEST(VdbFile, ReadsABlenderFluidCacheWithTheReadmesEntry) {
+  const std::string dir = test::scratchDir("VdbFile.ReadsABlenderFluidCache");
+  openvdb::initialize();
+  const float v = 0.0625f;  // a 2.1 x 1.9 x 3 domain at resolution 48: 34 x 30 x 48 voxels
+  auto grid = [&](const std::string& name, auto f) {
+    openvdb::FloatGrid::Ptr g = makeGrid(name, v, {0, 0, 0}, {33, 29, 47}, f);
+    g->setSaveFloatAsHalf(true);
+    return g;
+  };
+  auto density = grid("density", [](int i, int j, int k) {
+    return i >= 10 && i <= 20 && j >= 8 && j <= 18 && k <= 30 ? 0.5f : 0.0f;
+  });
+  auto flame = grid("flame", [](int i, int j, int k) {
+    return i == 15 && j == 12 && k == 4 ? 0.5f : i == 16 && j == 12 && k == 4 ? 0.005f : 0.0f;
+  });
+  auto heat = grid("temperature", [](int i, int, int) { return i == 15 ? 2.0f : 0.0f; });
+  auto shadow = grid("shadow", [](int, int, int) { return -1.0f; });
+  openvdb::Vec3SGrid::Ptr velocity = openvdb::Vec3SGrid::create();
+  velocity->setName("velocity");
+  velocity->setTransform(openvdb::math::Transform::createLinearTransform(v));
+  velocity->getAccessor().setValueOn({15, 12, 4}, openvdb::Vec3s(0, 0, 1));
+  {
+    openvdb::io::File file(dir + "/fluid_data_0030.vdb");
+    file.setCompression(openvdb::io::COMPRESS_BLOSC);
+    file.write({density, flame, heat, shadow, velocity});
+    file.close();
+  }
+  // The domain: lowest corner (-0.75, -1.15, 0), sides 2.1 x 1.9 x 3 (Blender's axes).
+  const float sx = 2.1f / (34 * v), sy = 1.9f / (30 * v), sz = 3.0f / (48 * v);
+  SceneDescription d;
+  d.file = dir + "/scene.json";
+  applySceneJsonText(R"({"media": [{"sigma_a": 2, "sigma_s": 6, "transform": [
+      {"translate": [0.03125, 0.03125, 0.03125]},
+      {"scale": [)" + std::to_string(sx) +
+                         ", " + std::to_string(sy) + ", " + std::to_string(sz) + R"(]},
+      {"translate": [-0.75, -1.15, 0]}, {"rotate": {"axis": [1, 0, 0], "degrees": -90}}],
+    "density": {"type": "vdb", "file": "fluid_data_####.vdb", "frame_offset": 30,
+      "temperature_grid": "flame", "temperature_scale": 1500, "temperature_offset": 1500,
+      "temperature_cutoff": 1515}}]})",
+                     d.file, SceneJsonKind::Sidecar, &d);
+  ASSERT_EQ(d.media.size(), 1u);
+  const MediumDesc& m = d.media[0];
+  const VdbVolume& vol = *m.vdb;
+  // The flame voxel's temperature (0.5 is exact in 16 bits), none below the cutoff, none
+  // outside the flame.
+  EXPECT_NEAR(vol.temperature->sample(Vec3f{15, 12, 4} * v), 2250.0f, 0.5f);
+  EXPECT_EQ(vol.temperature->sample(Vec3f{17, 12, 4} * v), 0.0f);
+  EXPECT_EQ(vol.temperature->sample(Vec3f{5, 5, 20} * v), 0.0f);
+  EXPECT_NEAR(vol.density.sample(Vec3f{12, 10, 20} * v), 0.5f, 1e-6f);
+  // Voxel (i, j, k) spans [i - 0.5, i + 0.5] x v in the file; the entry puts voxel 0's lower
+  // corner at the domain's lowest corner and voxel (33, 29, 47)'s upper one at its highest,
+  // in glint's axes: Blender's (x, y, z) is glint's (x, z, -y).
+  const Vec3f lo = m.worldFromRegion.point(Vec3f{-0.5f, -0.5f, -0.5f} * v);
+  const Vec3f hi = m.worldFromRegion.point(Vec3f{33.5f, 29.5f, 47.5f} * v);
+  EXPECT_NEAR(lo.x, -0.75f, 1e-5f);
+  EXPECT_NEAR(lo.y, 0.0f, 1e-5f);
+  EXPECT_NEAR(lo.z, 1.15f, 1e-5f);
+  EXPECT_NEAR(hi.x, 1.35f, 1e-5f);
+  EXPECT_NEAR(hi.y, 3.0f, 1e-5f);
+  EXPECT_NEAR(hi.z, -0.75f, 1e-5f);
+}
+
 // Bad files and bad names: the error is at the sidecar's key, names the file, says what is
 // wrong; for a missing grid it lists the grids the file has.
 TEST(VdbFile, BadInputNamesTheFileAndThePointer) {
