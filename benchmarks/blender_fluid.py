@@ -59,7 +59,7 @@ SKY = [0.02, 0.025, 0.04]
 MEDIUM = {"sigma_a": 2.0, "sigma_s": 6.0, "g": 0.2}
 
 BAKE_SCRIPT = r'''
-import json, sys
+import json, math, sys
 import bpy
 from mathutils import Vector
 a = sys.argv[sys.argv.index("--") + 1:]
@@ -73,6 +73,7 @@ dom = bpy.context.object
 dom.name = "Domain"
 dom.scale = D["size"]
 bpy.ops.object.transform_apply(location=False, rotation=False, scale=True)
+dom.rotation_euler = (0.0, 0.0, math.radians(S["rotate_z"]))
 bpy.ops.object.modifier_add(type="FLUID")
 fm = dom.modifiers["Fluid"]
 fm.fluid_type = "DOMAIN"
@@ -105,10 +106,11 @@ for attempt in range(3):
     except SystemError:
         pass
 result = list(bpy.ops.fluid.bake_all())
-# The box as set up: an adaptive domain's mesh is the last frame's adaptive box after a bake.
+# The box as set up (an adaptive domain's mesh is the last frame's adaptive box after a bake):
+# its sides, and where its centre is and how it is turned.
 info = {"bake": result, "blender": bpy.app.version_string,
-        "domain_min": [D["location"][k] - D["size"][k] / 2 for k in range(3)],
-        "domain_max": [D["location"][k] + D["size"][k] / 2 for k in range(3)],
+        "domain_size": D["size"], "domain_location": D["location"],
+        "domain_rotate_z": S["rotate_z"],
         "adaptive_domain": ds.use_adaptive_domain,
         "flame_ignition": ds.flame_ignition, "flame_max_temp": ds.flame_max_temp,
         "resolution_max": ds.resolution_max,
@@ -174,7 +176,8 @@ def write(path, text):
 
 def bake(args):
     """Bakes the fire, and checks that every frame's file is there (up to three tries)."""
-    scene = {"domain": DOMAIN, "flow": FLOW, "adaptive": args.adaptive_domain}
+    scene = {"domain": DOMAIN, "flow": FLOW, "adaptive": args.adaptive_domain,
+             "rotate_z": args.rotate_z}
     script = write(os.path.join(args.work, "bake.py"),
                    BAKE_SCRIPT.replace("@SCENE@", json.dumps(scene)))
     info_path = os.path.join(args.work, "domain.json")
@@ -193,15 +196,18 @@ def bake(args):
 
 def sidecar_medium(info, frame):
     """The sidecar entry for frame `frame` of the cache: what scenes/README.md tells a user."""
-    lo = np.array(info["domain_min"])
-    size = np.array(info["domain_max"]) - lo
+    size = np.array(info["domain_size"])
     voxel = size.max() / info["resolution_max"]
     cells = np.round(size / voxel)  # per axis; the file's grid is cells x voxel long
     ign, top = info["flame_ignition"], info["flame_max_temp"]
     medium = dict(MEDIUM, name="fire")
+    # The grid onto the domain's own box (centred at its origin), then the domain's rotation
+    # and location, then Blender's Z up to glint's Y up.
     medium["transform"] = [{"translate": [voxel / 2] * 3},
                            {"scale": (size / (cells * voxel)).tolist()},
-                           {"translate": lo.tolist()},
+                           {"translate": (-size / 2).tolist()},
+                           {"rotate": {"axis": [0, 0, 1], "degrees": info["domain_rotate_z"]}},
+                           {"translate": info["domain_location"]},
                            {"rotate": {"axis": [1, 0, 0], "degrees": -90}}]
     medium["density"] = {
         "type": "vdb", "file": "cache/data/fluid_data_####.vdb", "frame_offset": frame,
@@ -257,6 +263,8 @@ def main():
     ap.add_argument("--skip-bake", action="store_true", help="reuse --work's cache")
     ap.add_argument("--adaptive-domain", action="store_true",
                     help="bake with Blender's Adaptive Domain (the sidecar is the same)")
+    ap.add_argument("--rotate-z", type=float, default=0.0,
+                    help="the domain turned by this many degrees about Blender's Z (up)")
     ap.add_argument("--out")
     ap.add_argument("--png")
     args = ap.parse_args()
