@@ -176,7 +176,9 @@ def write(path, text):
 
 def bake(args):
     """Bakes the fire, and checks that every frame's file is there (up to three tries)."""
-    scene = {"domain": DOMAIN, "flow": FLOW, "adaptive": args.adaptive_domain,
+    flow = dict(FLOW, location=[FLOW["location"][0] + args.flow_offset[0],
+                                FLOW["location"][1] + args.flow_offset[1], FLOW["location"][2]])
+    scene = {"domain": DOMAIN, "flow": flow, "adaptive": args.adaptive_domain,
              "rotate_z": args.rotate_z}
     script = write(os.path.join(args.work, "bake.py"),
                    BAKE_SCRIPT.replace("@SCENE@", json.dumps(scene)))
@@ -265,6 +267,8 @@ def main():
                     help="bake with Blender's Adaptive Domain (the sidecar is the same)")
     ap.add_argument("--rotate-z", type=float, default=0.0,
                     help="the domain turned by this many degrees about Blender's Z (up)")
+    ap.add_argument("--flow-offset", type=float, nargs=2, default=[0.0, 0.0],
+                    help="the flow moved by (x, y) off the domain's centre (Blender's axes)")
     ap.add_argument("--out")
     ap.add_argument("--png")
     args = ap.parse_args()
