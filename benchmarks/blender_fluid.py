@@ -322,9 +322,7 @@ def main():
         "tails": {"glint": heq.tails(g), "cycles": heq.tails(c)},
     }
     if args.png:
-        args.png_dir, name = os.path.dirname(os.path.abspath(args.png)), "blender_fluid"
-        made = cycles_vdb.png(args, name, f"{w}/glint.exr", f"{w}/cycles.exr")
-        os.replace(os.path.join(ROOT, made), os.path.abspath(args.png))
+        cycles_vdb.side_by_side(args.png, f"{w}/diff.exr", f"{w}/glint.exr", f"{w}/cycles.exr")
         result["png"] = os.path.relpath(os.path.abspath(args.png), ROOT)
     text = json.dumps(result, indent=1)
     print(text)

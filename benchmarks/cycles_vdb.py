@@ -483,16 +483,21 @@ def bias_row(img, ref, mask, block=8):
             "tile_abs_relative_difference_p95": float(np.percentile(tiles, 95))}
 
 
-def png(args, name, left, right):
-    """A side-by-side PNG, sRGB through oiiotool: glint, Cycles, and 0.5 + 4 x (Cycles - glint)
-    (uniform grey: equal; brighter or coloured: Cycles above glint)."""
-    path = os.path.join(args.png_dir, f"cycles_vdb_{name}.png")
-    diff = os.path.join(args.work, f"{name}_diff.exr")
+def side_by_side(path, diff, left, right):
+    """A side-by-side PNG at `path`, sRGB through oiiotool: glint (`left`), Cycles (`right`),
+    and 0.5 + 4 x (Cycles - glint), kept as the EXR `diff` (uniform grey: equal; brighter or
+    coloured: Cycles above glint)."""
     subprocess.run(["oiiotool", right, "--ch", "R,G,B", left, "--ch", "R,G,B", "--sub",
                     "--mulc", "4", "--addc", "0.5", "-o", diff], check=True)
     subprocess.run(["oiiotool", left, "--ch", "R,G,B", right, "--ch", "R,G,B", diff,
                     "--mosaic", "3x1", "--colorconvert", "linear", "sRGB", "-d", "uint8",
                     "-o", path], check=True)
+
+
+def png(args, name, left, right):
+    """side_by_side into --png-dir as cycles_vdb_NAME.png; its path from the repository."""
+    path = os.path.join(args.png_dir, f"cycles_vdb_{name}.png")
+    side_by_side(path, os.path.join(args.work, f"{name}_diff.exr"), left, right)
     return os.path.relpath(path, ROOT)
 
 
