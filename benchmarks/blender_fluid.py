@@ -54,6 +54,7 @@ DOMAIN = {"location": [0.3, -0.2, 1.5], "size": [2.1, 1.9, 3.0], "resolution": 4
 FLOW = {"location": [0.3, -0.2, 0.35], "radius": 0.3}
 CAMERA = {"position": [0.3, 1.6, 6.0], "look_at": [0.3, 1.3, 0.2], "yfov_degrees": 40}  # glint's
 SKY = [0.02, 0.025, 0.04]
+SMOKE_SKY = [0.8, 0.8, 0.8]  # --smoke-color: no fire to light the smoke, so a bright sky
 # The medium, as glint's sidecar says it; Cycles' Principled Volume gets the same values
 # through cycles_vdb.principled_volume.
 MEDIUM = {"sigma_a": 2.0, "sigma_s": 6.0, "g": 0.2}
@@ -92,7 +93,9 @@ flow.name = "Flow"
 bpy.ops.object.modifier_add(type="FLUID")
 flow.modifiers["Fluid"].fluid_type = "FLOW"
 fs = flow.modifiers["Fluid"].flow_settings
-fs.flow_type = "BOTH"
+fs.flow_type = "SMOKE" if S["smoke_color"] else "BOTH"
+if S["smoke_color"]:
+    fs.smoke_color = S["smoke_color"]
 fs.flow_behavior = "INFLOW"
 flow.hide_render = True
 scene.frame_start, scene.frame_end = 1, D["frames"]
@@ -111,7 +114,7 @@ result = list(bpy.ops.fluid.bake_all())
 info = {"bake": result, "blender": bpy.app.version_string,
         "domain_size": D["size"], "domain_location": D["location"],
         "domain_rotate_z": S["rotate_z"],
-        "adaptive_domain": ds.use_adaptive_domain,
+        "adaptive_domain": ds.use_adaptive_domain, "smoke_color": S["smoke_color"],
         "flame_ignition": ds.flame_ignition, "flame_max_temp": ds.flame_max_temp,
         "resolution_max": ds.resolution_max,
         "cache_compression": ds.openvdb_cache_compress_type,
@@ -148,7 +151,8 @@ pv.inputs["Density"].default_value = m["density"]
 pv.inputs["Density Attribute"].default_value = "density"
 pv.inputs["Absorption Color"].default_value = (*m["absorption_color"], 1.0)
 pv.inputs["Anisotropy"].default_value = m["g"]
-pv.inputs["Blackbody Intensity"].default_value = 1.0
+pv.inputs["Blackbody Intensity"].default_value = SCENE["blackbody_intensity"]
+pv.inputs["Color Attribute"].default_value = SCENE["color_attribute"]
 pv.inputs["Blackbody Tint"].default_value = (1.0, 1.0, 1.0, 1.0)
 pv.inputs["Temperature"].default_value = 1000.0  # Blender's default: the attribute is in 1000 K
 pv.inputs["Temperature Attribute"].default_value = "temperature"
@@ -179,7 +183,7 @@ def bake(args):
     flow = dict(FLOW, location=[FLOW["location"][0] + args.flow_offset[0],
                                 FLOW["location"][1] + args.flow_offset[1], FLOW["location"][2]])
     scene = {"domain": DOMAIN, "flow": flow, "adaptive": args.adaptive_domain,
-             "rotate_z": args.rotate_z}
+             "rotate_z": args.rotate_z, "smoke_color": args.smoke_color}
     script = write(os.path.join(args.work, "bake.py"),
                    BAKE_SCRIPT.replace("@SCENE@", json.dumps(scene)))
     info_path = os.path.join(args.work, "domain.json")
@@ -213,17 +217,30 @@ def sidecar_medium(info, frame):
                            {"rotate": {"axis": [1, 0, 0], "degrees": -90}}]
     medium["density"] = {
         "type": "vdb", "file": "cache/data/fluid_data_####.vdb", "frame_offset": frame,
-        "grid": "density", "temperature_grid": "flame", "blackbody_intensity": 1,
-        "temperature_scale": 1000 * (top - ign), "temperature_offset": 1000 * ign,
-        "temperature_cutoff": 1000 * (ign + 0.01 * (top - ign))}
+        "grid": "density"}
+    if info.get("smoke_color"):
+        # Coloured smoke: the cache keeps colour x density in three float grids, and Blender
+        # renders them as they stand (not divided by the density), tinting the albedo (its
+        # Absorption Color is black here).
+        medium["density"] |= {"color_grid": ["color_r", "color_g", "color_b"],
+                              "color_mode": "albedo"}
+    else:
+        medium["density"] |= {
+            "temperature_grid": "flame", "blackbody_intensity": 1,
+            "temperature_scale": 1000 * (top - ign), "temperature_offset": 1000 * ign,
+            "temperature_cutoff": 1000 * (ign + 0.01 * (top - ign))}
     return medium
+
+
+def sky(info):
+    return SMOKE_SKY if info.get("smoke_color") else SKY
 
 
 def glint_json(args, info, with_medium=True):
     s = {"render": {"width": args.width, "height": args.height, "spp": 16,
                     "filter": {"type": "box", "radius": 0.5},
                     "integrator": {"type": "path", "max_depth": cycles_vdb.GLINT_DEPTH}},
-         "cameras": [CAMERA], "environment": {"color": SKY}}
+         "cameras": [CAMERA], "environment": {"color": sky(info)}}
     if with_medium:
         s["media"] = [sidecar_medium(info, args.frame)]
     return write(os.path.join(args.work, "fire.json" if with_medium else "empty.json"),
@@ -269,6 +286,8 @@ def main():
                     help="the domain turned by this many degrees about Blender's Z (up)")
     ap.add_argument("--flow-offset", type=float, nargs=2, default=[0.0, 0.0],
                     help="the flow moved by (x, y) off the domain's centre (Blender's axes)")
+    ap.add_argument("--smoke-color", type=float, nargs=3,
+                    help="bake coloured smoke (no fire) of this colour, lit by a bright sky")
     ap.add_argument("--out")
     ap.add_argument("--png")
     args = ap.parse_args()
@@ -288,7 +307,9 @@ def main():
     medium = MEDIUM | {"density": {"scale": 1.0}}
     volume = cycles_vdb.principled_volume(medium)
     cyc = {"frame": args.frame, "width": args.width, "height": args.height,
-           "bounces": cycles_vdb.CYCLES_BOUNCES, "camera": CAMERA, "sky": SKY, "volume": volume}
+           "bounces": cycles_vdb.CYCLES_BOUNCES, "camera": CAMERA, "sky": sky(info),
+           "volume": volume, "color_attribute": "color" if info.get("smoke_color") else "",
+           "blackbody_intensity": 0.0 if info.get("smoke_color") else 1.0}
     script = write(os.path.join(args.work, "render.py"),
                    RENDER_SCRIPT.replace("@SCENE@", json.dumps(cyc)))
     w = args.work

@@ -22,6 +22,13 @@ tracker's collisions.
     python3 benchmarks/vdb_majorant.py --glint build/glint --tool build/tools/glint_make_vdb_scenes \\
         --work /tmp/vdbm --rounds 3 --out benchmarks/results/vdb_majorant_16.json
 
+With --scene, any scene whose first medium is a VDB (a Blender cache, say: the scene written by
+`blender_fluid.py`) takes the cloud's place, at its own resolution unless --width and --height
+say otherwise; relative `.vdb` paths are resolved from the scene's folder.
+
+    python3 benchmarks/vdb_majorant.py --glint build/glint --scene /tmp/bfl/fire.json \\
+        --work /tmp/vdbm_blender --rounds 3 --out /tmp/vdbm_blender.json
+
 Memory: with --memory-size N it also writes an N-voxel-wide cloud and reports the process's
 peak resident memory rendering it (1 spp) against the same scene without the medium, beside
 the OpenVDB grid's own in-memory size (`glint info`) and glint's (NanoVDB + majorant grid).
@@ -40,16 +47,28 @@ sys.path.insert(0, HERE)
 import accel_report  # noqa: E402
 
 
-def scene(work, vdb, cells, width, height, with_medium=True):
-    with open(os.path.join(ROOT, "scenes", "volumes", "cloud.json")) as f:
+def scene(work, vdb, cells, width, height, with_medium=True, source=None):
+    """The scene to render: the cloud of scenes/volumes/ with the file `vdb`, or `source` with its
+    own file (made absolute), its first medium's majorant grid `cells` wide."""
+    cloud = os.path.join(ROOT, "scenes", "volumes", "cloud.json")
+    with open(source or cloud) as f:
         s = json.load(f)
-    s["render"]["width"], s["render"]["height"] = width, height
+    if width:
+        s["render"]["width"] = width
+    if height:
+        s["render"]["height"] = height
     if with_medium:
-        s["media"][0]["density"]["file"] = vdb
-        s["media"][0]["density"]["majorant_cells"] = cells
+        density = s["media"][0]["density"]
+        if source:
+            density["file"] = os.path.join(os.path.dirname(os.path.abspath(source)),
+                                           density["file"])
+        else:
+            density["file"] = vdb
+        density["majorant_cells"] = cells
     else:
         del s["media"]
-    path = os.path.join(work, f"cloud_{cells if with_medium else 'none'}.json")
+    name = os.path.splitext(os.path.basename(source or cloud))[0]
+    path = os.path.join(work, f"{name}_{cells if with_medium else 'none'}.json")
     with open(path, "w") as f:
         json.dump(s, f)
     return path
@@ -82,10 +101,11 @@ def frame_stats(s):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--glint", required=True)
-    ap.add_argument("--tool", required=True, help="glint_make_vdb_scenes")
+    ap.add_argument("--tool", help="glint_make_vdb_scenes (for the cloud and --memory-size)")
+    ap.add_argument("--scene", help="a scene whose first medium is a VDB, instead of the cloud")
     ap.add_argument("--work", required=True)
-    ap.add_argument("--width", type=int, default=320)
-    ap.add_argument("--height", type=int, default=180)
+    ap.add_argument("--width", type=int, help="320 for the cloud; --scene's own by default")
+    ap.add_argument("--height", type=int, help="180 for the cloud; --scene's own by default")
     ap.add_argument("--spp", type=int, default=16)
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--threads", type=int, default=2)
@@ -93,11 +113,17 @@ def main():
     ap.add_argument("--memory-size", type=int, default=0)
     ap.add_argument("--out", required=True)
     args = ap.parse_args()
+    if not args.scene:
+        args.width, args.height = args.width or 320, args.height or 180
+    if (not args.scene or args.memory_size) and not args.tool:
+        ap.error("--tool is needed for the cloud and for --memory-size")
     os.makedirs(args.work, exist_ok=True)
-    subprocess.run([args.tool, args.work], check=True, capture_output=True)
-    vdb = os.path.join(args.work, "cloud.vdb")
-    paths = {"grid": scene(args.work, vdb, args.cells, args.width, args.height),
-             "single": scene(args.work, vdb, 1, args.width, args.height)}
+    vdb = None
+    if not args.scene:
+        subprocess.run([args.tool, args.work], check=True, capture_output=True)
+        vdb = os.path.join(args.work, "cloud.vdb")
+    paths = {"grid": scene(args.work, vdb, args.cells, args.width, args.height, source=args.scene),
+             "single": scene(args.work, vdb, 1, args.width, args.height, source=args.scene)}
     rounds = []
     for rnd in range(args.rounds):
         row = {"load_before": load_average()}
@@ -120,7 +146,8 @@ def main():
         rounds.append(row)
         print(json.dumps(row), flush=True)
     speeds = [r["speed"] for r in rounds]
-    result = {"width": args.width, "height": args.height, "spp": args.spp,
+    result = {"scene": args.scene or "scenes/volumes/cloud.json", "cells": args.cells,
+              "width": args.width, "height": args.height, "spp": args.spp,
               "threads": args.threads, "machine": accel_report.cpu_model(), "rounds": rounds,
               "speed_median": statistics.median(speeds), "speed_min": min(speeds),
               "speed_max": max(speeds)}

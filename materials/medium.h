@@ -139,14 +139,24 @@ struct Medium {
   std::unique_ptr<DensityField> density;
   std::unique_ptr<EmissionField> emissionField;  // null: Le x density is all it emits
   std::unique_ptr<ColorField> color;             // null: sigma_s alone (a colour of 1)
+  // What the colour field does besides scaling sigma_s: false, nothing (sigma_a stays, so
+  // sigma_t = sigma_a + sigma_s x colour); true, it tints the albedo, sigma_a taking what
+  // scattering gives up, so sigma_t stays sigma_a + sigma_s where the colour is at most 1
+  // (sigma_t = max(sigma_a + sigma_s, sigma_s x colour)): Cycles' Principled Volume with a
+  // colour attribute and a black Absorption Color.
+  bool colorTintsAlbedo = false;
   // Coloured extinction (sigma_t differing between channels) tracked by spectral MIS over a
   // hero channel (renderer/volume.cpp); false: against the largest channel, with channel-mean
   // event probabilities (the older estimator: unbiased, heavy-tailed).
   bool heroTracking = true;
 
   Rgb sigmaT() const { return sigmaA + sigmaS; }
+  // sigma_t at density 1 where sigma_s (the colour field's included) is `scattering`.
+  Rgb sigmaT(const Rgb& scattering) const {
+    return colorTintsAlbedo ? max(sigmaT(), scattering) : sigmaA + scattering;
+  }
   // sigma_t's bound per channel at density 1, the colour field's included: the majorants'.
-  Rgb sigmaTBound() const { return color ? sigmaA + sigmaS * color->maxColor() : sigmaT(); }
+  Rgb sigmaTBound() const { return color ? sigmaT(sigmaS * color->maxColor()) : sigmaT(); }
   bool emits() const { return maxComponent(Le) > 0 || emissionField; }
   bool scatters() const { return maxComponent(sigmaS) > 0; }
   bool homogeneous() const { return density->isConstant(); }

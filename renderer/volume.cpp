@@ -254,7 +254,7 @@ MediaScene::Coefficients MediaScene::coefficients(const std::vector<uint32_t>& a
     const Region& r = regions_[i];
     const float d = density(r, p);
     const Rgb sigmaS = scattering(r, p);
-    c.sigmaT += (r.medium->sigmaA + sigmaS) * d;
+    c.sigmaT += r.medium->sigmaT(sigmaS) * d;
     c.sigmaS += sigmaS * d;
     c.emission += r.medium->Le * d;
     if (r.medium->emissionField)
@@ -314,7 +314,7 @@ Rgb MediaScene::regionTransmittance(const Region& r, const Ray& ray, float t0, f
       while (stepper.next(seg.majorant, segLength, &x, sampler)) {
         ++tally.n;
         const Vec3f p = segStart + dUnit * x;
-        const Rgb sigmaT = m.color ? m.sigmaA + scattering(r, p) : m.sigmaT();
+        const Rgb sigmaT = m.color ? m.sigmaT(scattering(r, p)) : m.sigmaT();
         T *= max(Rgb{0, 0, 0}, Rgb{1, 1, 1} - sigmaT * (density(r, p) / seg.majorant));
         const float q = maxComponent(T);
         if (q <= 0) return {};
@@ -335,7 +335,7 @@ Rgb MediaScene::regionTransmittance(const Region& r, const Ray& ray, float t0, f
     Rgb depth;
     for (int k = 0; k < n; ++k) {
       const Vec3f p = start + dUnit * ((float(k) + u) * ds);
-      depth += (m.sigmaA + scattering(r, p)) * density(r, p);
+      depth += m.sigmaT(scattering(r, p)) * density(r, p);
     }
     return expNeg(depth * ds);
   }

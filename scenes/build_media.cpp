@@ -64,8 +64,10 @@ void addMedia(const SceneDescription& desc, SceneParts* scene) {
     medium->g = m.g;
     medium->heroTracking = m.heroTracking;
     medium->emissionField = makeEmission(m);
-    if (m.density == DensityType::Vdb && m.vdb->color)
+    if (m.density == DensityType::Vdb && m.vdb->color) {
       medium->color = std::make_unique<VdbColor>(m.vdb);
+      medium->colorTintsAlbedo = m.colorTintsAlbedo;
+    }
     switch (m.region) {
       case MediumDesc::Region::Scene:
         medium->density = makeDensity(m, box);

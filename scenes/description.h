@@ -390,6 +390,7 @@ struct MediumDesc {
   float blackbodyIntensity = 0;  // the temperature map is in the file's request
   float flameStrength = 0;
   Rgb flameColor{1, 1, 1};
+  bool colorTintsAlbedo = false;  // "color_mode": "albedo" (else "scattering"); Medium's
   SourceLocation where;
 };
 

@@ -119,8 +119,21 @@ void readVdb(JsonReader& d, const std::string& file, float fps, MediumDesc* m) {
         VdbGridRequest{d.get<std::string>("temperature_grid"), d.where("temperature_grid")};
   if (d.has("flame_grid"))
     request.flame = VdbGridRequest{d.get<std::string>("flame_grid"), d.where("flame_grid")};
-  if (d.has("color_grid"))
-    request.color = VdbGridRequest{d.get<std::string>("color_grid"), d.where("color_grid")};
+  if (d.has("color_grid")) {
+    // One vec3s grid's name, or three float grids' (red, green, blue).
+    if (d.json()["color_grid"].is_array()) {
+      const std::vector<JsonItem> names = d.array("color_grid");
+      if (names.size() != 3)
+        throw SceneError(d.where("color_grid"),
+                         "must be one vec3s grid's name or three float grids' (red, green, blue)");
+      for (const JsonItem& n : names) request.color.push_back({n.as<std::string>(), n.where});
+    } else {
+      request.color.push_back({d.get<std::string>("color_grid"), d.where("color_grid")});
+    }
+  }
+  m->colorTintsAlbedo = d.oneOf("color_mode", {"scattering", "albedo"}, "scattering") == "albedo";
+  if (m->colorTintsAlbedo && request.color.empty())
+    throw SceneError(d.where("color_mode"), "needs a color_grid");
   request.kelvin.scale = d.get<float>("temperature_scale", 1.0f, kNonNegative);
   request.kelvin.offset = d.get<float>("temperature_offset", 0.0f);
   request.kelvin.cutoff = d.get<float>("temperature_cutoff", 0.0f, kNonNegative);

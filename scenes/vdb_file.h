@@ -53,8 +53,10 @@ struct VdbRequest {
   SourceLocation where;  // where the sidecar names the file
   VdbGridRequest density;
   std::optional<VdbGridRequest> temperature, flame;
-  VdbTemperatureMap kelvin;             // for the temperature grid
-  std::optional<VdbGridRequest> color;  // vec3s: multiplies sigma_s per point
+  VdbTemperatureMap kelvin;  // for the temperature grid
+  // The colour grid: one vec3s grid, or three float grids (red, green, blue: Blender's fluid
+  // caches), multiplying sigma_s per point.
+  std::vector<VdbGridRequest> color;
   // Cells of the majorant grid along the box's longest axis (the others in proportion);
   // 1: no grid, a single majorant.
   int majorantCells = 16;

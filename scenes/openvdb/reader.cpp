@@ -5,6 +5,7 @@
 #include <openvdb/openvdb.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <mutex>
@@ -175,25 +176,67 @@ void toKelvin(openvdb::FloatGrid& grid, const VdbTemperatureMap& map) {
   grid.tree().root().setBackground(kelvin(grid.background()), /*updateChildNodes=*/false);
 }
 
-// The colour grid a medium names (color_grid): vec3s, linear, every component finite and >= 0.
-// Returns it with the largest value of each component (the majorants' bound).
+// The colour grid a medium names (color_grid): one vec3s grid, or three float grids (red,
+// green, blue; Blender's fluid caches) joined into one, each on the same transform. Linear,
+// every component finite and >= 0 (an empty channel grid is a channel at its background).
 openvdb::Vec3SGrid::Ptr readColorGrid(openvdb::io::File& file, const std::string& path,
-                                      const VdbGridRequest& request, Rgb* maxValue) {
+                                      const std::vector<VdbGridRequest>& requests) {
   const std::string name = fileName(path);
-  openvdb::Vec3SGrid::Ptr grid = readTypedGrid<openvdb::Vec3SGrid>(file, path, request, "vec3s");
-  Rgb best{0, 0, 0};
-  auto check = [&](const openvdb::Vec3s& v) {
-    for (int c = 0; c < 3; ++c) {
-      if (!std::isfinite(v[c]) || v[c] < 0)
-        refuse(request.where, name + ": grid '" + request.name + "' has a component " +
-                                  std::to_string(v[c]) + " (colours must be finite and >= 0)");
-      best[c] = std::max(best[c], v[c]);
-    }
+  auto refuseComponent = [&](const VdbGridRequest& r, float v) {
+    refuse(r.where, name + ": grid '" + r.name + "' has a value " + std::to_string(v) +
+                        " (colours must be finite and >= 0)");
   };
-  check(grid->background());
-  for (auto it = grid->cbeginValueOn(); it; ++it) check(*it);
-  *maxValue = best;
+  if (requests.size() == 1) {
+    const VdbGridRequest& r = requests[0];
+    openvdb::Vec3SGrid::Ptr grid = readTypedGrid<openvdb::Vec3SGrid>(file, path, r, "vec3s");
+    auto check = [&](const openvdb::Vec3s& v) {
+      for (int c = 0; c < 3; ++c)
+        if (!std::isfinite(v[c]) || v[c] < 0) refuseComponent(r, v[c]);
+    };
+    check(grid->background());
+    for (auto it = grid->cbeginValueOn(); it; ++it) check(*it);
+    return grid;
+  }
+  openvdb::FloatGrid::Ptr channels[3];
+  openvdb::Vec3s background;
+  for (int c = 0; c < 3; ++c) {
+    const VdbGridRequest& r = requests[size_t(c)];
+    channels[c] = readTypedGrid<openvdb::FloatGrid>(file, path, r, "float");
+    if (c > 0 && channels[c]->transform() != channels[0]->transform())
+      refuse(r.where, name + ": grid '" + r.name + "' has another transform than '" +
+                          requests[0].name + "' (a colour's three grids must share one)");
+    background[c] = channels[c]->background();
+    if (!std::isfinite(background[c]) || background[c] < 0) refuseComponent(r, background[c]);
+  }
+  auto grid = openvdb::Vec3SGrid::create(background);
+  grid->setTransform(channels[0]->transform().copy());
+  auto out = grid->getAccessor();
+  for (int c = 0; c < 3; ++c) {
+    auto others = std::array{channels[(c + 1) % 3]->getConstAccessor(),
+                             channels[(c + 2) % 3]->getConstAccessor()};
+    for (auto it = channels[c]->cbeginValueOn(); it; ++it) {
+      if (!std::isfinite(*it) || *it < 0) refuseComponent(requests[size_t(c)], *it);
+      const openvdb::Coord ijk = it.getCoord();
+      if (out.isValueOn(ijk)) continue;  // joined from an earlier channel
+      openvdb::Vec3s v;
+      v[c] = *it;
+      v[(c + 1) % 3] = others[0].getValue(ijk);
+      v[(c + 2) % 3] = others[1].getValue(ijk);
+      out.setValueOn(ijk, v);
+    }
+  }
   return grid;
+}
+
+// The colour grid's largest value per component (VdbVolume::maxColor), background included.
+Rgb colorBound(const openvdb::Vec3SGrid& color) {
+  Rgb best{0, 0, 0};
+  auto include = [&](const openvdb::Vec3s& v) {
+    for (int c = 0; c < 3; ++c) best[c] = std::max(best[c], v[c]);
+  };
+  include(color.background());
+  for (auto it = color.cbeginValueOn(); it; ++it) include(*it);
+  return best;
 }
 
 template <class Grid>
@@ -327,9 +370,11 @@ std::shared_ptr<VdbVolume> read(const std::string& path, const VdbRequest& reque
     };
     volume->temperature = optionalGrid(request.temperature, &emitting[0], &request.kelvin);
     volume->flame = optionalGrid(request.flame, &emitting[1], nullptr);
-    if (request.color)
-      volume->color = flatten(*readColorGrid(f.file, path, *request.color, &volume->maxColor),
-                              request.color->name);
+    if (!request.color.empty()) {
+      openvdb::Vec3SGrid::Ptr color = readColorGrid(f.file, path, request.color);
+      volume->maxColor = colorBound(*color);
+      volume->color = flatten(*color, request.color[0].name);
+    }
     volume->density = flatten(*density, request.density.name);
     if (request.majorantCells > 1) {
       volume->majorants = majorants(*density, volume->bounds, request.majorantCells);

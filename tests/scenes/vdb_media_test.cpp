@@ -343,6 +343,53 @@ TEST(VdbFile, ReadsABlenderFluidCacheWithTheReadmesEntry) {
   EXPECT_NEAR(hi.z, -0.75f, 1e-5f);
 }
 
+// Blender's coloured smoke: its cache keeps the colour as three float grids (color_r,
+// color_g, color_b; a channel the flow never emits is an empty grid), each holding colour x
+// density, which Blender renders as it stands. glint joins the three into one colour grid.
+TEST(VdbFile, ReadsThreeFloatGridsAsTheColour) {
+  const std::string dir = test::scratchDir("VdbFile.ReadsThreeFloatGridsAsTheColour");
+  const float v = 0.0625f;
+  // Two voxels along x: density 0.5 of colour (1, 0.25, 0), density 0.25 of (0.5, 0.5, 0).
+  const float d[2] = {0.5f, 0.25f};
+  const Rgb c[2] = {{1, 0.25f, 0}, {0.5f, 0.5f, 0}};
+  auto voxels = [&](const std::string& name, auto f) {
+    openvdb::FloatGrid::Ptr g =
+        makeGrid(name, v, {4, 4, 4}, {5, 4, 4}, [&](int i, int, int) { return f(i - 4); });
+    g->setSaveFloatAsHalf(true);
+    return g;
+  };
+  auto density = voxels("density", [&](int i) { return d[i]; });
+  auto red = voxels("color_r", [&](int i) { return c[i].x * d[i]; });
+  auto green = voxels("color_g", [&](int i) { return c[i].y * d[i]; });
+  auto blue = voxels("color_b", [&](int) { return 0.0f; });  // no active voxels
+  writeVdb(dir + "/smoke.vdb", {density, red, green, blue});
+  SceneDescription s;
+  applySceneJsonText(R"({"media": [{"sigma_s": 1, "density": {"type": "vdb",
+      "file": "smoke.vdb", "color_grid": ["color_r", "color_g", "color_b"],
+      "color_mode": "albedo"}}]})",
+                     dir + "/scene.json", SceneJsonKind::Sidecar, &s);
+  ASSERT_EQ(s.media.size(), 1u);
+  EXPECT_TRUE(s.media[0].colorTintsAlbedo);
+  const auto volume = s.media[0].vdb;
+  ASSERT_TRUE(volume->color);
+  const VdbColor color(volume);
+  // Each voxel's three values (exact in 16 bits), and halfway their mean.
+  for (int i = 0; i < 2; ++i) {
+    const Rgb at = color.color(Vec3f{float(4 + i), 4, 4} * v);
+    EXPECT_EQ(at.x, c[i].x * d[i]);
+    EXPECT_EQ(at.y, c[i].y * d[i]);
+    EXPECT_EQ(at.z, 0.0f);
+  }
+  const Rgb half = color.color(Vec3f{4.5f, 4, 4} * v);
+  EXPECT_NEAR(half.x, 0.5f * (c[0].x * d[0] + c[1].x * d[1]), 1e-6f);
+  EXPECT_NEAR(half.y, 0.5f * (c[0].y * d[0] + c[1].y * d[1]), 1e-6f);
+  // Outside the voxels, the background (0); the bound is the largest value per channel.
+  EXPECT_EQ(color.color(Vec3f{9, 9, 9} * v).x, 0.0f);
+  EXPECT_EQ(volume->maxColor.x, 0.5f);
+  EXPECT_EQ(volume->maxColor.y, 0.125f);
+  EXPECT_EQ(volume->maxColor.z, 0.0f);
+}
+
 // Bad files and bad names: the error is at the sidecar's key, names the file, says what is
 // wrong; for a missing grid it lists the grids the file has.
 TEST(VdbFile, BadInputNamesTheFileAndThePointer) {
@@ -396,6 +443,18 @@ TEST(VdbFile, BadInputNamesTheFileAndThePointer) {
                      "good.vdb: grid 'temperature' holds float values, not vec3s");
   EXPECT_SCENE_ERROR(error(R"({"type": "vdb", "file": "vec.vdb", "grid": "velocity"})"), file,
                      p + "/grid", "vec.vdb: grid 'velocity' holds vec3s values, not float");
+  // Three float grids, or one vec3s: not two, and each float; premultiplied needs a colour.
+  EXPECT_SCENE_ERROR(error(R"({"type": "vdb", "file": "good.vdb",
+                               "color_grid": ["temperature", "temperature"]})"),
+                     file, p + "/color_grid", "three float grids' (red, green, blue)");
+  EXPECT_SCENE_ERROR(error(R"({"type": "vdb", "file": "vec.vdb",
+                               "color_grid": ["density", "velocity", "density"]})"),
+                     file, p + "/color_grid/1",
+                     "vec.vdb: grid 'velocity' holds vec3s values, not float");
+  EXPECT_SCENE_ERROR(error(R"({"type": "vdb", "file": "good.vdb", "color_mode": "albedo"})"), file,
+                     p + "/color_mode", "needs a color_grid");
+  EXPECT_SCENE_ERROR(error(R"({"type": "vdb", "file": "good.vdb", "color_mode": "tint"})"), file,
+                     p + "/color_mode", "scattering");
   EXPECT_SCENE_ERROR(error(R"({"type": "vdb", "file": "negative.vdb"})"), file, p + "/grid",
                      "negative.vdb: grid 'density' has at voxel [2, 0, 0] the value -1");
   EXPECT_SCENE_ERROR(error(R"({"type": "vdb", "file": "nan.vdb"})"), file, p + "/grid",
@@ -654,6 +713,41 @@ TEST(VdbRender, ConstantColorGridMatchesThatScatteringColour) {
   // The colour is there: ignored, sigma_s would be grey and the centre's channels equal.
   const Rgb centre = films[0].color[films[0].index(12, 12)];
   EXPECT_GT(std::abs(centre.x - centre.z), 0.03f) << centre.x << " " << centre.z;
+}
+
+// color_mode "albedo" (Cycles' Principled Volume with a colour attribute and a black Absorption
+// Color): the colour tints the albedo and sigma_t stays, except where sigma_s x colour exceeds
+// it. A box of colour (0.2, 0.5, 1.5) with sigma_a 0.1 and sigma_s 2 renders as a plain box of
+// sigma_s (0.4, 1, 3) and sigma_a (2.1 - 0.4, 2.1 - 1, 0): sigma_t (2.1, 2.1, 3).
+TEST(VdbRender, AlbedoColorModeKeepsTheExtinction) {
+  const std::string dir = test::scratchDir("VdbRender.AlbedoColorModeKeepsTheExtinction");
+  const int n = 16;
+  const float voxel = 0.125f;
+  openvdb::Vec3SGrid::Ptr color = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.2f, 0.5f, 1.5f));
+  color->setName("color");
+  color->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
+  color->denseFill(openvdb::CoordBBox({0, 0, 0}, {n - 1, n - 1, n - 1}),
+                   openvdb::Vec3s(0.2f, 0.5f, 1.5f), true);
+  writeVdb(dir + "/box.vdb", {cube("density", voxel, n, 1), color});
+  const float c = -0.5f * float(n - 1) * voxel;
+  const std::string place = R"("transform": [{"translate": [)" + std::to_string(c) + ", " +
+                            std::to_string(c) + ", " + std::to_string(c) + "]}]";
+  const std::string media[3] = {
+      "[{" + place + R"(, "sigma_a": 0.1, "sigma_s": 2, "g": 0.3, "density": {"type": "vdb",
+          "file": "box.vdb", "color_grid": "color", "color_mode": "albedo"}}])",
+      "[{" + place + R"(, "sigma_a": [1.7, 1.1, 0], "sigma_s": [0.4, 1, 3], "g": 0.3,
+          "density": {"type": "vdb", "file": "box.vdb"}}])",
+      "[{" + place + R"(, "sigma_a": 0.1, "sigma_s": 2, "g": 0.3, "density": {"type": "vdb",
+          "file": "box.vdb", "color_grid": "color"}}])"};
+  Film films[3];
+  for (int k = 0; k < 3; ++k)
+    films[k] = renderUnderSky(mediaScene(dir + "/scene.json", media[k], 24, 128, 1.5f),
+                              uint64_t(k + 3), {1, 1, 1});
+  expectSameImage(dir, films[0], films[1], 128);
+  // The default mode keeps sigma_a (0.1): a thinner, brighter box in red and green.
+  const Rgb albedo = films[0].color[films[0].index(12, 12)];
+  const Rgb scattering = films[2].color[films[2].index(12, 12)];
+  EXPECT_GT(scattering.x, albedo.x + 0.05f) << scattering.x << " " << albedo.x;
 }
 
 // A sparse cloud (a dense ball in one corner of a mostly empty box, and one faint voxel in the
