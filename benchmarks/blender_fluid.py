@@ -219,11 +219,11 @@ def sidecar_medium(info, frame):
         "type": "vdb", "file": "cache/data/fluid_data_####.vdb", "frame_offset": frame,
         "grid": "density"}
     if info.get("smoke_color"):
-        # Coloured smoke: the cache keeps colour x density in three float grids, and Blender
-        # renders them as they stand (not divided by the density), tinting the albedo (its
-        # Absorption Color is black here).
+        # Coloured smoke: the cache keeps the colour in three float grids (colour x density, as
+        # the simulation advects it), which Blender renders as they stand, interpolated
+        # weighted by the density, tinting the albedo (its Absorption Color is black here).
         medium["density"] |= {"color_grid": ["color_r", "color_g", "color_b"],
-                              "color_mode": "albedo"}
+                              "color_density_weighted": True, "color_mode": "albedo"}
     else:
         medium["density"] |= {
             "temperature_grid": "flame", "blackbody_intensity": 1,

@@ -77,6 +77,14 @@ Rgb VdbGrid::sampleVec3(Vec3f p) const {
   return {c[0], c[1], c[2]};
 }
 
+Rgb VdbColor::color(Vec3f p) const {
+  const Rgb c = volume_->color->sampleVec3(p);
+  if (!volume_->colorDensityWeighted) return c;
+  // Where the density is nearly 0 the colour does not matter (it scales sigma_s x 0).
+  const float d = volume_->density.sample(p);
+  return d > 1e-6f ? min(c / d, volume_->maxColor) : c;
+}
+
 size_t VdbVolume::bytes() const {
   size_t n = density.bytes() + (majorants ? majorants->bytes() : 0);
   if (color) n += color->bytes();

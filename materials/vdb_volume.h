@@ -61,6 +61,11 @@ struct VdbVolume {
   std::optional<VdbGrid> temperature, flame;  // float, optional
   std::optional<VdbGrid> color;               // vec3, optional: multiplies sigma_s per point
   Rgb maxColor{1, 1, 1};                      // of the colour grid's values, per component
+  // The colour interpolated weighted by the density: the grid holds colour x density (the
+  // reader multiplies them) and color() divides by the interpolated density, as Blender
+  // renders a fluid domain's colour. Every interpolated colour is then a weighted mean of the
+  // file's colours, so maxColor still bounds it.
+  bool colorDensityWeighted = false;
   // Object-space box outside which every grid's lookups give the background: the active
   // voxels (and tiles) of the grids, grown by one voxel for the trilinear lookups' reach.
   Bounds3f bounds;
@@ -94,7 +99,7 @@ class VdbDensity final : public DensityField {
 class VdbColor final : public ColorField {
  public:
   explicit VdbColor(std::shared_ptr<const VdbVolume> volume) : volume_(std::move(volume)) {}
-  Rgb color(Vec3f p) const override { return volume_->color->sampleVec3(p); }
+  Rgb color(Vec3f p) const override;
   Rgb maxColor() const override { return volume_->maxColor; }
 
  private:

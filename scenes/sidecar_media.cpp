@@ -132,8 +132,10 @@ void readVdb(JsonReader& d, const std::string& file, float fps, MediumDesc* m) {
     }
   }
   m->colorTintsAlbedo = d.oneOf("color_mode", {"scattering", "albedo"}, "scattering") == "albedo";
-  if (m->colorTintsAlbedo && request.color.empty())
-    throw SceneError(d.where("color_mode"), "needs a color_grid");
+  request.colorDensityWeighted = d.get<bool>("color_density_weighted", false);
+  if ((m->colorTintsAlbedo || request.colorDensityWeighted) && request.color.empty())
+    throw SceneError(d.where(m->colorTintsAlbedo ? "color_mode" : "color_density_weighted"),
+                     "needs a color_grid");
   request.kelvin.scale = d.get<float>("temperature_scale", 1.0f, kNonNegative);
   request.kelvin.offset = d.get<float>("temperature_offset", 0.0f);
   request.kelvin.cutoff = d.get<float>("temperature_cutoff", 0.0f, kNonNegative);

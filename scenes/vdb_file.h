@@ -57,6 +57,7 @@ struct VdbRequest {
   // The colour grid: one vec3s grid, or three float grids (red, green, blue: Blender's fluid
   // caches), multiplying sigma_s per point.
   std::vector<VdbGridRequest> color;
+  bool colorDensityWeighted = false;  // VdbVolume::colorDensityWeighted
   // Cells of the majorant grid along the box's longest axis (the others in proportion);
   // 1: no grid, a single majorant.
   int majorantCells = 16;

@@ -373,6 +373,20 @@ std::shared_ptr<VdbVolume> read(const std::string& path, const VdbRequest& reque
     if (!request.color.empty()) {
       openvdb::Vec3SGrid::Ptr color = readColorGrid(f.file, path, request.color);
       volume->maxColor = colorBound(*color);
+      if (request.colorDensityWeighted) {
+        if (color->transform() != density->transform())
+          refuse(request.color[0].where,
+                 fileName(path) + ": grid '" + request.color[0].name +
+                     "' has another transform than the density grid '" + request.density.name +
+                     "' (color_density_weighted weighs each colour voxel by its density)");
+        volume->colorDensityWeighted = true;
+        const auto densities = density->getConstAccessor();
+        // Inactive values too (lookups interpolate them); the background becomes 0, the
+        // density's.
+        for (auto it = color->beginValueAll(); it; ++it)
+          it.setValue(*it * densities.getValue(it.getCoord()));
+        color->tree().root().setBackground(openvdb::Vec3s(0, 0, 0), /*updateChildNodes=*/false);
+      }
       volume->color = flatten(*color, request.color[0].name);
     }
     volume->density = flatten(*density, request.density.name);

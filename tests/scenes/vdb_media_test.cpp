@@ -388,6 +388,21 @@ TEST(VdbFile, ReadsThreeFloatGridsAsTheColour) {
   EXPECT_EQ(volume->maxColor.x, 0.5f);
   EXPECT_EQ(volume->maxColor.y, 0.125f);
   EXPECT_EQ(volume->maxColor.z, 0.0f);
+  // Weighted by the density, as Blender interpolates a domain's colour: the same at the voxels,
+  // and halfway the density-weighted mean.
+  SceneDescription w;
+  applySceneJsonText(R"({"media": [{"sigma_s": 1, "density": {"type": "vdb",
+      "file": "smoke.vdb", "color_grid": ["color_r", "color_g", "color_b"],
+      "color_density_weighted": true}}]})",
+                     dir + "/scene.json", SceneJsonKind::Sidecar, &w);
+  const VdbColor weighted(w.media[0].vdb);
+  for (int i = 0; i < 2; ++i)
+    EXPECT_NEAR(weighted.color(Vec3f{float(4 + i), 4, 4} * v).x, c[i].x * d[i], 1e-6f);
+  const Rgb mean = weighted.color(Vec3f{4.5f, 4, 4} * v);
+  const float w0 = d[0] / (d[0] + d[1]), w1 = d[1] / (d[0] + d[1]);  // 2/3, 1/3
+  EXPECT_NEAR(mean.x, w0 * c[0].x * d[0] + w1 * c[1].x * d[1], 1e-6f);  // 0.375, not 0.3125
+  EXPECT_NEAR(mean.y, w0 * c[0].y * d[0] + w1 * c[1].y * d[1], 1e-6f);
+  EXPECT_EQ(w.media[0].vdb->maxColor.x, 0.5f);
 }
 
 // Bad files and bad names: the error is at the sidecar's key, names the file, says what is
@@ -453,6 +468,14 @@ TEST(VdbFile, BadInputNamesTheFileAndThePointer) {
                      "vec.vdb: grid 'velocity' holds vec3s values, not float");
   EXPECT_SCENE_ERROR(error(R"({"type": "vdb", "file": "good.vdb", "color_mode": "albedo"})"), file,
                      p + "/color_mode", "needs a color_grid");
+  EXPECT_SCENE_ERROR(
+      error(R"({"type": "vdb", "file": "good.vdb", "color_density_weighted": true})"), file,
+      p + "/color_density_weighted", "needs a color_grid");
+  // Weighing the colour by the density needs the two on one transform.
+  EXPECT_SCENE_ERROR(error(R"({"type": "vdb", "file": "vec.vdb", "color_grid": "velocity",
+                               "color_density_weighted": true})"),
+                     file, p + "/color_grid",
+                     "vec.vdb: grid 'velocity' has another transform than the density grid");
   EXPECT_SCENE_ERROR(error(R"({"type": "vdb", "file": "good.vdb", "color_mode": "tint"})"), file,
                      p + "/color_mode", "scattering");
   EXPECT_SCENE_ERROR(error(R"({"type": "vdb", "file": "negative.vdb"})"), file, p + "/grid",
