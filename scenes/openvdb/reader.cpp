@@ -137,24 +137,27 @@ typename Grid::Ptr readTypedGrid(openvdb::io::File& file, const std::string& pat
   return grid;
 }
 
-// One requested grid, checked: a float grid with an affine transform, finite values >= 0,
-// at least one active voxel. Returns it with the maximum of its values.
+// One requested grid, checked: a float grid with an affine transform, finite values (>= 0
+// unless `signedValues`), at least one active voxel. Returns it with the maximum of its values.
 openvdb::FloatGrid::Ptr readFloatGrid(openvdb::io::File& file, const std::string& path,
-                                      const VdbGridRequest& request, float* maxValue) {
+                                      const VdbGridRequest& request, float* maxValue,
+                                      bool signedValues = false) {
   const std::string name = fileName(path);
   openvdb::FloatGrid::Ptr grid = readTypedGrid<openvdb::FloatGrid>(file, path, request, "float");
   if (grid->activeVoxelCount() == 0)
     refuse(request.where, name + ": grid '" + request.name + "' is empty (no active voxels)");
   float best = grid->background();
+  auto bad = [&](float v) { return !std::isfinite(v) || (v < 0 && !signedValues); };
   auto check = [&](float v, const std::string& what) {
-    if (!std::isfinite(v) || v < 0)
+    if (bad(v))
       refuse(request.where, name + ": grid '" + request.name + "' has " + what + " " +
-                                std::to_string(v) + " (values must be finite and >= 0)");
+                                std::to_string(v) + " (values must be finite" +
+                                (signedValues ? ")" : " and >= 0)"));
   };
   check(grid->background(), "the background");
   for (auto it = grid->cbeginValueOn(); it; ++it) {
     const float v = *it;
-    if (!std::isfinite(v) || v < 0) {
+    if (bad(v)) {
       const openvdb::Coord c = it.getCoord();
       check(v, "at voxel [" + std::to_string(c.x()) + ", " + std::to_string(c.y()) + ", " +
                    std::to_string(c.z()) + "] the value");
@@ -360,7 +363,9 @@ std::shared_ptr<VdbVolume> read(const std::string& path, const VdbRequest& reque
     auto optionalGrid = [&](const std::optional<VdbGridRequest>& r, openvdb::FloatGrid::Ptr* kept,
                             const VdbTemperatureMap* kelvin) -> std::optional<VdbGrid> {
       if (!r) return std::nullopt;
-      openvdb::FloatGrid::Ptr g = readFloatGrid(f.file, path, *r, &ignored);
+      // A temperature grid may be signed (a simulation's heat about its ambient): its values
+      // become kelvin through the map, and those at or below the cutoff (0 at least) 0 K.
+      openvdb::FloatGrid::Ptr g = readFloatGrid(f.file, path, *r, &ignored, kelvin != nullptr);
       if (kelvin) toKelvin(*g, *kelvin);
       // Emission reaches as far as its grid: the region must hold it too (a flame grid's
       // background is emitted everywhere, so only its active voxels bound it).

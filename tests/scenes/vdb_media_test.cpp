@@ -204,6 +204,31 @@ TEST(VdbFile, TemperatureMapsVoxelsToKelvinBeforeInterpolating) {
     ASSERT_TRUE(v->temperatureMaxima);
     EXPECT_NEAR(v->temperatureMaxima->maxValue(), c.inside, 1e-3f * c.inside);
   }
+  // A signed grid (a simulation's heat, below its ambient here) is a temperature through the
+  // map; kelvin at or below the cutoff, or below 0, are 0 K. A NaN is still refused.
+  writeVdb(dir + "/heat.vdb",
+           {cube("density", voxel, 4, 1), makeGrid("heat", voxel, {0, 0, 0}, {3, 3, 3},
+                                                   [](int i, int, int) { return i - 2.0f; })});
+  VdbRequest request;
+  request.where = {"scene.json", "/media/0/density/file"};
+  request.density = {"density", {"scene.json", "/media/0/density/grid"}};
+  request.temperature = VdbGridRequest{"heat", {"scene.json", "/x"}};
+  request.kelvin = {1000, 1500, 600};
+  const std::shared_ptr<VdbVolume> v = readVdbFile(dir + "/heat.vdb", request);
+  EXPECT_NEAR(v->temperature->sample(Vec3f{0, 1, 1} * voxel), 0.0f, 1e-3f);     // -500 K
+  EXPECT_NEAR(v->temperature->sample(Vec3f{1, 1, 1} * voxel), 0.0f, 1e-3f);     // 500 K
+  EXPECT_NEAR(v->temperature->sample(Vec3f{2, 1, 1} * voxel), 1500.0f, 1e-3f);  // 0: ambient
+  EXPECT_NEAR(v->temperature->sample(Vec3f{3, 1, 1} * voxel), 2500.0f, 1e-3f);
+  writeVdb(dir + "/nan_heat.vdb",
+           {cube("density", voxel, 4, 1),
+            makeGrid("heat", voxel, {0, 0, 0}, {3, 3, 3},
+                     [](int i, int, int) { return i == 1 ? std::nanf("") : -1.0f; })});
+  const std::string error =
+      test::errorFrom([&] { readVdbFile(dir + "/nan_heat.vdb", request); }).message();
+  EXPECT_NE(error.find("grid 'heat' has at voxel [1, 0, 0] the value nan (values must be "
+                       "finite)"),
+            std::string::npos)
+      << error;
 }
 
 // The majorant grid is built a leaf at a time where the file's transform is axis-aligned; it
@@ -399,7 +424,7 @@ TEST(VdbFile, ReadsThreeFloatGridsAsTheColour) {
   for (int i = 0; i < 2; ++i)
     EXPECT_NEAR(weighted.color(Vec3f{float(4 + i), 4, 4} * v).x, c[i].x * d[i], 1e-6f);
   const Rgb mean = weighted.color(Vec3f{4.5f, 4, 4} * v);
-  const float w0 = d[0] / (d[0] + d[1]), w1 = d[1] / (d[0] + d[1]);  // 2/3, 1/3
+  const float w0 = d[0] / (d[0] + d[1]), w1 = d[1] / (d[0] + d[1]);     // 2/3, 1/3
   EXPECT_NEAR(mean.x, w0 * c[0].x * d[0] + w1 * c[1].x * d[1], 1e-6f);  // 0.375, not 0.3125
   EXPECT_NEAR(mean.y, w0 * c[0].y * d[0] + w1 * c[1].y * d[1], 1e-6f);
   EXPECT_EQ(w.media[0].vdb->maxColor.x, 0.5f);
