@@ -730,23 +730,28 @@ TEST(VdbRender, ConstantBoxMatchesTheHomogeneousMedium) {
   EXPECT_LT(films[0].color[films[0].index(12, 12)].x, 0.9f);
 }
 
+// Writes dir/box.vdb: a 16^3 cube of density 1 and a colour grid of `colour` everywhere (its
+// background too). Returns the sidecar's "transform" entry that centres it at the origin.
+std::string colouredBox(const std::string& dir, openvdb::Vec3s colour) {
+  const int n = 16;
+  const float voxel = 0.125f;
+  openvdb::Vec3SGrid::Ptr color = openvdb::Vec3SGrid::create(colour);
+  color->setName("color");
+  color->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
+  color->denseFill(openvdb::CoordBBox({0, 0, 0}, {n - 1, n - 1, n - 1}), colour, true);
+  writeVdb(dir + "/box.vdb", {cube("density", voxel, n, 1), color});
+  const float c = -0.5f * float(n - 1) * voxel;
+  return R"("transform": [{"translate": [)" + std::to_string(c) + ", " + std::to_string(c) +
+         ", " + std::to_string(c) + "]}]";
+}
+
 // The colour grid (vec3, as Cycles' Principled Volume "Color"): a constant colour
 // (0.2, 0.5, 1) times sigma_s = 2 renders as the same box with sigma_s = (0.4, 1, 2) and no
 // colour grid, statistically (its background is the colour too, so the ramp at the faces is
 // the density's alone in both).
 TEST(VdbRender, ConstantColorGridMatchesThatScatteringColour) {
   const std::string dir = test::scratchDir("VdbRender.ConstantColorGridMatches");
-  const int n = 16;
-  const float voxel = 0.125f;
-  openvdb::Vec3SGrid::Ptr color = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.2f, 0.5f, 1));
-  color->setName("color");
-  color->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
-  color->denseFill(openvdb::CoordBBox({0, 0, 0}, {n - 1, n - 1, n - 1}),
-                   openvdb::Vec3s(0.2f, 0.5f, 1), true);
-  writeVdb(dir + "/box.vdb", {cube("density", voxel, n, 1), color});
-  const float c = -0.5f * float(n - 1) * voxel;
-  const std::string place = R"("transform": [{"translate": [)" + std::to_string(c) + ", " +
-                            std::to_string(c) + ", " + std::to_string(c) + "]}]";
+  const std::string place = colouredBox(dir, {0.2f, 0.5f, 1});
   const std::string media[2] = {
       "[{" + place + R"(, "sigma_a": 0.1, "sigma_s": 2, "g": 0.3,
           "density": {"type": "vdb", "file": "box.vdb", "color_grid": "color"}}])",
@@ -769,17 +774,7 @@ TEST(VdbRender, ConstantColorGridMatchesThatScatteringColour) {
 // sigma_s (0.4, 1, 3) and sigma_a (2.1 - 0.4, 2.1 - 1, 0): sigma_t (2.1, 2.1, 3).
 TEST(VdbRender, AlbedoColorModeKeepsTheExtinction) {
   const std::string dir = test::scratchDir("VdbRender.AlbedoColorModeKeepsTheExtinction");
-  const int n = 16;
-  const float voxel = 0.125f;
-  openvdb::Vec3SGrid::Ptr color = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.2f, 0.5f, 1.5f));
-  color->setName("color");
-  color->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
-  color->denseFill(openvdb::CoordBBox({0, 0, 0}, {n - 1, n - 1, n - 1}),
-                   openvdb::Vec3s(0.2f, 0.5f, 1.5f), true);
-  writeVdb(dir + "/box.vdb", {cube("density", voxel, n, 1), color});
-  const float c = -0.5f * float(n - 1) * voxel;
-  const std::string place = R"("transform": [{"translate": [)" + std::to_string(c) + ", " +
-                            std::to_string(c) + ", " + std::to_string(c) + "]}]";
+  const std::string place = colouredBox(dir, {0.2f, 0.5f, 1.5f});
   const std::string media[3] = {
       "[{" + place + R"(, "sigma_a": 0.1, "sigma_s": 2, "g": 0.3, "density": {"type": "vdb",
           "file": "box.vdb", "color_grid": "color", "color_mode": "albedo"}}])",
