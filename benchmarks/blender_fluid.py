@@ -20,6 +20,12 @@ caches. What it tells:
   simulation's heat. The sidecar names the flame grid with temperature_scale, _offset and
   _cutoff (the cutoff is 0 K at or below it, mapped per voxel before interpolation as Blender
   does);
+- colour (--smoke-color R G B: coloured smoke instead of the fire, under a bright sky): the
+  cache stores it as three float grids, color_r, color_g and color_b, each colour x density,
+  which Blender renders as they stand, interpolated weighted by the density, the colour
+  tinting the albedo (Cycles' Principled Volume with its Color Attribute "color" and a black
+  Absorption Color); the sidecar says color_grid [color_r, color_g, color_b],
+  color_density_weighted and color_mode "albedo";
 - the image: both renderers' means over the fire's pixels, per 8 x 8 tile, and the brightest
   pixels; a PNG of glint, Cycles and their difference.
 
