@@ -741,8 +741,8 @@ std::string colouredBox(const std::string& dir, openvdb::Vec3s colour) {
   color->denseFill(openvdb::CoordBBox({0, 0, 0}, {n - 1, n - 1, n - 1}), colour, true);
   writeVdb(dir + "/box.vdb", {cube("density", voxel, n, 1), color});
   const float c = -0.5f * float(n - 1) * voxel;
-  return R"("transform": [{"translate": [)" + std::to_string(c) + ", " + std::to_string(c) +
-         ", " + std::to_string(c) + "]}]";
+  return R"("transform": [{"translate": [)" + std::to_string(c) + ", " + std::to_string(c) + ", " +
+         std::to_string(c) + "]}]";
 }
 
 // The colour grid (vec3, as Cycles' Principled Volume "Color"): a constant colour
