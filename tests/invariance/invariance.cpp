@@ -506,6 +506,26 @@ void moveMedium(Json& m, Context& c) {
     if (c.shapeEdited.count(m["object"].get<std::string>())) shiftNoise(m, x.t, c);
     return;
   }
+  if (dtype == "vdb") {
+    // Placed as objects are, by its transform (or animation) over the file's own space. Its
+    // emission is per unit length, as the coefficients: the same factor.
+    if (m.contains("animation")) {
+      moveAnimation(m["animation"], x);
+      appendOp(m, x.linearOp);
+    } else if (c.mode == Placement::Root) {
+      appendOp(m, x.op);
+    } else {
+      editTranslate(m, x.t);
+    }
+    if (x.s != 1) {
+      if (density->contains("temperature_grid"))
+        (*density)["blackbody_intensity"] = density->value("blackbody_intensity", 1.0) / x.s;
+      if (density->contains("flame_grid"))
+        (*density)["flame_strength"] = density->value("flame_strength", 1.0) / x.s;
+      c.note("scale: a VDB medium's blackbody intensity and flame strength divided by s");
+    }
+    return;
+  }
   // The whole scene: the field is in world space.
   if (dtype == "noise") {
     if (x.turns()) throw std::runtime_error("a whole-scene noise density has no rotation");
