@@ -102,20 +102,26 @@ echo "sanitize: unit tests took $((SECONDS - start)) s" >&2
 # its interned strings, modules and numpy's caches at exit, so LeakSanitizer would report the
 # interpreter's memory, not glint's; the module's C++ is the rooms' code, whose leaks the unit
 # tests above check. The suite's glint executable (the command-line comparisons) has its own
-# runtime linked in, and two runtimes in one process abort: a wrapper drops the preload for it.
+# runtime linked in, and two runtimes in one process abort: a wrapper drops the preload for it
+# (and for glint_make_vdb_scenes, which writes the VDB tests' files).
 # test_notebook is left out: its 1024-spp reference takes minutes under ASan, through calls
 # the other files test. SIGINT is set to its default for the interpreter: a shell that starts
 # the stage in the background ignores it, Python then installs no handler of its own, and the
 # Ctrl-C test would render on for hours.
 start=$SECONDS
-glint_unpreloaded=$build_dir/glint-unpreloaded
-printf '#!/bin/sh\nunset LD_PRELOAD\nexec "%s" "$@"\n' "$build_dir/glint" >"$glint_unpreloaded"
-chmod +x "$glint_unpreloaded"
+unpreloaded() {  # a wrapper of executable $1 without the preload; prints its path
+  printf '#!/bin/sh\nunset LD_PRELOAD\nexec "%s" "$@"\n' "$1" >"$1-unpreloaded"
+  chmod +x "$1-unpreloaded"
+  echo "$1-unpreloaded"
+}
+glint_unpreloaded=$(unpreloaded "$build_dir/glint")
+vdb_tool_unpreloaded=$(unpreloaded "$build_dir/tools/glint_make_vdb_scenes")
 if ! (cd "$root/tests/python" &&
       LD_PRELOAD=$(clang++ -print-file-name=libclang_rt.asan-x86_64.so) PYTHONMALLOC=malloc \
       ASAN_OPTIONS=$ASAN_OPTIONS:detect_leaks=0 PYTHONPATH=$build_dir/python \
       GLINT_EXECUTABLE=$glint_unpreloaded GLINT_TEST_DATA=$root/tests/data \
       GLINT_SOURCE_DIR=$root GLINT_TEST_OUTPUT=$build_dir/test_output/python \
+      GLINT_MAKE_VDB_SCENES=$vdb_tool_unpreloaded \
       env --default-signal=INT /usr/bin/python3 -m pytest -q -p no:cacheprovider --ignore=test_notebook.py \
         >"$log_dir/python.log" 2>&1); then
   echo "sanitize: the Python suite failed; the end of $log_dir/python.log:" >&2
