@@ -275,6 +275,51 @@ def render_cycles(args, script, blend, spp, seed, exr):
             "blender": t["blender"]}
 
 
+def efficiency(args, scene, empty, script):
+    """Speed at equal variance: per round each renderer renders twice at --efficiency spp with
+    new seeds (alternated); half the mean squared difference of its two images over the fire's
+    pixels (luminance), times spp, is the variance of one sample v; with t the seconds per
+    sample (glint's render seconds, Cycles' render call), glint's speed is
+    (v_cycles t_cycles) / (v_glint t_glint). Both means agree (the comparison above), so equal
+    variance is equal error up to that bias."""
+    w, spp = args.work, args.efficiency
+    render_glint(args, empty, 16, 3, f"{w}/empty.exr")
+    e = heq.read_rgb(f"{w}/empty.exr")
+    lum = np.array([0.2126, 0.7152, 0.0722])
+    rounds = []
+    for rnd in range(args.rounds):
+        row = {"load_before": os.getloadavg()[0]}
+        images, seconds = {"glint": [], "cycles": []}, {"glint": [], "cycles": []}
+        for k in range(2):
+            seed = 100 * (rnd + 1) + k
+            order = ("glint", "cycles") if (rnd + k) % 2 == 0 else ("cycles", "glint")
+            for who in order:
+                exr = f"{w}/eff_{who}_{rnd}_{k}.exr"
+                if who == "glint":
+                    r = render_glint(args, scene, spp, seed, exr)
+                    seconds[who].append(r["render_seconds"])
+                else:
+                    r = render_cycles(args, script, f"{w}/fire.blend", spp, seed, exr)
+                    seconds[who].append(r["render_call_seconds"])
+                images[who].append(heq.read_rgb(exr))
+        mask = cycles_vdb.volume_mask(images["glint"][0], e)
+        for who in images:
+            a, b = (img @ lum for img in images[who])
+            row[f"{who}_variance"] = float(np.mean((a - b)[mask] ** 2) / 2 * spp)
+            row[f"{who}_seconds"] = seconds[who]
+        t = {who: np.mean(seconds[who]) / spp for who in images}
+        row["speed"] = (row["cycles_variance"] * t["cycles"]) / (row["glint_variance"] * t["glint"])
+        row["pixels"] = int(mask.sum())
+        rounds.append(row)
+        print(json.dumps(row), flush=True)
+    speeds = [r["speed"] for r in rounds]
+    return {"date": datetime.date.today().isoformat(), "machine": cpu_model(),
+            "threads": args.threads, "width": args.width, "height": args.height, "spp": spp,
+            "frame": args.frame, "smoke_color": args.smoke_color, "rounds": rounds,
+            "speed_median": float(np.median(speeds)), "speed_min": float(min(speeds)),
+            "speed_max": float(max(speeds))}
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--glint", required=True)
@@ -294,6 +339,11 @@ def main():
                     help="the flow moved by (x, y) off the domain's centre (Blender's axes)")
     ap.add_argument("--smoke-color", type=float, nargs=3,
                     help="bake coloured smoke (no fire) of this colour, lit by a bright sky")
+    ap.add_argument("--efficiency", type=int, metavar="SPP",
+                    help="instead of the comparison: each renderer twice at SPP (other seeds), "
+                         "the variance of one sample over the fire's pixels from the two "
+                         "images' difference, and the speed at equal variance")
+    ap.add_argument("--rounds", type=int, default=3, help="with --efficiency")
     ap.add_argument("--out")
     ap.add_argument("--png")
     args = ap.parse_args()
@@ -319,6 +369,13 @@ def main():
     script = write(os.path.join(args.work, "render.py"),
                    RENDER_SCRIPT.replace("@SCENE@", json.dumps(cyc)))
     w = args.work
+    if args.efficiency:
+        result = efficiency(args, scene, empty, script)
+        text = json.dumps(result, indent=1)
+        print(text)
+        if args.out:
+            write(args.out, text + "\n")
+        return
     runs = [render_glint(args, scene, args.spp, 1, f"{w}/glint.exr"),
             render_glint(args, scene, args.spp, 2, f"{w}/glint2.exr"),
             render_glint(args, empty, 16, 3, f"{w}/empty.exr"),
