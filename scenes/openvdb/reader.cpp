@@ -210,6 +210,8 @@ openvdb::Vec3SGrid::Ptr readColorGrid(openvdb::io::File& file, const std::string
                           requests[0].name + "' (a colour's three grids must share one)");
     background[c] = channels[c]->background();
     if (!std::isfinite(background[c]) || background[c] < 0) refuseComponent(r, background[c]);
+    // Voxel by voxel below: an active tile becomes its voxels.
+    channels[c]->tree().voxelizeActiveTiles();
   }
   auto grid = openvdb::Vec3SGrid::create(background);
   grid->setTransform(channels[0]->transform().copy());

@@ -428,6 +428,22 @@ TEST(VdbFile, ReadsThreeFloatGridsAsTheColour) {
   EXPECT_NEAR(mean.x, w0 * c[0].x * d[0] + w1 * c[1].x * d[1], 1e-6f);  // 0.375, not 0.3125
   EXPECT_NEAR(mean.y, w0 * c[0].y * d[0] + w1 * c[1].y * d[1], 1e-6f);
   EXPECT_EQ(w.media[0].vdb->maxColor.x, 0.5f);
+  // A channel stored as an active tile (an 8^3 block of one value, no voxels) is joined over
+  // the whole tile.
+  openvdb::FloatGrid::Ptr tile = openvdb::FloatGrid::create(0.0f);
+  tile->setName("tile_r");
+  tile->setTransform(openvdb::math::Transform::createLinearTransform(v));
+  tile->fill(openvdb::CoordBBox({16, 16, 16}, {23, 23, 23}), 0.5f, true);
+  ASSERT_EQ(tile->tree().leafCount(), 0u);  // a tile indeed
+  auto none = makeGrid("none", v, {0, 0, 0}, {0, 0, 0}, [](int, int, int) { return 0.0f; });
+  writeVdb(dir + "/tile.vdb", {cube("density", v, 24, 1), tile, none});
+  SceneDescription t;
+  applySceneJsonText(R"({"media": [{"sigma_s": 1, "density": {"type": "vdb",
+      "file": "tile.vdb", "color_grid": ["tile_r", "none", "none"]}}]})",
+                     dir + "/scene.json", SceneJsonKind::Sidecar, &t);
+  const Rgb inTile = VdbColor(t.media[0].vdb).color(Vec3f{20, 21, 19} * v);
+  EXPECT_EQ(inTile.x, 0.5f);
+  EXPECT_EQ(inTile.y, 0.0f);
 }
 
 // Bad files and bad names: the error is at the sidecar's key, names the file, says what is
