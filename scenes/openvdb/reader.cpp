@@ -391,8 +391,9 @@ std::shared_ptr<VdbVolume> read(const std::string& path, const VdbRequest& reque
                      "' (color_density_weighted weighs each colour voxel by its density)");
         volume->colorDensityWeighted = true;
         const auto densities = density->getConstAccessor();
-        // Inactive values too (lookups interpolate them); the background becomes 0, the
-        // density's.
+        // Inactive values too (lookups interpolate them), active tiles as their voxels; the
+        // background becomes 0, the density's.
+        color->tree().voxelizeActiveTiles();
         for (auto it = color->beginValueAll(); it; ++it)
           it.setValue(*it * densities.getValue(it.getCoord()));
         color->tree().root().setBackground(openvdb::Vec3s(0, 0, 0), /*updateChildNodes=*/false);
