@@ -27,9 +27,13 @@ std::string assetsDir() {
   return GLINT_DEFAULT_ASSETS;
 }
 
-std::string scratchDir(const std::string& name) {
+std::string testOutputDir() {
   const char* root = std::getenv("GLINT_TEST_OUTPUT");
-  std::filesystem::path dir = std::filesystem::path(root && *root ? root : "test_output") / name;
+  return root && *root ? root : "test_output";
+}
+
+std::string scratchDir(const std::string& name) {
+  std::filesystem::path dir = std::filesystem::path(testOutputDir()) / name;
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir.string();

@@ -47,7 +47,9 @@ std::string dataDir();
 std::string sourceDir();
 // The shared asset folder: $GLINT_ASSETS, else the CMake setting (../shared/assets).
 std::string assetsDir();
-// A fresh, empty scratch folder for one test (under the build tree), named after it.
+// Where tests write: $GLINT_TEST_OUTPUT (under the build tree), else ./test_output.
+std::string testOutputDir();
+// A fresh, empty scratch folder for one test (in testOutputDir()), named after it.
 std::string scratchDir(const std::string& name);
 
 struct CommandResult {

@@ -189,9 +189,8 @@ std::vector<SceneCase> allScenes() {
   // The VDB cloud and fire of scenes/volumes/ (their files written by the tool when the case
   // runs, into a folder of their own: each case's scratch folder is emptied as it starts).
   for (const char* name : {"cloud", "fire"}) {
-    const char* root = std::getenv("GLINT_TEST_OUTPUT");
-    const fs::path folder = fs::path(root && *root ? root : "test_output") /
-                            (std::string("invariance_vdb_files_") + name);
+    const fs::path folder =
+        fs::path(test::testOutputDir()) / (std::string("invariance_vdb_files_") + name);
     SceneCase c{std::string("vdb_") + name,
                 readJson(scenes + "/volumes/" + name + ".json"),
                 (folder / (std::string(name) + ".json")).string(),
