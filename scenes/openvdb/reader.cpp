@@ -185,16 +185,16 @@ void toKelvin(openvdb::FloatGrid& grid, const VdbTemperatureMap& map) {
 openvdb::Vec3SGrid::Ptr readColorGrid(openvdb::io::File& file, const std::string& path,
                                       const std::vector<VdbGridRequest>& requests) {
   const std::string name = fileName(path);
-  auto refuseComponent = [&](const VdbGridRequest& r, float v) {
-    refuse(r.where, name + ": grid '" + r.name + "' has a value " + std::to_string(v) +
-                        " (colours must be finite and >= 0)");
+  auto checkComponent = [&](const VdbGridRequest& r, float v) {
+    if (!std::isfinite(v) || v < 0)
+      refuse(r.where, name + ": grid '" + r.name + "' has a value " + std::to_string(v) +
+                          " (colours must be finite and >= 0)");
   };
   if (requests.size() == 1) {
     const VdbGridRequest& r = requests[0];
     openvdb::Vec3SGrid::Ptr grid = readTypedGrid<openvdb::Vec3SGrid>(file, path, r, "vec3s");
     auto check = [&](const openvdb::Vec3s& v) {
-      for (int c = 0; c < 3; ++c)
-        if (!std::isfinite(v[c]) || v[c] < 0) refuseComponent(r, v[c]);
+      for (int c = 0; c < 3; ++c) checkComponent(r, v[c]);
     };
     check(grid->background());
     for (auto it = grid->cbeginValueOn(); it; ++it) check(*it);
@@ -209,7 +209,7 @@ openvdb::Vec3SGrid::Ptr readColorGrid(openvdb::io::File& file, const std::string
       refuse(r.where, name + ": grid '" + r.name + "' has another transform than '" +
                           requests[0].name + "' (a colour's three grids must share one)");
     background[c] = channels[c]->background();
-    if (!std::isfinite(background[c]) || background[c] < 0) refuseComponent(r, background[c]);
+    checkComponent(r, background[c]);
     // Voxel by voxel below: an active tile becomes its voxels.
     channels[c]->tree().voxelizeActiveTiles();
   }
@@ -220,7 +220,7 @@ openvdb::Vec3SGrid::Ptr readColorGrid(openvdb::io::File& file, const std::string
     auto others = std::array{channels[(c + 1) % 3]->getConstAccessor(),
                              channels[(c + 2) % 3]->getConstAccessor()};
     for (auto it = channels[c]->cbeginValueOn(); it; ++it) {
-      if (!std::isfinite(*it) || *it < 0) refuseComponent(requests[size_t(c)], *it);
+      checkComponent(requests[size_t(c)], *it);
       const openvdb::Coord ijk = it.getCoord();
       if (out.isValueOn(ijk)) continue;  // joined from an earlier channel
       openvdb::Vec3s v;
