@@ -285,7 +285,7 @@ def efficiency(args, scene, empty, script):
     w, spp = args.work, args.efficiency
     render_glint(args, empty, 16, 3, f"{w}/empty.exr")
     e = heq.read_rgb(f"{w}/empty.exr")
-    lum = np.array([0.2126, 0.7152, 0.0722])
+    lum = cycles_vdb.LUMINANCE
     rounds = []
     for rnd in range(args.rounds):
         row = {"load_before": os.getloadavg()[0]}
@@ -388,7 +388,7 @@ def main():
     mask = cycles_vdb.volume_mask(g, e)
     if mask.sum() < 100:
         sys.exit(f"blender_fluid: the fire covers {mask.sum()} pixels; nothing to compare")
-    lum = np.array([0.2126, 0.7152, 0.0722])
+    lum = cycles_vdb.LUMINANCE
     # How far the two silhouettes agree: pixels each renderer changes against the sky.
     cmask = cycles_vdb.volume_mask(c, e)
     result = {

@@ -77,6 +77,7 @@ from accel_report import cpu_model  # noqa: E402
 SCENES = ("cloud", "fire")
 GLINT_DEPTH = 9  # scattering vertices; Cycles' bounces are one fewer (its 0: direct light)
 CYCLES_BOUNCES = GLINT_DEPTH - 1
+LUMINANCE = np.array([0.2126, 0.7152, 0.0722])  # Rec.709 weights, for linear RGB
 
 # ---------------------------------------------------------------------------------------------
 # The Blender side: SCENE (glint's values, glint's axes) is filled in per scene.
@@ -454,8 +455,7 @@ def fire_parts(args):
 
 def volume_mask(ref, empty):
     """The pixels the volume changes by more than 2% of the brighter image (luminance)."""
-    lum = lambda im: im @ np.array([0.2126, 0.7152, 0.0722])  # noqa: E731
-    a, b = lum(ref), lum(empty)
+    a, b = ref @ LUMINANCE, empty @ LUMINANCE
     return np.abs(a - b) > 0.02 * np.maximum(np.maximum(a, b), 1e-3)
 
 
@@ -466,14 +466,13 @@ def bias_row(img, ref, mask, block=8):
     whole mean could hide it. Noise alone gives the tiles of a second glint image."""
     m, r = img[mask].mean(axis=0), ref[mask].mean(axis=0)
     whole = img.mean(axis=0).mean(axis=0) / ref.mean(axis=0).mean(axis=0) - 1
-    lum = np.array([0.2126, 0.7152, 0.0722])
     tiles = []
     for y in range(0, img.shape[0] - block + 1, block):
         for x in range(0, img.shape[1] - block + 1, block):
             k = mask[y:y + block, x:x + block]
             if k.sum() >= block * block // 2:
-                a = img[y:y + block, x:x + block][k] @ lum
-                b = ref[y:y + block, x:x + block][k] @ lum
+                a = img[y:y + block, x:x + block][k] @ LUMINANCE
+                b = ref[y:y + block, x:x + block][k] @ LUMINANCE
                 tiles.append(a.mean() / b.mean() - 1)
     tiles = np.abs(np.array(tiles))
     return {"volume_relative_mean_difference_rgb": (m / r - 1).tolist(),
@@ -557,9 +556,9 @@ def analyse(args):
             pair = {r["renderer"]: heq.read_rgb(r["image"]) for r in find(kind="part", part=part)}
             if len(pair) == 2:
                 row = bias_row(pair["cycles"], pair["glint"], mask)
-                lum = np.array([0.2126, 0.7152, 0.0722])
                 row["volume_relative_luminance_difference"] = float(
-                    (pair["cycles"][mask] @ lum).mean() / (pair["glint"][mask] @ lum).mean() - 1)
+                    (pair["cycles"][mask] @ LUMINANCE).mean() /
+                    (pair["glint"][mask] @ LUMINANCE).mean() - 1)
                 out.setdefault("parts_cycles_vs_glint", {})[part] = row
         cyc_ref = find(renderer="cycles", kind="mean", step_rate=1.0)[-1]
         out["png"] = png(args, name, find(renderer="glint", kind="mean")[-1]["image"],
