@@ -60,8 +60,10 @@ class EmissionField {
 class ColorField {
  public:
   virtual ~ColorField() = default;
-  virtual Rgb color(Vec3f p) const = 0;  // >= 0 per component
-  virtual Rgb maxColor() const = 0;      // a bound of color() per component
+  // >= 0 per component. `density` is the medium's density at p (its DensityField's value, which
+  // the caller has already looked up): a colour weighted by the density divides by it.
+  virtual Rgb color(Vec3f p, float density) const = 0;
+  virtual Rgb maxColor() const = 0;  // a bound of color() per component
 };
 
 // The same density everywhere (a homogeneous medium).

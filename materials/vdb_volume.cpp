@@ -77,11 +77,11 @@ Rgb VdbGrid::sampleVec3(Vec3f p) const {
   return {c[0], c[1], c[2]};
 }
 
-Rgb VdbColor::color(Vec3f p) const {
+Rgb VdbColor::color(Vec3f p, float density) const {
   const Rgb c = volume_->color->sampleVec3(p);
   if (!volume_->colorDensityWeighted) return c;
   // Where the density is nearly 0 the colour does not matter (it scales sigma_s x 0).
-  const float d = volume_->density.sample(p);
+  const float d = densityScale_ > 0 ? density / densityScale_ : 0.0f;
   return d > 1e-6f ? min(c / d, volume_->maxColor) : c;
 }
 

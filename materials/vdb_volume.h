@@ -96,14 +96,18 @@ class VdbDensity final : public DensityField {
 
 // The scattering colour per point from the colour grid (as Cycles' Principled Volume "Color":
 // sigma_s(p) = sigma_s x colour(p) x density(p)), bounded by the grid's largest components.
+// `densityScale` is the medium's VdbDensity scale: color()'s density over it is the density
+// grid's own value, by which a density-weighted colour is divided.
 class VdbColor final : public ColorField {
  public:
-  explicit VdbColor(std::shared_ptr<const VdbVolume> volume) : volume_(std::move(volume)) {}
-  Rgb color(Vec3f p) const override;
+  VdbColor(std::shared_ptr<const VdbVolume> volume, float densityScale)
+      : volume_(std::move(volume)), densityScale_(densityScale) {}
+  Rgb color(Vec3f p, float density) const override;
   Rgb maxColor() const override { return volume_->maxColor; }
 
  private:
   std::shared_ptr<const VdbVolume> volume_;
+  float densityScale_;
 };
 
 // Fire: blackbody radiation of the temperature grid (in kelvin: the reader maps its voxels,

@@ -253,7 +253,7 @@ MediaScene::Coefficients MediaScene::coefficients(const std::vector<uint32_t>& a
   for (uint32_t i : active) {
     const Region& r = regions_[i];
     const float d = density(r, p);
-    const Rgb sigmaS = scattering(r, p);
+    const Rgb sigmaS = scattering(r, p, d);
     c.sigmaT += r.medium->sigmaT(sigmaS) * d;
     c.sigmaS += sigmaS * d;
     c.emission += r.medium->Le * d;
@@ -314,8 +314,9 @@ Rgb MediaScene::regionTransmittance(const Region& r, const Ray& ray, float t0, f
       while (stepper.next(seg.majorant, segLength, &x, sampler)) {
         ++tally.n;
         const Vec3f p = segStart + dUnit * x;
-        const Rgb sigmaT = m.color ? m.sigmaT(scattering(r, p)) : m.sigmaT();
-        T *= max(Rgb{0, 0, 0}, Rgb{1, 1, 1} - sigmaT * (density(r, p) / seg.majorant));
+        const float d = density(r, p);
+        const Rgb sigmaT = m.color ? m.sigmaT(scattering(r, p, d)) : m.sigmaT();
+        T *= max(Rgb{0, 0, 0}, Rgb{1, 1, 1} - sigmaT * (d / seg.majorant));
         const float q = maxComponent(T);
         if (q <= 0) return {};
         if (q < kRouletteThreshold) {
@@ -335,7 +336,8 @@ Rgb MediaScene::regionTransmittance(const Region& r, const Ray& ray, float t0, f
     Rgb depth;
     for (int k = 0; k < n; ++k) {
       const Vec3f p = start + dUnit * ((float(k) + u) * ds);
-      depth += m.sigmaT(scattering(r, p)) * density(r, p);
+      const float d = density(r, p);
+      depth += m.sigmaT(scattering(r, p, d)) * d;
     }
     return expNeg(depth * ds);
   }
@@ -381,7 +383,8 @@ Rgb MediaScene::source(const RenderScene& scene, const std::vector<uint32_t>& ac
     for (uint32_t i : active) {
       const Region& r = regions_[i];
       if (!r.medium->scatters()) continue;
-      sum += scattering(r, p) * (density(r, p) * henyeyGreenstein(cosTheta, r.medium->g));
+      const float rho = density(r, p);
+      sum += scattering(r, p, rho) * (rho * henyeyGreenstein(cosTheta, r.medium->g));
     }
     return sum;
   };
@@ -507,7 +510,8 @@ void MediaScene::pickScatterer(const std::vector<uint32_t>& active, Vec3f p, con
   for (uint32_t i : active) {
     const Region& r = regions_[i];
     event->g = r.medium->g;
-    pick -= mean(scattering(r, p)) * density(r, p);
+    const float d = density(r, p);
+    pick -= mean(scattering(r, p, d)) * d;
     if (pick < 0) break;
   }
 }

@@ -190,10 +190,11 @@ class MediaScene {
     return r.medium->homogeneous() ? r.medium->density->density(pWorld)
                                    : r.medium->density->density(r.objectFromWorld.point(pWorld));
   }
-  // sigma_s at the world point p, per unit density: the medium's, times its colour field there.
-  Rgb scattering(const Region& r, Vec3f pWorld) const {
+  // sigma_s at the world point p, per unit density, where the density is d (density(r, p),
+  // which every caller also needs): the medium's, times its colour field there.
+  Rgb scattering(const Region& r, Vec3f pWorld, float d) const {
     return r.medium->color
-               ? r.medium->sigmaS * r.medium->color->color(r.objectFromWorld.point(pWorld))
+               ? r.medium->sigmaS * r.medium->color->color(r.objectFromWorld.point(pWorld), d)
                : r.medium->sigmaS;
   }
   Coefficients coefficients(const std::vector<uint32_t>& active, Vec3f p) const;

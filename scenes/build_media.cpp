@@ -65,7 +65,7 @@ void addMedia(const SceneDescription& desc, SceneParts* scene) {
     medium->heroTracking = m.heroTracking;
     medium->emissionField = makeEmission(m);
     if (m.density == DensityType::Vdb && m.vdb->color) {
-      medium->color = std::make_unique<VdbColor>(m.vdb);
+      medium->color = std::make_unique<VdbColor>(m.vdb, m.vdbScale);
       medium->colorTintsAlbedo = m.colorTintsAlbedo;
     }
     switch (m.region) {

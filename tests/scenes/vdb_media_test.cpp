@@ -397,19 +397,19 @@ TEST(VdbFile, ReadsThreeFloatGridsAsTheColour) {
   EXPECT_TRUE(s.media[0].colorTintsAlbedo);
   const auto volume = s.media[0].vdb;
   ASSERT_TRUE(volume->color);
-  const VdbColor color(volume);
+  const VdbColor color(volume, 1.0f);
   // Each voxel's three values (exact in 16 bits), and halfway their mean.
   for (int i = 0; i < 2; ++i) {
-    const Rgb at = color.color(Vec3f{float(4 + i), 4, 4} * v);
+    const Rgb at = color.color(Vec3f{float(4 + i), 4, 4} * v, 1.0f);
     EXPECT_EQ(at.x, c[i].x * d[i]);
     EXPECT_EQ(at.y, c[i].y * d[i]);
     EXPECT_EQ(at.z, 0.0f);
   }
-  const Rgb half = color.color(Vec3f{4.5f, 4, 4} * v);
+  const Rgb half = color.color(Vec3f{4.5f, 4, 4} * v, 1.0f);
   EXPECT_NEAR(half.x, 0.5f * (c[0].x * d[0] + c[1].x * d[1]), 1e-6f);
   EXPECT_NEAR(half.y, 0.5f * (c[0].y * d[0] + c[1].y * d[1]), 1e-6f);
   // Outside the voxels, the background (0); the bound is the largest value per channel.
-  EXPECT_EQ(color.color(Vec3f{9, 9, 9} * v).x, 0.0f);
+  EXPECT_EQ(color.color(Vec3f{9, 9, 9} * v, 1.0f).x, 0.0f);
   EXPECT_EQ(volume->maxColor.x, 0.5f);
   EXPECT_EQ(volume->maxColor.y, 0.125f);
   EXPECT_EQ(volume->maxColor.z, 0.0f);
@@ -420,10 +420,18 @@ TEST(VdbFile, ReadsThreeFloatGridsAsTheColour) {
       "file": "smoke.vdb", "color_grid": ["color_r", "color_g", "color_b"],
       "color_density_weighted": true}}]})",
                      dir + "/scene.json", SceneJsonKind::Sidecar, &w);
-  const VdbColor weighted(w.media[0].vdb);
+  // color() is given the medium's density there (the grid's, times the density's scale).
+  const VdbColor weighted(w.media[0].vdb, 1.0f), weightedScaled(w.media[0].vdb, 2.5f);
+  const auto weightedAt = [&](Vec3f p) {
+    const float rho = w.media[0].vdb->density.sample(p);
+    const Rgb a = weighted.color(p, rho), b = weightedScaled.color(p, 2.5f * rho);
+    EXPECT_NEAR(a.x, b.x, 1e-6f);
+    EXPECT_NEAR(a.y, b.y, 1e-6f);
+    return a;
+  };
   for (int i = 0; i < 2; ++i)
-    EXPECT_NEAR(weighted.color(Vec3f{float(4 + i), 4, 4} * v).x, c[i].x * d[i], 1e-6f);
-  const Rgb mean = weighted.color(Vec3f{4.5f, 4, 4} * v);
+    EXPECT_NEAR(weightedAt(Vec3f{float(4 + i), 4, 4} * v).x, c[i].x * d[i], 1e-6f);
+  const Rgb mean = weightedAt(Vec3f{4.5f, 4, 4} * v);
   const float w0 = d[0] / (d[0] + d[1]), w1 = d[1] / (d[0] + d[1]);     // 2/3, 1/3
   EXPECT_NEAR(mean.x, w0 * c[0].x * d[0] + w1 * c[1].x * d[1], 1e-6f);  // 0.375, not 0.3125
   EXPECT_NEAR(mean.y, w0 * c[0].y * d[0] + w1 * c[1].y * d[1], 1e-6f);
@@ -441,7 +449,7 @@ TEST(VdbFile, ReadsThreeFloatGridsAsTheColour) {
   applySceneJsonText(R"({"media": [{"sigma_s": 1, "density": {"type": "vdb",
       "file": "tile.vdb", "color_grid": ["tile_r", "none", "none"]}}]})",
                      dir + "/scene.json", SceneJsonKind::Sidecar, &t);
-  const Rgb inTile = VdbColor(t.media[0].vdb).color(Vec3f{20, 21, 19} * v);
+  const Rgb inTile = VdbColor(t.media[0].vdb, 1.0f).color(Vec3f{20, 21, 19} * v, 1.0f);
   EXPECT_EQ(inTile.x, 0.5f);
   EXPECT_EQ(inTile.y, 0.0f);
 }
