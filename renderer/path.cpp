@@ -53,7 +53,10 @@ bool leavesLights(const Bsdf& bsdf) {
 }  // namespace
 
 PathIntegrator::PathIntegrator(const RenderScene& scene, const IntegratorSettings& settings)
-    : Integrator(scene), maxDepth_(settings.maxDepth), rrDepth_(settings.rrDepth) {
+    : Integrator(scene),
+      maxDepth_(settings.maxDepth),
+      rrDepth_(settings.rrDepth),
+      wholeSegmentEmission_(settings.wholeSegmentEmission) {
   shadows_ = scene.features().has(Feature::Shadows);
   lights_ = !scene.lights().empty() && scene.lightSampler();
   for (const Light* l : scene.infiniteLights())
@@ -158,6 +161,12 @@ Rgb PathIntegrator::volumetricPath(const Ray& cameraRay, const Hit* cameraHit, S
     first.flight = uFirst.x;
     first.event = uFirst.y;
     first.jitter = sampler.get1D();
+    // The camera ray gathers the emission of its whole segment, not only up to where it
+    // scatters (SegmentSamples): in a fire it is what the camera sees directly, and where the
+    // ray stops in the smoke had been most of the noise. Deeper segments keep the
+    // track-length estimator: there the extra tracking past the collision costs what it saves
+    // (benchmarks/README, issue 52).
+    first.wholeSegmentEmission = wholeSegmentEmission_ && depth == 0;
     Rgb Le;
     const MediumEvent event = media_->sampleScatteringAndEmission(ray, hit ? hit->t : kInfinity,
                                                                   tracker, &Le, &channels, &first);

@@ -142,8 +142,9 @@ class PathIntegrator final : public Integrator {
                           Vec2f uPoint, Sampler& tracker, RayCounters& counters) const;
 
   int maxDepth_, rrDepth_;
-  bool shadows_;  // some light casts shadows (Feature::Shadows)
-  bool lights_;   // there is a light to sample (else no next-event estimation at all)
+  bool wholeSegmentEmission_;  // IntegratorSettings::wholeSegmentEmission
+  bool shadows_;               // some light casts shadows (Feature::Shadows)
+  bool lights_;                // there is a light to sample (else no next-event estimation at all)
   const MediaScene* media_ = nullptr;  // null without media: surfacePath, not volumetricPath
   bool mediaScatter_ = true;           // media scatter (volume != "emission")
   // Can a BSDF-sampled ray find light at all (an emitting surface, an environment, a

@@ -79,6 +79,11 @@ struct ChannelPath {
 // 52). Later collisions draw from the stream: stratifying them too gained nothing measurable.
 struct SegmentSamples {
   float flight = 0, event = 0, jitter = 0;  // uniform in [0, 1)
+  // Gather the emission of the whole segment, past the collision that scatters or absorbs the
+  // path, under a ratio-tracked transmittance (where the media emit; MediaScene::deltaTrack).
+  // The path tracer asks it for the camera ray. Coloured extinction under spectral MIS
+  // (heroTrack) keeps the track-length estimator: see benchmarks/README, issue 52.
+  bool wholeSegmentEmission = false;
 };
 
 // Tentative collisions of the trackers, summed over all threads since the last reset: how
@@ -237,6 +242,7 @@ class MediaScene {
   bool single_;                // single scattering (else emission and absorption only)
   bool track_;                 // tracking estimators (else marching)
   bool heroTracking_ = false;  // a medium with coloured extinction asks for heroTrack
+  bool emits_ = false;         // some medium emits
   float step_;                 // the configured step; 0 = per region
 };
 

@@ -49,6 +49,7 @@ void readIntegrator(JsonReader& r, IntegratorSettings* s) {
   s->volume = i.oneOf("volume", kVolumeModes, s->volume);
   s->volumeEstimator = i.oneOf("volume_estimator", kVolumeEstimators, s->volumeEstimator);
   s->volumeStep = i.get<float>("volume_step", s->volumeStep, kNonNegative);
+  s->wholeSegmentEmission = i.get<bool>("whole_segment_emission", s->wholeSegmentEmission);
   s->glassShadows = i.get<bool>("glass_shadows", s->glassShadows);
   s->minWeight = i.get<float>("min_weight", s->minWeight, {.ge = 0, .le = 1});
   s->vplPaths = i.get<int>("vpl_paths", s->vplPaths, kPositive);

@@ -632,7 +632,8 @@ TEST(Sidecar, RenderSettingsAreApplied) {
       "width": 800, "height": 450, "spp": 64, "seed": 12345678901, "threads": 3,
       "accel": "embree", "camera": "Main", "integrator": {"type": "whitted", "max_depth": 5, "rr_depth": 2,
                      "light_sampler": "uniform", "volume": "emission",
-                     "volume_estimator": "track", "volume_step": 0.25, "vpl_paths": 7,
+                     "volume_estimator": "track", "volume_step": 0.25,
+                     "whole_segment_emission": false, "vpl_paths": 7,
                      "vpl_clamp": 3, "min_weight": 0.01},
       "filter": {"type": "tent", "radius": 2},
       "background": [0.1, 0.2, 0.3],
@@ -656,6 +657,8 @@ TEST(Sidecar, RenderSettingsAreApplied) {
   EXPECT_EQ(r.integrator.volume, "emission");
   EXPECT_EQ(r.integrator.volumeEstimator, "track");
   EXPECT_FLOAT_EQ(r.integrator.volumeStep, 0.25f);
+  EXPECT_FALSE(r.integrator.wholeSegmentEmission);
+  EXPECT_TRUE(RenderSettings{}.integrator.wholeSegmentEmission);
   EXPECT_EQ(r.integrator.vplPaths, 7);
   EXPECT_FLOAT_EQ(r.integrator.vplClamp, 3);
   EXPECT_FLOAT_EQ(r.integrator.minWeight, 0.01f);
