@@ -47,7 +47,7 @@ struct IntegratorSettings {
   std::string volume = "single";          // "emission" (absorb and emit) | "single" | "multiple"
   std::string volumeEstimator = "march";  // "march" (fixed steps) | "track" (ratio/delta tracking)
   float volumeStep = 0;                   // march step, world units; 0 = from each medium's size
-  // Path tracer, tracking: the camera ray gathers the emission of media along its whole
+  // Path tracer (which always tracks): the camera ray gathers the emission of media along its whole
   // segment under a ratio-tracked transmittance, past where it scatters (SegmentSamples in
   // renderer/volume.h; not under spectral MIS); false: up to where it scatters only (the
   // track-length estimator every other segment uses).
