@@ -588,7 +588,18 @@ MediumEvent MediaScene::deltaTrack(const Ray& ray, float tMax, Sampler& sampler,
   const bool whole = emitted && first && first->wholeSegmentEmission && emits_;
   Rgb ratio{1, 1, 1};    // the ratio-tracking estimate of the transmittance so far
   bool decided = false;  // the event is found: the rest is emission
+  // The last stretch where a medium emits: past it, once the event is decided, tracking ends
+  // (a fog beyond a fire is not tracked for the fire's sake).
+  size_t lastEmitting = 0;
+  if (whole) {
+    for (size_t k = 0; k + 1 < scratch.cuts.size(); ++k) {
+      float a, b;
+      if (scratch.stretch(k, &a, &b) && emissionGuide(scratch.active, dUnit).emits)
+        lastEmitting = k;
+    }
+  }
   for (size_t k = 0; k + 1 < scratch.cuts.size(); ++k) {
+    if (decided && k > lastEmitting) return event;
     float a, b;
     if (!scratch.stretch(k, &a, &b)) continue;
     bool homogeneous = true;
@@ -668,6 +679,7 @@ MediumEvent MediaScene::deltaTrack(const Ray& ray, float tMax, Sampler& sampler,
           if (!whole) return {false, 0, Rgb{0, 0, 0}, 0};
           event = {false, 0, Rgb{0, 0, 0}, 0};
           decided = true;
+          if (k > lastEmitting) return event;
           continue;
         }
         if (u < pAbsorb + pScatter) {
@@ -678,6 +690,7 @@ MediumEvent MediaScene::deltaTrack(const Ray& ray, float tMax, Sampler& sampler,
           pickScatterer(scratch.active, start + dUnit * x, c, sampler, &event);
           if (!whole) return event;
           decided = true;
+          if (k > lastEmitting) return event;
           continue;
         }
         const float pNull = 1 - pAbsorb - pScatter;

@@ -535,6 +535,49 @@ TEST(Volume, WholeSegmentEmissionKeepsTheMeanWithLessSpread) {
   }
 }
 
+// The whole segment's tracking ends past the last medium that emits: a thin fog beyond a fire
+// (its density 0.01 under a majorant of 1, so ratio tracking would cross all of it) is tracked
+// by the rays that pass the fire, as before, and not for the fire's sake by those it scattered
+// (or that scatter in the fog itself). So the collisions the whole segment adds are the fire's
+// own, exactly as many with the fog as without it (the same random numbers per ray).
+TEST(Volume, WholeSegmentEmissionStopsPastTheLastEmitter) {
+  const float nodes[5] = {1, 0.2f, 0.6f, 0.1f, 0.8f};
+  std::vector<float> fire, fog(5 * 2 * 2, 0.01f);
+  for (int k = 0; k < 4; ++k)
+    for (float v : nodes) fire.push_back(v);
+  fog[0] = 1;  // the fog's majorant
+  const Bounds3f fireBox{{-1, -5, -5}, {1, 5, 5}}, fogBox{{2, -5, -5}, {10, 5, 5}};
+  uint64_t added[2];
+  for (int withFog = 0; withFog < 2; ++withFog) {
+    MediaScene media(settingsFor("track"));
+    auto m = makeMedium({1, 1, 1}, {1, 1, 1}, {}, 0,
+                        std::make_unique<GridDensity>(5, 2, 2, fire, fireBox));
+    m->emissionField = std::make_unique<UniformEmission>();
+    media.addRegion(std::move(m), std::make_unique<Box>(fireBox.lower, fireBox.upper), Transform());
+    if (withFog)
+      media.addRegion(makeMedium({1, 1, 1}, {1, 1, 1}, {}, 0,
+                                 std::make_unique<GridDensity>(5, 2, 2, fog, fogBox)),
+                      std::make_unique<Box>(fogBox.lower, fogBox.upper), Transform());
+    uint64_t collisions[2];
+    for (int whole = 0; whole < 2; ++whole) {
+      resetTrackingCounts();
+      for (int i = 0; i < 4000; ++i) {
+        Sampler sampler(mixBits(uint64_t(i) + 99), 0);
+        SegmentSamples first;
+        const Vec2f u = sampler.get2D();
+        first.flight = u.x, first.event = u.y, first.jitter = sampler.get1D();
+        first.wholeSegmentEmission = whole == 1;
+        Rgb emitted;
+        media.sampleScatteringAndEmission(kAcross, kInfinity, sampler, &emitted, nullptr, &first);
+      }
+      collisions[whole] = trackingCounts().tentative;
+    }
+    ASSERT_GT(collisions[1], collisions[0]);  // the fire is tracked past the collision
+    added[withFog] = collisions[1] - collisions[0];
+  }
+  EXPECT_EQ(added[1], added[0]);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Rendered scenes
 // ---------------------------------------------------------------------------------------------
