@@ -37,7 +37,9 @@
 //   emission — the track-length estimator: up to the segment's collision, the path adds
 //     beta x tracking weight x the emission integrated over each stretch between tentative
 //     collisions (unbiased for any majorant), so glowing media are found by the camera and by
-//     every bounce, never by next-event estimation;
+//     every bounce, never by next-event estimation; the camera ray instead gathers its whole
+//     segment under a ratio-tracked transmittance (SegmentSamples::wholeSegmentEmission,
+//     integrator.whole_segment_emission);
 //   passing — beta takes the tracking weight (an unbiased estimate of the transmittance; 1 for
 //     grey media), and the path goes on at the surface or the environment as without media:
 //     emission found there keeps its MIS weight, now times that transmittance estimate;

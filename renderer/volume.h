@@ -150,7 +150,10 @@ class MediaScene {
   // Media with coloured extinction under spectral MIS (heroTrack) gather it the same way,
   // each sample weighed by the MIS weight where it lies. Draws the same numbers as
   // sampleScattering where nothing emits.
-  // `first`, when given, supplies the segment's first numbers (SegmentSamples).
+  // `first`, when given, supplies the segment's first numbers (SegmentSamples); with its
+  // wholeSegmentEmission, the estimate is of the integral up to tMax instead, whatever the
+  // event (the ratio-tracking weight in place of the tracking weight, tracking going on past
+  // the event while some medium ahead emits); the event is the same.
   MediumEvent sampleScatteringAndEmission(const Ray& ray, float tMax, Sampler& sampler,
                                           Rgb* emitted, ChannelPath* path = nullptr,
                                           const SegmentSamples* first = nullptr) const;
