@@ -585,19 +585,35 @@ MediumEvent MediaScene::deltaTrack(const Ray& ray, float tMax, Sampler& sampler,
   // collisions weigh a ratio-tracking estimate of the transmittance, under which the emission
   // is gathered; once a collision has decided the event, tracking goes on for the emission
   // alone, with roulette, to the segment's end.
-  const bool whole = emitted && first && first->wholeSegmentEmission && emits_;
+  bool whole = emitted && first && first->wholeSegmentEmission && emits_;
   Rgb ratio{1, 1, 1};    // the ratio-tracking estimate of the transmittance so far
   bool decided = false;  // the event is found: the rest is emission
   // The last stretch where a medium emits: past it, once the event is decided, tracking ends
-  // (a fog beyond a fire is not tracked for the fire's sake).
+  // (a fog beyond a fire is not tracked for the fire's sake); none on this ray: no whole
+  // segment.
   size_t lastEmitting = 0;
   if (whole) {
+    whole = false;
     for (size_t k = 0; k + 1 < scratch.cuts.size(); ++k) {
       float a, b;
       if (scratch.stretch(k, &a, &b) && emissionGuide(scratch.active, dUnit).emits)
-        lastEmitting = k;
+        lastEmitting = k, whole = true;
     }
   }
+  // Past the event: whether tracking goes on for the emission, in stretch k (roulette on the
+  // ratio, as deltaTrack's shadow rays'). Its collisions are ratio tracking's, and counted so.
+  CollisionTally ratioOnly(gRatioTentative);
+  auto goesOn = [&](size_t k) {
+    if (k > lastEmitting) return false;
+    const float q = maxComponent(ratio);
+    if (!(q > 0)) return false;
+    if (q < kRouletteThreshold) {
+      const float survive = q / kRouletteThreshold;
+      if (sampler.get1D() >= survive) return false;
+      ratio = ratio / survive;
+    }
+    return true;
+  };
   for (size_t k = 0; k + 1 < scratch.cuts.size(); ++k) {
     if (decided && k > lastEmitting) return event;
     float a, b;
@@ -645,18 +661,12 @@ MediumEvent MediaScene::deltaTrack(const Ray& ray, float tMax, Sampler& sampler,
         const bool collided = stepper.next(majorant, s, &x, sampler);
         gather(from, collided ? x : s);
         if (!collided) break;
-        ++tentative.n;
+        ++(decided ? ratioOnly : tentative).n;
         const Coefficients c = coefficients(scratch.active, start + dUnit * x);
         if (whole) {
           ratio *= max(Rgb{0, 0, 0}, Rgb{1, 1, 1} - c.sigmaT / majorant);
           if (decided) {
-            const float q = maxComponent(ratio);
-            if (q <= 0) return event;
-            if (q < kRouletteThreshold) {
-              const float survive = q / kRouletteThreshold;
-              if (sampler.get1D() >= survive) return event;
-              ratio = ratio / survive;
-            }
+            if (!goesOn(k)) return event;
             continue;
           }
         }
@@ -679,7 +689,7 @@ MediumEvent MediaScene::deltaTrack(const Ray& ray, float tMax, Sampler& sampler,
           if (!whole) return {false, 0, Rgb{0, 0, 0}, 0};
           event = {false, 0, Rgb{0, 0, 0}, 0};
           decided = true;
-          if (k > lastEmitting) return event;
+          if (!goesOn(k)) return event;
           continue;
         }
         if (u < pAbsorb + pScatter) {
@@ -690,7 +700,7 @@ MediumEvent MediaScene::deltaTrack(const Ray& ray, float tMax, Sampler& sampler,
           pickScatterer(scratch.active, start + dUnit * x, c, sampler, &event);
           if (!whole) return event;
           decided = true;
-          if (k > lastEmitting) return event;
+          if (!goesOn(k)) return event;
           continue;
         }
         const float pNull = 1 - pAbsorb - pScatter;

@@ -539,15 +539,16 @@ TEST(Volume, WholeSegmentEmissionKeepsTheMeanWithLessSpread) {
 // (its density 0.01 under a majorant of 1, so ratio tracking would cross all of it) is tracked
 // by the rays that pass the fire, as before, and not for the fire's sake by those it scattered
 // (or that scatter in the fog itself). So the collisions the whole segment adds are the fire's
-// own, exactly as many with the fog as without it (the same random numbers per ray).
+// own, exactly as many with the fog as without it (the same random numbers per ray); a ray
+// that crosses the fog alone is tracked exactly as without the whole segment.
 TEST(Volume, WholeSegmentEmissionStopsPastTheLastEmitter) {
   const float nodes[5] = {1, 0.2f, 0.6f, 0.1f, 0.8f};
   std::vector<float> fire, fog(5 * 2 * 2, 0.01f);
   for (int k = 0; k < 4; ++k)
     for (float v : nodes) fire.push_back(v);
-  fog[0] = 1;  // the fog's majorant
+  fog[0] = 1;  // the fog's maximum density
   const Bounds3f fireBox{{-1, -5, -5}, {1, 5, 5}}, fogBox{{2, -5, -5}, {10, 5, 5}};
-  uint64_t added[2];
+  uint64_t added[2], fogAlone[2];
   for (int withFog = 0; withFog < 2; ++withFog) {
     MediaScene media(settingsFor("track"));
     auto m = makeMedium({1, 1, 1}, {1, 1, 1}, {}, 0,
@@ -558,24 +559,28 @@ TEST(Volume, WholeSegmentEmissionStopsPastTheLastEmitter) {
       media.addRegion(makeMedium({1, 1, 1}, {1, 1, 1}, {}, 0,
                                  std::make_unique<GridDensity>(5, 2, 2, fog, fogBox)),
                       std::make_unique<Box>(fogBox.lower, fogBox.upper), Transform());
-    uint64_t collisions[2];
-    for (int whole = 0; whole < 2; ++whole) {
+    auto collisions = [&](const Ray& ray, bool whole) {
       resetTrackingCounts();
       for (int i = 0; i < 4000; ++i) {
         Sampler sampler(mixBits(uint64_t(i) + 99), 0);
         SegmentSamples first;
         const Vec2f u = sampler.get2D();
         first.flight = u.x, first.event = u.y, first.jitter = sampler.get1D();
-        first.wholeSegmentEmission = whole == 1;
+        first.wholeSegmentEmission = whole;
         Rgb emitted;
-        media.sampleScatteringAndEmission(kAcross, kInfinity, sampler, &emitted, nullptr, &first);
+        media.sampleScatteringAndEmission(ray, kInfinity, sampler, &emitted, nullptr, &first);
       }
-      collisions[whole] = trackingCounts().tentative;
-    }
-    ASSERT_GT(collisions[1], collisions[0]);  // the fire is tracked past the collision
-    added[withFog] = collisions[1] - collisions[0];
+      // (Past the event, the collisions are ratio tracking's and counted so.)
+      return trackingCounts().tentative + trackingCounts().ratioTentative;
+    };
+    const uint64_t trackLength = collisions(kAcross, false), whole = collisions(kAcross, true);
+    ASSERT_GT(whole, trackLength);  // the fire is tracked past the collision
+    added[withFog] = whole - trackLength;
+    const Ray intoTheFog{{1.5f, 0.1f, 0.2f}, {1, 0, 0}};
+    fogAlone[withFog] = collisions(intoTheFog, true) - collisions(intoTheFog, false);
   }
   EXPECT_EQ(added[1], added[0]);
+  EXPECT_EQ(fogAlone[1], 0u);
 }
 
 // ---------------------------------------------------------------------------------------------
