@@ -65,6 +65,19 @@ void attenuate(Rgb* R, Rgb M, float x) {
 
 float mean(Rgb c) { return (c.x + c.y + c.z) / 3; }
 
+// Ratio tracking's roulette on its transmittance estimate *T: false when the estimate has run
+// out or loses below kRouletteThreshold (the walk ends there); a survivor is weighed up.
+bool survivesRoulette(Rgb* T, Sampler& sampler) {
+  const float q = maxComponent(*T);
+  if (q <= 0) return false;
+  if (q < kRouletteThreshold) {
+    const float survive = q / kRouletteThreshold;
+    if (sampler.get1D() >= survive) return false;
+    *T = *T / survive;
+  }
+  return true;
+}
+
 // a / b per channel, 0 where b is 0 (a channel the path has already lost).
 Rgb safeDivide(Rgb a, Rgb b) {
   Rgb out;
@@ -318,13 +331,7 @@ Rgb MediaScene::regionTransmittance(const Region& r, const Ray& ray, float t0, f
         const float d = density(r, p);
         const Rgb sigmaT = m.color ? m.sigmaT(scattering(r, p, d)) : m.sigmaT();
         T *= max(Rgb{0, 0, 0}, Rgb{1, 1, 1} - sigmaT * (d / seg.majorant));
-        const float q = maxComponent(T);
-        if (q <= 0) return {};
-        if (q < kRouletteThreshold) {
-          const float survive = q / kRouletteThreshold;
-          if (sampler.get1D() >= survive) return {};
-          T = T / survive;
-        }
+        if (!survivesRoulette(&T, sampler)) return {};
       }
     }
     return T;
@@ -468,13 +475,7 @@ VolumeSegment MediaScene::integrate(const RenderScene& scene, const Ray& ray, fl
           seg.L += seg.T * source(scene, scratch.active, p, dUnit, ray.time, c, sampler, counters) /
                    m.majorant;
           seg.T *= max(Rgb{0, 0, 0}, Rgb{1, 1, 1} - c.sigmaT / m.majorant);
-          const float q = maxComponent(seg.T);
-          if (q <= 0) return {Rgb{0, 0, 0}, seg.L};
-          if (q < kRouletteThreshold) {
-            const float survive = q / kRouletteThreshold;
-            if (sampler.get1D() >= survive) return {Rgb{0, 0, 0}, seg.L};
-            seg.T = seg.T / survive;
-          }
+          if (!survivesRoulette(&seg.T, sampler)) return {Rgb{0, 0, 0}, seg.L};
         }
       }
     } else {
@@ -584,7 +585,7 @@ MediumEvent MediaScene::deltaTrack(const Ray& ray, float tMax, Sampler& sampler,
   // The whole segment's emission (SegmentSamples::wholeSegmentEmission): the same tentative
   // collisions weigh a ratio-tracking estimate of the transmittance, under which the emission
   // is gathered; once a collision has decided the event, tracking goes on for the emission
-  // alone, with roulette, to the segment's end.
+  // alone, with roulette, to the end of the last stretch where a medium emits.
   bool whole = emitted && first && first->wholeSegmentEmission && emits_;
   Rgb ratio{1, 1, 1};    // the ratio-tracking estimate of the transmittance so far
   bool decided = false;  // the event is found: the rest is emission
@@ -601,19 +602,9 @@ MediumEvent MediaScene::deltaTrack(const Ray& ray, float tMax, Sampler& sampler,
     }
   }
   // Past the event: whether tracking goes on for the emission, in stretch k (roulette on the
-  // ratio, as deltaTrack's shadow rays'). Its collisions are ratio tracking's, and counted so.
+  // ratio, as on a shadow ray's). Its collisions are ratio tracking's, and counted so.
   CollisionTally ratioOnly(gRatioTentative);
-  auto goesOn = [&](size_t k) {
-    if (k > lastEmitting) return false;
-    const float q = maxComponent(ratio);
-    if (!(q > 0)) return false;
-    if (q < kRouletteThreshold) {
-      const float survive = q / kRouletteThreshold;
-      if (sampler.get1D() >= survive) return false;
-      ratio = ratio / survive;
-    }
-    return true;
-  };
+  auto goesOn = [&](size_t k) { return k <= lastEmitting && survivesRoulette(&ratio, sampler); };
   for (size_t k = 0; k + 1 < scratch.cuts.size(); ++k) {
     if (decided && k > lastEmitting) return event;
     float a, b;
