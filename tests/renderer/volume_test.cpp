@@ -58,6 +58,25 @@ std::pair<Rgb, Rgb> meanAndError(int n, F&& f) {
   return {mean, Rgb{std::sqrt(var.x), std::sqrt(var.y), std::sqrt(var.z)} / std::sqrt(float(n))};
 }
 
+// A segment's first numbers as the path tracer draws them from a pixel's dimensions.
+SegmentSamples segmentSamples(Sampler& sampler, bool wholeSegmentEmission = false) {
+  SegmentSamples first;
+  const Vec2f u = sampler.get2D();
+  first.flight = u.x, first.event = u.y, first.jitter = sampler.get1D();
+  first.wholeSegmentEmission = wholeSegmentEmission;
+  return first;
+}
+
+// Density nodes 0.5 apart along x across the slab (x fastest in a 5 x 2 x 2 GridDensity over
+// the slab's box, the same across y and z): it varies under its majorant of 1.
+constexpr float kSlabNodes[5] = {1, 0.2f, 0.6f, 0.1f, 0.8f};
+std::vector<float> varyingSlabValues() {
+  std::vector<float> values;
+  for (int k = 0; k < 4; ++k)
+    for (float v : kSlabNodes) values.push_back(v);
+  return values;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Transmittance
 // ---------------------------------------------------------------------------------------------
@@ -427,9 +446,7 @@ TEST(Volume, SegmentSamplesStratifyWhereTheSegmentCollides) {
       for (int i = 0; i < spp; ++i) {
         Sampler sampler(mixBits(uint64_t(p) + 777), uint32_t(i));
         Sampler tracker(mixBits(uint64_t(p * spp + i) ^ 0x5bd1e995u), 0);
-        SegmentSamples first;
-        const Vec2f u = sampler.get2D();
-        first.flight = u.x, first.event = u.y, first.jitter = sampler.get1D();
+        const SegmentSamples first = segmentSamples(sampler);
         Rgb emitted;
         media.sampleScatteringAndEmission(kAcross, kInfinity, tracker, &emitted, nullptr,
                                           stratified ? &first : nullptr);
@@ -462,15 +479,11 @@ TEST(Volume, SegmentSamplesStratifyWhereTheSegmentCollides) {
 // same events. Grey extinction, and coloured tracked against the largest channel
 // (chromatic_tracking "max_channel"; spectral MIS keeps the track-length estimator).
 TEST(Volume, WholeSegmentEmissionKeepsTheMeanWithLessSpread) {
-  // The density along x (nodes 0.5 apart over the slab, linear between), the same across y, z.
-  const float nodes[5] = {1, 0.2f, 0.6f, 0.1f, 0.8f};
-  std::vector<float> values;
-  for (int k = 0; k < 4; ++k)
-    for (float v : nodes) values.push_back(v);
-  auto densityAt = [&](double x) {  // x from the slab's entry, in [0, 2]
+  const std::vector<float> values = varyingSlabValues();
+  auto densityAt = [&](double x) {  // x from the slab's entry, in [0, 2]; linear between nodes
     const double u = std::clamp(x / 0.5, 0.0, 4.0);
     const int i = std::min(3, int(u));
-    return nodes[i] + (u - i) * (nodes[i + 1] - nodes[i]);
+    return kSlabNodes[i] + (u - i) * (kSlabNodes[i + 1] - kSlabNodes[i]);
   };
   const Rgb grey{0.5f, 0.5f, 0.5f}, coloured{0.2f, 0.5f, 1.2f};
   for (const Rgb& sigmaA : {grey, coloured}) {
@@ -501,10 +514,7 @@ TEST(Volume, WholeSegmentEmissionKeepsTheMeanWithLessSpread) {
     std::vector<MediumEvent> events[2];
     for (int whole = 0; whole < 2; ++whole) {
       auto [mean, error] = meanAndError(samples, [&](Sampler& sampler) {
-        SegmentSamples first;
-        const Vec2f u = sampler.get2D();
-        first.flight = u.x, first.event = u.y, first.jitter = sampler.get1D();
-        first.wholeSegmentEmission = whole == 1;
+        const SegmentSamples first = segmentSamples(sampler, whole == 1);
         Rgb emitted;
         events[whole].push_back(media.sampleScatteringAndEmission(kAcross, kInfinity, sampler,
                                                                   &emitted, nullptr, &first));
@@ -542,10 +552,8 @@ TEST(Volume, WholeSegmentEmissionKeepsTheMeanWithLessSpread) {
 // own, exactly as many with the fog as without it (the same random numbers per ray); a ray
 // that crosses the fog alone is tracked exactly as without the whole segment.
 TEST(Volume, WholeSegmentEmissionStopsPastTheLastEmitter) {
-  const float nodes[5] = {1, 0.2f, 0.6f, 0.1f, 0.8f};
-  std::vector<float> fire, fog(5 * 2 * 2, 0.01f);
-  for (int k = 0; k < 4; ++k)
-    for (float v : nodes) fire.push_back(v);
+  const std::vector<float> fire = varyingSlabValues();
+  std::vector<float> fog(5 * 2 * 2, 0.01f);
   fog[0] = 1;  // the fog's maximum density
   const Bounds3f fireBox{{-1, -5, -5}, {1, 5, 5}}, fogBox{{2, -5, -5}, {10, 5, 5}};
   uint64_t added[2], fogAlone[2];
@@ -563,10 +571,7 @@ TEST(Volume, WholeSegmentEmissionStopsPastTheLastEmitter) {
       resetTrackingCounts();
       for (int i = 0; i < 4000; ++i) {
         Sampler sampler(mixBits(uint64_t(i) + 99), 0);
-        SegmentSamples first;
-        const Vec2f u = sampler.get2D();
-        first.flight = u.x, first.event = u.y, first.jitter = sampler.get1D();
-        first.wholeSegmentEmission = whole;
+        const SegmentSamples first = segmentSamples(sampler, whole);
         Rgb emitted;
         media.sampleScatteringAndEmission(ray, kInfinity, sampler, &emitted, nullptr, &first);
       }
